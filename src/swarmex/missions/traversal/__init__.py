@@ -1,0 +1,19 @@
+"""Traversal mission (seed 000): MADGTA, its baselines and variants on any graph."""
+
+from swarmex.missions.traversal.agents import AgentSpec, uniform_agents
+from swarmex.missions.traversal.metrics import run_metrics, traversal_record
+from swarmex.missions.traversal.policies import Madgta, Nearest, get_best_node, make_policy
+from swarmex.missions.traversal.sim import TraversalRun, run_traversal
+
+__all__ = [
+    "AgentSpec",
+    "Madgta",
+    "Nearest",
+    "TraversalRun",
+    "get_best_node",
+    "make_policy",
+    "run_metrics",
+    "run_traversal",
+    "traversal_record",
+    "uniform_agents",
+]

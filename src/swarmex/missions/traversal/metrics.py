@@ -1,0 +1,85 @@
+"""Seed 000 §5.1.1 metrics, snake_case, and the traversal result record.
+
+Per agent: ``nodes_done``, ``nodes_traveled``, ``nodes_without_job``, ``travel_time``,
+``job_time``, ``total_time``, ``additional_time``. Totals: ``total_time_all`` (Σ total_time,
+the §3.1 objective), ``nodes_without_job_all``; ``makespan`` is the largest ``total_time``.
+
+``nodes_traveled`` counts edge moves plus one when the agent did the job at its own nest
+(spec §6.10: the thesis's numbers only fit that reading — with one shared nest only the first
+agent gets the +1). ``total_time`` excludes ``additional_time`` (takeoff + RTL + landing), as
+in Tables 5.1–5.2. Extra figures the thesis does not have: ``duplicate_jobs`` (jobs done on a
+vertex someone had already done: 0 under a perfect broadcast), ``mission_end`` (clock time of
+the last job or move, including the staggered starts), messages and bytes.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from swarmex.engine.record import AgentRecord, ResultRecord
+from swarmex.missions.traversal.sim import AgentLog, TraversalRun
+
+
+def agent_metrics(log: AgentLog, unit_length: float) -> dict:
+    done = len(log.jobs) - log.failed_jobs
+    traveled = log.moves + (1 if log.nest_job else 0)
+    spec = log.spec
+    rtl = log.rtl_length * unit_length / spec.travel_speed
+    return {
+        "nodes_done": done,
+        "nodes_traveled": traveled,
+        "nodes_without_job": traveled - done,
+        "travel_time": log.travel_time,
+        "job_time": log.job_time,
+        "total_time": log.travel_time + log.job_time,
+        "additional_time": spec.takeoff_time + rtl + spec.landing_time,
+        "failed_jobs": log.failed_jobs,
+        "finished_at": log.finished_at,
+    }
+
+
+def run_metrics(run: TraversalRun, unit_length: float) -> tuple[dict, list[dict]]:
+    per_agent = [agent_metrics(a, unit_length) for a in run.agents]
+    total_times = [m["total_time"] for m in per_agent]
+    extra_jobs = np.maximum(run.job_count - 1, 0)
+    ends = [a.finished_at for a in run.agents if np.isfinite(a.finished_at)]
+    totals = {
+        "total_time_all": float(np.sum(total_times)),
+        "nodes_without_job_all": int(sum(m["nodes_without_job"] for m in per_agent)),
+        "nodes_done_all": int(sum(m["nodes_done"] for m in per_agent)),
+        "travel_time_all": float(sum(m["travel_time"] for m in per_agent)),
+        "job_time_all": float(sum(m["job_time"] for m in per_agent)),
+        "additional_time_all": float(sum(m["additional_time"] for m in per_agent)),
+        "max_total_time": float(max(total_times)),
+        "mission_end": float(max(ends)) if ends else None,
+        "reachable_nodes": int(run.reachable.sum()),
+        "nodes_missed": int(np.sum(run.job_count[run.reachable] == 0)),
+        "duplicate_jobs": int(extra_jobs.sum()),
+        "messages": run.messages,
+        "message_bytes": run.message_bytes,
+    }
+    return totals, per_agent
+
+
+def traversal_record(run: TraversalRun, params: dict, unit_length: float = 1.0) -> ResultRecord:
+    totals, per_agent = run_metrics(run, unit_length)
+    world = run.world
+    pos = world.graph.pos
+    agents = []
+    for log, met in zip(run.agents, per_agent, strict=True):
+        traj = [[t, *pos[v].tolist()] for t, v in log.trajectory]
+        jobs = [[t, *pos[v].tolist()] for t, v in log.jobs]
+        agents.append(AgentRecord(log.id, met, traj, jobs))
+    return ResultRecord(
+        mission="traversal",
+        algorithm=run.algorithm,
+        params=params,
+        seed=run.seed,
+        world=world.describe(),
+        complete=run.complete,
+        makespan=totals["max_total_time"],
+        time_unit="s",
+        metrics=totals,
+        agents=agents,
+        wall_seconds=run.wall_seconds,
+    )
