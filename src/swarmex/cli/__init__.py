@@ -9,34 +9,36 @@ from __future__ import annotations
 
 import sys
 
-import click
-
 from swarmex.cli import commands_traversal  # noqa: F401  (registers commands)
 from swarmex.cli.app import app
 from swarmex.errors import InputError
 
+try:  # recent Typer vendors Click as typer._click; older releases use Click itself
+    from typer._click import exceptions as _cx
+except ImportError:  # pragma: no cover - depends on the installed Typer
+    from click import exceptions as _cx
+
+_NO_ARGS = getattr(_cx, "NoArgsIsHelpError", getattr(_cx, "NoArgsIsHelp", ()))
+
 
 def main(argv: list[str] | None = None) -> int:
     try:
-        app(args=argv, prog_name="swarmex", standalone_mode=False)
+        result = app(args=argv, prog_name="swarmex", standalone_mode=False)
     except InputError as exc:
         print(f"swarmex: error: {exc}", file=sys.stderr)
         return 2
-    except click.exceptions.NoArgsIsHelp:
+    except _NO_ARGS:
         return 0
-    except click.UsageError as exc:
+    except _cx.UsageError as exc:
         msg = exc.format_message().replace("\n", " ")
         print(f"swarmex: error: {msg}", file=sys.stderr)
         return 2
-    except click.exceptions.Exit as exc:
-        return exc.exit_code
-    except click.exceptions.Abort:
-        print("swarmex: interrupted", file=sys.stderr)
-        return 130
     except KeyboardInterrupt:
         print("swarmex: interrupted", file=sys.stderr)
         return 130
-    return 0
+    except SystemExit as exc:  # typer.Exit / broken pipes under standalone_mode=False
+        return exc.code if isinstance(exc.code, int) else 0
+    return result if isinstance(result, int) else 0
 
 
 def entry() -> None:

@@ -74,7 +74,11 @@ class GraphWorld:
     def graph(self) -> NodeGraph:
         g = self.nx_graph
         n = len(self.labels)
-        edges = [(self.index[a], self.index[b], d.get(self.weight, 1.0)) for a, b, d in g.edges(data=True) if a != b]
+        edges = [
+            (self.index[a], self.index[b], d.get(self.weight, 1.0))
+            for a, b, d in g.edges(data=True)
+            if a != b
+        ]
         if edges:
             u, v, w = (np.array(c) for c in zip(*edges, strict=True))
         else:
