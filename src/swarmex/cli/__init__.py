@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import sys
 
+import typer
+
 from swarmex.cli import commands_traversal  # noqa: F401  (registers commands)
 from swarmex.cli.app import app
 from swarmex.errors import InputError
@@ -33,6 +35,8 @@ def main(argv: list[str] | None = None) -> int:
         msg = exc.format_message().replace("\n", " ")
         print(f"swarmex: error: {msg}", file=sys.stderr)
         return 2
+    except typer.Exit as exc:
+        return int(getattr(exc, "exit_code", getattr(exc, "code", 0)) or 0)
     except KeyboardInterrupt:
         print("swarmex: interrupted", file=sys.stderr)
         return 130
