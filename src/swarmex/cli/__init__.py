@@ -11,7 +11,14 @@ import sys
 
 import typer
 
-from swarmex.cli import commands_traversal  # noqa: F401  (registers commands)
+# each module registers its commands on the shared app when imported
+from swarmex.cli import (  # noqa: F401
+    commands_foraging,
+    commands_reproduce,
+    commands_roadmap,
+    commands_run,
+    commands_traversal,
+)
 from swarmex.cli.app import app
 from swarmex.errors import InputError
 

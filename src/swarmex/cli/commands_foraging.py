@@ -1,0 +1,1 @@
+"""Commands of the foraging surface (registered on import)."""

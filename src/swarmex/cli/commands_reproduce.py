@@ -1,0 +1,1 @@
+"""Commands of the reproduce surface (registered on import)."""

@@ -1,0 +1,1 @@
+"""Commands of the roadmap surface (registered on import)."""

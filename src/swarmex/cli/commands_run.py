@@ -1,0 +1,1 @@
+"""Commands of the run surface (registered on import)."""

@@ -1,0 +1,1 @@
+"""Variants of MADGTA beyond the seed (registered in POLICIES on import)."""
