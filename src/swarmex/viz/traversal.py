@@ -146,7 +146,7 @@ class _Canvas:
             ax.add_collection(LineCollection(segs, colors="0.82", linewidths=0.6, zorder=1))
             ax.scatter(
                 *g.pos[~blocked].T,
-                s=max(1.0, (0.12 * self.unit_pts) ** 2),
+                s=float(np.clip((0.1 * self.unit_pts) ** 2, 1.0, 25.0)),
                 c="0.55",
                 linewidths=0,
                 zorder=2,
@@ -221,7 +221,7 @@ class _Canvas:
                 *np.array(list(owners)).T,
                 marker="*",
                 c=colors,
-                s=max(60.0, self.job_size() * 1.6),
+                s=float(np.clip(self.job_size(), 60.0, 500.0)),
                 edgecolors="black",
                 linewidths=0.8,
                 zorder=6,
@@ -334,9 +334,12 @@ def traversal_gif(
     about ``seconds`` and holds the last frame. Positions are the last vertex each agent reached
     by the frame's time (the record stores arrivals, not departures).
 
-    Speed: the world, nests and legend are rendered once and restored for every frame, only
-    the moving artists are redrawn (blitting), and frames are mapped to one shared palette with
-    a lookup table instead of letting Pillow run an adaptive quantisation per frame.
+    Speed: the world, nests and legend are rendered once and restored for every frame (only
+    the clock text is redrawn by matplotlib); on small maps the paths, job circles and agents
+    are matplotlib artists redrawn by blitting; on big grids they are composited straight into
+    the pixels with numpy (a colour wash of done cells and a square per agent; whole paths
+    would be a tangle there anyway). Frames share one palette, applied with a lookup table
+    instead of Pillow's adaptive quantisation per frame.
     """
     path = Path(path)
     _check_suffix(path, ".gif")
@@ -347,25 +350,36 @@ def traversal_gif(
     cv.legend()
     unit = record.get("time_unit", "s")
     # only the clock changes between frames: few glyphs to rasterise per frame
-    clock = cv.fig.text(0.73, 0.05, "", fontsize=10, family="monospace")
-    dynamic: list = [clock]
-    lines, heads, rings = [], [], []
-    for a, off in zip(cv.agents, cv.offsets(), strict=True):
-        (line,) = cv.ax.plot([], [], color=a.color, lw=cv.line_width(), zorder=4)
-        lines.append((line, off))
-        heads.append(
-            cv.ax.scatter(
-                [],
-                [],
-                s=max(20.0, cv.job_size()),
-                c=[a.color],
-                edgecolors="black",
-                linewidths=0.8,
-                zorder=7,
-            )
-        )
-        if cv.small:
-            rings.append(
+    clock = cv.fig.text(0.73, 0.05, "", fontsize=10, family="monospace", animated=True)
+    layer = _VectorLayer(cv) if cv.small or not cv.is_grid else _RasterLayer(cv)
+    canvas = cv.fig.canvas
+    canvas.draw()
+    background = canvas.copy_from_bbox(cv.fig.bbox)
+
+    def draw_at(t: float) -> np.ndarray:
+        canvas.restore_region(background)
+        clock.set_text(f"t = {t:8,.1f} {unit}")
+        cv.fig.draw_artist(clock)
+        return layer.draw(t)
+
+    # the last frame shows every path and job, so its colours make the shared palette
+    palette, lut = _palette(draw_at(float(times[-1])))
+    frames = [_indexed(draw_at(float(t)), lut) for t in times]
+    step = max(20, int(1000 * seconds / len(frames)))
+    durations = [step] * (len(frames) - 1) + [2000]
+    return _save(lambda: _write_gif(path, frames, palette, durations), path)
+
+
+class _VectorLayer:
+    """Small maps: paths, job circles and agents as animated matplotlib artists."""
+
+    def __init__(self, cv: _Canvas) -> None:
+        self.cv = cv
+        self.lines, self.heads, self.rings = [], [], []
+        for a, off in zip(cv.agents, cv.offsets(), strict=True):
+            (line,) = cv.ax.plot([], [], color=a.color, lw=cv.line_width(), zorder=4)
+            self.lines.append((line, off))
+            self.rings.append(
                 cv.ax.scatter(
                     [],
                     [],
@@ -376,48 +390,82 @@ def traversal_gif(
                     zorder=5,
                 )
             )
-    wash_img = None
-    if not cv.small and cv.is_grid:
-        when, who, palette = cv.job_wash()
-        colored = palette[who]
-        wash_img = cv.ax.imshow(
-            np.zeros_like(colored),
-            origin="upper",
-            zorder=3,
-            interpolation="nearest",
-            extent=(-0.5, world.width - 0.5, world.height - 0.5, -0.5),
-        )
-        dynamic.append(wash_img)
-    dynamic += [ln for ln, _ in lines] + rings + heads  # drawing order: wash, paths, jobs, heads
-    for artist in dynamic:
-        artist.set_animated(True)
-    canvas = cv.fig.canvas
-    canvas.draw()
-    background = canvas.copy_from_bbox(cv.fig.bbox)
+            self.heads.append(
+                cv.ax.scatter(
+                    [],
+                    [],
+                    s=max(20.0, cv.job_size()),
+                    c=[a.color],
+                    edgecolors="black",
+                    linewidths=0.8,
+                    zorder=7,
+                )
+            )
+        self.artists = [ln for ln, _ in self.lines] + self.rings + self.heads
+        for artist in self.artists:
+            artist.set_animated(True)
 
-    def draw_at(t: float) -> np.ndarray:
-        canvas.restore_region(background)
-        clock.set_text(f"t = {t:8,.1f} {unit}")
-        for i, a in enumerate(cv.agents):
+    def draw(self, t: float) -> np.ndarray:
+        for i, a in enumerate(self.cv.agents):
             k = int(np.searchsorted(a.traj[:, 0], t, side="right"))
-            line, off = lines[i]
+            line, off = self.lines[i]
             line.set_data(a.traj[:k, 1] + off, a.traj[:k, 2] + off)
-            heads[i].set_offsets(a.traj[k - 1 : k, 1:] if k else np.zeros((0, 2)))
-            if rings:
-                rings[i].set_offsets(a.jobs[a.jobs[:, 0] <= t, 1:])
-        if wash_img is not None:
-            wash_img.set_data(np.where((when <= t)[..., None], colored, 0.0))
-        for artist in dynamic[1:]:
-            cv.ax.draw_artist(artist)
-        cv.fig.draw_artist(clock)
-        return np.asarray(canvas.buffer_rgba())[..., :3]
+            self.heads[i].set_offsets(a.traj[k - 1 : k, 1:] if k else np.zeros((0, 2)))
+            self.rings[i].set_offsets(a.jobs[a.jobs[:, 0] <= t, 1:])
+        for artist in self.artists:
+            self.cv.ax.draw_artist(artist)
+        return np.asarray(self.cv.fig.canvas.buffer_rgba())[..., :3]
 
-    # the last frame shows every path and job, so its colours make the shared palette
-    palette, lut = _palette(draw_at(float(times[-1])))
-    frames = [_indexed(draw_at(float(t)), lut) for t in times]
-    step = max(20, int(1000 * seconds / len(frames)))
-    durations = [step] * (len(frames) - 1) + [2000]
-    return _save(lambda: _write_gif(path, frames, palette, durations), path)
+
+class _RasterLayer:
+    """Big grids: done cells and agents painted into the frame's pixels with numpy."""
+
+    ALPHA = 0.45
+
+    def __init__(self, cv: _Canvas) -> None:
+        self.cv = cv
+        self.when, self.who, self.palette = cv.job_wash()
+        self.geometry: tuple | None = None  # known only once the axes box is laid out
+
+    def _layout(self) -> tuple:
+        """Pixel box of the axes and, per pixel row/column, the grid cell under it."""
+        fig, ax, world = self.cv.fig, self.cv.ax, self.cv.world
+        height = int(fig.canvas.get_width_height()[1])
+        box = ax.get_window_extent()
+        c0, c1 = int(np.ceil(box.x0)), int(np.floor(box.x1))
+        r0, r1 = height - int(np.floor(box.y1)), height - int(np.ceil(box.y0))
+        inv = ax.transData.inverted()
+        xs = inv.transform(np.stack([np.arange(c0, c1) + 0.5, np.full(c1 - c0, box.y0)], 1))
+        ys = inv.transform(
+            np.stack([np.full(r1 - r0, box.x0), height - np.arange(r0, r1) - 0.5], 1)
+        )
+        cols = np.clip(np.rint(xs[:, 0]).astype(int), 0, world.width - 1)
+        rows = np.clip(np.rint(ys[:, 1]).astype(int), 0, world.height - 1)
+        when = self.when[np.ix_(rows, cols)]
+        color = self.palette[self.who[np.ix_(rows, cols)], :3] * 255.0
+        to_px = ax.transData.transform  # cell (x, y) -> display pixels
+        cell_px = abs(to_px((1.0, 0.0))[0] - to_px((0.0, 0.0))[0])
+        return (r0, r1, c0, c1), when, color, to_px, height, max(2, int(0.9 * cell_px))
+
+    def draw(self, t: float) -> np.ndarray:
+        if self.geometry is None:
+            self.geometry = self._layout()
+        (r0, r1, c0, c1), when, color, to_px, height, half = self.geometry
+        frame = np.asarray(self.cv.fig.canvas.buffer_rgba())[..., :3].copy()
+        region = frame[r0:r1, c0:c1]
+        done = when <= t
+        blend = region[done] * (1 - self.ALPHA) + color[done] * self.ALPHA
+        region[done] = blend.astype(np.uint8)
+        for a in self.cv.agents:
+            k = int(np.searchsorted(a.traj[:, 0], t, side="right"))
+            if not k:
+                continue
+            px, py = to_px(a.traj[k - 1, 1:])
+            r, c = int(height - py), int(px)
+            frame[max(r - half - 1, 0) : r + half + 2, max(c - half - 1, 0) : c + half + 2] = 0
+            rgb = (np.array(a.color[:3]) * 255).astype(np.uint8)
+            frame[max(r - half, 0) : r + half + 1, max(c - half, 0) : c + half + 1] = rgb
+        return frame
 
 
 def _palette(rgb: np.ndarray) -> tuple[bytes, np.ndarray]:

@@ -1,0 +1,157 @@
+"""Scenario files: one mission run written down as TOML, for ``swarmex run``.
+
+A scenario is the command line of a mission command in file form, so it can never drift from
+the command's options::
+
+    mission = "traversal"        # traversal | foraging | exploration | roadmap
+    grid = "10x10"
+    agents = 3
+    nests = ["0,9", "9,0"]       # or "0,9;9,0", or [[0, 9], [9, 0]]
+    travel-time = 2.22           # travel_time works too
+
+Every key but ``mission`` becomes ``--key value`` of the mission's command (``traverse``,
+``forage``, ``explore``, ``roadmap``); the command itself validates the values, so a
+scenario accepts exactly what the command line accepts. Value rules:
+
+* ``true`` → the flag; ``false`` → its ``--no-…`` form if the option has one, else nothing;
+* a list of strings → ``"a;b"``; a list of ``[x, y]`` pairs → ``"x,y;x,y"``; a list of
+  numbers → ``"x,y"`` (a point); options that repeat take one ``--key`` per element;
+* a relative path (any option the command declares as a path, outputs included) is resolved
+  against the scenario file's folder, so a scenario and its map travel together.
+
+The argv is built here from the *shapes* of the command's options (which are paths, flags,
+repeatable), which the CLI reads off its own command objects; this module stays free of the
+CLI framework.
+"""
+
+from __future__ import annotations
+
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from swarmex.errors import InputError
+
+MISSIONS: dict[str, str] = {
+    "traversal": "traverse",
+    "foraging": "forage",
+    "exploration": "explore",
+    "roadmap": "roadmap",
+}
+
+
+@dataclass(frozen=True)
+class OptionShape:
+    """What ``swarmex run`` must know about one option of a mission command."""
+
+    flag: str  # "--nests"
+    is_path: bool = False
+    is_flag: bool = False  # a boolean flag: takes no value
+    negation: str | None = None  # "--no-quick" when the flag has an off switch
+    multiple: bool = False  # may be repeated
+
+
+@dataclass(frozen=True)
+class Scenario:
+    path: Path
+    mission: str
+    options: dict[str, Any]  # keys in option form ("travel-time"), in file order
+
+    @property
+    def command(self) -> str:
+        return MISSIONS[self.mission]
+
+
+def load_scenario(path: str | Path) -> Scenario:
+    """Read and check a scenario file; every problem is an InputError naming the file."""
+    path = Path(path)
+    try:
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise InputError(f"scenario file not found: {path}") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        reason = getattr(exc, "strerror", None) or str(exc)
+        raise InputError(f"cannot read scenario file {path}: {reason}") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(f"{path}: not valid TOML: {exc}") from None
+    mission = data.pop("mission", None)
+    if mission is None:
+        raise InputError(f'{path}: no mission key (e.g. mission = "traversal")')
+    if mission not in MISSIONS:
+        known = ", ".join(MISSIONS)
+        raise InputError(f"{path}: unknown mission {mission!r} (choose from {known})")
+    options: dict[str, Any] = {}
+    for key, value in data.items():
+        name = key.replace("_", "-")
+        if name in options:
+            raise InputError(f"{path}: option {name!r} is given twice")
+        _check_value(path, name, value)
+        options[name] = value
+    return Scenario(path, mission, options)
+
+
+def _check_value(path: Path, name: str, value: Any) -> None:
+    scalar = (str, int, float, bool)
+    if isinstance(value, scalar):
+        return
+    if isinstance(value, list) and all(
+        isinstance(v, scalar)
+        or (isinstance(v, list) and all(isinstance(c, int | float) for c in v))
+        for v in value
+    ):
+        return
+    raise InputError(
+        f"{path}: option {name!r} has an unsupported value {value!r}"
+        " (use a string, number, boolean or list)"
+    )
+
+
+def _text(value: Any) -> str:
+    """One value as the command line spells it: lists of pairs → "x,y;x,y"."""
+    if isinstance(value, list):
+        if all(isinstance(v, list) for v in value):
+            return ";".join(",".join(_text(c) for c in v) for v in value)
+        sep = ";" if any(isinstance(v, str) for v in value) else ","
+        return sep.join(_text(v) for v in value)
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    return str(value)
+
+
+def scenario_argv(scenario: Scenario, shapes: dict[str, OptionShape]) -> list[str]:
+    """The argv (without the command name) that runs ``scenario``'s mission command.
+
+    ``shapes`` maps option names without dashes (``"travel-time"``) to their shape; a key
+    the command does not have is an InputError listing the ones it has.
+    """
+    argv: list[str] = []
+    for name, value in scenario.options.items():
+        shape = shapes.get(name)
+        if shape is None:
+            known = ", ".join(sorted(shapes))
+            raise InputError(
+                f"{scenario.path}: swarmex {scenario.command} has no option --{name}"
+                f" (it has: {known})"
+            )
+        if shape.is_flag:
+            if not isinstance(value, bool):
+                raise InputError(f"{scenario.path}: {name} must be true or false")
+            if value:
+                argv.append(shape.flag)
+            elif shape.negation:
+                argv.append(shape.negation)
+            continue
+        items = value if shape.multiple and isinstance(value, list) else [value]
+        for item in items:
+            text = _text(item)
+            if shape.is_path:
+                text = str(resolve_path(scenario.path.parent, text))
+            argv += [shape.flag, text]
+    return argv
+
+
+def resolve_path(folder: Path, text: str) -> Path:
+    """A path from a scenario: ``~`` expanded, relative ones taken from the file's folder."""
+    p = Path(text).expanduser()
+    return p if p.is_absolute() else folder / p
