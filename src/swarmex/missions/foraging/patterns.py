@@ -1,0 +1,43 @@
+"""Registry of exploration patterns: name → plan builder, cached per ``(name, g, n)``."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from functools import lru_cache
+
+from swarmex.errors import InputError
+from swarmex.missions.foraging import (
+    hilbert,
+    modified_zigzag,
+    rings,
+    sectors,
+    spiral,
+    strips,
+    zigzag,
+)
+from swarmex.missions.foraging.plan import Plan
+
+BUILDERS: dict[str, Callable[[int, int], Plan]] = {
+    "strips": strips.plan,
+    "zigzag": zigzag.plan,
+    "hilbert": hilbert.plan,
+    "sectors": sectors.plan,
+    "spiral": spiral.plan,
+    "modified-zigzag": modified_zigzag.plan,
+    "rings": rings.plan,
+}
+THESIS_ALGORITHMS = ("strips", "zigzag", "hilbert", "sectors", "spiral", "modified-zigzag")
+ALGORITHMS = (*THESIS_ALGORITHMS, "rings")
+
+
+@lru_cache(maxsize=64)
+def build_plan(name: str, g: int, n: int) -> Plan:
+    if name not in BUILDERS:
+        raise InputError(f"unknown --algorithm {name!r}; choose one of {', '.join(ALGORITHMS)}")
+    if g < 2:
+        raise InputError(f"--grid must be at least 2 (got {g})")
+    if n < 1:
+        raise InputError(f"--agents must be at least 1 (got {n})")
+    p = BUILDERS[name](g, n)
+    p.validate()
+    return p
