@@ -175,7 +175,7 @@ MAX_ROWS = 20
 
 def _fmt(v: Any) -> str:
     if isinstance(v, float):
-        return f"{v:,.2f}"
+        return f"{v:.1f}"
     return "" if v is None else str(v)
 
 
@@ -400,6 +400,7 @@ def demo(
     """Run MADGTA on an embedded generated map, print a summary and draw the paths."""
     from swarmex.worlds import random_obstacles
 
+    out = out.resolve()  # say exactly where the picture went
     check_output(out, "--out", (".png",))
     world = random_obstacles(16, 16, 0.18, seed=7)
     nest_nodes = resolve_nests(world, None, DEMO_AGENTS)

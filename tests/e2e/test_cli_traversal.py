@@ -1,0 +1,332 @@
+"""``swarmex traverse`` / ``demo`` / ``run`` end to end: records, replay, bad input."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from swarmex.cli import main
+
+REPO = Path(__file__).resolve().parents[2]
+EXAMPLES = REPO / "examples"
+
+TOP_KEYS = {
+    "swarmex_version",
+    "mission",
+    "algorithm",
+    "params",
+    "seed",
+    "world",
+    "complete",
+    "makespan",
+    "time_unit",
+    "metrics",
+    "agents",
+    "wall_seconds",
+}
+WORLD_KEYS = {"kind", "source", "width", "height", "free_cells"}
+
+GRID = ["--grid", "7x6", "--obstacles", "2,1;2,2;2,3;5,4;5,4"]  # (5,4) twice: harmless
+
+
+def cli(argv, capsys):
+    code = main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def free_mask(width: int, height: int, blocked) -> np.ndarray:
+    """The map, built here without swarmex: True = free, indexed [y, x]."""
+    free = np.ones((height, width), dtype=bool)
+    for x, y in blocked:
+        free[y, x] = False
+    return free
+
+
+def replay(record: dict, free: np.ndarray) -> None:
+    """Independent checker of DESIGN.md: moves to 4-adjacent free cells, one job per cell."""
+    h, w = free.shape
+    jobs = []
+    for agent in record["agents"]:
+        traj = agent["trajectory"]
+        assert traj, "an agent without a position"
+        for _t, x, y in traj:
+            assert 0 <= x < w and 0 <= y < h and free[int(y), int(x)]
+        for (t0, x0, y0), (t1, x1, y1) in zip(traj, traj[1:], strict=False):
+            assert t1 >= t0
+            assert abs(x1 - x0) + abs(y1 - y0) == 1, f"jump {x0, y0} -> {x1, y1}"
+        times = [p[0] for p in traj]
+        for t, x, y in agent["jobs"]:
+            # the agent stood on the cell when it started the job
+            here = traj[int(np.searchsorted(times, t, side="right")) - 1]
+            assert (here[1], here[2]) == (x, y)
+            jobs.append((int(x), int(y)))
+    assert len(jobs) == len(set(jobs)), "a job was done twice"
+    assert set(jobs) == {(int(x), int(y)) for y, x in np.argwhere(free)}
+
+
+def test_traverse_writes_a_record_that_replays(tmp_path, capsys):
+    out = tmp_path / "sub" / "run.json"  # missing folders are created
+    code, stdout, err = cli(
+        ["traverse", *GRID, "--agents", 3, "--nests", "0,0;6,5", "--seed", 4, "--json", out],
+        capsys,
+    )
+    assert code == 0, err
+    assert "complete" in stdout and "agent" in stdout
+    rec = json.loads(out.read_text())
+    assert set(rec) == TOP_KEYS
+    assert rec["mission"] == "traversal" and rec["algorithm"] == "madgta"
+    assert rec["seed"] == 4 and rec["time_unit"] == "s" and rec["complete"] is True
+    assert set(rec["world"]) >= WORLD_KEYS
+    free = free_mask(7, 6, [(2, 1), (2, 2), (2, 3), (5, 4)])
+    assert (rec["world"]["width"], rec["world"]["height"]) == (7, 6)
+    assert rec["world"]["free_cells"] == int(free.sum())
+    params = rec["params"]
+    for key in (
+        "grid",
+        "obstacles",
+        "agents",
+        "nests",
+        "travel_time",
+        "job_time",
+        "algorithm",
+        "objective",
+        "connectivity",
+        "start_interval",
+        "altitude",
+        "up_speed",
+        "down_speed",
+        "comm_range",
+        "loss",
+        "delay",
+        "job_failure",
+        "seed",
+    ):
+        assert key in params, key
+    # nests shared round-robin: agents 1 and 3 start at (0,0), agent 2 at (6,5)
+    assert params["nests"] == [[0, 0], [6, 5], [0, 0]]
+    assert [a["trajectory"][0][1:] for a in rec["agents"]] == [[0, 0], [6, 5], [0, 0]]
+    assert [a["id"] for a in rec["agents"]] == [1, 2, 3]
+    for a in rec["agents"]:
+        assert {"id", "metrics", "trajectory", "jobs"} <= set(a)
+    replay(rec, free)
+    last = max(t for a in rec["agents"] for t, *_ in a["trajectory"] + a["jobs"])
+    assert rec["makespan"] >= last
+
+
+def test_same_seed_same_record(tmp_path, capsys):
+    paths = [tmp_path / "a.json", tmp_path / "b.json"]
+    for p in paths:
+        assert cli(["traverse", *GRID, "--agents", 2, "--seed", 9, "--json", p], capsys)[0] == 0
+    a, b = (json.loads(p.read_text()) for p in paths)
+    a.pop("wall_seconds"), b.pop("wall_seconds")
+    assert a == b
+
+
+def test_default_nest_is_the_first_free_cell_row_major(tmp_path, capsys):
+    out = tmp_path / "r.json"
+    argv = ["traverse", "--grid", "4x3", "--obstacles", "0,0;1,0", "--agents", 2, "--json", out]
+    assert cli(argv, capsys)[0] == 0
+    rec = json.loads(out.read_text())
+    assert [a["trajectory"][0][1:] for a in rec["agents"]] == [[2, 0], [2, 0]]
+    replay(rec, free_mask(4, 3, [(0, 0), (1, 0)]))
+
+
+def test_map_file_with_extra_obstacles_and_nearest(tmp_path, capsys):
+    rows = ["..@..", ".....", "..@.."]
+    mapfile = tmp_path / "m.map"
+    mapfile.write_text("type octile\nheight 3\nwidth 5\nmap\n" + "\n".join(rows) + "\n")
+    out = tmp_path / "r.json"
+    argv = [
+        "traverse",
+        "--map",
+        mapfile,
+        "--obstacles",
+        "4,1",
+        "--agents",
+        2,
+        "--nests",
+        "0,0;0,0",
+        "--algorithm",
+        "nearest",
+        "--json",
+        out,
+    ]
+    code, _, err = cli(argv, capsys)
+    assert code == 0, err
+    rec = json.loads(out.read_text())
+    assert rec["algorithm"] == "nearest" and rec["world"]["kind"] == "grid"
+    free = np.array([[c == "." for c in row] for row in rows])
+    free[1, 4] = False
+    replay(rec, free)
+
+
+def test_console_script_runs_as_a_subprocess(tmp_path):
+    out = tmp_path / "r.json"
+    proc = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "swarmex",
+            "traverse",
+            "--grid",
+            "4x4",
+            "--agents",
+            "2",
+            "--json",
+            str(out),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        cwd=tmp_path,
+    )
+    assert proc.returncode == 0, proc.stderr
+    assert set(json.loads(out.read_text())) == TOP_KEYS
+
+
+@pytest.fixture
+def bad_map(tmp_path):
+    def make(text: str) -> Path:
+        p = tmp_path / "bad.map"
+        p.write_text(text)
+        return p
+
+    return make
+
+
+BAD = {
+    "missing map": ["--map", "no/such.map", "--agents", "2"],
+    "neither map nor grid": ["--agents", "2"],
+    "both map and grid": ["--map", "MAP:", "--grid", "3x3", "--agents", "2"],
+    "malformed map": ["--map", "MAP:this is not a map\n", "--agents", "2"],
+    "header height": [
+        "--map",
+        "MAP:type octile\nheight 3\nwidth 2\nmap\n..\n..\n",
+        "--agents",
+        "1",
+    ],
+    "header width": ["--map", "MAP:type octile\nheight 2\nwidth 3\nmap\n..\n..\n", "--agents", "1"],
+    "bad terrain": ["--map", "MAP:type octile\nheight 1\nwidth 2\nmap\n.x\n", "--agents", "1"],
+    "grid spec": ["--grid", "10by10", "--agents", "2"],
+    "grid zero": ["--grid", "0x5", "--agents", "2"],
+    "obstacle outside": ["--grid", "5x5", "--obstacles", "5,1", "--agents", "2"],
+    "obstacle negative": ["--grid", "5x5", "--obstacles", "-1,1", "--agents", "2"],
+    "obstacles malformed": ["--grid", "5x5", "--obstacles", "1;2", "--agents", "2"],
+    "nest outside": ["--grid", "5x5", "--agents", "2", "--nests", "0,9"],
+    "nests malformed": ["--grid", "5x5", "--agents", "2", "--nests", "a,b"],
+    "nests empty": ["--grid", "5x5", "--agents", "2", "--nests", ";"],
+    "nest on obstacle": ["--grid", "5x5", "--obstacles", "1,1", "--agents", "2", "--nests", "1,1"],
+    "more nests than agents": ["--grid", "5x5", "--agents", "2", "--nests", "0,0;1,1;2,2"],
+    "more agents than free cells": ["--grid", "2x2", "--obstacles", "0,0", "--agents", "4"],
+    "zero agents": ["--grid", "5x5", "--agents", "0"],
+    "agents not a number": ["--grid", "5x5", "--agents", "three"],
+    "agents missing": ["--grid", "5x5"],
+    "negative travel time": ["--grid", "5x5", "--agents", "2", "--travel-time", "-1"],
+    "zero travel time": ["--grid", "5x5", "--agents", "2", "--travel-time", "0"],
+    "negative job time": ["--grid", "5x5", "--agents", "2", "--job-time", "-2"],
+    "negative altitude": ["--grid", "5x5", "--agents", "2", "--altitude", "-5"],
+    "zero up speed": ["--grid", "5x5", "--agents", "2", "--altitude", "5", "--up-speed", "0"],
+    "negative down speed": ["--grid", "5x5", "--agents", "2", "--down-speed", "-1"],
+    "negative start interval": ["--grid", "5x5", "--agents", "2", "--start-interval", "-1"],
+    "unknown algorithm": ["--grid", "5x5", "--agents", "2", "--algorithm", "dijkstra"],
+    "unknown objective": ["--grid", "5x5", "--agents", "2", "--objective", "median"],
+    "connectivity": ["--grid", "5x5", "--agents", "2", "--connectivity", "6"],
+    "loss": ["--grid", "5x5", "--agents", "2", "--loss", "1.5"],
+    "negative delay": ["--grid", "5x5", "--agents", "2", "--delay", "-1"],
+    "comm range": ["--grid", "5x5", "--agents", "2", "--comm-range", "0"],
+    "job failure": ["--grid", "5x5", "--agents", "2", "--job-failure", "1"],
+    "json unwritable": ["--grid", "5x5", "--agents", "2", "--json", "FILE:/out.json"],
+    "json is a directory": ["--grid", "5x5", "--agents", "2", "--json", "DIR:"],
+    "render unwritable": ["--grid", "5x5", "--agents", "2", "--render", "FILE:/x.png"],
+    "render extension": ["--grid", "5x5", "--agents", "2", "--render", "TMP:out.jpg"],
+    "render no extension": ["--grid", "5x5", "--agents", "2", "--render", "TMP:out"],
+}
+
+
+@pytest.mark.parametrize("name", list(BAD))
+def test_bad_input_exits_2_with_one_line(name, tmp_path, capsys, bad_map):
+    a_file = tmp_path / "plain.txt"
+    a_file.write_text("x")
+    argv = []
+    for arg in BAD[name]:
+        if arg.startswith("MAP:"):
+            arg = bad_map(arg[4:] or "type octile\nheight 1\nwidth 1\nmap\n.\n")
+        elif arg.startswith("FILE:"):  # below a regular file: never writable, even for root
+            arg = f"{a_file}{arg[5:]}"
+        elif arg.startswith("DIR:"):
+            arg = str(tmp_path)
+        elif arg.startswith("TMP:"):
+            arg = str(tmp_path / arg[4:])
+        argv.append(arg)
+    code, out, err = cli(["traverse", *argv], capsys)
+    assert code == 2, (out, err)
+    lines = err.strip().splitlines()
+    assert len(lines) == 1, err
+    assert lines[0].startswith("swarmex: error: ")
+    assert "Traceback" not in err + out
+    assert not list(tmp_path.glob("*.png")) and not (tmp_path / "out.json").exists()
+
+
+def test_bad_input_names_the_problem(capsys):
+    code, _, err = cli(["traverse", "--grid", "5x5", "--agents", "2", "--nests", "0,9"], capsys)
+    assert code == 2 and "--nests" in err and "(0,9)" in err and "outside" in err
+    code, _, err = cli(
+        ["traverse", "--grid", "3x3", "--obstacles", "1,1", "--agents", "1", "--nests", "1,1"],
+        capsys,
+    )
+    assert code == 2 and "obstacle" in err
+
+
+def test_demo_writes_a_png(tmp_path, capsys):
+    out = tmp_path / "demo.png"
+    code, stdout, err = cli(["demo", "--out", out], capsys)
+    assert code == 0, err
+    data = out.read_bytes()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 10_000
+    assert "demo.png" in stdout.replace("\n", "") and "complete" in stdout
+
+
+def test_run_example_scenario(tmp_path, capsys):
+    out = tmp_path / "r.json"
+    code, stdout, err = cli(["run", EXAMPLES / "traversal.toml", "--json", out], capsys)
+    assert code == 0, err
+    rec = json.loads(out.read_text())
+    assert rec["params"]["grid"] == "10x10" and rec["params"]["agents"] == 3
+    blocked = [tuple(c) for c in rec["params"]["obstacles"]]
+    assert len(blocked) == 8
+    replay(rec, free_mask(10, 10, blocked))
+
+
+PRINTED = [  # seed 000 §3.2.4, thesis node numbers
+    "1-1*-2-2*-7-7*-6-6*-7-8-8*-9-9*-4-4*",
+    "11-11*-12-12*-17-17*-16-16*-21-21*-22-22*-23-18-18*",
+    "23-23*-24-24*-25-25*-20-20*-15-15*-10-10*-5-5*",
+]
+
+
+def test_thesis_example_scenario_prints_the_thesis_paths(tmp_path, capsys):
+    out = tmp_path / "r.json"
+    code, _, err = cli(["run", EXAMPLES / "traversal-thesis-example.toml", "--json", out], capsys)
+    assert code == 0, err
+    rec = json.loads(out.read_text())
+
+    def tid(x, y):  # thesis node: 1 bottom-left, row-major upwards
+        return int((4 - y) * 5 + x + 1)
+
+    paths = []
+    for a in rec["agents"]:
+        times = [t for t, _, _ in a["trajectory"]]
+        # the visit during which each job started gets the thesis's starred repeat
+        starred = {int(np.searchsorted(times, t, side="right")) - 1 for t, _, _ in a["jobs"]}
+        steps = []
+        for i, (_, x, y) in enumerate(a["trajectory"]):
+            k = tid(x, y)
+            steps += [f"{k}", f"{k}*"] if i in starred else [f"{k}"]
+        paths.append("-".join(steps))
+    assert paths == PRINTED
