@@ -1,0 +1,125 @@
+"""``swarmex run SCENARIO.toml``: scenario keys become the mission command's options."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from swarmex.cli import main
+from swarmex.experiments import scenario as scenario_mod
+from swarmex.experiments.scenario import OptionShape, Scenario, load_scenario, scenario_argv
+
+
+def cli(argv, capsys):
+    code = main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def write(tmp_path, text: str, name: str = "s.toml"):
+    p = tmp_path / name
+    p.write_text(text)
+    return p
+
+
+def record_of(tmp_path, capsys, body: str, *extra):
+    out = tmp_path / "r.json"
+    scn = write(tmp_path, 'mission = "traversal"\n' + body)
+    code, _, err = cli(["run", scn, "--json", out, *extra], capsys)
+    assert code == 0, err
+    return json.loads(out.read_text())
+
+
+@pytest.mark.parametrize(
+    "nests",
+    ['nests = "0,0;3,2"', 'nests = ["0,0", "3,2"]', "nests = [[0, 0], [3, 2]]"],
+)
+def test_cell_lists_in_every_spelling(tmp_path, capsys, nests):
+    rec = record_of(tmp_path, capsys, f'grid = "4x3"\nagents = 2\n{nests}\n')
+    assert rec["params"]["nests"] == [[0, 0], [3, 2]]
+
+
+def test_underscore_keys_and_overrides_after_the_file(tmp_path, capsys):
+    rec = record_of(
+        tmp_path, capsys, 'grid = "4x4"\nagents = 2\njob_time = 3.5\nseed = 1\n', "--seed", "7"
+    )
+    assert rec["params"]["job_time"] == 3.5
+    assert rec["seed"] == 7
+
+
+def test_relative_paths_resolve_against_the_scenario_folder(tmp_path, capsys, monkeypatch):
+    folder = tmp_path / "scen"
+    (folder / "maps").mkdir(parents=True)
+    (folder / "maps" / "m.map").write_text("type octile\nheight 2\nwidth 3\nmap\n...\n.@.\n")
+    scn = write(folder, 'mission = "traversal"\nmap = "maps/m.map"\nagents = 2\njson = "o.json"\n')
+    monkeypatch.chdir(tmp_path)  # somewhere else: the paths must not depend on the cwd
+    code, _, err = cli(["run", scn], capsys)
+    assert code == 0, err
+    rec = json.loads((folder / "o.json").read_text())
+    assert rec["world"]["free_cells"] == 5
+
+
+def test_flags_follow_the_command_shape():
+    shapes = {
+        "quick": OptionShape("--quick", is_flag=True),
+        "plot": OptionShape("--plot", is_flag=True, negation="--no-plot"),
+        "food": OptionShape("--food", multiple=True),
+        "out": OptionShape("--out", is_path=True),
+    }
+    scn = Scenario(
+        Path("/x/s.toml"),
+        "foraging",
+        {"quick": True, "plot": False, "food": ["1,2", "3,4"], "out": "res"},
+    )
+    assert scenario_argv(scn, shapes) == [
+        "--quick",
+        "--no-plot",
+        "--food",
+        "1,2",
+        "--food",
+        "3,4",
+        "--out",
+        "/x/res",
+    ]
+
+
+def test_a_point_list_becomes_x_comma_y(tmp_path):
+    scn = load_scenario(write(tmp_path, 'mission = "roadmap"\ngoal = [1.5, 2]\n'))
+    assert scenario_argv(scn, {"goal": OptionShape("--goal")}) == ["--goal", "1.5,2"]
+
+
+BAD = {
+    "missing file": None,
+    "not toml": "mission = traversal grid\n",
+    "no mission": 'grid = "4x4"\n',
+    "unknown mission": 'mission = "swimming"\n',
+    "unknown option": 'mission = "traversal"\ngrid = "4x4"\nagents = 2\ncolour = "red"\n',
+    "table value": 'mission = "traversal"\n[grid]\nw = 4\n',
+    "bad value inside": 'mission = "traversal"\ngrid = "4x4"\nagents = 2\nnests = "9,9"\n',
+    "bad type inside": 'mission = "traversal"\ngrid = "4x4"\nagents = "two"\n',
+    "twice": 'mission = "traversal"\njob_time = 1\njob-time = 2\n',
+    "not utf-8": b"mission = \xff\n",
+}
+
+
+@pytest.mark.parametrize("name", list(BAD))
+def test_bad_scenario_exits_2_with_one_line(name, tmp_path, capsys):
+    body = BAD[name]
+    path = tmp_path / "s.toml"
+    if isinstance(body, bytes):
+        path.write_bytes(body)
+    elif body is not None:
+        path.write_text(body)
+    code, out, err = cli(["run", path], capsys)
+    assert code == 2, (out, err)
+    assert len(err.strip().splitlines()) == 1, err
+    assert "Traceback" not in out + err
+    assert "s.toml" in err  # the message names the file
+
+
+def test_a_mission_whose_command_is_missing(tmp_path, capsys, monkeypatch):
+    monkeypatch.setitem(scenario_mod.MISSIONS, "teleport", "teleport-nowhere")
+    code, _, err = cli(["run", write(tmp_path, 'mission = "teleport"\n')], capsys)
+    assert code == 2 and "teleport-nowhere" in err and len(err.strip().splitlines()) == 1
