@@ -1,0 +1,96 @@
+"""Collision avoidance for one synchronous round (thesis §1.3.3, Algorithm 1).
+
+Alg. 1 lets robot A take a cell C that brings it closer to its target unless a *contender* —
+a robot next to C — has a larger ``(x, y)``. Read literally, contenders are robots merely
+standing next to C whatever they intend, which stalls robots walking back-to-back on the
+relay path (the thesis's own transport analysis has them do exactly that). Every robot's
+next move is a deterministic function of what it sees within distance 2, so we read
+contenders as the robots that *want* C in this round (including one that stays in C). The
+rule is then:
+
+* each robot offers an ordered list of cells: its distance-reducing moves (x first, as
+  Alg. 1 enumerates them), then staying put; an idle robot offers staying put first and then
+  its free neighbours, so it steps aside when a moving robot needs its cell;
+* among robots that want the same non-nest cell the lexicographically larger ``(x, y)`` wins
+  (ties, possible only in the nest, by smaller id); robots still following their exploration
+  route rank above everyone, because those routes are designed to be collision-free and the
+  other robots can compute them (ch. 4);
+* a robot that cannot leave its cell keeps it; losers fall back to their next option, and
+  the process repeats until no cell outside the nest is claimed twice.
+
+Swaps of two adjacent robots (Fig. 3) and rotations are legal outcomes; two robots never end
+a round in one non-nest cell. Robots that lose every option wait and retry next round.
+"""
+
+from __future__ import annotations
+
+from swarmex.missions.foraging.grid import Cell
+
+NEIGH: tuple[Cell, ...] = ((1, 0), (0, -1), (-1, 0), (0, 1))
+
+
+def toward(p: Cell, q: Cell) -> list[Cell]:
+    """Alg. 1's possible moves from ``p`` to ``q``: the x move first, then the y move."""
+    out: list[Cell] = []
+    if q[0] != p[0]:
+        out.append((p[0] + (1 if q[0] > p[0] else -1), p[1]))
+    if q[1] != p[1]:
+        out.append((p[0], p[1] + (1 if q[1] > p[1] else -1)))
+    return out
+
+
+def sidesteps(p: Cell, g: int) -> list[Cell]:
+    return [
+        (p[0] + dx, p[1] + dy)
+        for dx, dy in NEIGH
+        if 0 <= p[0] + dx < g and 0 <= p[1] + dy < g
+    ]
+
+
+def priority(
+    cur: list[Cell], route_following: list[bool], opts: list[list[Cell]] | None = None
+) -> list[int]:
+    """Robots in decreasing priority: route followers, then larger (x, y), then smaller id.
+
+    Two robots that want each other's cells (a swap, Fig. 3) go first: a third robot that
+    grabbed one of the two cells would otherwise freeze both of them, and itself, for good.
+    """
+    n = len(cur)
+    swap = [False] * n
+    if opts is not None:
+        where = {c: a for a, c in enumerate(cur)}
+        for a in range(n):
+            b = where.get(opts[a][0])
+            if b is not None and b != a and opts[b][0] == cur[a]:
+                swap[a] = True
+    return sorted(
+        range(n), key=lambda a: (not swap[a], not route_following[a], -cur[a][0], -cur[a][1], a)
+    )
+
+
+def resolve(cur: list[Cell], opts: list[list[Cell]], order: list[int], nest: Cell) -> list[Cell]:
+    """Choose one option per robot so that no non-nest cell holds two robots."""
+    ch = [0] * len(cur)
+    while True:
+        owner: dict[Cell, int] = {}
+        bumped = -1
+        for a in order:
+            c = opts[a][ch[a]]
+            if c == nest:
+                continue
+            b = owner.get(c)
+            if b is None:
+                owner[c] = a
+                continue
+            stayer = a if c == cur[a] else b if c == cur[b] else -1
+            if stayer >= 0:
+                other = b if stayer == a else a
+                bumped = stayer if ch[stayer] + 1 < len(opts[stayer]) else other
+            else:
+                bumped = a  # both move in: the later (lower-priority) one yields
+            break
+        if bumped < 0:
+            return [opts[a][ch[a]] for a in range(len(cur))]
+        if ch[bumped] + 1 >= len(opts[bumped]):  # pragma: no cover - defensive
+            raise RuntimeError("collision resolution ran out of options")
+        ch[bumped] += 1

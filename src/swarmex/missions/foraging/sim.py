@@ -1,0 +1,328 @@
+"""The foraging run: synchronous Look-Compute-Move rounds until all k units are home.
+
+Time ``t`` is the state after ``t`` rounds (everyone in the nest at ``t = 0``). In the Look of
+round ``t + 1`` a robot senses food in its cell, exchanges the location with robots at distance
+≤ 1, and picks up / drops / hands over food; in Compute it chooses its move; the moves of all
+robots are made collision-free together (:mod:`.resolve`) and applied. Events seen in the Look
+of round ``t + 1`` are stamped ``t`` (they are about the state at ``t``), so a unit dropped by a
+robot that walked into the nest in round ``t`` counts at ``t``, and the mission's makespan is the
+round at which the k-th unit arrives.
+
+Until the food is found the run is the pattern's timetable (:mod:`.timed`); from the discovery
+round on, this loop takes over. Robots still exploring keep following the timetable (shifted by
+the rounds they were made to wait), informed robots communicate (:mod:`.comm`) and then
+transport (:mod:`.transport`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from swarmex.missions.foraging.comm import best_order, meet
+from swarmex.missions.foraging.grid import Cell, manhattan
+from swarmex.missions.foraging.resolve import priority, resolve, sidesteps, toward
+from swarmex.missions.foraging.timed import Timed
+from swarmex.missions.foraging.transport import (
+    END_TO_END,
+    RELAY_FOOD,
+    RELAY_PATH,
+    entry_cell,
+    relay_path,
+)
+
+EXPLORE, FOLLOW, COMM, TRANSPORT = 0, 1, 2, 3
+JOIN, RELAY, E2E, IDLE = 0, 1, 2, 3
+
+
+class NoProgress(RuntimeError):
+    """The round limit was hit: a livelock in the rules, never bad user input."""
+
+
+@dataclass
+class Outcome:
+    positions: np.ndarray  # (makespan + 1, n, 2)
+    jobs: list[list[tuple[int, int, int, str]]]  # per robot: (t, x, y, "pickup"|"drop")
+    handovers: list[int]
+    discovery: int
+    finders: list[int]
+    informed_at: list[int | None]
+    comm_done: list[int | None]
+    makespan: int
+    delivered: int
+    complete: bool
+    extra: dict[str, object] = field(default_factory=dict)
+
+
+class Mission:
+    """State of one run from a given moment on; :meth:`step` plays one round."""
+
+    def __init__(
+        self,
+        g: int,
+        nest: Cell,
+        food: Cell,
+        units: int,
+        transport: str,
+        start: list[Cell],
+        t: int = 0,
+        timed: Timed | None = None,
+    ) -> None:
+        self.g, self.nest, self.food = g, nest, food
+        self.units = units
+        self.k = units
+        self.transport = transport
+        self.n = len(start)
+        self.t = t
+        self.timed = timed
+        n = self.n
+        self.pos: list[Cell] = list(start)
+        self.mode = [EXPLORE] * n
+        self.delay = [0] * n
+        self.displaced = [False] * n
+        self.informed = [False] * n
+        self.informed_at: list[int | None] = [None] * n
+        self.targets: list[list[int]] = [[] for _ in range(n)]
+        self.carrying = [False] * n
+        self.tmode = [JOIN] * n
+        self.pidx = [-1] * n
+        self.comm_done: list[int | None] = [None] * n
+        self.jobs: list[list[tuple[int, int, int, str]]] = [[] for _ in range(n)]
+        self.handovers = [0] * n
+        self.delivered = 0
+        self.path = relay_path(nest, food)
+        self.path_index = {c: i for i, c in enumerate(self.path)}
+        self.neighbours = timed.plan.neighbours if timed else [[] for _ in range(n)]
+        self.follow_comm = bool(timed and timed.plan.follow_path_comm)
+        self.history: list[list[Cell]] = []
+        self.join_at: dict[int, int] = {}
+
+    # ------------------------------------------------------------------ prediction
+    def on_route(self, a: int) -> bool:
+        if self.timed is None or self.displaced[a]:
+            return False
+        return self.mode[a] in (EXPLORE, FOLLOW)
+
+    def route_pos(self, a: int, t: int) -> Cell:
+        assert self.timed is not None
+        p = self.timed.at(t - self.delay[a])[a]
+        return (int(p[0]), int(p[1]))
+
+    def future(self, b: int, t: int) -> np.ndarray:
+        """Predicted positions of robot ``b`` from time ``t`` on (it stays at the last one)."""
+        if self.on_route(b):
+            assert self.timed is not None
+            i = max(0, t - self.delay[b])
+            seg = self.timed.pos[min(i, self.timed.t_end) :, b]
+            return seg if len(seg) else self.timed.pos[-1:, b]
+        return np.asarray([self.pos[b]], dtype=np.int64)
+
+    # ------------------------------------------------------------------ phases
+    def inform(self, a: int, teller: int | None) -> None:
+        self.informed[a] = True
+        self.informed_at[a] = self.t
+        todo = [b for b in self.neighbours[a] if b != teller and not self.informed[b]]
+        self.targets[a] = todo
+        if not todo:
+            self.enter_transport(a)
+        elif self.follow_comm and self.on_route(a):
+            self.mode[a] = FOLLOW
+        else:
+            self.start_comm(a)
+
+    def start_comm(self, a: int) -> None:
+        self.mode[a] = COMM
+        self.targets[a], _ = best_order(self.pos[a], self.t, self.targets[a], self.future)
+
+    def enter_transport(self, a: int) -> None:
+        self.mode[a] = TRANSPORT
+        self.comm_done[a] = self.t
+        if self.transport == END_TO_END:
+            self.tmode[a] = E2E
+            return
+        self.tmode[a] = JOIN
+        if self.transport == RELAY_FOOD:
+            self.join_at[a] = len(self.path) - 1
+        else:
+            self.join_at[a] = entry_cell(self.path, self.pos[a])
+        self.try_join(a)
+
+    def try_join(self, a: int) -> None:
+        if self.tmode[a] == JOIN and self.pos[a] == self.path[self.join_at[a]]:
+            self.tmode[a] = RELAY
+            self.pidx[a] = self.join_at[a]
+
+    # ------------------------------------------------------------------ look
+    def look(self) -> None:
+        n, t = self.n, self.t
+        for a in range(n):
+            if not self.informed[a] and self.pos[a] == self.food:
+                self.inform(a, None)
+        known = [a for a in range(n) if self.informed[a]]
+        new: list[tuple[int, int]] = []
+        for a in range(n):
+            if self.informed[a]:
+                continue
+            for b in known:
+                if manhattan(self.pos[a], self.pos[b]) <= 1:
+                    new.append((a, b))
+                    break
+        for a, b in new:
+            self.inform(a, b)
+        for a in range(n):
+            if self.mode[a] in (FOLLOW, COMM):
+                before = self.targets[a]
+                self.targets[a] = [b for b in before if not self.informed[b]]
+                if not self.targets[a]:
+                    self.enter_transport(a)
+                elif self.mode[a] == FOLLOW and t - self.delay[a] >= self.timed.t_end:
+                    self.start_comm(a)
+        self.transport_look()
+
+    def transport_look(self) -> None:
+        t = self.t
+        active = [a for a in range(self.n) if self.mode[a] == TRANSPORT]
+        if self.transport != END_TO_END:
+            for a in active:
+                self.try_join(a)
+            at = {self.pos[a]: a for a in active if self.tmode[a] == RELAY}
+            was = list(self.carrying)
+            busy: set[int] = set()
+            for b in active:
+                if self.tmode[b] != RELAY or not was[b] or self.pidx[b] < 2:
+                    continue
+                a = at.get(self.path[self.pidx[b] - 1])
+                if a is None or was[a] or a in busy or b in busy:
+                    continue
+                self.carrying[a], self.carrying[b] = True, False
+                self.handovers[b] += 1
+                busy.update((a, b))
+        for a in active:
+            if self.tmode[a] not in (RELAY, E2E):
+                continue
+            if self.carrying[a] and self.pos[a] == self.nest:
+                self.carrying[a] = False
+                self.delivered += 1
+                self.jobs[a].append((t, *self.nest, "drop"))
+            elif not self.carrying[a] and self.pos[a] == self.food and self.units > 0:
+                self.carrying[a] = True
+                self.units -= 1
+                self.jobs[a].append((t, *self.food, "pickup"))
+
+    # ------------------------------------------------------------------ compute + move
+    def options(self, a: int) -> tuple[list[Cell], bool]:
+        """Ordered cells robot ``a`` would like to be in next, and whether it follows a route."""
+        p = self.pos[a]
+        m = self.mode[a]
+        if m in (EXPLORE, FOLLOW) and self.on_route(a):
+            nxt = self.route_pos(a, self.t + 1)
+            if nxt != p:
+                return [nxt, p], True
+            if self.t + 1 - self.delay[a] > self.timed.t_end:  # type: ignore[union-attr]
+                return [p, *sidesteps(p, self.g)], False
+            return [p], True
+        if m == EXPLORE:  # pushed off its route after finishing it
+            return [p, *sidesteps(p, self.g)], False
+        if m == COMM:
+            b = self.targets[a][0]
+            fut = self.future(b, self.t)
+            tau = meet(p, fut)
+            goal = fut[min(tau, len(fut) - 1)]
+            goal_c = (int(goal[0]), int(goal[1]))
+            if manhattan(p, self.pos[b]) <= 1 or p == goal_c:
+                return [p], False
+            return [*toward(p, goal_c), p], False
+        # transport
+        tm = self.tmode[a]
+        if tm == E2E:
+            if not self.carrying[a] and self.units == 0:
+                return [p, *sidesteps(p, self.g)], False
+            goal = self.nest if self.carrying[a] else self.food
+            return [*toward(p, goal), p], False
+        if tm == JOIN:
+            return [*toward(p, self.path[self.join_at[a]]), p], False
+        if tm == RELAY:
+            i = self.pidx[a]
+            if self.carrying[a]:
+                return ([self.path[i - 1], p] if i > 0 else [p]), False
+            if i < len(self.path) - 1:
+                return [self.path[i + 1], p], False
+            if self.units == 0:
+                self.tmode[a] = IDLE
+                return [p, *sidesteps(p, self.g)], False
+            return [p], False
+        return [p, *sidesteps(p, self.g)], False
+
+    def step(self) -> None:
+        n = self.n
+        opts, following = [], []
+        for a in range(n):
+            o, f = self.options(a)
+            opts.append(o)
+            following.append(f)
+        new = resolve(self.pos, opts, priority(self.pos, following, opts), self.nest)
+        for a in range(n):
+            if self.on_route(a):
+                want = opts[a][0]
+                if new[a] != want and want != self.pos[a]:
+                    self.delay[a] += 1
+                elif new[a] != self.pos[a] and not following[a]:
+                    self.displaced[a] = True
+            elif self.mode[a] == TRANSPORT and self.tmode[a] == RELAY:
+                i = self.pidx[a]
+                if new[a] != self.pos[a]:
+                    j = self.path_index.get(new[a])
+                    if j is None or abs(j - i) != 1:
+                        self.tmode[a] = IDLE
+                    else:
+                        self.pidx[a] = j
+        self.pos = new
+        self.t += 1
+
+    def run(self, record: bool = True, limit: int | None = None) -> None:
+        limit = limit or self.t + 200 * self.g * (self.k + self.g) + 10_000
+        while True:
+            self.look()
+            if record:
+                self.history.append(list(self.pos))
+            if self.delivered >= self.k:
+                return
+            if self.t >= limit:
+                raise NoProgress(f"no completion after {self.t} rounds")
+            self.step()
+
+
+def run_mission(
+    timed: Timed, food: Cell, units: int, transport: str, record: bool = True
+) -> Outcome:
+    """Play one foraging run of the pattern in ``timed`` with food at ``food``."""
+    if transport not in (RELAY_FOOD, RELAY_PATH, END_TO_END):
+        raise ValueError(transport)
+    plan = timed.plan
+    pos = timed.pos
+    hit = (pos[:, :, 0] == food[0]) & (pos[:, :, 1] == food[1])
+    rows = np.flatnonzero(hit.any(axis=1))
+    if not len(rows):  # pragma: no cover - every pattern covers the grid
+        raise RuntimeError(f"{plan.algorithm} never visits {food}")
+    t0 = int(rows[0])
+    start = [(int(x), int(y)) for x, y in pos[t0]]
+    m = Mission(plan.g, plan.nest, food, units, transport, start, t=t0, timed=timed)
+    m.run(record=record)
+    if record:
+        positions = np.concatenate([pos[:t0], np.asarray(m.history, dtype=np.int32)], axis=0)
+    else:
+        positions = np.empty((0, plan.n, 2), dtype=np.int32)
+    finders = [a for a in range(plan.n) if m.informed_at[a] == t0 and start[a] == food]
+    return Outcome(
+        positions=positions,
+        jobs=m.jobs,
+        handovers=m.handovers,
+        discovery=t0,
+        finders=finders,
+        informed_at=m.informed_at,
+        comm_done=m.comm_done,
+        makespan=m.t,
+        delivered=m.delivered,
+        complete=m.delivered >= units,
+    )
