@@ -330,3 +330,43 @@ def test_thesis_example_scenario_prints_the_thesis_paths(tmp_path, capsys):
             steps += [f"{k}", f"{k}*"] if i in starred else [f"{k}"]
         paths.append("-".join(steps))
     assert paths == PRINTED
+
+
+@pytest.mark.parametrize("objective", ["sum", "makespan"])
+def test_optimal_dispatch(objective, tmp_path, capsys):
+    pytest.importorskip("swarmex.missions.traversal.optimal")
+    out = tmp_path / "r.json"
+    argv = [
+        "traverse",
+        "--grid",
+        "4x3",
+        "--obstacles",
+        "1,1",
+        "--agents",
+        2,
+        "--algorithm",
+        "optimal",
+        "--objective",
+        objective,
+        "--json",
+        out,
+    ]
+    code, _, err = cli(argv, capsys)
+    assert code == 0, err
+    rec = json.loads(out.read_text())
+    assert set(rec) >= TOP_KEYS and rec["algorithm"] == "optimal"  # plus the solver's report
+    assert rec["params"]["objective"] == objective
+    replay(rec, free_mask(4, 3, [(1, 1)]))
+
+
+def test_madgta_plus_dispatch(tmp_path, capsys):
+    from swarmex.missions.traversal.policies import POLICIES
+
+    if "madgta+" not in POLICIES:
+        pytest.skip("madgta+ is not registered by variants.py yet")
+    out = tmp_path / "r.json"
+    code, _, err = cli(
+        ["traverse", *GRID, "--agents", 3, "--algorithm", "madgta+", "--json", out], capsys
+    )
+    assert code == 0, err
+    replay(json.loads(out.read_text()), free_mask(7, 6, [(2, 1), (2, 2), (2, 3), (5, 4)]))
