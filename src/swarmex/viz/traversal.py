@@ -87,12 +87,13 @@ class _Canvas:
         self.is_grid = getattr(world, "kind", "") == "grid"
         pos = world.graph.pos
         self.small = world.graph.n_nodes <= SMALL_CELLS
+        self.spacing = spacing = self._spacing()
         if self.is_grid:
             w, h = world.width, world.height
             lo, hi = np.array([-0.5, -0.5]), np.array([w - 0.5, h - 0.5])
         else:
             lo, hi = pos.min(axis=0), pos.max(axis=0)
-            pad = 0.05 * max(float((hi - lo).max()), 1e-9)
+            pad = 0.6 * spacing  # room for the markers of border vertices
             lo, hi = lo - pad, hi + pad
         span = np.maximum(hi - lo, 1e-9)
         side = 6.5
@@ -108,17 +109,19 @@ class _Canvas:
         if title:
             self.ax.set_title(title, fontsize=10)
         # points per vertex spacing, to size markers and lines to the cells
-        self.unit_pts = 72.0 * size.max() / span.max() * self._spacing()
+        self.unit_pts = 72.0 * size.max() / span.max() * spacing
         self.agents = _agents(record)
         self._draw_world()
 
     def _spacing(self) -> float:
-        """Typical distance between adjacent vertices: 1 on grids, the median edge otherwise."""
+        """Typical gap between neighbours: 1 on grids, else the median shortest incident edge."""
         g = self.world.graph
         if self.is_grid or g.indices.size == 0:
             return 1.0
         src = np.repeat(np.arange(g.n_nodes), np.diff(g.indptr))
-        return float(np.median(np.linalg.norm(g.pos[src] - g.pos[g.indices], axis=1))) or 1.0
+        length = np.linalg.norm(g.pos[src] - g.pos[g.indices], axis=1)
+        starts = g.indptr[:-1][np.diff(g.indptr) > 0]
+        return float(np.median(np.minimum.reduceat(length, starts))) or 1.0
 
     # ------------------------------------------------------------------ static world
     def _draw_world(self) -> None:
@@ -158,7 +161,7 @@ class _Canvas:
         m = len(self.agents)
         if not self.small or m == 1:
             return [0.0] * m
-        step = min(0.08, 0.5 / m)
+        step = min(0.08, 0.5 / m) * self.spacing
         return [(i - (m - 1) / 2) * step for i in range(m)]
 
     def line_width(self) -> float:
