@@ -1,0 +1,122 @@
+"""What one exploring robot knows: its map, its scans archive, and what neighbours said.
+
+The thesis's shared structures (§3.3.1) are the *map* (occupancy grid), the *current plan*
+and the *scans archive*; this module holds the first and the last plus the neighbours' goals
+and positions heard in ``GOAL`` and heartbeat messages. The robot's own plan lives with the
+policy (:mod:`swarmex.missions.exploration.robot`). Nothing here ever sees the true world.
+"""
+
+from __future__ import annotations
+
+import bisect
+from dataclasses import dataclass, field
+
+from swarmex.missions.exploration.messages import ScanRecord
+from swarmex.sensing.occupancy import OccupancyGrid
+
+Cell = tuple[int, int]
+
+
+class ScanArchive:
+    """Every scan a robot knows (own and received), by key ``(origin, seq)``."""
+
+    def __init__(self) -> None:
+        self.scans: dict[tuple[int, int], ScanRecord] = {}
+        self._seqs: dict[int, list[int]] = {}  # origin -> sorted seqs held
+
+    def __len__(self) -> int:
+        return len(self.scans)
+
+    def __contains__(self, key: tuple[int, int]) -> bool:
+        return key in self.scans
+
+    def add(self, rec: ScanRecord) -> bool:
+        if rec.key in self.scans:
+            return False
+        self.scans[rec.key] = rec
+        bisect.insort(self._seqs.setdefault(rec.origin, []), rec.seq)
+        return True
+
+    def summary(self) -> tuple[tuple[int, int, int], ...]:
+        """Runs ``(origin, first, last + 1)`` of consecutive seqs held: NEED_MAP's content."""
+        runs: list[tuple[int, int, int]] = []
+        for origin in sorted(self._seqs):
+            seqs = self._seqs[origin]
+            start = prev = seqs[0]
+            for s in seqs[1:]:
+                if s != prev + 1:
+                    runs.append((origin, start, prev + 1))
+                    start = s
+                prev = s
+            runs.append((origin, start, prev + 1))
+        return tuple(runs)
+
+    def missing_for(self, have: tuple[tuple[int, int, int], ...]) -> list[ScanRecord]:
+        """The scans this archive holds that a peer with summary ``have`` lacks, in key order."""
+        runs: dict[int, list[tuple[int, int]]] = {}
+        for origin, lo, hi in have:
+            runs.setdefault(origin, []).append((lo, hi))
+        for r in runs.values():
+            r.sort()
+        out = []
+        for key in sorted(self.scans):
+            origin, seq = key
+            r = runs.get(origin)
+            if r:
+                i = bisect.bisect_right(r, (seq, float("inf"))) - 1
+                if i >= 0 and r[i][0] <= seq < r[i][1]:
+                    continue
+            out.append(self.scans[key])
+        return out
+
+
+@dataclass
+class Heard:
+    """The latest word from one neighbour."""
+
+    pos: Cell
+    t: int
+    goal: Cell | None = None
+    priority: float = float("inf")
+    goal_t: int = -(10**9)
+
+
+@dataclass
+class ExplorationBelief:
+    shape: tuple[int, int]
+    pos: Cell
+    grid: OccupancyGrid = field(init=False)
+    archive: ScanArchive = field(default_factory=ScanArchive)
+    heard: dict[int, Heard] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        self.grid = OccupancyGrid(self.shape)
+
+    def integrate(self, rec: ScanRecord) -> bool:
+        """Archive a scan and apply it to the map, once per key."""
+        if not self.archive.add(rec):
+            return False
+        self.grid.apply(rec.local)
+        return True
+
+    def hear_position(self, rid: int, pos: Cell, t: int) -> None:
+        h = self.heard.get(rid)
+        if h is None:
+            self.heard[rid] = Heard(pos, t)
+        else:
+            h.pos, h.t = pos, t
+
+    def hear_goal(self, rid: int, goal: Cell | None, priority: float, t: int) -> None:
+        h = self.heard.setdefault(rid, Heard((-1, -1), -(10**9)))
+        h.goal, h.priority, h.goal_t = goal, priority, t
+
+    def forget(self, rid: int) -> None:
+        self.heard.pop(rid, None)
+
+    def team_goals(self, t: int, ttl: int) -> dict[int, Cell]:
+        return {
+            r: h.goal for r, h in self.heard.items() if h.goal is not None and t - h.goal_t <= ttl
+        }
+
+    def team_positions(self, t: int, ttl: int) -> dict[int, Cell]:
+        return {r: h.pos for r, h in self.heard.items() if h.pos[0] >= 0 and t - h.t <= ttl}

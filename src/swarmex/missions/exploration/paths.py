@@ -1,0 +1,174 @@
+"""Grid motion planning for one robot's belief: inflation, distance fields, paths.
+
+The thesis's framework "starts with inflating the obstacles in the grid by a radius of the
+robot", builds a graph from the grid and runs "a search algorithm" (§3.1); which one is open
+(spec §6.11). swarmex:
+
+* **Footprint.** The robot is a disc of radius ``r`` (cells) centred on its cell. A cell is
+  *traversable* when it is known free and no known-occupied cell's square comes closer than
+  ``r`` to its centre, nor does the map's edge (outside the map is wall). With 5 cm cells and
+  the default 0.1 m radius that blocks a 5×5 block minus its corners around every obstacle;
+  with cells wider than the robot it blocks nothing but the obstacle itself.
+* **Moves.** One tick moves the robot to one of its 8 neighbours; a diagonal step needs both
+  cells it squeezes between to be traversable (no corner cutting). Travel time is therefore
+  the 8-connected *step count*, and the distance field from the robot is a breadth-first
+  search, exact for that metric and a few milliseconds on 400×400 cells (a Dijkstra/A* with
+  √2 diagonals would optimise a length the tick-based motion does not pay).
+* **Paths** descend the field from the goal, preferring at each step the predecessor nearest
+  (Euclidean) to the robot, which straightens the staircases BFS leaves — the role of the
+  framework's smoothing.
+* **Unknown cells are not traversable**: a robot plans through what it has seen free.
+"""
+
+from __future__ import annotations
+
+import math
+from functools import lru_cache
+
+import numba as nb
+import numpy as np
+
+_DY = np.array([-1, 1, 0, 0, -1, -1, 1, 1], dtype=np.int64)
+_DX = np.array([0, 0, -1, 1, -1, 1, -1, 1], dtype=np.int64)
+
+
+def footprint_offsets(radius_cells: float) -> np.ndarray:
+    """Offsets (dy, dx) of the cells whose square lies closer than ``radius`` to a centre."""
+    r = float(radius_cells)
+    k = int(math.ceil(r + 0.5))
+    d = np.arange(-k, k + 1)
+    dy, dx = np.meshgrid(d, d, indexing="ij")
+    gap = np.maximum(np.abs(dy) - 0.5, 0) ** 2 + np.maximum(np.abs(dx) - 0.5, 0) ** 2
+    keep = gap < r * r
+    keep[k, k] = True
+    return np.stack([dy[keep], dx[keep]], axis=1).astype(np.int64)
+
+
+@nb.njit(cache=True, nogil=True)
+def _inflate(occupied, offsets, out):  # pragma: no cover - compiled
+    h, w = occupied.shape
+    m = offsets.shape[0]
+    for y in range(h):
+        for x in range(w):
+            if occupied[y, x] > 0:
+                for k in range(m):
+                    yy = y + offsets[k, 0]
+                    xx = x + offsets[k, 1]
+                    if 0 <= yy < h and 0 <= xx < w:
+                        out[yy, xx] = True
+
+
+@lru_cache(maxsize=8)
+def _edge_band(shape: tuple[int, int], offsets_key: bytes) -> np.ndarray:
+    """Cells whose footprint leaves the map (the edge is wall); fixed per map and robot."""
+    offsets = np.frombuffer(offsets_key, dtype=np.int64).reshape(-1, 2)
+    h, w = shape
+    ys, xs = np.arange(h)[:, None], np.arange(w)[None, :]
+    out = np.zeros(shape, dtype=bool)
+    for dy, dx in offsets:
+        out |= (ys + dy < 0) | (ys + dy >= h) | (xs + dx < 0) | (xs + dx >= w)
+    return out
+
+
+def inflate(occupied: np.ndarray, offsets: np.ndarray) -> np.ndarray:
+    """Cells a robot centre may not occupy: near a known obstacle or the map's edge.
+
+    ``occupied`` is a bool mask or a log-odds grid (``> 0`` is an obstacle).
+    """
+    offsets = np.ascontiguousarray(offsets, dtype=np.int64)
+    out = _edge_band(tuple(occupied.shape), offsets.tobytes()).copy()
+    _inflate(np.ascontiguousarray(occupied), offsets, out)
+    return out
+
+
+@nb.njit(cache=True, nogil=True)
+def _bfs8(trav, src, stride, out):  # pragma: no cover - compiled
+    """BFS on a padded, flattened grid (the padding ring is never traversable)."""
+    n = trav.shape[0]
+    for i in range(n):
+        out[i] = -1
+    step = (-stride, stride, -1, 1, -stride - 1, -stride + 1, stride - 1, stride + 1)
+    side_a = (0, 0, 0, 0, -stride, -stride, stride, stride)
+    side_b = (0, 0, 0, 0, -1, 1, -1, 1)
+    q = np.empty(n, dtype=np.int32)
+    out[src] = 0
+    q[0] = src
+    head = 0
+    tail = 1
+    while head < tail:
+        u = q[head]
+        head += 1
+        d = out[u] + 1
+        for k in range(8):
+            v = u + step[k]
+            if out[v] >= 0 or not trav[v]:
+                continue
+            if k >= 4 and not (trav[u + side_a[k]] and trav[u + side_b[k]]):
+                continue
+            out[v] = d
+            q[tail] = v
+            tail += 1
+
+
+def distance_steps(traversable: np.ndarray, x: int, y: int) -> np.ndarray:
+    """Steps (8-connected, no corner cutting) from cell (x, y) to every cell; -1 unreachable.
+
+    The source itself radiates even if it is not traversable (a robot that finds itself
+    inside a freshly inflated zone can still leave it).
+    """
+    h, w = traversable.shape
+    stride = w + 2
+    padded = np.zeros((h + 2, stride), dtype=np.bool_)
+    padded[1:-1, 1:-1] = traversable
+    out = np.empty((h + 2) * stride, dtype=np.int32)
+    _bfs8(padded.ravel(), (int(y) + 1) * stride + int(x) + 1, stride, out)
+    return out.reshape(h + 2, stride)[1:-1, 1:-1]
+
+
+@nb.njit(cache=True, nogil=True)
+def _descend(dist, trav, gy, gx, sy, sx, out):  # pragma: no cover - compiled
+    h, w = dist.shape
+    y = gy
+    x = gx
+    n = dist[gy, gx]
+    for i in range(n - 1, -1, -1):
+        out[i, 0] = x
+        out[i, 1] = y
+        best = -1
+        bd = np.inf
+        for k in range(8):
+            yy = y + _DY[k]
+            xx = x + _DX[k]
+            if yy < 0 or xx < 0 or yy >= h or xx >= w or dist[yy, xx] != i:
+                continue
+            # the edge (yy,xx)->(y,x) is legal iff it was legal for the BFS
+            if k >= 4 and not (trav[y, xx] and trav[yy, x]):
+                continue
+            e = (yy - sy) ** 2 + (xx - sx) ** 2
+            if e < bd:
+                bd = e
+                best = k
+        y = y + _DY[best]
+        x = x + _DX[best]
+
+
+def path_to(dist: np.ndarray, traversable: np.ndarray, gx: int, gy: int, sx: int, sy: int):
+    """Cells (x, y) from the first step after (sx, sy) to the goal (gx, gy), as (n, 2) ints."""
+    n = int(dist[gy, gx])
+    out = np.empty((max(n, 0), 2), dtype=np.int64)
+    if n > 0:
+        _descend(np.ascontiguousarray(dist), np.ascontiguousarray(traversable), int(gy),
+                 int(gx), int(sy), int(sx), out)
+    return out
+
+
+@nb.njit(cache=True, nogil=True)
+def footprint_clear(occupied, y, x, offsets):  # pragma: no cover - compiled
+    """True if no known obstacle (or the map edge) is inside the footprint at (x, y)."""
+    h, w = occupied.shape
+    for k in range(offsets.shape[0]):
+        yy = y + offsets[k, 0]
+        xx = x + offsets[k, 1]
+        if yy < 0 or xx < 0 or yy >= h or xx >= w or occupied[yy, xx] > 0:
+            return False
+    return True

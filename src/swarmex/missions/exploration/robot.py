@@ -1,0 +1,315 @@
+"""One exploring robot of seed 003: its threads folded into reactions to ticks and messages.
+
+The thesis's Robot Application runs five threads around three shared structures (§3.3).
+Here the same logic is a plain object driven from outside — by the simulator now, by a
+networked runtime later — through four calls, each returning the messages to send as
+``(destination, message)`` pairs (destination :data:`RADIO` means a radio broadcast):
+
+* :meth:`ExplorerRobot.observe` — the motion thread's scan: rasterise it into a local map,
+  archive it, update the map, and flood it as ``SCAN``;
+* :meth:`ExplorerRobot.housekeeping` — the message thread's heartbeat (every 1 s) and
+  neighbour timeouts;
+* :meth:`ExplorerRobot.on_message` — the message thread's reactions (below);
+* :meth:`ExplorerRobot.maybe_plan` — the planning thread: on the 2 s timer or on request.
+
+and :meth:`next_step` / :meth:`moved` for the motion itself. The robot sees only its belief:
+its map, its archive, what neighbours told it, and its own pose (no localisation problem).
+
+Reactions and the choices behind them (spec §6.3–6.7, 6.13):
+
+* heartbeat from a robot not in the neighbour table → add it and send it ``NEED_MAP`` with a
+  summary of the archive; any other message from an unknown sender also adds it (the
+  thesis's reverse connection). ``NEED_MAP`` → reply ``MAP`` with the scans the requester
+  lacks. Scans first learnt from a ``MAP`` are passed on as ``SCAN`` to the other
+  neighbours, so that when two groups meet, both groups (not only the two robots that met)
+  catch up. ``SCAN`` → integrate the new local maps and relay them (de-duplicated by
+  ``(origin, seq)``, :class:`~swarmex.comm.mesh.MeshNode`).
+* ``GOAL`` goes to the direct neighbours only ("new generated plan broadcasts to all
+  neighbors"), when the strategy uses goals (greedy-exclusion). A neighbour's goal counts
+  for exclusion while the neighbour stays in the table and for at most two planning periods
+  (it is re-announced at every plan). A robot that finds no frontier announces "no goal".
+* Conflict ("two robots have goals in the same area" = goals within the laser range):
+  priority is the path length from the robot to its goal, **shorter is higher**, ties to the
+  lower id. The lower-priority robot re-plans at once ("unscheduled re-planning"); the
+  higher-priority one sends ``CHANGE_GOAL`` to the other, which re-plans. A robot plans at
+  most once per tick, so a ping-pong between two robots that both fall back onto the same
+  zone costs one plan per tick each — the end-of-exploration crowding the thesis reports.
+* Unscheduled plans are also requested when the goal is reached and when the next cell of
+  the path turns out blocked (the motion thread finds "no plan"). The timer keeps running
+  from the robot's start: an unscheduled plan does not move it.
+* A robot with no reachable frontier has *finished*; unreachable frontiers (e.g. behind a
+  gap narrower than the robot) are blacklisted at each plan, not forever, since a later map
+  may reveal a way round. A finished robot stays in the mesh (relays, answers ``NEED_MAP``),
+  re-checks its map on the timer, and resumes if new frontiers appear.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from swarmex.comm.mesh import MeshNode
+from swarmex.missions.exploration.belief import Cell, ExplorationBelief
+from swarmex.missions.exploration.messages import (
+    ChangeGoal,
+    Goal,
+    Heartbeat,
+    MapMsg,
+    Message,
+    NeedMap,
+    ScanMsg,
+    ScanRecord,
+)
+from swarmex.missions.exploration.paths import (
+    distance_steps,
+    footprint_clear,
+    footprint_offsets,
+    inflate,
+    path_to,
+)
+from swarmex.missions.exploration.strategies import GoalContext, Strategy
+from swarmex.sensing.frontiers import frontiers_of_logodds
+from swarmex.sensing.occupancy import rasterise
+
+RADIO = -1  # destination of a radio broadcast (heartbeats)
+Out = list[tuple[int, Message]]
+
+
+@dataclass(frozen=True)
+class RobotConfig:
+    """Everything a robot needs to know about itself and the team's conventions (ticks)."""
+
+    shape: tuple[int, int]  # (rows, cols) of the shared grid
+    angles: np.ndarray  # laser beam angles (radians)
+    laser_cells: float  # laser range, cells
+    radius_cells: float  # robot radius, cells
+    min_region: int  # smallest frontier region kept, cells
+    strategy: Strategy
+    plan_period: int = 20  # 2 s of 100 ms ticks
+    heartbeat_period: int = 10  # 1 s
+    neighbour_timeout: int = 30  # 3 s
+    goal_ttl: int = 40  # two planning periods
+    offsets: np.ndarray = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "offsets", footprint_offsets(self.radius_cells))
+
+
+@dataclass
+class RobotStats:
+    plan_ticks: list[int] = field(default_factory=list)  # plan generations (Fig. 4.4)
+    plans: int = 0
+    replans: int = 0  # unscheduled plan generations
+    reasons: dict[str, int] = field(default_factory=dict)
+    scans: int = 0
+    moves: int = 0
+    conflicts: int = 0
+    change_goals_sent: int = 0
+    blacklisted_regions: int = 0  # unreachable frontier regions at the latest plan
+    finished_at: int | None = None
+
+
+class ExplorerRobot:
+    def __init__(
+        self, rid: int, config: RobotConfig, pos: Cell, plan_phase: int = 0,
+        heartbeat_phase: int = 0,
+    ) -> None:
+        self.id = rid
+        self.cfg = config
+        self.belief = ExplorationBelief(config.shape, (int(pos[0]), int(pos[1])))
+        self.mesh = MeshNode(
+            rid, config.heartbeat_period, config.neighbour_timeout, phase=heartbeat_phase
+        )
+        self.plan_phase = plan_phase
+        self.seq = 0
+        self.goal: Cell | None = None
+        self.path = np.empty((0, 2), dtype=np.int64)
+        self.path_i = 0
+        self.request: str | None = None  # reason of a pending unscheduled plan
+        self.last_plan_t = -1
+        self.stats = RobotStats()
+
+    # ------------------------------------------------------------------ state
+    @property
+    def pos(self) -> Cell:
+        return self.belief.pos
+
+    @property
+    def finished(self) -> bool:
+        return self.stats.finished_at is not None
+
+    @property
+    def remaining(self) -> int:
+        return int(self.path.shape[0] - self.path_i)
+
+    def _neighbours(self, but: int | None = None) -> list[int]:
+        return self.mesh.relay_targets(but)
+
+    def _request(self, reason: str) -> None:
+        if self.request is None:
+            self.request = reason
+
+    # ---------------------------------------------------------------- sensing
+    def observe(self, ranges: np.ndarray, t: int) -> Out:
+        """Own scan (ranges in cells from the robot's cell): map it and flood it."""
+        x, y = self.pos
+        local = rasterise(x, y, ranges, self.cfg.angles, self.cfg.laser_cells, self.cfg.shape)
+        rec = ScanRecord(self.id, self.seq, x, y, local)
+        self.seq += 1
+        self.stats.scans += 1
+        self.mesh.first_time(rec.key)
+        self.belief.integrate(rec)
+        msg = ScanMsg(self.id, (rec,))
+        return [(n, msg) for n in self._neighbours()]
+
+    # -------------------------------------------------------------- messaging
+    def housekeeping(self, t: int) -> Out:
+        out: Out = []
+        if self.mesh.heartbeat_due(t):
+            out.append((RADIO, Heartbeat(self.id, *self.pos)))
+        for gone in self.mesh.expire(t):
+            self.belief.forget(gone)
+        return out
+
+    def on_message(self, src: int, msg: Message, t: int) -> Out:
+        out: Out = []
+        if isinstance(msg, Heartbeat):
+            self.belief.hear_position(src, (msg.x, msg.y), t)
+            if self.mesh.hear(src, t):
+                out.append((src, NeedMap(self.id, self.belief.archive.summary())))
+            return out
+        if src not in self.mesh.neighbours:  # reverse connection
+            self.mesh.hear(src, t)
+        if isinstance(msg, ScanMsg):  # SCAN and MAP
+            new = tuple(r for r in msg.scans if self.mesh.first_time(r.key))
+            for r in new:
+                self.belief.integrate(r)
+            if new:
+                fwd = ScanMsg(self.id, new)
+                out.extend((n, fwd) for n in self._neighbours(but=src))
+        elif isinstance(msg, NeedMap):
+            missing = self.belief.archive.missing_for(msg.have)
+            if missing:
+                out.append((src, MapMsg(self.id, tuple(missing))))
+        elif isinstance(msg, Goal):
+            self.belief.hear_position(src, (msg.x, msg.y), t)
+            self.belief.hear_goal(src, msg.goal, msg.priority, t)
+            out.extend(self._check_conflict(src, msg.goal, msg.priority))
+        elif isinstance(msg, ChangeGoal):
+            self.belief.hear_goal(src, msg.goal, msg.priority, t)
+            self._request("change_goal")
+        return out
+
+    def _check_conflict(self, src: int, goal: Cell | None, priority: float) -> Out:
+        if not self.cfg.strategy.priorities or goal is None or self.goal is None:
+            return []
+        if math.dist(goal, self.goal) > self.cfg.laser_cells:
+            return []
+        self.stats.conflicts += 1
+        mine = float(self.remaining)
+        if (priority, src) < (mine, self.id):
+            self._request("conflict")
+            return []
+        self.stats.change_goals_sent += 1
+        return [(src, ChangeGoal(self.id, self.goal, mine))]
+
+    # ---------------------------------------------------------------- motion
+    def next_step(self) -> Cell | None:
+        """The cell the robot wants to enter this tick, or None (no plan, or path blocked)."""
+        if self.path_i >= self.path.shape[0]:
+            return None
+        x, y = (int(v) for v in self.path[self.path_i])
+        lo = self.belief.grid.logodds
+        if lo[y, x] >= 0 or not footprint_clear(lo, y, x, self.cfg.offsets):
+            self.path_i = self.path.shape[0]
+            self._request("blocked")
+            return None
+        return x, y
+
+    def moved(self, cell: Cell) -> None:
+        """The motors took the step (odometry: the robot knows where it is)."""
+        self.belief.pos = (int(cell[0]), int(cell[1]))
+        self.path_i += 1
+        self.stats.moves += 1
+        if self.path_i >= self.path.shape[0] and self.goal is not None:
+            self._request("reached")
+
+    # -------------------------------------------------------------- planning
+    def _timer(self, t: int) -> bool:
+        p = self.plan_phase
+        return t == 0 or (t >= p and (t - p) % self.cfg.plan_period == 0)
+
+    def plan_due(self, t: int) -> bool:
+        return self.last_plan_t != t and (self._timer(t) or self.request is not None)
+
+    def maybe_plan(self, t: int) -> Out:
+        """Plan on the timer or on a pending request (at most once per tick)."""
+        if not self.plan_due(t):
+            return []
+        reason = None if self._timer(t) else self.request
+        self.request = None
+        self.last_plan_t = t
+        return self.plan(t, reason)
+
+    def plan(self, t: int, reason: str | None = None) -> Out:
+        """Choose a goal and a path on the current map; announce it to the neighbours."""
+        cfg = self.cfg
+        lo = self.belief.grid.logodds
+        trav = lo < 0
+        trav &= ~inflate(lo, cfg.offsets)
+        x, y = self.pos
+        dist = distance_steps(trav, x, y)
+        fr = frontiers_of_logodds(lo, cfg.min_region)
+        d = dist[fr.ys, fr.xs]
+        eligible = (d > 0) & trav[fr.ys, fr.xs]
+        reach = np.zeros(fr.n_regions, dtype=bool)
+        reach[fr.region[eligible]] = True
+        self.stats.blacklisted_regions = int(fr.n_regions - reach.sum())
+        fields: dict[Cell, np.ndarray] = {}
+
+        def field_from(c: Cell) -> np.ndarray:
+            if c not in fields:
+                fields[c] = distance_steps(trav, *c)
+            return fields[c]
+
+        ctx = GoalContext(
+            me=self.id, pos=(x, y), frontiers=fr, eligible=eligible, dist=d,
+            laser_cells=cfg.laser_cells,
+            team_goals=self.belief.team_goals(t, cfg.goal_ttl) if cfg.strategy.exclusion else {},
+            team_pos=(self.belief.team_positions(t, cfg.neighbour_timeout)
+                      if cfg.strategy.needs_rivals else {}),
+            current_goal=self.goal, field_from=field_from,
+        )
+        goal = cfg.strategy.choose(ctx) if eligible.any() else None
+        had_goal = self.goal is not None
+        was_finished = self.finished
+        self.goal = goal
+        if goal is None:
+            self.path = np.empty((0, 2), dtype=np.int64)
+            self.path_i = 0
+            if not was_finished:
+                self.stats.finished_at = t
+                self._record_plan(t, reason)
+            out: Out = []
+            if had_goal and cfg.strategy.exclusion:
+                msg = Goal(self.id, None, 0.0, x, y)
+                out = [(n, msg) for n in self._neighbours()]
+            return out
+        self.stats.finished_at = None
+        self.path = path_to(dist, trav, goal[0], goal[1], x, y)
+        self.path_i = 0
+        self._record_plan(t, reason)
+        if not cfg.strategy.exclusion:
+            return []
+        msg = Goal(self.id, goal, float(self.remaining), x, y)
+        return [(n, msg) for n in self._neighbours()]
+
+    def _record_plan(self, t: int, reason: str | None) -> None:
+        s = self.stats
+        s.plan_ticks.append(t)
+        s.plans += 1
+        if reason is not None:
+            s.replans += 1
+            s.reasons[reason] = s.reasons.get(reason, 0) + 1

@@ -1,0 +1,195 @@
+"""The exploration simulator: the true world, the lasers, the radio and the 100 ms clock.
+
+The simulator owns everything a robot must not see — the true grid, where every robot is,
+who is in radio range — and drives :class:`~swarmex.missions.exploration.robot.ExplorerRobot`
+objects through the same calls a networked runtime would make. One tick (100 ms, the
+thesis's movement period; exploration time is counted in these *steps*) runs:
+
+1. **motion** — every robot with a plan takes one step to an adjacent cell; the simulator
+   checks the step against the truth (adjacent, free, no corner cutting) and refuses
+   nothing a correct robot asks, so a refused step is a bug and raises;
+2. **sensing** — every robot that moved (and every robot at tick 0) gets a laser scan
+   ray-cast against the truth; a robot that stood still would get the same scan again from
+   a static world and a noise-free laser, so it takes none;
+3. **messages** — heartbeats and timeouts, then every queued message is delivered, relays
+   included, until the network is quiet (instantaneous, :mod:`swarmex.comm.mesh`);
+4. **planning** — robots whose timer fires or who have a request plan, in id order, each
+   one's GOAL delivered before the next plans.
+
+Robots are points for each other: they may share a cell (the thesis's robots do not avoid
+each other, spec §6.5). The run ends when every robot has finished (its map has no reachable
+frontier) or at ``max_ticks``; randomness (timer and heartbeat phases: the robots' processes
+did not start at the same instant) comes from one generator seeded by ``seed``.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from swarmex.comm.mesh import DiscNetwork
+from swarmex.missions.exploration.params import (
+    Cell,
+    ExplorationParams,
+    default_starts,
+    max_ticks_for,
+    min_region_cells,
+    validate,
+)
+from swarmex.missions.exploration.paths import distance_steps
+from swarmex.missions.exploration.robot import RADIO, ExplorerRobot, Out, RobotConfig
+from swarmex.missions.exploration.strategies import get_strategy
+from swarmex.sensing.laser import Laser
+from swarmex.worlds.metric import MetricGrid
+
+FrameHook = Callable[[int, "ExplorationRun"], None]
+
+
+@dataclass
+class ExplorationRun:
+    params: ExplorationParams
+    grid: MetricGrid
+    robots: list[ExplorerRobot]
+    starts: tuple[Cell, ...]
+    trajectories: list[list[tuple[int, int, int]]]  # per robot: (tick, x, y) at every move
+    network: DiscNetwork
+    makespan: int = 0
+    complete: bool = False
+    wall_seconds: float = 0.0
+    reachable: np.ndarray = field(default_factory=lambda: np.zeros((0, 0), bool))
+
+    def team_free(self) -> np.ndarray:
+        """Cells some robot's map holds as free."""
+        out = np.zeros(self.grid.shape, dtype=bool)
+        for r in self.robots:
+            out |= r.belief.grid.logodds < 0
+        return out
+
+    def team_occupied(self) -> np.ndarray:
+        out = np.zeros(self.grid.shape, dtype=bool)
+        for r in self.robots:
+            out |= r.belief.grid.logodds > 0
+        return out
+
+    def explored_fraction(self) -> float:
+        total = int(self.reachable.sum())
+        return float((self.team_free() & self.reachable).sum()) / total if total else 1.0
+
+
+def reachable_free(free: np.ndarray, starts: tuple[Cell, ...]) -> np.ndarray:
+    """True free cells connected to a start by 8-moves without corner cutting."""
+    out = np.zeros(free.shape, dtype=bool)
+    for x, y in starts:
+        if not out[y, x]:
+            out |= distance_steps(free, x, y) >= 0
+    return out
+
+
+def legal_step(free: np.ndarray, a: Cell, b: Cell) -> bool:
+    """One 8-neighbour move onto a free cell, not squeezing between two walls."""
+    dx, dy = b[0] - a[0], b[1] - a[1]
+    if max(abs(dx), abs(dy)) != 1 or not free[b[1], b[0]]:
+        return False
+    return not (dx and dy) or bool(free[a[1], b[0]] and free[b[1], a[0]])
+
+
+def build_robots(
+    grid: MetricGrid, params: ExplorationParams, rng: np.random.Generator
+) -> tuple[list[ExplorerRobot], tuple[Cell, ...], Laser]:
+    laser = Laser(params.laser_range, params.beams, grid.cell)
+    starts = params.starts or default_starts(grid, params.robots, params.robot_radius)
+    radius_cells = params.robot_radius / grid.cell
+    cfg = RobotConfig(
+        shape=grid.shape,
+        angles=laser.angles,
+        laser_cells=laser.range_cells,
+        radius_cells=radius_cells,
+        min_region=min_region_cells(radius_cells),
+        strategy=get_strategy(params.strategy),
+        plan_period=params.plan_period,
+        heartbeat_period=params.heartbeat_period,
+        neighbour_timeout=params.neighbour_timeout,
+        goal_ttl=2 * params.plan_period,
+    )
+    plan_phase = rng.integers(0, params.plan_period, params.robots)
+    hb_phase = rng.integers(0, params.heartbeat_period, params.robots)
+    robots = [
+        ExplorerRobot(i, cfg, starts[i], int(plan_phase[i]), int(hb_phase[i]))
+        for i in range(params.robots)
+    ]
+    return robots, tuple(starts), laser
+
+
+def run_exploration(
+    grid: MetricGrid,
+    params: ExplorationParams,
+    on_frame: FrameHook | None = None,
+    frame_every: int = 0,
+) -> ExplorationRun:
+    validate(params, grid)
+    t0 = time.perf_counter()
+    rng = np.random.default_rng(params.seed)
+    robots, starts, laser = build_robots(grid, params, rng)
+    n = len(robots)
+    net = DiscNetwork(n, params.comm_range)
+    run = ExplorationRun(
+        params, grid, robots, starts, [[(0, x, y)] for x, y in starts], net,
+        reachable=reachable_free(grid.free, starts),
+    )
+    truth = grid.free
+    max_ticks = params.max_ticks or max_ticks_for(grid, params.laser_range)
+
+    def dispatch(src: int, out: Out) -> None:
+        i = 0
+        while i < len(out):  # consecutive sends of one message go out together
+            dst, msg = out[i]
+            j = i + 1
+            while j < len(out) and out[j][1] is msg:
+                j += 1
+            if dst == RADIO:
+                net.broadcast(src, msg)
+            else:
+                net.unicast_many(src, [d for d, _ in out[i:j]], msg)
+            i = j
+
+    def deliver(t: int) -> None:
+        for src, dst, msg in net.drain():
+            dispatch(dst, robots[dst].on_message(src, msg, t))
+
+    moved = [True] * n
+    for t in range(max_ticks + 1):
+        if t > 0:
+            for i, r in enumerate(robots):
+                step = r.next_step()
+                moved[i] = step is not None
+                if step is None:
+                    continue
+                if not legal_step(truth, r.pos, step):
+                    raise RuntimeError(f"robot {i} asked for an illegal step {r.pos}->{step}")
+                r.moved(step)
+                run.trajectories[i].append((t, step[0], step[1]))
+        if any(moved):
+            net.move(np.array([r.pos for r in robots], dtype=np.float64) * grid.cell)
+        for i, r in enumerate(robots):
+            if moved[i]:
+                dispatch(i, r.observe(laser.cast(truth, *r.pos), t))
+        for i, r in enumerate(robots):
+            dispatch(i, r.housekeeping(t))
+        deliver(t)
+        for i, r in enumerate(robots):
+            dispatch(i, r.maybe_plan(t))
+            deliver(t)
+        run.makespan = t
+        if on_frame is not None and frame_every > 0 and t % frame_every == 0:
+            on_frame(t, run)
+        if all(r.finished for r in robots):
+            run.complete = True
+            break
+    run.wall_seconds = time.perf_counter() - t0
+    if on_frame is not None and frame_every > 0 and run.makespan % frame_every:
+        on_frame(run.makespan, run)
+    return run
+

@@ -1,0 +1,194 @@
+"""Goal choice among reachable frontier cells: the thesis's greedy rules and stronger ones.
+
+Every strategy is a pure function of one robot's :class:`GoalContext` (its own candidates
+and distances, and what it has heard from neighbours) and returns a goal cell or ``None``.
+
+* ``greedy`` — Yamauchi's nearest frontier, uncoordinated: the fewest steps from the robot.
+* ``greedy-exclusion`` — the thesis (§3.3.4): greedy, but never a cell within the laser
+  range of a goal a neighbour has announced; "prefers" a free zone, so when every candidate
+  is excluded it falls back to plain greedy over all of them. Priority conflicts and
+  ``CHANGE_GOAL`` are handled by the robot (they are message reactions, not goal choice).
+* ``utility`` — Burgard et al. 2005, "Coordinated multi-robot exploration" (IEEE T-RO 21(3)),
+  run decentrally: the robot replays the paper's sequential assignment (its Table I) over itself
+  and the neighbours whose positions it knows — repeatedly take the (robot, target) pair
+  maximising ``U_t − β·V_t^i`` and lower the utility of targets near the chosen one,
+  ``U_t' −= P(‖t − t'‖)``, until the robot itself is assigned. ``V`` is path length
+  normalised by the largest finite one, ``β = 1``, and ``P(d) = max(0, 1 − d / laser
+  range)``: the chance that a target is seen from the other (the paper estimates it from
+  visibility statistics; linear decay is the common simplification).
+* ``minpos`` — Bautin, Simonin & Charpillet 2012, "MinPos: a novel frontier allocation
+  algorithm for multi-robot exploration" (ICIRA): for each target, its *rank* is the number
+  of neighbours nearer to it (by path) than the robot; take the lowest rank, then the
+  nearest. Robots spread over frontiers without negotiating.
+* ``hungarian`` — an optimal assignment of the known robots to targets minimising the sum of
+  path lengths (``scipy.optimize.linear_sum_assignment``); targets are repeated when robots
+  outnumber them.
+
+The assignment-style strategies work on *targets*: one representative cell per piece of a
+frontier region (:func:`swarmex.sensing.frontiers.chunk_targets`), so that a long frontier
+offers several places and a small one a single place. Distances from neighbours are path
+lengths on *this robot's* map from the neighbour's last reported cell; a neighbour in a part
+of the map this robot does not know is simply not a rival for any target.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.optimize import linear_sum_assignment
+
+from swarmex.errors import InputError
+from swarmex.sensing.frontiers import Frontiers, chunk_targets
+
+Cell = tuple[int, int]
+
+
+@dataclass
+class GoalContext:
+    """What one robot knows when it chooses a goal (cells are (x, y))."""
+
+    me: int
+    pos: Cell
+    frontiers: Frontiers
+    eligible: np.ndarray  # bool per frontier cell: traversable and reachable
+    dist: np.ndarray  # steps from the robot per frontier cell (-1 unreachable)
+    laser_cells: float
+    team_goals: dict[int, Cell] = field(default_factory=dict)
+    team_pos: dict[int, Cell] = field(default_factory=dict)
+    current_goal: Cell | None = None
+    field_from: Callable[[Cell], np.ndarray] | None = None  # step field from a cell
+
+
+def _nearest(ctx: GoalContext, idx: np.ndarray) -> Cell | None:
+    """The candidate with the fewest steps; ties keep the current goal, then (y, x) order."""
+    if idx.size == 0:
+        return None
+    d = ctx.dist[idx]
+    best = idx[d == d.min()]
+    if ctx.current_goal is not None:
+        gx, gy = ctx.current_goal
+        same = best[(ctx.frontiers.xs[best] == gx) & (ctx.frontiers.ys[best] == gy)]
+        if same.size:
+            return (gx, gy)
+    i = best[np.lexsort((ctx.frontiers.xs[best], ctx.frontiers.ys[best]))[0]]
+    return int(ctx.frontiers.xs[i]), int(ctx.frontiers.ys[i])
+
+
+def greedy(ctx: GoalContext) -> Cell | None:
+    return _nearest(ctx, np.nonzero(ctx.eligible)[0])
+
+
+def excluded(ctx: GoalContext, idx: np.ndarray) -> np.ndarray:
+    """Which candidates lie within the laser range of a neighbour's announced goal."""
+    out = np.zeros(idx.size, dtype=bool)
+    r2 = ctx.laser_cells**2
+    for gx, gy in ctx.team_goals.values():
+        out |= (ctx.frontiers.xs[idx] - gx) ** 2 + (ctx.frontiers.ys[idx] - gy) ** 2 <= r2
+    return out
+
+
+def greedy_exclusion(ctx: GoalContext) -> Cell | None:
+    idx = np.nonzero(ctx.eligible)[0]
+    free_zone = idx[~excluded(ctx, idx)]
+    return _nearest(ctx, free_zone if free_zone.size else idx)
+
+
+def _rivals_and_costs(ctx: GoalContext) -> tuple[np.ndarray, np.ndarray]:
+    """Targets and a (robots × targets) step matrix; row 0 is this robot (inf unreachable)."""
+    targets = chunk_targets(ctx.frontiers, ctx.eligible, ctx.laser_cells)
+    rows = [ctx.dist[targets].astype(np.float64)]
+    if ctx.field_from is not None:
+        ty, tx = ctx.frontiers.ys[targets], ctx.frontiers.xs[targets]
+        for rid in sorted(ctx.team_pos):
+            f = ctx.field_from(ctx.team_pos[rid])
+            rows.append(f[ty, tx].astype(np.float64))
+    cost = np.vstack(rows)
+    cost[cost < 0] = np.inf
+    return targets, cost
+
+
+def _cell(ctx: GoalContext, i: int) -> Cell:
+    return int(ctx.frontiers.xs[i]), int(ctx.frontiers.ys[i])
+
+
+def utility(ctx: GoalContext, beta: float = 1.0) -> Cell | None:
+    targets, cost = _rivals_and_costs(ctx)
+    if targets.size == 0 or not np.isfinite(cost[0]).any():
+        return None
+    finite = cost[np.isfinite(cost)]
+    v = cost / max(float(finite.max()), 1.0)
+    tx = ctx.frontiers.xs[targets].astype(np.float64)
+    ty = ctx.frontiers.ys[targets].astype(np.float64)
+    u = np.ones(targets.size)
+    free_robots = list(range(cost.shape[0]))
+    while free_robots:
+        score = u[None, :] - beta * v[free_robots]
+        score[~np.isfinite(score)] = -np.inf
+        flat = int(np.argmax(score))  # ties: lowest robot row, then lowest target
+        r, t = divmod(flat, targets.size)
+        robot = free_robots[r]
+        if not np.isfinite(score[r, t]):
+            break
+        if robot == 0:
+            return _cell(ctx, int(targets[t]))
+        free_robots.pop(r)
+        d = np.hypot(tx - tx[t], ty - ty[t])
+        u -= np.clip(1.0 - d / ctx.laser_cells, 0.0, 1.0)
+    return _nearest(ctx, np.nonzero(ctx.eligible)[0])
+
+
+def minpos(ctx: GoalContext) -> Cell | None:
+    targets, cost = _rivals_and_costs(ctx)
+    mine = cost[0]
+    ok = np.isfinite(mine)
+    if not ok.any():
+        return None
+    rank = (cost[1:] < mine[None, :]).sum(axis=0)
+    order = np.lexsort((targets, mine, rank))
+    order = order[ok[order]]
+    return _cell(ctx, int(targets[order[0]]))
+
+
+def hungarian(ctx: GoalContext) -> Cell | None:
+    targets, cost = _rivals_and_costs(ctx)
+    if targets.size == 0 or not np.isfinite(cost[0]).any():
+        return None
+    n_r, n_t = cost.shape
+    reps = -(-n_r // n_t)
+    big = np.where(np.isfinite(cost), cost, 1e9)
+    rows, cols = linear_sum_assignment(np.tile(big, (1, reps)))
+    col = int(cols[list(rows).index(0)]) % n_t
+    if not np.isfinite(cost[0, col]):
+        return _nearest(ctx, np.nonzero(ctx.eligible)[0])
+    return _cell(ctx, int(targets[col]))
+
+
+@dataclass(frozen=True)
+class Strategy:
+    name: str
+    choose: Callable[[GoalContext], Cell | None]
+    exclusion: bool = False  # honours neighbours' goals (and so wants GOAL messages)
+    priorities: bool = False  # resolves goal conflicts by distance priority / CHANGE_GOAL
+    needs_rivals: bool = False  # needs distance fields from neighbours' cells
+
+
+STRATEGIES: dict[str, Strategy] = {
+    "greedy": Strategy("greedy", greedy),
+    "greedy-exclusion": Strategy(
+        "greedy-exclusion", greedy_exclusion, exclusion=True, priorities=True
+    ),
+    "utility": Strategy("utility", utility, needs_rivals=True),
+    "minpos": Strategy("minpos", minpos, needs_rivals=True),
+    "hungarian": Strategy("hungarian", hungarian, needs_rivals=True),
+}
+
+
+def get_strategy(name: str) -> Strategy:
+    try:
+        return STRATEGIES[name]
+    except KeyError:
+        raise InputError(
+            f"--strategy must be one of {', '.join(STRATEGIES)}, got {name!r}"
+        ) from None
