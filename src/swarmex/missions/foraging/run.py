@@ -1,0 +1,166 @@
+"""One foraging run end to end: validated inputs → timetable → mission → metrics → record.
+
+Metric names follow the thesis's tables (Figs. 78–79), with the column boundaries of the
+released simulator (spec §4.2):
+
+* ``exploration_time`` — round the food is first found, deployment included;
+* ``communication_time`` — from then until the *first* robot finishes its communication phase;
+* ``comm_transport_overlap`` — from then until the *last* robot finishes it (some robots are
+  already transporting: the thesis's COMM+TRANS);
+* ``transport_time`` — from then until the k-th unit is in the nest.
+
+The four add up to the makespan. If the k units are home before every robot was informed (small
+k), the unfinished robots count as finishing at the makespan and ``all_informed`` is false.
+``cells_revisited`` counts, up to the discovery, entries of exploring robots into cells that
+some exploring robot had already visited (deployment walks excluded).
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from swarmex.engine.record import AgentRecord, ResultRecord
+from swarmex.errors import InputError
+from swarmex.missions.foraging.grid import Cell
+from swarmex.missions.foraging.patterns import build_plan
+from swarmex.missions.foraging.sim import Outcome, run_mission
+from swarmex.missions.foraging.timed import Timed, timed_plan
+from swarmex.missions.foraging.transport import TRANSPORTS
+
+
+@dataclass
+class ForageRun:
+    algorithm: str
+    g: int
+    n: int
+    food: Cell
+    units: int
+    transport: str
+    timed: Timed
+    outcome: Outcome
+    metrics: dict[str, Any]
+    wall_seconds: float
+
+
+def check_inputs(algorithm: str, g: int, n: int, units: int, transport: str) -> None:
+    if g < 2:
+        raise InputError(f"--grid must be at least 2 (got {g})")
+    if n < 1:
+        raise InputError(f"--agents must be at least 1 (got {n})")
+    if units < 1:
+        raise InputError(f"--food-units must be at least 1 (got {units})")
+    if transport not in TRANSPORTS:
+        raise InputError(f"--transport must be one of {', '.join(TRANSPORTS)} (got {transport!r})")
+    build_plan(algorithm, g, n)  # raises InputError for an unsupported (algorithm, g, n)
+
+
+def phase_metrics(o: Outcome, timed: Timed) -> dict[str, Any]:
+    done = [c for c in o.comm_done if c is not None]
+    first = min(done) if done else o.makespan
+    all_informed = len(done) == len(o.comm_done)
+    last = max(done) if all_informed else o.makespan
+    first, last = min(first, o.makespan), min(last, o.makespan)
+    return {
+        "exploration_time": o.discovery,
+        "communication_time": first - o.discovery,
+        "comm_transport_overlap": last - first,
+        "transport_time": o.makespan - last,
+        "total_time": o.makespan,
+        "food_delivered": o.delivered,
+        "deployment_time": int(timed.t_sync),
+        "all_informed": all_informed,
+        "cells_revisited": cells_revisited(timed, o.discovery),
+    }
+
+
+def cells_revisited(timed: Timed, until: int) -> int:
+    pos = timed.pos[: min(until, timed.t_end) + 1]
+    entries: list[np.ndarray] = []
+    for a in range(pos.shape[1]):
+        s = int(timed.explore_start[a])
+        if s > until:
+            continue
+        tr = pos[s:, a]
+        moved = np.ones(len(tr), dtype=bool)
+        moved[1:] = np.any(tr[1:] != tr[:-1], axis=1)
+        entries.append(tr[moved])
+    if not entries:
+        return 0
+    allc = np.concatenate(entries)
+    codes = allc[:, 0].astype(np.int64) * timed.plan.g + allc[:, 1]
+    return int(len(codes) - len(np.unique(codes)))
+
+
+def run_forage(
+    algorithm: str,
+    g: int,
+    n: int,
+    food: Cell,
+    units: int = 100,
+    transport: str = "relay-food",
+    record: bool = True,
+) -> ForageRun:
+    check_inputs(algorithm, g, n, units, transport)
+    t0 = time.perf_counter()
+    timed = timed_plan(algorithm, g, n)
+    outcome = run_mission(timed, food, units, transport, record=record)
+    metrics = phase_metrics(outcome, timed)
+    wall = time.perf_counter() - t0
+    return ForageRun(algorithm, g, n, food, units, transport, timed, outcome, metrics, wall)
+
+
+def to_record(run: ForageRun, seed: int, params: dict[str, Any]) -> ResultRecord:
+    o = run.outcome
+    agents = []
+    for a in range(run.n):
+        tr = o.positions[:, a]
+        moves = int(np.abs(np.diff(tr, axis=0)).sum())
+        agents.append(
+            AgentRecord(
+                id=a,
+                metrics={
+                    "informed_at": o.informed_at[a],
+                    "comm_done_at": o.comm_done[a],
+                    "pickups": sum(1 for j in o.jobs[a] if j[3] == "pickup"),
+                    "drops": sum(1 for j in o.jobs[a] if j[3] == "drop"),
+                    "handovers": o.handovers[a],
+                    "moves": moves,
+                    "finder": a in o.finders,
+                },
+                trajectory=[[t, int(x), int(y)] for t, (x, y) in enumerate(tr)],
+                jobs=[[t, x, y, kind] for t, x, y, kind in o.jobs[a]],
+            )
+        )
+    full = {
+        "grid": run.g,
+        "agents": run.n,
+        "algorithm": run.algorithm,
+        "transport": run.transport,
+        "food": list(run.food),
+        "food_units": run.units,
+        "nest": list(run.timed.plan.nest),
+        **params,
+    }
+    return ResultRecord(
+        mission="foraging",
+        algorithm=run.algorithm,
+        params=full,
+        seed=seed,
+        world={
+            "kind": "grid",
+            "source": f"empty {run.g}x{run.g}",
+            "width": run.g,
+            "height": run.g,
+            "free_cells": run.g * run.g,
+        },
+        complete=o.complete,
+        makespan=float(o.makespan),
+        time_unit="step",
+        metrics=run.metrics,
+        agents=agents,
+        wall_seconds=run.wall_seconds,
+    )
