@@ -17,3 +17,11 @@ __all__ = [
     "random_obstacles",
     "rooms",
 ]
+
+from swarmex.worlds.polygon import (  # noqa: E402
+    PolygonWorld,
+    load_polygon_world,
+    parse_polygon_json,
+)
+
+__all__ += ["PolygonWorld", "load_polygon_world", "parse_polygon_json"]

@@ -1,0 +1,79 @@
+"""A walker on the PRM baseline: the same minimum-weight rule, on a graph with cycles.
+
+At each node the walker takes the incident edge of least global weight (uniform among ties)
+and adds 1 to it, exactly the WMA-RRT coverage rule without branches, Sync or dedicated
+copies (a graph has no "way back" to mark). On a tree that rule is a DFS that returns home;
+on a graph with cycles the walker re-enters areas it has seen (Fig. 7), leaves regions
+half-done (Figs. 8–9) and, with no COMPLETE flag, never knows it is finished — the
+simulation stops it at the step budget.
+
+Goal search: the finder marks its loop-erased walk (see
+:class:`~swarmex.missions.roadmap.blackboard.PRMBoard`); a walker that steps onto a marked node
+follows the marks to the anchor and then the leg to the goal; others keep walking.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from swarmex.missions.roadmap.blackboard import PRMBoard
+from swarmex.missions.roadmap.wma_policy import Move
+
+
+class PRMWalker:
+    def __init__(self, ident: int, start: np.ndarray, entry: int, board: PRMBoard) -> None:
+        self.id = ident
+        self.xy = np.asarray(start, dtype=np.float64)
+        self.board = board
+        self.entry = int(entry)
+        self.node = -1
+        self.state = "entry" if entry >= 0 else "stuck"
+        self.walk: list[tuple[int, int]] = []
+        self.legs: list[np.ndarray] = []
+
+    def decide(self, t: int, rng: np.random.Generator) -> Move | None:
+        b = self.board
+        if self.state in ("stuck", "at-goal"):
+            return None
+        if self.state == "entry":
+            self.state = "walk"
+            self.walk.append((self.entry, -1))
+            return Move(b.rm.pos[self.entry], -1, self.entry)
+        if self.state == "leg":
+            to = self.legs.pop(0)
+            if not self.legs:
+                self.state = "at-goal"
+            return Move(to, -1, -1)
+        if b.anchor is not None:
+            if self.node == b.anchor:
+                self.legs = list(b.leg)
+                self.state = "leg"
+                return self.decide(t, rng)
+            if self.node in b.trail_next:
+                v, e = b.trail_next[self.node]
+                b.traversals[e] += 1
+                return Move(b.rm.pos[v], e, v)
+        nbrs = b.rm.adjacency[self.node]
+        if not nbrs:
+            self.state = "stuck"  # an isolated node: nowhere to go
+            return None
+        w = np.array([b.w_g[e] for _, e in nbrs])
+        best = np.flatnonzero(w == w.min())
+        v, e = nbrs[int(best[rng.integers(len(best))]) if len(best) > 1 else int(best[0])]
+        b.traverse(e)
+        self.walk.append((v, e))
+        return Move(b.rm.pos[v], e, v)
+
+    def arrive(self, move: Move) -> None:
+        self.xy = np.asarray(move.to, dtype=np.float64)
+        if move.node >= 0:
+            self.node = move.node
+
+    def found_goal(self, p: np.ndarray, goal: np.ndarray, t: int) -> None:
+        b = self.board
+        if b.anchor is not None or self.node < 0:
+            return
+        leg = [np.asarray(p, dtype=np.float64), np.asarray(goal, dtype=np.float64)]
+        if np.allclose(leg[0], self.xy):
+            leg = leg[1:]
+        b.flag_goal(self.walk, self.node, leg, self.id, t)

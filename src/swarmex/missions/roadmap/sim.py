@@ -1,0 +1,165 @@
+"""The roadmap mission's run loop: rounds of one move per agent, in a seeded order.
+
+Time is counted in steps; in step t every agent makes at most one move (one roadmap edge, the
+entry leg from its start onto the roadmap, or one segment of the leg to the goal), and the
+agents act one after another in an order drawn from the run's generator: each agent's step is
+a critical section, so two agents at one node can never take the same 0-weight edge (Fig. 4).
+
+The engine owns the truth: after a move it sweeps the agent's sensor along the segment
+(coverage raster, line of sight, range R; an edge is swept once, a second pass sees nothing
+new) and, in goal search, checks whether the goal came into view, then tells the agent.
+
+Ends: WMA-RRT coverage when every branch is COMPLETE; WMA-RRT search when every agent stands on
+the goal, or when every branch is COMPLETE with no ½ flag (the agents have established that the
+goal is unreachable from where they are, Figs. 14–16). PRM agents have no such knowledge, so
+their runs end at the step budget (or, in search, when all stand on the goal).
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from swarmex.errors import InputError
+from swarmex.missions.roadmap.blackboard import PRMBoard, WMABoard
+from swarmex.missions.roadmap.prm_policy import PRMWalker
+from swarmex.missions.roadmap.wma_policy import WMAAgent
+from swarmex.planning.prm import build_prm
+from swarmex.planning.roadmap import Roadmap
+from swarmex.planning.rrt_wma import build_wma_rrt
+from swarmex.sensing.coverage_raster import DEFAULT_CELLS, CoverageRaster
+from swarmex.worlds.polygon import PolygonWorld
+
+PLANNERS = ("wma-rrt", "prm", "wma-rrt-takeover")
+TASKS = ("coverage", "search")
+
+
+@dataclass
+class RoadmapRun:
+    world: PolygonWorld
+    roadmap: Roadmap
+    task: str
+    planner: str
+    sensor_range: float
+    goal: np.ndarray | None
+    raster: CoverageRaster
+    board: WMABoard | PRMBoard
+    agents: list[Any]
+    trajectories: list[list[list[float]]]
+    path_length: np.ndarray
+    moves: np.ndarray
+    steps: int
+    complete: bool
+    goal_found: bool
+    goal_unreachable: bool
+    all_at_goal_step: int
+    step_budget: int
+    budget_exhausted: bool
+    build_seconds: float
+    sim_seconds: float
+    extra: dict[str, Any] = field(default_factory=dict)
+
+
+def build_roadmap(world: PolygonWorld, planner: str, starts: np.ndarray, nodes: int,
+                  step: float, rng: np.random.Generator) -> Roadmap:
+    if planner == "prm":
+        return build_prm(world, starts, nodes, step, rng)
+    return build_wma_rrt(world, starts, nodes, step, rng)
+
+
+def run_roadmap(
+    world: PolygonWorld,
+    starts: np.ndarray,
+    *,
+    task: str = "coverage",
+    planner: str = "wma-rrt",
+    nodes: int = 400,
+    step: float = 20.0,
+    sensor_range: float = float("inf"),
+    goal: np.ndarray | None = None,
+    seed: int = 0,
+    step_budget: int | None = None,
+    raster_cells: int = DEFAULT_CELLS,
+    roadmap: Roadmap | None = None,
+) -> RoadmapRun:
+    """Build the roadmap (unless given) and run the behaviour; one generator from ``seed``."""
+    if task not in TASKS:
+        raise InputError(f"--task must be one of {', '.join(TASKS)}, got {task!r}")
+    if planner not in PLANNERS:
+        raise InputError(f"--planner must be one of {', '.join(PLANNERS)}, got {planner!r}")
+    if task == "search" and goal is None:
+        raise InputError("--task search needs a goal (--goal x,y or 'goal' in the file)")
+    rng = np.random.default_rng(seed)
+    starts = np.asarray(starts, dtype=np.float64).reshape(-1, 2)
+    t0 = time.perf_counter()
+    rm = roadmap if roadmap is not None else build_roadmap(world, planner, starts, nodes, step,
+                                                           rng)
+    t1 = time.perf_counter()
+    n = len(starts)
+    raster = CoverageRaster(world, sensor_range, raster_cells)
+    board: WMABoard | PRMBoard
+    if planner == "prm":
+        board = PRMBoard(rm)
+        agents: list[Any] = [PRMWalker(i, starts[i], rm.entry_node[i], board) for i in range(n)]
+        budget = 2 * max(nodes, rm.n_nodes) if step_budget is None else int(step_budget)
+    else:
+        board = WMABoard(rm, n)
+        agents = [WMAAgent(i, starts[i], board, planner == "wma-rrt-takeover")
+                  for i in range(n)]
+        # a safety net only: a tree DFS needs at most 2E moves per entry, n entries per agent
+        budget = (2 * rm.n_edges + 4) * (n + 1) + 10 if step_budget is None else step_budget
+    goal_xy = None if goal is None else np.asarray(goal, dtype=np.float64)
+    sensed = np.zeros(rm.n_edges, dtype=bool)
+    traj = [[[0.0, float(p[0]), float(p[1])]] for p in starts]
+    length = np.zeros(n)
+    moves = np.zeros(n, dtype=np.int64)
+    for a in agents:  # t = 0: what each agent sees where it stands
+        raster.sense_segment(a.xy, a.xy, 0)
+    t = 0
+    ended = False
+    unreachable = False
+    all_at_goal = -1
+    while t < budget and not ended:
+        t += 1
+        for i in rng.permutation(n):
+            a = agents[i]
+            mv = a.decide(t, rng)
+            if mv is None:
+                continue
+            src = a.xy
+            fresh = mv.edge < 0 or not sensed[mv.edge]
+            sight = -1.0
+            if fresh:
+                if mv.edge >= 0:
+                    sensed[mv.edge] = True
+                raster.sense_segment(src, mv.to, t)
+                if task == "search" and board.anchor is None:
+                    sight = raster.sighting(src, mv.to, goal_xy)
+            a.arrive(mv)
+            length[i] += float(np.hypot(*(mv.to - src)))
+            moves[i] += 1
+            traj[i].append([float(t), float(mv.to[0]), float(mv.to[1])])
+            if sight >= 0:
+                a.found_goal(src + sight * (mv.to - src), goal_xy, t)
+        at_goal = board.anchor is not None and all(a.state == "at-goal" for a in agents)
+        if task == "search" and at_goal:
+            all_at_goal = t
+            ended = True
+        if planner != "prm" and board.all_complete():
+            unreachable = task == "search" and board.anchor is None
+            ended = True
+    t2 = time.perf_counter()
+    goal_found = task == "search" and board.anchor is not None
+    complete = all_at_goal >= 0 if planner == "prm" else ended
+    return RoadmapRun(
+        world=world, roadmap=rm, task=task, planner=planner, sensor_range=sensor_range,
+        goal=goal_xy, raster=raster, board=board, agents=agents, trajectories=traj,
+        path_length=length, moves=moves, steps=t, complete=bool(complete),
+        goal_found=bool(goal_found), goal_unreachable=bool(unreachable),
+        all_at_goal_step=all_at_goal, step_budget=int(budget),
+        budget_exhausted=bool(not ended and t >= budget), build_seconds=t1 - t0,
+        sim_seconds=t2 - t1,
+    )

@@ -1,0 +1,147 @@
+"""Figures of roadmap runs: a PNG of the final state, a GIF of the run step by step.
+
+Drawn: obstacles (grey), the seen part of the free space (pale green raster), roadmap edges
+coloured by branch (WMA-RRT) or by connected component (PRM), the Main Root (black square),
+the starts (circles), the agents (triangles), the goal (star). Worlds read from maps/images
+have ``y_down`` and are drawn with y pointing down, as the map looks.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+from matplotlib.collections import LineCollection  # noqa: E402
+from matplotlib.colors import ListedColormap  # noqa: E402
+from matplotlib.patches import Polygon as MplPolygon  # noqa: E402
+
+from swarmex.errors import InputError  # noqa: E402
+from swarmex.missions.roadmap.sim import RoadmapRun  # noqa: E402
+
+PALETTE = plt.get_cmap("tab10").colors
+
+
+def _edge_colors(run: RoadmapRun) -> list:
+    rm = run.roadmap
+    if rm.branch is not None:
+        lab = rm.branch[rm.edges[:, 1]]
+    else:
+        lab = rm.component_labels[rm.edges[:, 0]]
+    return [PALETTE[int(k) % len(PALETTE)] for k in lab]
+
+
+def _positions_at(run: RoadmapRun, t: int) -> np.ndarray:
+    out = []
+    for tr in run.trajectories:
+        arr = np.asarray(tr)
+        k = int(np.searchsorted(arr[:, 0], t, side="right")) - 1
+        out.append(arr[max(k, 0), 1:])
+    return np.asarray(out)
+
+
+def _first_use(run: RoadmapRun) -> np.ndarray:
+    """Step at which each edge was first traversed (a large number if never)."""
+    rm = run.roadmap
+    key = {}
+    for e, (u, v) in enumerate(rm.edges.tolist()):
+        key[(u, v)] = key[(v, u)] = e
+    pos_key = {tuple(np.round(p, 6)): i for i, p in enumerate(rm.pos)}
+    first = np.full(rm.n_edges, np.iinfo(np.int64).max)
+    for tr in run.trajectories:
+        nodes = [pos_key.get(tuple(np.round(p[1:], 6)), -1) for p in tr]
+        for j in range(1, len(tr)):
+            e = key.get((nodes[j - 1], nodes[j]))
+            if e is not None:
+                first[e] = min(first[e], int(tr[j][0]))
+    return first
+
+
+def draw(ax, run: RoadmapRun, t: int | None = None, first_use: np.ndarray | None = None,
+         title: str | None = None) -> None:
+    w, rm, r = run.world, run.roadmap, run.raster
+    xmin, ymin, xmax, ymax = w.bounds
+    seen = r.seen_mask(t)
+    img = np.where(r.free, np.where(seen, 1, 0), 2)
+    cmap = ListedColormap(["#ffffff", "#cdeccd", "#ffffff"])
+    ax.imshow(img, origin="lower", extent=(r.x0, r.x0 + r.nx * r.h, r.y0, r.y0 + r.ny * r.h),
+              cmap=cmap, vmin=0, vmax=2, interpolation="nearest", zorder=0)
+    for poly in w.obstacles:
+        ax.add_patch(MplPolygon(np.asarray(poly.exterior.coords), closed=True, fc="#777777",
+                                ec="#444444", lw=0.5, zorder=1))
+    segs = rm.pos[rm.edges]
+    colors = _edge_colors(run)
+    if t is not None and first_use is not None:
+        used = first_use <= t
+        ax.add_collection(LineCollection(segs[~used], colors="#bbbbbb", lw=0.4, zorder=2))
+        segs, colors = segs[used], [c for c, u in zip(colors, used, strict=True) if u]
+    ax.add_collection(LineCollection(segs, colors=colors, lw=0.7, zorder=3))
+    if rm.branch is not None:
+        ax.plot(*rm.pos[0], "ks", ms=5, zorder=5)
+    ax.plot(rm.starts[:, 0], rm.starts[:, 1], "o", mfc="none", mec="k", ms=4, zorder=5)
+    pos = _positions_at(run, t if t is not None else run.steps)
+    for i, p in enumerate(pos):
+        ax.plot(*p, "^", color=PALETTE[i % len(PALETTE)], mec="k", ms=7, zorder=6)
+    if run.goal is not None:
+        ax.plot(*run.goal, "*", color="gold", mec="k", ms=14, zorder=7)
+    ax.set_xlim(xmin, xmax)
+    ax.set_ylim((ymax, ymin) if w.y_down else (ymin, ymax))
+    ax.set_aspect("equal")
+    ax.set_xticks([])
+    ax.set_yticks([])
+    if title:
+        ax.set_title(title, fontsize=9)
+
+
+def summary_title(run: RoadmapRun, t: int | None = None) -> str:
+    rng = "∞" if np.isinf(run.sensor_range) else f"{run.sensor_range:g}"
+    cov = run.raster.coverage() if t is None else float(run.raster.seen_mask(t).sum()
+                                                        / max(run.raster.free_cells, 1))
+    s = (f"{run.planner} {run.task}: {run.roadmap.n_nodes} nodes, R={rng}, "
+         f"step {run.steps if t is None else t}, coverage {100 * cov:.1f}%")
+    if run.task == "search":
+        s += ", goal found" if run.goal_found else (
+            ", goal unreachable" if run.goal_unreachable else ", goal not found")
+    return s
+
+
+def render_png(run: RoadmapRun, path: str | Path, title: str | None = None) -> Path:
+    path = Path(path)
+    fig, ax = plt.subplots(figsize=(7, 7 * run.world.height / run.world.width + 0.4), dpi=110)
+    draw(ax, run, title=title or summary_title(run))
+    fig.tight_layout()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path)
+    plt.close(fig)
+    return path
+
+
+def render_gif(run: RoadmapRun, path: str | Path, frames: int = 60) -> Path:
+    import imageio.v2 as imageio
+
+    path = Path(path)
+    first = _first_use(run)
+    times = np.unique(np.linspace(0, run.steps, min(frames, run.steps + 1)).round().astype(int))
+    images = []
+    fig, ax = plt.subplots(figsize=(6, 6 * run.world.height / run.world.width + 0.4), dpi=80)
+    for t in times:
+        ax.clear()
+        draw(ax, run, t=int(t), first_use=first, title=summary_title(run, int(t)))
+        fig.canvas.draw()
+        images.append(np.asarray(fig.canvas.buffer_rgba())[..., :3].copy())
+    plt.close(fig)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    imageio.mimsave(path, images, duration=0.12, loop=0)
+    return path
+
+
+def render(run: RoadmapRun, path: str | Path) -> Path:
+    suffix = Path(path).suffix.lower()
+    if suffix == ".png":
+        return render_png(run, path)
+    if suffix == ".gif":
+        return render_gif(run, path)
+    raise InputError(f"--render must end in .png or .gif, got {path}")
