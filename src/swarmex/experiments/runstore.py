@@ -1,0 +1,126 @@
+"""A resumable store of per-run results for long reproduction sweeps.
+
+A full reproduction is thousands of short runs. We want (1) every finished run on disk at
+once, so an interrupted sweep loses nothing, (2) one self-contained JSON file that plots and
+reports can be rebuilt from without rerunning, and (3) a restart that skips what is done.
+Rewriting a multi-megabyte JSON after every 20 ms run would cost more than the runs, so each
+result is first appended to a line-oriented journal (``<name>.journal.jsonl``, flushed per
+line) and the JSON is rewritten atomically (temp file + rename) every few seconds and at the
+end; opening the store merges both, and a clean :meth:`RunStore.close` folds the journal in
+and deletes it. A torn last journal line (a kill mid-write) is ignored.
+
+Seeds come from :func:`stable_seed`, a hash of the run's identity, so a run's result does not
+depend on the order runs are scheduled in or on how many worker processes share them.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import hashlib
+import json
+import os
+import tempfile
+import time
+from pathlib import Path
+from typing import Any
+
+
+def stable_seed(*parts: object) -> int:
+    """A 32-bit seed from the run's identity; stable across processes and Python versions.
+
+    ``hash()`` is salted per process, so it would give different seeds in different workers.
+    """
+    text = "|".join(str(p) for p in parts)
+    return int.from_bytes(hashlib.sha256(text.encode()).digest()[:4], "little")
+
+
+def atomic_write_text(path: Path, text: str) -> None:
+    """Write via a temp file in the same directory and rename, so readers never see half."""
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as fh:
+            fh.write(text)
+        os.chmod(tmp, 0o644)  # mkstemp creates 0600; results are meant to be shared
+        os.replace(tmp, path)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            os.unlink(tmp)
+        raise
+
+
+class RunStore:
+    """Runs keyed by a string id, persisted in ``path`` (JSON) plus a journal beside it."""
+
+    def __init__(self, path: Path, header: dict[str, Any], flush_every: float = 5.0) -> None:
+        self.path = Path(path)
+        self.journal_path = self.path.with_name(self.path.stem + ".journal.jsonl")
+        self.header = dict(header)
+        self.flush_every = flush_every
+        self.runs: dict[str, dict[str, Any]] = {}
+        self.configs: dict[str, dict[str, Any]] = {}
+        self._dirty = False
+        self._last_flush = time.monotonic()
+        self._load()
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        self._journal = open(self.journal_path, "a", encoding="utf-8")  # noqa: SIM115
+
+    def _load(self) -> None:
+        if self.path.exists():
+            try:
+                data = json.loads(self.path.read_text(encoding="utf-8"))
+            except (OSError, json.JSONDecodeError):
+                data = {}
+            self.runs.update(data.get("runs", {}))
+            self.configs.update(data.get("configs", {}))
+        if self.journal_path.exists():
+            with open(self.journal_path, encoding="utf-8") as fh:
+                for line in fh:
+                    try:
+                        rec = json.loads(line)
+                    except json.JSONDecodeError:
+                        continue  # torn write from an interrupted run
+                    if isinstance(rec, dict) and "id" in rec:
+                        self.runs[rec["id"]] = rec
+                        self._dirty = True
+
+    def __contains__(self, run_id: str) -> bool:
+        return run_id in self.runs
+
+    def __len__(self) -> int:
+        return len(self.runs)
+
+    def add_config(self, key: str, params: dict[str, Any]) -> None:
+        """Record what a configuration key means, so the JSON is self-describing."""
+        if self.configs.get(key) != params:
+            self.configs[key] = params
+            self._dirty = True
+
+    def add(self, record: dict[str, Any]) -> None:
+        """Store one finished run (its ``id`` field is the key) and journal it immediately."""
+        self.runs[record["id"]] = record
+        self._journal.write(json.dumps(record, separators=(",", ":")) + "\n")
+        self._journal.flush()
+        self._dirty = True
+        if time.monotonic() - self._last_flush >= self.flush_every:
+            self.flush()
+
+    def flush(self) -> None:
+        """Rewrite the JSON atomically with everything stored so far."""
+        data = {**self.header, "configs": self.configs, "runs": self.runs}
+        atomic_write_text(self.path, json.dumps(data, separators=(",", ":"), sort_keys=True))
+        self._last_flush = time.monotonic()
+        self._dirty = False
+
+    def close(self) -> None:
+        """Final flush; the journal is redundant afterwards and is removed."""
+        if self._dirty or not self.path.exists():
+            self.flush()
+        self._journal.close()
+        with contextlib.suppress(OSError):
+            os.unlink(self.journal_path)
+
+    def __enter__(self) -> RunStore:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
