@@ -97,6 +97,7 @@ class Mission:
         self.follow_comm = bool(timed and timed.plan.follow_path_comm)
         self.history: list[list[Cell]] = []
         self.join_at: dict[int, int] = {}
+        self.tail_chunks: list[np.ndarray] = []
 
     # ------------------------------------------------------------------ prediction
     def on_route(self, a: int) -> bool:
@@ -280,9 +281,14 @@ class Mission:
         self.pos = new
         self.t += 1
 
-    def run(self, record: bool = True, limit: int | None = None) -> None:
+    def run(self, record: bool = True, limit: int | None = None, fast: bool = True) -> None:
+        """Play rounds until all k units are home; ``fast`` hands the pure-transport tail to
+        the compiled loop of :mod:`.fastloop` (same rules, same result)."""
         limit = limit or self.t + 200 * self.g * (self.k + self.g) + 10_000
         while True:
+            if fast and all(m == TRANSPORT for m in self.mode):
+                self._tail(record, limit)
+                return
             self.look()
             if record:
                 self.history.append(list(self.pos))
@@ -293,8 +299,49 @@ class Mission:
             self.step()
 
 
+    def _tail(self, record: bool, limit: int) -> None:
+        from swarmex.missions.foraging.fastloop import transport_tail
+
+        n, g = self.n, self.g
+        pos = np.asarray(self.pos, dtype=np.int64)
+        carrying = np.asarray(self.carrying, dtype=np.bool_)
+        tmode = np.asarray(self.tmode, dtype=np.int64)
+        pidx = np.asarray(self.pidx, dtype=np.int64)
+        join_at = np.asarray([self.join_at.get(a, 0) for a in range(n)], dtype=np.int64)
+        path = np.asarray(self.path, dtype=np.int64)
+        path_of = np.full((g, g), -1, dtype=np.int64)
+        path_of[path[:, 0], path[:, 1]] = np.arange(len(path))
+        state = np.asarray([self.t, self.units, self.delivered, self.k, 0, 0, 0], np.int64)
+        jobs = np.zeros((2 * self.k + 2, 3), dtype=np.int64)
+        handovers = np.asarray(self.handovers, dtype=np.int64)
+        nest = np.asarray(self.nest, dtype=np.int64)
+        food = np.asarray(self.food, dtype=np.int64)
+        relay = self.transport != END_TO_END
+        chunk = np.empty((4096, n, 2), dtype=np.int64)
+        while True:
+            rows = transport_tail(
+                pos, carrying, tmode, pidx, join_at, state, path, path_of, nest, food, relay,
+                chunk, jobs, handovers,
+            )  # fmt: skip
+            if record:
+                self.tail_chunks.append(chunk[:rows].astype(np.int32))
+            if state[6]:
+                break
+            if state[0] >= limit:
+                raise NoProgress(f"no completion after {state[0]} rounds")
+        self.t, self.units, self.delivered = int(state[0]), int(state[1]), int(state[2])
+        self.pos = [(int(x), int(y)) for x, y in pos]
+        self.carrying = [bool(c) for c in carrying]
+        self.tmode = [int(m) for m in tmode]
+        self.pidx = [int(i) for i in pidx]
+        self.handovers = [int(h) for h in handovers]
+        for t, a, kind in jobs[: state[4]].tolist():
+            cell = self.nest if kind == 1 else self.food
+            self.jobs[a].append((t, *cell, "drop" if kind == 1 else "pickup"))
+
+
 def run_mission(
-    timed: Timed, food: Cell, units: int, transport: str, record: bool = True
+    timed: Timed, food: Cell, units: int, transport: str, record: bool = True, fast: bool = True
 ) -> Outcome:
     """Play one foraging run of the pattern in ``timed`` with food at ``food``."""
     if transport not in (RELAY_FOOD, RELAY_PATH, END_TO_END):
@@ -308,9 +355,12 @@ def run_mission(
     t0 = int(rows[0])
     start = [(int(x), int(y)) for x, y in pos[t0]]
     m = Mission(plan.g, plan.nest, food, units, transport, start, t=t0, timed=timed)
-    m.run(record=record)
+    m.run(record=record, fast=fast)
     if record:
-        positions = np.concatenate([pos[:t0], np.asarray(m.history, dtype=np.int32)], axis=0)
+        parts = [pos[:t0]]
+        if m.history:
+            parts.append(np.asarray(m.history, dtype=np.int32).reshape(-1, plan.n, 2))
+        positions = np.concatenate(parts + m.tail_chunks, axis=0)
     else:
         positions = np.empty((0, plan.n, 2), dtype=np.int32)
     finders = [a for a in range(plan.n) if m.informed_at[a] == t0 and start[a] == food]

@@ -1,0 +1,262 @@
+"""The transport tail of a run, compiled with numba.
+
+Once every robot is in the Transportation phase (after the last one finished communicating),
+each round is the same small computation — Look (join, hand-overs, drops, pick-ups), options,
+collision resolution, move — and it is most of a run's rounds (each of k = 100 units crosses
+the nest–food distance). This module is a line-by-line port of that part of
+:class:`~swarmex.missions.foraging.sim.Mission` (``transport_look``, ``options``, ``step`` and
+:func:`~swarmex.missions.foraging.resolve.resolve` with its priority order) to arrays, so the
+result is identical to the pure-Python loop; the test suite checks that on many runs.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+# tmode codes (same as sim.py)
+JOIN, RELAY, E2E, IDLE = 0, 1, 2, 3
+MAXOPT = 6
+
+
+@njit(cache=True)
+def _sidesteps(opts, k, x, y, g):
+    for dx, dy in ((1, 0), (0, -1), (-1, 0), (0, 1)):
+        nx, ny = x + dx, y + dy
+        if 0 <= nx < g and 0 <= ny < g:
+            opts[k, 0] = nx
+            opts[k, 1] = ny
+            k += 1
+    return k
+
+
+@njit(cache=True)
+def _toward(opts, k, x, y, qx, qy):
+    if qx != x:
+        opts[k, 0] = x + (1 if qx > x else -1)
+        opts[k, 1] = y
+        k += 1
+    if qy != y:
+        opts[k, 0] = x
+        opts[k, 1] = y + (1 if qy > y else -1)
+        k += 1
+    return k
+
+
+@njit(cache=True)
+def _resolve(cur, opts, nopt, order, nest_x, nest_y, choice):
+    n = cur.shape[0]
+    for a in range(n):
+        choice[a] = 0
+    owner_x = np.empty(n, np.int64)
+    owner_y = np.empty(n, np.int64)
+    owner_a = np.empty(n, np.int64)
+    while True:
+        m = 0
+        bumped = -1
+        for r in range(n):
+            a = order[r]
+            cx = opts[a, choice[a], 0]
+            cy = opts[a, choice[a], 1]
+            if cx == nest_x and cy == nest_y:
+                continue
+            b = -1
+            for j in range(m):
+                if owner_x[j] == cx and owner_y[j] == cy:
+                    b = owner_a[j]
+                    break
+            if b < 0:
+                owner_x[m] = cx
+                owner_y[m] = cy
+                owner_a[m] = a
+                m += 1
+                continue
+            stayer = -1
+            if cx == cur[a, 0] and cy == cur[a, 1]:
+                stayer = a
+            elif cx == cur[b, 0] and cy == cur[b, 1]:
+                stayer = b
+            if stayer >= 0:
+                other = b if stayer == a else a
+                bumped = stayer if choice[stayer] + 1 < nopt[stayer] else other
+            else:
+                bumped = a
+            break
+        if bumped < 0:
+            return
+        choice[bumped] += 1
+
+
+@njit(cache=True)
+def _order(cur, opts, out):
+    """Priority: swap pairs first, then larger (x, y), then smaller id (resolve.priority)."""
+    n = cur.shape[0]
+    swap = np.zeros(n, np.bool_)
+    for a in range(n):
+        b = -1
+        for c in range(n - 1, -1, -1):  # the last robot standing there (a dict's overwrite)
+            if cur[c, 0] == opts[a, 0, 0] and cur[c, 1] == opts[a, 0, 1]:
+                b = c
+                break
+        if b >= 0 and b != a and opts[b, 0, 0] == cur[a, 0] and opts[b, 0, 1] == cur[a, 1]:
+            swap[a] = True
+    for a in range(n):
+        out[a] = a
+    for i in range(1, n):  # insertion sort on the key (not swap, -x, -y, id)
+        j = i
+        while j > 0:
+            p, q = out[j - 1], out[j]
+            kp = (0 if swap[p] else 1, -cur[p, 0], -cur[p, 1], p)
+            kq = (0 if swap[q] else 1, -cur[q, 0], -cur[q, 1], q)
+            if kq < kp:
+                out[j - 1], out[j] = q, p
+                j -= 1
+            else:
+                break
+
+
+@njit(cache=True)
+def transport_tail(
+    pos, carrying, tmode, pidx, join_at, state, path, path_of, nest, food, relay,
+    history, jobs, handovers,
+):  # fmt: skip
+    """Play rounds until done or ``history`` is full.
+
+    ``state`` = [t, units, delivered, k, n_jobs, rows_written, done]; positions after each
+    Look are written to ``history``; jobs as rows (t, agent, kind 0=pickup 1=drop).
+    """
+    n = pos.shape[0]
+    g = path_of.shape[0]
+    L = path.shape[0]
+    opts = np.empty((n, MAXOPT, 2), np.int64)
+    nopt = np.zeros(n, np.int64)
+    order = np.empty(n, np.int64)
+    choice = np.zeros(n, np.int64)
+    was = np.empty(n, np.bool_)
+    busy = np.zeros(n, np.bool_)
+    rows = 0
+    while rows < history.shape[0]:
+        t = state[0]
+        # ---- Look: join, hand-overs, drops, pick-ups
+        if relay:
+            for a in range(n):
+                if tmode[a] == JOIN:
+                    j = join_at[a]
+                    if pos[a, 0] == path[j, 0] and pos[a, 1] == path[j, 1]:
+                        tmode[a] = RELAY
+                        pidx[a] = j
+            for a in range(n):
+                was[a] = carrying[a]
+                busy[a] = False
+            for b in range(n):
+                if tmode[b] != RELAY or not was[b] or pidx[b] < 2:
+                    continue
+                cx, cy = path[pidx[b] - 1, 0], path[pidx[b] - 1, 1]
+                a = -1
+                for c in range(n):  # the last RELAY robot there, as the dict in sim.py
+                    if tmode[c] == RELAY and pos[c, 0] == cx and pos[c, 1] == cy:
+                        a = c
+                if a < 0 or was[a] or busy[a] or busy[b]:
+                    continue
+                carrying[a] = True
+                carrying[b] = False
+                handovers[b] += 1
+                busy[a] = True
+                busy[b] = True
+        for a in range(n):
+            if tmode[a] != RELAY and tmode[a] != E2E:
+                continue
+            if carrying[a] and pos[a, 0] == nest[0] and pos[a, 1] == nest[1]:
+                carrying[a] = False
+                state[2] += 1
+                jobs[state[4], 0] = t
+                jobs[state[4], 1] = a
+                jobs[state[4], 2] = 1
+                state[4] += 1
+            elif (not carrying[a]) and pos[a, 0] == food[0] and pos[a, 1] == food[1] and state[1]:
+                carrying[a] = True
+                state[1] -= 1
+                jobs[state[4], 0] = t
+                jobs[state[4], 1] = a
+                jobs[state[4], 2] = 0
+                state[4] += 1
+        for a in range(n):
+            history[rows, a, 0] = pos[a, 0]
+            history[rows, a, 1] = pos[a, 1]
+        rows += 1
+        if state[2] >= state[3]:
+            state[6] = 1
+            break
+        # ---- Compute: options
+        for a in range(n):
+            x, y = pos[a, 0], pos[a, 1]
+            k = 0
+            tm = tmode[a]
+            if tm == E2E:
+                if (not carrying[a]) and state[1] == 0:
+                    opts[a, 0, 0] = x
+                    opts[a, 0, 1] = y
+                    k = _sidesteps(opts[a], 1, x, y, g)
+                else:
+                    if carrying[a]:
+                        k = _toward(opts[a], 0, x, y, nest[0], nest[1])
+                    else:
+                        k = _toward(opts[a], 0, x, y, food[0], food[1])
+                    opts[a, k, 0] = x
+                    opts[a, k, 1] = y
+                    k += 1
+            elif tm == JOIN:
+                j = join_at[a]
+                k = _toward(opts[a], 0, x, y, path[j, 0], path[j, 1])
+                opts[a, k, 0] = x
+                opts[a, k, 1] = y
+                k += 1
+            elif tm == RELAY:
+                i = pidx[a]
+                if carrying[a]:
+                    if i > 0:
+                        opts[a, 0, 0] = path[i - 1, 0]
+                        opts[a, 0, 1] = path[i - 1, 1]
+                        opts[a, 1, 0] = x
+                        opts[a, 1, 1] = y
+                        k = 2
+                    else:
+                        opts[a, 0, 0] = x
+                        opts[a, 0, 1] = y
+                        k = 1
+                elif i < L - 1:
+                    opts[a, 0, 0] = path[i + 1, 0]
+                    opts[a, 0, 1] = path[i + 1, 1]
+                    opts[a, 1, 0] = x
+                    opts[a, 1, 1] = y
+                    k = 2
+                elif state[1] == 0:
+                    tmode[a] = IDLE
+                    opts[a, 0, 0] = x
+                    opts[a, 0, 1] = y
+                    k = _sidesteps(opts[a], 1, x, y, g)
+                else:
+                    opts[a, 0, 0] = x
+                    opts[a, 0, 1] = y
+                    k = 1
+            else:
+                opts[a, 0, 0] = x
+                opts[a, 0, 1] = y
+                k = _sidesteps(opts[a], 1, x, y, g)
+            nopt[a] = k
+        # ---- Move
+        _order(pos, opts, order)
+        _resolve(pos, opts, nopt, order, nest[0], nest[1], choice)
+        for a in range(n):
+            nx, ny = opts[a, choice[a], 0], opts[a, choice[a], 1]
+            if tmode[a] == RELAY and (nx != pos[a, 0] or ny != pos[a, 1]):
+                j = path_of[nx, ny]
+                if j < 0 or abs(j - pidx[a]) != 1:
+                    tmode[a] = IDLE
+                else:
+                    pidx[a] = j
+            pos[a, 0] = nx
+            pos[a, 1] = ny
+        state[0] = t + 1
+    state[5] = rows
+    return rows
