@@ -13,6 +13,7 @@ import typer
 
 # each module registers its commands on the shared app when imported
 from swarmex.cli import (  # noqa: F401
+    commands_exploration,
     commands_foraging,
     commands_reproduce,
     commands_roadmap,

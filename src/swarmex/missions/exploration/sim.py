@@ -96,6 +96,32 @@ def legal_step(free: np.ndarray, a: Cell, b: Cell) -> bool:
     return not (dx and dy) or bool(free[a[1], b[0]] and free[b[1], a[0]])
 
 
+class Wire:
+    """Carries robots' outgoing ``(destination, message)`` lists over a :class:`DiscNetwork`."""
+
+    def __init__(self, net: DiscNetwork, robots: list[ExplorerRobot]) -> None:
+        self.net = net
+        self.robots = robots
+
+    def send(self, src: int, out: Out) -> None:
+        i = 0
+        while i < len(out):  # consecutive sends of one message go out together
+            dst, msg = out[i]
+            j = i + 1
+            while j < len(out) and out[j][1] is msg:
+                j += 1
+            if dst == RADIO:
+                self.net.broadcast(src, msg)
+            else:
+                self.net.unicast_many(src, [d for d, _ in out[i:j]], msg)
+            i = j
+
+    def settle(self, t: int) -> None:
+        """Deliver until the network is quiet (relays and replies included)."""
+        for src, dst, msg in self.net.drain():
+            self.send(dst, self.robots[dst].on_message(src, msg, t))
+
+
 def build_robots(
     grid: MetricGrid, params: ExplorationParams, rng: np.random.Generator
 ) -> tuple[list[ExplorerRobot], tuple[Cell, ...], Laser]:
@@ -142,22 +168,7 @@ def run_exploration(
     truth = grid.free
     max_ticks = params.max_ticks or max_ticks_for(grid, params.laser_range)
 
-    def dispatch(src: int, out: Out) -> None:
-        i = 0
-        while i < len(out):  # consecutive sends of one message go out together
-            dst, msg = out[i]
-            j = i + 1
-            while j < len(out) and out[j][1] is msg:
-                j += 1
-            if dst == RADIO:
-                net.broadcast(src, msg)
-            else:
-                net.unicast_many(src, [d for d, _ in out[i:j]], msg)
-            i = j
-
-    def deliver(t: int) -> None:
-        for src, dst, msg in net.drain():
-            dispatch(dst, robots[dst].on_message(src, msg, t))
+    wire = Wire(net, robots)
 
     moved = [True] * n
     for t in range(max_ticks + 1):
@@ -175,13 +186,13 @@ def run_exploration(
             net.move(np.array([r.pos for r in robots], dtype=np.float64) * grid.cell)
         for i, r in enumerate(robots):
             if moved[i]:
-                dispatch(i, r.observe(laser.cast(truth, *r.pos), t))
+                wire.send(i, r.observe(laser.cast(truth, *r.pos), t))
         for i, r in enumerate(robots):
-            dispatch(i, r.housekeeping(t))
-        deliver(t)
+            wire.send(i, r.housekeeping(t))
+        wire.settle(t)
         for i, r in enumerate(robots):
-            dispatch(i, r.maybe_plan(t))
-            deliver(t)
+            wire.send(i, r.maybe_plan(t))
+            wire.settle(t)
         run.makespan = t
         if on_frame is not None and frame_every > 0 and t % frame_every == 0:
             on_frame(t, run)

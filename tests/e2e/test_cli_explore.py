@@ -1,0 +1,69 @@
+"""``swarmex explore`` end to end: a record on disk, pictures, and one-line errors."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from swarmex.cli import main
+
+
+def test_explore_writes_record_and_png(tmp_path, capsys):
+    rec, png = tmp_path / "run.json", tmp_path / "run.png"
+    rc = main(["explore", "--empty", "3x3", "--robots", "2", "--laser-range", "1",
+               "--comm-range", "2", "--strategy", "minpos", "--seed", "3",
+               "--json", str(rec), "--render", str(png)])
+    assert rc == 0
+    d = json.loads(rec.read_text())
+    assert d["mission"] == "exploration" and d["algorithm"] == "minpos" and d["seed"] == 3
+    assert d["complete"] and d["metrics"]["explored_fraction"] >= 0.99
+    assert d["world"]["width"] == 60 and d["world"]["cell_m"] == 0.05
+    assert d["params"]["laser_range"] == 1.0 and len(d["params"]["starts"]) == 2
+    assert png.stat().st_size > 1000
+    assert "complete=True" in capsys.readouterr().out
+
+
+def test_explore_gif_and_starts(tmp_path):
+    gif = tmp_path / "run.gif"
+    rc = main(["explore", "--empty", "2x2", "--robots", "2", "--laser-range", "0.8",
+               "--starts", "10,10;30,30", "--render", str(gif)])
+    assert rc == 0 and gif.read_bytes()[:3] == b"GIF"
+
+
+@pytest.mark.parametrize(
+    ("args", "needle"),
+    [
+        (["--empty", "3x3", "--robots", "1", "--laser-range", "-1"], "--laser-range"),
+        (["--empty", "3x3", "--robots", "1", "--comm-range", "-2"], "--comm-range"),
+        (["--empty", "3x3", "--robots", "0"], "--robots"),
+        (["--empty", "3x3", "--robots", "1", "--starts", "0,0"], "inside a wall"),
+        (["--empty", "3x3", "--robots", "2", "--starts", "5,5"], "1 cells for 2 robots"),
+        (["--empty", "3x3", "--robots", "1", "--starts", "500,5"], "outside"),
+        (["--empty", "3x3", "--robots", "1", "--starts", "a;b"], "--starts"),
+        (["--empty", "3by3", "--robots", "1"], "--empty"),
+        (["--empty", "3x3", "--robots", "1", "--cell", "0"], "--cell"),
+        (["--empty", "3x3", "--robots", "1", "--strategy", "auction"], "--strategy"),
+        (["--map", "/no/such.map", "--robots", "1"], "not found"),
+        (["--robots", "1"], "exactly one of --map"),
+        (["--empty", "3x3", "--robots", "1", "--render", "x.bmp"], "--render"),
+        (["--empty", "3x3"], "--robots"),
+        (["--empty", "3x3", "--robots", "many"], "robots"),
+    ],
+)
+def test_bad_input_exits_2_with_one_line(args, needle, capsys):
+    assert main(["explore", *args]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and needle in err and "Traceback" not in err
+
+
+def test_unreadable_map_files(tmp_path, capsys):
+    bad = tmp_path / "bad.map"
+    bad.write_text("type octile\nheight 2\nwidth 2\nmap\n..\n")
+    assert main(["explore", "--map", str(bad), "--robots", "1"]) == 2
+    assert "height 2 but the map has 1 rows" in capsys.readouterr().err
+    y = tmp_path / "m.yaml"
+    y.write_text("image: m.pgm\nresolution: 0.05\n")
+    assert main(["explore", "--map", str(y), "--robots", "1"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "m.pgm" in err

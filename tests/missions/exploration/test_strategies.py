@@ -1,0 +1,93 @@
+"""Goal choice: exclusion zones and their fallback, priorities, and the stronger strategies."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from swarmex.missions.exploration.messages import ChangeGoal, Goal
+from swarmex.missions.exploration.strategies import (
+    GoalContext,
+    get_strategy,
+    greedy,
+    greedy_exclusion,
+    hungarian,
+    minpos,
+    utility,
+)
+from swarmex.sensing.frontiers import Frontiers
+from tests.missions.exploration.helpers import config, team
+
+
+def context(cells, dists, **kw) -> GoalContext:
+    """Candidates at ``cells`` (x, y), each its own region, ``dists`` steps from the robot."""
+    xs = np.array([c[0] for c in cells])
+    ys = np.array([c[1] for c in cells])
+    fr = Frontiers(ys, xs, np.arange(len(cells)), np.ones(len(cells), int), 0)
+    return GoalContext(me=0, pos=(0, 0), frontiers=fr, eligible=np.ones(len(cells), bool),
+                       dist=np.array(dists), laser_cells=10.0, **kw)
+
+
+CELLS = [(5, 0), (30, 0), (60, 0)]
+
+
+def test_greedy_takes_the_nearest_and_keeps_its_goal_on_ties():
+    assert greedy(context(CELLS, [5, 30, 60])) == (5, 0)
+    assert greedy(context(CELLS, [30, 30, 60], current_goal=(30, 0))) == (30, 0)
+    assert greedy(context(CELLS, [30, 30, 60])) == (5, 0)
+
+
+def test_exclusion_zone_skips_cells_near_a_teammates_goal():
+    ctx = context(CELLS, [5, 30, 60], team_goals={7: (8, 0)})
+    assert greedy_exclusion(ctx) == (30, 0)  # (5,0) is 3 cells from 7's goal (< laser 10)
+
+
+def test_exclusion_falls_back_when_every_frontier_is_excluded():
+    ctx = context(CELLS, [5, 30, 60], team_goals={7: (8, 0), 8: (31, 0), 9: (55, 0)})
+    assert greedy_exclusion(ctx) == (5, 0)  # "prefers" a free zone; none left: nearest
+
+
+def test_minpos_leaves_a_frontier_to_a_closer_teammate():
+    # a teammate stands right at (5,0): its rank there is 1 for us, 0 elsewhere
+    fields = {(6, 0): np.full((1, 100), 99)}
+    fields[(6, 0)][0, 5] = 1
+    ctx = context(CELLS, [5, 30, 60], team_pos={1: (6, 0)}, field_from=lambda c: fields[c])
+    assert minpos(ctx) == (30, 0)
+    assert hungarian(ctx) == (30, 0)
+    assert utility(ctx) == (30, 0)
+
+
+def test_assignment_strategies_alone_act_like_greedy():
+    for f in (minpos, hungarian, utility):
+        assert f(context(CELLS, [40, 30, 60])) == (30, 0)
+        assert f(context(CELLS, [-1, -1, -1])) is None
+
+
+def test_unknown_strategy_is_an_input_error():
+    from swarmex.errors import InputError
+
+    with pytest.raises(InputError, match="strategy"):
+        get_strategy("random")
+
+
+def test_priority_conflict_lower_priority_replans_higher_sends_change_goal():
+    robots, net, wire = team([(100, 20), (110, 20)], range_m=5.0, cfg=config())
+    me = robots[0]
+    me.goal = (150, 20)
+    me.path = np.array([[101 + i, 20] for i in range(50)])  # 50 steps to go
+    # a neighbour announces a goal 3 cells from ours, 10 steps away: it has priority
+    assert me.on_message(1, Goal(1, (153, 20), 10.0, 110, 20), t=5) == []
+    assert me.request == "conflict"
+    me.request = None
+    # a neighbour 80 steps from a goal near ours: we keep ours and tell it to change
+    out = me.on_message(1, Goal(1, (147, 20), 80.0, 110, 20), t=6)
+    assert len(out) == 1 and out[0][0] == 1 and isinstance(out[0][1], ChangeGoal)
+    assert me.request is None and me.stats.change_goals_sent == 1
+    # equal priorities: the lower id wins
+    out = me.on_message(1, Goal(1, (147, 20), 50.0, 110, 20), t=7)
+    assert isinstance(out[0][1], ChangeGoal)
+    # a far goal is no conflict; CHANGE_GOAL forces a re-plan
+    assert me.on_message(1, Goal(1, (300, 20), 1.0, 110, 20), t=8) == []
+    assert me.request is None
+    me.on_message(1, ChangeGoal(1, (150, 22), 3.0), t=9)
+    assert me.request == "change_goal"
