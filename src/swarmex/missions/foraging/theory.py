@@ -22,8 +22,9 @@ from swarmex.missions.foraging.timed import timed_plan
 from swarmex.missions.foraging.transport import END_TO_END, RELAY_FOOD, relay_path
 
 
-def _transport_only(nest: Cell, food: Cell, starts: list[Cell], units: int, kind: str) -> Mission:
-    g = 2 * (max(abs(food[0] - nest[0]), abs(food[1] - nest[1])) + 4)
+def _transport_only(
+    g: int, nest: Cell, food: Cell, starts: list[Cell], units: int, kind: str
+) -> Mission:
     m = Mission(g, nest, food, units, kind, starts, t=0, timed=None)
     for a in range(len(starts)):
         m.mode[a] = TRANSPORT
@@ -46,7 +47,7 @@ def relay_setting(n: int, i: int) -> Mission:
     food = (nest[0] + length, nest[1])
     path = relay_path(nest, food)
     starts = [path[k * (2 * i + 1)] for k in range(1, n + 1)]
-    return _transport_only(nest, food, starts, n, RELAY_FOOD)
+    return _transport_only(g, nest, food, starts, n, RELAY_FOOD)
 
 
 def end_to_end_setting(n: int, x: int) -> Mission:
@@ -62,7 +63,7 @@ def end_to_end_setting(n: int, x: int) -> Mission:
     food = (nest[0] + a, nest[1] + b)
     path = relay_path(nest, food)
     starts = [path[k * x] for k in range(1, n + 1)]
-    return _transport_only(nest, food, starts, n, END_TO_END)
+    return _transport_only(g, nest, food, starts, n, END_TO_END)
 
 
 def theorem_5_3_1(n: int, x: int) -> int:

@@ -1,0 +1,70 @@
+"""``swarmex forage``: a good run writes a replayable record; bad input exits 2 in one line."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from swarmex.cli import main
+from swarmex.missions.foraging import replay
+
+
+def test_forage_writes_a_replayable_record(tmp_path, capsys):
+    out = tmp_path / "run.json"
+    png = tmp_path / "run.png"
+    argv = ["forage", "--grid", "16", "--agents", "8", "--algorithm", "sectors"]
+    argv += ["--food-distance", "20-60", "--food-units", "10", "--seed", "3"]
+    assert main([*argv, "--json", str(out), "--render", str(png)]) == 0
+    rec = json.loads(out.read_text())
+    assert rec["mission"] == "foraging" and rec["complete"] is True
+    assert rec["params"]["food_units"] == 10 and rec["seed"] == 3
+    for key in ("exploration_time", "communication_time", "comm_transport_overlap"):
+        assert key in rec["metrics"]
+    assert {"transport_time", "food_delivered", "cells_revisited"} <= set(rec["metrics"])
+    assert replay(rec) == []
+    assert png.stat().st_size > 1000
+    # same seed, same record (apart from wall_seconds)
+    out2 = tmp_path / "run2.json"
+    assert main([*argv, "--json", str(out2)]) == 0
+    rec2 = json.loads(out2.read_text())
+    rec.pop("wall_seconds"), rec2.pop("wall_seconds")
+    assert rec == rec2
+
+
+def test_forage_gif(tmp_path):
+    gif = tmp_path / "run.gif"
+    argv = ["forage", "--grid", "8", "--agents", "4", "--algorithm", "spiral", "--food", "1,1"]
+    assert main([*argv, "--food-units", "3", "--render", str(gif)]) == 0
+    assert gif.read_bytes()[:3] == b"GIF"
+
+
+BAD = [
+    (["--grid", "1", "--agents", "4", "--algorithm", "strips"], "--grid"),
+    (["--grid", "16", "--agents", "0", "--algorithm", "strips"], "--agents"),
+    (["--grid", "16", "--agents", "3", "--algorithm", "strips"], "multiple"),
+    (["--grid", "16", "--agents", "8", "--algorithm", "zigzag"], "power of 4"),
+    (["--grid", "16", "--agents", "8", "--algorithm", "hilbert"], "power of 4"),
+    (["--grid", "16", "--agents", "12", "--algorithm", "sectors"], "multiple of 8"),
+    (["--grid", "16", "--agents", "6", "--algorithm", "spiral"], "power of two"),
+    (["--grid", "16", "--agents", "4", "--algorithm", "modified-zigzag"], "8 only"),
+    (["--grid", "16", "--agents", "4", "--algorithm", "astar"], "unknown --algorithm"),
+    (["--grid", "16", "--agents", "4", "--algorithm", "strips", "--food", "16,3"], "outside"),
+    (["--grid", "16", "--agents", "4", "--algorithm", "strips", "--food", "-1,3"], "outside"),
+    (["--grid", "16", "--agents", "4", "--algorithm", "strips", "--food", "8,8"], "nest"),
+    (["--grid", "16", "--agents", "4", "--algorithm", "strips", "--food-units", "0"], "units"),
+    (["--grid", "16", "--agents", "4", "--algorithm", "strips", "--transport", "x"], "transport"),
+    (["--grid", "16", "--agents", "4", "--algorithm", "strips", "--food-distance", "9"], "LO-HI"),
+    (["--grid", "abc", "--agents", "4", "--algorithm", "strips"], "grid"),
+    (["--grid", "16", "--agents", "4", "--algorithm", "strips", "--render", "a.txt"], "render"),
+]
+
+
+@pytest.mark.parametrize(("argv", "needle"), BAD)
+def test_bad_input_exits_2_with_one_line(argv, needle, capsys):
+    assert main(["forage", *argv]) == 2
+    err = capsys.readouterr().err
+    lines = err.strip().splitlines()
+    assert len(lines) == 1, err
+    assert "Traceback" not in err
+    assert needle.lower() in lines[0].lower()
