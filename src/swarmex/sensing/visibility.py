@@ -37,7 +37,9 @@ def segments_touch(px, py, qx, qy, ax, ay, bx, by):  # pragma: no cover - compil
     o3 = _orient(ax, ay, bx, by, px, py)
     o4 = _orient(ax, ay, bx, by, qx, qy)
     if o1 == 0.0 and o2 == 0.0:
-        return True  # collinear and bounding boxes overlap (checked above)
+        if px == qx and py == qy:  # pq is a point: touching means lying on ab
+            return o3 == 0.0
+        return True  # collinear with overlapping bounding boxes (checked above)
     return o1 * o2 <= 0.0 and o3 * o4 <= 0.0
 
 
@@ -73,28 +75,71 @@ def segments_blocked(a, b, edges):  # pragma: no cover - compiled
 @nb.njit(cache=True)
 def _sweep_cell(ax, ay, bx, by, m, rng_r, cx, cy, edges, local, n_local, hint):
     # pragma: no cover - compiled
-    """Is cell centre c seen from some viewpoint a + s/m (b − a)? Returns (seen, blocker)."""
-    finite = np.isfinite(rng_r)
-    r2 = rng_r * rng_r
+    """Is cell centre c seen from some viewpoint p_s = a + s/m (b − a)? → (seen, blocker).
+
+    The viewpoints in range form one run s_lo..s_hi (a disc meets a line in an interval).
+    A wall's shadow is convex, so the viewpoints one wall hides also form a run: once a wall
+    hides p_s, a binary search finds the end of its run and the scan jumps past it. A cell
+    hidden along the whole segment therefore costs a few tests per wall, not per viewpoint.
+    """
+    dx, dy = bx - ax, by - ay
+    s_lo, s_hi = 0, m
+    if np.isfinite(rng_r):
+        # |a + t d − c|² ≤ r²  ⇔  A t² + B t + C ≤ 0
+        fx, fy = ax - cx, ay - cy
+        qa = dx * dx + dy * dy
+        qb = 2.0 * (fx * dx + fy * dy)
+        qc = fx * fx + fy * fy - rng_r * rng_r
+        if qa == 0.0:
+            if qc > 0.0:
+                return False, hint
+        else:
+            disc = qb * qb - 4.0 * qa * qc
+            if disc < 0.0:
+                return False, hint
+            sq = np.sqrt(disc)
+            t0 = (-qb - sq) / (2.0 * qa)
+            t1 = (-qb + sq) / (2.0 * qa)
+            s_lo = max(0, int(np.ceil(t0 * m - 1e-9)))
+            s_hi = min(m, int(np.floor(t1 * m + 1e-9)))
+            # guard the rounding at both ends with the exact distance test
+            while s_lo <= s_hi and ((ax + s_lo / m * dx - cx) ** 2
+                                    + (ay + s_lo / m * dy - cy) ** 2) > rng_r * rng_r:
+                s_lo += 1
+            while s_hi >= s_lo and ((ax + s_hi / m * dx - cx) ** 2
+                                    + (ay + s_hi / m * dy - cy) ** 2) > rng_r * rng_r:
+                s_hi -= 1
+            if s_lo > s_hi:
+                return False, hint
+    ex = ax + s_hi / m * dx
+    ey = ay + s_hi / m * dy
     if hint >= 0:
         e = edges[hint]
-        if (segments_touch(ax, ay, cx, cy, e[0], e[1], e[2], e[3])
-                and segments_touch(bx, by, cx, cy, e[0], e[1], e[2], e[3])):
-            return False, hint  # the whole segment lies in this wall's (convex) shadow
+        if (segments_touch(ax + s_lo / m * dx, ay + s_lo / m * dy, cx, cy,
+                           e[0], e[1], e[2], e[3])
+                and segments_touch(ex, ey, cx, cy, e[0], e[1], e[2], e[3])):
+            return False, hint  # both ends of the run in this wall's shadow
     k = hint
-    for s in range(m + 1):
-        t = s / m
-        px = ax + t * (bx - ax)
-        py = ay + t * (by - ay)
-        if finite and (cx - px) ** 2 + (cy - py) ** 2 > r2:
-            continue
+    s = s_lo
+    while s <= s_hi:
+        px = ax + s / m * dx
+        py = ay + s / m * dy
         kk = first_blocker(px, py, cx, cy, edges, local, n_local, k)
         if kk < 0:
             return True, k
         k = kk
         e = edges[kk]
-        if segments_touch(bx, by, cx, cy, e[0], e[1], e[2], e[3]):
-            return False, k  # p_s and b both in kk's shadow: so is everything between
+        if segments_touch(ex, ey, cx, cy, e[0], e[1], e[2], e[3]):
+            return False, k  # p_s and the last viewpoint both hidden by kk: all between too
+        lo, hi = s, s_hi  # kk hides p_lo, not p_hi: find where its shadow run ends
+        while hi - lo > 1:
+            mid = (lo + hi) // 2
+            if segments_touch(ax + mid / m * dx, ay + mid / m * dy, cx, cy,
+                              e[0], e[1], e[2], e[3]):
+                lo = mid
+            else:
+                hi = mid
+        s = hi
     return False, k
 
 

@@ -112,8 +112,9 @@ class PRMBoard:
 
     def __init__(self, roadmap: Roadmap) -> None:
         self.rm = roadmap
-        self.w_g = np.zeros(roadmap.n_edges)
-        self.traversals = np.zeros(roadmap.n_edges, dtype=np.int64)
+        # plain lists: walkers read single weights thousands of times per run
+        self.w_g: list[float] = [0.0] * roadmap.n_edges
+        self.traversals: list[int] = [0] * roadmap.n_edges
         self.trail_next: dict[int, tuple[int, int]] = {}
         self.anchor: int | None = None
         self.leg: list[np.ndarray] = []

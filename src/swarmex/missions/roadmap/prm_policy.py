@@ -57,14 +57,15 @@ class PRMWalker:
         if not nbrs:
             self.state = "stuck"  # an isolated node: nowhere to go
             return None
-        w = np.array([b.w_g[e] for _, e in nbrs])
-        best = np.flatnonzero(w == w.min())
-        v, e = nbrs[int(best[rng.integers(len(best))]) if len(best) > 1 else int(best[0])]
+        wg = b.w_g
+        low = min(wg[e] for _, e in nbrs)
+        best = [ve for ve in nbrs if wg[ve[1]] == low]
+        v, e = best[int(rng.integers(len(best)))] if len(best) > 1 else best[0]
         b.traverse(e)
         self.walk.append((v, e))
         return Move(b.rm.pos[v], e, v)
 
-    def arrive(self, move: Move) -> None:
+    def arrive(self, move: Move, t: int) -> None:
         self.xy = np.asarray(move.to, dtype=np.float64)
         if move.node >= 0:
             self.node = move.node

@@ -36,7 +36,7 @@ def legs(run: RoadmapRun) -> list[list[list[float]]]:
 
 def run_metrics(run: RoadmapRun) -> dict[str, Any]:
     rm, b = run.roadmap, run.board
-    trav = b.traversals
+    trav = np.asarray(b.traversals)
     m: dict[str, Any] = {
         "coverage": round(run.raster.coverage(), 6),
         "goal_found": run.goal_found,
@@ -84,8 +84,8 @@ def build_record(run: RoadmapRun, params: dict[str, Any], seed: int,
         if hasattr(a, "branches_entered"):
             am["branches_entered"] = a.branches_entered
         agents.append(AgentRecord(id=i, metrics=am, trajectory=run.trajectories[i]))
-    board: dict[str, Any] = {"edge_traversals": b.traversals.tolist(),
-                             "edge_weights": b.w_g.tolist()}
+    board: dict[str, Any] = {"edge_traversals": np.asarray(b.traversals).tolist(),
+                             "edge_weights": np.asarray(b.w_g).tolist()}
     if isinstance(b, WMABoard):
         board.update({"Weight": b.weight.tolist(), "Sync": b.sync.tolist(),
                       "completed_at": b.completed_at.tolist()})

@@ -17,6 +17,7 @@ their runs end at the step budget (or, in search, when all stand on the goal).
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass, field
 from typing import Any
@@ -138,8 +139,8 @@ def run_roadmap(
                 raster.sense_segment(src, mv.to, t)
                 if task == "search" and board.anchor is None:
                     sight = raster.sighting(src, mv.to, goal_xy)
-            a.arrive(mv)
-            length[i] += float(np.hypot(*(mv.to - src)))
+            a.arrive(mv, t)
+            length[i] += math.hypot(mv.to[0] - src[0], mv.to[1] - src[1])
             moves[i] += 1
             traj[i].append([float(t), float(mv.to[0]), float(mv.to[1])])
             if sight >= 0:
@@ -151,6 +152,9 @@ def run_roadmap(
         if planner != "prm" and board.all_complete():
             unreachable = task == "search" and board.anchor is None
             ended = True
+            for a in agents:  # free agents at the Main Root have nothing left to help
+                if a.state in ("free", "wait"):
+                    a.state = "done"
     t2 = time.perf_counter()
     goal_found = task == "search" and board.anchor is not None
     complete = all_at_goal >= 0 if planner == "prm" else ended

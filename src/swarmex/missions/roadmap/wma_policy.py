@@ -66,7 +66,7 @@ class WMAAgent:
         self.branch = ident
         self.node = -1  # -1 until the entry leg reaches the Main Root
         self.w_d = np.zeros(board.rm.n_edges)
-        self.state = "entry"  # entry | explore | wait | follow | leg | done | at-goal
+        self.state = "entry"  # entry | explore | free | wait | follow | leg | done | at-goal
         self.left = -1
         self.legs: list[np.ndarray] = []
         self.branches_entered = 1
@@ -144,10 +144,7 @@ class WMAAgent:
             return Move(to, -1, -1)
         if b.anchor is not None:
             return self._follow()
-        if self.state == "wait" or (self.node == 0 and self.w_d[b.first_edge[self.branch]] >= 2):
-            if self.state != "wait":  # back at the origin: this branch is done for us
-                b.exit(self.branch, t)
-                self.left = self.branch
+        if self.state in ("free", "wait"):
             k = self._pick_branch(rng)
             if k < 0:
                 self.state = "done" if b.all_complete() else "wait"
@@ -172,10 +169,17 @@ class WMAAgent:
                 return self._edge_move(e, bump_global=False)
         return self._edge_move(self.node - 1, bump_global=False)
 
-    def arrive(self, move: Move) -> None:
+    def arrive(self, move: Move, t: int) -> None:
         self.xy = np.asarray(move.to, dtype=np.float64)
         if move.node >= 0:
             self.node = move.node
+        b = self.board
+        if (self.state == "explore" and self.node == 0 and move.edge >= 0
+                and self.w_d[b.first_edge[self.branch]] >= 2):
+            # back at the origin over its first edge: the branch is done for this agent
+            b.exit(self.branch, t)
+            self.left = self.branch
+            self.state = "free"
 
     def found_goal(self, p: np.ndarray, goal: np.ndarray, t: int) -> None:
         """Called after the step on which this agent's sensor first saw the goal from p."""

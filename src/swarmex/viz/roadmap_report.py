@@ -1,0 +1,415 @@
+"""The roadmap reproduction report: ``roadmap.md``, CSV tables and figures from run summaries.
+
+Pure post-processing of the run journal written by
+:mod:`swarmex.experiments.reproduce_roadmap` (plus a handful of reruns of single seeds to
+draw the environment figures), so the report can be rebuilt without rerunning the sweep.
+"""
+
+from __future__ import annotations
+
+import csv
+from collections.abc import Iterable
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from swarmex.viz.roadmap_figures import bars, fig6
+
+SENSOR_ORDER = ("r", "2r", "4r", "inf")
+
+
+def _pick(results: Iterable[dict[str, Any]], **want: Any) -> list[dict[str, Any]]:
+    return [r for r in results if all(r.get(k) == v for k, v in want.items())]
+
+
+def _mean_sd(vals: list[float]) -> tuple[float, float]:
+    if not vals:
+        return float("nan"), float("nan")
+    a = np.asarray(vals, dtype=float)
+    return float(a.mean()), float(a.std(ddof=1)) if len(a) > 1 else 0.0
+
+
+def _fmt(mean: float, sd: float | None = None, digits: int = 1) -> str:
+    if np.isnan(mean):
+        return "–"
+    return f"{mean:.{digits}f}" if sd is None else f"{mean:.{digits}f} ± {sd:.{digits}f}"
+
+
+def _label(mult: str) -> str:
+    return "∞" if mult == "inf" else mult
+
+
+def table1(results: list[dict[str, Any]], ref: list[dict[str, str]]) -> list[dict[str, Any]]:
+    rows = []
+    for row in ref:
+        key = {"exp": "t1", "nodes": int(row["nodes"]), "step": float(row["step"]),
+               "mult": row["sensor_range"]}
+        cell = {}
+        for planner in ("wma-rrt", "prm"):
+            runs = _pick(results, planner=planner, **key)
+            cell[planner] = _mean_sd([100 * r["coverage"] for r in runs]) + (len(runs),)
+        prm_runs = _pick(results, planner="prm", **key)
+        rows.append({
+            "nodes": key["nodes"], "step": int(key["step"]), "sensor": row["sensor_range"],
+            "paper_wma": float(row["wma_rrt_coverage_pct"]),
+            "ours_wma": cell["wma-rrt"][0], "ours_wma_sd": cell["wma-rrt"][1],
+            "paper_prm": float(row["prm_coverage_pct"]),
+            "ours_prm": cell["prm"][0], "ours_prm_sd": cell["prm"][1],
+            "runs": cell["wma-rrt"][2],
+            "prm_components": _mean_sd([r["components"] for r in prm_runs])[0],
+        })
+    return rows
+
+
+def table2(results: list[dict[str, Any]], ref: list[dict[str, str]]) -> list[dict[str, Any]]:
+    rows = []
+    for row in ref:
+        key = {"exp": "t2", "nodes": int(row["nodes"]), "step": float(row["step"]),
+               "mult": row["sensor_range"]}
+        out: dict[str, Any] = {"nodes": key["nodes"], "step": int(key["step"]),
+                               "sensor": row["sensor_range"],
+                               "paper_wma": float(row["wma_rrt_success_pct"]),
+                               "paper_prm": float(row["prm_success_pct"])}
+        for planner, name in (("wma-rrt", "wma"), ("prm", "prm")):
+            runs = _pick(results, planner=planner, **key)
+            k = sum(bool(r["goal_found"]) for r in runs)
+            out[f"ours_{name}"] = 100.0 * k / len(runs) if runs else float("nan")
+            out[f"found_{name}"] = k
+            out["runs"] = len(runs)
+        rows.append(out)
+    return rows
+
+
+def _write_csv(path: Path, rows: list[dict[str, Any]]) -> None:
+    with path.open("w", newline="", encoding="utf-8") as fh:
+        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
+        w.writeheader()
+        for r in rows:
+            w.writerow({k: (round(v, 3) if isinstance(v, float) else v) for k, v in r.items()})
+
+
+def _gain_summary(rows: list[dict[str, Any]]) -> dict[str, float]:
+    ours = np.array([r["ours_wma"] - r["ours_prm"] for r in rows])
+    paper = np.array([r["paper_wma"] - r["paper_prm"] for r in rows])
+    return {
+        "ours_ge": int((ours >= -1e-9).sum()), "paper_ge": int((paper >= 0).sum()),
+        "ours_mean": float(np.nanmean(ours)), "paper_mean": float(paper.mean()),
+        "mae_wma": float(np.nanmean(np.abs([r["ours_wma"] - r["paper_wma"] for r in rows]))),
+        "mae_prm": float(np.nanmean(np.abs([r["ours_prm"] - r["paper_prm"] for r in rows]))),
+        "n": len(rows),
+    }
+
+
+def improvement(results: list[dict[str, Any]]) -> tuple[list[dict[str, Any]], list[dict]]:
+    cov, srch = [], []
+    for exp, target in (("t1", cov), ("t2", srch)):
+        configs = sorted({(r["nodes"], r["step"]) for r in results if r["exp"] == exp},
+                         key=lambda c: (c[1], c[0]))
+        for nodes, step in configs:
+            row: dict[str, Any] = {"nodes": nodes, "step": int(step)}
+            for planner, name in (("wma-rrt", "base"), ("wma-rrt-takeover", "takeover")):
+                runs = _pick(results, exp=exp, planner=planner, nodes=nodes, step=step, mult="r")
+                row[f"runs_{name}"] = len(runs)
+                if exp == "t1":
+                    row[f"steps_{name}"] = _mean_sd([r["steps"] for r in runs])[0]
+                    row[f"path_{name}"] = _mean_sd([r["path_length"] for r in runs])[0]
+                    row[f"revisits_{name}"] = _mean_sd([r["edge_revisits"] for r in runs])[0]
+                else:
+                    found = [r for r in runs if r["goal_found"]]
+                    row[f"success_{name}"] = 100.0 * len(found) / len(runs) if runs else np.nan
+                    row[f"found_{name}"] = _mean_sd([r["found_step"] for r in found])[0]
+                    row[f"all_{name}"] = _mean_sd([r["all_at_goal_step"] for r in found])[0]
+            if row["runs_base"] and row["runs_takeover"]:
+                target.append(row)
+    return cov, srch
+
+
+def unreachable(results: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    rows = []
+    for env in ("fig14", "fig17"):
+        for planner in ("wma-rrt", "wma-rrt-takeover", "prm"):
+            runs = _pick(results, exp="unreach", env=env, planner=planner)
+            if not runs:
+                continue
+            rows.append({
+                "env": env, "planner": planner, "runs": len(runs),
+                "found": sum(bool(r["goal_found"]) for r in runs),
+                "unreachable": sum(bool(r["goal_unreachable"]) for r in runs),
+                "complete": sum(bool(r["complete"]) for r in runs),
+                "budget": sum(bool(r["budget_exhausted"]) for r in runs),
+                "steps": _mean_sd([r["steps"] for r in runs])[0],
+                "revisits": _mean_sd([r["edge_revisits"] for r in runs])[0],
+                "components": _mean_sd([r["components"] for r in runs])[0],
+                "cycles": _mean_sd([r["cycles"] for r in runs])[0],
+                "off": sum(int(r.get("agents_off_roadmap") or 0) > 0 for r in runs),
+                "coverage": _mean_sd([100 * r["coverage"] for r in runs])[0],
+            })
+    return rows
+
+
+def draw_examples(out: Path, results: list[dict[str, Any]]) -> dict[str, str]:
+    """Rerun a few single seeds and draw them (cheap; the sweep keeps no trajectories)."""
+    from swarmex.experiments.reproduce_roadmap import AGENTS, R_BASE, world
+    from swarmex.missions.roadmap.scenario import make_scenario
+    from swarmex.viz.roadmap_plot import render_png
+
+    prm15 = [r for r in _pick(results, exp="unreach", env="fig14", planner="prm")
+             if not r.get("agents_off_roadmap")]
+    seed15 = prm15[0]["seed"] if prm15 else 0
+    specs = {
+        "fig8_wma_rrt.png": ("fig8", "coverage", "wma-rrt", 400, 20, 0,
+                             "Fig. 8 environment, WMA-RRT coverage (400 nodes, ε=20, r)"),
+        "fig8_prm.png": ("fig8", "coverage", "prm", 400, 20, 0,
+                         "Fig. 8 environment, PRM coverage (400 nodes, ε=20, r)"),
+        "fig11_wma_rrt.png": ("fig11", "search", "wma-rrt", 200, 20, 0,
+                              "Fig. 11 environment, WMA-RRT goal search (200 nodes, ε=20, r)"),
+        "fig16_wma_rrt.png": ("fig14", "search", "wma-rrt", 400, 20, 0,
+                              "Figs. 14/16: walled-in team, WMA-RRT establishes unreachable"),
+        "fig15_prm.png": ("fig14", "search", "prm", 400, 20, seed15,
+                          f"Fig. 15: walled-in team on a PRM (seed {seed15}): no end"),
+        "fig17_wma_rrt.png": ("fig17", "search", "wma-rrt", 400, 20, 0,
+                              "Fig. 17: start moved outside, WMA-RRT finds the goal"),
+    }
+    made = {}
+    for name, (env, task, planner, nodes, step, seed, title) in specs.items():
+        sc = make_scenario(world(env), agents=AGENTS, nodes=nodes, step=step,
+                           sensor_range=R_BASE, task=task, planner=planner, seed=seed)
+        run = sc.run()
+        render_png(run, out / name, title=f"{title}\n" + _title_tail(run))
+        made[name] = title
+    return made
+
+
+def _title_tail(run: Any) -> str:
+    s = f"steps {run.steps}, coverage {100 * run.raster.coverage():.1f}%"
+    if run.task == "search":
+        s += (", goal found" if run.goal_found
+              else ", goal unreachable (all branches COMPLETE)" if run.goal_unreachable
+              else ", goal not found, step budget exhausted")
+    return s
+
+
+def write_report(out: Path, results: list[dict[str, Any]], quick: bool, seconds: float,
+                 version: str) -> Path:
+    from swarmex.experiments.reproduce_roadmap import R_BASE, reference
+
+    t1 = table1(results, reference("roadmap_table1.csv"))
+    t2 = table2(results, reference("roadmap_table2.csv"))
+    _write_csv(out / "table1.csv", t1)
+    _write_csv(out / "table2.csv", t2)
+    g1, g2 = _gain_summary(t1), _gain_summary(t2)
+    # Fig. 6: step 40, range r
+    f6 = [r for r in t1 if r["step"] == 40 and r["sensor"] == "r"]
+    nodes = [r["nodes"] for r in f6]
+    fig6(out / "fig6_coverage_vs_samples.png", nodes, {
+        "WMA-RRT (ours)": ([r["ours_wma"] for r in f6], [r["ours_wma_sd"] for r in f6]),
+        "PRM (ours)": ([r["ours_prm"] for r in f6], [r["ours_prm_sd"] for r in f6]),
+        "WMA-RRT (paper)": ([r["paper_wma"] for r in f6], [0.0] * len(f6)),
+        "PRM (paper)": ([r["paper_prm"] for r in f6], [0.0] * len(f6)),
+    }, f"Fig. 6: coverage vs sample points (step 40, sensor range r = {R_BASE:g})")
+    cov_imp, srch_imp = improvement(results)
+    if cov_imp:
+        bars(out / "improvement_coverage_steps.png",
+             [f"{r['nodes']}/{r['step']}" for r in cov_imp],
+             {"wma-rrt": [r["steps_base"] for r in cov_imp],
+              "wma-rrt-takeover": [r["steps_takeover"] for r in cov_imp]},
+             "steps until every branch is COMPLETE",
+             "Coverage makespan on the Fig. 8 environment (nodes/step, 3 agents)")
+    un = unreachable(results)
+    figs = draw_examples(out, results)
+    prm_all = [r for r in results if r["planner"] == "prm" and r["exp"] in ("t1", "t2")]
+    multi = sum(r["components"] > 1 for r in prm_all)
+    lines = _markdown(t1, t2, g1, g2, cov_imp, srch_imp, un, figs, quick, seconds, version,
+                      R_BASE, prm_all, multi, results)
+    path = out / "roadmap.md"
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return path
+
+
+def _markdown(t1, t2, g1, g2, cov_imp, srch_imp, un, figs, quick, seconds, version, r_base,
+              prm_all, multi, results) -> list[str]:
+    n1 = t1[0]["runs"] if t1 else 0
+    n2 = t2[0]["runs"] if t2 else 0
+    wma_all = [r for r in results if r["planner"] != "prm"]
+    out = [
+        "# Seed 004 reproduction: WMA-RRT coverage and goal search against PRM",
+        "",
+        f"swarmex {version}; {'QUICK run (1 run per row: a smoke test, not a result)' if quick else 'full run'}; "  # noqa: E501
+        f"{len(results)} runs in {seconds:.0f} s of this invocation (runs already in the "
+        "journal are not rerun). Regenerate with `swarmex reproduce roadmap --out DIR`.",
+        "",
+        "## Setup (what the paper leaves open, fixed here)",
+        "",
+        "- **Environments** (`examples/roadmap_fig8.json`, `roadmap_fig11.json`, "
+        "`roadmap_fig14.json`, `roadmap_fig17.json`), 640 × 480 units, drawn after the "
+        "figures, which are not in the text: Fig. 8 is cluttered with a walled room entered "
+        "through one door; Fig. 11 hides the goal in a nook open towards the start region; "
+        "Figs. 14–17 wall the team in, with the goal outside.",
+        "- **Team**: 3 agents (Fig. 5), a tight cluster in the lower-left corner "
+        "(radius 6.4 units).",
+        f"- **Sensor range r = {r_base:g} units** (1.25 ε for ε = 20). The paper never gives r. "
+        "A complete WMA-RRT run traverses every edge, so its coverage is fixed by the tree and "
+        "the sensor alone; trees for 5 seeds of each (nodes, step) were swept with "
+        "r ∈ {10, 15, 20, 25, 30}, and r = 25 and 30 fitted the 15 finite-range rows of "
+        "Table 1 best (RMSE 5.4 points each, 20 → 6.6, 15 → 10.1); we took the smaller. "
+        "So Table 1's r rows are a one-parameter fit; the 2r, 4r and ∞ rows, Table 2 and "
+        "the PRM columns are predictions.",
+        "- **Sensor model**: disc of radius R cut by line of sight, swept continuously along "
+        "every traversed segment (viewpoints one raster cell apart); coverage measured on a "
+        "256 × 192 raster (2.5-unit cells) of the free space.",
+        "- **Fig. 11 goal** at (250, 230): four positions were tried, (220, 200), (250, 230), "
+        "(280, 220), (300, 250) — all gave the paper's regime (∞ rows 100 %, r rows 60–85 %); "
+        "the second was kept. The placement rule came from the paper: at ∞ the goal must be "
+        "in sight from the start region in every run.",
+        "- **PRM baseline**: the paper's own description of multiple-query planners — "
+        "max(2, n) trees grown from random free points with the same ε and node budget, "
+        "merged PRM-style by joining nodes closer than 2ε with free segments. Agents enter "
+        "at the nearest visible node, walk by the same minimum-weight rule, and stop at the "
+        "step budget 2K (they have no completion test).",
+        f"- **Runs**: Table 1 {n1} and Table 2 {n2} per row and planner; run i uses seed i, so "
+        "any cell can be rerun with `swarmex roadmap --env examples/roadmap_fig8.json "
+        f"--agents 3 --nodes K --step E --sensor-range {r_base:g} --seed i`.",
+        "",
+        "## Table 1: coverage (%) of the Fig. 8 environment",
+        "",
+        "| nodes | step | sensor | paper WMA-RRT | ours WMA-RRT | paper PRM | ours PRM | "
+        "ours PRM components |",
+        "|---:|---:|:---:|---:|---:|---:|---:|---:|",
+    ]
+    for r in t1:
+        out.append(
+            f"| {r['nodes']} | {r['step']} | {_label(r['sensor'])} | {r['paper_wma']:.0f} | "
+            f"{_fmt(r['ours_wma'], r['ours_wma_sd'])} | {r['paper_prm']:.0f} | "
+            f"{_fmt(r['ours_prm'], r['ours_prm_sd'])} | {_fmt(r['prm_components'], None, 2)} |"
+        )
+    out += [
+        "",
+        f"- WMA-RRT ≥ PRM in {g1['ours_ge']}/{g1['n']} rows (paper: {g1['paper_ge']}/{g1['n']}); "
+        f"mean gain {g1['ours_mean']:+.1f} points (paper {g1['paper_mean']:+.1f}).",
+        f"- Mean |ours − paper|: WMA-RRT {g1['mae_wma']:.1f} points, PRM {g1['mae_prm']:.1f}.",
+        "- Trends shared with the paper: coverage rises with the number of nodes, with the step "
+        "size at equal nodes and with the sensor range; ∞ gives 99–100 % "
+        "(occlusion by walls is why the paper's ∞ is 99 %, not 100).",
+        "- Not shared: the paper has 200 nodes at step 40 beating 800 nodes at step 20 "
+        "(88 vs 83 at r). With coverage set by where the tree goes, 800 × 20 units of tree "
+        "outreach 200 × 40 here; we found no reading of the paper that reverses this.",
+        "- `wma-rrt-takeover` builds the same tree from the same seed and also traverses every "
+        "edge, so its coverage equals WMA-RRT's run for run; it differs in time (below).",
+        "",
+        "### Fig. 6: coverage against the number of sample points (step 40, range r)",
+        "",
+        "![Fig. 6](fig6_coverage_vs_samples.png)",
+        "",
+        "## Table 2: goal found by some agent (% of runs), Fig. 11 environment",
+        "",
+        "| nodes | step | sensor | paper WMA-RRT | ours WMA-RRT | paper PRM | ours PRM |",
+        "|---:|---:|:---:|---:|---:|---:|---:|",
+    ]
+    for r in t2:
+        out.append(
+            f"| {r['nodes']} | {r['step']} | {_label(r['sensor'])} | {r['paper_wma']:.0f} | "
+            f"{_fmt(r['ours_wma'], None, 0)} ({r['found_wma']}/{r['runs']}) | "
+            f"{r['paper_prm']:.0f} | {_fmt(r['ours_prm'], None, 0)} ({r['found_prm']}/{r['runs']}) |"  # noqa: E501
+        )
+    out += [
+        "",
+        f"- WMA-RRT ≥ PRM in {g2['ours_ge']}/{g2['n']} rows (paper: {g2['paper_ge']}/{g2['n']}); "
+        f"mean gain {g2['ours_mean']:+.1f} points (paper {g2['paper_mean']:+.1f}).",
+        f"- Mean |ours − paper|: WMA-RRT {g2['mae_wma']:.1f} points, PRM {g2['mae_prm']:.1f}. "
+        "(With 30 runs a row moves in steps of 3.3 points; the paper's PRM column has values "
+        "that are not multiples of 1/30.)",
+        "",
+        "## Figs. 12–13: components",
+        "",
+        f"Every WMA-RRT built in this reproduction ({len(wma_all)} runs) has exactly 1 "
+        f"component and 0 cycles. Of {len(prm_all)} PRM roadmaps in Tables 1–2, {multi} "
+        f"({100 * multi / max(len(prm_all), 1):.0f} %) have more than one component; they "
+        f"have {np.mean([r['cycles'] for r in prm_all]) if prm_all else float('nan'):.0f} "
+        "independent cycles on average (Fig. 7's loops).",
+        "",
+        "## Figs. 14–17: unreachable goal",
+        "",
+        f"{UNREACH_DESC}",
+        "",
+        "| env | planner | runs | goal found | unreachable established | complete | ended by "
+        "budget | mean steps | mean edge revisits | runs with agents off the roadmap | "
+        "mean components |",
+        "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
+    ]
+    for r in un:
+        out.append(
+            f"| {r['env']} | {r['planner']} | {r['runs']} | {r['found']} | {r['unreachable']} | "
+            f"{r['complete']} | {r['budget']} | {r['steps']:.0f} | {r['revisits']:.0f} | "
+            f"{r['off']} | {r['components']:.1f} |"
+        )
+    out += [
+        "",
+        "WMA-RRT agents always finish their branches, flag them COMPLETE and so *know* the goal "
+        "cannot be reached from where they are (Fig. 16); PRM agents cannot: they walk until "
+        "the step budget, re-traversing edges (Fig. 15), or — when no PRM tree happened to "
+        "start inside the walls — cannot even join the roadmap (Fig. 12's failure). Moving "
+        "the start outside (Fig. 17) lets the team find the goal.",
+        "",
+        "## Beyond the seed: helpers that take over the largest unfinished sub-branch",
+        "",
+        "`--planner wma-rrt-takeover` keeps the tree, the weights, Sync/Weight, the dedicated "
+        "copies and the ½ marks, and adds two counters per edge to the roadmap: untraversed "
+        "edges beneath it and agents beneath it. Agents pick the child edge with the largest "
+        "fair share (untraversed / (agents + 1)); free agents go to the branch of largest "
+        "share. In the paper's rule a helper trails the owner's frontier (weight-1 edges) and "
+        "only picks up what lies next to it.",
+        "",
+        "Coverage, Fig. 8 environment, rows with range r (steps until every branch is "
+        "COMPLETE; total path of the team):",
+        "",
+        "| nodes | step | runs | steps WMA-RRT | steps takeover | ratio | path WMA-RRT | "
+        "path takeover | edge revisits WMA-RRT | takeover |",
+        "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
+    ]
+    for r in cov_imp:
+        out.append(
+            f"| {r['nodes']} | {r['step']} | {r['runs_base']} | {r['steps_base']:.0f} | "
+            f"{r['steps_takeover']:.0f} | {r['steps_takeover'] / r['steps_base']:.2f} | "
+            f"{r['path_base']:.0f} | {r['path_takeover']:.0f} | {r['revisits_base']:.0f} | "
+            f"{r['revisits_takeover']:.0f} |"
+        )
+    out += [
+        "",
+        "![coverage makespan](improvement_coverage_steps.png)",
+        "",
+        "Goal search, Fig. 11 environment, rows with range r (step of the first sighting and "
+        "step when all three stand on the goal, over successful runs):",
+        "",
+        "| nodes | step | runs | success WMA-RRT | takeover | first found WMA-RRT | takeover | "
+        "all at goal WMA-RRT | takeover |",
+        "|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
+    ]
+    for r in srch_imp:
+        out.append(
+            f"| {r['nodes']} | {r['step']} | {r['runs_base']} | {r['success_base']:.0f} % | "
+            f"{r['success_takeover']:.0f} % | {_fmt(r['found_base'], None, 0)} | "
+            f"{_fmt(r['found_takeover'], None, 0)} | {_fmt(r['all_base'], None, 0)} | "
+            f"{_fmt(r['all_takeover'], None, 0)} |"
+        )
+    out += [
+        "",
+        "Success rates are equal by construction (same trees, every edge is eventually swept "
+        "unless the goal is found first). The takeover rule finishes coverage sooner at the "
+        "price of a longer total path (helpers walk to distant sub-branches), and it reaches "
+        "the deep parts of large branches early, which is where a goal that a small tree "
+        "barely reaches lies; a goal near the roots would not gain as much.",
+        "",
+        "## Figures",
+        "",
+    ]
+    for name, title in figs.items():
+        out += [f"### {title}", "", f"![{title}]({name})", ""]
+    return out
+
+
+UNREACH_DESC = (
+    "Fig. 14 environment: the team starts in the lower-left corner, walled in by the bounds "
+    "and two walls; the goal is outside. 400 nodes, ε = 20, range r. Fig. 17: the same walls, "
+    "the start moved outside."
+)

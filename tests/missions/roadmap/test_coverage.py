@@ -1,0 +1,67 @@
+"""Coverage behaviour (§3.1): completes, traverses every edge, marks every branch COMPLETE."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from swarmex.missions.roadmap import COMPLETE, build_record, replay_problems, run_roadmap
+
+from .conftest import cluster
+
+
+@pytest.mark.parametrize("planner", ["wma-rrt", "wma-rrt-takeover"])
+@pytest.mark.parametrize(("n", "seed"), [(1, 0), (2, 1), (3, 2), (5, 3)])
+def test_coverage_completes(clutter, planner, n, seed):
+    run = run_roadmap(clutter, cluster(n), planner=planner, nodes=150, step=10,
+                      sensor_range=15, seed=seed)
+    b = run.board
+    assert run.complete and not run.budget_exhausted
+    assert np.all(b.weight == COMPLETE) and np.all(b.sync == 0)
+    assert np.all(b.traversals >= 2)  # every edge down and back at least once
+    assert np.all(b.rem_sub == 0) and np.all(b.busy == 0)
+    assert np.all(b.completed_at >= 1) and b.completed_at.max() <= run.steps
+    for a in run.agents:  # everyone is home at the Main Root
+        assert a.state == "done" and a.node == 0
+        assert np.allclose(a.xy, run.roadmap.pos[0])
+    rec = build_record(run, {"task": "coverage", "starts": cluster(n).tolist()}, seed, 0.0)
+    assert replay_problems(rec.to_dict(), clutter) == []
+
+
+def test_single_agent_is_a_dfs(clutter):
+    run = run_roadmap(clutter, cluster(1), nodes=120, step=10, sensor_range=15, seed=4)
+    assert np.all(run.board.traversals == 2)
+    assert run.steps == 1 + 2 * run.roadmap.n_edges  # entry leg, then each edge twice
+    entry = np.hypot(*(run.roadmap.pos[0] - cluster(1)[0]))
+    assert run.path_length[0] == pytest.approx(entry + 2 * run.roadmap.edge_length.sum())
+
+
+def test_helpers_join_and_finish_faster_with_takeover(clutter):
+    base, take = [], []
+    for seed in range(4):
+        for planner, out in (("wma-rrt", base), ("wma-rrt-takeover", take)):
+            run = run_roadmap(clutter, cluster(3), planner=planner, nodes=300, step=10,
+                              sensor_range=15, seed=seed)
+            out.append(run.steps)
+            if planner == "wma-rrt":
+                assert max(a.branches_entered for a in run.agents) >= 2  # someone helped
+    assert np.mean(take) < np.mean(base)
+
+
+def test_coverage_grows_with_range(clutter):
+    cov = [run_roadmap(clutter, cluster(3), nodes=100, step=10, sensor_range=r,
+                       seed=0).raster.coverage() for r in (5, 20, math.inf)]
+    assert cov[0] < cov[1] < cov[2]
+    assert cov[2] > 0.95
+
+
+def test_same_seed_same_record(clutter):
+    recs = []
+    for _ in range(2):
+        run = run_roadmap(clutter, cluster(3), nodes=120, step=10, sensor_range=15, seed=9)
+        d = build_record(run, {"task": "coverage"}, 9, 0.0).to_dict()
+        d.pop("wall_seconds")
+        recs.append(d)
+    assert recs[0] == recs[1]

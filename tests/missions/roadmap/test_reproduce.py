@@ -1,0 +1,50 @@
+"""The reproduction: shipped environments, the plan of runs, and the report pipeline."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from swarmex.experiments import reproduce_roadmap as rr
+
+EXAMPLES = Path(__file__).resolve().parents[3] / "examples"
+
+
+@pytest.mark.parametrize("name", ["fig8", "fig11", "fig14", "fig17"])
+def test_embedded_environments_match_examples(name):
+    shipped = json.loads((EXAMPLES / f"roadmap_{name}.json").read_text())
+    shipped.pop("description", None)
+    assert shipped == rr.ENVIRONMENTS[name]
+
+
+def test_plan_covers_both_tables():
+    full = rr.plan(quick=False)
+    t1 = [j for j in full if j.exp == "t1"]
+    t2 = [j for j in full if j.exp == "t2"]
+    assert len(t1) == 20 * 10 * 3 and len(t2) == 16 * 30 * 3
+    assert {j.mult for j in t1} == {"r", "2r", "4r", "inf"}
+    assert len({j.key for j in full}) == len(full)
+    quick = rr.plan(quick=True)
+    assert len(quick) < 120 and {j.exp for j in quick} == {"t1", "t2", "unreach"}
+
+
+def test_report_from_a_tiny_sweep(tmp_path, monkeypatch):
+    jobs = [rr.Job("t1", "fig8", "coverage", p, 400, 20.0, "r", 0)
+            for p in ("wma-rrt", "prm", "wma-rrt-takeover")]
+    jobs += [rr.Job("t2", "fig11", "search", p, 200, 20.0, "r", 0)
+             for p in ("wma-rrt", "prm", "wma-rrt-takeover")]
+    jobs += [rr.Job("unreach", "fig14", "search", p, 100, 20.0, "r", 0)
+             for p in ("wma-rrt", "prm")]
+    monkeypatch.setattr(rr, "plan", lambda quick: jobs)
+    monkeypatch.setattr("swarmex.viz.roadmap_report.draw_examples", lambda out, res: {})
+    report = rr.reproduce(tmp_path, quick=True)
+    text = report.read_text()
+    assert "Table 1" in text and "Table 2" in text and "| 400 | 20 | r | 74 |" in text
+    assert (tmp_path / "fig6_coverage_vs_samples.png").stat().st_size > 1000
+    lines = (tmp_path / "roadmap_runs.jsonl").read_text().splitlines()
+    assert len(lines) == len(jobs)
+    # a rerun resumes: nothing new is appended
+    rr.reproduce(tmp_path, quick=True)
+    assert len((tmp_path / "roadmap_runs.jsonl").read_text().splitlines()) == len(jobs)
