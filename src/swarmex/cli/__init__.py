@@ -15,9 +15,11 @@ import typer
 from swarmex.cli import (  # noqa: F401
     commands_exploration,
     commands_foraging,
+    commands_monitor,
     commands_reproduce,
     commands_roadmap,
     commands_run,
+    commands_sweep,
     commands_traversal,
 )
 from swarmex.cli.app import app

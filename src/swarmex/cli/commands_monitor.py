@@ -1,0 +1,1 @@
+"""``swarmex monitor``: placeholder replaced below."""

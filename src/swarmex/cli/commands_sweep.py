@@ -1,0 +1,225 @@
+"""``swarmex sweep SPEC.toml`` and ``swarmex plot DIR``: experiments at scale and their figures.
+
+Thin: the spec is read by :mod:`swarmex.experiments.sweep_spec`, run by
+:mod:`swarmex.experiments.sweep`, summarised by :mod:`swarmex.experiments.summary` and drawn
+by :mod:`swarmex.viz.plot`. What lives here is the progress bar and the tables.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Any
+
+import typer
+from rich.progress import (
+    BarColumn,
+    MofNCompleteColumn,
+    Progress,
+    ProgressColumn,
+    TextColumn,
+    TimeElapsedColumn,
+    TimeRemainingColumn,
+)
+from rich.table import Table
+from rich.text import Text
+
+from swarmex.cli.app import app, console, err_console
+from swarmex.errors import InputError
+
+
+class RateColumn(ProgressColumn):
+    """Runs per second over Rich's recent window (the ETA uses the same estimate)."""
+
+    def render(self, task: Any) -> Text:
+        speed = task.finished_speed or task.speed
+        return Text("  …  runs/s" if speed is None else f"{speed:6.1f} runs/s", style="cyan")
+
+
+def mission_shapes(command_name: str, where: Path):
+    """Option shapes of ``swarmex COMMAND`` (as ``swarmex run`` reads them)."""
+    from swarmex.cli.commands_run import option_shapes
+
+    group = typer.main.get_command(app)
+    command = group.commands.get(command_name)
+    if command is None:
+        raise InputError(
+            f"{where}: the mission needs the 'swarmex {command_name}' command,"
+            " which this installation does not have yet"
+        )
+    return option_shapes(command)
+
+
+@app.command()
+def sweep(
+    spec_file: Path = typer.Argument(
+        ..., help="TOML spec: mission, options (lists = axes), seeds."
+    ),
+    backend: str = typer.Option(
+        "local", "--backend", help="local (process pool) | ray | serial (in this process)."
+    ),
+    workers: int | None = typer.Option(
+        None, "--workers", help="Worker processes (default: all cores).", show_default=False
+    ),
+    out: Path | None = typer.Option(
+        None, "--out", help="Sweep folder (default: ./<spec name>-sweep).", show_default=False
+    ),
+    ray_address: str | None = typer.Option(
+        None,
+        "--ray-address",
+        help="Ray cluster to join (default: RAY_ADDRESS, else a local Ray).",
+        show_default=False,
+    ),
+    retry_failed: bool = typer.Option(
+        False, "--retry-failed", help="Run again the runs that failed before."
+    ),
+    summary: bool = typer.Option(
+        False, "--summary", help="Print means and 95 % CIs per configuration."
+    ),
+    metric: list[str] = typer.Option(
+        [], "--metric", help="A metric to add to the summary (repeatable)."
+    ),
+) -> None:
+    """Run the product of a spec's parameter lists and seeds; resumable; one Parquet table."""
+    from swarmex.experiments.sweep import run_sweep
+    from swarmex.experiments.sweep_spec import load_sweep_spec
+
+    spec = load_sweep_spec(spec_file)
+    shapes = mission_shapes(spec.command, spec_file)
+    out_dir = out if out is not None else Path(f"{spec_file.stem}-sweep")
+    progress = Progress(
+        TextColumn("[bold]{task.description}"),
+        BarColumn(),
+        MofNCompleteColumn(),
+        RateColumn(),
+        TimeElapsedColumn(),
+        TextColumn("ETA"),
+        TimeRemainingColumn(),
+        console=err_console,
+        transient=False,
+    )
+    state = {"task": None, "failed": 0}
+
+    def on_start(total: int, finished: int) -> None:
+        todo = total - finished
+        console.print(
+            f"sweep: {total} runs of swarmex {spec.command} ({finished} finished before,"
+            f" {todo} to run) → {out_dir}"
+        )
+        state["task"] = progress.add_task("sweep", total=total, completed=finished)
+
+    def on_outcome(outcome: Any) -> None:
+        if not outcome.ok:
+            state["failed"] += 1
+            progress.update(state["task"], description=f"sweep ({state['failed']} failed)")
+        progress.advance(state["task"])
+
+    with progress:
+        result = run_sweep(
+            spec,
+            shapes,
+            out_dir,
+            backend=backend,
+            workers=workers,
+            ray_address=ray_address,
+            retry_failed=retry_failed,
+            on_start=on_start,
+            on_outcome=on_outcome,
+        )
+    console.print(
+        f"{result.skipped + result.ran}/{result.total} runs finished ({result.ran} now),"
+        f" {result.failed} failed → {result.table}"
+    )
+    if result.failed:
+        console.print(
+            f"[yellow]failed runs are in the table's error column and in"
+            f" {result.out_dir / 'runs'}/*.error.json[/]"
+        )
+    if summary:
+        print_summary(result.out_dir, metric)
+
+
+def print_summary(out_dir: Path, extra_metrics: list[str]) -> None:
+    """A Rich table: one row per configuration, means ± 95 % CI half widths."""
+    from swarmex.experiments.summary import summarize
+    from swarmex.experiments.sweep import read_results
+
+    table, meta = read_results(out_dir)
+    rows = table.to_pylist()
+    columns = set(table.column_names)
+    by = [p for p in meta.get("axes", []) if p in columns] or [
+        p for p in meta.get("params", []) if p in columns
+    ]
+    for m in extra_metrics:
+        if m not in columns:
+            raise InputError(f"--metric: no column {m!r} (have: {', '.join(table.column_names)})")
+    metrics = [
+        "complete",
+        "makespan",
+        *[m for m in extra_metrics if m not in ("complete", "makespan")],
+    ]
+    groups = summarize(rows, by, metrics)
+    out = Table(
+        title=f"{meta.get('mission', '')} sweep · mean ± 95 % CI (Student t over seeds)",
+        title_justify="left",
+    )
+    for p in by:
+        out.add_column(p)
+    out.add_column("runs", justify="right")
+    out.add_column("failed", justify="right")
+    for m in metrics:
+        out.add_column("complete %" if m == "complete" else m, justify="right")
+    for g in groups:
+        cells = [_value(g.config[p]) for p in by] + [str(g.runs), str(g.failed or "")]
+        for m in metrics:
+            s = g.stats[m]
+            scale = 100.0 if m == "complete" else 1.0
+            cells.append(_mean_ci(s.mean * scale, s.half_width * scale))
+        out.add_row(*cells)
+    console.print(out)
+
+
+def _value(v: Any) -> str:
+    return f"{v:g}" if isinstance(v, float) else str(v)
+
+
+def _mean_ci(mean: float, half: float) -> str:
+    if math.isnan(mean):
+        return "—"
+    if math.isnan(half):
+        return f"{mean:.4g}"
+    return f"{mean:.4g} ± {half:.2g}"
+
+
+@app.command()
+def plot(
+    sweep_dir: Path = typer.Argument(..., help="A sweep folder (or its results.parquet)."),
+    x: str = typer.Option(..., "--x", help="Parameter on the x axis."),
+    y: str = typer.Option(..., "--y", help="Metric on the y axis (makespan, complete, …)."),
+    hue: str | None = typer.Option(
+        None, "--hue", help="Parameter that colours the series.", show_default=False
+    ),
+    where: list[str] = typer.Option(
+        [], "--where", help="Keep only rows with PARAM=VALUE (repeatable)."
+    ),
+    kind: str = typer.Option(
+        "auto", "--kind", help="line (CI bands) | bar (grouped, CI whiskers) | auto."
+    ),
+    out: Path | None = typer.Option(
+        None,
+        "--out",
+        help="PNG or SVG file (default: DIR/<y>-vs-<x>.png).",
+        show_default=False,
+    ),
+) -> None:
+    """Draw a sweep's metric against a parameter: means with 95 % CI bands or bars."""
+    from swarmex.experiments.sweep import read_results
+    from swarmex.viz.plot import plot_sweep
+
+    table, meta = read_results(sweep_dir)
+    base = sweep_dir if sweep_dir.is_dir() else sweep_dir.parent
+    path = out if out is not None else base / f"{y}-vs-{x}.png"
+    written, note = plot_sweep(table.to_pylist(), meta, x, y, hue, where, kind, path)
+    if note:
+        console.print(note)
+    console.print(f"wrote {written}")

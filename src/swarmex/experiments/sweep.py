@@ -1,0 +1,451 @@
+"""Sweeps: every run of a spec's product, in parallel, resumable, into one Parquet table.
+
+The sweep folder (``--out DIR``) holds::
+
+    DIR/runs/<run id>.json         the result record of each finished run (DESIGN.md schema)
+    DIR/runs/<run id>.error.json   what a failed run said (its argv, params, error, traceback)
+    DIR/journal.jsonl              one line per finished run: its row-sized outcome
+    DIR/results.parquet            one row per finished run of the spec, in product order
+
+A run counts as finished when its record (or error file) exists; both are written with an
+atomic rename the moment the run ends, so Ctrl-C, a killed driver or a crashed worker loses no
+finished run, and running the same command again resumes: it runs only what is missing (and,
+with ``retry_failed``, the failures). The journal spares a resumed sweep from re-reading every
+record for its row; a record without a journal line (the driver died between the two) is read
+back instead. ``results.parquet`` is rebuilt from the outcomes at the end of every call,
+interrupted or not.
+
+Backends, all giving the same records and table for the same spec (each run is seeded by its
+own ``--seed``; nothing depends on which worker ran it or when):
+
+* ``serial`` — in this process; the reference, and a debugging aid;
+* ``local`` — a process pool over the cores, forked from a server process that imported
+  swarmex once (``forkserver`` with preloading: each worker starts in milliseconds and runs
+  many tasks, and no fork happens from a process that has threads, like a progress bar);
+* ``ray`` — long-lived Ray actors, locally (``ray.init()``) or on a cluster by address.
+
+The driver keeps only outcomes (a few scalars per run) and a bounded window of tasks in
+flight, so its memory does not grow with the records' size.
+"""
+
+from __future__ import annotations
+
+import json
+import multiprocessing
+import os
+from collections import deque
+from collections.abc import Callable, Iterable
+from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from concurrent.futures.process import BrokenProcessPool
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from swarmex.errors import InputError
+from swarmex.experiments.scenario import OptionShape
+from swarmex.experiments.sweep_spec import RunSpec, SweepSpec
+from swarmex.experiments.sweep_worker import (
+    Outcome,
+    Task,
+    outcome_from_record,
+    quiet_cli,
+    run_task,
+    write_text_atomic,
+)
+
+BACKENDS = ("local", "ray", "serial")
+RESULTS = "results.parquet"
+JOURNAL = "journal.jsonl"
+METADATA_KEY = b"swarmex.sweep"
+MAX_ATTEMPTS = 2  # a run in flight when a worker process died twice is recorded as failed
+
+OnOutcome = Callable[[Outcome], None]
+
+
+@dataclass
+class SweepResult:
+    out_dir: Path
+    total: int  # runs in the spec
+    skipped: int  # already finished before this call
+    ran: int  # finished during this call
+    failed: int  # failed runs among all finished ones
+    table: Path
+    interrupted: bool = False
+
+
+# ---------------------------------------------------------------------------- the folder
+
+
+class SweepStore:
+    """The sweep folder: records, error files, the journal and the table (see module doc)."""
+
+    def __init__(self, out_dir: str | Path) -> None:
+        self.dir = Path(out_dir)
+        self.runs_dir = self.dir / "runs"
+        try:
+            self.runs_dir.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise InputError(f"--out: cannot create {self.runs_dir}: {exc.strerror}") from None
+        if not os.access(self.runs_dir, os.W_OK):
+            raise InputError(f"--out: {self.runs_dir} is not writable")
+        self._journal = None
+
+    def record_path(self, run_id: str) -> Path:
+        return self.runs_dir / f"{run_id}.json"
+
+    def error_path(self, run_id: str) -> Path:
+        return self.runs_dir / f"{run_id}.error.json"
+
+    def finished(self, runs: list[RunSpec], retry_failed: bool = False) -> dict[str, Outcome]:
+        """Outcomes of the runs already done (from the journal, else from their files)."""
+        journal = self._read_journal()
+        done: dict[str, Outcome] = {}
+        for run in runs:
+            known = journal.get(run.run_id)
+            if self.record_path(run.run_id).exists():
+                if known is None or not known.ok:
+                    known = self._from_record(run)
+            elif self.error_path(run.run_id).exists():
+                if retry_failed:
+                    self.error_path(run.run_id).unlink()
+                    continue
+                if known is None or known.ok:
+                    known = self._from_error(run)
+            else:
+                continue
+            known.index = run.index
+            done[run.run_id] = known
+        return done
+
+    def _read_journal(self) -> dict[str, Outcome]:
+        out: dict[str, Outcome] = {}
+        path = self.dir / JOURNAL
+        if not path.exists():
+            return out
+        with path.open(encoding="utf-8") as fh:
+            for line in fh:
+                try:
+                    outcome = Outcome.from_json(json.loads(line))
+                except (json.JSONDecodeError, TypeError):
+                    continue  # a line cut short by a crash: its run is re-read or re-run
+                out[outcome.run_id] = outcome
+        return out
+
+    def _from_record(self, run: RunSpec) -> Outcome:
+        data = json.loads(self.record_path(run.run_id).read_text(encoding="utf-8"))
+        return outcome_from_record(run.index, run.run_id, data)
+
+    def _from_error(self, run: RunSpec) -> Outcome:
+        data = json.loads(self.error_path(run.run_id).read_text(encoding="utf-8"))
+        return Outcome(run.index, run.run_id, ok=False, error=data.get("error"))
+
+    def save(self, outcome: Outcome, run: RunSpec, task: Task) -> None:
+        """Make a finished run durable: its record or error file, then its journal line."""
+        if outcome.record_text is not None:
+            write_text_atomic(self.record_path(run.run_id), outcome.record_text)
+            outcome.record_text = None  # the driver keeps scalars only
+        if outcome.ok:
+            self.error_path(run.run_id).unlink(missing_ok=True)
+        else:
+            info = {
+                "run": run.run_id,
+                "command": task.command,
+                "argv": task.argv,
+                "params": run.params,
+                "seed": run.seed,
+                "error": outcome.error,
+                "traceback": outcome.detail,
+            }
+            write_text_atomic(self.error_path(run.run_id), json.dumps(info, indent=1))
+            outcome.detail = None
+        if self._journal is None:
+            self._journal = (self.dir / JOURNAL).open("a", encoding="utf-8")
+        self._journal.write(json.dumps(outcome.to_json()) + "\n")
+        self._journal.flush()
+
+    def close(self) -> None:
+        if self._journal is not None:
+            self._journal.close()
+            self._journal = None
+
+
+# ---------------------------------------------------------------------------- the table
+
+
+def build_table(spec: SweepSpec, runs: list[RunSpec], outcomes: dict[str, Outcome]):
+    """One row per finished run in product order: params, seed, outcome, metrics, error."""
+    import pyarrow as pa
+
+    rows = [(run, outcomes[run.run_id]) for run in runs if run.run_id in outcomes]
+    params = spec.param_names
+    columns: dict[str, Any] = {"run": pa.array([r.run_id for r, _ in rows], pa.string())}
+    for name in params:
+        columns[name] = _column([r.params[name] for r, _ in rows])
+    columns["seed"] = pa.array([r.seed for r, _ in rows], pa.int64())
+    columns["complete"] = pa.array([o.complete for _, o in rows], pa.bool_())
+    columns["makespan"] = pa.array([o.makespan for _, o in rows], pa.float64())
+    columns["time_unit"] = pa.array([o.time_unit for _, o in rows], pa.string())
+    metric_names: list[str] = []
+    for _, o in rows:  # first-seen order: stable for a given spec
+        metric_names += [k for k in o.metrics if k not in metric_names]
+    metric_columns = []
+    for key in metric_names:
+        taken = key in columns or key in ("wall_seconds", "error")
+        name = f"metrics.{key}" if taken else key
+        columns[name] = _column([o.metrics.get(key) for _, o in rows])
+        metric_columns.append(name)
+    columns["wall_seconds"] = pa.array([o.wall_seconds for _, o in rows], pa.float64())
+    columns["error"] = pa.array([o.error for _, o in rows], pa.string())
+    meta = {
+        "mission": spec.mission,
+        "command": spec.command,
+        "spec": str(spec.path),
+        "params": params,
+        "axes": [k for k, v in spec.axes.items() if len(v) > 1],
+        "metrics": ["makespan", "complete", *metric_columns],
+        "runs": len(runs),
+    }
+    table = pa.table(columns)
+    return table.replace_schema_metadata({METADATA_KEY: json.dumps(meta).encode()})
+
+
+def _column(values: list[Any]):
+    """An Arrow column of one type: bools, ints, floats, else text (as the CLI spells it)."""
+    import pyarrow as pa
+
+    from swarmex.experiments.scenario import _text
+
+    present = [v for v in values if v is not None]
+    if present and all(isinstance(v, bool) for v in present):
+        return pa.array(values, pa.bool_())
+    numeric = all(isinstance(v, int | float) and not isinstance(v, bool) for v in present)
+    if present and numeric:
+        if all(isinstance(v, int) for v in present):
+            return pa.array(values, pa.int64())
+        return pa.array([None if v is None else float(v) for v in values], pa.float64())
+    return pa.array([None if v is None else _text(v) for v in values], pa.string())
+
+
+def write_table(table, path: Path) -> Path:
+    import pyarrow.parquet as pq
+
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    pq.write_table(table, tmp)
+    os.replace(tmp, path)
+    return path
+
+
+def read_results(out_dir: str | Path):
+    """The sweep table of DIR and its metadata (params, axes, metrics)."""
+    import pyarrow.parquet as pq
+
+    path = Path(out_dir)
+    if path.is_dir():
+        path = path / RESULTS
+    if not path.exists():
+        raise InputError(f"no sweep results at {path} (run swarmex sweep first)")
+    try:
+        table = pq.read_table(path)
+    except Exception as exc:  # pyarrow raises several types for a damaged file
+        raise InputError(f"{path}: not a readable Parquet file: {exc}") from None
+    raw = (table.schema.metadata or {}).get(METADATA_KEY)
+    meta = json.loads(raw) if raw else {}
+    return table, meta
+
+
+# ---------------------------------------------------------------------------- running
+
+
+def run_sweep(
+    spec: SweepSpec,
+    shapes: dict[str, OptionShape],
+    out_dir: str | Path,
+    backend: str = "local",
+    workers: int | None = None,
+    ray_address: str | None = None,
+    retry_failed: bool = False,
+    on_start: Callable[[int, int], None] | None = None,
+    on_outcome: OnOutcome | None = None,
+) -> SweepResult:
+    """Run every unfinished run of ``spec`` and write DIR/results.parquet.
+
+    ``shapes`` are the mission command's option shapes (see ``swarmex run``); every run's argv
+    is built and checked before anything runs, so a misspelt option fails at once.
+    ``on_start(total, already_finished)`` and ``on_outcome(outcome)`` drive a progress display;
+    an exception raised by ``on_outcome`` (Ctrl-C) stops the sweep after saving what finished.
+    """
+    if backend not in BACKENDS:
+        raise InputError(f"--backend must be one of {', '.join(BACKENDS)}, got {backend!r}")
+    if workers is not None and workers < 1:
+        raise InputError(f"--workers must be at least 1, got {workers}")
+    if backend == "ray":
+        _import_ray()  # fail now, with one line, not after the progress bar appears
+    runs = spec.runs()
+    by_id = {r.run_id: r for r in runs}
+    tasks = {r.run_id: Task(r.index, r.run_id, spec.command, spec.argv(r, shapes)) for r in runs}
+    store = SweepStore(out_dir)
+    outcomes = store.finished(runs, retry_failed)
+    skipped = len(outcomes)
+    pending = [tasks[r.run_id] for r in runs if r.run_id not in outcomes]
+    if on_start is not None:
+        on_start(len(runs), skipped)
+
+    def finish(outcome: Outcome) -> None:
+        store.save(outcome, by_id[outcome.run_id], tasks[outcome.run_id])
+        outcomes[outcome.run_id] = outcome
+        if on_outcome is not None:
+            on_outcome(outcome)
+
+    interrupted = False
+    try:
+        if pending:
+            if backend == "serial":
+                _serial(pending, store.runs_dir, finish)
+            elif backend == "local":
+                _local(
+                    pending, workers or os.cpu_count() or 1, spec.mission, store.runs_dir, finish
+                )
+            else:
+                _ray(pending, workers, ray_address, finish)
+    except KeyboardInterrupt:
+        interrupted = True
+        raise
+    finally:
+        store.close()
+        table = write_table(build_table(spec, runs, outcomes), store.dir / RESULTS)
+    failed = sum(1 for o in outcomes.values() if not o.ok)
+    return SweepResult(
+        store.dir, len(runs), skipped, len(outcomes) - skipped, failed, table, interrupted
+    )
+
+
+def _serial(tasks: Iterable[Task], runs_dir: Path, finish: OnOutcome) -> None:
+    for task in tasks:
+        with quiet_cli():
+            outcome = run_task(task, str(runs_dir))
+        finish(outcome)
+
+
+def _pool(workers: int, mission: str) -> ProcessPoolExecutor:
+    """Workers forked from a server process that already imported what a run imports.
+
+    The mission's package and the worlds are imported lazily by the commands; preloading them
+    once in the fork server saves every worker that import (seconds on a busy machine).
+    """
+    ctx = multiprocessing.get_context("forkserver")
+    ctx.set_forkserver_preload(
+        [
+            "swarmex.cli",
+            "swarmex.experiments.sweep_worker",
+            "swarmex.engine.record",
+            "swarmex.worlds",
+            f"swarmex.missions.{mission}",
+        ]
+    )
+    from swarmex.experiments.sweep_worker import init_worker
+
+    return ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=init_worker)
+
+
+def _local(
+    tasks: list[Task], workers: int, mission: str, runs_dir: Path, finish: OnOutcome
+) -> None:
+    """A process pool with a bounded window of tasks in flight.
+
+    If a worker process dies (a segfault, the OOM killer) the pool breaks and every task in
+    flight is lost with it; those are retried one at a time in a new pool, and a task that
+    was in flight at ``MAX_ATTEMPTS`` deaths is recorded as failed instead of retried again.
+    """
+    queue = deque(tasks)
+    suspects: deque[Task] = deque()
+    attempts: dict[str, int] = {}
+    window = 2 * workers
+    pool = _pool(workers, mission)
+    flying: dict[Future, Task] = {}
+    try:
+        while queue or suspects or flying:
+            limit = 1 if suspects or any(t.run_id in attempts for t in flying.values()) else window
+            while len(flying) < limit and (suspects or queue):
+                task = suspects.popleft() if suspects else queue.popleft()
+                flying[pool.submit(run_task, task, str(runs_dir))] = task
+            done, _ = wait(list(flying), return_when=FIRST_COMPLETED)
+            broken = False
+            for fut in done:
+                task = flying.pop(fut)
+                try:
+                    outcome = fut.result()
+                except BrokenProcessPool:
+                    broken = True
+                    suspects.append(task)
+                    continue
+                attempts.pop(task.run_id, None)
+                finish(outcome)
+            if broken:
+                suspects.extend(flying.pop(f) for f in list(flying))
+                pool.shutdown(wait=False, cancel_futures=True)
+                for task in list(suspects):
+                    attempts[task.run_id] = attempts.get(task.run_id, 0) + 1
+                    if attempts[task.run_id] >= MAX_ATTEMPTS:
+                        suspects.remove(task)
+                        finish(_died(task))
+                pool = _pool(workers, mission)
+    finally:
+        pool.shutdown(wait=True, cancel_futures=True)
+
+
+def _died(task: Task) -> Outcome:
+    return Outcome(
+        task.index,
+        task.run_id,
+        ok=False,
+        error=f"the worker process died while running it ({MAX_ATTEMPTS} attempts)",
+    )
+
+
+def _import_ray() -> Any:
+    try:
+        import ray
+    except ImportError:
+        raise InputError(
+            "--backend ray needs Ray, which is not installed (pip install 'swarmex[ray]')"
+        ) from None
+    return ray
+
+
+def _ray(tasks: list[Task], workers: int | None, address: str | None, finish: OnOutcome) -> None:
+    """Long-lived Ray actors, two tasks in flight each; records come back as text."""
+    ray = _import_ray()
+    from swarmex.experiments.sweep_worker import RayWorker
+
+    started = not ray.is_initialized()
+    if started:
+        kwargs: dict[str, Any] = {"include_dashboard": False, "log_to_driver": False}
+        if address:
+            kwargs["address"] = address
+        elif workers:
+            kwargs["num_cpus"] = workers
+        ray.init(**kwargs)
+    try:
+        n = workers or max(1, int(ray.cluster_resources().get("CPU", 1)))
+        actor_cls = ray.remote(num_cpus=1)(RayWorker)
+        actors = [actor_cls.remote() for _ in range(n)]
+        queue = deque(tasks)
+        flying: dict[Any, tuple[Any, Task]] = {}
+        idle = deque(actors * 2)  # two slots per actor: one running, one queued
+        while queue or flying:
+            while idle and queue:
+                actor, task = idle.popleft(), queue.popleft()
+                flying[actor.run.remote(task)] = (actor, task)
+            done, _ = ray.wait(list(flying), num_returns=1)
+            for ref in done:
+                actor, task = flying.pop(ref)
+                try:
+                    outcome = ray.get(ref)
+                except ray.exceptions.RayError as exc:  # the actor died: record, replace it
+                    outcome = Outcome(task.index, task.run_id, ok=False, error=f"ray: {exc}")
+                    actor = actor_cls.remote()
+                idle.append(actor)
+                finish(outcome)
+    finally:
+        if started:
+            ray.shutdown()

@@ -1,0 +1,205 @@
+"""Sweep specifications: a mission, its options as axes, and seeds; the product is the sweep.
+
+A spec is a scenario file (:mod:`swarmex.experiments.scenario`) in which a *list is an axis*::
+
+    mission = "traversal"          # traversal | foraging | exploration | roadmap
+    algorithm = ["madgta", "nearest"]
+    grid = ["8x8", "12x12"]        # any option of the mission's command
+    agents = [2, 4]
+    job-time = 10.0                # a scalar is a fixed value (still a column)
+    seeds = [0, 1, 2]              # or seeds = 10 for 0..9
+
+    [fixed]                        # options whose single value is itself a list
+    obstacles = ["3,2", "3,3"]
+
+Why a list always means an axis: a sweep is read far more often as "these values" than as
+"this list-valued option", and a rule without exceptions cannot be misread. Options whose value
+is a list (``obstacles``, ``nests``) go in ``[fixed]`` or are written as one string
+(``"3,2;3,3"``). ``algorithm`` is passed to whichever option of the mission's command names the
+algorithm (``--algorithm``, ``--strategy`` for exploration, ``--planner`` for roadmap), and its
+column is still called ``algorithm``.
+
+The runs are the product of the axes in file order with the seeds innermost, so the order, and
+each run's id (a hash of mission, parameters and seed, independent of position), are the same
+every time the spec is read: that is what lets an interrupted sweep resume.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import itertools
+import json
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from swarmex.errors import InputError
+from swarmex.experiments.scenario import MISSIONS, OptionShape, Scenario, scenario_argv
+
+# columns the sweep itself writes; a spec key may not take one of these names
+RESERVED = ("run", "seed", "complete", "makespan", "time_unit", "wall_seconds", "error")
+# options the sweep sets itself: every run writes its own record, and draws nothing
+FORBIDDEN = ("json", "render", "seed")
+# which command option receives the spec's ``algorithm``, by preference
+ALGORITHM_OPTIONS = ("algorithm", "strategy", "planner")
+
+
+@dataclass(frozen=True)
+class RunSpec:
+    """One run of a sweep: its place in the product, its id and what it sets."""
+
+    index: int
+    run_id: str
+    params: dict[str, Any]  # spec key (as written) -> value, without the seed
+    seed: int
+
+
+@dataclass(frozen=True)
+class SweepSpec:
+    path: Path
+    mission: str
+    axes: dict[str, list[Any]]  # spec key -> values; a scalar key is a one-value axis
+    fixed: dict[str, Any]  # the [fixed] table: passed as is
+    seeds: list[int]
+
+    @property
+    def command(self) -> str:
+        return MISSIONS[self.mission]
+
+    @property
+    def param_names(self) -> list[str]:
+        """Parameter columns, in file order: axes, then the [fixed] keys."""
+        return [*self.axes, *self.fixed]
+
+    def runs(self) -> list[RunSpec]:
+        """Every run: the product of the axes in file order, seeds innermost."""
+        names = list(self.axes)
+        out = []
+        for values in itertools.product(*self.axes.values()):
+            params = dict(zip(names, values, strict=True)) | self.fixed
+            for seed in self.seeds:
+                out.append(RunSpec(len(out), run_id(self.mission, params, seed), params, seed))
+        return out
+
+    def argv(self, run: RunSpec, shapes: dict[str, OptionShape]) -> list[str]:
+        """The mission command's argv (without ``--json``) for ``run``.
+
+        Built by :func:`~swarmex.experiments.scenario.scenario_argv`, so values follow the
+        scenario rules and relative paths are taken from the spec's folder.
+        """
+        options: dict[str, Any] = {}
+        for key, value in run.params.items():
+            name = key.replace("_", "-")
+            if name == "algorithm":
+                name = algorithm_option(shapes, self.path, self.command)
+            options[name] = value
+        options["seed"] = run.seed
+        return scenario_argv(Scenario(self.path, self.mission, options), shapes)
+
+
+def run_id(mission: str, params: dict[str, Any], seed: int) -> str:
+    """A stable id of a run from what it computes (not where it sits in the product)."""
+    text = json.dumps({"mission": mission, "params": params, "seed": seed}, sort_keys=True)
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
+def algorithm_option(shapes: dict[str, OptionShape], path: Path, command: str) -> str:
+    for name in ALGORITHM_OPTIONS:
+        if name in shapes:
+            return name
+    raise InputError(f"{path}: swarmex {command} has no algorithm option")
+
+
+def load_sweep_spec(path: str | Path) -> SweepSpec:
+    """Read and check a spec; every problem is an InputError naming the file and the key."""
+    path = Path(path)
+    try:
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise InputError(f"sweep spec not found: {path}") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        reason = getattr(exc, "strerror", None) or str(exc)
+        raise InputError(f"cannot read sweep spec {path}: {reason}") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(f"{path}: not valid TOML: {exc}") from None
+    return parse_sweep_spec(data, path)
+
+
+def parse_sweep_spec(data: dict[str, Any], path: Path) -> SweepSpec:
+    data = dict(data)
+    mission = data.pop("mission", None)
+    if mission is None:
+        raise InputError(f'{path}: no mission key (e.g. mission = "traversal")')
+    if mission not in MISSIONS:
+        raise InputError(f"{path}: unknown mission {mission!r} (choose from {', '.join(MISSIONS)})")
+    seeds = _seeds(path, data.pop("seeds", None), data.pop("seed", None))
+    fixed = data.pop("fixed", {})
+    if not isinstance(fixed, dict):
+        raise InputError(f"{path}: fixed must be a table ([fixed])")
+    axes: dict[str, list[Any]] = {}
+    for key, value in data.items():
+        if isinstance(value, dict):
+            raise InputError(f"{path}: unknown table [{key}] (only [fixed] is allowed)")
+        values = value if isinstance(value, list) else [value]
+        if not values:
+            raise InputError(f"{path}: axis {key!r} has no values")
+        _check_values(path, key, values)
+        axes[key] = values
+    for key, value in fixed.items():
+        _check_values(path, key, [value])
+    _check_names(path, [*axes, *fixed])
+    return SweepSpec(path, mission, axes, dict(fixed), seeds)
+
+
+def _seeds(path: Path, seeds: Any, seed: Any) -> list[int]:
+    if seeds is not None and seed is not None:
+        raise InputError(f"{path}: give seeds or seed, not both")
+    value = seeds if seeds is not None else seed
+    if value is None:
+        return [0]
+    if isinstance(value, int) and not isinstance(value, bool):
+        if seeds is not None:  # seeds = N: the first N seeds
+            if value < 1:
+                raise InputError(f"{path}: seeds = {value}: need at least one seed")
+            return list(range(value))
+        return [value]
+    if (
+        isinstance(value, list)
+        and value
+        and all(isinstance(s, int) and not isinstance(s, bool) for s in value)
+    ):
+        if len(set(value)) != len(value):
+            raise InputError(f"{path}: seeds lists a seed twice")
+        return list(value)
+    raise InputError(f"{path}: seeds must be a list of integers or a count, got {value!r}")
+
+
+def _check_values(path: Path, key: str, values: list[Any]) -> None:
+    scalar = (str, int, float, bool)
+    texts = []
+    for v in values:
+        ok = isinstance(v, scalar) or (
+            isinstance(v, list)
+            and all(
+                isinstance(c, scalar)
+                or (isinstance(c, list) and all(isinstance(e, int | float) for e in c))
+                for c in v
+            )
+        )
+        if not ok:
+            raise InputError(f"{path}: {key!r} has an unsupported value {v!r}")
+        texts.append(json.dumps(v, sort_keys=True))
+    if len(set(texts)) != len(texts):
+        raise InputError(f"{path}: axis {key!r} lists a value twice")
+
+
+def _check_names(path: Path, keys: list[str]) -> None:
+    seen: dict[str, str] = {}
+    for key in keys:
+        name = key.replace("_", "-")
+        if key in RESERVED or name in FORBIDDEN:
+            raise InputError(f"{path}: {key!r} cannot be set in a sweep (the sweep sets it)")
+        if name in seen:
+            raise InputError(f"{path}: option {name!r} is given twice ({seen[name]!r}, {key!r})")
+        seen[name] = key

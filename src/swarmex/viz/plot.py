@@ -1,0 +1,162 @@
+"""Figures of a sweep: a metric against a parameter, as the seeds draw their results.
+
+Two looks, chosen by the x parameter unless ``kind`` says otherwise: a numeric x (agents, grid
+size in cells, a probability) gives lines with markers and a shaded 95 % confidence band, as
+in seed 000's and 002's curves; a categorical x (algorithm, transport, map) gives grouped bars
+with CI whiskers, as in their comparison charts. ``hue`` splits the data into coloured series.
+Each point is the mean over the seeds of one configuration (:mod:`swarmex.experiments.summary`
+computes it); parameters that vary but are neither x nor hue are pooled, and the returned note
+says so, since pooling different configurations widens the bands.
+
+matplotlib's object API with the Agg canvas, as in :mod:`swarmex.viz.traversal`: no pyplot
+state, headless-safe.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
+
+from swarmex.errors import InputError
+from swarmex.experiments.summary import mean_ci
+
+KINDS = ("auto", "line", "bar")
+SUFFIXES = (".png", ".svg")
+
+
+def plot_sweep(
+    rows: list[dict[str, Any]],
+    meta: dict[str, Any],
+    x: str,
+    y: str,
+    hue: str | None = None,
+    where: list[str] | None = None,
+    kind: str = "auto",
+    path: str | Path = "plot.png",
+) -> tuple[Path, str | None]:
+    """Draw ``y`` against ``x`` (one series per ``hue`` value); returns the file and a note."""
+    path = Path(path)
+    if path.suffix.lower() not in SUFFIXES:
+        raise InputError(f"--out: {path} must end in .png or .svg")
+    if kind not in KINDS:
+        raise InputError(f"--kind must be one of {', '.join(KINDS)}, got {kind!r}")
+    columns = list(rows[0]) if rows else []
+    for option, name in (("--x", x), ("--y", y), ("--hue", hue)):
+        if name is not None and name not in columns:
+            raise InputError(f"{option}: no column {name!r} (have: {', '.join(columns)})")
+    rows = _filter(rows, where or [], columns)
+    ok = [r for r in rows if not r.get("error") and _num(r.get(y)) is not None]
+    if not ok:
+        raise InputError(f"no finished run has a numeric {y!r} to plot")
+    xs = _levels([r[x] for r in ok])
+    hues = _levels([r[hue] for r in ok]) if hue else [None]
+    numeric_x = all(_is_number(v) for v in xs)
+    if kind == "auto":
+        kind = "line" if numeric_x and len(xs) > 1 else "bar"
+    if kind == "line" and not numeric_x:
+        raise InputError(f"--kind line needs a numeric --x; {x!r} is categorical (use bar)")
+
+    fig = Figure(figsize=(6.4, 4.2), dpi=120)
+    FigureCanvasAgg(fig)
+    ax = fig.add_subplot()
+    width = 0.8 / len(hues)
+    for i, h in enumerate(hues):
+        sel = [r for r in ok if hue is None or r[hue] == h]
+        stats = [mean_ci([_num(r[y]) for r in sel if r[x] == v]) for v in xs]
+        mean = np.array([s.mean for s in stats])
+        half = np.nan_to_num(np.array([s.half_width for s in stats]))
+        label = None if hue is None else f"{h}"
+        if kind == "line":
+            xv = np.array([float(v) for v in xs])
+            have = np.isfinite(mean)
+            (line,) = ax.plot(xv[have], mean[have], marker="o", lw=1.8, ms=4, label=label)
+            ax.fill_between(
+                xv[have],
+                (mean - half)[have],
+                (mean + half)[have],
+                color=line.get_color(),
+                alpha=0.2,
+                lw=0,
+            )
+        else:
+            pos = np.arange(len(xs)) + (i - (len(hues) - 1) / 2) * width
+            ax.bar(pos, np.nan_to_num(mean), width * 0.95, yerr=half, capsize=3, label=label)
+    if kind == "bar":
+        ax.set_xticks(np.arange(len(xs)), [_label(v) for v in xs])
+    ax.set_xlabel(x)
+    ax.set_ylabel("fraction complete" if y == "complete" else y)
+    runs_per = len(ok) / max(1, len(xs) * len(hues))
+    ax.set_title(
+        f"{meta.get('mission', 'sweep')}: {y} vs {x} · mean ± 95 % CI (≈{runs_per:.0f} runs/point)",
+        fontsize=10,
+    )
+    ax.grid(alpha=0.3)
+    ax.set_axisbelow(True)
+    if hue is not None:
+        ax.legend(title=hue, fontsize=8, title_fontsize=8, frameon=False)
+    fig.tight_layout()
+    pooled = [
+        p
+        for p in meta.get("axes", [])
+        if p not in (x, hue, "seed") and p in columns and len(_levels([r[p] for r in ok])) > 1
+    ]
+    note = (
+        f"note: pooled over {', '.join(pooled)} (use --hue or --where to separate)"
+        if pooled
+        else None
+    )
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fig.savefig(path, format=path.suffix.lower()[1:])
+    except OSError as exc:
+        raise InputError(f"cannot write {path}: {exc.strerror or exc}") from None
+    return path, note
+
+
+def _filter(rows: list[dict[str, Any]], where: list[str], columns: list[str]) -> list[dict]:
+    for cond in where:
+        key, sep, value = cond.partition("=")
+        key = key.strip()
+        if not sep or key not in columns:
+            raise InputError(f"--where: expected PARAM=VALUE with a known PARAM, got {cond!r}")
+        rows = [r for r in rows if _matches(r.get(key), value.strip())]
+    if not rows:
+        raise InputError(f"--where {' '.join(where)}: no run matches")
+    return rows
+
+
+def _matches(v: Any, text: str) -> bool:
+    if _is_number(v):
+        try:
+            return float(v) == float(text)
+        except ValueError:
+            return False
+    if isinstance(v, bool):
+        return str(v).lower() == text.lower()
+    return str(v) == text
+
+
+def _levels(values: list[Any]) -> list[Any]:
+    """Distinct values: numbers sorted, anything else in first-seen order."""
+    distinct = list(dict.fromkeys(values))
+    if all(_is_number(v) for v in distinct):
+        return sorted(distinct)
+    return distinct
+
+
+def _is_number(v: Any) -> bool:
+    return isinstance(v, int | float) and not isinstance(v, bool)
+
+
+def _num(v: Any) -> float | None:
+    if isinstance(v, bool):
+        return float(v)
+    return float(v) if _is_number(v) and np.isfinite(v) else None
+
+
+def _label(v: Any) -> str:
+    return f"{v:g}" if isinstance(v, float) else str(v)

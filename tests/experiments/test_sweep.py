@@ -1,0 +1,323 @@
+"""Sweeps: product expansion, Parquet columns, resume, failures, backends, summary CIs."""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import sys
+from pathlib import Path
+
+import pyarrow.parquet as pq
+import pytest
+
+from swarmex.cli import main
+from swarmex.cli.commands_sweep import mission_shapes
+from swarmex.errors import InputError
+from swarmex.experiments.summary import mean_ci, summarize
+from swarmex.experiments.sweep import read_results, run_sweep
+from swarmex.experiments.sweep_spec import load_sweep_spec, parse_sweep_spec
+
+SPEC = """
+mission = "traversal"
+algorithm = ["madgta", "nearest"]
+grid = "4x4"
+agents = [1, 2]
+seeds = [0, 1]
+"""
+
+
+def write_spec(tmp_path: Path, text: str = SPEC, name: str = "spec.toml") -> Path:
+    path = tmp_path / name
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+def sweep(path: Path, out: Path, backend: str = "serial", **kw):
+    spec = load_sweep_spec(path)
+    return run_sweep(spec, mission_shapes(spec.command, path), out, backend=backend, **kw)
+
+
+def records(out: Path) -> dict[str, dict]:
+    """Every record of a sweep folder without wall_seconds (the one field allowed to vary)."""
+    recs = {}
+    for p in sorted((out / "runs").glob("*.json")):
+        data = json.loads(p.read_text())
+        data.pop("wall_seconds", None)
+        recs[p.name] = data
+    return recs
+
+
+def table_rows(out: Path) -> list[dict]:
+    rows = pq.read_table(out / "results.parquet").to_pylist()
+    for r in rows:
+        r.pop("wall_seconds")
+    return rows
+
+
+# ---------------------------------------------------------------------------- spec
+
+
+def test_product_expansion_order_and_ids(tmp_path):
+    spec = load_sweep_spec(write_spec(tmp_path))
+    runs = spec.runs()
+    assert len(runs) == 2 * 1 * 2 * 2
+    assert [r.index for r in runs] == list(range(8))
+    # axes in file order, seeds innermost
+    assert [(r.params["algorithm"], r.params["agents"], r.seed) for r in runs[:4]] == [
+        ("madgta", 1, 0),
+        ("madgta", 1, 1),
+        ("madgta", 2, 0),
+        ("madgta", 2, 1),
+    ]
+    assert all(r.params["grid"] == "4x4" for r in runs)  # a scalar is a one-value column
+    assert len({r.run_id for r in runs}) == 8
+    assert [r.run_id for r in load_sweep_spec(spec.path).runs()] == [r.run_id for r in runs]
+    shapes = mission_shapes("traverse", spec.path)
+    assert spec.argv(runs[3], shapes) == [
+        "--algorithm",
+        "madgta",
+        "--grid",
+        "4x4",
+        "--agents",
+        "2",
+        "--seed",
+        "1",
+    ]
+
+
+def test_spec_fixed_table_seed_count_and_algorithm_option(tmp_path):
+    spec = parse_sweep_spec(
+        {
+            "mission": "exploration",
+            "algorithm": ["greedy", "greedy-exclusion"],
+            "seeds": 3,
+            "fixed": {"starts": ["1,1", "2,2"]},
+        },
+        tmp_path / "s.toml",
+    )
+    assert spec.seeds == [0, 1, 2]
+    assert spec.param_names == ["algorithm", "starts"]
+    run = spec.runs()[0]
+    assert run.params["starts"] == ["1,1", "2,2"]  # [fixed] lists are one value, not an axis
+    from swarmex.experiments.scenario import OptionShape
+
+    shapes = {n: OptionShape(flag=f"--{n}") for n in ("strategy", "starts", "seed")}
+    assert spec.argv(run, shapes) == [
+        "--strategy",
+        "greedy",
+        "--starts",
+        "1,1;2,2",
+        "--seed",
+        "0",
+    ]
+
+
+@pytest.mark.parametrize(
+    ("data", "message"),
+    [
+        ({"grid": "4x4"}, "no mission"),
+        ({"mission": "flying"}, "unknown mission"),
+        ({"mission": "traversal", "json": "x.json"}, "cannot be set in a sweep"),
+        ({"mission": "traversal", "agents": [2, 2]}, "lists a value twice"),
+        ({"mission": "traversal", "seeds": [0, 0]}, "seed twice"),
+        ({"mission": "traversal", "seeds": "many"}, "seeds must be"),
+        ({"mission": "traversal", "agents": []}, "no values"),
+        ({"mission": "traversal", "travel_time": 1, "travel-time": 2}, "given twice"),
+    ],
+)
+def test_bad_specs_name_the_problem(tmp_path, data, message):
+    with pytest.raises(InputError, match=message):
+        parse_sweep_spec(data, tmp_path / "s.toml")
+
+
+def test_unknown_option_fails_before_running(tmp_path, capsys):
+    path = write_spec(tmp_path, 'mission = "traversal"\ngrid = "4x4"\nagents = 1\nspeed = [1, 2]\n')
+    code = main(["sweep", str(path), "--backend", "serial", "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err
+    assert code == 2
+    assert "has no option --speed" in err and len(err.strip().splitlines()) == 1
+    assert not list((tmp_path / "o").glob("runs/*.json"))
+
+
+# ---------------------------------------------------------------------------- results
+
+
+def test_parquet_columns_and_records_match_the_command(tmp_path, capsys):
+    out = tmp_path / "out"
+    result = sweep(write_spec(tmp_path), out)
+    assert (result.total, result.ran, result.skipped, result.failed) == (8, 8, 0, 0)
+    table, meta = read_results(out)
+    names = table.column_names
+    assert names[:8] == [
+        "run",
+        "algorithm",
+        "grid",
+        "agents",
+        "seed",
+        "complete",
+        "makespan",
+        "time_unit",
+    ]
+    assert names[-2:] == ["wall_seconds", "error"]
+    assert {"total_time_all", "nodes_done_all", "messages"} <= set(names)
+    assert str(table.schema.field("agents").type) == "int64"
+    assert meta["params"] == ["algorithm", "grid", "agents"]
+    assert meta["axes"] == ["algorithm", "agents"]
+    rows = table.to_pylist()
+    assert [(r["algorithm"], r["agents"], r["seed"]) for r in rows][:2] == [
+        ("madgta", 1, 0),
+        ("madgta", 1, 1),
+    ]
+    assert all(r["complete"] and r["error"] is None for r in rows)
+    # the record of a run is the one `swarmex traverse` writes for the same options
+    direct = tmp_path / "direct.json"
+    argv = ["traverse", "--algorithm", "nearest", "--grid", "4x4", "--agents", "2"]
+    assert main([*argv, "--seed", "1", "--json", str(direct)]) == 0
+    capsys.readouterr()
+    row = rows[-1]
+    assert (row["algorithm"], row["agents"], row["seed"]) == ("nearest", 2, 1)
+    ours = json.loads((out / "runs" / f"{row['run']}.json").read_text())
+    theirs = json.loads(direct.read_text())
+    ours.pop("wall_seconds"), theirs.pop("wall_seconds")
+    assert ours == theirs
+    assert row["makespan"] == theirs["makespan"]
+    assert row["total_time_all"] == theirs["metrics"]["total_time_all"]
+
+
+def test_failing_runs_are_recorded_and_do_not_stop_the_sweep(tmp_path):
+    spec = 'mission = "traversal"\ngrid = "3x3"\nagents = [1, 40, 2]\nseeds = [0, 1]\n'
+    out = tmp_path / "out"
+    result = sweep(write_spec(tmp_path, spec), out)
+    assert (result.ran, result.failed) == (6, 2)
+    rows = pq.read_table(out / "results.parquet").to_pylist()
+    assert [r["agents"] for r in rows] == [1, 1, 40, 40, 2, 2]
+    failed = [r for r in rows if r["error"]]
+    assert [r["agents"] for r in failed] == [40, 40]
+    assert all("40 agents but the map has only 9 free cells" in r["error"] for r in failed)
+    assert all(r["makespan"] is None and r["complete"] is None for r in failed)
+    info = json.loads((out / "runs" / f"{failed[0]['run']}.error.json").read_text())
+    assert info["argv"][-4:] == ["--agents", "40", "--seed", "0"] and info["error"]
+    # failures count as finished; --retry-failed runs them again
+    again = sweep(out.parent / "spec.toml", out)
+    assert (again.ran, again.skipped) == (0, 6)
+    retried = sweep(out.parent / "spec.toml", out, retry_failed=True)
+    assert (retried.ran, retried.skipped, retried.failed) == (2, 4, 2)
+
+
+def test_interrupted_sweep_resumes_and_skips_finished_runs(tmp_path):
+    path = write_spec(tmp_path)
+    out = tmp_path / "out"
+    seen: list[str] = []
+
+    def ctrl_c_after_three(outcome):
+        seen.append(outcome.run_id)
+        if len(seen) == 3:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        sweep(path, out, on_outcome=ctrl_c_after_three)
+    assert len(list((out / "runs").glob("*.json"))) == 3
+    assert len(pq.read_table(out / "results.parquet")) == 3  # written on the way out
+    # a driver killed before its journal line: the record alone still counts as finished
+    (out / "journal.jsonl").write_text(
+        (out / "journal.jsonl").read_text().splitlines()[0] + "\n{truncated"
+    )
+    rerun: list[str] = []
+    result = sweep(path, out, on_outcome=lambda o: rerun.append(o.run_id))
+    assert (result.skipped, result.ran) == (3, 5)
+    assert not set(rerun) & set(seen)
+    fresh = tmp_path / "fresh"
+    sweep(path, fresh)
+    assert table_rows(out) == table_rows(fresh)
+    assert records(out) == records(fresh)
+
+
+def test_local_pool_equals_serial_bit_for_bit(tmp_path):
+    path = write_spec(tmp_path)
+    sweep(path, tmp_path / "serial", backend="serial")
+    result = sweep(path, tmp_path / "local", backend="local", workers=2)
+    assert (result.ran, result.failed) == (8, 0)
+    assert table_rows(tmp_path / "local") == table_rows(tmp_path / "serial")
+    assert records(tmp_path / "local") == records(tmp_path / "serial")
+
+
+def test_ray_backend_without_ray_exits_2_with_one_line(tmp_path, capsys, monkeypatch):
+    monkeypatch.setitem(sys.modules, "ray", None)  # import ray -> ImportError
+    path = write_spec(tmp_path)
+    code = main(["sweep", str(path), "--backend", "ray", "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err
+    assert code == 2
+    assert err.strip().splitlines() == [
+        "swarmex: error: --backend ray needs Ray, which is not installed"
+        " (pip install 'swarmex[ray]')"
+    ]
+
+
+@pytest.mark.skipif(
+    os.environ.get("SWARMEX_SLOW") != "1",
+    reason="slow: starting Ray takes ~20 s here; set SWARMEX_SLOW=1 to run",
+)
+def test_ray_equals_serial(tmp_path):
+    pytest.importorskip("ray", reason="ray is not installed (pip install 'swarmex[ray]')")
+    path = write_spec(tmp_path)
+    sweep(path, tmp_path / "serial")
+    sweep(path, tmp_path / "ray", backend="ray", workers=2)
+    assert table_rows(tmp_path / "ray") == table_rows(tmp_path / "serial")
+    assert records(tmp_path / "ray") == records(tmp_path / "serial")
+
+
+# ---------------------------------------------------------------------------- summary
+
+
+def test_mean_ci_matches_a_hand_computation():
+    s = mean_ci([1.0, 2.0, 3.0, 4.0])
+    sd = math.sqrt(((1.5**2) * 2 + (0.5**2) * 2) / 3)  # sample sd of 1..4
+    t_975_3 = 3.182446305284263  # Student t quantile, 3 degrees of freedom
+    assert s.mean == 2.5 and s.n == 4
+    assert s.half_width == pytest.approx(t_975_3 * sd / 2, rel=1e-12)
+    assert math.isnan(mean_ci([7.0]).half_width) and mean_ci([7.0]).mean == 7.0
+    assert mean_ci([None, float("nan")]).n == 0
+
+
+def test_summarize_groups_and_skips_failures():
+    rows = [
+        {"a": 1, "seed": 0, "makespan": 10.0, "complete": True, "error": None},
+        {"a": 1, "seed": 1, "makespan": 14.0, "complete": False, "error": None},
+        {"a": 2, "seed": 0, "makespan": None, "complete": None, "error": "boom"},
+        {"a": 2, "seed": 1, "makespan": 5.0, "complete": True, "error": None},
+    ]
+    g1, g2 = summarize(rows, ["a"], ["makespan", "complete"])
+    assert g1.config == {"a": 1} and (g1.runs, g1.failed) == (2, 0)
+    assert g1.stats["makespan"].mean == 12.0
+    t_975_1 = 12.706204736174698
+    sd = math.sqrt(8)  # sample sd of 10 and 14
+    assert g1.stats["makespan"].half_width == pytest.approx(t_975_1 * sd / math.sqrt(2))
+    assert g1.stats["complete"].mean == 0.5
+    assert (g2.runs, g2.failed, g2.stats["makespan"].n) == (2, 1, 1)
+
+
+def test_cli_summary_prints_means_and_cis(tmp_path, capsys):
+    path = write_spec(tmp_path)
+    out = tmp_path / "out"
+    code = main(
+        [
+            "sweep",
+            str(path),
+            "--backend",
+            "serial",
+            "--out",
+            str(out),
+            "--summary",
+            "--metric",
+            "total_time_all",
+        ]
+    )
+    text = capsys.readouterr().out
+    assert code == 0
+    assert "8/8 runs finished" in text
+    assert "±" in text and "total_" in text and "nearest" in text
+    rows = table_rows(out)
+    mine = [r["makespan"] for r in rows if r["algorithm"] == "madgta" and r["agents"] == 2]
+    s = mean_ci(mine)
+    assert f"{s.mean:.4g} ± {s.half_width:.2g}" in text
