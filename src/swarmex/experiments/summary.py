@@ -46,7 +46,7 @@ class ConfigSummary:
 
 def mean_ci(values: list[float] | np.ndarray, confidence: float = CONFIDENCE) -> Stat:
     """Mean and Student-t half width of the finite values (None/NaN are left out)."""
-    from scipy.stats import t
+    from scipy.special import stdtrit  # Student t quantile; far lighter to import than stats
 
     x = np.asarray([v for v in values if v is not None], dtype=float)
     x = x[np.isfinite(x)]
@@ -56,7 +56,7 @@ def mean_ci(values: list[float] | np.ndarray, confidence: float = CONFIDENCE) ->
     mean = float(x.mean())
     if n < 2:
         return Stat(mean, math.nan, n)
-    half = float(t.ppf(0.5 + confidence / 2, n - 1) * x.std(ddof=1) / math.sqrt(n))
+    half = float(stdtrit(n - 1, 0.5 + confidence / 2) * x.std(ddof=1) / math.sqrt(n))
     return Stat(mean, half, n)
 
 

@@ -22,7 +22,7 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
 from swarmex.errors import InputError
-from swarmex.experiments.summary import mean_ci
+from swarmex.experiments.summary import Stat, mean_ci
 
 KINDS = ("auto", "line", "bar")
 SUFFIXES = (".png", ".svg")
@@ -64,9 +64,7 @@ def plot_sweep(
     FigureCanvasAgg(fig)
     ax = fig.add_subplot()
     width = 0.8 / len(hues)
-    for i, h in enumerate(hues):
-        sel = [r for r in ok if hue is None or r[hue] == h]
-        stats = [mean_ci([_num(r[y]) for r in sel if r[x] == v]) for v in xs]
+    for i, (h, stats) in enumerate(series(ok, x, y, hue, xs, hues).items()):
         mean = np.array([s.mean for s in stats])
         half = np.nan_to_num(np.array([s.half_width for s in stats]))
         label = None if hue is None else f"{h}"
@@ -115,6 +113,24 @@ def plot_sweep(
     except OSError as exc:
         raise InputError(f"cannot write {path}: {exc.strerror or exc}") from None
     return path, note
+
+
+def series(
+    rows: list[dict[str, Any]],
+    x: str,
+    y: str,
+    hue: str | None,
+    xs: list[Any] | None = None,
+    hues: list[Any] | None = None,
+) -> dict[Any, list[Stat]]:
+    """Per hue value (None without hue), the mean and CI of ``y`` at each x level."""
+    xs = xs if xs is not None else _levels([r[x] for r in rows])
+    hues = hues if hues is not None else (_levels([r[hue] for r in rows]) if hue else [None])
+    out = {}
+    for h in hues:
+        sel = [r for r in rows if hue is None or r[hue] == h]
+        out[h] = [mean_ci([_num(r[y]) for r in sel if r[x] == v]) for v in xs]
+    return out
 
 
 def _filter(rows: list[dict[str, Any]], where: list[str], columns: list[str]) -> list[dict]:

@@ -1,0 +1,100 @@
+"""``swarmex plot``: lines with CI bands, grouped bars, filters and bad input."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from swarmex.cli import main
+from swarmex.errors import InputError
+from swarmex.experiments.summary import mean_ci
+from swarmex.viz.plot import plot_sweep, series
+
+META = {"mission": "traversal", "axes": ["algorithm", "agents", "grid"]}
+
+
+def rows() -> list[dict]:
+    """A synthetic sweep table: makespan = 100 / agents (+ seed noise, nearest +10)."""
+    out = []
+    for algorithm in ("madgta", "nearest"):
+        for agents in (1, 2, 4):
+            for seed in range(3):
+                out.append(
+                    {
+                        "algorithm": algorithm,
+                        "agents": agents,
+                        "grid": "8x8",
+                        "seed": seed,
+                        "makespan": 100 / agents + seed + (10 if algorithm == "nearest" else 0),
+                        "complete": seed != 2,
+                        "error": None,
+                    }
+                )
+    out.append({**out[0], "seed": 9, "makespan": None, "complete": None, "error": "boom"})
+    return out
+
+
+def test_series_are_means_and_cis_per_level():
+    s = series([r for r in rows() if not r["error"]], "agents", "makespan", "algorithm")
+    assert list(s) == ["madgta", "nearest"]
+    assert [st.mean for st in s["madgta"]] == [101.0, 51.0, 26.0]
+    assert [st.mean for st in s["nearest"]] == [111.0, 61.0, 36.0]
+    assert s["madgta"][0].half_width == pytest.approx(mean_ci([100, 101, 102]).half_width)
+    assert s["madgta"][0].half_width == pytest.approx(4.302652729911275 * 1 / math.sqrt(3))
+
+
+def test_line_plot_png_and_svg(tmp_path):
+    png, note = plot_sweep(rows(), META, "agents", "makespan", "algorithm", path=tmp_path / "a.png")
+    assert note is None
+    with Image.open(png) as im:
+        assert im.format == "PNG" and im.size[0] > 400
+        pixels = np.asarray(im.convert("RGB"))
+    assert len(np.unique(pixels.reshape(-1, 3), axis=0)) > 20  # lines and bands, not blank
+    svg, _ = plot_sweep(rows(), META, "agents", "complete", None, path=tmp_path / "a.svg")
+    text = svg.read_text()
+    assert text.lstrip().startswith("<?xml") and "<svg" in text
+
+
+def test_bar_plot_for_a_categorical_x_and_where(tmp_path):
+    path, note = plot_sweep(
+        rows(), META, "algorithm", "makespan", None, ["agents=2"], "auto", tmp_path / "b.png"
+    )
+    assert path.exists() and note is None
+    _, pooled = plot_sweep(rows(), META, "algorithm", "makespan", path=tmp_path / "c.png")
+    assert pooled and "pooled over agents" in pooled
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [
+        ({"x": "speed"}, "no column 'speed'"),
+        ({"path": "p.pdf"}, "must end in .png or .svg"),
+        ({"x": "algorithm", "kind": "line"}, "needs a numeric --x"),
+        ({"where": ["agents=7"]}, "no run matches"),
+        ({"where": ["agents"]}, "expected PARAM=VALUE"),
+        ({"y": "error"}, "numeric 'error'"),
+    ],
+)
+def test_bad_requests_name_the_problem(tmp_path, kwargs, message):
+    args = {"x": "agents", "y": "makespan", "hue": None, "where": None, "kind": "auto"}
+    args.update(kwargs)
+    args["path"] = tmp_path / args.get("path", "p.png")
+    with pytest.raises(InputError, match=message):
+        plot_sweep(rows(), META, **args)
+
+
+def test_cli_plot_of_a_real_sweep(tmp_path, capsys):
+    spec = tmp_path / "s.toml"
+    spec.write_text('mission = "traversal"\ngrid = "4x4"\nagents = [1, 2]\nseeds = [0, 1]\n')
+    out = tmp_path / "sw"
+    assert main(["sweep", str(spec), "--backend", "serial", "--out", str(out)]) == 0
+    assert main(["plot", str(out), "--x", "agents", "--y", "makespan"]) == 0
+    assert (out / "makespan-vs-agents.png").exists()
+    capsys.readouterr()
+    assert main(["plot", str(out), "--x", "agents", "--y", "nope"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("swarmex: error: --y: no column 'nope'") and err.count("\n") == 1
+    assert main(["plot", str(tmp_path / "missing"), "--x", "a", "--y", "b"]) == 2
