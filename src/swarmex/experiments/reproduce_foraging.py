@@ -52,6 +52,9 @@ TABLE_CONFIGS: tuple[tuple[str, int], ...] = (
     ("spiral", 8),
     ("spiral", 16),
     ("modified-zigzag", 8),
+    ("loop-strips", 4),
+    ("loop-strips", 8),
+    ("loop-strips", 16),
     ("rings", 4),
     ("rings", 8),
     ("rings", 16),
@@ -64,6 +67,7 @@ TRANSPORT_CONFIGS = (
     ("sectors", 16),
     ("spiral", 16),
     ("modified-zigzag", 8),
+    ("loop-strips", 16),
     ("rings", 16),
 )
 COLUMNS = ("exploration", "communication", "comm_transport", "transportation")
@@ -182,6 +186,27 @@ def single_agent_exploration(foods: dict[str, list[tuple[int, int]]]) -> dict[tu
     return out
 
 
+def exact_exploration() -> dict[tuple[str, int], float]:
+    """Mean exploration time over *all* non-nest cells (uniform food), from the timetables.
+
+    Noise-free: the 40-cell band means carry a sampling error of ≈ ±(g²/n)/√(12·40) rounds,
+    larger than some of the differences between patterns.
+    """
+    from swarmex.missions.foraging import timed_plan
+
+    out = {}
+    configs = {(p, n) for p, n in TABLE_CONFIGS} | {("sectors", 4)}
+    configs |= {(p, 1) for p in SINGLE}
+    for pattern, n in sorted(configs):
+        pos = timed_plan(pattern, G, n).pos
+        first = np.full((G, G), -1, dtype=np.int64)
+        for t in range(len(pos) - 1, -1, -1):
+            first[pos[t, :, 0], pos[t, :, 1]] = t
+        first[G // 2, G // 2] = -1
+        out[(pattern, n)] = float(first[first >= 0].mean())
+    return out
+
+
 def aggregate(runs: dict[str, dict[str, Any]]) -> dict[tuple, dict[str, float]]:
     """Means per (band, pattern, n, transport) of the four phase columns and totals."""
     acc: dict[tuple, list[dict[str, Any]]] = defaultdict(list)
@@ -247,4 +272,7 @@ def reproduce(out: Path, quick: bool = False, workers: int = 2, seed: int = 2015
     single = single_agent_exploration(foods)
     write_csv(table, out / "foraging_results.csv")
     figures = all_figures(table, single, out)
-    return write_report(out, table, single, reference(), figures, quick, seed, per_band, runs)
+    exact = exact_exploration()
+    return write_report(
+        out, table, single, reference(), figures, quick, seed, per_band, runs, exact
+    )

@@ -91,9 +91,7 @@ def render_gif(record: dict[str, Any], path: Path) -> None:
         ax.plot(*nest, marker="*", ms=12, color="black", ls="")
         ax.plot(*food, marker="s", ms=7, color="red", ls="")
         for a in range(len(pos)):
-            ax.plot(
-                pos[a, : t + 1, 0], pos[a, : t + 1, 1], color=cols[a], lw=0.5, alpha=0.35
-            )
+            ax.plot(pos[a, : t + 1, 0], pos[a, : t + 1, 1], color=cols[a], lw=0.5, alpha=0.35)
             face = cols[a] if carrying[a, t] else "white"
             ax.plot(*pos[a, t], marker="o", ms=6, mec=cols[a], mfc=face, ls="")
         ax.set_title(f"t = {t}", fontsize=9)

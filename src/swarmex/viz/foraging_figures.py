@@ -14,7 +14,7 @@ import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-PATTERNS = ("strips", "zigzag", "hilbert", "sectors", "spiral", "rings")
+PATTERNS = ("strips", "zigzag", "hilbert", "sectors", "spiral", "loop-strips", "rings")
 COLOURS = {
     "strips": "#1f77b4",
     "zigzag": "#ff7f0e",
@@ -23,6 +23,7 @@ COLOURS = {
     "spiral": "#9467bd",
     "modified-zigzag": "#8c564b",
     "rings": "#17becf",
+    "loop-strips": "#e377c2",
 }
 PHASES = ("exploration", "communication", "comm_transport", "transportation")
 PHASE_COLOURS = ("#4c72b0", "#dd8452", "#c44e52", "#55a868")
@@ -85,7 +86,7 @@ def stacked_fig(table, band: str, num: int, out: Path, phases: tuple[str, ...], 
             for ph, col in zip(phases, PHASE_COLOURS, strict=False):
                 ax.bar(i, row[ph], 0.8, bottom=bottom, color=col, label=ph if i == 0 else None)
                 bottom += row[ph]
-            labels.append(f"{p[:3]}{n}")
+            labels.append(f"{p[:4]}{n}")
             x.append(i)
             i += 1
         i += 1
@@ -146,7 +147,7 @@ def share_fig(table, out: Path) -> Path:
                 share = 100 * row[ph] / total
                 ax.bar(i, share, 0.8, bottom=bottom, color=col, label=ph if i == 0 else None)
                 bottom += share
-            labels.append(f"{p[:3]}{n}")
+            labels.append(f"{p[:4]}{n}")
             i += 1
     ax.set_xticks(range(len(labels)), labels, rotation=60, fontsize=7)
     ax.legend(fontsize=8)
@@ -157,7 +158,8 @@ def share_fig(table, out: Path) -> Path:
 
 def versus_fig(table, out: Path, subject: str, n: int, num: str, others: tuple[str, ...]):
     bands = (*BANDS, "random")
-    fig, ax = _fig(f"Fig. {num}: {subject} vs the others, N={n} (total time)", "rounds", 10)
+    label = f"Fig. {num}" if num[0].isdigit() else "Ours"
+    fig, ax = _fig(f"{label}: {subject} vs the others, N={n} (total time)", "rounds", 10)
     names = [subject, *[p for p in others if p != subject]]
     width = 0.8 / len(names)
     for j, p in enumerate(names):
@@ -167,7 +169,7 @@ def versus_fig(table, out: Path, subject: str, n: int, num: str, others: tuple[s
         ax.bar(xs, ys, width, label=p, color=COLOURS[p])
     ax.set_xticks(np.arange(len(bands)), [BAND_TITLE[b] for b in bands], fontsize=8)
     ax.legend(fontsize=8, ncol=3)
-    path = out / f"fig{num}.png"
+    path = out / (f"fig{num}.png" if num[0].isdigit() else f"{num}.png")
     fig.savefig(path, bbox_inches="tight")
     return path
 
@@ -190,7 +192,7 @@ def all_figures(table, single, out: Path) -> dict[str, Path]:
     figs["77"] = versus_fig(
         table, out, "modified-zigzag", 8, "77", ("strips", "sectors", "spiral", "rings")
     )
-    figs["rings"] = versus_fig(
-        table, out, "rings", 16, "rings", ("strips", "zigzag", "hilbert", "sectors", "spiral")
-    )
+    thesis = ("strips", "zigzag", "hilbert", "sectors", "spiral", "rings")
+    for n in (4, 8, 16):
+        figs[f"ours{n}"] = versus_fig(table, out, "loop-strips", n, f"ours_n{n}", thesis)
     return figs

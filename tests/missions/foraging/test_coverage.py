@@ -19,6 +19,8 @@ CASES = [
     ("spiral", 17, (4, 8)),
     ("modified-zigzag", 16, (8,)),
     ("rings", 16, (4, 8, 16)),
+    ("loop-strips", 16, (1, 2, 4, 8)),
+    ("loop-strips", 30, (3, 5)),
 ]
 
 
@@ -33,7 +35,8 @@ def test_every_cell_is_explored(name, g, ns):
 
 def test_exploration_regions_of_the_regular_patterns_do_not_overlap():
     # Strips, ZigZag, Hilbert and Modified ZigZag tile the grid: no cell explored twice
-    for name, g, n in [("strips", 16, 4), ("zigzag", 16, 16), ("hilbert", 32, 4)]:
+    cases = [("strips", 16, 4), ("zigzag", 16, 16), ("hilbert", 32, 4), ("loop-strips", 32, 8)]
+    for name, g, n in cases:
         T = timed_plan(name, g, n)
         p = T.plan
         cells = [c for a, r in enumerate(p.routes) for c in r[p.explore_from[a] :]]

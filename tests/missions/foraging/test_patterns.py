@@ -111,3 +111,20 @@ def test_spiral_arms_partition_the_grid():
         p = build_plan("spiral", 32, n)
         assert p.depart == [1] * n
         assert len(p.neighbours) == n
+
+
+def test_loop_strips_g8_n2():
+    # strip 0 = rows 0..3. Deploy up the column next to the nest to the middle of the strip,
+    # sweep the upper half (rows 0-1) West, the lower half (rows 2-3) East across the grid,
+    # the upper half back West to the nest's column: every cell once.
+    p = build_plan("loop-strips", 8, 2)
+    a = p.notes["strip_of"].index(0)
+    r = p.routes[a]
+    assert r[: p.explore_from[a] + 1] == [(4, 4), (3, 4), (3, 3), (3, 2), (3, 1)]
+    assert r[p.explore_from[a] :] == [
+        (3, 1), (3, 0), (2, 0), (2, 1), (1, 1), (1, 0), (0, 0), (0, 1),  # upper half, West
+        (0, 2), (0, 3), (1, 3), (1, 2), (2, 2), (2, 3), (3, 3), (3, 2),  # lower half, East
+        (4, 2), (4, 3), (5, 3), (5, 2), (6, 2), (6, 3), (7, 3), (7, 2),
+        (7, 1), (7, 0), (6, 0), (6, 1), (5, 1), (5, 0), (4, 0), (4, 1),  # upper half, back
+    ]  # fmt: skip
+    assert p.depart == [1, 2]

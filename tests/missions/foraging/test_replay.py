@@ -22,6 +22,8 @@ RUNS = [
     ("spiral", 16, 16, (0, 15), "end-to-end"),
     ("modified-zigzag", 16, 8, (14, 2), "relay-food"),
     ("rings", 16, 16, (7, 7), "relay-path"),
+    ("loop-strips", 16, 4, (12, 13), "relay-food"),
+    ("loop-strips", 32, 16, (2, 30), "end-to-end"),
 ]
 
 

@@ -42,9 +42,7 @@ def meet(me: Cell, future: np.ndarray) -> int:
     return int(max(len(future) - 1, d[-1]))
 
 
-def best_order(
-    me: Cell, t: int, targets: list[int], future_of
-) -> tuple[list[int], int]:
+def best_order(me: Cell, t: int, targets: list[int], future_of) -> tuple[list[int], int]:
     """Order of ``targets`` with the earliest completion; ``future_of(b, t)`` predicts ``b``."""
     best: tuple[int, list[int]] | None = None
     for perm in permutations(targets):

@@ -85,6 +85,4 @@ def plan(g: int, n: int) -> Plan:
     neighbours = [[*adj[a], a + 4] for a in range(4)] + [
         [adj[a][0] + 4, adj[a][1] + 4, a] for a in range(4)
     ]
-    return Plan(
-        "modified-zigzag", g, n, routes, depart, explore_from, neighbours, notes={"R": R}
-    )
+    return Plan("modified-zigzag", g, n, routes, depart, explore_from, neighbours, notes={"R": R})

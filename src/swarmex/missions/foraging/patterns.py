@@ -8,6 +8,7 @@ from functools import lru_cache
 from swarmex.errors import InputError
 from swarmex.missions.foraging import (
     hilbert,
+    loop_strips,
     modified_zigzag,
     rings,
     sectors,
@@ -25,9 +26,10 @@ BUILDERS: dict[str, Callable[[int, int], Plan]] = {
     "spiral": spiral.plan,
     "modified-zigzag": modified_zigzag.plan,
     "rings": rings.plan,
+    "loop-strips": loop_strips.plan,
 }
 THESIS_ALGORITHMS = ("strips", "zigzag", "hilbert", "sectors", "spiral", "modified-zigzag")
-ALGORITHMS = (*THESIS_ALGORITHMS, "rings")
+ALGORITHMS = (*THESIS_ALGORITHMS, "twin-strips", "rings")
 
 
 @lru_cache(maxsize=64)

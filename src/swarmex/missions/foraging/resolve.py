@@ -40,11 +40,7 @@ def toward(p: Cell, q: Cell) -> list[Cell]:
 
 
 def sidesteps(p: Cell, g: int) -> list[Cell]:
-    return [
-        (p[0] + dx, p[1] + dy)
-        for dx, dy in NEIGH
-        if 0 <= p[0] + dx < g and 0 <= p[1] + dy < g
-    ]
+    return [(p[0] + dx, p[1] + dy) for dx, dy in NEIGH if 0 <= p[0] + dx < g and 0 <= p[1] + dy < g]
 
 
 def priority(

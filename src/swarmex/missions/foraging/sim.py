@@ -298,7 +298,6 @@ class Mission:
                 raise NoProgress(f"no completion after {self.t} rounds")
             self.step()
 
-
     def _tail(self, record: bool, limit: int) -> None:
         from swarmex.missions.foraging.fastloop import transport_tail
 
