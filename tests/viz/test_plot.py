@@ -98,3 +98,29 @@ def test_cli_plot_of_a_real_sweep(tmp_path, capsys):
     err = capsys.readouterr().err
     assert err.startswith("swarmex: error: --y: no column 'nope'") and err.count("\n") == 1
     assert main(["plot", str(tmp_path / "missing"), "--x", "a", "--y", "b"]) == 2
+
+
+def test_traversal_mp4_render(tmp_path, capsys):
+    """`--render .mp4` support of the traversal drawing: H.264 frames of the same animation."""
+    pytest.importorskip("imageio_ffmpeg", reason="imageio-ffmpeg is not installed")
+    import imageio.v2 as iio
+
+    from swarmex.cli.commands_traversal import build_world
+    from swarmex.engine.record import read_record
+    from swarmex.viz.traversal import render_traversal
+
+    rec = tmp_path / "r.json"
+    assert main(["traverse", "--grid", "5x3", "--agents", "2", "--json", str(rec)]) == 0
+    capsys.readouterr()
+    record = read_record(rec)
+    world = build_world(None, "5x3", [], 4)
+    path = render_traversal(record, world, tmp_path / "run.mp4")
+    reader = iio.get_reader(path)
+    meta = reader.get_meta_data()
+    frames = [f for f in reader]
+    reader.close()
+    assert meta["codec"] == "h264"
+    assert len(frames) > 10 and frames[0].shape[0] % 2 == 0 and frames[0].shape[1] % 2 == 0
+    assert not np.array_equal(frames[0], frames[-1])  # agents moved and jobs appeared
+    with pytest.raises(InputError, match="must end in"):
+        render_traversal(record, world, tmp_path / "run.avi")

@@ -35,6 +35,8 @@ from swarmex.errors import InputError
 
 SMALL_CELLS = 2500  # up to 50x50 the thesis style (dots, edges, circles) stays legible
 MAX_FRAMES = 120  # an animation never has more frames than this, whatever the map size
+ANIMATION_SUFFIXES = (".gif", ".mp4")
+RENDER_SUFFIXES = (".png", *ANIMATION_SUFFIXES)
 
 
 def as_record(record_or_run: Any) -> dict:
@@ -331,7 +333,8 @@ def traversal_gif(
     seconds: float = 8.0,
     dpi: int = 64,
 ) -> Path:
-    """Animate the mission: agents hop along their paths and jobs appear as they start.
+    """Animate the mission (``.gif``, or ``.mp4`` by the suffix): agents hop along their paths
+    and jobs appear as they start.
 
     The clock is sampled at :func:`frame_times` (≤ ``max_frames`` frames); the GIF plays in
     about ``seconds`` and holds the last frame. Positions are the last vertex each agent reached
@@ -345,7 +348,8 @@ def traversal_gif(
     instead of Pillow's adaptive quantisation per frame.
     """
     path = Path(path)
-    _check_suffix(path, ".gif")
+    if path.suffix.lower() not in ANIMATION_SUFFIXES:
+        raise InputError(f"render file {path} must end in .gif or .mp4")
     record = as_record(record_or_run)
     times = frame_times(record, max_frames)
     cv = _Canvas(world, record, dpi, _title(record))
@@ -365,6 +369,9 @@ def traversal_gif(
         cv.fig.draw_artist(clock)
         return layer.draw(t)
 
+    if path.suffix.lower() == ".mp4":
+        frames = [draw_at(float(t)).copy() for t in times]  # the canvas buffer is reused
+        return _save(lambda: _write_mp4(path, frames, seconds), path)
     # the last frame shows every path and job, so its colours make the shared palette
     palette, lut = _palette(draw_at(float(times[-1])))
     frames = [_indexed(draw_at(float(t)), lut) for t in times]
@@ -520,6 +527,50 @@ def _write_gif(path: Path, frames: list[np.ndarray], palette: bytes, durations: 
         optimize=False,
         disposal=1,
     )
+
+
+def _write_mp4(path: Path, frames: list[np.ndarray], seconds: float) -> None:
+    """RGB frames → H.264 MP4 with imageio's ffmpeg plugin (imageio-ffmpeg ships the binary).
+
+    The frame rate spreads the frames over ``seconds``; the last frame is held for two seconds
+    like the GIF's. Frames are padded with white to even sizes, which yuv420p requires (instead
+    of imageio's default resize to multiples of 16, which would blur the grid).
+    """
+    try:
+        import imageio.v2 as iio
+        import imageio_ffmpeg  # noqa: F401  (the plugin's binary; fail clearly without it)
+    except ImportError:
+        raise InputError(
+            "--render .mp4 needs imageio-ffmpeg (pip install imageio-ffmpeg)"
+        ) from None
+    h, w = frames[0].shape[:2]
+    pad = ((0, h % 2), (0, w % 2), (0, 0))
+    fps = max(1.0, len(frames) / seconds)
+    hold = [frames[-1]] * int(round(2 * fps))
+    writer = iio.get_writer(
+        path,
+        format="FFMPEG",
+        mode="I",
+        fps=fps,
+        codec="libx264",
+        pixelformat="yuv420p",
+        macro_block_size=1,
+        ffmpeg_log_level="error",
+    )
+    with writer:
+        for f in [*frames, *hold]:
+            writer.append_data(np.pad(f, pad, constant_values=255) if any(pad[0] + pad[1]) else f)
+
+
+def render_traversal(record_or_run: Any, world, path: str | Path) -> Path:
+    """Draw (``.png``) or animate (``.gif``, ``.mp4``) a run, by the file's suffix."""
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix not in RENDER_SUFFIXES:
+        raise InputError(f"render file {path} must end in {', '.join(RENDER_SUFFIXES)}")
+    if suffix == ".png":
+        return traversal_png(record_or_run, world, path)
+    return traversal_gif(record_or_run, world, path)
 
 
 def _title(record: dict) -> str:
