@@ -26,7 +26,6 @@ Timing constants the thesis leaves open (spec §6.9) are parameters: heartbeat p
 
 from __future__ import annotations
 
-from collections import deque
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 from typing import Any, Protocol
@@ -53,6 +52,7 @@ class MeshNode:
     phase: float = 0.0  # first heartbeat time
     neighbours: dict[int, float] = field(default_factory=dict)  # id -> last heard
     seen: set[tuple[int, int]] = field(default_factory=set)
+    _sorted: list[int] | None = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
         if self.heartbeat_period <= 0 or self.timeout <= 0:
@@ -68,6 +68,8 @@ class MeshNode:
         """A heartbeat from ``src`` arrived: refresh it; True if it is a new neighbour."""
         new = src not in self.neighbours
         self.neighbours[src] = t
+        if new:
+            self._sorted = None
         return new
 
     def expire(self, t: float) -> list[int]:
@@ -75,6 +77,8 @@ class MeshNode:
         gone = [n for n, last in self.neighbours.items() if t - last > self.timeout]
         for n in gone:
             del self.neighbours[n]
+        if gone:
+            self._sorted = None
         return gone
 
     def first_time(self, key: tuple[int, int]) -> bool:
@@ -86,7 +90,11 @@ class MeshNode:
 
     def relay_targets(self, came_from: int | None = None) -> list[int]:
         """Neighbours a flooded message is passed on to, in id order."""
-        return sorted(n for n in self.neighbours if n != came_from)
+        if self._sorted is None:
+            self._sorted = sorted(self.neighbours)
+        if came_from is None or came_from not in self.neighbours:
+            return list(self._sorted)
+        return [n for n in self._sorted if n != came_from]
 
 
 @dataclass
@@ -117,7 +125,8 @@ class DiscNetwork:
         self.n = n
         self.range_m = float(range_m)
         self.in_range = np.zeros((n, n), dtype=bool)
-        self.queue: deque[tuple[int, int, Any]] = deque()
+        self.queue: list[tuple[int, int, Any]] = []
+        self._head = 0
         self.sent = [Counters() for _ in range(n)]
 
     def move(self, positions_m: np.ndarray) -> None:
@@ -150,8 +159,13 @@ class DiscNetwork:
 
     def drain(self) -> Iterator[tuple[int, int, Any]]:
         """Deliveries in FIFO order, including those queued while draining (relays)."""
-        while self.queue:
-            yield self.queue.popleft()
+        q = self.queue
+        while self._head < len(q):
+            item = q[self._head]
+            self._head += 1
+            yield item
+        q.clear()
+        self._head = 0
 
     def totals(self) -> dict[str, Any]:
         by_kind: dict[str, list[int]] = {}

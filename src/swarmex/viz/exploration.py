@@ -94,6 +94,9 @@ def draw(ax, snap: Snapshot, trajectories, truth_free: np.ndarray, title: str = 
             from matplotlib.patches import Circle
 
             ax.add_patch(Circle(g, laser_cells, fill=False, color="gold", lw=0.7))
+    h, w = snap.known.shape
+    ax.set_xlim(-0.5, w - 0.5)
+    ax.set_ylim(h - 0.5, -0.5)
     ax.set_xticks([])
     ax.set_yticks([])
     if title:

@@ -39,6 +39,12 @@ def _packed_size(d: dict) -> int:
     return len(msgpack.packb(d, use_bin_type=True))
 
 
+def _scans_size(scans: tuple) -> int:
+    """Encoded size of a list of scans (array header plus each scan's cached size)."""
+    n = len(scans)
+    return sum(s.nbytes for s in scans) + (0 if n <= 15 else 2 if n < 65536 else 4)
+
+
 @lru_cache(maxsize=4096)
 def _head_size(kind: str, src: int) -> int:
     """Size of a scan container's envelope with an empty scan list."""
@@ -55,10 +61,10 @@ class ScanRecord:
     y: int
     local: LocalMap
     _wire: dict | None = field(default=None, repr=False)
+    key: tuple[int, int] = field(init=False, repr=False)
 
-    @property
-    def key(self) -> tuple[int, int]:
-        return (self.origin, self.seq)
+    def __post_init__(self) -> None:
+        self.key = (self.origin, self.seq)
 
     def to_dict(self) -> dict:
         if self._wire is None:
@@ -112,9 +118,7 @@ class ScanMsg(Message):
     @cached_property
     def nbytes(self) -> int:
         # the scans' encodings are cached, so a relay's size costs no re-packing
-        head = _head_size(self.kind, self.src)
-        n = len(self.scans)
-        return head + sum(s.nbytes for s in self.scans) + (0 if n <= 15 else 2 if n < 65536 else 4)
+        return _head_size(self.kind, self.src) + _scans_size(self.scans)
 
 
 @dataclass(eq=False)

@@ -31,6 +31,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from swarmex.comm.mesh import DiscNetwork
+from swarmex.missions.exploration.messages import ScanMsg
 from swarmex.missions.exploration.params import (
     Cell,
     ExplorationParams,
@@ -117,9 +118,23 @@ class Wire:
             i = j
 
     def settle(self, t: int) -> None:
-        """Deliver until the network is quiet (relays and replies included)."""
+        """Deliver until the network is quiet (relays and replies included).
+
+        A flooded copy whose every scan the receiver has already seen, from a sender it
+        already knows, would be dropped by the receiver without effect; it is counted as
+        sent but not handed over (the flood's main cost in Python calls).
+        """
+        robots = self.robots
         for src, dst, msg in self.net.drain():
-            self.send(dst, self.robots[dst].on_message(src, msg, t))
+            r = robots[dst]
+            if type(msg) is ScanMsg and src in r.mesh.neighbours:
+                seen = r.mesh.seen
+                scans = msg.scans
+                if (scans[0].key in seen) if len(scans) == 1 else all(
+                    s.key in seen for s in scans
+                ):
+                    continue
+            self.send(dst, r.on_message(src, msg, t))
 
 
 def build_robots(
