@@ -115,7 +115,8 @@ def candle_chart(
     ax.set_xlim(-0.7, len(labels) - 0.3)
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
-    ax.set_title("\n".join(textwrap.wrap(title, 58)), fontsize=10)
+    width_chars = int(fig.get_figwidth() * 11)  # ~11 characters per inch at 10 pt
+    ax.set_title("\n".join(textwrap.wrap(title, width_chars)), fontsize=10)
     ax.grid(axis="y", alpha=0.3)
     ax.legend(fontsize=8, loc="best")
     if note:

@@ -493,9 +493,7 @@ def execute(spec: RunSpec) -> dict[str, Any]:
         rng = np.random.default_rng(stable_seed("traversal-jitter", cfg.key, spec.rep))
         offsets = [float(x) for x in rng.uniform(0.0, cfg.jitter, cfg.agents)]
     ups = [UP_SPEED if off == 0 else ALTITUDE / (ALTITUDE / UP_SPEED + off) for off in offsets]
-    agents = [
-        AgentSpec(nest, TRAVEL_SPEED, JOB_TIME, ALTITUDE, up, DOWN_SPEED) for up in ups
-    ]
+    agents = [AgentSpec(nest, TRAVEL_SPEED, JOB_TIME, ALTITUDE, up, DOWN_SPEED) for up in ups]
     t0 = time.perf_counter()
     run = run_traversal(
         world,
