@@ -3,10 +3,22 @@
 MADGTA needs, at every decision, the travel distance from every agent's node to every
 candidate vertex, on the graph minus the obstacles known so far. Agents discover obstacles
 one by one, so naive caching would throw every field away at every discovery.
-:class:`KnownGraph` instead keeps a log of discoveries and, when a cached field is asked for,
-checks whether the new obstacles can change it at all (:func:`_still_exact`); only then is it
-recomputed. The check is exact: a field is unchanged by blocking a set of vertices iff every
-vertex whose shortest path could run through them keeps another shortest-path predecessor.
+:class:`KnownGraph` instead keeps a log of discoveries and brings a cached field up to date
+only when it is asked for. Two regimes, chosen by the graph:
+
+* **uniform edge lengths** (grids): fields are stored as int32 hop counts in one 2-D array
+  (a row per cached source, so kernels can read many fields in one call). A stale field is
+  *repaired* (:func:`~swarmex.planning.distance.repair_hops`: only the vertices whose
+  shortest paths ran through the new obstacles are re-derived), which is exact — hop counts
+  have no rounding — so a repaired field equals a fresh one bit for bit and the cache policy
+  cannot change any result. On a map whose walls are discovered cell by cell this turns
+  most invalidations (about half of all field computations before) into small repairs.
+* **other graphs**: float Dijkstra fields, checked by :func:`_still_exact` (a field is
+  unchanged by blocking a set of vertices iff every vertex whose shortest path could run
+  through them keeps another shortest-path predecessor) and recomputed when it fails. The
+  check compares floats with a tolerance, so a kept field can differ from a fresh one in the
+  last bits; this path therefore keeps its original LRU policy unchanged, so results stay
+  reproducible run to run and release to release.
 """
 
 from __future__ import annotations
@@ -16,7 +28,16 @@ from collections import OrderedDict
 import numba as nb
 import numpy as np
 
-from swarmex.planning.distance import distance_field
+from swarmex.planning.distance import (
+    BLOCKED,
+    UNREACHED,
+    _bfs_hops_lattice,
+    _bfs_hops_template,
+    _repair_hops,
+    distance_field,
+    lattice_structure,
+    step_length,
+)
 from swarmex.worlds.nodegraph import NodeGraph
 
 
@@ -46,21 +67,51 @@ def _still_exact(indptr, indices, weights, blocked, field, new_obstacles):  # pr
     return True
 
 
+@nb.njit(cache=True, nogil=True)
+def _gather(hops, slot, vertices, step, out):  # pragma: no cover - compiled
+    row = hops[slot]
+    for i in range(vertices.shape[0]):
+        h = row[vertices[i]]
+        out[i] = np.inf if h < 0 else h * step
+
+
 class KnownGraph:
     """A graph plus the obstacles someone knows about, with a cache of distance fields.
 
     ``blocked`` only ever gains vertices (obstacles are static), which is what makes the
-    incremental validity check sound.
+    incremental updates sound. Counters: ``recomputed`` (full searches), ``repaired``
+    (stale uniform fields fixed in place), ``reused`` (served as they were).
     """
 
     def __init__(self, graph: NodeGraph, capacity: int = 64) -> None:
         self.graph = graph
         self.blocked = np.zeros(graph.n_nodes, dtype=bool)
         self._log: list[int] = []
-        self._cache: OrderedDict[int, tuple[np.ndarray, int]] = OrderedDict()
         self.capacity = capacity
         self.recomputed = 0
         self.reused = 0
+        self.repaired = 0
+        self.uniform = bool(graph.uniform)
+        # float fields (non-uniform graphs), keyed by source: (field, version)
+        self._cache: OrderedDict[int, tuple[np.ndarray, int]] = OrderedDict()
+        if self.uniform:
+            n = graph.n_nodes
+            self.step = step_length(graph)
+            self.hops = np.empty((0, n), dtype=np.int32)  # grows by doubling up to capacity
+            self._slot: OrderedDict[int, int] = OrderedDict()  # source -> row, LRU order
+            self._slot_version: list[int] = []
+            self._free: list[int] = []
+            self._float: dict[int, np.ndarray] = {}  # row -> float view, until it changes
+            # scratch for the repair and BFS kernels
+            self._state = np.zeros(n, dtype=np.int8)
+            self._touched = np.empty(n, dtype=np.int32)
+            self._work = np.empty(2 * n + 2, dtype=np.int32)
+            self._key = np.empty(n, dtype=np.int32)
+            self._queue = np.empty(n, dtype=np.int32)
+            self._repair_limit = max(1, n // 6)
+            # what a fresh hop row starts as: UNREACHED, or BLOCKED for known obstacles
+            self._template = np.full(n, UNREACHED, dtype=np.int32)
+            self._width, self._nbmask = lattice_structure(graph)
 
     @property
     def version(self) -> int:
@@ -74,14 +125,28 @@ class KnownGraph:
             if not self.blocked[v]:
                 self.blocked[v] = True
                 self._log.append(v)
+                if self.uniform:
+                    self._template[v] = BLOCKED
                 new = True
         return new
 
+    # ------------------------------------------------------------------ float fields
     def field(self, source: int) -> np.ndarray:
         """Distance from ``source`` to every vertex on the graph minus known obstacles.
 
-        The returned array is shared with the cache: read it, never write it.
+        The returned array is shared with the cache: read it, never write it. On uniform
+        graphs it is valid until the next call that changes the field (a new obstacle).
         """
+        if self.uniform:
+            slot = self.slot(source)
+            fld = self._float.get(slot)
+            if fld is None:
+                row = self.hops[slot]
+                fld = row * self.step
+                fld[row < 0] = np.inf
+                fld.flags.writeable = False
+                self._float[slot] = fld
+            return fld
         hit = self._cache.get(source)
         if hit is not None:
             fld, ver = hit
@@ -105,3 +170,90 @@ class KnownGraph:
         while len(self._cache) > self.capacity:
             self._cache.popitem(last=False)
         return fld
+
+    def distances(self, source: int, vertices: np.ndarray) -> np.ndarray:
+        """``field(source)[vertices]`` without building the whole float field."""
+        vertices = np.asarray(vertices, dtype=np.int64)
+        if not self.uniform:
+            return self.field(source)[vertices]
+        out = np.empty(vertices.size, dtype=np.float64)
+        slot = self.slot(source)  # first: it may grow (replace) self.hops
+        _gather(self.hops, slot, vertices, self.step, out)
+        return out
+
+    # ------------------------------------------------------------------ hop rows (uniform)
+    def slot(self, source: int) -> int:
+        """Row of ``self.hops`` holding the up-to-date hop field of ``source``.
+
+        Uniform graphs only. The row stays valid until a later ``slot``/``slots``/``field``
+        call evicts it (at least ``capacity`` distinct sources later) or repairs it.
+        """
+        s = self._ensure(int(source))
+        self._trim(1)
+        return s
+
+    def slots(self, sources: np.ndarray) -> np.ndarray:
+        """Rows for several sources at once, all valid together (see :meth:`slot`)."""
+        out = np.empty(len(sources), dtype=np.int64)
+        for i, s in enumerate(sources.tolist()):
+            out[i] = self._ensure(s)
+        self._trim(len(out))
+        return out
+
+    def _ensure(self, source: int) -> int:
+        slot = self._slot.get(source)
+        ver = self.version
+        if slot is not None:
+            self._slot.move_to_end(source)
+            old = self._slot_version[slot]
+            if old == ver:
+                self.reused += 1
+                return slot
+            self._slot_version[slot] = ver
+            g = self.graph
+            new = np.asarray(self._log[old:], dtype=np.int64)
+            changed = _repair_hops(
+                g.indptr, g.indices, self.blocked, self.hops[slot], source, new,
+                self._state, self._touched, self._work, self._key, self._repair_limit,
+            )
+            if changed == 0:
+                self.reused += 1
+                return slot
+            self._float.pop(slot, None)
+            if changed > 0:
+                self.repaired += 1
+                return slot
+        else:
+            slot = self._alloc()
+            self._slot[source] = slot
+            self._slot_version[slot] = ver
+        if self._width:
+            _bfs_hops_lattice(self._width, self._nbmask, self._template, source,
+                              self.hops[slot], self._queue)
+        else:
+            _bfs_hops_template(self.graph.indptr, self.graph.indices, self._template, source,
+                               self.hops[slot], self._queue)
+        self.recomputed += 1
+        return slot
+
+    def _alloc(self) -> int:
+        if self._free:
+            return self._free.pop()
+        rows = self.hops.shape[0]
+        used = len(self._slot)
+        if used >= rows:
+            grown = np.empty((max(4, 2 * rows), self.hops.shape[1]), dtype=np.int32)
+            grown[:rows] = self.hops
+            self.hops = grown  # float fields are copies, so they stay valid
+            self._slot_version.extend([-1] * (grown.shape[0] - rows))
+            self._free.extend(range(grown.shape[0] - 1, rows, -1))
+            return rows
+        return used
+
+    def _trim(self, keep: int) -> None:
+        """Evict least recently used fields beyond capacity, sparing the last ``keep``."""
+        limit = max(self.capacity, keep)
+        while len(self._slot) > limit:
+            _, slot = self._slot.popitem(last=False)
+            self._float.pop(slot, None)
+            self._free.append(slot)

@@ -25,11 +25,12 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numba as nb
 import numpy as np
 
 from swarmex.errors import InputError
 from swarmex.missions.traversal.belief import TraversalBelief
-from swarmex.planning.distance import steps_towards
+from swarmex.planning.distance import on_path_neighbors, steps_towards
 
 
 @dataclass(frozen=True)
@@ -73,6 +74,140 @@ def _close(values: np.ndarray, best: float) -> np.ndarray:
     return np.abs(values - best) <= 1e-9 * (1.0 + abs(best))
 
 
+# ---------------------------------------------------------------- compiled fast path
+# On graphs with one edge length the fields are exact hop counts (KnownGraph.hops), so the
+# utilities can be read straight from the hop rows. Every float below is computed with the
+# same operations in the same order as the numpy code of Madgta.utilities/get_best_node
+# (numba does not contract a*b+c into a fused multiply-add), so decisions are bit-identical.
+
+
+@nb.njit(cache=True, nogil=True)
+def _close1(v, best):  # pragma: no cover - compiled; _close for one value
+    if np.isinf(best):
+        return v == best
+    return abs(v - best) <= 1e-9 * (1.0 + abs(best))
+
+
+@nb.njit(cache=True, nogil=True)
+def _util_matrix(
+    hops, me_slot, slots, cands, step, tpu_me, jt_me, tpu, jt, util
+):  # pragma: no cover - compiled
+    """Fills ``util[i, j]`` exactly as Madgta.utilities computes it."""
+    for j in range(cands.shape[0]):
+        c = cands[j]
+        h = hops[me_slot, c]
+        mine = (np.inf if h < 0 else h * step) * tpu_me
+        mine = mine + jt_me
+        for i in range(slots.shape[0]):
+            h = hops[slots[i], c]
+            theirs = (np.inf if h < 0 else h * step) * tpu[i]
+            util[i, j] = theirs + jt[i] - mine
+
+
+@nb.njit(cache=True, nogil=True)
+def _own_costs(hops, me_slot, cands, step, tpu_me, jt_me, out):  # pragma: no cover
+    for j in range(cands.shape[0]):
+        h = hops[me_slot, cands[j]]
+        mine = (np.inf if h < 0 else h * step) * tpu_me
+        out[j] = mine + jt_me
+
+
+@nb.njit(cache=True, nogil=True)
+def _top_columns(util):  # pragma: no cover - compiled
+    """get_best_node's choice as column indices, or ``[-1]`` when numpy must decide.
+
+    The sum tie-break is only done here when every summand is an integer small enough that
+    any summation order is exact; numpy sums a column selection pairwise, so for other
+    values the caller falls back to :func:`get_best_node` itself.
+    """
+    r, c = util.shape
+    mins = np.empty(c)
+    for j in range(c):
+        m = util[0, j]
+        for i in range(1, r):
+            v = util[i, j]
+            if v < m:
+                m = v
+        if np.isnan(m):
+            return np.full(1, -1, dtype=np.int64)
+        for i in range(r):
+            if np.isnan(util[i, j]):
+                return np.full(1, -1, dtype=np.int64)
+        mins[j] = m
+    best = mins.max()
+    tied = np.empty(c, dtype=np.int64)
+    nt = 0
+    for j in range(c):
+        if _close1(mins[j], best):
+            tied[nt] = j
+            nt += 1
+    if nt == 1:
+        return tied[:1]
+    sums = np.empty(nt)
+    for t in range(nt):
+        j = tied[t]
+        s = 0.0
+        for i in range(r):
+            v = util[i, j]
+            if not (abs(v) <= 2.0**40 and v == np.floor(v)):
+                return np.full(1, -1, dtype=np.int64)
+            s += v
+        sums[t] = s
+    smax = sums.max()
+    top = np.empty(nt, dtype=np.int64)
+    k = 0
+    for t in range(nt):
+        if _close1(sums[t], smax):
+            top[k] = tied[t]
+            k += 1
+    return top[:k]
+
+
+@nb.njit(cache=True, nogil=True)
+def _far_scan(
+    hops, me_slot, slots, status, reserved, me, step, tpu_me, jt_me, tpu, jt, far, mins
+):  # pragma: no cover - compiled
+    """Branch 3 in one pass: W = vacant vertices I can reach, each one's min over rivals of
+    util, then the vertices tied at the max-min. Returns (|W|, number tied); the tied
+    vertices are left in ``far[:tied]``."""
+    n = status.shape[0]
+    r = slots.shape[0]
+    nf = 0
+    for v in range(n):
+        if status[v] != 0:
+            continue
+        owner = reserved[v]
+        if owner != 0 and owner != me:
+            continue
+        hm = hops[me_slot, v]
+        if hm < 0:
+            continue
+        mine = (hm * step) * tpu_me
+        mine = mine + jt_me
+        if r == 0:
+            m = -mine
+        else:
+            m = np.inf
+            for i in range(r):
+                h = hops[slots[i], v]
+                theirs = (np.inf if h < 0 else h * step) * tpu[i]
+                u = theirs + jt[i] - mine
+                if u < m:
+                    m = u
+        far[nf] = v
+        mins[nf] = m
+        nf += 1
+    if nf == 0:
+        return 0, 0
+    best = mins[:nf].max()
+    nt = 0
+    for k in range(nf):
+        if _close1(mins[k], best):
+            far[nt] = far[k]
+            nt += 1
+    return nf, nt
+
+
 class Madgta:
     """Algorithm 1's COMPUTE with Algorithm 2's GetBestNode."""
 
@@ -82,11 +217,18 @@ class Madgta:
         here = belief.here
         if not belief.in_km(here):
             return Decision("job", here, here, 1)
+        fast = self._fast_rivals(belief)
         nbrs = belief.graph.neighbors(here)
         vacant = nbrs[~belief.km_at(nbrs)]
         if vacant.size:
-            v = self.best(belief, np.unique(vacant), rng)
+            cands = np.unique(vacant)
+            if fast is not None:
+                v = self._best_near(belief, cands, rng, *fast)
+            else:
+                v = self.best(belief, cands, rng)
             return Decision("move", v, v, 2)
+        if fast is not None:
+            return self._decide_far(belief, rng, *fast)
         mine = belief.known.field(here)
         far = np.nonzero(~belief.km_mask() & np.isfinite(mine))[0]
         if far.size == 0:
@@ -97,6 +239,75 @@ class Madgta:
 
     def best(self, belief: TraversalBelief, cands: np.ndarray, rng) -> int:
         return get_best_node(cands, self.utilities(belief, cands), rng)
+
+    # ---- compiled path (same decisions; see _util_matrix)
+    def _fast_rivals(self, belief: TraversalBelief) -> tuple[np.ndarray, float] | None:
+        """(rivals, own job time in the utility) when the compiled path applies, else None.
+
+        It applies on uniform graphs to the utilities defined here; a subclass that
+        overrides ``utilities`` or ``best`` gets the generic path, so variants stay correct.
+        """
+        cls = type(self)
+        if not belief.known.uniform or cls.best is not Madgta.best:
+            return None
+        if cls.utilities is Madgta.utilities:
+            return belief.rivals(), float(belief.job_time[belief.me])
+        if cls.utilities is Nearest.utilities:
+            return _NO_RIVALS, 0.0
+        return None
+
+    def _hop_rows(self, belief: TraversalBelief, rivals: np.ndarray):
+        sources = np.empty(rivals.size + 1, dtype=np.int64)
+        sources[0] = belief.here
+        sources[1:] = belief.loc[rivals]
+        rows = belief.known.slots(sources)
+        return rows[0], rows[1:]
+
+    def _utility_matrix(
+        self, belief: TraversalBelief, cands: np.ndarray, rivals: np.ndarray, jt_me: float
+    ) -> np.ndarray:
+        me = belief.me
+        known = belief.known
+        me_slot, slots = self._hop_rows(belief, rivals)
+        if rivals.size == 0:
+            # no rival: util is minus the own cost (the generic code's -mine[None, :])
+            own = np.empty(cands.size)
+            _own_costs(known.hops, me_slot, cands, known.step, belief.time_per_unit[me],
+                       jt_me, own)
+            return -own[None, :]
+        util = np.empty((rivals.size, cands.size))
+        _util_matrix(known.hops, me_slot, slots, cands, known.step,
+                     belief.time_per_unit[me], jt_me,
+                     belief.time_per_unit[rivals], belief.job_time[rivals], util)
+        return util
+
+    def _best_near(self, belief, cands, rng, rivals, jt_me) -> int:
+        return _choose(cands, self._utility_matrix(belief, cands, rivals, jt_me), rng)
+
+    def _decide_far(self, belief: TraversalBelief, rng, rivals: np.ndarray, jt_me: float):
+        known = belief.known
+        me = belief.me
+        here = belief.here
+        me_slot, slots = self._hop_rows(belief, rivals)
+        n = belief.status.size
+        far = np.empty(n, dtype=np.int64)
+        mins = np.empty(n)
+        nf, nt = _far_scan(
+            known.hops, me_slot, slots, belief.status, belief.reserved, me, known.step,
+            belief.time_per_unit[me], jt_me,
+            belief.time_per_unit[rivals], belief.job_time[rivals], far, mins,
+        )
+        if nf == 0:
+            return Decision("finish")
+        if nt == 1:
+            f = int(far[0])
+        else:
+            tied = far[:nt].copy()
+            f = _choose(tied, self._utility_matrix(belief, tied, rivals, jt_me), rng)
+        nbrs = belief.graph.neighbors(here)
+        d = known.distances(f, np.concatenate(([here], nbrs)))
+        steps = on_path_neighbors(belief.graph, here, d[0], d[1:])
+        return Decision("move", _pick(steps, rng), f, 3)
 
     def utilities(self, belief: TraversalBelief, cands: np.ndarray) -> np.ndarray:
         me = belief.me
@@ -120,6 +331,17 @@ class Nearest(Madgta):
     def utilities(self, belief: TraversalBelief, cands: np.ndarray) -> np.ndarray:
         mine = belief.known.field(belief.here)[cands] * belief.time_per_unit[belief.me]
         return -mine[None, :]
+
+
+_NO_RIVALS = np.zeros(0, dtype=np.int64)
+
+
+def _choose(cands: np.ndarray, util: np.ndarray, rng: np.random.Generator) -> int:
+    """get_best_node, compiled when the result is provably the same (see _top_columns)."""
+    top = _top_columns(util)
+    if top[0] < 0:
+        return get_best_node(cands, util, rng)
+    return _pick(cands[top], rng)
 
 
 POLICIES: dict[str, type[Madgta]] = {"madgta": Madgta, "nearest": Nearest}
