@@ -5,6 +5,11 @@ entry leg from its start onto the roadmap, or one segment of the leg to the goal
 agents act one after another in an order drawn from the run's generator: each agent's step is
 a critical section, so two agents at one node can never take the same 0-weight edge (Fig. 4).
 
+Where agents begin (the paper's agents start at the "origin", the Main Root, yet stand at
+P_i): each agent first walks its entry leg P_i → Main Root (one step, sensed, recorded as a
+leg), registered in its own branch from t = 0 (Fig. 2: Sync[i] = 1); PRM walkers walk to the
+nearest node they can see.
+
 The engine owns the truth: after a move it sweeps the agent's sensor along the segment
 (coverage raster, line of sight, range R; an edge is swept once, a second pass sees nothing
 new) and, in goal search, checks whether the goal came into view, then tells the agent.
