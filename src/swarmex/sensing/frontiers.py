@@ -9,7 +9,10 @@ frontier": regions with fewer than ``min_size`` cells are dropped (swarmex uses 
 diameter in cells, see the mission's docs).
 
 Plain functions of arrays that return plain data, like NetworkX algorithms: no state, so the
-same code serves every robot's belief and the tests' hand-made grids.
+same code serves every robot's belief and the tests' hand-made grids. Labelling is a numba
+breadth-first search over the frontier cells only (they are few: the border of what is
+known), numbered in raster order like ``scipy.ndimage.label``, which the tests compare it
+with; :func:`frontiers_of_logodds` finds the cells and labels them in one pass over a map.
 """
 
 from __future__ import annotations

@@ -66,16 +66,18 @@ def paths_until(trajectories: list[list[tuple[int, int, int]]], t: int) -> list[
 
 
 def rgb_frame(snap: Snapshot, trajectories, truth_free: np.ndarray, scale: int = 1) -> np.ndarray:
+    """One animation frame: map and paths in cells, robots as dots of a few pixels."""
     img = base_rgb(snap.known, truth_free)
     cols = robot_colours(len(trajectories))
-    h, w = snap.known.shape
     for i, p in enumerate(paths_until(trajectories, snap.t)):
         if p.size:
             img[p[:, 1], p[:, 0]] = cols[i]
-        x, y = snap.positions[i]
-        img[max(0, y - 2) : y + 3, max(0, x - 2) : x + 3] = cols[i]
     if scale > 1:
         img = img.repeat(scale, axis=0).repeat(scale, axis=1)
+    r = max(2, scale // 2)
+    for i, (x, y) in enumerate(snap.positions):
+        cx, cy = x * scale + scale // 2, y * scale + scale // 2
+        img[max(0, cy - r) : cy + r + 1, max(0, cx - r) : cx + r + 1] = cols[i]
     return img
 
 

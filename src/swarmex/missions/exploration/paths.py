@@ -164,7 +164,11 @@ def path_to(dist: np.ndarray, traversable: np.ndarray, gx: int, gy: int, sx: int
 
 @nb.njit(cache=True, nogil=True)
 def footprint_clear(occupied, y, x, offsets):  # pragma: no cover - compiled
-    """True if no known obstacle (or the map edge) is inside the footprint at (x, y)."""
+    """True if no known obstacle (or the map edge) is inside the footprint at (x, y).
+
+    ``occupied`` is a bool mask or a log-odds grid (``> 0`` is an obstacle), so the motion
+    check reads the robot's map directly, without building a mask every tick.
+    """
     h, w = occupied.shape
     for k in range(offsets.shape[0]):
         yy = y + offsets[k, 0]
