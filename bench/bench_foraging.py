@@ -1,0 +1,71 @@
+"""Foraging speed: one full 128×128 run per pattern with n = 16 (8 for Modified ZigZag).
+
+Prints, per pattern: the one-off timetable build (shared by every run of the pattern), the wall
+time of a run without and with the full trajectory record, the rounds played and rounds/s, and
+the ratio against the reference — the same run with the compiled transport tail switched off
+(the pure-Python loop, which gives the identical result). It ends with the projected wall time
+of the full ``swarmex reproduce foraging`` sweep on two cores.
+
+    .venv/bin/python bench/bench_foraging.py
+"""
+
+from __future__ import annotations
+
+import time
+
+from swarmex.experiments.reproduce_foraging import TABLE_CONFIGS, TRANSPORT_CONFIGS, food_cells
+from swarmex.missions.foraging.sim import run_mission
+from swarmex.missions.foraging.timed import timed_plan
+
+G, UNITS = 128, 100
+PATTERNS = [
+    ("strips", 16),
+    ("zigzag", 16),
+    ("hilbert", 16),
+    ("sectors", 16),
+    ("spiral", 16),
+    ("modified-zigzag", 8),
+    ("loop-strips", 16),
+    ("rings", 16),
+]
+
+
+def timed_run(T, food, record, fast):
+    t0 = time.perf_counter()
+    o = run_mission(T, food, UNITS, "relay-food", record=record, fast=fast)
+    return time.perf_counter() - t0, o.makespan
+
+
+def main() -> None:
+    foods = food_cells(2015, 4)["random"]
+    warm = timed_plan("strips", G, 4)
+    run_mission(warm, (3, 3), 2, "relay-food", record=False)  # compile (or load) the tail
+    print(f"{'pattern':16s} {'n':>3s} {'plan s':>7s} {'run s':>7s} {'rec s':>7s} "
+          f"{'rounds':>7s} {'rounds/s':>9s} {'python s':>9s} {'speed-up':>8s}")  # fmt: skip
+    per_run = []
+    for name, n in PATTERNS:
+        t0 = time.perf_counter()
+        T = timed_plan(name, G, n)
+        plan_s = time.perf_counter() - t0
+        fast = [timed_run(T, f, False, True) for f in foods]
+        rec = [timed_run(T, f, True, True) for f in foods]
+        slow = [timed_run(T, f, False, False) for f in foods]
+        w = sum(x for x, _ in fast) / len(foods)
+        rounds = sum(r for _, r in fast) / len(foods)
+        wr = sum(x for x, _ in rec) / len(foods)
+        ws = sum(x for x, _ in slow) / len(foods)
+        per_run.append(w)
+        print(
+            f"{name:16s} {n:3d} {plan_s:7.2f} {w:7.3f} {wr:7.3f} {rounds:7.0f} "
+            f"{rounds / w:9.0f} {ws:9.3f} {ws / w:7.1f}x"
+        )
+    runs = len(TABLE_CONFIGS) * 6 * 40 + len(TRANSPORT_CONFIGS) * 2 * 40
+    mean = sum(per_run) / len(per_run)
+    print(
+        f"full reproduction: {runs} runs × ~{mean:.3f} s (n = 16 runs; n = 4 runs are longer) "
+        f"≈ {runs * mean / 2 / 60:.1f} min on 2 cores at this machine's current load"
+    )
+
+
+if __name__ == "__main__":
+    main()
