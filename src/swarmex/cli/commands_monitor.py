@@ -1,1 +1,145 @@
-"""``swarmex monitor``: placeholder replaced below."""
+"""``swarmex monitor``: serve the live page for a simulated mission, a record, or a live feed.
+
+* ``--scenario FILE.toml`` runs the scenario's mission (through its own command, as
+  ``swarmex run`` does), then streams the run's events paced in scaled time (``--speed``
+  mission seconds per wall second), starting when the first viewer connects;
+* ``--record FILE.json`` replays a finished run's record the same way;
+* neither: the page waits for a producer on ``ws://127.0.0.1:PORT/ingest`` (how the networked
+  runtime feeds it; schema at ``/schema`` and in docs/monitor.md).
+
+The first line printed is the page's address. The server listens on 127.0.0.1 only; ``--port
+0`` (the default) takes a free port. ``--linger S`` stops it S seconds after the mission ends
+(default: serve until Ctrl-C).
+"""
+
+from __future__ import annotations
+
+import asyncio
+import math
+import tempfile
+from pathlib import Path
+from typing import Any
+
+import typer
+
+from swarmex.cli.app import app, console
+from swarmex.errors import InputError
+
+
+def run_scenario_record(scenario: Path) -> dict:
+    """Run a scenario file's mission in this process and return its result record."""
+    from swarmex.cli import _cx
+    from swarmex.cli.commands_run import option_shapes
+    from swarmex.engine.record import read_record
+    from swarmex.experiments.scenario import load_scenario, scenario_argv
+    from swarmex.experiments.sweep_worker import quiet_cli
+
+    scn = load_scenario(scenario)
+    command = typer.main.get_command(app).commands.get(scn.command)
+    if command is None:
+        raise InputError(f"{scenario}: this installation has no 'swarmex {scn.command}' command")
+    shapes = option_shapes(command)
+    options = {k: v for k, v in scn.options.items() if k not in ("json", "render")}
+    scn = type(scn)(scn.path, scn.mission, options)
+    with tempfile.TemporaryDirectory(prefix="swarmex-monitor-") as tmp:
+        out = Path(tmp) / "record.json"
+        argv = [*scenario_argv(scn, shapes), "--json", str(out)]
+        try:
+            with quiet_cli():  # its summary would name our temporary record file
+                command.main(args=argv, prog_name=f"swarmex {scn.command}", standalone_mode=False)
+        except _cx.UsageError as exc:
+            raise InputError(f"{scenario}: {exc.format_message()}") from None
+        except InputError as exc:
+            raise InputError(f"{scenario}: {exc}") from None
+        return read_record(out)
+
+
+def free_cells(record: dict):
+    """The map of a traversal record (rebuilt from its params), else None (bounds only)."""
+    params = record.get("params") or {}
+    if record.get("mission") != "traversal" or (record.get("world") or {}).get("kind") != "grid":
+        return None
+    from swarmex.cli.commands_traversal import build_world
+
+    try:
+        map_file = Path(params["map"]) if params.get("map") else None
+        obstacles = [tuple(c) for c in params.get("obstacles") or []]
+        world = build_world(map_file, params.get("grid"), obstacles, params.get("connectivity", 4))
+    except (InputError, KeyError, TypeError):
+        return None  # the map moved or the record is from elsewhere: draw the bounds only
+    return world.free
+
+
+@app.command()
+def monitor(
+    scenario: Path | None = typer.Option(
+        None, "--scenario", help="Run this scenario and stream it live.", show_default=False
+    ),
+    record_file: Path | None = typer.Option(
+        None, "--record", help="Replay a result record (--json of any mission).", show_default=False
+    ),
+    port: int = typer.Option(0, "--port", help="Port on 127.0.0.1 (0: a free one)."),
+    speed: float = typer.Option(
+        1.0, "--speed", help="Mission seconds per wall second (inf: all at once)."
+    ),
+    wait: bool = typer.Option(
+        True, "--wait/--no-wait", help="Start the mission when the first viewer connects."
+    ),
+    linger: float | None = typer.Option(
+        None,
+        "--linger",
+        help="Stop this many seconds after the mission ends (default: until Ctrl-C).",
+        show_default=False,
+    ),
+    json_path: Path | None = typer.Option(
+        None, "--json", help="Also write the streamed run's record here.", show_default=False
+    ),
+) -> None:
+    """Serve the live monitor page of a simulated (or networked) mission on 127.0.0.1."""
+    from swarmex.engine.record import read_record, write_json_atomic
+    from swarmex.viz.monitor.events import record_events
+    from swarmex.viz.monitor.hub import replay
+    from swarmex.viz.monitor.server import MonitorServer
+
+    if scenario is not None and record_file is not None:
+        raise InputError("give at most one of --scenario and --record")
+    if not speed > 0:
+        raise InputError(f"--speed must be > 0, got {speed}")
+    if linger is not None and (linger < 0 or math.isnan(linger)):
+        raise InputError(f"--linger must be >= 0, got {linger}")
+    if port < 0 or port > 65535:
+        raise InputError(f"--port must be in 0..65535, got {port}")
+    record: dict | None = None
+    if scenario is not None:
+        record = run_scenario_record(scenario)
+    elif record_file is not None:
+        record = read_record(record_file)
+        if not isinstance(record, dict) or "agents" not in record:
+            raise InputError(f"{record_file} is not a result record (no agents)")
+    if record is not None and json_path is not None:
+        write_json_atomic(record, json_path)
+    if record is not None:
+        done = "complete" if record.get("complete") else "incomplete"
+        messages = (record.get("metrics") or {}).get("messages")
+        console.print(
+            f"{record.get('mission')} · {record.get('algorithm')} · {len(record['agents'])} agents"
+            f" · {done} · makespan {record.get('makespan'):.1f} {record.get('time_unit', '')}"
+            + (f" · {messages} messages" if messages is not None else ""),
+            highlight=False,
+        )
+    server = MonitorServer(port, record)
+    producer: Any = None
+    if record is not None:
+        events = record_events(record, free_cells(record), speed)
+
+        def producer(hub):
+            return replay(hub, events, speed, wait)
+
+    def ready(srv: MonitorServer) -> None:
+        what = "waiting for the first viewer" if wait and record is not None else "streaming"
+        if record is None:
+            what = f"waiting for events on ws://127.0.0.1:{srv.port}/ingest"
+        console.print(f"swarmex monitor: {srv.url} ({what})", soft_wrap=True, highlight=False)
+        console.file.flush()
+
+    asyncio.run(server.run(producer, linger, ready))

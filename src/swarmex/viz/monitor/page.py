@@ -1,0 +1,423 @@
+"""The monitor's page: one HTML document and one script, served from memory.
+
+Kept as Python strings rather than package data files so the page ships in every kind of
+install (a wheel carries modules, while data files need packaging configuration). The script
+is plain browser JavaScript with no build step and no third-party library: a canvas for the
+map, paths, jobs and agents, and a side panel for the clock, messages per second and the
+per-agent metrics. It applies the events of :mod:`swarmex.viz.monitor.events` to one state
+object, and exposes ``window.monitorSnapshot()`` (a plain copy of that state) for tests.
+"""
+
+INDEX_HTML = r"""<!doctype html>
+<html lang="en">
+<head>
+<meta charset="utf-8">
+<meta name="viewport" content="width=device-width, initial-scale=1">
+<title>swarmex monitor</title>
+<style>
+  * { box-sizing: border-box; }
+  html, body { margin: 0; height: 100%; font: 13px/1.4 system-ui, sans-serif; color: #222; }
+  body { display: flex; flex-direction: column; background: #fafafa; }
+  header { padding: 8px 12px; background: #20242b; color: #eee; display: flex; gap: 12px;
+           align-items: center; }
+  header .title { opacity: 0.8; }
+  .badge { margin-left: auto; padding: 2px 8px; border-radius: 10px; background: #555; }
+  .badge.live { background: #2e7d32; } .badge.ended { background: #1565c0; }
+  .badge.disconnected { background: #b71c1c; }
+  main { flex: 1; display: flex; min-height: 0; }
+  #stage { flex: 1; position: relative; min-width: 0; }
+  #map { position: absolute; inset: 0; width: 100%; height: 100%; }
+  aside { width: 330px; padding: 10px 12px; overflow-y: auto; border-left: 1px solid #ddd;
+          background: #fff; }
+  .clock { font: 600 20px/1.2 ui-monospace, monospace; margin-bottom: 6px; }
+  .kv { display: flex; justify-content: space-between; padding: 1px 0; }
+  .kv b { font-family: ui-monospace, monospace; }
+  table { width: 100%; border-collapse: collapse; margin-top: 10px; }
+  th, td { text-align: right; padding: 2px 4px; border-bottom: 1px solid #eee; }
+  th:first-child, td:first-child { text-align: left; }
+  td { font-family: ui-monospace, monospace; }
+  .swatch { display: inline-block; width: 10px; height: 10px; border-radius: 50%;
+            margin-right: 5px; vertical-align: -1px; border: 1px solid #0006; }
+  h3 { margin: 14px 0 4px; font-size: 13px; }
+  #final.hidden { display: none; }
+</style>
+</head>
+<body>
+<header>
+  <strong>swarmex monitor</strong>
+  <span class="title" id="title">waiting for a mission…</span>
+  <span class="badge" id="status">connecting</span>
+</header>
+<main>
+  <div id="stage"><canvas id="map"></canvas></div>
+  <aside>
+    <div class="clock">t = <span id="t">0.0</span> <span id="unit">s</span></div>
+    <div class="kv"><span>speed</span><b id="speed">–</b></div>
+    <div class="kv"><span>messages / s (last 10 s of mission)</span><b id="rate">0.0</b></div>
+    <div class="kv"><span>messages</span><b id="messages">0</b></div>
+    <div class="kv"><span>jobs</span><b id="jobs">0</b></div>
+    <div class="kv"><span>events received</span><b id="events">0</b></div>
+    <table id="agents">
+      <thead><tr><th>agent</th><th>x, y</th><th>moves</th><th>jobs</th><th>msgs</th></tr></thead>
+      <tbody></tbody>
+    </table>
+    <section id="final" class="hidden">
+      <h3 id="result">final</h3>
+      <div id="totals"></div>
+    </section>
+  </aside>
+</main>
+<script src="/monitor.js"></script>
+</body>
+</html>
+"""
+
+MONITOR_JS = r""""use strict";
+(() => {
+  const PALETTE = ["#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd",
+                   "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf"];
+  const RATE_WINDOW = 10;  // mission seconds over which messages/s is averaged
+  const state = {};
+  let dirty = true;
+  let layersDirty = true;
+  let pendingJobs = [];
+  let draws = 0;
+
+  function reset() {
+    Object.assign(state, {
+      hello: null, world: null, agents: new Map(), order: [], t: 0, ended: false,
+      end: null, messages: 0, jobs: 0, msgTimes: [], msgHead: 0, jobCells: [], bounds: null,
+    });
+    layersDirty = true;
+    pendingJobs = [];
+  }
+  reset();
+  state.status = "connecting";
+  state.events = 0;
+  state.frames = 0;
+
+  function color(id) {
+    const i = Math.max(0, state.order.indexOf(id));
+    const n = state.order.length;
+    return n <= PALETTE.length ? PALETTE[i] : `hsl(${(i * 137.508) % 360}, 70%, 45%)`;
+  }
+
+  function agent(id) {
+    let a = state.agents.get(id);
+    if (!a) {
+      a = { id, x: null, y: null, path: [], moves: 0, jobs: 0, sent: 0 };
+      state.agents.set(id, a);
+      if (!state.order.includes(id)) state.order.push(id);
+    }
+    return a;
+  }
+
+  function grow(x, y) {
+    const b = state.bounds;
+    if (!b) { state.bounds = { x0: x, y0: y, x1: x, y1: y }; layersDirty = true; return; }
+    if (x < b.x0 || y < b.y0 || x > b.x1 || y > b.y1) {
+      b.x0 = Math.min(b.x0, x); b.y0 = Math.min(b.y0, y);
+      b.x1 = Math.max(b.x1, x); b.y1 = Math.max(b.y1, y);
+      if (!(state.world && state.world.width)) layersDirty = true;
+    }
+  }
+
+  function apply(ev) {
+    state.events += 1;
+    if (typeof ev.t === "number" && ev.t > state.t) state.t = ev.t;
+    switch (ev.type) {
+      case "hello":
+        reset();
+        state.hello = ev;
+        for (const id of ev.agents || []) agent(id);
+        break;
+      case "world":
+        state.world = ev;
+        layersDirty = true;
+        break;
+      case "move": {
+        const a = agent(ev.agent);
+        if (a.x !== null) a.moves += 1;
+        a.x = ev.x; a.y = ev.y;
+        a.path.push([ev.x, ev.y]);
+        grow(ev.x, ev.y);
+        break;
+      }
+      case "job": {
+        const a = agent(ev.agent);
+        a.jobs += 1;
+        state.jobs += 1;
+        state.jobCells.push([ev.x, ev.y, ev.agent]);
+        pendingJobs.push([ev.x, ev.y, ev.agent]);
+        break;
+      }
+      case "message": {
+        agent(ev.agent).sent += 1;
+        state.messages += 1;
+        state.msgTimes.push(ev.t);
+        break;
+      }
+      case "end":
+        state.ended = true;
+        state.end = ev;
+        if (state.status === "live") setStatus("ended");
+        break;
+      default:
+        break;  // clock and unknown types only move the clock
+    }
+  }
+
+  function rate() {
+    const lo = state.t - RATE_WINDOW;
+    while (state.msgHead < state.msgTimes.length && state.msgTimes[state.msgHead] <= lo) {
+      state.msgHead += 1;
+    }
+    const span = Math.min(RATE_WINDOW, state.t);
+    return span > 0 ? (state.msgTimes.length - state.msgHead) / span : 0;
+  }
+
+  // ------------------------------------------------------------------ drawing
+  const canvas = document.getElementById("map");
+  const ctx = canvas.getContext("2d");
+  let background = null;
+  let jobLayer = null;
+  let view = null;
+
+  function extent() {
+    const w = state.world;
+    if (w && w.width && w.height) {
+      return w.kind === "grid"
+        ? { x0: -0.5, y0: -0.5, x1: w.width - 0.5, y1: w.height - 0.5 }
+        : { x0: 0, y0: 0, x1: w.width, y1: w.height };
+    }
+    const b = state.bounds || { x0: 0, y0: 0, x1: 1, y1: 1 };
+    return { x0: b.x0 - 1, y0: b.y0 - 1, x1: b.x1 + 1, y1: b.y1 + 1 };
+  }
+
+  function layout() {
+    const dpr = window.devicePixelRatio || 1;
+    const w = Math.max(1, Math.round(canvas.clientWidth * dpr));
+    const h = Math.max(1, Math.round(canvas.clientHeight * dpr));
+    canvas.width = w; canvas.height = h;
+    const e = extent();
+    const margin = 12 * dpr;
+    const scale = Math.min((w - 2 * margin) / (e.x1 - e.x0), (h - 2 * margin) / (e.y1 - e.y0));
+    const ox = (w - scale * (e.x1 - e.x0)) / 2 - scale * e.x0;
+    const oy = (h - scale * (e.y1 - e.y0)) / 2 - scale * e.y0;
+    view = { w, h, scale, ox, oy, e };
+    background = makeBackground();
+    jobLayer = document.createElement("canvas");
+    jobLayer.width = w; jobLayer.height = h;
+    pendingJobs = state.jobCells.slice();
+    layersDirty = false;
+  }
+
+  const px = (x) => view.ox + view.scale * x;
+  const py = (y) => view.oy + view.scale * y;
+
+  function makeBackground() {
+    const bg = document.createElement("canvas");
+    bg.width = view.w; bg.height = view.h;
+    const g = bg.getContext("2d");
+    g.fillStyle = "#eceff1";
+    g.fillRect(0, 0, view.w, view.h);
+    const e = view.e;
+    const w = state.world;
+    if (w && w.cells && w.cells.length) {
+      const rows = w.cells.length, cols = w.cells[0].length;
+      const img = new ImageData(cols, rows);
+      for (let r = 0; r < rows; r++) {
+        const line = w.cells[r];
+        for (let c = 0; c < cols; c++) {
+          const k = 4 * (r * cols + c);
+          const v = line[c] === "." ? 255 : 40;
+          img.data[k] = v; img.data[k + 1] = v; img.data[k + 2] = v; img.data[k + 3] = 255;
+        }
+      }
+      const small = document.createElement("canvas");
+      small.width = cols; small.height = rows;
+      small.getContext("2d").putImageData(img, 0, 0);
+      g.imageSmoothingEnabled = false;
+      g.drawImage(small, px(-0.5), py(-0.5), cols * view.scale, rows * view.scale);
+      if (view.scale >= 10) {
+        g.strokeStyle = "#0000001a";
+        g.lineWidth = 1;
+        g.beginPath();
+        for (let c = 0; c <= cols; c++) { g.moveTo(px(c - 0.5), py(-0.5));
+                                          g.lineTo(px(c - 0.5), py(rows - 0.5)); }
+        for (let r = 0; r <= rows; r++) { g.moveTo(px(-0.5), py(r - 0.5));
+                                          g.lineTo(px(cols - 0.5), py(r - 0.5)); }
+        g.stroke();
+      }
+    } else {
+      g.fillStyle = "#fff";
+      g.fillRect(px(e.x0), py(e.y0), (e.x1 - e.x0) * view.scale, (e.y1 - e.y0) * view.scale);
+    }
+    return bg;
+  }
+
+  function drawJobs() {
+    const g = jobLayer.getContext("2d");
+    const s = view.scale;
+    const grid = !state.world || state.world.kind === "grid";
+    g.globalAlpha = 0.35;
+    for (const [x, y, id] of pendingJobs) {
+      g.fillStyle = color(id);
+      if (grid) g.fillRect(px(x - 0.5), py(y - 0.5), s, s);
+      else { g.beginPath(); g.arc(px(x), py(y), Math.max(3, s * 0.3), 0, 2 * Math.PI); g.fill(); }
+    }
+    pendingJobs = [];
+  }
+
+  function draw() {
+    if (layersDirty || !view || canvas.width !== Math.round(canvas.clientWidth *
+        (window.devicePixelRatio || 1))) layout();
+    drawJobs();
+    ctx.drawImage(background, 0, 0);
+    ctx.drawImage(jobLayer, 0, 0);
+    const s = view.scale;
+    ctx.lineJoin = "round"; ctx.lineCap = "round";
+    ctx.lineWidth = Math.max(1.5, s * 0.08);
+    // agents sharing cells would hide each other's paths: shift each by a fraction of a cell
+    const m = state.order.length;
+    const step = m > 1 ? Math.min(0.5 / (m - 1), 0.15) : 0;
+    state.order.forEach((id, k) => {
+      const a = state.agents.get(id);
+      if (a.path.length < 2) return;
+      const off = (k - (m - 1) / 2) * step;
+      ctx.strokeStyle = color(id);
+      ctx.beginPath();
+      ctx.moveTo(px(a.path[0][0] + off), py(a.path[0][1] + off));
+      for (let i = 1; i < a.path.length; i++) {
+        ctx.lineTo(px(a.path[i][0] + off), py(a.path[i][1] + off));
+      }
+      ctx.stroke();
+    });
+    const r = Math.max(4, s * 0.32);
+    ctx.font = `${Math.round(r * 1.1)}px system-ui, sans-serif`;
+    ctx.textAlign = "center"; ctx.textBaseline = "middle";
+    for (const id of state.order) {
+      const a = state.agents.get(id);
+      if (a.x === null) continue;
+      ctx.fillStyle = color(id);
+      ctx.strokeStyle = "#000";
+      ctx.lineWidth = Math.max(1, r * 0.15);
+      ctx.beginPath(); ctx.arc(px(a.x), py(a.y), r, 0, 2 * Math.PI); ctx.fill(); ctx.stroke();
+      if (r >= 7) { ctx.fillStyle = "#fff"; ctx.fillText(String(id), px(a.x), py(a.y)); }
+    }
+    draws += 1;
+  }
+
+  // ------------------------------------------------------------------ panel
+  const $ = (id) => document.getElementById(id);
+  const fmt = (v) => typeof v === "number" ? (Number.isInteger(v) ? String(v) : v.toFixed(2))
+                                           : String(v);
+
+  function setStatus(s) {
+    state.status = s;
+    const el = $("status");
+    el.textContent = s;
+    el.className = "badge " + s;
+  }
+
+  function panel() {
+    const h = state.hello;
+    if (h) {
+      $("title").textContent = h.title || `${h.mission} · ${h.algorithm}`;
+      $("unit").textContent = h.time_unit || "s";
+      $("speed").textContent = h.speed ? `×${fmt(h.speed)}` : (h.source || "live");
+    }
+    $("t").textContent = state.t.toFixed(1);
+    $("rate").textContent = rate().toFixed(2);
+    $("messages").textContent = state.messages;
+    $("jobs").textContent = state.jobs;
+    $("events").textContent = state.events;
+    const body = document.querySelector("#agents tbody");
+    if (body.rows.length !== state.order.length) {
+      body.innerHTML = "";
+      for (const id of state.order) {
+        const tr = body.insertRow();
+        tr.innerHTML = `<td><span class="swatch" style="background:${color(id)}"></span>${id}`
+          + "</td><td></td><td></td><td></td><td></td>";
+      }
+    }
+    state.order.forEach((id, i) => {
+      const a = state.agents.get(id);
+      const cells = body.rows[i].cells;
+      cells[1].textContent = a.x === null ? "–" : `${fmt(a.x)}, ${fmt(a.y)}`;
+      cells[2].textContent = a.moves;
+      cells[3].textContent = a.jobs;
+      cells[4].textContent = a.sent;
+    });
+    const fin = $("final");
+    if (state.ended && state.end) {
+      fin.className = "";
+      const e = state.end;
+      $("result").textContent = `${e.complete ? "complete" : "incomplete"} · makespan `
+        + `${fmt(e.makespan)} ${e.time_unit || ""}`;
+      const totals = $("totals");
+      if (!totals.childElementCount) {
+        for (const [k, v] of Object.entries(e.metrics || {})) {
+          const row = document.createElement("div");
+          row.className = "kv";
+          row.innerHTML = `<span></span><b></b>`;
+          row.children[0].textContent = k;
+          row.children[1].textContent = fmt(v);
+          totals.appendChild(row);
+        }
+      }
+      if (state.status === "live") setStatus("ended");
+    } else {
+      fin.className = "hidden";
+      $("totals").innerHTML = "";
+    }
+  }
+
+  // ------------------------------------------------------------------ wiring
+  function connect() {
+    const scheme = location.protocol === "https:" ? "wss://" : "ws://";
+    const ws = new WebSocket(scheme + location.host + "/ws");
+    ws.onopen = () => setStatus("live");
+    ws.onmessage = (m) => {
+      const batch = JSON.parse(m.data);
+      for (const ev of Array.isArray(batch) ? batch : [batch]) apply(ev);
+      state.frames += 1;
+      dirty = true;
+    };
+    ws.onclose = () => {
+      setStatus(state.ended ? "ended" : "disconnected");
+      setTimeout(connect, 1000);
+    };
+  }
+
+  function frame() {
+    if (dirty) { draw(); dirty = false; }
+    requestAnimationFrame(frame);
+  }
+  window.addEventListener("resize", () => { layersDirty = true; dirty = true; });
+  setInterval(() => { panel(); if (dirty && document.hidden) { draw(); dirty = false; } }, 200);
+  requestAnimationFrame(frame);
+  connect();
+
+  window.monitorSnapshot = () => ({
+    status: state.status,
+    t: state.t,
+    ended: state.ended,
+    complete: state.end ? state.end.complete : null,
+    makespan: state.end ? state.end.makespan : null,
+    messages: state.messages,
+    jobs: state.jobs,
+    events: state.events,
+    frames: state.frames,
+    draws,
+    mission: state.hello ? state.hello.mission : null,
+    world: state.world ? { width: state.world.width, height: state.world.height,
+                           rows: state.world.cells ? state.world.cells.length : 0 } : null,
+    agents: state.order.map((id) => {
+      const a = state.agents.get(id);
+      return { id, x: a.x, y: a.y, moves: a.moves, jobs: a.jobs, sent: a.sent,
+               path: a.path.length };
+    }),
+  });
+})();
+"""

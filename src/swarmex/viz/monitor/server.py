@@ -1,0 +1,197 @@
+"""The monitor's web server: Starlette routes on uvicorn, bound to 127.0.0.1 only.
+
+Routes: ``/`` the page, ``/monitor.js`` its script, ``/schema`` the event schema's text,
+``/record`` the finished run's record (simulated missions), ``/ws`` the viewers' WebSocket
+(server → browser: the hub's batches) and ``/ingest`` the producers' WebSocket (a networked
+runtime → server: frames of events in the same schema, published as they come).
+
+Why bind a socket ourselves and hand it to uvicorn: the port is known (and printed) before the
+server starts, port 0 picks a free one, and nothing ever listens beyond the loopback.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import json
+import socket
+from collections.abc import Coroutine
+from typing import Any
+
+from starlette.applications import Starlette
+from starlette.responses import HTMLResponse, JSONResponse, PlainTextResponse, Response
+from starlette.routing import Route, WebSocketRoute
+from starlette.websockets import WebSocket, WebSocketDisconnect
+
+from swarmex.viz.monitor import events as schema
+from swarmex.viz.monitor.hub import EventHub
+from swarmex.viz.monitor.page import INDEX_HTML, MONITOR_JS
+
+HOST = "127.0.0.1"
+
+
+def create_app(hub: EventHub, record: dict | None = None) -> Starlette:
+    async def index(_request: Any) -> Response:
+        return HTMLResponse(INDEX_HTML)
+
+    async def script(_request: Any) -> Response:
+        return Response(MONITOR_JS, media_type="text/javascript")
+
+    async def favicon(_request: Any) -> Response:
+        return Response(status_code=204)
+
+    async def schema_doc(_request: Any) -> Response:
+        return PlainTextResponse(schema.__doc__ or "")
+
+    async def record_json(_request: Any) -> Response:
+        if record is None:
+            return JSONResponse({"error": "no record: a live mission"}, status_code=404)
+        return JSONResponse(record)
+
+    async def viewer(ws: WebSocket) -> None:
+        await ws.accept()
+        q = hub.subscribe()
+        try:
+            while True:
+                batch = await q.get()
+                if batch is None:
+                    break
+                await ws.send_text(json.dumps(batch))
+        except (WebSocketDisconnect, RuntimeError):  # the viewer left mid-send
+            pass
+        finally:
+            hub.unsubscribe(q)
+            with contextlib.suppress(Exception):
+                await ws.close()
+
+    async def ingest(ws: WebSocket) -> None:
+        await ws.accept()
+        try:
+            while True:
+                data = json.loads(await ws.receive_text())
+                batch = data if isinstance(data, list) else [data]
+                hub.publish([e for e in batch if isinstance(e, dict) and "type" in e])
+        except (WebSocketDisconnect, json.JSONDecodeError):
+            pass
+
+    return Starlette(
+        routes=[
+            Route("/", index),
+            Route("/monitor.js", script),
+            Route("/schema", schema_doc),
+            Route("/favicon.ico", favicon),
+            Route("/record", record_json),
+            WebSocketRoute("/ws", viewer),
+            WebSocketRoute("/ingest", ingest),
+        ]
+    )
+
+
+def bind(port: int = 0) -> socket.socket:
+    """A listening-ready TCP socket on 127.0.0.1 (``port`` 0 = a free port)."""
+    sock = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
+    sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+    try:
+        sock.bind((HOST, port))
+    except OSError as exc:
+        sock.close()
+        from swarmex.errors import InputError
+
+        raise InputError(f"--port {port}: cannot listen on {HOST}: {exc.strerror}") from None
+    return sock
+
+
+class MonitorServer:
+    """One monitor: a hub, its app, a bound socket; :meth:`run` serves until stopped."""
+
+    def __init__(self, port: int = 0, record: dict | None = None) -> None:
+        self.sock = bind(port)
+        self.port = int(self.sock.getsockname()[1])
+        self.record = record
+        self.hub: EventHub | None = None
+        self._server: Any = None
+        self._loop: asyncio.AbstractEventLoop | None = None
+
+    @property
+    def url(self) -> str:
+        return f"http://{HOST}:{self.port}/"
+
+    async def run(
+        self,
+        producer: Any = None,
+        linger: float | None = None,
+        on_ready: Any = None,
+    ) -> None:
+        """Serve; ``producer(hub)`` is a coroutine function feeding the hub (None: ingest only).
+
+        With ``linger`` the server stops that many seconds after the mission's end event.
+        """
+        import uvicorn
+
+        self._loop = asyncio.get_running_loop()
+        self.hub = EventHub()
+        config = uvicorn.Config(
+            create_app(self.hub, self.record),
+            log_level="warning",
+            lifespan="off",
+            timeout_graceful_shutdown=2,
+            ws_ping_interval=None,
+        )
+        self._server = uvicorn.Server(config)
+        tasks: list[asyncio.Task] = [asyncio.create_task(self._close_on_exit())]
+        if producer is not None:
+            tasks.append(asyncio.create_task(_guard(producer(self.hub))))
+        if linger is not None:
+            tasks.append(asyncio.create_task(self._stop_after_end(linger)))
+        if on_ready is not None:
+            tasks.append(asyncio.create_task(self._ready(on_ready)))
+        try:
+            await self._server.serve(sockets=[self.sock])
+        finally:
+            for t in tasks:
+                t.cancel()
+            self.sock.close()
+
+    async def _ready(self, callback: Any) -> None:
+        while not self._server.started:
+            await asyncio.sleep(0.01)
+        callback(self)
+
+    async def _close_on_exit(self) -> None:
+        """When uvicorn is asked to stop (Ctrl-C, SIGTERM), end the viewers' streams too.
+
+        Otherwise their handlers wait for events forever and shutdown hangs until its timeout.
+        """
+        while not self._server.should_exit:
+            await asyncio.sleep(0.1)
+        self.hub.close()
+
+    async def _stop_after_end(self, linger: float) -> None:
+        await self.hub.ended.wait()
+        await asyncio.sleep(linger)
+        self.stop_now()
+
+    def stop_now(self) -> None:
+        """Close the viewers' streams and stop serving (call on the server's loop)."""
+        if self.hub is not None:
+            self.hub.close()
+        if self._server is not None:
+            self._server.should_exit = True
+
+    def stop(self) -> None:
+        """Thread-safe stop, for a server running in another thread (tests)."""
+        if self._loop is not None and not self._loop.is_closed():
+            with contextlib.suppress(RuntimeError):
+                self._loop.call_soon_threadsafe(self.stop_now)
+
+
+async def _guard(coro: Coroutine) -> None:
+    """Run a producer; its failure is printed rather than lost in a background task."""
+    try:
+        await coro
+    except asyncio.CancelledError:
+        raise
+    except Exception as exc:  # pragma: no cover - a producer bug must not stay silent
+        import sys
+
+        print(f"swarmex monitor: event producer failed: {exc!r}", file=sys.stderr)

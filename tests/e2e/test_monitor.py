@@ -1,0 +1,298 @@
+"""The live monitor: event stream vs record, WebSocket pacing, ingest, and a real browser.
+
+Every server here listens on 127.0.0.1 on a free port and stops by itself (``linger``); the
+browser test drives Debian's chromium with Playwright and skips, saying why, when either is
+missing (``playwright install`` downloads are not used).
+"""
+
+from __future__ import annotations
+
+import asyncio
+import json
+import queue
+import shutil
+import subprocess
+import sys
+import threading
+import time
+import urllib.request
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from swarmex.cli import main
+from swarmex.cli.commands_monitor import free_cells
+from swarmex.engine.record import read_record
+from swarmex.viz.monitor.events import SCHEMA, record_events
+from swarmex.viz.monitor.hub import replay
+from swarmex.viz.monitor.server import MonitorServer
+
+websockets = pytest.importorskip("websockets", reason="websockets is not installed")
+from websockets.sync.client import connect  # noqa: E402
+
+SCENARIO = """
+mission = "traversal"
+grid = "8x6"
+obstacles = ["3,1", "3,2", "3,3", "5,4"]
+agents = 3
+nests = ["0,0"]
+seed = 2
+"""
+CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
+CHROMIUM_ARGS = [
+    "--headless",
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+    "--no-first-run",
+]
+
+
+@pytest.fixture(scope="module")
+def record(tmp_path_factory) -> dict:
+    path = tmp_path_factory.mktemp("monitor") / "record.json"
+    argv = ["traverse", "--grid", "8x6", "--obstacles", "3,1;3,2;3,3;5,4", "--agents", "3"]
+    assert main([*argv, "--nests", "0,0", "--seed", "2", "--json", str(path)]) == 0
+    return read_record(path)
+
+
+def by_agent(events: list[dict], kind: str) -> dict[int, list[list[float]]]:
+    out: dict[int, list[list[float]]] = {}
+    for e in events:
+        if e["type"] == kind:
+            out.setdefault(e["agent"], []).append([e["t"], e["x"], e["y"]])
+    return out
+
+
+def check_against_record(events: list[dict], record: dict) -> None:
+    """The stream says exactly what the record says: paths, jobs, messages, the end."""
+    assert events[0]["type"] == "hello" and events[0]["schema"] == SCHEMA
+    assert events[0]["agents"] == [a["id"] for a in record["agents"]]
+    moves, jobs = by_agent(events, "move"), by_agent(events, "job")
+    for a in record["agents"]:
+        assert moves[a["id"]] == a["trajectory"]
+        assert jobs.get(a["id"], []) == a["jobs"]
+    assert sum(e["type"] == "message" for e in events) == record["metrics"]["messages"]
+    times = [e["t"] for e in events if "t" in e]
+    assert times == sorted(times)
+    end = events[-1]
+    assert end["type"] == "end"
+    assert (end["complete"], end["makespan"]) == (record["complete"], record["makespan"])
+    assert end["metrics"] == record["metrics"]
+
+
+# ---------------------------------------------------------------------------- the stream
+
+
+def test_record_events_match_the_record(record):
+    free = free_cells(record)
+    events = record_events(record, free, speed=10.0)
+    check_against_record(events, record)
+    world = events[1]
+    assert world["type"] == "world" and (world["width"], world["height"]) == (8, 6)
+    cells = np.array([[c == "." for c in row] for row in world["cells"]])
+    expected = np.ones((6, 8), dtype=bool)
+    for x, y in [(3, 1), (3, 2), (3, 3), (5, 4)]:
+        expected[y, x] = False
+    assert np.array_equal(cells, expected)
+
+
+class ServerThread:
+    """A monitor server on its own thread and event loop, stopped by the test or by linger."""
+
+    def __init__(self, record: dict | None, speed: float | None = None, linger: float = 5.0):
+        self.server = MonitorServer(0, record)
+        producer = None
+        if record is not None:
+            events = record_events(record, free_cells(record), speed)
+
+            def producer(hub):
+                return replay(hub, events, speed, wait_for_viewer=True)
+
+        self.thread = threading.Thread(
+            target=lambda: asyncio.run(self.server.run(producer, linger)), daemon=True
+        )
+
+    def __enter__(self) -> MonitorServer:
+        self.thread.start()
+        deadline = time.monotonic() + 10
+        while time.monotonic() < deadline:
+            try:
+                urllib.request.urlopen(self.server.url, timeout=1).read()
+                return self.server
+            except OSError:
+                time.sleep(0.05)
+        raise AssertionError("the monitor server did not start")
+
+    def __exit__(self, *exc) -> None:
+        self.server.stop()
+        self.thread.join(timeout=10)
+        assert not self.thread.is_alive()
+
+
+def receive_until_end(ws, timeout: float = 20.0) -> tuple[list[dict], list[float]]:
+    """All events up to the end event, and the wall time at which each frame arrived."""
+    events, stamps = [], []
+    deadline = time.monotonic() + timeout
+    while True:
+        batch = json.loads(ws.recv(timeout=max(0.1, deadline - time.monotonic())))
+        events += batch
+        stamps += [time.monotonic()] * len(batch)
+        if any(e["type"] == "end" for e in batch):
+            return events, stamps
+
+
+def test_websocket_stream_is_paced_and_matches_the_record(record):
+    duration = 1.5  # wall seconds the mission should take to play
+    speed = record["makespan"] / duration
+    with ServerThread(record, speed) as server:
+        ws_url = f"ws://127.0.0.1:{server.port}/ws"
+        with connect(ws_url, open_timeout=5) as ws:
+            events, stamps = receive_until_end(ws)
+        kept = [e for e in events if e["type"] != "clock"]
+        check_against_record(kept, record)
+        first_move = next(i for i, e in enumerate(events) if e["type"] == "move")
+        assert stamps[-1] - stamps[first_move] > 0.6 * duration  # paced, not dumped
+        # a viewer joining after the end gets the whole history at once
+        with connect(ws_url, open_timeout=5) as late:
+            again, _ = receive_until_end(late, timeout=5)
+        assert again == kept
+        page = urllib.request.urlopen(server.url, timeout=5).read().decode()
+        assert "<canvas" in page and "/monitor.js" in page
+        script = urllib.request.urlopen(server.url + "monitor.js", timeout=5).read().decode()
+        assert "monitorSnapshot" in script
+        served = json.loads(urllib.request.urlopen(server.url + "record", timeout=5).read())
+        assert served == record
+
+
+def test_ingest_feeds_the_same_page_stream():
+    """A networked runtime publishes on /ingest; viewers see its events, in order."""
+    with ServerThread(None, linger=0.5) as server:
+        base = f"ws://127.0.0.1:{server.port}"
+        feed = [
+            {
+                "type": "hello",
+                "schema": SCHEMA,
+                "mission": "traversal",
+                "source": "network",
+                "agents": [1, 2],
+                "time_unit": "s",
+                "speed": None,
+            },
+            {"type": "move", "t": 0.0, "agent": 1, "x": 0, "y": 0},
+            {"type": "message", "t": 0.5, "agent": 1, "to": None, "kind": "pos", "x": 0, "y": 0},
+        ]
+        with connect(base + "/ws", open_timeout=5) as viewer, connect(base + "/ingest") as src:
+            src.send(json.dumps(feed[0]))  # one event per frame or a list: both accepted
+            src.send(json.dumps(feed[1:]))
+            got: list[dict] = []
+            while len(got) < 3:
+                got += json.loads(viewer.recv(timeout=5))
+            assert got == feed
+            # a new hello starts a new mission: late viewers get history from it only
+            src.send(json.dumps([{**feed[0], "agents": [7]}, {"type": "end", "t": 1.0}]))
+            while got[-1]["type"] != "end":
+                got += json.loads(viewer.recv(timeout=5))
+            with connect(base + "/ws", open_timeout=5) as late:
+                history = json.loads(late.recv(timeout=5))
+        assert [e["type"] for e in history] == ["hello", "end"]
+        assert history[0]["agents"] == [7]
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["--speed", "0"], "--speed must be > 0"),
+        (["--scenario", "nope.toml"], "scenario file not found"),
+        (["--record", "nope.json"], "record not found"),
+        (["--scenario", "a.toml", "--record", "b.json"], "at most one of"),
+        (["--port", "70000"], "--port must be"),
+    ],
+)
+def test_monitor_bad_input_exits_2(argv, message, capsys):
+    assert main(["monitor", *argv]) == 2
+    err = capsys.readouterr().err
+    assert message in err and err.count("\n") == 1
+
+
+# ---------------------------------------------------------------------------- a browser
+
+
+def start_monitor(tmp_path: Path, speed: float) -> tuple[subprocess.Popen, str, Path]:
+    """``swarmex monitor --scenario`` in a subprocess; returns it, its URL and its record."""
+    scenario = tmp_path / "mission.toml"
+    scenario.write_text(SCENARIO)
+    rec = tmp_path / "streamed.json"
+    cmd = [sys.executable, "-m", "swarmex", "monitor", "--scenario", str(scenario)]
+    cmd += ["--speed", str(speed), "--linger", "20", "--json", str(rec)]
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    lines: queue.Queue = queue.Queue()
+    threading.Thread(target=lambda: [lines.put(x) for x in proc.stdout], daemon=True).start()
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline:
+        try:
+            line = lines.get(timeout=1)
+        except queue.Empty:
+            assert proc.poll() is None, "swarmex monitor exited early"
+            continue
+        if "http://127.0.0.1:" in line:
+            url = line[line.index("http://") :].split()[0]
+            return proc, url, rec
+    proc.kill()
+    raise AssertionError("swarmex monitor printed no address")
+
+
+def test_browser_shows_agents_moving_and_the_final_state(tmp_path):
+    sync_api = pytest.importorskip(
+        "playwright.sync_api", reason="playwright is not installed (pip install playwright)"
+    )
+    if CHROMIUM is None:
+        pytest.skip("chromium is not installed (apt-get install chromium; .ci/run does it)")
+    speed = 40.0  # the 185 s mission plays in about 4.6 s
+    proc, url, rec_path = start_monitor(tmp_path, speed)
+    try:
+        with sync_api.sync_playwright() as pw:
+            browser = pw.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
+            try:
+                page = browser.new_page(viewport={"width": 1000, "height": 600})
+                errors: list[str] = []
+                page.on("pageerror", lambda e: errors.append(str(e)))
+                page.goto(url, timeout=15000)
+                page.wait_for_function(
+                    "() => { const s = monitorSnapshot();"
+                    " return s.agents.length === 3 && s.agents.every(a => a.x !== null)"
+                    " && s.t > 10; }",
+                    timeout=20000,
+                )
+                first = page.evaluate("monitorSnapshot()")
+                page.wait_for_timeout(1000)
+                second = page.evaluate("monitorSnapshot()")
+                assert not first["ended"], "the mission ended before the page saw it move"
+                assert second["t"] > first["t"]
+                assert sum(a["path"] for a in second["agents"]) > sum(
+                    a["path"] for a in first["agents"]
+                )
+                page.wait_for_function("monitorSnapshot().ended", timeout=30000)
+                final = page.evaluate("monitorSnapshot()")
+                shot = page.screenshot(path=str(tmp_path / "monitor.png"))
+            finally:
+                browser.close()
+    finally:
+        proc.terminate()
+        proc.wait(timeout=15)
+    assert not errors
+    record = read_record(rec_path)
+    assert final["status"] == "ended" and final["draws"] > 0
+    assert (final["complete"], final["makespan"]) == (record["complete"], record["makespan"])
+    assert final["world"] == {"width": 8, "height": 6, "rows": 6}
+    assert final["messages"] == record["metrics"]["messages"]
+    assert final["jobs"] == sum(len(a["jobs"]) for a in record["agents"])
+    for shown, a in zip(final["agents"], record["agents"], strict=True):
+        assert shown["id"] == a["id"]
+        assert [shown["x"], shown["y"]] == a["trajectory"][-1][1:]
+        assert shown["path"] == len(a["trajectory"])
+        assert shown["jobs"] == len(a["jobs"])
+    assert len(shot) > 5000  # a real picture of the map, paths and agents
