@@ -100,7 +100,9 @@ def forage(
 @reproduce_app.command("foraging")
 def reproduce_foraging(
     out: Path = typer.Option(Path("reproduction-foraging"), "--out", help="Output directory."),
-    quick: bool = typer.Option(False, "--quick", help="A small sample (well under a minute)."),
+    quick: bool = typer.Option(
+        False, "--quick", help="One food cell per band: a smoke test, well under a minute."
+    ),
     workers: int = typer.Option(2, "--workers", help="Worker processes."),
     seed: int = typer.Option(2015, "--seed", help="Seed of the food positions."),
 ) -> None:

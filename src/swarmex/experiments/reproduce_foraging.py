@@ -260,7 +260,7 @@ def reproduce(out: Path, quick: bool = False, workers: int = 2, seed: int = 2015
 
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    per_band = 2 if quick else 40
+    per_band = 1 if quick else 40
     foods = food_cells(seed, per_band)
     todo = tasks(foods)
     workers = max(1, min(workers, os.cpu_count() or 1))

@@ -217,8 +217,10 @@ def uniform_section(runs: dict[str, Any], exact: dict) -> list[str]:
                 cells.append("–")
                 continue
             cells.append(f"{exact[(p, n)] + sum(rest) / len(rest):.0f}")
-        best = min((float(c), i) for i, c in enumerate(cells) if c != "–")[1]
-        cells[best] = f"**{cells[best]}**"
+        numeric = [(float(c), i) for i, c in enumerate(cells) if c != "–"]
+        if numeric:
+            best = min(numeric)[1]
+            cells[best] = f"**{cells[best]}**"
         lines.append(f"| {n} | " + " | ".join(cells) + " |")
     return lines
 
@@ -263,7 +265,7 @@ def write_report(
         f"128×128 grid, nest (64, 64), k = 100 units, Relay-Food transport, {per_band} food cells"
         f" per separation band drawn with seed {seed} and shared by all patterns; {len(runs)}"
         f" runs, {wall:.0f} s of simulation in total."
-        + (" **Quick mode: 2 cells per band, for a smoke test only.**" if quick else ""),
+        + (" **Quick mode: 1 cell per band, for a smoke test only.**" if quick else ""),
         "Columns as in Figs. 78–79: EXPLORATION (food found), COMMUNICATION (until the first robot"
         " finishes communicating), COMM+TRANS (until the last one does), TRANSPORTATION (until"
         " all k units are home); total is their sum. Each cell: thesis / ours (ours − thesis).",
