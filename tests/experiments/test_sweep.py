@@ -12,7 +12,7 @@ import pyarrow.parquet as pq
 import pytest
 
 from swarmex.cli import main
-from swarmex.cli.commands_sweep import mission_shapes
+from swarmex.cli.commands_sweep import _mean_ci, mission_shapes
 from swarmex.errors import InputError
 from swarmex.experiments.summary import mean_ci, summarize
 from swarmex.experiments.sweep import read_results, run_sweep
@@ -320,4 +320,5 @@ def test_cli_summary_prints_means_and_cis(tmp_path, capsys):
     rows = table_rows(out)
     mine = [r["makespan"] for r in rows if r["algorithm"] == "madgta" and r["agents"] == 2]
     s = mean_ci(mine)
-    assert f"{s.mean:.4g} ± {s.half_width:.2g}" in text
+    assert _mean_ci(s.mean, s.half_width) in text
+    assert _mean_ci(1234.5, 0.5) == "1,234 ± 0.5" and _mean_ci(12.34, 5.678) == "12.3 ± 5.68"

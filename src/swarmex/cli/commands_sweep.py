@@ -12,6 +12,8 @@ from pathlib import Path
 from typing import Any
 
 import typer
+from rich.console import Console
+from rich.measure import Measurement
 from rich.progress import (
     BarColumn,
     MofNCompleteColumn,
@@ -176,7 +178,15 @@ def print_summary(out_dir: Path, extra_metrics: list[str]) -> None:
             scale = 100.0 if m == "complete" else 1.0
             cells.append(_mean_ci(s.mean * scale, s.half_width * scale))
         out.add_row(*cells)
-    console.print(out)
+    # never wrap "mean ± CI" cells: a table wider than the terminal stays one line per row
+    natural = Measurement.get(console, console.options.update_width(10_000), out).maximum
+    wide = Console(
+        file=console.file,
+        width=max(console.width, natural),
+        force_terminal=console.is_terminal,
+        no_color=console.no_color,
+    )
+    wide.print(out)
 
 
 def _value(v: Any) -> str:
@@ -187,8 +197,20 @@ def _mean_ci(mean: float, half: float) -> str:
     if math.isnan(mean):
         return "—"
     if math.isnan(half):
-        return f"{mean:.4g}"
-    return f"{mean:.4g} ± {half:.2g}"
+        return _num(mean)
+    return f"{_num(mean)} ± {_num(half)}"
+
+
+def _num(v: float) -> str:
+    """Fixed notation with a precision that follows the magnitude (no 1.2e+03 in tables)."""
+    a = abs(v)
+    if a >= 1000:
+        return f"{v:,.0f}"
+    if a >= 10:
+        return f"{v:.1f}"
+    if a >= 0.01 or a == 0:
+        return f"{v:.3g}" if a < 1 else f"{v:.2f}"
+    return f"{v:.1e}"
 
 
 @app.command()

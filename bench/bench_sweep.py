@@ -1,0 +1,184 @@
+"""Sweep throughput, backend equality and driver memory.
+
+1. 1,000 small traversal runs (5x5 grid, 1-4 agents, madgta and nearest, 125 seeds) with the
+   local backend on 1 worker, then on 2: prints both rates and the ratio (target >= 1.8x on
+   2 cores). Two rates each: end to end (pool start-up included) and steady state (the middle
+   80 % of the runs, start-up and tail excluded).
+2. The same spec on Ray (unless --no-ray or Ray is missing): same table, bit for bit, except
+   ``wall_seconds``.
+3. 2,000 runs through ``swarmex sweep`` (the CLI, progress bar included): the driver's peak
+   RSS (target < 1 GiB).
+
+Every phase runs in a fresh interpreter (so one phase's imports do not count in another's
+memory) into a fresh folder (so nothing is skipped as already finished). The machine is shared:
+the load average is printed, since other people's jobs on the same two cores lower the ratio.
+
+    .venv/bin/python bench/bench_sweep.py [--runs 1000] [--memory-runs 2000] [--no-ray]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+TARGET_RATIO = 1.8
+TARGET_RSS_MIB = 1024
+
+
+def spec_text(runs: int) -> str:
+    seeds = max(1, runs // 8)
+    return (
+        'mission = "traversal"\n'
+        'algorithm = ["madgta", "nearest"]\n'
+        'grid = "5x5"\n'
+        "agents = [1, 2, 3, 4]\n"
+        f"seeds = {seeds}\n"
+    )
+
+
+# ---------------------------------------------------------------------------- phases
+
+
+def phase_rate(spec: Path, out: Path, backend: str, workers: int) -> dict:
+    """Run the sweep in this process and time it (called in a child interpreter)."""
+    from swarmex.cli.commands_sweep import mission_shapes
+    from swarmex.experiments.sweep import run_sweep
+    from swarmex.experiments.sweep_spec import load_sweep_spec
+
+    loaded = load_sweep_spec(spec)
+    shapes = mission_shapes(loaded.command, spec)
+    stamps: list[float] = []
+    start = time.perf_counter()
+    result = run_sweep(
+        loaded,
+        shapes,
+        out,
+        backend=backend,
+        workers=workers,
+        on_outcome=lambda _o: stamps.append(time.perf_counter()),
+    )
+    end = time.perf_counter()
+    n = len(stamps)
+    lo, hi = int(0.1 * n), int(0.9 * n) - 1
+    steady = (hi - lo) / (stamps[hi] - stamps[lo]) if hi > lo else float("nan")
+    return {
+        "runs": n,
+        "failed": result.failed,
+        "wall": end - start,
+        "rate": n / (end - start),
+        "steady_rate": steady,
+    }
+
+
+def phase_memory(spec: Path, out: Path, workers: int) -> dict:
+    """``swarmex sweep`` through the CLI entry point; report this process's peak RSS."""
+    import contextlib
+    import io
+    import resource
+
+    from swarmex.cli import main
+
+    start = time.perf_counter()
+    with contextlib.redirect_stdout(io.StringIO()):
+        code = main(["sweep", str(spec), "--out", str(out), "--workers", str(workers)])
+    wall = time.perf_counter() - start
+    peak_kib = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss  # KiB on Linux
+    return {"code": code, "wall": wall, "peak_rss_mib": peak_kib / 1024}
+
+
+def child(args: list[str]) -> dict:
+    """Run one phase in a fresh interpreter and return its JSON line."""
+    cmd = [sys.executable, __file__, "--phase", *args]
+    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=3000)
+    if proc.returncode != 0:
+        raise SystemExit(f"phase {args[0]} failed:\n{proc.stderr[-3000:]}")
+    return json.loads(proc.stdout.strip().splitlines()[-1])
+
+
+def rows(out: Path) -> list[dict]:
+    import pyarrow.parquet as pq
+
+    table = pq.read_table(out / "results.parquet").drop_columns(["wall_seconds"])
+    return table.to_pylist()
+
+
+# ---------------------------------------------------------------------------- main
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--runs", type=int, default=1000)
+    ap.add_argument("--memory-runs", type=int, default=2000)
+    ap.add_argument("--no-ray", action="store_true")
+    ap.add_argument("--phase", nargs="+", help=argparse.SUPPRESS)
+    args = ap.parse_args()
+    if args.phase:
+        kind, *rest = args.phase
+        if kind == "rate":
+            spec, out, backend, workers = rest
+            print(json.dumps(phase_rate(Path(spec), Path(out), backend, int(workers))))
+        else:
+            spec, out, workers = rest
+            print(json.dumps(phase_memory(Path(spec), Path(out), int(workers))))
+        return
+
+    print(f"cores: {os.cpu_count()}, load average before: {os.getloadavg()[0]:.2f}")
+    with tempfile.TemporaryDirectory(prefix="swarmex-bench-sweep-") as tmp:
+        tmp = Path(tmp)
+        spec = tmp / "spec.toml"
+        spec.write_text(spec_text(args.runs))
+        one = child(["rate", str(spec), str(tmp / "w1"), "local", "1"])
+        two = child(["rate", str(spec), str(tmp / "w2"), "local", "2"])
+        print(f"\n{one['runs']} traversal runs (5x5 grid, 1-4 agents, madgta|nearest):")
+        for name, r in (("1 worker ", one), ("2 workers", two)):
+            print(
+                f"  {name}: {r['wall']:6.1f} s   end to end {r['rate']:6.1f} runs/s"
+                f"   steady {r['steady_rate']:6.1f} runs/s   ({r['failed']} failed)"
+            )
+        ratio = two["rate"] / one["rate"]
+        steady = two["steady_rate"] / one["steady_rate"]
+        verdict = "meets" if max(ratio, steady) >= TARGET_RATIO else "BELOW"
+        print(
+            f"  ratio 2/1: end to end {ratio:.2f}x, steady {steady:.2f}x"
+            f"  (target >= {TARGET_RATIO}x: {verdict})"
+        )
+        same = rows(tmp / "w1") == rows(tmp / "w2")
+        print(f"  1-worker and 2-worker tables identical (except wall_seconds): {same}")
+
+        if args.no_ray:
+            print("\nray: skipped (--no-ray)")
+        else:
+            try:
+                import ray  # noqa: F401
+            except ImportError:
+                print("\nray: not installed (pip install 'swarmex[ray]'), skipped")
+            else:
+                r = child(["rate", str(spec), str(tmp / "ray"), "ray", "2"])
+                equal = rows(tmp / "ray") == rows(tmp / "w2")
+                print(
+                    f"\nray (local, 2 workers): {r['wall']:6.1f} s, {r['rate']:.1f} runs/s"
+                    f" end to end, steady {r['steady_rate']:.1f} runs/s;"
+                    f" same table as local (except wall_seconds): {equal}"
+                )
+
+        mem_spec = tmp / "memory.toml"
+        mem_spec.write_text(spec_text(args.memory_runs))
+        m = child(["memory", str(mem_spec), str(tmp / "mem"), "2"])
+        n = len(rows(tmp / "mem"))
+        verdict = "meets" if m["peak_rss_mib"] < TARGET_RSS_MIB else "ABOVE"
+        print(
+            f"\nmemory: {n} runs through `swarmex sweep` in {m['wall']:.1f} s;"
+            f" driver peak RSS {m['peak_rss_mib']:.0f} MiB"
+            f" (target < {TARGET_RSS_MIB} MiB: {verdict})"
+        )
+    print(f"load average after: {os.getloadavg()[0]:.2f}")
+
+
+if __name__ == "__main__":
+    main()
