@@ -100,6 +100,32 @@ def test_record_events_match_the_record(record):
     assert np.array_equal(cells, expected)
 
 
+def test_other_missions_records_replay_without_a_map():
+    """A foraging-style record (jobs carry a kind, no map layout): moves and jobs, no messages."""
+    record = {
+        "mission": "foraging",
+        "algorithm": "spiral",
+        "time_unit": "step",
+        "complete": True,
+        "makespan": 3.0,
+        "metrics": {"total_time": 3},
+        "world": {"kind": "grid", "source": "empty 4x4", "width": 4, "height": 4},
+        "agents": [
+            {
+                "id": 0,
+                "metrics": {},
+                "trajectory": [[0, 1, 1], [1, 2, 1], [2, 2, 2]],
+                "jobs": [[2, 2, 2, "pickup"], [3, 1, 1, "drop"]],
+            },
+        ],
+    }
+    events = record_events(record, free_cells(record), speed=1.0)
+    assert events[1]["cells"] is None and (events[1]["width"], events[1]["height"]) == (4, 4)
+    assert [e["kind"] for e in events if e["type"] == "job"] == ["pickup", "drop"]
+    assert not [e for e in events if e["type"] == "message"]
+    assert events[-1]["type"] == "end" and events[-1]["t"] == 3
+
+
 class ServerThread:
     """A monitor server on its own thread and event loop, stopped by the test or by linger."""
 

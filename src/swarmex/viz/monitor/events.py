@@ -18,7 +18,8 @@ world      ``kind`` ("grid" | "graph" | "polygons"), ``width``, ``height``, ``so
            the layout is unknown (the viewer then draws the bounds only).
 move       ``t``, ``agent``, ``x``, ``y``: the agent is at (x, y) (a cell, x = column, or a
            point in metres). The first move of an agent is its start.
-job        ``t``, ``agent``, ``x``, ``y``: the agent starts a job / picks food / … there.
+job        ``t``, ``agent``, ``x``, ``y``: the agent starts a job / picks food / … there;
+           ``kind`` when the record names it (foraging: "pickup", "drop").
 message    ``t``, ``agent`` (sender), ``to`` (receiver id, null for a broadcast), ``kind``,
            ``x``, ``y`` (the vertex it is about, if any).
 clock      ``t``: time passes with nothing else to say (lets the clock tick).
@@ -98,10 +99,13 @@ def record_events(
     job_time = (record.get("params") or {}).get("job_time")
     for agent in record.get("agents", []):
         aid = agent["id"]
-        for t, x, y in agent.get("trajectory", []):
+        for t, x, y, *_ in agent.get("trajectory", []):
             timed.append({"type": "move", "t": t, "agent": aid, "x": x, "y": y})
-        for t, x, y in agent.get("jobs", []):
-            timed.append({"type": "job", "t": t, "agent": aid, "x": x, "y": y})
+        for t, x, y, *extra in agent.get("jobs", []):  # foraging adds the event's kind
+            job = {"type": "job", "t": t, "agent": aid, "x": x, "y": y}
+            if extra and isinstance(extra[0], str):
+                job["kind"] = extra[0]
+            timed.append(job)
         if record.get("mission") == "traversal" and job_time is not None:
             timed += traversal_messages(agent, float(job_time))
     timed.sort(key=lambda e: e["t"])  # stable: per agent, a move precedes its job
@@ -115,8 +119,8 @@ def traversal_messages(agent: dict, job_time: float) -> list[dict[str, Any]]:
     aid = agent["id"]
     traj = agent.get("trajectory", [])
     jobs = agent.get("jobs", [])
-    job_at = {(t, x, y) for t, x, y in jobs}
-    job_times = sorted(t for t, _, _ in jobs)
+    job_at = {tuple(j[:3]) for j in jobs}
+    job_times = sorted(j[0] for j in jobs)
     out = []
 
     def msg(t: float, kind: str, x: float, y: float) -> None:
@@ -124,14 +128,14 @@ def traversal_messages(agent: dict, job_time: float) -> list[dict[str, Any]]:
             {"type": "message", "t": t, "agent": aid, "to": None, "kind": kind, "x": x, "y": y}
         )
 
-    for t, x, y in jobs:
+    for t, x, y, *_ in jobs:
         msg(t, "job", x, y)
         msg(t + job_time, "done", x, y)
-    for i, (t, x, y) in enumerate(traj):
+    for i, (t, x, y, *_) in enumerate(traj):
         if i == 0 or (t, x, y) not in job_at:
             msg(t, "pos", x, y)
         if i + 1 < len(traj):  # the decision to move on: after the last job here, if any
-            t_next, nx, ny = traj[i + 1]
+            t_next, nx, ny = traj[i + 1][:3]
             k = bisect.bisect_left(job_times, t_next) - 1  # jobs are done where the agent is
             leave = job_times[k] + job_time if k >= 0 and job_times[k] >= t else t
             msg(leave, "next", nx, ny)
