@@ -195,7 +195,7 @@ def reproduce(out: str | Path, quick: bool = False, console: Console | None = No
             bar.advance(task)
     results = [done[j.key] for j in jobs]
     report = write_report(out, results, quick=quick, seconds=time.perf_counter() - t0,
-                          version=__version__)
+                          version=__version__, new_runs=len(todo))
     console.print(f"report: {report}")
     return report
 

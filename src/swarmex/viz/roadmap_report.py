@@ -89,14 +89,20 @@ def _write_csv(path: Path, rows: list[dict[str, Any]]) -> None:
             w.writerow({k: (round(v, 3) if isinstance(v, float) else v) for k, v in r.items()})
 
 
+def _nanmean(values: Iterable[float]) -> float:
+    a = np.asarray(list(values), dtype=float)
+    a = a[~np.isnan(a)]
+    return float(a.mean()) if len(a) else float("nan")
+
+
 def _gain_summary(rows: list[dict[str, Any]]) -> dict[str, float]:
     ours = np.array([r["ours_wma"] - r["ours_prm"] for r in rows])
     paper = np.array([r["paper_wma"] - r["paper_prm"] for r in rows])
     return {
         "ours_ge": int((ours >= -1e-9).sum()), "paper_ge": int((paper >= 0).sum()),
-        "ours_mean": float(np.nanmean(ours)), "paper_mean": float(paper.mean()),
-        "mae_wma": float(np.nanmean(np.abs([r["ours_wma"] - r["paper_wma"] for r in rows]))),
-        "mae_prm": float(np.nanmean(np.abs([r["ours_prm"] - r["paper_prm"] for r in rows]))),
+        "ours_mean": _nanmean(ours), "paper_mean": float(paper.mean()),
+        "mae_wma": _nanmean(np.abs([r["ours_wma"] - r["paper_wma"] for r in rows])),
+        "mae_prm": _nanmean(np.abs([r["ours_prm"] - r["paper_prm"] for r in rows])),
         "n": len(rows),
     }
 
@@ -191,7 +197,7 @@ def _title_tail(run: Any) -> str:
 
 
 def write_report(out: Path, results: list[dict[str, Any]], quick: bool, seconds: float,
-                 version: str) -> Path:
+                 version: str, new_runs: int | None = None) -> Path:
     from swarmex.experiments.reproduce_roadmap import R_BASE, reference
 
     t1 = table1(results, reference("roadmap_table1.csv"))
@@ -221,14 +227,15 @@ def write_report(out: Path, results: list[dict[str, Any]], quick: bool, seconds:
     prm_all = [r for r in results if r["planner"] == "prm" and r["exp"] in ("t1", "t2")]
     multi = sum(r["components"] > 1 for r in prm_all)
     lines = _markdown(t1, t2, g1, g2, cov_imp, srch_imp, un, figs, quick, seconds, version,
-                      R_BASE, prm_all, multi, results)
+                      R_BASE, prm_all, multi, results,
+                      len(results) if new_runs is None else new_runs)
     path = out / "roadmap.md"
     path.write_text("\n".join(lines) + "\n", encoding="utf-8")
     return path
 
 
 def _markdown(t1, t2, g1, g2, cov_imp, srch_imp, un, figs, quick, seconds, version, r_base,
-              prm_all, multi, results) -> list[str]:
+              prm_all, multi, results, new_runs) -> list[str]:
     n1 = t1[0]["runs"] if t1 else 0
     n2 = t2[0]["runs"] if t2 else 0
     wma_all = [r for r in results if r["planner"] != "prm"]
@@ -236,8 +243,11 @@ def _markdown(t1, t2, g1, g2, cov_imp, srch_imp, un, figs, quick, seconds, versi
         "# Seed 004 reproduction: WMA-RRT coverage and goal search against PRM",
         "",
         f"swarmex {version}; {'QUICK run (1 run per row: a smoke test, not a result)' if quick else 'full run'}; "  # noqa: E501
-        f"{len(results)} runs in {seconds:.0f} s of this invocation (runs already in the "
-        "journal are not rerun). Regenerate with `swarmex reproduce roadmap --out DIR`.",
+        f"{len(results)} runs, {new_runs} of them in this invocation ({seconds:.0f} s), the "
+        f"rest read back from `roadmap_runs.jsonl`; the runs themselves took "
+        f"{sum(r.get('wall_seconds') or 0 for r in results):.0f} s of wall time in all. "
+        "Regenerate with `swarmex reproduce roadmap --out DIR` (runs already in the journal "
+        "are not rerun; delete it to start over).",
         "",
         "## Setup (what the paper leaves open, fixed here)",
         "",

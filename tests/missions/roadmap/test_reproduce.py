@@ -31,11 +31,11 @@ def test_plan_covers_both_tables():
 
 
 def test_report_from_a_tiny_sweep(tmp_path, monkeypatch):
-    jobs = [rr.Job("t1", "fig8", "coverage", p, 400, 20.0, "r", 0)
+    jobs = [rr.Job("t1", "fig8", "coverage", p, 100, 40.0, "r", 0)
             for p in ("wma-rrt", "prm", "wma-rrt-takeover")]
-    jobs += [rr.Job("t2", "fig11", "search", p, 200, 20.0, "r", 0)
+    jobs += [rr.Job("t2", "fig11", "search", p, 100, 40.0, "r", 0)
              for p in ("wma-rrt", "prm", "wma-rrt-takeover")]
-    jobs += [rr.Job("unreach", "fig14", "search", p, 100, 20.0, "r", 0)
+    jobs += [rr.Job("unreach", "fig14", "search", p, 60, 20.0, "r", 0)
              for p in ("wma-rrt", "prm")]
     monkeypatch.setattr(rr, "plan", lambda quick: jobs)
     monkeypatch.setattr("swarmex.viz.roadmap_report.draw_examples", lambda out, res: {})
