@@ -322,3 +322,34 @@ def test_cli_summary_prints_means_and_cis(tmp_path, capsys):
     s = mean_ci(mine)
     assert _mean_ci(s.mean, s.half_width) in text
     assert _mean_ci(1234.5, 0.5) == "1,234 ± 0.5" and _mean_ci(12.34, 5.678) == "12.3 ± 5.68"
+
+
+def test_killed_driver_loses_no_finished_run(tmp_path):
+    """SIGKILL the CLI mid-sweep: every record it wrote is kept, and the rerun skips them."""
+    import signal
+    import subprocess
+    import time
+
+    spec = write_spec(tmp_path, 'mission = "traversal"\ngrid = "3x3"\nagents = 1\nseeds = 40\n')
+    out = tmp_path / "out"
+    cmd = [sys.executable, "-m", "swarmex", "sweep", str(spec), "--backend", "serial"]
+    proc = subprocess.Popen(
+        [*cmd, "--out", str(out)], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL
+    )
+    try:
+        deadline = time.monotonic() + 60
+        while time.monotonic() < deadline and proc.poll() is None:
+            if len(list((out / "runs").glob("*.json"))) >= 3:
+                break
+            time.sleep(0.01)
+        proc.send_signal(signal.SIGKILL)
+    finally:
+        proc.wait(timeout=10)
+    kept = sorted(p.name for p in (out / "runs").glob("*.json"))
+    assert 3 <= len(kept) < 40, "the sweep should have been killed part way"
+    for name in kept:  # atomic writes: no half-written record survives a kill
+        json.loads((out / "runs" / name).read_text())
+    result = sweep(spec, out)
+    assert result.skipped == len(kept)  # records without a journal line count too
+    assert result.ran == 40 - len(kept) and result.failed == 0
+    assert len(pq.read_table(out / "results.parquet")) == 40

@@ -116,18 +116,25 @@ def sweep(
             progress.update(state["task"], description=f"sweep ({state['failed']} failed)")
         progress.advance(state["task"])
 
-    with progress:
-        result = run_sweep(
-            spec,
-            shapes,
-            out_dir,
-            backend=backend,
-            workers=workers,
-            ray_address=ray_address,
-            retry_failed=retry_failed,
-            on_start=on_start,
-            on_outcome=on_outcome,
+    try:
+        with progress:
+            result = run_sweep(
+                spec,
+                shapes,
+                out_dir,
+                backend=backend,
+                workers=workers,
+                ray_address=ray_address,
+                retry_failed=retry_failed,
+                on_start=on_start,
+                on_outcome=on_outcome,
+            )
+    except KeyboardInterrupt:
+        err_console.print(
+            f"swarmex: interrupted; finished runs are saved in {out_dir}"
+            " (run the same command again to resume)"
         )
+        raise typer.Exit(130) from None
     console.print(
         f"{result.skipped + result.ran}/{result.total} runs finished ({result.ran} now),"
         f" {result.failed} failed → {result.table}"
