@@ -72,9 +72,9 @@ def _bfs_hops(indptr, indices, blocked, sources, hops, queue):  # pragma: no cov
 
 
 @nb.njit(cache=True, nogil=True)
-def _bfs_hops_template(indptr, indices, template, source, hops, queue):  # pragma: no cover
-    """Single-source hop counts; ``template`` holds UNREACHED / BLOCKED per vertex."""
-    hops[:] = template
+def _bfs_hops_csr(indptr, indices, source, hops, queue):  # pragma: no cover - compiled
+    """Single-source hop counts into ``hops``, which must arrive holding UNREACHED or
+    BLOCKED per vertex (a copy of a template: one array to test instead of two)."""
     hops[source] = 0
     queue[0] = source
     tail = 1
@@ -96,14 +96,13 @@ def _bfs_hops_template(indptr, indices, template, source, hops, queue):  # pragm
 
 
 @nb.njit(cache=True, nogil=True)
-def _bfs_hops_lattice(width, nbmask, template, source, hops, queue):  # pragma: no cover
-    """Single-source hop counts on a full 4-connected lattice (a grid world's graph).
+def _bfs_hops_lattice(width, nbmask, source, hops, queue):  # pragma: no cover - compiled
+    """:func:`_bfs_hops_csr` on a full 4-connected lattice (a grid world's graph).
 
     Neighbours are computed (u ± 1, u ± width, gated by ``nbmask`` bits up/left/right/down)
     instead of read from the CSR arrays: the working set drops to the hop, queue and mask
     arrays, which is what makes this about 3x faster than the general kernel.
     """
-    hops[:] = template
     hops[source] = 0
     queue[0] = source
     tail = 1
@@ -140,6 +139,59 @@ def _bfs_hops_lattice(width, nbmask, template, source, hops, queue):  # pragma: 
                     hops[v] = level
                     queue[tail] = v
                     tail += 1
+    return tail
+
+
+@nb.njit(cache=True, nogil=True)
+def _shift_source_lattice(width, nbmask, row, new_source, queue):  # pragma: no cover
+    """Turn the exact hop field of a source into that of its neighbour ``new_source``.
+
+    On a bipartite graph (a 4-connected lattice, with any vertices removed) moving the
+    source one edge changes every reachable distance by exactly one: down by one for the
+    vertices with a shortest path through ``new_source`` (its *cone* in the shortest-path
+    DAG of the old field), up by one for all others. So: one vectorisable pass adds one,
+    then a search over the cone alone (about half the graph when agents walk) subtracts
+    two. Exact, like a fresh BFS, at roughly half its cost. No visited marks are needed: a
+    vertex is taken into the cone when it holds old(u) + 2, and once taken it holds
+    old - 1, which no neighbour of a cone vertex can match again.
+    """
+    n = row.shape[0]
+    for x in range(n):
+        if row[x] >= 0:
+            row[x] += 1
+    row[new_source] = 0
+    queue[0] = new_source
+    head = 0
+    tail = 1
+    while head < tail:
+        u = queue[head]
+        head += 1
+        want = row[u] + 3  # old(u) + 1, stored as old + 1 (outside the cone)
+        m = nbmask[u]
+        if m & 1:
+            v = u - width
+            if row[v] == want:
+                row[v] = want - 2
+                queue[tail] = v
+                tail += 1
+        if m & 2:
+            v = u - 1
+            if row[v] == want:
+                row[v] = want - 2
+                queue[tail] = v
+                tail += 1
+        if m & 4:
+            v = u + 1
+            if row[v] == want:
+                row[v] = want - 2
+                queue[tail] = v
+                tail += 1
+        if m & 8:
+            v = u + width
+            if row[v] == want:
+                row[v] = want - 2
+                queue[tail] = v
+                tail += 1
     return tail
 
 

@@ -165,13 +165,29 @@ def _top_columns(util):  # pragma: no cover - compiled
 
 @nb.njit(cache=True, nogil=True)
 def _far_scan(
-    hops, me_slot, slots, status, reserved, me, step, tpu_me, jt_me, tpu, jt, far, mins
+    hops_u, me_slot, slots, klass, ctpu, cjt, status, reserved, me, step, tpu_me, jt_me,
+    far, mins, hmin,
 ):  # pragma: no cover - compiled
-    """Branch 3 in one pass: W = vacant vertices I can reach, each one's min over rivals of
-    util, then the vertices tied at the max-min. Returns (|W|, number tied); the tied
-    vertices are left in ``far[:tied]``."""
+    """Branch 3 in two streaming passes: W = vacant vertices I can reach, each one's min
+    over rivals of util, and the vertices tied at the max-min. Returns (|W|, number tied);
+    the tied vertices are left in ``far[:tied]``.
+
+    Rivals with the same speed and job time form a class, and within a class the cost is a
+    non-decreasing function of the hop count, so the min over the class is the cost of the
+    class's minimum hop count (``hops_u`` is the hop table viewed as uint32: unreached
+    vertices, negative, become huge). Rounding is monotone too, so min over rivals of
+    ``cost - mine`` equals that of the per-class minima: the floats match the generic code.
+    """
     n = status.shape[0]
-    r = slots.shape[0]
+    nk = ctpu.shape[0]
+    for k in range(nk):
+        hmin[k, :] = np.uint32(0xFFFFFFFF)
+    for i in range(slots.shape[0]):
+        row = hops_u[slots[i]]
+        hk = hmin[klass[i]]
+        for v in range(n):
+            hk[v] = min(hk[v], row[v])
+    mine_row = hops_u[me_slot]
     nf = 0
     for v in range(n):
         if status[v] != 0:
@@ -179,19 +195,19 @@ def _far_scan(
         owner = reserved[v]
         if owner != 0 and owner != me:
             continue
-        hm = hops[me_slot, v]
-        if hm < 0:
+        hm = mine_row[v]
+        if hm >= np.uint32(0x80000000):
             continue
         mine = (hm * step) * tpu_me
         mine = mine + jt_me
-        if r == 0:
+        if nk == 0:
             m = -mine
         else:
             m = np.inf
-            for i in range(r):
-                h = hops[slots[i], v]
-                theirs = (np.inf if h < 0 else h * step) * tpu[i]
-                u = theirs + jt[i] - mine
+            for k in range(nk):
+                h = hmin[k, v]
+                theirs = (np.inf if h >= np.uint32(0x80000000) else h * step) * ctpu[k]
+                u = theirs + cjt[k] - mine
                 if u < m:
                     m = u
         far[nf] = v
@@ -281,6 +297,15 @@ class Madgta:
                      belief.time_per_unit[rivals], belief.job_time[rivals], util)
         return util
 
+    def _scratch(self, n: int, classes: int):
+        """Reused work arrays of the branch-3 scan (fresh ones would page-fault each time)."""
+        buf = getattr(self, "_buffers", None)
+        if buf is None or buf[0].size != n or buf[2].shape[0] < classes:
+            buf = (np.empty(n, dtype=np.int64), np.empty(n),
+                   np.empty((max(1, classes), n), dtype=np.uint32))
+            self._buffers = buf
+        return buf
+
     def _best_near(self, belief, cands, rng, rivals, jt_me) -> int:
         return _choose(cands, self._utility_matrix(belief, cands, rivals, jt_me), rng)
 
@@ -289,13 +314,12 @@ class Madgta:
         me = belief.me
         here = belief.here
         me_slot, slots = self._hop_rows(belief, rivals)
-        n = belief.status.size
-        far = np.empty(n, dtype=np.int64)
-        mins = np.empty(n)
+        klass, ctpu, cjt = _rival_classes(belief.time_per_unit[rivals], belief.job_time[rivals])
+        far, mins, hmin = self._scratch(belief.status.size, ctpu.size)
         nf, nt = _far_scan(
-            known.hops, me_slot, slots, belief.status, belief.reserved, me, known.step,
-            belief.time_per_unit[me], jt_me,
-            belief.time_per_unit[rivals], belief.job_time[rivals], far, mins,
+            known.hops.view(np.uint32), me_slot, slots, klass, ctpu, cjt,
+            belief.status, belief.reserved, me, known.step, belief.time_per_unit[me], jt_me,
+            far, mins, hmin,
         )
         if nf == 0:
             return Decision("finish")
@@ -334,6 +358,16 @@ class Nearest(Madgta):
 
 
 _NO_RIVALS = np.zeros(0, dtype=np.int64)
+
+
+def _rival_classes(tpu: np.ndarray, jt: np.ndarray):
+    """Group rivals by (time per unit, job time): (class of each rival, class values)."""
+    if tpu.size == 0:
+        return _NO_RIVALS, tpu, jt
+    if (tpu == tpu[0]).all() and (jt == jt[0]).all():
+        return np.zeros(tpu.size, dtype=np.int64), tpu[:1].copy(), jt[:1].copy()
+    pairs, klass = np.unique(np.stack([tpu, jt], axis=1), axis=0, return_inverse=True)
+    return klass.ravel().astype(np.int64), pairs[:, 0].copy(), pairs[:, 1].copy()
 
 
 def _choose(cands: np.ndarray, util: np.ndarray, rng: np.random.Generator) -> int:

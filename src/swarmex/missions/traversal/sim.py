@@ -120,7 +120,9 @@ class _Sim:
         # Under a perfect instant broadcast every belief's obstacle set is identical at every
         # instant, so one KnownGraph (and its field cache) is shared: copy elision, not
         # shared memory between agents.
-        shared = KnownGraph(self.graph, capacity=4 * m + 8) if channel.perfect else None
+        shared = (
+            KnownGraph(self.graph, capacity=4 * m + 8, prefetch=True) if channel.perfect else None
+        )
         self.beliefs = [None] + [
             TraversalBelief(
                 i, m, shared or KnownGraph(self.graph, capacity=2 * m + 8), tpu, jt
@@ -249,6 +251,7 @@ class _Sim:
             dt = self.graph.edge_length(here, d.node) * b.time_per_unit[a]
             if not b.in_km(d.node):
                 b.reserve(d.node, a)
+            b.known.prefetch(d.node)  # everyone will want its field once a arrives
             self.broadcast(a, "next", d.node, eta=t + dt)
             log.moves += 1
             log.travel_time += dt
