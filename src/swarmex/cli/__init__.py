@@ -16,6 +16,7 @@ from swarmex.cli import (  # noqa: F401
     commands_exploration,
     commands_foraging,
     commands_monitor,
+    commands_net,
     commands_reproduce,
     commands_roadmap,
     commands_run,

@@ -1,0 +1,246 @@
+"""``swarmex serve``, ``swarmex agent`` and ``swarmex watch``: the networked traversal runtime.
+
+``serve`` takes the mission options of ``swarmex traverse`` (parsed by the same helpers, so a
+map, grid, nests or obstacles mean the same thing) plus the network's: ``--port``,
+``--time-scale`` (wall seconds per mission second), ``--rng``, heartbeats and timeouts. It
+writes the same result record as ``traverse`` (plus ``network`` and ``departed_agents``).
+``agent --connect tcp://HOST:PORT`` runs one UAV (or ``--count K`` of them in one process).
+``watch --connect tcp://HOST:PORT`` prints the live mission in the terminal, or forwards it
+to the web monitor's ingest WebSocket with ``--forward``. The protocol is described in
+:mod:`swarmex.net.traversal` and docs/net.md.
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+from pathlib import Path
+
+import typer
+
+from swarmex.cli.app import app, console
+from swarmex.cli.commands_traversal import (
+    DEFAULTS,
+    build_world,
+    check_output,
+    parse_cells,
+    resolve_nests,
+)
+from swarmex.errors import InputError
+
+HOSTS_HELP = "Interface to bind (127.0.0.1 = this machine only; * = all)."
+
+
+def _positive(value: float, option: str, zero_ok: bool = False) -> None:
+    ok = value >= 0 if zero_ok else value > 0
+    if not ok or math.isnan(value) or math.isinf(value):
+        raise InputError(f"{option} must be {'>= 0' if zero_ok else '> 0'}, got {value}")
+
+
+def _address(connect: str) -> str:
+    if not connect.startswith(("tcp://", "ipc://", "inproc://")):
+        raise InputError(f"--connect: expected tcp://HOST:PORT, got {connect!r}")
+    return connect
+
+
+@app.command()
+def serve(
+    map_file: Path | None = typer.Option(None, "--map", help="MovingAI .map file (or --grid)."),
+    grid: str | None = typer.Option(None, "--grid", help="Empty WxH grid (or --map)."),
+    obstacles: str | None = typer.Option(None, "--obstacles", help='Blocked cells "x,y;…".'),
+    agents: int = typer.Option(..., "--agents", help="Number of agent ids (>= 1)."),
+    nests: str | None = typer.Option(None, "--nests", help='Start cells "x,y;…" (round-robin).'),
+    travel_time: float = typer.Option(
+        DEFAULTS["travel_time"], "--travel-time", help="Seconds per grid edge."
+    ),
+    job_time: float = typer.Option(DEFAULTS["job_time"], "--job-time", help="Seconds per job."),
+    algorithm: str = typer.Option("madgta", "--algorithm", help="madgta | nearest."),
+    connectivity: int = typer.Option(DEFAULTS["connectivity"], "--connectivity", help="4 or 8."),
+    start_interval: float = typer.Option(
+        DEFAULTS["start_interval"], "--start-interval", help="Seconds between agents' starts."
+    ),
+    altitude: float = typer.Option(DEFAULTS["altitude"], "--altitude", help="Altitude, m."),
+    up_speed: float = typer.Option(DEFAULTS["up_speed"], "--up-speed", help="Climb, m/s."),
+    down_speed: float = typer.Option(DEFAULTS["down_speed"], "--down-speed", help="Descent, m/s."),
+    job_failure: float = typer.Option(
+        DEFAULTS["job_failure"], "--job-failure", help="Probability a job fails."
+    ),
+    seed: int = typer.Option(0, "--seed", help="Seed of every random choice."),
+    port: int = typer.Option(..., "--port", help="TCP port to listen on (0: a free one)."),
+    host: str = typer.Option("127.0.0.1", "--host", help=HOSTS_HELP),
+    time_scale: float = typer.Option(
+        0.01, "--time-scale", help="Wall seconds per mission second (0: as fast as possible)."
+    ),
+    rng: str = typer.Option(
+        "shared",
+        "--rng",
+        help="shared: the run's one generator travels with the steps (= swarmex traverse);"
+        " own: one generator per agent.",
+    ),
+    done_lists: bool = typer.Option(
+        True, "--done-lists/--no-done-lists", help="Carry Fig. 4.17's done-nodes list."
+    ),
+    heartbeat: float = typer.Option(0.25, "--heartbeat", help="Wall seconds between beats."),
+    dead_after: float = typer.Option(
+        2.0, "--dead-after", help="Wall seconds of silence before an agent is declared gone."
+    ),
+    spare_wait: float = typer.Option(
+        0.0, "--spare-wait", help="Wall seconds to wait for a spare when all agents are gone."
+    ),
+    timeout: float = typer.Option(600.0, "--timeout", help="Give up after this many seconds."),
+    monitor_url: str | None = typer.Option(
+        None, "--monitor", help="Also push events to a web monitor: ws://127.0.0.1:PORT/ingest."
+    ),
+    json_path: Path | None = typer.Option(None, "--json", help="Write the result record here."),
+) -> None:
+    """Seed 000's mission server: ids, mission data, relay, monitor, result record."""
+    from swarmex.missions.traversal import uniform_agents
+    from swarmex.net.server import TraversalServer
+    from swarmex.net.traversal import Mission
+
+    check_output(json_path, "--json")
+    if not 0 <= port <= 65535:
+        raise InputError(f"--port must be in 0..65535, got {port}")
+    _positive(time_scale, "--time-scale", zero_ok=True)
+    for value, option in ((heartbeat, "--heartbeat"), (dead_after, "--dead-after"),
+                          (timeout, "--timeout")):
+        _positive(value, option)
+    _positive(spare_wait, "--spare-wait", zero_ok=True)
+    if dead_after <= heartbeat:
+        raise InputError("--dead-after must be longer than --heartbeat")
+    if monitor_url is not None and not monitor_url.startswith(("ws://", "wss://")):
+        raise InputError(f"--monitor: expected ws://HOST:PORT/ingest, got {monitor_url!r}")
+    blocked = parse_cells(obstacles or "", "--obstacles")
+    world = build_world(map_file, grid, blocked, connectivity)
+    nest_nodes = resolve_nests(world, nests, agents)
+    specs = uniform_agents(nest_nodes, travel_time, job_time, 1.0, altitude, up_speed, down_speed)
+    from swarmex.missions.traversal.sim import validate_nests
+
+    validate_nests(world, specs)
+    params = {  # the keys of swarmex traverse's record, then the network's own
+        "map": None if map_file is None else str(map_file),
+        "grid": grid,
+        "obstacles": [list(c) for c in blocked],
+        "agents": agents,
+        "nests": [list(world.xy(n)) for n in nest_nodes],
+        "travel_time": travel_time,
+        "job_time": job_time,
+        "algorithm": algorithm,
+        "objective": DEFAULTS["objective"],
+        "connectivity": connectivity,
+        "start_interval": start_interval,
+        "altitude": altitude,
+        "up_speed": up_speed,
+        "down_speed": down_speed,
+        "comm_range": None,
+        "loss": 0.0,
+        "delay": 0.0,
+        "job_failure": job_failure,
+        "seed": seed,
+        "network": {"time_scale": time_scale, "rng": rng, "done_lists": done_lists,
+                    "heartbeat": heartbeat, "dead_after": dead_after},
+    }
+    mission = Mission(world, specs, algorithm, seed, start_interval, 1.0, job_failure,
+                      time_scale, rng, done_lists, heartbeat, params)
+    bind = f"tcp://{host}:{port}" if port else f"tcp://{host}:*"
+    try:
+        server = TraversalServer(mission, bind, json_path, timeout, dead_after,
+                                 spare_wait=spare_wait, monitor_url=monitor_url,
+                                 say=_say)
+    except Exception as exc:  # zmq.ZMQError: address in use, bad interface
+        raise InputError(f"cannot listen on {bind}: {exc}") from None
+    code = server.run()
+    raise typer.Exit(code)
+
+
+def _say(text: str) -> None:
+    console.print(text, highlight=False, soft_wrap=True)
+    console.file.flush()
+
+
+@app.command()
+def agent(
+    connect: str = typer.Option(..., "--connect", help="The server: tcp://HOST:PORT."),
+    agent_id: int = typer.Option(0, "--id", help="Ask for this id (0: any vacant one)."),
+    count: int = typer.Option(1, "--count", help="Agents run by this process."),
+    spare: bool = typer.Option(
+        False, "--spare", help="Only take an id vacated mid-mission (wait for one)."
+    ),
+    server_timeout: float = typer.Option(
+        10.0, "--server-timeout", help="Exit when the server is silent this long (s)."
+    ),
+    connect_timeout: float = typer.Option(
+        30.0, "--connect-timeout", help="Keep asking for a vacant id this long (s)."
+    ),
+    timeout: float = typer.Option(3600.0, "--timeout", help="Give up after this long (s)."),
+    corrupt: float = typer.Option(
+        0.0, "--inject-corrupt", help="Fault injection: share of frames preceded by a bad copy."
+    ),
+    die_after: int | None = typer.Option(
+        None, "--inject-die-after", help="Fault injection: exit abruptly after K events."
+    ),
+    fault_seed: int = typer.Option(0, "--fault-seed", help="Seed of the fault injection."),
+) -> None:
+    """One traversal UAV as a client of ``swarmex serve`` (seed 000's client.py)."""
+    from swarmex.net.agent import Faults, run_agents
+
+    address = _address(connect)
+    if count < 1:
+        raise InputError(f"--count must be >= 1, got {count}")
+    if agent_id < 0 or (agent_id and count > 1):
+        raise InputError("--id must be >= 0, and only with --count 1")
+    if spare and agent_id:
+        raise InputError("give --spare or --id, not both")
+    if not 0.0 <= corrupt < 1.0:
+        raise InputError(f"--inject-corrupt must be in [0, 1), got {corrupt}")
+    if die_after is not None and die_after < 1:
+        raise InputError(f"--inject-die-after must be >= 1, got {die_after}")
+    for value, option in ((server_timeout, "--server-timeout"),
+                          (connect_timeout, "--connect-timeout"), (timeout, "--timeout")):
+        _positive(value, option)
+    faults = Faults(corrupt, die_after, fault_seed)
+    want = -1 if spare else agent_id
+    code = run_agents(address, count, want, server_timeout, connect_timeout, timeout, faults,
+                      _say)
+    raise typer.Exit(code)
+
+
+@app.command()
+def watch(
+    connect: str = typer.Option(..., "--connect", help="A mission server: tcp://HOST:PORT."),
+    forward: str | None = typer.Option(
+        None, "--forward", help="Push the events to ws://127.0.0.1:PORT/ingest instead."
+    ),
+    timeout: float = typer.Option(10.0, "--timeout", help="Exit after this long without news."),
+    json_path: Path | None = typer.Option(None, "--events", help="Also save the events (JSON)."),
+) -> None:
+    """The live view of a networked mission in the terminal (or fed to the web monitor)."""
+    from swarmex.net.events import IngestForwarder, viewer_batches
+    from swarmex.net.watch import TerminalView
+
+    address = _address(connect)
+    _positive(timeout, "--timeout")
+    check_output(json_path, "--events")
+    if forward is not None and not forward.startswith(("ws://", "wss://")):
+        raise InputError(f"--forward: expected ws://HOST:PORT/ingest, got {forward!r}")
+    forwarder = IngestForwarder(forward) if forward else None
+    view = TerminalView(console, live=sys.stdout.isatty(), quiet=forwarder is not None)
+    saved: list = []
+    try:
+        for batch in viewer_batches(address, timeout):
+            if json_path is not None:
+                saved.extend(batch)
+            if forwarder is not None:
+                forwarder.send(batch)
+            view.update(batch)
+    finally:
+        if forwarder is not None:
+            forwarder.close()
+        view.close()
+    if json_path is not None:
+        from swarmex.engine.record import write_json_atomic
+
+        write_json_atomic(saved, json_path)
+    if not view.ended:
+        console.print("swarmex watch: no mission end seen (server gone or timeout)")
+        raise typer.Exit(1)

@@ -1,0 +1,390 @@
+"""``swarmex agent``: one traversal UAV as a network client (seed 000's ``client.py``).
+
+An :class:`AgentClient` is one agent with its own DEALER socket: it asks the server for an
+id (C00; a given ``--id`` is "a concrete id for a real UAV"), the mission data (C22), sends
+C01–C03 (new rival, pre-arm checks, armed) each acknowledged, waits for the mission clock
+(``GO``), runs MADGTA through :class:`~swarmex.net.traversal.AgentCore` in scaled real time
+(C04 at the nest, C05 next node, C06 halfway, C07 at the node / job started, C08 job done),
+then the termination stage (C09 return to launch, C10 home, C11 landed) and uploads its
+statistics. See :mod:`swarmex.net.traversal` for when an event may run.
+
+Several agents can share one process (``--count``): each keeps its own socket and state and
+they share a poller, which saves the interpreter start-up of a process per UAV in tests and
+benchmarks; the protocol cannot tell.
+
+Every receive has a timeout. Exit status: 0 landed and statistics acknowledged (or the
+mission ended), 1 the mission ended before this agent finished, 3 the server went silent,
+4 refused (unknown id, or no vacant id before ``--connect-timeout``), 5 the server declared
+this agent gone.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+import zmq
+
+from swarmex.net import wire
+from swarmex.net.traversal import (
+    AgentCore,
+    Mission,
+    Replica,
+    catch_up,
+    check_broadcast,
+    ends_step,
+    warm_up,
+)
+
+EXIT_OK, EXIT_UNFINISHED, EXIT_SERVER_GONE, EXIT_REFUSED, EXIT_DECLARED_GONE = 0, 1, 3, 4, 5
+
+
+@dataclass
+class Faults:
+    """Fault injection for tests: damaged frames beside the real ones, and a sudden death."""
+
+    corrupt: float = 0.0  # probability that a bad copy precedes a frame
+    die_after: int | None = None  # exit abruptly (no goodbye) after this many events
+    seed: int = 0
+    rng: np.random.Generator = field(init=False)
+
+    def __post_init__(self) -> None:
+        self.rng = np.random.default_rng(self.seed)
+
+
+class AgentClient:
+    def __init__(
+        self,
+        ctx: zmq.Context,
+        address: str,
+        want_id: int = 0,
+        server_timeout: float = 10.0,
+        connect_timeout: float = 30.0,
+        faults: Faults | None = None,
+        say=print,
+    ) -> None:
+        self.address = address
+        self.want_id = want_id
+        self.server_timeout = server_timeout
+        self.connect_timeout = connect_timeout
+        self.faults = faults or Faults()
+        self.say = say
+        self.sock = ctx.socket(zmq.DEALER)
+        self.sock.setsockopt(zmq.LINGER, 1000)
+        self.sock.setsockopt(zmq.RCVHWM, 0)
+        self.sock.setsockopt(zmq.SNDHWM, 0)
+        self.sock.connect(address)
+        self.id = 0
+        self.state = "hello"
+        self.exit_code: int | None = None
+        self.mission: Mission | None = None
+        self.core: AgentCore | None = None
+        self.replica: Replica | None = None
+        self.t0w: float | None = None
+        self.inflight = False
+        self.events_done = 0
+        self.halfway_due: float | None = None
+        self.halfway_node = -1
+        self.rtl_due: float | None = None
+        self.land_due: float | None = None
+        self.finish_t = 0.0
+        self.lag: list[float] = []
+        self.dropped = 0
+        self.frames_out = 0
+        self.bytes_out = 0
+        now = time.monotonic()
+        self.started_at = now
+        self.last_server = now
+        self.next_hb = now
+        self.retry_at: float | None = None
+        self.waiting = False
+        self._send(["C00", want_id])
+
+    # ------------------------------------------------------------------ io
+    def _send_frame(self, frame: bytes) -> None:
+        f = self.faults
+        if f.corrupt > 0 and f.rng.random() < f.corrupt:
+            bad = wire.corrupt(frame, f.rng)
+            self.sock.send(bad)
+            self.frames_out += 1
+            self.bytes_out += len(bad)
+        self.sock.send(frame)
+        self.frames_out += 1
+        self.bytes_out += len(frame)
+
+    def _send(self, obj: list) -> None:
+        self._send_frame(wire.pack(obj))
+
+    def _done(self, code: int, why: str = "") -> None:
+        if self.exit_code is None:
+            self.exit_code = code
+            if why:
+                self.say(f"swarmex agent {self.id or '?'}: {why}")
+
+    # ------------------------------------------------------------------ receiving
+    def on_frame(self, frame: bytes, now: float) -> None:
+        self.last_server = now
+        try:
+            msg = wire.message(wire.unpack(frame))
+            if msg[0] in wire.BROADCAST_COMMANDS:
+                b = wire.Broadcast.from_wire(msg)
+                if self.mission is None:
+                    return
+                check_broadcast(b, self.mission)
+                self._on_broadcast(b)
+                return
+            wire.check_control(msg)
+            self._on_control(msg, now)
+        except wire.WireError:
+            self.dropped += 1  # seed 000 §4.1: a message with a bad checksum is skipped
+
+    def _on_broadcast(self, b: wire.Broadcast) -> None:
+        assert self.core is not None and self.replica is not None
+        self.core.receive(b)
+        self.replica.on_broadcast(b)
+        if b.id == self.id and ends_step(b):
+            self.inflight = False
+
+    def _on_control(self, msg: list, now: float) -> None:
+        cmd = msg[0]
+        if cmd == "ID" and self.state == "hello":
+            self.id = int(msg[1])
+            self.state = "mission-data"
+            self._send(["C22", self.id])
+        elif cmd == "REF":
+            reason = str(msg[1])
+            if reason == "no vacant id" and self.want_id <= 0 and self.state == "hello":
+                if self.retry_at is None and not self.waiting:
+                    self.say(f"swarmex agent: waiting for a vacant id (up to "
+                             f"{self.connect_timeout:g} s)")
+                self.waiting = True
+                self.retry_at = now + 0.2  # a spare waits for an id to fall vacant
+                if now - self.started_at > self.connect_timeout:
+                    self._done(EXIT_REFUSED, f"refused: {reason}")
+                return
+            self._done(EXIT_REFUSED, f"refused: {reason}")
+        elif cmd == "ERR":
+            self.say(f"swarmex agent {self.id}: server error: {msg[1]}")
+        elif cmd == "MIS" and self.state == "mission-data":
+            self._on_mission(msg[1], msg[2], now)
+        elif cmd == "ACK":
+            self._on_ack(str(msg[1]))
+        elif cmd == "GO" and self.state == "ready":
+            self._anchor(float(msg[1]), now)
+            self.state = "mission"
+        elif cmd == "LEFT" and self.replica is not None:
+            a = int(msg[1])
+            if a == self.id:
+                self._done(EXIT_DECLARED_GONE, "the server declared me gone")
+                return
+            node = self.replica.on_left(a)
+            assert self.core is not None
+            self.core.forget(a, node)
+        elif cmd == "JOIN" and self.replica is not None:
+            a = int(msg[1])
+            self.replica.on_join(a, float(msg[2]), int(msg[3]))
+            if a == self.id and self.state == "ready":
+                self.state = "mission"
+        elif cmd == "END":
+            if self.state == "done":
+                self._done(EXIT_OK)
+            else:
+                self._done(EXIT_UNFINISHED, "the mission ended before I finished")
+
+    def _anchor(self, clock: float, now: float) -> None:
+        assert self.mission is not None
+        self.t0w = now - clock * self.mission.time_scale
+
+    def _on_mission(self, data: dict, log: list, now: float) -> None:
+        mission = Mission.from_wire(data)
+        if not 1 <= self.id <= mission.n_agents:
+            raise wire.EncodingError("mission data without my id")
+        self.mission = mission
+        self.core = AgentCore(mission, self.id)
+        self.replica = Replica(mission)
+        for frame in log:  # a late joiner rebuilds what everybody else knows
+            self._replay(frame)
+        if data.get("started"):
+            self._anchor(float(data.get("clock") or 0.0), time.monotonic())
+        self.state = "c01"
+        self._send(["C01", self.id, int(mission.specs[self.id - 1].nest)])
+
+    def _replay(self, frame: bytes) -> None:
+        assert self.core is not None and self.replica is not None
+        try:
+            msg = wire.decode_message(frame)
+        except wire.WireError:
+            self.dropped += 1
+            return
+        catch_up(self.core.belief, self.replica, msg)
+
+    def _on_ack(self, what: str) -> None:
+        if what == "C01" and self.state == "c01":
+            self.state = "c02"
+            self._send(["C02", self.id])  # pre-arm checks: a virtual UAV always passes
+        elif what == "C02" and self.state == "c02":
+            self.state = "c03"
+            self._send(["C03", self.id])
+        elif what == "C03" and self.state == "c03":
+            self.state = "ready"
+        elif what == "ST" and self.state == "stats":
+            self.state = "done"
+            self._done(EXIT_OK)
+
+    # ------------------------------------------------------------------ acting
+    def wall_of(self, t: float) -> float:
+        assert self.t0w is not None and self.mission is not None
+        return self.t0w + t * self.mission.time_scale
+
+    def tick(self, now: float) -> float:
+        """Do whatever is due; returns the seconds until something may be due again."""
+        if self.exit_code is not None:
+            return 1.0
+        if self.state == "hello":  # §4.3: keep trying to connect for a while
+            if now - self.started_at > self.connect_timeout:
+                self._done(EXIT_SERVER_GONE if not self.waiting else EXIT_REFUSED,
+                           "no id from the server")
+                return 1.0
+        elif now - self.last_server > self.server_timeout:
+            self._done(EXIT_SERVER_GONE, "the server went silent")
+            return 1.0
+        if self.state == "hello" and self.retry_at is not None and now >= self.retry_at:
+            self.retry_at = None
+            self._send(["C00", self.want_id])
+        wait = max(0.0, self.next_hb - now)
+        if now >= self.next_hb and self.id:
+            hb = self.mission.heartbeat if self.mission is not None else 0.25
+            self.next_hb = now + hb
+            self._send(["HB", self.id])
+            wait = hb
+        if self.state == "mission":
+            wait = min(wait, self._mission_tick(now))
+        elif self.state in ("rtl", "landing"):
+            wait = min(wait, self._termination_tick(now))
+        return wait
+
+    def _mission_tick(self, now: float) -> float:
+        core, rep = self.core, self.replica
+        assert core is not None and rep is not None
+        if self.halfway_due is not None and now >= self.halfway_due:
+            self._halfway()
+        if self.inflight:
+            return 0.05
+        if core.finished:
+            return 0.05
+        if rep.next_agent() != self.id:
+            return 0.05 if self.halfway_due is None else max(0.0, self.halfway_due - now)
+        key = rep.pending[self.id]
+        assert key is not None
+        t = key[0]
+        due = self.wall_of(t)
+        if now < due:
+            return due - now
+        if self.halfway_due is not None:
+            self._halfway()
+        scale = self.mission.time_scale if self.mission else 0.0
+        if scale > 0:
+            self.lag.append((now - due) / scale)
+        out = core.step(t, rep.rng)
+        for b in out:
+            self._send_frame(b.frame())
+        self.inflight = True
+        self.events_done += 1
+        if core.next_kind == "arrive" and not core.finished:
+            eta = out[-1].eta
+            self.halfway_due = self.wall_of(t + (eta - t) / 2)
+            self.halfway_node = core.next_node
+        if core.finished:
+            self.finish_t = t
+            self.state = "rtl"
+            self.rtl_due = self.wall_of(t + core.rtl_time())
+        die = self.faults.die_after
+        if die is not None and self.events_done >= die:
+            self.say(f"swarmex agent {self.id}: fault injection: dying after {die} events")
+            os._exit(137)
+        return 0.0
+
+    def _halfway(self) -> None:
+        assert self.core is not None
+        self.halfway_due = None
+        b = wire.Broadcast("C06", self.id, self.halfway_node)
+        self._send_frame(b.frame())
+
+    def _termination_tick(self, now: float) -> float:
+        core = self.core
+        assert core is not None and self.mission is not None
+        spec = core.spec
+        if self.state == "rtl":
+            assert self.rtl_due is not None
+            if now < self.rtl_due:
+                return self.rtl_due - now
+            t = self.finish_t + core.rtl_time()
+            self._send_frame(wire.Broadcast("C10", self.id, spec.nest, t=t).frame())
+            self.state = "landing"
+            self.land_due = self.wall_of(t + spec.landing_time)
+        assert self.land_due is not None
+        if now < self.land_due:
+            return self.land_due - now
+        t = self.finish_t + core.rtl_time() + spec.landing_time
+        self._send_frame(wire.Broadcast("C11", self.id, spec.nest, t=t).frame())
+        stats = core.stats()
+        stats["lag"] = self.lag
+        stats["dropped"] = self.dropped
+        stats["frames_out"] = self.frames_out
+        stats["bytes_out"] = self.bytes_out
+        self.state = "stats"
+        self._send(["ST", self.id, stats])
+        return 0.05
+
+    def close(self) -> None:
+        self.sock.close(1000 if self.exit_code == EXIT_OK else 0)
+
+
+def run_agents(
+    address: str,
+    count: int = 1,
+    want_id: int = 0,
+    server_timeout: float = 10.0,
+    connect_timeout: float = 30.0,
+    timeout: float = 3600.0,
+    faults: Faults | None = None,
+    say=print,
+) -> int:
+    """Run ``count`` agents (each its own connection) until all are done; the worst status."""
+    warm_up()
+    ctx = zmq.Context.instance()
+    agents = [
+        AgentClient(ctx, address, want_id if count == 1 or want_id < 0 else 0, server_timeout,
+                    connect_timeout, faults, say)
+        for _ in range(count)
+    ]
+    poller = zmq.Poller()
+    for a in agents:
+        poller.register(a.sock, zmq.POLLIN)
+    by_sock = {a.sock: a for a in agents}
+    deadline = time.monotonic() + timeout
+    try:
+        while any(a.exit_code is None for a in agents):
+            now = time.monotonic()
+            if now > deadline:
+                for a in agents:
+                    a._done(EXIT_SERVER_GONE, "timeout")
+                break
+            wait = min(a.tick(now) for a in agents if a.exit_code is None)
+            ready = dict(poller.poll(int(max(0.0, min(wait, 0.5)) * 1000)))
+            for sock in ready:
+                agent = by_sock[sock]
+                for _ in range(100_000):
+                    try:
+                        frame = sock.recv(flags=zmq.NOBLOCK)
+                    except zmq.Again:
+                        break
+                    agent.on_frame(frame, time.monotonic())
+                    if agent.state == "mission" and not agent.inflight:
+                        break  # act as soon as it may be this agent's turn
+    finally:
+        for a in agents:
+            a.close()
+    return max(a.exit_code or 0 for a in agents)

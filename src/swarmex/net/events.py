@@ -1,0 +1,234 @@
+"""Monitor events from the networked runtime, and the ways to get them to a viewer.
+
+The events follow the live monitor's schema (``swarmex.monitor/1``: ``hello``, ``world``,
+``move``, ``job``, ``message``, ``clock``, ``end``; see :mod:`swarmex.viz.monitor.events`,
+restated here so this module does not depend on the web stack). A viewer cannot tell a
+networked mission from a replayed simulation except by ``hello.source == "network"``.
+
+Three ways out, all fed by the same batches:
+
+* viewers on the mission's own port: a DEALER sends ``MON`` and gets every batch so far,
+  then the live ones, as ``["EV", json]`` frames (``swarmex watch``);
+* :class:`IngestForwarder`: pushes batches to the web monitor's ``/ingest`` WebSocket
+  (``swarmex serve --monitor ws://…`` or ``swarmex watch --forward ws://…``) from a thread,
+  so a slow or absent monitor never stalls the mission;
+* :func:`network_producer`: an asyncio producer for the monitor's own server loop, for a
+  ``swarmex monitor --connect tcp://…`` option.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import json
+import queue
+import threading
+import time
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+
+SCHEMA = "swarmex.monitor/1"
+Event = dict[str, Any]
+
+
+def hello(mission: str, algorithm: str, agents: list[int], title: str,
+          speed: float | None, time_unit: str = "s") -> Event:
+    return {
+        "type": "hello",
+        "schema": SCHEMA,
+        "mission": mission,
+        "algorithm": algorithm,
+        "source": "network",
+        "time_unit": time_unit,
+        "agents": agents,
+        "speed": speed,
+        "title": title,
+    }
+
+
+def world(free: np.ndarray | None, width: int, height: int, source: str,
+          kind: str = "grid") -> Event:
+    cells = None
+    if free is not None:
+        chars = np.where(free, ord("."), ord("@")).astype(np.uint8)
+        cells = [row.tobytes().decode("ascii") for row in chars]
+    return {"type": "world", "kind": kind, "width": width, "height": height,
+            "source": source, "cells": cells}
+
+
+def move(t: float, agent: int, x: float, y: float) -> Event:
+    return {"type": "move", "t": t, "agent": agent, "x": x, "y": y}
+
+
+def job(t: float, agent: int, x: float, y: float) -> Event:
+    return {"type": "job", "t": t, "agent": agent, "x": x, "y": y}
+
+
+def message(t: float, agent: int, kind: str, x: float | None = None,
+            y: float | None = None, to: int | None = None) -> Event:
+    return {"type": "message", "t": t, "agent": agent, "to": to, "kind": kind, "x": x, "y": y}
+
+
+def end(record: dict) -> Event:
+    return {
+        "type": "end",
+        "t": record.get("makespan") or 0.0,
+        "complete": bool(record.get("complete")),
+        "makespan": record.get("makespan"),
+        "time_unit": record.get("time_unit", "s"),
+        "metrics": record.get("metrics", {}),
+        "agents": [{"id": a["id"], "metrics": a.get("metrics", {})}
+                   for a in record.get("agents", [])],
+    }
+
+
+def dumps(batch: list[Event]) -> str:
+    return json.dumps(batch, separators=(",", ":"), allow_nan=False, default=_plain)
+
+
+def _plain(v: Any) -> Any:
+    if isinstance(v, np.integer):
+        return int(v)
+    if isinstance(v, np.floating):
+        return float(v)
+    raise TypeError(f"not JSON: {type(v).__name__}")
+
+
+class IngestForwarder:
+    """Sends event batches to a monitor's ``/ingest`` WebSocket from a background thread.
+
+    Why a thread and a queue: the mission loop must never wait on a viewer. Batches queue up
+    while the socket connects (a monitor started a moment later still gets the ``hello``);
+    if the monitor is unreachable the forwarder gives up after ``connect_timeout`` and drops
+    what it holds, counted in :attr:`dropped`.
+    """
+
+    def __init__(self, url: str, connect_timeout: float = 5.0) -> None:
+        self.url = url
+        self.connect_timeout = connect_timeout
+        self.queue: queue.Queue[str | None] = queue.Queue()
+        self.sent = 0
+        self.dropped = 0
+        self.error: str | None = None
+        self._thread = threading.Thread(target=self._run, name="ingest", daemon=True)
+        self._thread.start()
+
+    def send(self, batch: list[Event]) -> None:
+        if batch:
+            self.queue.put(dumps(batch))
+
+    def close(self, timeout: float = 3.0) -> None:
+        self.queue.put(None)
+        self._thread.join(timeout)
+
+    def _run(self) -> None:
+        from websockets.sync.client import connect
+
+        ws = None
+        deadline = time.monotonic() + self.connect_timeout
+        while ws is None and time.monotonic() < deadline:
+            try:
+                ws = connect(self.url, open_timeout=1.0)
+            except Exception as exc:  # refused, DNS, handshake: retry until the deadline
+                self.error = f"{type(exc).__name__}: {exc}"
+                time.sleep(0.2)
+        while True:
+            item = self.queue.get()
+            if item is None:
+                break
+            if ws is None:
+                self.dropped += 1
+                continue
+            try:
+                ws.send(item)
+                self.sent += 1
+            except Exception as exc:
+                self.error = f"{type(exc).__name__}: {exc}"
+                self.dropped += 1
+        if ws is not None:
+            with contextlib.suppress(Exception):
+                ws.close()
+
+
+def viewer_batches(address: str, timeout: float = 10.0,
+                   stop: Callable[[], bool] | None = None):
+    """Yield event batches from a mission server (or exploration display) at ``address``.
+
+    Ends after an ``end`` event, or when nothing (not even a heartbeat) came for
+    ``timeout`` seconds.
+    """
+    import zmq
+
+    from swarmex.net import wire
+
+    ctx = zmq.Context.instance()
+    sock = ctx.socket(zmq.DEALER)
+    sock.setsockopt(zmq.LINGER, 0)
+    sock.setsockopt(zmq.RCVHWM, 0)
+    sock.connect(address)
+    try:
+        sock.send(wire.pack(["MON"]))
+        last = time.monotonic()
+        next_hb = last + 1.0
+        while True:
+            if stop is not None and stop():
+                return
+            if sock.poll(200):
+                frame = sock.recv()
+                last = time.monotonic()
+                try:
+                    msg = wire.unpack(frame)
+                except wire.WireError:
+                    continue
+                if isinstance(msg, list) and len(msg) == 2 and msg[0] == "EV":
+                    try:
+                        batch = json.loads(msg[1])
+                    except (TypeError, ValueError):
+                        continue
+                    if isinstance(batch, list):
+                        yield batch
+                        if any(isinstance(e, dict) and e.get("type") == "end" for e in batch):
+                            return
+            now = time.monotonic()
+            if now >= next_hb:  # the server drops viewers it has not heard from
+                sock.send(wire.pack(["MON"]))
+                next_hb = now + 1.0
+            if now - last > timeout:
+                return
+    finally:
+        sock.close(0)
+
+
+def network_producer(address: str, timeout: float = 10.0):
+    """A producer for the web monitor's server loop: publishes a live mission's batches.
+
+    ``MonitorServer.run(producer, …)`` calls ``producer(hub)``; this one reads the mission's
+    events on a worker thread (the ZeroMQ socket is blocking) and publishes them on the loop.
+    """
+
+    async def produce(hub: Any) -> None:
+        loop = asyncio.get_running_loop()
+        q: asyncio.Queue = asyncio.Queue()
+        done = threading.Event()
+
+        def pump() -> None:
+            try:
+                for batch in viewer_batches(address, timeout, stop=done.is_set):
+                    loop.call_soon_threadsafe(q.put_nowait, batch)
+            finally:
+                loop.call_soon_threadsafe(q.put_nowait, None)
+
+        worker = threading.Thread(target=pump, daemon=True)
+        worker.start()
+        try:
+            while True:
+                batch = await q.get()
+                if batch is None:
+                    break
+                hub.publish(batch)
+        finally:
+            done.set()
+
+    return produce

@@ -1,0 +1,555 @@
+"""``swarmex serve``: seed 000's laptop server (§4.1–4.3) on a ZeroMQ ROUTER socket.
+
+What it does, and only that: hands out ids from its vacant list (C00), the mission data
+(C22), acknowledges the initialisation and termination commands, starts the mission clock
+when every id is armed (``GO``), relays every broadcast to every agent — it never tells an
+agent what to do — and watches: it rebuilds each agent's log from the broadcasts, declares
+agents that fall silent gone (``LEFT``; their id returns to the vacant list), lets a spare
+take a vacant id mid-mission (``JOIN``), publishes monitor events, and when no agent is left
+flying writes the result record (the schema of ``swarmex traverse``) and exits.
+
+Why ROUTER and one socket per agent (a DEALER): replies and relays to one agent travel in
+order on one connection, so a late joiner's mission log and the live stream that follows it
+can never interleave wrongly; relays are never dropped (high-water marks off), because the
+protocol (see :mod:`swarmex.net.traversal`) needs every agent to see every step. Bad frames
+(checksum, encoding, content, a sender that is not the id it claims) are dropped and
+counted, never relayed.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import zmq
+
+from swarmex.engine.record import write_record
+from swarmex.missions.traversal.metrics import agent_metrics, traversal_record
+from swarmex.missions.traversal.sim import TraversalRun
+from swarmex.net import events as ev
+from swarmex.net import wire
+from swarmex.net.traversal import Mission, Recorder, Replica, check_broadcast, check_stats
+
+LIVE = ("init", "ready", "mission", "rtl")
+EXIT_OK, EXIT_INCOMPLETE, EXIT_TIMEOUT = 0, 1, 3
+
+
+@dataclass
+class Peer:
+    ident: bytes
+    id: int = 0
+    has_mission: bool = False
+    viewer: bool = False
+    last_seen: float = 0.0
+    frames_in: int = 0
+    bytes_in: int = 0
+    frames_out: int = 0
+    bytes_out: int = 0
+    joined_at: float = 0.0
+
+
+@dataclass
+class Counters:
+    frames_in: int = 0
+    bytes_in: int = 0
+    frames_out: int = 0
+    bytes_out: int = 0
+    relayed: int = 0
+    dropped_checksum: int = 0
+    dropped_encoding: int = 0
+    dropped_content: int = 0
+    dropped_sender: int = 0
+    refused: int = 0
+    errors: int = 0
+    left: list[dict] = field(default_factory=list)
+    joined: list[dict] = field(default_factory=list)
+    stats_mismatch: int = 0
+    stats_received: int = 0
+    lag: list[float] = field(default_factory=list)
+
+
+class TraversalServer:
+    """The mission server. ``run()`` returns the process exit status."""
+
+    def __init__(
+        self,
+        mission: Mission,
+        bind: str,
+        json_path: Path | None = None,
+        timeout: float = 600.0,
+        dead_after: float = 2.0,
+        init_timeout: float = 60.0,
+        spare_wait: float = 0.0,
+        monitor_url: str | None = None,
+        say=print,
+    ) -> None:
+        self.mission = mission
+        self.bind = bind
+        self.json_path = json_path
+        self.timeout = timeout
+        self.dead_after = dead_after
+        self.init_timeout = init_timeout
+        self.spare_wait = spare_wait
+        self.say = say
+        self.replica = Replica(mission)
+        self.recorder = Recorder(mission)
+        n = mission.n_agents
+        self.state: dict[int, str] = dict.fromkeys(range(1, n + 1), "vacant")
+        self.holder: dict[int, bytes] = {}  # id -> ident of the process holding it
+        self.peers: dict[bytes, Peer] = {}
+        self.log: list[bytes] = []  # every frame relayed since GO, for late joiners
+        self.events: list[ev.Event] = []
+        self.pending_events: list[ev.Event] = []
+        self.counters = Counters()
+        self.started = False
+        self.t0w = 0.0
+        self.wall0 = 0.0
+        self.forwarder = ev.IngestForwarder(monitor_url) if monitor_url else None
+        self.record: dict | None = None
+        self.ctx = zmq.Context.instance()
+        self.sock = self.ctx.socket(zmq.ROUTER)
+        self.sock.setsockopt(zmq.LINGER, 500)
+        self.sock.setsockopt(zmq.SNDHWM, 0)
+        self.sock.setsockopt(zmq.RCVHWM, 0)
+        self.sock.bind(bind)
+        self.endpoint = self.sock.getsockopt_string(zmq.LAST_ENDPOINT)
+
+    # ------------------------------------------------------------------ clock
+    def clock(self) -> float:
+        """Mission seconds now (scaled wall time; the latest event time when unscaled)."""
+        if not self.started:
+            return 0.0
+        scale = self.mission.time_scale
+        if scale > 0:
+            return max(self.replica.last_t, (time.monotonic() - self.t0w) / scale)
+        return self.replica.last_t
+
+    # ------------------------------------------------------------------ sending
+    def _send(self, peer: Peer, frame: bytes) -> None:
+        try:
+            self.sock.send_multipart([peer.ident, frame], flags=zmq.NOBLOCK)
+        except zmq.ZMQError:
+            return
+        peer.frames_out += 1
+        peer.bytes_out += len(frame)
+        self.counters.frames_out += 1
+        self.counters.bytes_out += len(frame)
+
+    def _reply(self, peer: Peer, obj: list) -> None:
+        self._send(peer, wire.pack(obj))
+
+    def _to_agents(self, frame: bytes, keep: bool = True) -> None:
+        """Relay to every agent that has the mission data (the sender included: its copy is
+        the acknowledgement, and its place in the one stream order)."""
+        if keep and self.started:
+            self.log.append(frame)
+        for p in list(self.peers.values()):
+            if p.has_mission and p.id and self.holder.get(p.id) == p.ident:
+                self._send(p, frame)
+
+    def _emit(self, *events: ev.Event) -> None:
+        self.pending_events.extend(events)
+
+    def _flush_events(self) -> None:
+        if not self.pending_events:
+            return
+        batch, self.pending_events = self.pending_events, []
+        self.events.extend(batch)
+        text = ev.dumps(batch)
+        for p in list(self.peers.values()):
+            if p.viewer:
+                self._reply(p, ["EV", text])
+        if self.forwarder is not None:
+            self.forwarder.send(batch)
+
+    # ------------------------------------------------------------------ run
+    def run(self) -> int:
+        self.wall0 = time.monotonic()
+        deadline = self.wall0 + self.timeout
+        hb = self.mission.heartbeat
+        next_hb = self.wall0
+        all_gone_at: float | None = None
+        self.say(f"swarmex serve: listening on {self.endpoint} for {self.mission.n_agents} agents")
+        try:
+            while True:
+                now = time.monotonic()
+                if now >= deadline:
+                    self.say("swarmex serve: timeout, the mission did not end")
+                    self._finish(EXIT_TIMEOUT)
+                    return EXIT_TIMEOUT
+                if self.sock.poll(int(max(1, min(hb, next_hb - now) * 1000))):
+                    for _ in range(10_000):  # drain, but keep the heartbeat going
+                        try:
+                            ident, frame = self.sock.recv_multipart(flags=zmq.NOBLOCK)[:2]
+                        except (zmq.Again, ValueError):
+                            break
+                        self._on_frame(ident, frame, time.monotonic())
+                now = time.monotonic()
+                self._check_liveness(now)
+                if now >= next_hb:
+                    next_hb = now + hb
+                    beat = wire.pack(["HB", float(self.clock())])
+                    for p in list(self.peers.values()):
+                        if p.id or p.viewer:
+                            self._send(p, beat)
+                    self._drop_silent_viewers(now)
+                self._flush_events()
+                if self.started and not any(s in LIVE for s in self.state.values()):
+                    if all_gone_at is None:
+                        all_gone_at = now
+                    complete = bool(np.all(
+                        self.recorder.job_count[self.recorder.reachable()] >= 1))
+                    if complete or now - all_gone_at >= self.spare_wait:
+                        code = EXIT_OK if complete else EXIT_INCOMPLETE
+                        self._finish(code)
+                        return code
+                else:
+                    all_gone_at = None
+        finally:
+            if self.forwarder is not None:
+                self.forwarder.close()
+            self.sock.close(500)
+
+    # ------------------------------------------------------------------ frames
+    def _on_frame(self, ident: bytes, frame: bytes, now: float) -> None:
+        c = self.counters
+        c.frames_in += 1
+        c.bytes_in += len(frame)
+        peer = self.peers.get(ident)
+        if peer is None:
+            peer = self.peers[ident] = Peer(ident, joined_at=now)
+        peer.last_seen = now
+        peer.frames_in += 1
+        peer.bytes_in += len(frame)
+        try:
+            msg = wire.message(wire.unpack(frame))
+        except wire.ChecksumError:
+            c.dropped_checksum += 1
+            return
+        except wire.WireError:
+            c.dropped_encoding += 1
+            return
+        cmd = msg[0]
+        try:
+            if cmd in wire.BROADCAST_COMMANDS:
+                self._on_broadcast(peer, frame, msg)
+            else:
+                self._on_control(peer, wire.check_control(msg))
+        except wire.WireError:
+            c.dropped_encoding += 1
+
+    def _on_control(self, peer: Peer, msg: list) -> None:
+        cmd = msg[0]
+        if cmd == "MON":
+            if not peer.viewer:
+                peer.viewer = True
+                text = ev.dumps(self.events) if self.events else None
+                if text:
+                    self._reply(peer, ["EV", text])
+            return
+        if cmd == "HB":
+            return
+        if cmd == "C00":
+            self._on_c00(peer, int(msg[1]))
+            return
+        if cmd == "C22":
+            self._on_c22(peer, int(msg[1]))
+            return
+        if not peer.id or not peer.has_mission or self.holder.get(peer.id) != peer.ident:
+            # seed 000 §4.2: any other command before C22 is an error for this client
+            self.counters.errors += 1
+            self._reply(peer, ["ERR", f"{cmd} before C22"])
+            return
+        a = peer.id
+        if cmd == "C01":
+            if int(msg[1]) != a:
+                self.counters.dropped_sender += 1
+                return
+            self._reply(peer, ["ACK", "C01", a])
+            self._to_agents(wire.pack(msg), keep=False)
+        elif cmd == "C02":
+            self._reply(peer, ["ACK", "C02", a])
+        elif cmd == "C03":
+            self._reply(peer, ["ACK", "C03", a])
+            self._on_armed(a)
+        elif cmd == "ST":
+            self._on_stats(peer, msg[2])
+        else:
+            self.counters.errors += 1
+            self._reply(peer, ["ERR", f"unexpected {cmd}"])
+
+    def _on_c00(self, peer: Peer, want: int) -> None:
+        n = self.mission.n_agents
+        if peer.id and self.holder.get(peer.id) == peer.ident:
+            self._reply(peer, ["ID", peer.id])  # a repeated C00: same answer
+            return
+        if want > 0:
+            if not 1 <= want <= n:
+                self._refuse(peer, f"unknown id {want} (this mission has ids 1..{n})")
+                return
+            if self.state[want] in LIVE or self.state[want] == "done":
+                self._refuse(peer, f"id {want} is taken")
+                return
+            chosen = want
+        else:  # 0: any vacant id; -1: a spare, only an id vacated during the mission
+            free = ("left",) if want < 0 else ("vacant", "left")
+            vacant = [i for i, s in self.state.items() if s in free]
+            if not vacant:
+                self._refuse(peer, "no vacant id")
+                return
+            chosen = vacant[0]
+        peer.id = chosen
+        self.holder[chosen] = peer.ident
+        self.state[chosen] = "init"
+        self._reply(peer, ["ID", chosen])
+        self.say(f"swarmex serve: id {chosen} given to a new agent")
+
+    def _refuse(self, peer: Peer, reason: str) -> None:
+        self.counters.refused += 1
+        self._reply(peer, ["REF", reason])
+        peer.id = 0
+        peer.has_mission = False
+
+    def _on_c22(self, peer: Peer, agent: int) -> None:
+        if not agent or peer.id != agent or self.holder.get(agent) != peer.ident:
+            # an id this connection was not given: possibly an intruder (§4.2); cut it off
+            self._refuse(peer, f"unknown id {agent}")
+            self.peers.pop(peer.ident, None)
+            return
+        data = self.mission.to_wire()
+        data["you"] = agent
+        data["started"] = self.started
+        data["clock"] = float(self.clock())
+        peer.has_mission = True
+        self._reply(peer, ["MIS", data, list(self.log) if self.started else []])
+
+    def _on_armed(self, agent: int) -> None:
+        if not self.started:
+            self.state[agent] = "ready"
+            if all(s == "ready" for s in self.state.values()):
+                self._go()
+            return
+        # a spare: it starts after every event still to run, plus its takeoff
+        spec = self.mission.specs[agent - 1]
+        t = max(self.clock(), self.replica.min_time()) + spec.takeoff_time
+        seq = self.replica.counter
+        self.replica.on_join(agent, t, seq)
+        self.recorder.on_join(agent)
+        self.state[agent] = "mission"
+        self.counters.joined.append({"id": agent, "t": t})
+        self._to_agents(wire.pack(["JOIN", agent, float(t), seq]))
+        self._emit(ev.message(self.replica.last_t, agent, "join", *self._xy(spec.nest)))
+        self.say(f"swarmex serve: a spare took id {agent}, starting at t={t:.2f}")
+
+    def _go(self) -> None:
+        self.started = True
+        self.t0w = time.monotonic()
+        for a in self.state:
+            self.state[a] = "mission"
+        m = self.mission
+        w = m.world
+        speed = 1.0 / m.time_scale if m.time_scale > 0 else None
+        self._emit(
+            ev.hello("traversal", m.algorithm, list(self.state), f"traversal · {m.algorithm} · "
+                     f"{w.source} · network", speed),
+            ev.world(w.free, w.width, w.height, w.source),
+        )
+        self._to_agents(wire.pack(["GO", 0.0]))
+        self.say("swarmex serve: all agents armed, mission started")
+
+    def _xy(self, node: int) -> tuple[float, float]:
+        x, y = self.mission.world.graph.pos[node]
+        return float(x), float(y)
+
+    def _on_broadcast(self, peer: Peer, frame: bytes, msg: list) -> None:
+        b = wire.Broadcast.from_wire(msg)
+        a = b.id
+        if (not peer.has_mission or peer.id != a or self.holder.get(a) != peer.ident
+                or self.state.get(a) not in ("mission", "rtl") or not self.started):
+            self.counters.dropped_sender += 1
+            return
+        try:
+            check_broadcast(b, self.mission)
+        except wire.WireError:
+            self.counters.dropped_content += 1
+            return
+        self.counters.relayed += 1
+        self._to_agents(frame)
+        prev = self.recorder.incarnation(a).log.trajectory
+        arrival = b.cmd == "C04" or (b.cmd == "C07" and (not prev or prev[-1][1] != b.node))
+        self.replica.on_broadcast(b)
+        self.recorder.on_broadcast(b, len(frame))
+        self._events_for(b, arrival)
+        if b.cmd == "C09":
+            self.state[a] = "rtl"
+
+    def _events_for(self, b: wire.Broadcast, arrival: bool) -> None:
+        x, y = self._xy(b.node) if b.node >= 0 else (None, None)
+        t = b.t
+        if arrival:
+            self._emit(ev.move(t, b.id, x, y))
+        if b.cmd == "C07" and b.job:
+            self._emit(ev.job(t, b.id, x, y))
+        kind = {
+            "C04": "pos", "C05": "next", "C06": "halfway", "C09": "finish", "C10": "home",
+            "C11": "landed",
+        }.get(b.cmd)
+        if b.cmd == "C07":
+            kind = "job" if b.job else "pos"
+        elif b.cmd == "C08":
+            kind = "done" if b.job else "undone"
+        if kind is not None and b.cmd not in ("C06", "C10", "C11"):
+            self._emit(ev.message(max(t, 0.0), b.id, kind, x, y))
+
+    def _on_stats(self, peer: Peer, stats: Any) -> None:
+        a = peer.id
+        inc = self.recorder.incarnation(a)
+        inc.stats = stats if isinstance(stats, dict) else None
+        self.counters.stats_received += 1
+        if not check_stats(stats, inc.log):
+            self.counters.stats_mismatch += 1
+        if isinstance(stats, dict) and isinstance(stats.get("lag"), list):
+            self.counters.lag.extend(
+                float(v) for v in stats["lag"][:100_000]
+                if isinstance(v, int | float) and math.isfinite(v)
+            )
+        self.state[a] = "done"
+        self._reply(peer, ["ACK", "ST", a])
+        self.say(f"swarmex serve: agent {a} landed and sent its statistics")
+
+    # ------------------------------------------------------------------ faults
+    def _check_liveness(self, now: float) -> None:
+        for a, s in list(self.state.items()):
+            if s not in LIVE:
+                continue
+            peer = self.peers.get(self.holder.get(a, b""))
+            limit = self.init_timeout if s in ("init", "ready") else self.dead_after
+            if peer is None or now - peer.last_seen > limit:
+                self._declare_left(a, peer)
+
+    def _declare_left(self, agent: int, peer: Peer | None) -> None:
+        was = self.state[agent]
+        self.state[agent] = "left" if self.started else "vacant"
+        self.holder.pop(agent, None)
+        if peer is not None:
+            self.peers.pop(peer.ident, None)
+        if not self.started:
+            self.say(f"swarmex serve: agent {agent} went silent before the start; id vacant")
+            return
+        t = self.replica.last_t
+        node = self.replica.on_left(agent)
+        self.recorder.on_left(agent, self.clock(), node)
+        self.counters.left.append({"id": agent, "t": self.clock(), "state": was,
+                                   "open_job": node})
+        self._to_agents(wire.pack(["LEFT", agent, float(self.clock())]))
+        self._emit(ev.message(t, agent, "left"))
+        self.say(f"swarmex serve: agent {agent} fell silent ({was}); id {agent} is vacant"
+                 + (f", node {self.mission.world.label(node)} is not done again" if node >= 0
+                    else ""))
+
+    def _drop_silent_viewers(self, now: float) -> None:
+        for ident, p in list(self.peers.items()):
+            if p.viewer and not p.id and now - p.last_seen > 10.0:
+                del self.peers[ident]
+
+    # ------------------------------------------------------------------ the end
+    def _finish(self, code: int) -> None:
+        record = self.build_record()
+        self.record = record
+        self._emit(ev.end(record))
+        self._flush_events()
+        self._to_agents(wire.pack(["END"]), keep=False)
+        if self.json_path is not None:
+            write_record(self._record_obj, self.json_path)
+            self.say(f"swarmex serve: wrote {self.json_path}")
+        self.say(
+            f"swarmex serve: mission {'complete' if record['complete'] else 'incomplete'},"
+            f" makespan {record['makespan']:.2f} s, {self.counters.relayed} broadcasts relayed,"
+            f" {self._dropped()} bad frames dropped"
+        )
+
+    def _dropped(self) -> int:
+        c = self.counters
+        return c.dropped_checksum + c.dropped_encoding + c.dropped_content + c.dropped_sender
+
+    def build_record(self) -> dict:
+        m = self.mission
+        rec = self.recorder
+        for a in range(1, m.n_agents + 1):
+            rec.incarnation(a)
+        ids = list(range(1, m.n_agents + 1))
+        logs = [rec.current[a].log for a in ids]
+        run = TraversalRun(
+            world=m.world,
+            agents=logs,
+            done_by=rec.done_by,
+            job_count=rec.job_count,
+            reachable=rec.reachable(),
+            algorithm=m.algorithm,
+            seed=m.seed,
+            messages=rec.messages,
+            message_bytes=rec.message_bytes,
+            wall_seconds=time.monotonic() - self.wall0,
+        )
+        record = traversal_record(run, m.params, m.unit_length)
+        for entry, a in zip(record.agents, ids, strict=True):
+            inc = rec.current[a]
+            if inc.left_at is not None:
+                entry.metrics["left_at"] = inc.left_at
+                entry.metrics["abandoned_jobs"] = len(inc.abandoned_jobs)
+        departed = []
+        pos = m.world.graph.pos
+        for inc in rec.departed:
+            met = agent_metrics(inc.log, m.unit_length)
+            met["left_at"] = inc.left_at
+            met["abandoned_jobs"] = len(inc.abandoned_jobs)
+            departed.append({
+                "id": inc.log.id,
+                "metrics": met,
+                "trajectory": [[t, *pos[v].tolist()] for t, v in inc.log.trajectory],
+                "jobs": [[t, *pos[v].tolist()] for t, v in inc.log.jobs],
+            })
+        record.extra["departed_agents"] = departed
+        record.extra["network"] = self.network_metrics(run.wall_seconds)
+        self._record_obj = record
+        return record.to_dict()
+
+    def network_metrics(self, wall: float) -> dict:
+        c = self.counters
+        mission_wall = (time.monotonic() - self.t0w) if self.started else 0.0
+        per_agent = []
+        for p in self.peers.values():
+            if p.id:
+                per_agent.append({"id": p.id, "frames_in": p.frames_in, "bytes_in": p.bytes_in,
+                                  "frames_out": p.frames_out, "bytes_out": p.bytes_out})
+        lag = np.asarray(c.lag) if c.lag else np.zeros(0)
+        return {
+            "transport": "zeromq",
+            "endpoint": self.endpoint,
+            "time_scale": self.mission.time_scale,
+            "rng_mode": self.mission.rng_mode,
+            "mission_wall_seconds": mission_wall,
+            "frames_in": c.frames_in,
+            "bytes_in": c.bytes_in,
+            "frames_out": c.frames_out,
+            "bytes_out": c.bytes_out,
+            "broadcasts_relayed": c.relayed,
+            "dropped_checksum": c.dropped_checksum,
+            "dropped_encoding": c.dropped_encoding,
+            "dropped_content": c.dropped_content,
+            "dropped_sender": c.dropped_sender,
+            "refused": c.refused,
+            "errors": c.errors,
+            "left": c.left,
+            "joined": c.joined,
+            "stats_received": c.stats_received,
+            "stats_mismatch": c.stats_mismatch,
+            "lag_max": float(lag.max()) if lag.size else None,
+            "lag_mean": float(lag.mean()) if lag.size else None,
+            "peers": sorted(per_agent, key=lambda d: d["id"]),
+        }
+

@@ -1,0 +1,670 @@
+"""The traversal mission as a protocol: what the server and every agent derive from the stream.
+
+Seed 000 ran MADGTA as one TCP client per UAV and a server that relays every broadcast to
+all agents and never tells one what to do (§4.1–4.3). swarmex does the same over ZeroMQ and
+drives the very :class:`~swarmex.missions.traversal.policies.Madgta` object the simulator
+drives. The point of the design below is that a networked run is *the same run* as
+``swarmex traverse`` with the same seed: same decisions, same times, same record (bar the
+wall clock and the byte counts).
+
+Why that needs more than relaying messages in real time: in the simulator two events at the
+same mission time run in a fixed order (time, then scheduling order — see
+:mod:`swarmex.engine.events`), each decision sees every message sent before it, and all
+random tie-breaks come from *one* generator. Over a network, two agents whose events fall on
+the same instant would decide concurrently, each blind to the other's C05, and each process
+has its own generator. So the runtime is a conservative distributed discrete-event
+execution, built only from what the agents broadcast anyway:
+
+* Every agent's next event is public. C05 carries the arrival time (``eta``), C07 with the
+  job bit the end of the job, C09 says there is none; the start events follow from the
+  mission data. Each participant numbers events in stream order exactly as the simulator's
+  queue numbers them (``seq``), so everybody knows everybody's next event key ``(t, seq)``.
+* An agent processes its next event only when its key is the smallest of all active agents'
+  keys (and, in real-time mode, when the scaled wall clock has reached it). Its last message
+  of the step announces its next key; the server relays it to everyone *including the
+  sender*, and keys change only when the relayed copy arrives, so the one stream order of
+  the server is the order everybody applies.
+* The run's generator travels with the step: the last message of a step carries the
+  generator's state after the step's draws, and the next agent to act loads it. That is the
+  simulator's single ``numpy.random.Generator`` shared by hand (``rng_mode="own"`` gives
+  each agent its own generator instead: decentralised, but no longer the simulated run).
+
+Mission times are therefore computed, not measured: a C05 at time ``t`` arrives at ``t +
+edge × seconds per unit``, the same float operations as the simulator. Wall-clock jitter
+cannot move them; it only delays when events are *executed*, which each agent measures and
+reports as its lag (the record's ``network.lag_*``, in mission seconds). The makespan of a
+networked run equals the simulated one's exactly (0 s timing noise) on 4-connected grids;
+on 8-connected grids the float distance cache may differ in the last bits between the
+simulator's shared cache and an agent's own (see :mod:`swarmex.planning.fieldcache`), which
+could in principle flip a tie.
+
+Faults: the server declares an agent gone when it falls silent (no heartbeat) and relays
+``LEFT``: everybody drops its next event, reverts its conditionally accomplished node (a job
+started with C07 and not finished with C08) to not-done, releases its reserved node and
+stops counting it as a rival. A spare may then take the vacant id: it replays the stream so
+far (the server keeps it) to rebuild the same belief and key table, and the server relays
+``JOIN`` with its start time (no earlier than any event still to run, plus its takeoff), so
+the order stays consistent.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from swarmex.errors import InputError
+from swarmex.missions.traversal.agents import AgentSpec
+from swarmex.missions.traversal.belief import TraversalBelief
+from swarmex.missions.traversal.policies import Madgta, make_policy
+from swarmex.missions.traversal.sim import AgentLog, _encode_done_list
+from swarmex.net.wire import (
+    BROADCAST_COMMANDS,
+    Broadcast,
+    EncodingError,
+    WireError,
+    decode_broadcast,
+    rng_state,
+    set_rng_state,
+)
+from swarmex.planning.distance import distance_field
+from swarmex.planning.fieldcache import KnownGraph
+from swarmex.worlds import GridWorld
+
+RNG_MODES = ("shared", "own")
+#: commands that end an agent's step: they announce its next event (or that there is none)
+STEP_END = ("C05", "C07", "C09")
+
+
+def ends_step(b: Broadcast) -> bool:
+    """C05, C07 with the job bit, C09: the last message of an agent's step."""
+    return b.cmd in STEP_END and (b.cmd != "C07" or bool(b.job))
+
+
+# ---------------------------------------------------------------------------- mission data
+
+
+@dataclass
+class Mission:
+    """Everything the server hands out with C22 (seed 000 §4.2), and the record's params."""
+
+    world: GridWorld
+    specs: list[AgentSpec]
+    algorithm: str = "madgta"
+    seed: int = 0
+    start_interval: float = 0.5
+    unit_length: float = 1.0
+    job_failure: float = 0.0
+    time_scale: float = 0.01  # wall seconds per mission second (0: as fast as possible)
+    rng_mode: str = "shared"
+    done_lists: bool = True  # Fig. 4.17's done-nodes field on every broadcast
+    heartbeat: float = 0.25  # wall seconds between heartbeats
+    params: dict = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        if self.rng_mode not in RNG_MODES:
+            raise InputError(f"rng mode must be shared or own, got {self.rng_mode!r}")
+        if not self.time_scale >= 0 or math.isinf(self.time_scale):
+            raise InputError(f"--time-scale must be >= 0, got {self.time_scale}")
+        if self.start_interval < 0:
+            raise InputError(f"--start-interval must be >= 0, got {self.start_interval}")
+        if not 0.0 <= self.job_failure < 1.0:
+            raise InputError(f"--job-failure must be in [0, 1), got {self.job_failure}")
+        make_policy(self.algorithm)  # fails now on an unknown name
+
+    @property
+    def n_agents(self) -> int:
+        return len(self.specs)
+
+    def start_key(self, agent: int) -> tuple[float, int]:
+        """The start event of agent ``agent`` (1-based), as the simulator schedules it."""
+        i = agent - 1
+        t0 = 0.0
+        return (t0 + i * self.start_interval + self.specs[i].takeoff_time, i)
+
+    def to_wire(self) -> dict:
+        w = self.world
+        return {
+            "world": {
+                "width": w.width,
+                "height": w.height,
+                "free": np.packbits(w.free.ravel()).tobytes(),
+                "connectivity": w.connectivity,
+                "source": w.source,
+            },
+            "agents": [s.to_dict() for s in self.specs],
+            "algorithm": self.algorithm,
+            "seed": self.seed,
+            "start_interval": self.start_interval,
+            "unit_length": self.unit_length,
+            "job_failure": self.job_failure,
+            "time_scale": self.time_scale,
+            "rng_mode": self.rng_mode,
+            "done_lists": self.done_lists,
+            "heartbeat": self.heartbeat,
+            "commands": ["C00", "C22", "C01", "C02", "C03", "C04", "C05", "C06", "C07",
+                         "C08", "C09", "C10", "C11"],
+            "params": self.params,
+        }
+
+    @classmethod
+    def from_wire(cls, d: Any) -> Mission:
+        """The mission of a MIS reply; :class:`EncodingError` if anything is malformed."""
+        try:
+            wd = d["world"]
+            width, height = int(wd["width"]), int(wd["height"])
+            if not (width > 0 and height > 0 and width * height <= 16_000_000):
+                raise ValueError("bad grid size")
+            bits = np.frombuffer(wd["free"], dtype=np.uint8)
+            if bits.size != (width * height + 7) // 8:
+                raise ValueError("free-cell bits do not fit the grid size")
+            free = np.unpackbits(bits, count=width * height).astype(bool)
+            world = GridWorld(
+                free.reshape(height, width), int(wd["connectivity"]), str(wd["source"])
+            )
+            specs = [
+                AgentSpec(
+                    int(a["nest"]), float(a["travel_speed"]), float(a["job_time"]),
+                    float(a["altitude"]), float(a["up_speed"]), float(a["down_speed"]),
+                )
+                for a in d["agents"]
+            ]
+            if not specs or any(not 0 <= s.nest < world.n_nodes for s in specs):
+                raise ValueError("bad agents")
+            return cls(
+                world,
+                specs,
+                str(d["algorithm"]),
+                int(d["seed"]),
+                float(d["start_interval"]),
+                float(d["unit_length"]),
+                float(d["job_failure"]),
+                float(d["time_scale"]),
+                str(d["rng_mode"]),
+                bool(d["done_lists"]),
+                float(d["heartbeat"]),
+                dict(d.get("params") or {}),
+            )
+        except (KeyError, TypeError, ValueError, InputError, AttributeError) as exc:
+            raise EncodingError(f"mission data: {exc}") from None
+
+    def time_per_unit(self) -> np.ndarray:
+        """Seconds per length unit by id (slot 0 unused), computed as the simulator does."""
+        tpu = np.zeros(self.n_agents + 1)
+        for i, s in enumerate(self.specs, start=1):
+            tpu[i] = self.unit_length / s.travel_speed
+        return tpu
+
+    def job_times(self) -> np.ndarray:
+        jt = np.zeros(self.n_agents + 1)
+        for i, s in enumerate(self.specs, start=1):
+            jt[i] = s.job_time
+        return jt
+
+
+# ---------------------------------------------------------------------------- shared view
+
+
+class Replica:
+    """The part of the mission state everybody derives from the stream in the same order:
+    each active agent's next event key, the event counter, the shared generator's state, and
+    each agent's conditionally accomplished node."""
+
+    def __init__(self, mission: Mission) -> None:
+        self.mission = mission
+        self.pending: dict[int, tuple[float, int] | None] = {
+            i: mission.start_key(i) for i in range(1, mission.n_agents + 1)
+        }
+        self.counter = mission.n_agents
+        self.rng = rng_state(np.random.default_rng(mission.seed))
+        self.open_job: dict[int, int] = {}
+        self.last_t = 0.0  # time of the latest event seen (stream order is time order)
+
+    def on_broadcast(self, b: Broadcast) -> None:
+        if b.cmd in ("C05", "C07", "C08", "C04"):
+            self.last_t = max(self.last_t, b.t)
+        if b.cmd == "C05" or (b.cmd == "C07" and b.job):
+            self.pending[b.id] = (b.eta, self.counter)
+            self.counter += 1
+        elif b.cmd == "C09":
+            self.pending[b.id] = None
+        if ends_step(b) and b.rng is not None:
+            self.rng = b.rng
+        if b.cmd == "C07" and b.job:
+            self.open_job[b.id] = b.node
+        elif b.cmd == "C08":
+            self.open_job.pop(b.id, None)
+
+    def on_left(self, agent: int) -> int:
+        """Drop a departed agent; returns its unfinished job's node (or -1)."""
+        self.pending.pop(agent, None)
+        return self.open_job.pop(agent, -1)
+
+    def on_join(self, agent: int, t: float, seq: int) -> None:
+        self.pending[agent] = (t, seq)
+        self.counter = max(self.counter, seq + 1)
+
+    def next_agent(self) -> int | None:
+        """The agent whose event comes first (None when nobody has one)."""
+        best, key = None, None
+        for a, k in self.pending.items():
+            if k is not None and (key is None or k < key):
+                best, key = a, k
+        return best
+
+    def min_time(self) -> float:
+        times = [k[0] for k in self.pending.values() if k is not None]
+        return min(times) if times else self.last_t
+
+
+def check_broadcast(b: Broadcast, mission: Mission) -> None:
+    """Content checks a decoder cannot do without the mission (node and id ranges)."""
+    n = mission.world.n_nodes
+    if b.id > mission.n_agents:
+        raise EncodingError(f"broadcast from unknown agent {b.id}")
+    if not -1 <= b.node < n:
+        raise EncodingError(f"node {b.node} outside the map")
+    for arr in (b.nodes, b.doers if not b.done_bit else None):
+        if arr is not None and arr.size and arr.max() >= n:
+            raise EncodingError("listed node outside the map")
+    if b.obstacles and max(b.obstacles) >= n:
+        raise EncodingError("obstacle outside the map")
+
+
+def apply_to_belief(b: TraversalBelief, msg: Broadcast) -> None:
+    """A rival's broadcast applied to a belief, exactly as ``sim._Sim.apply`` applies the
+    simulator's messages (C04 and C07 without the job bit are its ``pos``, C07 with it
+    ``job``, C05 ``next``, C08 ``done`` / ``undone``; the others change no belief)."""
+    s, node = msg.id, msg.node
+    if msg.obstacles:
+        b.see_obstacles(msg.obstacles)
+    if msg.cmd == "C04" or (msg.cmd == "C07" and not msg.job):
+        b.loc[s] = node
+        b.release(s)
+    elif msg.cmd == "C07":
+        b.loc[s] = node
+        b.mark_done(node, s)
+        b.next_loc[s] = node
+        b.free_at[s] = msg.eta
+    elif msg.cmd == "C05":
+        b.reserve(node, s)
+        b.next_loc[s] = node
+        b.free_at[s] = msg.eta
+    elif msg.cmd == "C08" and not msg.job:
+        b.mark_not_done(node)
+
+
+def forget_agent(b: TraversalBelief, agent: int, open_node: int) -> None:
+    """A departed rival: its unfinished job returns to not-done, it holds nothing, and it is
+    no longer a rival (seed 000 §4.2: "conditionally accomplished" reverts on failure)."""
+    if open_node >= 0 and b.status[open_node] == agent:
+        b.mark_not_done(open_node)
+    b.release(agent)
+    if 0 <= agent < b.loc.size:
+        b.loc[agent] = -1
+        b.next_loc[agent] = -1
+
+
+def catch_up(belief: TraversalBelief, replica: Replica, msg: list) -> None:
+    """One message of the stream so far, applied as a late joiner applies it: every
+    broadcast as a rival's (its predecessor's with the same id too: what it had done is
+    done), ``LEFT`` and ``JOIN`` as everybody applied them."""
+    if msg[0] in BROADCAST_COMMANDS:
+        b = Broadcast.from_wire(msg)
+        apply_to_belief(belief, b)
+        replica.on_broadcast(b)
+    elif msg[0] == "LEFT":
+        a = int(msg[1])
+        forget_agent(belief, a, replica.on_left(a))
+    elif msg[0] == "JOIN":
+        replica.on_join(int(msg[1]), float(msg[2]), int(msg[3]))
+
+
+def new_belief(mission: Mission, me: int) -> TraversalBelief:
+    m = mission.n_agents
+    known = KnownGraph(mission.world.graph, capacity=2 * m + 8)
+    return TraversalBelief(me, m, known, mission.time_per_unit(), mission.job_times())
+
+
+# ---------------------------------------------------------------------------- agent steps
+
+
+class AgentCore:
+    """One agent's mission logic, network-free: the simulator's per-agent steps
+    (``_Sim.arrive_at``, ``start_job``, ``end_job``, ``decide``) with every broadcast
+    appended to :attr:`outbox` instead of being applied to the other beliefs.
+
+    The policy sees only :attr:`belief`; the true map is used for what the simulator also
+    takes from it: this agent's adjacency sensing and its flight home.
+    """
+
+    def __init__(self, mission: Mission, me: int, policy: Madgta | None = None) -> None:
+        self.mission = mission
+        self.me = me
+        self.spec = mission.specs[me - 1]
+        self.graph = mission.world.graph
+        self.truth_blocked = mission.world.blocked
+        self.policy = policy or make_policy(mission.algorithm)
+        self.belief = new_belief(mission, me)
+        self.log = AgentLog(me, self.spec)
+        seed = mission.seed if mission.rng_mode == "shared" else [mission.seed, me]
+        self.rng = np.random.default_rng(seed)
+        self.next_kind = "start"
+        self.next_node = self.spec.nest
+        self.outbox: list[Broadcast] = []
+        self.finished = False
+
+    # ---- stream
+    def receive(self, msg: Broadcast) -> None:
+        if msg.id != self.me:
+            apply_to_belief(self.belief, msg)
+
+    def forget(self, agent: int, open_node: int) -> None:
+        if agent != self.me:
+            forget_agent(self.belief, agent, open_node)
+
+    # ---- one event
+    def step(self, t: float, rng: bytes | None) -> list[Broadcast]:
+        """Run this agent's next event at time ``t``; returns the broadcasts, in order."""
+        self.outbox = []
+        if rng is not None and self.mission.rng_mode == "shared":
+            set_rng_state(self.rng, rng)
+        kind, node = self.next_kind, self.next_node
+        if kind == "start":
+            self._start(t)
+        elif kind == "arrive":
+            self._arrive(node, t)
+        else:
+            self._end_job(node, t)
+        return self.outbox
+
+    def _broadcast(self, cmd: str, node: int, job: int = 0, obstacles=(), t: float = 0.0,
+                   eta: float = 0.0, last: bool = False) -> None:
+        nodes = doers = None
+        bit = 1
+        if self.mission.done_lists:
+            bit, nodes, doers = _encode_done_list(self.belief.status)
+        self.outbox.append(
+            Broadcast(cmd, self.me, int(node), job, bit, nodes, doers,
+                      tuple(int(v) for v in obstacles), float(t), float(eta),
+                      rng_state(self.rng) if last else None)
+        )
+
+    def sense(self, node: int) -> list[int]:
+        nbrs = self.graph.neighbors(node)
+        seen = nbrs[self.truth_blocked[nbrs]]
+        new = [int(v) for v in seen if self.belief.status[v] != -1]
+        self.belief.see_obstacles(new)
+        return new
+
+    def _start(self, t: float) -> None:
+        nest = self.spec.nest
+        self.log.trajectory.append((t, nest))
+        b = self.belief
+        b.loc[self.me] = nest
+        seen = self.sense(nest)
+        self._broadcast("C04", nest, 0, seen, t)
+        self._decide(t)
+
+    def _arrive(self, node: int, t: float) -> None:
+        log = self.log
+        log.trajectory.append((t, node))
+        b = self.belief
+        b.loc[self.me] = node
+        b.now = t
+        seen = self.sense(node)
+        if not b.in_km(node) and b.status[node] == 0:
+            self._start_job(node, t, seen)
+        else:
+            log.path.append((node, False))
+            b.release(self.me)
+            self._broadcast("C07", node, 0, seen, t)
+            self._decide(t)
+
+    def _start_job(self, node: int, t: float, seen=()) -> None:
+        log = self.log
+        if not log.path or log.path[-1][0] != node:
+            log.path.append((node, False))
+        self.belief.mark_done(node, self.me)
+        log.jobs.append((t, node))
+        end = t + self.spec.job_time
+        self._broadcast("C07", node, 1, seen, t, end, last=True)
+        self.next_kind, self.next_node = "job_end", node
+
+    def _end_job(self, node: int, t: float) -> None:
+        log = self.log
+        log.job_time += self.spec.job_time
+        fail = self.mission.job_failure
+        if fail > 0 and self.rng.random() < fail:
+            log.failed_jobs += 1
+            self.belief.mark_not_done(node)
+            self._broadcast("C08", node, 0, (), t)
+        else:
+            log.path[-1] = (node, True)
+            if log.moves == 0:
+                log.nest_job = True
+            self._broadcast("C08", node, 1, (), t)
+        self._decide(t)
+
+    def _decide(self, t: float) -> None:
+        b = self.belief
+        b.now = t
+        d = self.policy.decide(b, self.rng)
+        log = self.log
+        log.decisions_by_branch[d.branch] += 1
+        if d.kind == "job":
+            self._start_job(d.node, t)
+        elif d.kind == "move":
+            here = b.here
+            dt = self.graph.edge_length(here, d.node) * b.time_per_unit[self.me]
+            if not b.in_km(d.node):
+                b.reserve(d.node, self.me)
+            log.moves += 1
+            log.travel_time += dt
+            self._broadcast("C05", d.node, 0, (), t, t + dt, last=True)
+            self.next_kind, self.next_node = "arrive", d.node
+        else:
+            self._finish(t)
+
+    def _finish(self, t: float) -> None:
+        log = self.log
+        log.finished_at = t
+        home = distance_field(self.graph, self.spec.nest, self.truth_blocked)[log.node]
+        log.rtl_length = float(home)
+        self.finished = True
+        self._broadcast("C09", log.node, 0, (), t, t + self.rtl_time(), last=True)
+
+    def rtl_time(self) -> float:
+        """Mission seconds of the flight home (C09 → C10)."""
+        if not math.isfinite(self.log.rtl_length):
+            return 0.0
+        return self.log.rtl_length * self.mission.unit_length / self.spec.travel_speed
+
+    def stats(self) -> dict:
+        """The statistics uploaded after C11 (seed 000 §4.3: path, jobs, times)."""
+        log = self.log
+        return {
+            "path": [[int(v), bool(j)] for v, j in log.path],
+            "trajectory": [[float(t), int(v)] for t, v in log.trajectory],
+            "jobs": [[float(t), int(v)] for t, v in log.jobs],
+            "moves": log.moves,
+            "travel_time": log.travel_time,
+            "job_time": log.job_time,
+            "failed_jobs": log.failed_jobs,
+            "nest_job": log.nest_job,
+            "finished_at": log.finished_at,
+            "branches": list(log.decisions_by_branch),
+        }
+
+
+def run_inprocess(mission: Mission) -> tuple[dict[int, AgentCore], Recorder]:
+    """The protocol without sockets: every agent's core, replica and the server's recorder
+    fed one stream, in the order the server would relay it. Equals the simulator's run
+    (tests check it); the networked runtime adds only transport and wall-clock pacing."""
+    m = mission.n_agents
+    cores = {i: AgentCore(mission, i) for i in range(1, m + 1)}
+    replica = Replica(mission)
+    recorder = Recorder(mission)
+    while (a := replica.next_agent()) is not None:
+        key = replica.pending[a]
+        assert key is not None
+        for b in cores[a].step(key[0], replica.rng):
+            frame = b.frame()
+            b = decode_broadcast(frame)
+            replica.on_broadcast(b)
+            recorder.on_broadcast(b, len(frame))
+            for core in cores.values():
+                core.receive(b)
+    return cores, recorder
+
+
+def warm_up() -> None:
+    """A tiny mission in process, so the compiled kernels of every MADGTA branch are loaded
+    before this process talks to anyone (a first call can take seconds, long enough to miss
+    heartbeats; a UAV, too, does its pre-arm checks before it flies)."""
+    from swarmex.missions.traversal.agents import uniform_agents
+
+    free = np.ones((4, 4), dtype=bool)
+    free[1, 1:3] = False
+    world = GridWorld(free, 4, source="warm-up")
+    run_inprocess(Mission(world, uniform_agents([0, 0, 15], 1.0, 1.0), seed=1))
+
+
+# ---------------------------------------------------------------------------- server side
+
+
+@dataclass
+class Incarnation:
+    """What the server saw of one agent process holding an id (a spare is a new one)."""
+
+    log: AgentLog
+    left_at: float | None = None
+    abandoned_jobs: list[tuple[float, int]] = field(default_factory=list)
+    stats: dict | None = None
+
+
+class Recorder:
+    """Rebuilds every agent's log from the broadcasts, as the simulator keeps it, so the
+    server can write the same record even for agents that never upload their statistics."""
+
+    def __init__(self, mission: Mission) -> None:
+        self.mission = mission
+        self.world = mission.world
+        self.graph = mission.world.graph
+        self.tpu = mission.time_per_unit()
+        n = self.graph.n_nodes
+        self.done_by = np.zeros(n, dtype=np.int32)
+        self.job_count = np.zeros(n, dtype=np.int32)
+        self.current: dict[int, Incarnation] = {}
+        self.departed: list[Incarnation] = []
+        self.messages = 0  # the simulator's count: C04, C05, C07, C08
+        self.message_bytes = 0
+
+    def incarnation(self, agent: int) -> Incarnation:
+        inc = self.current.get(agent)
+        if inc is None:
+            inc = Incarnation(AgentLog(agent, self.mission.specs[agent - 1]))
+            self.current[agent] = inc
+        return inc
+
+    def on_join(self, agent: int) -> None:
+        """A spare takes ``agent``'s id: the departed process's log is kept apart."""
+        old = self.current.pop(agent, None)
+        if old is not None:
+            self.departed.append(old)
+
+    def on_broadcast(self, b: Broadcast, nbytes: int) -> None:
+        if b.cmd in ("C04", "C05", "C07", "C08"):
+            self.messages += 1
+            self.message_bytes += nbytes
+        log = self.incarnation(b.id).log
+        t, node = b.t, b.node
+        if b.cmd == "C04":
+            log.trajectory.append((t, node))
+        elif b.cmd == "C07":
+            arrival = not log.trajectory or log.trajectory[-1][1] != node
+            if arrival:
+                log.trajectory.append((t, node))
+            if b.job:
+                if not log.path or log.path[-1][0] != node:
+                    log.path.append((node, False))
+                log.jobs.append((t, node))
+                self.job_count[node] += 1
+                if self.done_by[node] == 0:
+                    self.done_by[node] = b.id
+            else:
+                log.path.append((node, False))
+        elif b.cmd == "C05":
+            here = log.trajectory[-1][1] if log.trajectory else self.mission.specs[b.id - 1].nest
+            log.moves += 1
+            log.travel_time += self.graph.edge_length(here, node) * self.tpu[b.id]
+        elif b.cmd == "C08":
+            log.job_time += self.mission.specs[b.id - 1].job_time
+            if b.job:
+                if log.path:
+                    log.path[-1] = (node, True)
+                if log.moves == 0:
+                    log.nest_job = True
+            else:
+                log.failed_jobs += 1
+                self._undo(node)
+        elif b.cmd == "C09":
+            log.finished_at = t
+            nest = self.mission.specs[b.id - 1].nest
+            here = log.trajectory[-1][1] if log.trajectory else nest
+            log.rtl_length = float(distance_field(self.graph, nest, self.world.blocked)[here])
+
+    def _undo(self, node: int) -> None:
+        self.job_count[node] -= 1
+        if self.job_count[node] == 0:
+            self.done_by[node] = 0
+
+    def on_left(self, agent: int, t: float, open_node: int) -> None:
+        inc = self.current.get(agent)
+        if inc is None:
+            return
+        inc.left_at = t
+        if open_node >= 0 and inc.log.jobs and inc.log.jobs[-1][1] == open_node:
+            inc.abandoned_jobs.append(inc.log.jobs.pop())
+            self._undo(open_node)
+
+    def reachable(self) -> np.ndarray:
+        nests = [s.nest for s in self.mission.specs]
+        reach = np.isfinite(distance_field(self.graph, nests, self.world.blocked))
+        return reach & ~self.world.blocked
+
+
+def check_stats(stats: Any, log: AgentLog) -> bool:
+    """Whether an agent's uploaded statistics agree with what the server saw."""
+    if not isinstance(stats, dict):
+        return False
+    try:
+        same = (
+            stats["moves"] == log.moves
+            and stats["travel_time"] == log.travel_time
+            and stats["job_time"] == log.job_time
+            and [tuple(j) for j in stats["jobs"]] == [(t, v) for t, v in log.jobs]
+            and [tuple(p) for p in stats["trajectory"]] == [(t, v) for t, v in log.trajectory]
+        )
+    except (KeyError, TypeError):
+        return False
+    return bool(same)
+
+
+__all__ = [
+    "AgentCore",
+    "Mission",
+    "Recorder",
+    "Replica",
+    "WireError",
+    "apply_to_belief",
+    "catch_up",
+    "ends_step",
+    "check_broadcast",
+    "check_stats",
+    "forget_agent",
+    "run_inprocess",
+    "warm_up",
+]

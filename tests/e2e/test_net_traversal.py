@@ -1,0 +1,188 @@
+"""``swarmex serve`` / ``swarmex agent`` end to end: real processes on 127.0.0.1.
+
+The server and agents run as subprocesses (port 0: the server binds a free port and prints
+it), every wait is bounded, and leftovers are killed in ``finally``. The records are checked
+like simulated ones (independent replay against the map), and a fault-free networked run
+must *be* the simulated run of the same seed: same paths, same times, same makespan.
+"""
+
+from __future__ import annotations
+
+import json
+import signal
+import threading
+import time
+
+import pytest
+import zmq
+
+from swarmex.missions.traversal import run_traversal, traversal_record, uniform_agents
+from swarmex.net import wire
+from swarmex.net.events import viewer_batches
+from swarmex.worlds import GridWorld
+from tests.e2e.test_cli_traversal import free_mask, replay
+from tests.net.netproc import Procs, endpoint
+
+pytestmark = pytest.mark.timeout(90)
+
+OBSTACLES = [(2, 2), (3, 3), (4, 1)]
+GRID = ["--grid", "6x6", "--obstacles", ";".join(f"{x},{y}" for x, y in OBSTACLES)]
+
+
+def _world() -> GridWorld:
+    return GridWorld(free_mask(6, 6, OBSTACLES))
+
+
+class Viewer:
+    """Collects the server's monitor events on a thread (what ``swarmex watch`` reads)."""
+
+    def __init__(self, address: str) -> None:
+        self.events: list[dict] = []
+        self.stop = False
+        self.thread = threading.Thread(target=self._run, args=(address,), daemon=True)
+        self.thread.start()
+
+    def _run(self, address: str) -> None:
+        for batch in viewer_batches(address, timeout=30, stop=lambda: self.stop):
+            self.events.extend(batch)
+
+    def jobs_of(self, agent: int) -> int:
+        return sum(1 for e in list(self.events) if e["type"] == "job" and e["agent"] == agent)
+
+
+def _rogue(address: str) -> None:
+    """An intruder: an id outside the mission, a C22 for an id never given, damaged frames
+    and garbage — each must be refused or dropped and counted."""
+    sock = zmq.Context.instance().socket(zmq.DEALER)
+    sock.setsockopt(zmq.LINGER, 0)
+    sock.connect(address)
+    try:
+        sock.send(wire.pack(["C00", 99]))
+        assert sock.poll(10_000), "no answer to C00 99"
+        assert wire.decode_message(sock.recv())[:1] == ["REF"]
+        sock.send(wire.pack(["C22", 2]))
+        assert sock.poll(10_000), "no answer to C22 2"
+        reply = wire.decode_message(sock.recv())
+        assert reply[0] == "REF" and "unknown id" in reply[1]
+        good = wire.Broadcast("C05", 1, 3, t=1.0, eta=2.0).frame()
+        for bad in (good[:-1] + bytes([good[-1] ^ 1]), good[:7], b"\x00", b"garbage!!!"):
+            sock.send(bad)
+        sock.send(good)  # well formed, but this connection is not agent 1
+    finally:
+        sock.close(0)
+
+
+def test_networked_run_is_the_simulated_run(tmp_path):
+    rec_path = tmp_path / "net.json"
+    with Procs() as procs:
+        server = procs.start(
+            "server", "serve", *GRID, "--agents", 3, "--seed", 7, "--port", 0,
+            "--time-scale", 0.004, "--timeout", 60, "--json", rec_path,
+        )
+        address = endpoint(server)
+        viewer = Viewer(address)
+        _rogue(address)
+        a = procs.start("agents", "agent", "--connect", address, "--count", 2,
+                        "--inject-corrupt", 0.3, "--fault-seed", 1, "--server-timeout", 20)
+        b = procs.start("agent", "agent", "--connect", address, "--server-timeout", 20)
+        assert server.wait(75) == 0, server.output
+        assert a.wait(15) == 0, a.output
+        assert b.wait(15) == 0, b.output
+        viewer.thread.join(10)
+    net = json.loads(rec_path.read_text())
+    world = _world()
+    sim = traversal_record(
+        run_traversal(world, uniform_agents([0, 0, 0], 2.22, 10.0), seed=7), {}
+    ).to_dict()
+    assert net["complete"] and net["makespan"] == sim["makespan"]
+    assert net["time_unit"] == "s" and net["mission"] == "traversal"
+    for x, y in zip(net["agents"], sim["agents"], strict=True):
+        assert x["trajectory"] == y["trajectory"]
+        assert x["jobs"] == y["jobs"]
+        assert x["metrics"] == y["metrics"]
+    same = {k: v for k, v in net["metrics"].items() if k != "message_bytes"}
+    assert same == {k: v for k, v in sim["metrics"].items() if k != "message_bytes"}
+    replay(net, free_mask(6, 6, OBSTACLES))
+    n = net["network"]
+    assert n["refused"] == 2  # C00 99 and the C22 of an id never given
+    assert n["dropped_checksum"] + n["dropped_encoding"] >= 4  # rogue + injected copies
+    assert n["dropped_sender"] >= 1
+    assert n["stats_received"] == 3 and n["stats_mismatch"] == 0
+    assert n["left"] == [] and net["departed_agents"] == []
+    # the monitor stream: schema, one job event per job, and the end
+    events = viewer.events
+    assert events[0]["type"] == "hello" and events[0]["source"] == "network"
+    assert events[1]["type"] == "world" and events[1]["cells"][2][2] == "@"
+    jobs = sum(len(x["jobs"]) for x in net["agents"])
+    assert sum(e["type"] == "job" for e in events) == jobs
+    assert events[-1]["type"] == "end" and events[-1]["makespan"] == net["makespan"]
+    times = [e["t"] for e in events if "t" in e and e["type"] != "end"]
+    assert times == sorted(times)
+
+
+def test_killed_agent_is_replaced_by_a_spare(tmp_path):
+    rec_path = tmp_path / "net.json"
+    with Procs() as procs:
+        server = procs.start(
+            "server", "serve", *GRID, "--agents", 3, "--seed", 2, "--port", 0,
+            "--time-scale", 0.03, "--heartbeat", 0.2, "--dead-after", 1.0,
+            "--timeout", 60, "--json", rec_path,
+        )
+        address = endpoint(server)
+        viewer = Viewer(address)
+        pair = procs.start("pair", "agent", "--connect", address, "--count", 2)
+        victim = procs.start("victim", "agent", "--connect", address, "--id", 3)
+        spare = procs.start("spare", "agent", "--connect", address, "--spare",
+                            "--connect-timeout", 60)
+        server.wait_line("mission started", 30)
+        spare.wait_line("waiting for a vacant id", 30)
+        end = time.monotonic() + 30.0
+        while viewer.jobs_of(3) < 2:
+            assert time.monotonic() < end, "agent 3 never did two jobs"
+            time.sleep(0.05)
+        victim.popen.send_signal(signal.SIGKILL)
+        server.wait_line(r"agent 3 fell silent", 10)
+        server.wait_line(r"a spare took id 3", 10)
+        assert server.wait(60) == 0, server.output
+        assert pair.wait(15) == 0, pair.output
+        assert spare.wait(15) == 0, spare.output
+        viewer.stop = True
+    net = json.loads(rec_path.read_text())
+    assert net["complete"]
+    n = net["network"]
+    assert [d["id"] for d in n["left"]] == [3] and [d["id"] for d in n["joined"]] == [3]
+    assert [d["id"] for d in net["departed_agents"]] == [3]
+    assert n["stats_received"] == 3  # the pair and the spare; the victim never landed
+    assert net["departed_agents"][0]["metrics"]["left_at"] > 0
+    # every free cell done exactly once, counting the departed agent's finished jobs (its
+    # unfinished one went back to not-done and was redone by someone else)
+    replay({**net, "agents": net["agents"] + net["departed_agents"]}, free_mask(6, 6, OBSTACLES))
+
+
+def test_unknown_id_is_refused_and_agents_exit_when_the_server_goes_away(capsys):
+    """Both against one server; the agents run in this process (``swarmex agent`` through
+    :func:`~swarmex.cli.main`, and :func:`~swarmex.net.agent.run_agents` on a thread) to
+    save the start-up of two more interpreters."""
+    from swarmex.cli import main
+    from swarmex.net.agent import run_agents
+
+    with Procs() as procs:
+        server = procs.start("server", "serve", "--grid", "8x8", "--agents", 1, "--port", 0,
+                             "--time-scale", 1.0, "--timeout", 60)
+        address = endpoint(server)
+        code = main(["agent", "--connect", address, "--id", "5", "--server-timeout", "5"])
+        assert code == 4
+        assert "refused: unknown id 5" in capsys.readouterr().out
+        said: list[str] = []
+        result: list[int] = []
+        worker = threading.Thread(
+            target=lambda: result.append(run_agents(address, 1, server_timeout=1.5,
+                                                    say=said.append)),
+            daemon=True,
+        )
+        worker.start()
+        server.wait_line("mission started", 30)
+        server.popen.send_signal(signal.SIGKILL)
+        worker.join(15)
+        assert result == [3], said
+        assert any("server went silent" in s for s in said)

@@ -1,0 +1,144 @@
+"""Fuzzing every decoder: random bytes, truncated and damaged frames, and well-checksummed
+nonsense must raise :class:`~swarmex.net.wire.WireError` (or decode), never anything else."""
+
+from __future__ import annotations
+
+import contextlib
+
+import msgpack
+import numpy as np
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from swarmex.net import wire
+from swarmex.net.traversal import Mission
+
+DECODERS = [wire.unpack, wire.decode_broadcast, wire.decode_message]
+
+_valid = [
+    wire.Broadcast("C05", 1, 3, 0, 1, np.array([0, 3]), np.array([1, 1]), (2,), 1.0, 3.22,
+                   wire.rng_state(np.random.default_rng(1))).frame(),
+    wire.pack(["C00", 0]),
+    wire.pack(["JOIN", 2, 30.5, 17]),
+    wire.pack(["MIS", {"world": {}}, [b"x"]]),
+]
+
+scalars = (st.none() | st.booleans() | st.integers(-(2**64), 2**64 - 1) | st.floats()
+           | st.text(max_size=8) | st.binary(max_size=40))
+msgpack_values = scalars | st.lists(scalars, max_size=4) | st.dictionaries(
+    st.text(max_size=6), scalars, max_size=4)
+
+
+def _only_wire_errors(frame: bytes) -> None:
+    for decode in DECODERS:
+        with contextlib.suppress(wire.WireError):
+            decode(frame)
+    try:
+        obj = wire.unpack(frame)
+        if isinstance(obj, list) and obj and obj[0] == "MIS" and len(obj) == 3:
+            Mission.from_wire(obj[1])
+    except wire.WireError:
+        pass
+
+
+@settings(max_examples=400, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.binary(max_size=300))
+def test_random_bytes(data):
+    _only_wire_errors(data)
+    _only_wire_errors(data + wire.pack(0)[-4:])
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.sampled_from(_valid), st.integers(0, 400), st.integers(0, 7))
+def test_truncated_and_flipped_frames(frame, cut, bit):
+    _only_wire_errors(frame[: cut % (len(frame) + 1)])
+    damaged = bytearray(frame)
+    damaged[cut % len(frame)] ^= 1 << bit
+    _only_wire_errors(bytes(damaged))
+
+
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(msgpack_values)
+def test_checksummed_nonsense(value):
+    try:
+        frame = wire.pack(value)
+    except (OverflowError, ValueError, TypeError):
+        return
+    _only_wire_errors(frame)
+
+
+@settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.sampled_from(wire.BROADCAST_COMMANDS + wire.CONTROL_COMMANDS),
+       st.lists(msgpack_values, max_size=11))
+def test_known_commands_with_random_fields(cmd, fields):
+    try:
+        frame = wire.pack([cmd, *fields])
+    except (OverflowError, ValueError, TypeError):
+        return
+    _only_wire_errors(frame)
+
+
+@settings(max_examples=100, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.dictionaries(st.sampled_from(["world", "agents", "algorithm", "seed", "rng_mode",
+                                        "time_scale", "start_interval", "heartbeat"]),
+                       msgpack_values, max_size=8))
+def test_mission_data_decoder(d):
+    try:
+        raw = msgpack.unpackb(msgpack.packb(d, use_bin_type=True), raw=False,
+                              strict_map_key=False)
+    except (OverflowError, ValueError, TypeError):
+        return
+    with contextlib.suppress(wire.WireError):
+        Mission.from_wire(raw)
+
+
+# ---------------------------------------------------------------- the receivers themselves
+
+def _mission() -> Mission:
+    from swarmex.missions.traversal import uniform_agents
+    from swarmex.worlds import GridWorld
+
+    return Mission(GridWorld(np.ones((3, 4), dtype=bool)), uniform_agents([0, 0], 1.0, 1.0))
+
+
+broadcast_like = st.builds(
+    lambda cmd, i, node, job, bit, nodes, doers, obs, t, eta: [
+        cmd, i, node, job, bit, wire.pack_nodes(nodes), wire.pack_nodes(doers),
+        wire.pack_nodes(obs), t, eta, None],
+    st.sampled_from(wire.BROADCAST_COMMANDS), st.integers(-2, 5), st.integers(-3, 20),
+    st.integers(0, 1), st.integers(0, 1), st.lists(st.integers(0, 30), max_size=5),
+    st.lists(st.integers(0, 30), max_size=5), st.lists(st.integers(0, 30), max_size=3),
+    st.floats(-10, 1e6), st.floats(-10, 1e6),
+)
+
+
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.lists(broadcast_like | st.binary(max_size=60) | msgpack_values, max_size=6))
+def test_server_and_agent_survive_any_frames(items):
+    """Frames straight into the server's and an agent's receive paths: dropped and counted,
+    never an exception, never relayed."""
+    import zmq
+
+    from swarmex.net.agent import AgentClient
+    from swarmex.net.server import TraversalServer
+
+    server = TraversalServer(_mission(), "tcp://127.0.0.1:*", say=lambda _s: None)
+    client = AgentClient(zmq.Context.instance(), "tcp://127.0.0.1:9", say=lambda _s: None)
+    client.mission = _mission()
+    from swarmex.net.traversal import AgentCore, Replica
+
+    client.core, client.replica, client.id = AgentCore(client.mission, 1), Replica(
+        client.mission), 1
+    try:
+        for item in items:
+            try:
+                frame = item if isinstance(item, bytes) else wire.pack(item)
+            except (OverflowError, ValueError, TypeError):
+                continue
+            server._on_frame(b"peer", frame, 0.0)
+            server._on_frame(b"peer", frame[: len(frame) // 2], 0.0)
+            client.on_frame(frame, 0.0)
+        assert server.counters.relayed == 0
+    finally:
+        server.sock.close(0)
+        client.sock.close(0)
