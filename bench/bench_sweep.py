@@ -3,7 +3,7 @@
 1. 1,000 small traversal runs (5x5 grid, 1-4 agents, madgta and nearest, 125 seeds) with the
    local backend on 1 worker, then on 2: prints both rates and the ratio (target >= 1.8x on
    2 cores). Two rates each: end to end (pool start-up included) and steady state (the middle
-   80 % of the runs, start-up and tail excluded).
+   80 % of the runs, start-up and tail excluded); best of --repeat tries, alternating.
 2. The same spec on Ray (unless --no-ray or Ray is missing): same table, bit for bit, except
    ``wall_seconds``.
 3. 2,000 runs through ``swarmex sweep`` (the CLI, progress bar included): the driver's peak
@@ -14,6 +14,7 @@ memory) into a fresh folder (so nothing is skipped as already finished). The mac
 the load average is printed, since other people's jobs on the same two cores lower the ratio.
 
     .venv/bin/python bench/bench_sweep.py [--runs 1000] [--memory-runs 2000] [--no-ray]
+                                          [--repeat 2]
 """
 
 from __future__ import annotations
@@ -116,6 +117,7 @@ def main() -> None:
     ap.add_argument("--runs", type=int, default=1000)
     ap.add_argument("--memory-runs", type=int, default=2000)
     ap.add_argument("--no-ray", action="store_true")
+    ap.add_argument("--repeat", type=int, default=2, help="tries of each rate (best counts)")
     ap.add_argument("--phase", nargs="+", help=argparse.SUPPRESS)
     args = ap.parse_args()
     if args.phase:
@@ -133,9 +135,21 @@ def main() -> None:
         tmp = Path(tmp)
         spec = tmp / "spec.toml"
         spec.write_text(spec_text(args.runs))
-        one = child(["rate", str(spec), str(tmp / "w1"), "local", "1"])
-        two = child(["rate", str(spec), str(tmp / "w2"), "local", "2"])
-        print(f"\n{one['runs']} traversal runs (5x5 grid, 1-4 agents, madgta|nearest):")
+        ones, twos = [], []
+        for k in range(args.repeat):  # alternate, so a burst of outside load hits both
+            ones.append(child(["rate", str(spec), str(tmp / f"w1-{k}"), "local", "1"]))
+            twos.append(child(["rate", str(spec), str(tmp / f"w2-{k}"), "local", "2"]))
+            print(
+                f"  try {k + 1}: 1 worker {ones[-1]['rate']:.1f} runs/s,"
+                f" 2 workers {twos[-1]['rate']:.1f} runs/s"
+                f" (load average {os.getloadavg()[0]:.2f})"
+            )
+        one = max(ones, key=lambda r: r["rate"])
+        two = max(twos, key=lambda r: r["rate"])
+        print(
+            f"\n{one['runs']} traversal runs (5x5 grid, 1-4 agents, madgta|nearest),"
+            f" best of {args.repeat}:"
+        )
         for name, r in (("1 worker ", one), ("2 workers", two)):
             print(
                 f"  {name}: {r['wall']:6.1f} s   end to end {r['rate']:6.1f} runs/s"
@@ -148,7 +162,7 @@ def main() -> None:
             f"  ratio 2/1: end to end {ratio:.2f}x, steady {steady:.2f}x"
             f"  (target >= {TARGET_RATIO}x: {verdict})"
         )
-        same = rows(tmp / "w1") == rows(tmp / "w2")
+        same = rows(tmp / "w1-0") == rows(tmp / "w2-0")
         print(f"  1-worker and 2-worker tables identical (except wall_seconds): {same}")
 
         if args.no_ray:
@@ -160,7 +174,7 @@ def main() -> None:
                 print("\nray: not installed (pip install 'swarmex[ray]'), skipped")
             else:
                 r = child(["rate", str(spec), str(tmp / "ray"), "ray", "2"])
-                equal = rows(tmp / "ray") == rows(tmp / "w2")
+                equal = rows(tmp / "ray") == rows(tmp / "w2-0")
                 print(
                     f"\nray (local, 2 workers): {r['wall']:6.1f} s, {r['rate']:.1f} runs/s"
                     f" end to end, steady {r['steady_rate']:.1f} runs/s;"

@@ -8,6 +8,7 @@ by :mod:`swarmex.viz.plot`. What lives here is the progress bar and the tables.
 from __future__ import annotations
 
 import math
+import signal
 from pathlib import Path
 from typing import Any
 
@@ -116,6 +117,11 @@ def sweep(
             progress.update(state["task"], description=f"sweep ({state['failed']} failed)")
         progress.advance(state["task"])
 
+    # SIGTERM (a scheduler, `kill`) stops the sweep as cleanly as Ctrl-C: table written
+    try:
+        previous = signal.signal(signal.SIGTERM, _terminate)
+    except ValueError:  # not the main thread (an embedding program): leave signals alone
+        previous = None
     try:
         with progress:
             result = run_sweep(
@@ -135,6 +141,9 @@ def sweep(
             " (run the same command again to resume)"
         )
         raise typer.Exit(130) from None
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
     console.print(
         f"{result.skipped + result.ran}/{result.total} runs finished ({result.ran} now),"
         f" {result.failed} failed → {result.table}"
@@ -146,6 +155,10 @@ def sweep(
         )
     if summary:
         print_summary(result.out_dir, metric)
+
+
+def _terminate(_signum: int, _frame: Any) -> None:
+    raise KeyboardInterrupt
 
 
 def print_summary(out_dir: Path, extra_metrics: list[str]) -> None:

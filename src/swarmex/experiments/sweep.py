@@ -344,7 +344,9 @@ def _pool(workers: int, mission: str) -> ProcessPoolExecutor:
     )
     from swarmex.experiments.sweep_worker import init_worker
 
-    return ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=init_worker)
+    return ProcessPoolExecutor(
+        max_workers=workers, mp_context=ctx, initializer=init_worker, initargs=(os.getpid(),)
+    )
 
 
 def _local(

@@ -23,6 +23,8 @@ import json
 import os
 import signal
 import tempfile
+import threading
+import time
 import traceback
 from collections.abc import Iterator
 from dataclasses import asdict, dataclass, field
@@ -69,11 +71,29 @@ _COMMANDS: dict[str, Any] = {}
 _SCRATCH: Path | None = None
 
 
-def init_worker() -> None:
-    """Prepare a pool process: ignore Ctrl-C (the driver stops us), silence the CLI's output."""
+def init_worker(driver_pid: int | None = None) -> None:
+    """Prepare a pool process: ignore Ctrl-C (the driver stops us), silence the CLI's output.
+
+    With ``driver_pid``, a watchdog thread ends this process once the driver is gone: a pool
+    worker forked by the fork server is not the driver's child, and if the driver is killed
+    (SIGKILL, OOM) nothing else would ever tell it to exit.
+    """
     with contextlib.suppress(ValueError):  # not the main thread: nothing to do
         signal.signal(signal.SIGINT, signal.SIG_IGN)
     quiet_cli().__enter__()  # for the life of the process
+    if driver_pid is not None:
+        threading.Thread(target=_watch, args=(driver_pid,), daemon=True).start()
+
+
+def _watch(driver_pid: int, interval: float = 1.0) -> None:
+    while True:
+        time.sleep(interval)
+        try:
+            os.kill(driver_pid, 0)
+        except ProcessLookupError:
+            os._exit(1)
+        except PermissionError:  # alive, owned by someone else (cannot happen for our parent)
+            pass
 
 
 @contextlib.contextmanager
