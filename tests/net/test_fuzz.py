@@ -142,3 +142,81 @@ def test_server_and_agent_survive_any_frames(items):
     finally:
         server.sock.close(0)
         client.sock.close(0)
+
+
+# ---------------------------------------------------------------- the exploration mesh
+
+
+def _radio_frames() -> list[bytes]:
+    from swarmex.missions.exploration.messages import (
+        ChangeGoal,
+        Goal,
+        Heartbeat,
+        NeedMap,
+        ScanMsg,
+        ScanRecord,
+    )
+    from swarmex.net.mesh import encode_radio
+    from swarmex.sensing.occupancy import rasterise
+
+    ranges = np.full(16, 3.0)
+    angles = np.linspace(0.1, 6.2, 16)
+    rec = ScanRecord(0, 4, 5, 5, rasterise(5, 5, ranges, angles, 4.0, (12, 12)))
+    return [
+        encode_radio(0, (5, 5), ScanMsg(0, (rec,))),
+        encode_radio(1, (2, 3), Heartbeat(1, 2, 3)),
+        encode_radio(1, (2, 3), NeedMap(1, ((0, 0, 4),))),
+        encode_radio(2, (1, 1), Goal(2, (4, 4), 6.0, 1, 1)),
+        encode_radio(2, (1, 1), ChangeGoal(2, (4, 4), 6.0)),
+    ]
+
+
+RADIO = _radio_frames()
+
+
+def _mesh_decoders(frame: bytes) -> None:
+    from swarmex.net.mesh import decode_control, decode_radio
+
+    for decode in (lambda f: decode_radio(f, (12, 12)), decode_control):
+        with contextlib.suppress(wire.WireError):
+            decode(frame)
+
+
+def test_mesh_frames_decode():
+    from swarmex.net.mesh import decode_radio
+
+    kinds = [decode_radio(f, (12, 12))[2].kind for f in RADIO]
+    assert kinds == ["SCAN", "HEARTBEAT", "NEED_MAP", "GOAL", "CHANGE_GOAL"]
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.sampled_from(RADIO), st.integers(0, 4000), st.integers(0, 7))
+def test_mesh_truncated_and_flipped_frames(frame, cut, bit):
+    _mesh_decoders(frame[: cut % (len(frame) + 1)])
+    damaged = bytearray(frame)
+    damaged[cut % len(frame)] ^= 1 << bit
+    _mesh_decoders(bytes(damaged))
+
+
+@settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.sampled_from(["SCAN", "MAP", "HEARTBEAT", "NEED_MAP", "GOAL", "CHANGE_GOAL", "X"]),
+       st.dictionaries(st.sampled_from(["src", "x", "y", "goal", "priority", "have", "scans",
+                                        "box", "o", "s", "free", "occ"]),
+                       msgpack_values | st.lists(st.dictionaries(
+                           st.sampled_from(["o", "s", "x", "y", "box", "free", "occ"]),
+                           msgpack_values, max_size=7), max_size=2), max_size=8),
+       st.integers(-2, 20), st.integers(-2, 20))
+def test_mesh_checksummed_nonsense(kind, body, x, y):
+    try:
+        frame = wire.pack(["R", 0, x, y, {"type": kind, **body}])
+    except (OverflowError, ValueError, TypeError):
+        return
+    _mesh_decoders(frame)
+    _mesh_decoders(wire.pack(["STATUS", x, body]))
+
+
+@settings(max_examples=150, deadline=None)
+@given(st.binary(max_size=200))
+def test_mesh_random_bytes(data):
+    _mesh_decoders(data)
+    _mesh_decoders(data + wire.pack(0)[-4:])

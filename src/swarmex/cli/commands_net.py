@@ -244,3 +244,88 @@ def watch(
     if not view.ended:
         console.print("swarmex watch: no mission end seen (server gone or timeout)")
         raise typer.Exit(1)
+
+
+def parse_kills(text: str | None) -> dict[int, int]:
+    """``"ID@TICK;…"`` → {robot id: tick at which it dies}."""
+    out: dict[int, int] = {}
+    for part in (text or "").split(";"):
+        if not part.strip():
+            continue
+        rid, sep, tick = part.partition("@")
+        try:
+            out[int(rid)] = int(tick)
+        except ValueError:
+            raise InputError(f"--inject-kill: expected ID@TICK, got {part.strip()!r}") from None
+        if not sep or out[int(rid)] < 0:
+            raise InputError(f"--inject-kill: expected ID@TICK, got {part.strip()!r}")
+    return out
+
+
+def run_mesh(grid, params, time_scale: float = 1.0, loss: float = 0.0,
+             kills: dict[int, int] | None = None, send_timeout_ms: int = 20,
+             timeout: float = 600.0, json_path: Path | None = None,
+             monitor_url: str | None = None) -> dict:
+    """``explore --processes``: validate the network options, run, print the summary line."""
+    from swarmex.net.mesh import MeshOptions, run_processes
+
+    _positive(time_scale, "--time-scale")
+    _positive(timeout, "--timeout")
+    if not 0.0 <= loss < 1.0:
+        raise InputError(f"--inject-loss must be in [0, 1), got {loss}")
+    if send_timeout_ms < 1:
+        raise InputError(f"--send-timeout must be >= 1 ms, got {send_timeout_ms}")
+    kills = kills or {}
+    for rid in kills:
+        if not 0 <= rid < params.robots:
+            raise InputError(f"--inject-kill: no robot {rid} (ids 0..{params.robots - 1})")
+    check_output(json_path, "--json")
+    options = MeshOptions(time_scale=time_scale, loss=loss, send_timeout_ms=send_timeout_ms,
+                          timeout=timeout, inject_kill=kills)
+    record = run_processes(grid, params, options, json_path, monitor_url, _say)
+    m = record["metrics"]
+    console.print(
+        f"exploration/{params.strategy} as processes: {params.robots} robot(s) — "
+        f"complete={record['complete']}, {record['makespan']:.0f} steps, explored "
+        f"{m['explored_fraction']:.2%}, robots lost {m['robots_lost']}, messages "
+        f"{m['messages_sent']} ({m['bytes_sent']} B), {record['wall_seconds']:.1f} s",
+        highlight=False,
+    )
+    return record
+
+
+@app.command(hidden=True)
+def mesh(
+    map_path: Path = typer.Option(None, "--map", help="MovingAI .map or ROS map."),
+    empty: str = typer.Option(None, "--empty", help="Empty walled world WxH in metres."),
+    cell: float = typer.Option(None, "--cell", help="Cell size in metres."),
+    robots: int = typer.Option(..., "--robots", help="Team size."),
+    laser_range: float = typer.Option(2.0, "--laser-range", help="Laser range, metres."),
+    comm_range: float = typer.Option(10.0, "--comm-range", help="Radio range, metres."),
+    strategy: str = typer.Option("greedy-exclusion", "--strategy"),
+    starts: str = typer.Option(None, "--starts", help="Start cells 'x,y;x,y;…'."),
+    seed: int = typer.Option(0, "--seed"),
+    robot_radius: float = typer.Option(0.1, "--robot-radius"),
+    beams: int = typer.Option(360, "--beams"),
+    max_ticks: int = typer.Option(None, "--max-ticks"),
+    time_scale: float = typer.Option(1.0, "--time-scale", help="Wall s per mission s."),
+    loss: float = typer.Option(0.0, "--inject-loss", help="Share of radio frames dropped."),
+    kills: str = typer.Option(None, "--inject-kill", help="'ID@TICK;…': robots that die."),
+    send_timeout: int = typer.Option(20, "--send-timeout", help="PUSH send timeout, ms."),
+    timeout: float = typer.Option(600.0, "--timeout", help="Give up after this long (s)."),
+    monitor_url: str = typer.Option(None, "--monitor", help="ws://…/ingest of a monitor."),
+    json_path: Path = typer.Option(None, "--json", help="Write the result record here."),
+) -> None:
+    """``swarmex explore --processes`` under another name (one process per robot)."""
+    from swarmex.cli.commands_exploration import load_world
+    from swarmex.missions.exploration import ExplorationParams, parse_starts
+
+    grid = load_world(map_path, empty, cell)
+    params = ExplorationParams(
+        robots=robots, laser_range=laser_range, comm_range=comm_range, strategy=strategy,
+        robot_radius=robot_radius, beams=beams, starts=parse_starts(starts), seed=seed,
+        max_ticks=max_ticks,
+    )
+    record = run_mesh(grid, params, time_scale, loss, parse_kills(kills), send_timeout,
+                      timeout, json_path, monitor_url)
+    raise typer.Exit(0 if record["complete"] else 1)
