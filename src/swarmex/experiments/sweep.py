@@ -57,6 +57,7 @@ BACKENDS = ("local", "ray", "serial")
 RESULTS = "results.parquet"
 JOURNAL = "journal.jsonl"
 METADATA_KEY = b"swarmex.sweep"
+RAY_CHUNK = 8  # runs per Ray actor call at most
 MAX_ATTEMPTS = 2  # a run in flight when a worker process died twice is recorded as failed
 
 OnOutcome = Callable[[Outcome], None]
@@ -415,7 +416,12 @@ def _import_ray() -> Any:
 
 
 def _ray(tasks: list[Task], workers: int | None, address: str | None, finish: OnOutcome) -> None:
-    """Long-lived Ray actors, two tasks in flight each; records come back as text."""
+    """Long-lived Ray actors, two chunks of tasks in flight each; records come back as text.
+
+    Chunks shrink towards the end (at most a quarter of a fair share per actor) so the last
+    actors do not wait for one long chunk. If an actor dies, the runs of its chunk are
+    recorded as failed (``--retry-failed`` runs them again) and a new actor replaces it.
+    """
     ray = _import_ray()
     from swarmex.experiments.sweep_worker import RayWorker
 
@@ -432,22 +438,31 @@ def _ray(tasks: list[Task], workers: int | None, address: str | None, finish: On
         actor_cls = ray.remote(num_cpus=1)(RayWorker)
         actors = [actor_cls.remote() for _ in range(n)]
         queue = deque(tasks)
-        flying: dict[Any, tuple[Any, Task]] = {}
+        flying: dict[Any, tuple[Any, list[Task]]] = {}
+        replaced: dict[int, Any] = {}
         idle = deque(actors * 2)  # two slots per actor: one running, one queued
         while queue or flying:
             while idle and queue:
-                actor, task = idle.popleft(), queue.popleft()
-                flying[actor.run.remote(task)] = (actor, task)
+                size = max(1, min(RAY_CHUNK, len(queue) // (4 * n)))
+                chunk = [queue.popleft() for _ in range(min(size, len(queue)))]
+                actor = idle.popleft()
+                flying[actor.run.remote(chunk)] = (actor, chunk)
             done, _ = ray.wait(list(flying), num_returns=1)
             for ref in done:
-                actor, task = flying.pop(ref)
+                actor, chunk = flying.pop(ref)
                 try:
-                    outcome = ray.get(ref)
+                    outcomes = ray.get(ref)
                 except ray.exceptions.RayError as exc:  # the actor died: record, replace it
-                    outcome = Outcome(task.index, task.run_id, ok=False, error=f"ray: {exc}")
-                    actor = actor_cls.remote()
+                    outcomes = [
+                        Outcome(t.index, t.run_id, ok=False, error=f"ray: {exc}") for t in chunk
+                    ]
+                    dead, actor = actor, replaced.get(id(actor))
+                    if actor is None:  # one replacement per dead actor, in all its slots
+                        actor = replaced[id(dead)] = actor_cls.remote()
+                        idle = deque(actor if a is dead else a for a in idle)
                 idle.append(actor)
-                finish(outcome)
+                for outcome in outcomes:
+                    finish(outcome)
     finally:
         if started:
             ray.shutdown()
