@@ -19,7 +19,6 @@ Three ways out, all fed by the same batches:
 from __future__ import annotations
 
 import asyncio
-import contextlib
 import json
 import queue
 import threading
@@ -126,30 +125,30 @@ class IngestForwarder:
     def _run(self) -> None:
         from websockets.sync.client import connect
 
-        ws = None
         deadline = time.monotonic() + self.connect_timeout
-        while ws is None and time.monotonic() < deadline:
+        while True:
             try:
-                ws = connect(self.url, open_timeout=1.0)
+                conn = connect(self.url, open_timeout=1.0)
             except Exception as exc:  # refused, DNS, handshake: retry until the deadline
                 self.error = f"{type(exc).__name__}: {exc}"
+                if time.monotonic() >= deadline:
+                    break
                 time.sleep(0.2)
-        while True:
-            item = self.queue.get()
-            if item is None:
-                break
-            if ws is None:
-                self.dropped += 1
                 continue
+            with conn as ws:
+                self._pump(ws)
+            return
+        while self.queue.get() is not None:  # no monitor: count what could not go out
+            self.dropped += 1
+
+    def _pump(self, ws: Any) -> None:
+        while (item := self.queue.get()) is not None:
             try:
                 ws.send(item)
                 self.sent += 1
-            except Exception as exc:
+            except Exception as exc:  # the monitor went away: drop the rest, counted
                 self.error = f"{type(exc).__name__}: {exc}"
                 self.dropped += 1
-        if ws is not None:
-            with contextlib.suppress(Exception):
-                ws.close()
 
 
 def viewer_batches(address: str, timeout: float = 10.0,

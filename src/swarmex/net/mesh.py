@@ -714,7 +714,7 @@ class DisplayProcess(Node):
         self._emit(
             ev.hello("exploration", self.params.strategy, list(range(n)),
                      f"exploration · {self.params.strategy} · {w.source} · processes",
-                     1.0 / (0.1 * opts.time_scale) if opts.time_scale > 0 else None, "step"),
+                     None, "step"),
             ev.world(w.free, w.width, w.height, w.source),
         )
         # start barrier: every robot said HELLO (or the start timeout passed)

@@ -352,10 +352,9 @@ class TraversalServer:
             self.state[a] = "mission"
         m = self.mission
         w = m.world
-        speed = 1.0 / m.time_scale if m.time_scale > 0 else None
-        self._emit(
+        self._emit(  # live: no replay speed (the monitor's schema says null)
             ev.hello("traversal", m.algorithm, list(self.state), f"traversal · {m.algorithm} · "
-                     f"{w.source} · network", speed),
+                     f"{w.source} · network", None),
             ev.world(w.free, w.width, w.height, w.source),
         )
         self._to_agents(wire.pack(["GO", 0.0]))
