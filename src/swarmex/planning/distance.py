@@ -195,6 +195,39 @@ def _shift_source_lattice(width, nbmask, row, new_source, queue):  # pragma: no 
     return tail
 
 
+@nb.njit(cache=True, nogil=True, parallel=True)
+def _hop_jobs(
+    width, nbmask, indptr, indices, hops, slots, sources, shift, queues
+):  # pragma: no cover - compiled
+    """Many hop-field jobs in parallel, one per row ``slots[j]`` of ``hops``: a BFS from
+    ``sources[j]`` (the row holds a template copy) or, where ``shift[j]``, a source shift
+    (the row holds a neighbour's field). ``queues`` has one scratch row per thread."""
+    for j in nb.prange(slots.shape[0]):
+        q = queues[nb.get_thread_id()]
+        row = hops[slots[j]]
+        if shift[j]:
+            _shift_source_lattice(width, nbmask, row, sources[j], q)
+        elif width > 0:
+            _bfs_hops_lattice(width, nbmask, sources[j], row, q)
+        else:
+            _bfs_hops_csr(indptr, indices, sources[j], row, q)
+
+
+@nb.njit(cache=True, nogil=True)
+def _hop_jobs_serial(
+    width, nbmask, indptr, indices, hops, slots, sources, shift, queues
+):  # pragma: no cover - compiled
+    """:func:`_hop_jobs` on the calling thread."""
+    for j in range(slots.shape[0]):
+        row = hops[slots[j]]
+        if shift[j]:
+            _shift_source_lattice(width, nbmask, row, sources[j], queues[0])
+        elif width > 0:
+            _bfs_hops_lattice(width, nbmask, sources[j], row, queues[0])
+        else:
+            _bfs_hops_csr(indptr, indices, sources[j], row, queues[0])
+
+
 @nb.njit(cache=True, nogil=True)
 def _bfs(indptr, indices, step, blocked, sources, out):  # pragma: no cover - compiled
     """Float BFS field; the visited test reads ``out`` itself, so there is no second array."""

@@ -6,34 +6,34 @@ one by one, so naive caching would throw every field away at every discovery.
 :class:`KnownGraph` instead keeps a log of discoveries and brings a cached field up to date
 only when it is asked for. Two regimes, chosen by the graph:
 
-* **uniform edge lengths** (grids): fields are stored as int32 hop counts in one 2-D array
-  (a row per cached source, so kernels can read many fields in one call). A stale field is
-  *repaired* (:func:`~swarmex.planning.distance.repair_hops`: only the vertices whose
-  shortest paths ran through the new obstacles are re-derived), which is exact — hop counts
-  have no rounding — so a repaired field equals a fresh one bit for bit and the cache policy
-  cannot change any result. On a map whose walls are discovered cell by cell this turns
-  most invalidations (about half of all field computations before) into small repairs.
+* **uniform edge lengths** (grids): fields are int32 hop counts, one row per cached source
+  in one 2-D array, so kernels read many fields in one call. Hop counts have no rounding, so
+  every route to a field gives the same integers and the cache policy cannot change a
+  result. That frees three shortcuts:
+
+  - a stale field is *repaired* (``_repair_hops``: only the vertices whose shortest paths
+    ran through the new obstacles are re-derived) instead of recomputed; on a map whose
+    walls are discovered cell by cell that turns about half of all field computations
+    into small repairs;
+  - the field of a vertex next to a cached source is *derived* from it on a lattice
+    (``_shift_source_lattice``: every distance moves by exactly one), which is what an
+    agent stepping to a neighbour needs, at about half the cost of a search;
+  - :meth:`KnownGraph.prefetch` (the simulator calls it when an agent decides to move)
+    snapshots the row and queues the job; queued jobs run together, in parallel on all
+    cores, when the first of them is needed. A queued row starts from the obstacles known
+    when it was queued and is repaired on use like any stale field.
+
 * **other graphs**: float Dijkstra fields, checked by :func:`_still_exact` (a field is
   unchanged by blocking a set of vertices iff every vertex whose shortest path could run
   through them keeps another shortest-path predecessor) and recomputed when it fails. The
   check compares floats with a tolerance, so a kept field can differ from a fresh one in the
   last bits; this path therefore keeps its original LRU policy unchanged, so results stay
   reproducible run to run and release to release.
-
-With ``prefetch=True`` (uniform graphs of some size) :meth:`KnownGraph.prefetch` starts the
-hop field of a vertex on a background thread (numba kernels release the GIL, so it runs on
-the second core): the traversal simulator calls it when an agent *decides* to move, and the
-field is ready by the time anyone asks for it. The row is initialised from the obstacles
-known at that moment and repaired on first use like any stale field, so the answer does not
-depend on thread timing.
 """
 
 from __future__ import annotations
 
-import queue
-import threading
 from collections import OrderedDict
-from collections.abc import Callable
 
 import numba as nb
 import numpy as np
@@ -41,10 +41,9 @@ import numpy as np
 from swarmex.planning.distance import (
     BLOCKED,
     UNREACHED,
-    _bfs_hops_csr,
-    _bfs_hops_lattice,
+    _hop_jobs,
+    _hop_jobs_serial,
     _repair_hops,
-    _shift_source_lattice,
     distance_field,
     lattice_structure,
     step_length,
@@ -86,83 +85,13 @@ def _gather(hops, slot, vertices, step, out):  # pragma: no cover - compiled
         out[i] = np.inf if h < 0 else h * step
 
 
-#: below this many vertices a search is cheaper than handing it to a thread
-PREFETCH_MIN_NODES = 4096
-
-
-class _Job:
-    """A field computation that the worker thread or, if it gets there first, the thread
-    that needs the result runs (so a busy machine never leaves the caller waiting for a
-    worker that has not been scheduled). ``run`` takes a dict of scratch queues by size."""
-
-    __slots__ = ("lock", "run", "done", "error")
-
-    def __init__(self, run: Callable[[dict], None]) -> None:
-        self.lock = threading.Lock()
-        self.run = run
-        self.done = False
-        self.error: BaseException | None = None
-
-    def claim_and_run(self, scratch: dict) -> bool:
-        """Run the job unless someone else has it; False if someone else does."""
-        if not self.lock.acquire(blocking=False):
-            return False
-        try:
-            if not self.done:
-                self.run(scratch)
-        except BaseException as exc:  # handed to whoever waits for the result
-            self.error = exc
-        finally:
-            self.done = True
-            self.lock.release()
-        return True
-
-    def wait(self, scratch: dict) -> None:
-        if not self.done and not self.claim_and_run(scratch):
-            with self.lock:  # the worker is on it
-                pass
-        if self.error is not None:
-            raise self.error
-
-
-_JOBS: queue.SimpleQueue[_Job] = queue.SimpleQueue()
-_WORKER: threading.Thread | None = None
-_WORKER_LOCK = threading.Lock()
-
-
-def _worker_loop() -> None:
-    scratch: dict = {}
-    while True:
-        _JOBS.get().claim_and_run(scratch)
-
-
-def _submit(job: _Job) -> _Job:
-    """Queue a job for the one shared worker thread (a daemon: nothing to shut down)."""
-    global _WORKER
-    if _WORKER is None:
-        with _WORKER_LOCK:
-            if _WORKER is None:
-                _WORKER = threading.Thread(target=_worker_loop, name="swarmex-fields",
-                                           daemon=True)
-                _WORKER.start()
-    _JOBS.put(job)
-    return job
-
-
-def _scratch_queue(scratch: dict, n: int) -> np.ndarray:
-    q = scratch.get(n)
-    if q is None:
-        q = scratch[n] = np.empty(n, dtype=np.int32)
-    return q
-
-
 class KnownGraph:
     """A graph plus the obstacles someone knows about, with a cache of distance fields.
 
     ``blocked`` only ever gains vertices (obstacles are static), which is what makes the
-    incremental updates sound. Counters: ``recomputed`` (full searches, ``prefetched`` of
-    them on the worker thread), ``repaired`` (stale uniform fields fixed in place),
-    ``reused`` (served as they were).
+    incremental updates sound. Counters: ``recomputed`` (fields computed: full searches plus
+    ``shifted`` derivations), ``repaired`` (stale uniform fields fixed in place), ``reused``
+    (served as they were).
     """
 
     def __init__(self, graph: NodeGraph, capacity: int = 64, prefetch: bool = False) -> None:
@@ -173,34 +102,32 @@ class KnownGraph:
         self.recomputed = 0
         self.reused = 0
         self.repaired = 0
-        self.prefetched = 0
+        self.shifted = 0
         self.uniform = bool(graph.uniform)
         # float fields (non-uniform graphs), keyed by source: (field, version)
         self._cache: OrderedDict[int, tuple[np.ndarray, int]] = OrderedDict()
-        self._prefetch = False
+        self._prefetch = prefetch and self.uniform
         if self.uniform:
             n = graph.n_nodes
             self.step = step_length(graph)
-            self._prefetch = prefetch and n >= PREFETCH_MIN_NODES
-            # rows never move while a worker may write one, so then allocate them all now
-            rows = max(4, capacity) if self._prefetch else 0
-            self.hops = np.empty((rows, n), dtype=np.int32)
+            self.hops = np.empty((0, n), dtype=np.int32)  # grows by doubling
             self._slot: OrderedDict[int, int] = OrderedDict()  # source -> row, LRU order
-            self._slot_version: list[int] = [-1] * rows
-            self._free: list[int] = list(range(rows - 1, -1, -1))
-            self._pending: dict[int, _Job] = {}  # row -> prefetch in flight
+            self._slot_version: list[int] = []
+            self._free: list[int] = []
+            self._queued: dict[int, tuple[int, bool]] = {}  # row -> (source, shift) to run
             self._float: dict[int, np.ndarray] = {}  # row -> float field, until it changes
-            # scratch for the repair and BFS kernels (the worker has its own queue)
+            # scratch for the kernels
             self._state = np.zeros(n, dtype=np.int8)
             self._touched = np.empty(n, dtype=np.int32)
             self._work = np.empty(2 * n + 2, dtype=np.int32)
             self._key = np.empty(n, dtype=np.int32)
-            self._queue = np.empty(n, dtype=np.int32)
-            self._scratch = {n: self._queue}  # this thread's queues, when it runs a job
+            self._queues = np.empty((nb.config.NUMBA_NUM_THREADS, n), dtype=np.int32)
             self._repair_limit = max(1, n // 6)
             # what a fresh hop row starts as: UNREACHED, or BLOCKED for known obstacles
             self._template = np.full(n, UNREACHED, dtype=np.int32)
-            self._width, self._nbmask = lattice_structure(graph)
+            width, mask = lattice_structure(graph)
+            self._width = width
+            self._nbmask = mask if mask is not None else np.zeros(1, dtype=np.uint8)
 
     @property
     def version(self) -> int:
@@ -290,113 +217,97 @@ class KnownGraph:
         return out
 
     def prefetch(self, source: int) -> None:
-        """Start computing ``source``'s field in the background (no-op unless enabled or
-        when the field is cached already, fresh or stale: a repair is cheaper)."""
+        """Queue the field of ``source`` (no-op unless enabled, or if it is cached already,
+        fresh or stale: a repair is cheaper). Queued fields are computed together, in
+        parallel, when the first of them is needed."""
         source = int(source)
-        if not self._prefetch or source in self._slot:
-            return
+        if self._prefetch and source not in self._slot:
+            self._queue_job(source)
+            self._trim(1)
+
+    def _queue_job(self, source: int) -> int:
+        """Give ``source`` a row holding what its job starts from, and queue the job."""
         near = self._near_row(source)
         slot = self._alloc()
         self._slot[source] = slot
         self._slot_version[slot] = self.version
-        row = self.hops[slot]
         self._float.pop(slot, None)
-        # the row starts from what is known now; later obstacles are repaired on use
-        n = row.shape[0]
+        row = self.hops[slot]
         if near is not None:
             row[:] = self.hops[near]
-            fn = self._shift
+            self.shifted += 1
         else:
             row[:] = self._template
-            fn = self._search
-        self._pending[slot] = _submit(_Job(lambda sc: fn(source, row, _scratch_queue(sc, n))))
+        self._queued[slot] = (source, near is not None)
         self.recomputed += 1
-        self.prefetched += 1
-        self._trim(1)
+        return slot
 
-    def close(self) -> None:
-        """Wait for fields in flight (call before dropping a prefetching cache)."""
-        for job in self._pending.values():
-            job.wait(self._scratch)
-        self._pending.clear()
+    def _run_queued(self) -> None:
+        jobs = self._queued
+        if not jobs:
+            return
+        slots = np.fromiter(jobs.keys(), dtype=np.int64, count=len(jobs))
+        sources = np.array([src for src, _ in jobs.values()], dtype=np.int64)
+        shift = np.array([sh for _, sh in jobs.values()], dtype=np.bool_)
+        g = self.graph
+        run = _hop_jobs if len(jobs) > 1 else _hop_jobs_serial  # a lone job: no thread start
+        run(self._width, self._nbmask, g.indptr, g.indices, self.hops, slots, sources, shift,
+            self._queues)
+        jobs.clear()
 
     def _near_row(self, source: int) -> int | None:
-        """Row of a cached, up-to-date field whose source is a neighbour of ``source`` at
-        distance one, from which ``source``'s field follows by :meth:`_shift` (lattices)."""
+        """Row of a cached, computed field whose source is a neighbour of ``source`` at
+        distance one: ``source``'s field then follows by a shift (lattices only)."""
         if not self._width or self.blocked[source]:
             return None
         for other in self.graph.neighbors(source).tolist():
             slot = self._slot.get(other)
-            if slot is None or self.blocked[other] or slot in self._pending:
+            if slot is None or self.blocked[other] or slot in self._queued:
                 continue
             slot = self._ensure(other)  # repairs it if stale (usually it is fresh)
             if self.hops[slot, source] == 1:
                 return slot
         return None
 
-    def _shift(self, source: int, row: np.ndarray, queue: np.ndarray) -> None:
-        """``row`` holds the field of a neighbour of ``source``: make it ``source``'s."""
-        _shift_source_lattice(self._width, self._nbmask, row, source, queue)
-
-    def _search(self, source: int, row: np.ndarray, queue: np.ndarray) -> None:
-        """Fresh single-source search into ``row``, which holds a copy of the template."""
-        if self._width:
-            _bfs_hops_lattice(self._width, self._nbmask, source, row, queue)
-        else:
-            _bfs_hops_csr(self.graph.indptr, self.graph.indices, source, row, queue)
-
     def _ensure(self, source: int) -> int:
         slot = self._slot.get(source)
+        if slot is None:
+            self._queue_job(source)
+            self._run_queued()  # with whatever else is queued, in parallel
+            return self._slot[source]
+        self._slot.move_to_end(source)
+        if slot in self._queued:
+            self._run_queued()
         ver = self.version
-        if slot is not None:
-            self._slot.move_to_end(source)
-            job = self._pending.pop(slot, None)
-            if job is not None:
-                job.wait(self._scratch)
-            old = self._slot_version[slot]
-            if old == ver:
-                self.reused += 1
-                return slot
-            self._slot_version[slot] = ver
-            g = self.graph
-            new = np.asarray(self._log[old:], dtype=np.int64)
-            changed = _repair_hops(
-                g.indptr, g.indices, self.blocked, self.hops[slot], source, new,
-                self._state, self._touched, self._work, self._key, self._repair_limit,
-            )
-            if changed == 0:
-                self.reused += 1
-                return slot
-            self._float.pop(slot, None)
-            if changed > 0:
-                self.repaired += 1
-                return slot
-            row = self.hops[slot]
-            row[:] = self._template
-            self._search(source, row, self._queue)
-        else:
-            near = self._near_row(source)
-            slot = self._alloc()
-            self._slot[source] = slot
-            self._slot_version[slot] = ver
-            row = self.hops[slot]
-            if near is not None:
-                row[:] = self.hops[near]
-                self._shift(source, row, self._queue)
-            else:
-                row[:] = self._template
-                self._search(source, row, self._queue)
+        old = self._slot_version[slot]
+        if old == ver:
+            self.reused += 1
+            return slot
+        self._slot_version[slot] = ver
         self._float.pop(slot, None)
-        self.recomputed += 1
+        g = self.graph
+        new = np.asarray(self._log[old:], dtype=np.int64)
+        changed = _repair_hops(
+            g.indptr, g.indices, self.blocked, self.hops[slot], source, new,
+            self._state, self._touched, self._work, self._key, self._repair_limit,
+        )
+        if changed == 0:
+            self.reused += 1
+        elif changed > 0:
+            self.repaired += 1
+        else:  # too much changed: a fresh search is cheaper
+            self.hops[slot] = self._template
+            self._queued[slot] = (source, False)
+            self.recomputed += 1
+            self._run_queued()
         return slot
 
     def _alloc(self) -> int:
         if self._free:
             return self._free.pop()
-        self.close()  # rows are about to move: no worker may be writing one
         rows, n = self.hops.shape
         grown = np.empty((max(4, 2 * rows), n), dtype=np.int32)
-        grown[:rows] = self.hops
+        grown[:rows] = self.hops  # queued jobs name rows by index, so they survive this
         self.hops = grown  # float fields are copies, so they stay valid
         self._slot_version.extend([-1] * (grown.shape[0] - rows))
         self._free.extend(range(grown.shape[0] - 1, rows, -1))
@@ -407,8 +318,6 @@ class KnownGraph:
         limit = max(self.capacity, keep)
         while len(self._slot) > limit:
             _, slot = self._slot.popitem(last=False)
-            job = self._pending.pop(slot, None)
-            if job is not None:
-                job.wait(self._scratch)
+            self._queued.pop(slot, None)
             self._float.pop(slot, None)
             self._free.append(slot)

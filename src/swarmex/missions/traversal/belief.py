@@ -13,11 +13,30 @@ updated only by the agent's own sensing and by messages; policies read nothing e
 
 from __future__ import annotations
 
+import numba as nb
 import numpy as np
 
 from swarmex.planning.fieldcache import KnownGraph
 
 DONE_BY_UNKNOWN = np.int32(2**30)
+
+
+class BeliefTable:
+    """The arrays of a whole team's beliefs, one row per agent id (row 0 unused).
+
+    Each :class:`TraversalBelief` built with ``table=`` works on its own rows (views), so a
+    perfect broadcast can update every receiver in one compiled call (:func:`deliver`)
+    instead of one Python call per receiver.
+    """
+
+    def __init__(self, n_agents: int, n_nodes: int) -> None:
+        rows = n_agents + 1
+        self.status = np.zeros((rows, n_nodes), dtype=np.int32)
+        self.reserved = np.zeros((rows, n_nodes), dtype=np.int32)
+        self.loc = np.full((rows, rows), -1, dtype=np.int64)
+        self.reservation = np.full((rows, rows), -1, dtype=np.int64)
+        self.next_loc = np.full((rows, rows), -1, dtype=np.int64)
+        self.free_at = np.zeros((rows, rows), dtype=np.float64)
 
 
 class TraversalBelief:
@@ -28,17 +47,26 @@ class TraversalBelief:
         known: KnownGraph,
         time_per_unit: np.ndarray,
         job_time: np.ndarray,
+        table: BeliefTable | None = None,
     ) -> None:
         n = known.graph.n_nodes
         self.me = me  # 1-based id, as in the thesis
         self.known = known
-        self.status = np.zeros(n, dtype=np.int32)
-        self.reserved = np.zeros(n, dtype=np.int32)
-        self.loc = np.full(n_agents + 1, -1, dtype=np.int64)  # index by id; slot 0 unused
-        self.reservation = np.full(n_agents + 1, -1, dtype=np.int64)  # vertex reserved, by id
-        # when each agent will next be free, and where (from C05/C07 timing): madgta+ uses it
-        self.next_loc = np.full(n_agents + 1, -1, dtype=np.int64)
-        self.free_at = np.zeros(n_agents + 1, dtype=np.float64)
+        if table is None:
+            self.status = np.zeros(n, dtype=np.int32)
+            self.reserved = np.zeros(n, dtype=np.int32)
+            self.loc = np.full(n_agents + 1, -1, dtype=np.int64)  # index by id; 0 unused
+            self.reservation = np.full(n_agents + 1, -1, dtype=np.int64)  # vertex, by id
+            # when each agent will next be free, and where (C05/C07 timing): madgta+ uses it
+            self.next_loc = np.full(n_agents + 1, -1, dtype=np.int64)
+            self.free_at = np.zeros(n_agents + 1, dtype=np.float64)
+        else:  # this agent's rows of the team table (views: the table sees every write)
+            self.status = table.status[me]
+            self.reserved = table.reserved[me]
+            self.loc = table.loc[me]
+            self.reservation = table.reservation[me]
+            self.next_loc = table.next_loc[me]
+            self.free_at = table.free_at[me]
         self.now = 0.0
         self.time_per_unit = time_per_unit  # seconds per length unit, by id
         self.job_time = job_time  # seconds per job, by id
@@ -98,3 +126,55 @@ class TraversalBelief:
             if self.reserved[old] == by:
                 self.reserved[old] = 0
             self.reservation[by] = -1
+
+
+#: message kinds understood by :func:`deliver` (the simulator's C01/C07/C05 and "undone")
+POS, JOB, NEXT, UNDONE = 1, 2, 3, 4
+
+
+@nb.njit(cache=True, nogil=True)
+def deliver(
+    kind, sender, node, obstacles, eta, status, reserved, loc, reservation, next_loc, free_at
+):  # pragma: no cover - compiled
+    """Apply one message to every belief of a :class:`BeliefTable` except the sender's.
+
+    Row for row the same updates, in the same order, as :meth:`TraversalBelief.see_obstacles`
+    followed by the per-kind handling of the simulator (``_Sim.apply``): position (and
+    release of the sender's reservation), job start (conditionally accomplished), next node
+    (reservation) or job failure. Obstacles must already be in the shared known graph.
+    """
+    for r in range(1, status.shape[0]):
+        if r == sender:
+            continue
+        st = status[r]
+        rs = reserved[r]
+        rv = reservation[r]
+        for o in obstacles:
+            st[o] = -1
+        if kind == JOB:
+            loc[r, sender] = node
+            if st[node] >= 0:  # mark_done(node, sender)
+                st[node] = sender
+            holder = rs[node]
+            if holder != 0:
+                rs[node] = 0
+                rv[holder] = -1
+            next_loc[r, sender] = node
+            free_at[r, sender] = eta
+        elif kind == UNDONE:
+            if st[node] > 0:  # mark_not_done(node)
+                st[node] = 0
+        elif kind != 0:  # POS or NEXT: both release the sender's reservation first
+            if kind == POS:
+                loc[r, sender] = node
+            old = rv[sender]
+            if old >= 0:
+                if rs[old] == sender:
+                    rs[old] = 0
+                rv[sender] = -1
+            if kind == NEXT:
+                if st[node] == 0:  # reserve(node, sender)
+                    rs[node] = sender
+                    rv[sender] = node
+                next_loc[r, sender] = node
+                free_at[r, sender] = eta

@@ -32,10 +32,22 @@ from swarmex.comm.channel import Channel
 from swarmex.engine.events import EventQueue
 from swarmex.errors import InputError
 from swarmex.missions.traversal.agents import AgentSpec
-from swarmex.missions.traversal.belief import DONE_BY_UNKNOWN, TraversalBelief
+from swarmex.missions.traversal.belief import (
+    DONE_BY_UNKNOWN,
+    JOB,
+    NEXT,
+    POS,
+    UNDONE,
+    BeliefTable,
+    TraversalBelief,
+    deliver,
+)
 from swarmex.missions.traversal.policies import Madgta, make_policy
 from swarmex.planning.distance import distance_field
 from swarmex.planning.fieldcache import KnownGraph
+
+# kind -> deliver() code; 0: nothing for the receivers to do ("done" carries no state here)
+_KIND_CODES = {"pos": POS, "job": JOB, "next": NEXT, "undone": UNDONE, "done": 0}
 
 
 @dataclass
@@ -120,12 +132,13 @@ class _Sim:
         # Under a perfect instant broadcast every belief's obstacle set is identical at every
         # instant, so one KnownGraph (and its field cache) is shared: copy elision, not
         # shared memory between agents.
-        shared = (
-            KnownGraph(self.graph, capacity=4 * m + 8, prefetch=True) if channel.perfect else None
-        )
+        shared = KnownGraph(self.graph, capacity=4 * m + 8) if channel.perfect else None
+        # likewise the beliefs live in one team table, so a broadcast is one compiled call
+        self.table = BeliefTable(m, self.graph.n_nodes) if channel.perfect else None
         self.beliefs = [None] + [
             TraversalBelief(
-                i, m, shared or KnownGraph(self.graph, capacity=2 * m + 8), tpu, jt
+                i, m, shared or KnownGraph(self.graph, capacity=2 * m + 8), tpu, jt,
+                table=self.table,
             )
             for i in range(1, m + 1)
         ]
@@ -149,6 +162,14 @@ class _Sim:
             done_list = _encode_done_list(belief.status)
             size += 4 * done_list[1].size
         self.message_bytes += size
+        if self.table is not None:  # perfect broadcast: every other belief, in one call
+            code = _KIND_CODES[kind]
+            if code or obstacles:
+                belief.known.add_obstacles(obstacles)  # shared: a no-op, the sender saw them
+                t = self.table
+                deliver(code, sender, node, np.asarray(obstacles, dtype=np.int64), eta,
+                        t.status, t.reserved, t.loc, t.reservation, t.next_loc, t.free_at)
+            return
         msg = (kind, sender, node, tuple(obstacles), eta, done_list)
         if self.channel.perfect:
             for r in range(1, self.m + 1):
@@ -251,7 +272,6 @@ class _Sim:
             dt = self.graph.edge_length(here, d.node) * b.time_per_unit[a]
             if not b.in_km(d.node):
                 b.reserve(d.node, a)
-            b.known.prefetch(d.node)  # everyone will want its field once a arrives
             self.broadcast(a, "next", d.node, eta=t + dt)
             log.moves += 1
             log.travel_time += dt
