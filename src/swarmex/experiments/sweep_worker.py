@@ -80,7 +80,7 @@ def init_worker(driver_pid: int | None = None) -> None:
     """
     with contextlib.suppress(ValueError):  # not the main thread: nothing to do
         signal.signal(signal.SIGINT, signal.SIG_IGN)
-    quiet_cli().__enter__()  # for the life of the process
+    _silence()  # for the life of the process
     if driver_pid is not None:
         threading.Thread(target=_watch, args=(driver_pid,), daemon=True).start()
 
@@ -103,11 +103,7 @@ def quiet_cli() -> Iterator[None]:
     Restored on exit, so the serial backend can use it around each run inside the CLI's own
     process and still print its summary afterwards.
     """
-    from swarmex.cli.app import console, err_console
-
-    saved = [(c, c.__dict__.get("print")) for c in (console, err_console)]
-    for c, _ in saved:
-        c.print = _silent  # type: ignore[method-assign]
+    saved = _silence()
     try:
         yield
     finally:
@@ -116,6 +112,16 @@ def quiet_cli() -> Iterator[None]:
                 del c.print
             else:
                 c.print = old  # type: ignore[method-assign]
+
+
+def _silence() -> list[tuple[Any, Any]]:
+    """Replace the shared consoles' ``print``; returns what was there, to restore it."""
+    from swarmex.cli.app import console, err_console
+
+    saved = [(c, c.__dict__.get("print")) for c in (console, err_console)]
+    for c, _ in saved:
+        c.print = _silent  # type: ignore[method-assign]
+    return saved
 
 
 def _silent(*_args: Any, **_kwargs: Any) -> None:
