@@ -235,6 +235,7 @@ def test_ingest_feeds_the_same_page_stream():
         (["--scenario", "nope.toml"], "scenario file not found"),
         (["--record", "nope.json"], "record not found"),
         (["--scenario", "a.toml", "--record", "b.json"], "at most one of"),
+        (["--connect", "tcp://127.0.0.1:9", "--record", "b.json"], "at most one of"),
         (["--port", "70000"], "--port must be"),
     ],
 )

@@ -4,8 +4,10 @@
   ``swarmex run`` does), then streams the run's events paced in scaled time (``--speed``
   mission seconds per wall second), starting when the first viewer connects;
 * ``--record FILE.json`` replays a finished run's record the same way;
-* neither: the page waits for a producer on ``ws://127.0.0.1:PORT/ingest`` (how the networked
-  runtime feeds it; schema at ``/schema`` and in docs/monitor.md).
+* ``--connect tcp://HOST:P`` shows a networked mission live (the producer of
+  :func:`swarmex.net.events.network_producer` reads the mission server's event stream);
+* none of these: the page waits for a producer on ``ws://127.0.0.1:PORT/ingest`` (how other
+  programs feed it; schema at ``/schema`` and in docs/monitor.md).
 
 The first line printed is the page's address. The server listens on 127.0.0.1 only; ``--port
 0`` (the default) takes a free port. ``--linger S`` stops it S seconds after the mission ends
@@ -78,6 +80,12 @@ def monitor(
     record_file: Path | None = typer.Option(
         None, "--record", help="Replay a result record (--json of any mission).", show_default=False
     ),
+    connect: str | None = typer.Option(
+        None,
+        "--connect",
+        help="Show a networked mission: its server's address (tcp://HOST:P).",
+        show_default=False,
+    ),
     port: int = typer.Option(0, "--port", help="Port on 127.0.0.1 (0: a free one)."),
     speed: float = typer.Option(
         1.0, "--speed", help="Mission seconds per wall second (inf: all at once)."
@@ -101,8 +109,8 @@ def monitor(
     from swarmex.viz.monitor.hub import replay
     from swarmex.viz.monitor.server import MonitorServer
 
-    if scenario is not None and record_file is not None:
-        raise InputError("give at most one of --scenario and --record")
+    if sum(x is not None for x in (scenario, record_file, connect)) > 1:
+        raise InputError("give at most one of --scenario, --record and --connect")
     if not speed > 0:
         raise InputError(f"--speed must be > 0, got {speed}")
     if linger is not None and (linger < 0 or math.isnan(linger)):
@@ -135,9 +143,18 @@ def monitor(
         def producer(hub):
             return replay(hub, events, speed, wait)
 
+    if connect is not None:
+        try:
+            from swarmex.net.events import network_producer
+        except ImportError as exc:
+            raise InputError(f"--connect needs the networked runtime: {exc}") from None
+        producer = network_producer(connect)
+
     def ready(srv: MonitorServer) -> None:
         what = "waiting for the first viewer" if wait and record is not None else "streaming"
-        if record is None:
+        if connect is not None:
+            what = f"showing the mission at {connect}"
+        elif record is None:
             what = f"waiting for events on ws://127.0.0.1:{srv.port}/ingest"
         console.print(f"swarmex monitor: {srv.url} ({what})", soft_wrap=True, highlight=False)
         console.file.flush()
