@@ -143,8 +143,9 @@ def _bfs_hops_lattice(width, nbmask, source, hops, queue):  # pragma: no cover -
 
 
 @nb.njit(cache=True, nogil=True)
-def _shift_source_lattice(width, nbmask, row, new_source, queue):  # pragma: no cover
-    """Turn the exact hop field of a source into that of its neighbour ``new_source``.
+def _shift_source_lattice(width, nbmask, old, row, new_source, queue):  # pragma: no cover
+    """Write into ``row`` the hop field of ``new_source``, given in ``old`` the exact field
+    of a neighbour of it (``old`` may be ``row`` itself: the shift works in place).
 
     On a bipartite graph (a 4-connected lattice, with any vertices removed) moving the
     source one edge changes every reachable distance by exactly one: down by one for the
@@ -157,8 +158,8 @@ def _shift_source_lattice(width, nbmask, row, new_source, queue):  # pragma: no 
     """
     n = row.shape[0]
     for x in range(n):
-        if row[x] >= 0:
-            row[x] += 1
+        h = old[x]
+        row[x] = h + 1 if h >= 0 else h
     row[new_source] = 0
     queue[0] = new_source
     head = 0
@@ -193,39 +194,6 @@ def _shift_source_lattice(width, nbmask, row, new_source, queue):  # pragma: no 
                 queue[tail] = v
                 tail += 1
     return tail
-
-
-@nb.njit(cache=True, nogil=True, parallel=True)
-def _hop_jobs(
-    width, nbmask, indptr, indices, hops, slots, sources, shift, queues
-):  # pragma: no cover - compiled
-    """Many hop-field jobs in parallel, one per row ``slots[j]`` of ``hops``: a BFS from
-    ``sources[j]`` (the row holds a template copy) or, where ``shift[j]``, a source shift
-    (the row holds a neighbour's field). ``queues`` has one scratch row per thread."""
-    for j in nb.prange(slots.shape[0]):
-        q = queues[nb.get_thread_id()]
-        row = hops[slots[j]]
-        if shift[j]:
-            _shift_source_lattice(width, nbmask, row, sources[j], q)
-        elif width > 0:
-            _bfs_hops_lattice(width, nbmask, sources[j], row, q)
-        else:
-            _bfs_hops_csr(indptr, indices, sources[j], row, q)
-
-
-@nb.njit(cache=True, nogil=True)
-def _hop_jobs_serial(
-    width, nbmask, indptr, indices, hops, slots, sources, shift, queues
-):  # pragma: no cover - compiled
-    """:func:`_hop_jobs` on the calling thread."""
-    for j in range(slots.shape[0]):
-        row = hops[slots[j]]
-        if shift[j]:
-            _shift_source_lattice(width, nbmask, row, sources[j], queues[0])
-        elif width > 0:
-            _bfs_hops_lattice(width, nbmask, sources[j], row, queues[0])
-        else:
-            _bfs_hops_csr(indptr, indices, sources[j], row, queues[0])
 
 
 @nb.njit(cache=True, nogil=True)
@@ -591,6 +559,44 @@ def hop_field(
         out = np.empty(graph.n_nodes, dtype=np.int32)
     queue = np.empty(graph.n_nodes, dtype=np.int32)
     _bfs_hops(graph.indptr, graph.indices, blocked, src, out, queue)
+    return out
+
+
+def repair_hops(
+    graph: NodeGraph,
+    hops: np.ndarray,
+    source: int,
+    new_blocked: Sequence[int] | np.ndarray,
+    blocked: np.ndarray,
+) -> int:
+    """Update in place the hop field ``hops`` of ``source`` after ``new_blocked`` joined
+    ``blocked`` (which must already include them); returns how many vertices changed.
+
+    ``hops`` must have been exact for ``blocked`` minus ``new_blocked``. The result is the
+    same array a fresh :func:`hop_field` would give, found by re-deriving only the vertices
+    whose shortest paths all ran through the new obstacles (any negative entry means
+    unreached).
+    """
+    n = graph.n_nodes
+    new = np.asarray(new_blocked, dtype=np.int64).ravel()
+    return int(_repair_hops(
+        graph.indptr, graph.indices, blocked, hops, int(source), new,
+        np.zeros(n, dtype=np.int8), np.empty(n, dtype=np.int32),
+        np.empty(2 * n + 2, dtype=np.int32), np.empty(n, dtype=np.int32), n,
+    ))
+
+
+def shift_hop_field(graph: NodeGraph, hops: np.ndarray, new_source: int) -> np.ndarray:
+    """The hop field of ``new_source`` from ``hops``, the exact field of a neighbour of it,
+    on a 4-connected lattice graph (see :func:`lattice_structure`)."""
+    width, mask = lattice_structure(graph)
+    if not width:
+        raise ValueError("shift_hop_field needs a full 4-connected lattice graph")
+    if hops[new_source] != 1:
+        raise ValueError(f"vertex {new_source} is not at one hop from the field's source")
+    out = np.empty_like(hops)
+    _shift_source_lattice(width, mask, hops, out, int(new_source),
+                          np.empty(graph.n_nodes, dtype=np.int32))
     return out
 
 

@@ -18,10 +18,11 @@ only when it is asked for. Two regimes, chosen by the graph:
   - the field of a vertex next to a cached source is *derived* from it on a lattice
     (``_shift_source_lattice``: every distance moves by exactly one), which is what an
     agent stepping to a neighbour needs, at about half the cost of a search;
-  - :meth:`KnownGraph.prefetch` (the simulator calls it when an agent decides to move)
-    snapshots the row and queues the job; queued jobs run together, in parallel on all
-    cores, when the first of them is needed. A queued row starts from the obstacles known
-    when it was queued and is repaired on use like any stale field.
+  - rows are recycled in least-recently-used order, and the row of a source that has just
+    been left (an agent stepped away) is shifted in place rather than copied.
+
+  (A background thread computing the field of an agent's next vertex while the simulation
+  goes on was tried and dropped: under load its GIL hand-offs cost more than it saved.)
 
 * **other graphs**: float Dijkstra fields, checked by :func:`_still_exact` (a field is
   unchanged by blocking a set of vertices iff every vertex whose shortest path could run
@@ -41,9 +42,10 @@ import numpy as np
 from swarmex.planning.distance import (
     BLOCKED,
     UNREACHED,
-    _hop_jobs,
-    _hop_jobs_serial,
+    _bfs_hops_csr,
+    _bfs_hops_lattice,
     _repair_hops,
+    _shift_source_lattice,
     distance_field,
     lattice_structure,
     step_length,
@@ -94,11 +96,11 @@ class KnownGraph:
     (served as they were).
     """
 
-    def __init__(self, graph: NodeGraph, capacity: int = 64, prefetch: bool = False) -> None:
+    def __init__(self, graph: NodeGraph, capacity: int = 64) -> None:
         self.graph = graph
         self.blocked = np.zeros(graph.n_nodes, dtype=bool)
         self._log: list[int] = []
-        self.capacity = capacity
+        self.capacity = max(1, capacity)
         self.recomputed = 0
         self.reused = 0
         self.repaired = 0
@@ -106,22 +108,23 @@ class KnownGraph:
         self.uniform = bool(graph.uniform)
         # float fields (non-uniform graphs), keyed by source: (field, version)
         self._cache: OrderedDict[int, tuple[np.ndarray, int]] = OrderedDict()
-        self._prefetch = prefetch and self.uniform
         if self.uniform:
             n = graph.n_nodes
             self.step = step_length(graph)
-            self.hops = np.empty((0, n), dtype=np.int32)  # grows by doubling
-            self._slot: OrderedDict[int, int] = OrderedDict()  # source -> row, LRU order
-            self._slot_version: list[int] = []
-            self._free: list[int] = []
-            self._queued: dict[int, tuple[int, bool]] = {}  # row -> (source, shift) to run
+            self.hops = np.empty((0, n), dtype=np.int32)  # one row per cached source
+            # bookkeeping in arrays, so a request for many fields is a few numpy operations
+            self._row_of = np.full(n, -1, dtype=np.int64)  # source -> row
+            self._source = np.empty(0, dtype=np.int64)  # row -> source (-1: free)
+            self._version = np.empty(0, dtype=np.int64)  # row -> obstacles it knows
+            self._used = np.empty(0, dtype=np.int64)  # row -> clock of last use
+            self._clock = 0
             self._float: dict[int, np.ndarray] = {}  # row -> float field, until it changes
             # scratch for the kernels
             self._state = np.zeros(n, dtype=np.int8)
             self._touched = np.empty(n, dtype=np.int32)
             self._work = np.empty(2 * n + 2, dtype=np.int32)
             self._key = np.empty(n, dtype=np.int32)
-            self._queues = np.empty((nb.config.NUMBA_NUM_THREADS, n), dtype=np.int32)
+            self._queue = np.empty(n, dtype=np.int32)
             self._repair_limit = max(1, n // 6)
             # what a fresh hop row starts as: UNREACHED, or BLOCKED for known obstacles
             self._template = np.full(n, UNREACHED, dtype=np.int32)
@@ -202,88 +205,34 @@ class KnownGraph:
         """Row of ``self.hops`` holding the up-to-date hop field of ``source``.
 
         Uniform graphs only. The row stays valid until a later ``slot``/``slots``/``field``
-        call evicts it (at least ``capacity`` distinct sources later) or repairs it.
+        call recycles it (``capacity`` other sources later, or when its source is left for
+        a neighbour) or repairs it.
         """
-        s = self._ensure(int(source))
-        self._trim(1)
-        return s
+        self._clock += 1
+        return self._ensure(int(source))
 
     def slots(self, sources: np.ndarray) -> np.ndarray:
         """Rows for several sources at once, all valid together (see :meth:`slot`)."""
-        out = np.empty(len(sources), dtype=np.int64)
-        for i, s in enumerate(sources.tolist()):
-            out[i] = self._ensure(s)
-        self._trim(len(out))
-        return out
-
-    def prefetch(self, source: int) -> None:
-        """Queue the field of ``source`` (no-op unless enabled, or if it is cached already,
-        fresh or stale: a repair is cheaper). Queued fields are computed together, in
-        parallel, when the first of them is needed."""
-        source = int(source)
-        if self._prefetch and source not in self._slot:
-            self._queue_job(source)
-            self._trim(1)
-
-    def _queue_job(self, source: int) -> int:
-        """Give ``source`` a row holding what its job starts from, and queue the job."""
-        near = self._near_row(source)
-        slot = self._alloc()
-        self._slot[source] = slot
-        self._slot_version[slot] = self.version
-        self._float.pop(slot, None)
-        row = self.hops[slot]
-        if near is not None:
-            row[:] = self.hops[near]
-            self.shifted += 1
-        else:
-            row[:] = self._template
-        self._queued[slot] = (source, near is not None)
-        self.recomputed += 1
-        return slot
-
-    def _run_queued(self) -> None:
-        jobs = self._queued
-        if not jobs:
-            return
-        slots = np.fromiter(jobs.keys(), dtype=np.int64, count=len(jobs))
-        sources = np.array([src for src, _ in jobs.values()], dtype=np.int64)
-        shift = np.array([sh for _, sh in jobs.values()], dtype=np.bool_)
-        g = self.graph
-        run = _hop_jobs if len(jobs) > 1 else _hop_jobs_serial  # a lone job: no thread start
-        run(self._width, self._nbmask, g.indptr, g.indices, self.hops, slots, sources, shift,
-            self._queues)
-        jobs.clear()
-
-    def _near_row(self, source: int) -> int | None:
-        """Row of a cached, computed field whose source is a neighbour of ``source`` at
-        distance one: ``source``'s field then follows by a shift (lattices only)."""
-        if not self._width or self.blocked[source]:
-            return None
-        for other in self.graph.neighbors(source).tolist():
-            slot = self._slot.get(other)
-            if slot is None or self.blocked[other] or slot in self._queued:
-                continue
-            slot = self._ensure(other)  # repairs it if stale (usually it is fresh)
-            if self.hops[slot, source] == 1:
-                return slot
-        return None
+        self._clock += 1
+        rows = self._row_of[sources]
+        if rows.size and rows.min() >= 0 and (self._version[rows] == self.version).all():
+            self._used[rows] = self._clock  # the common case: all cached and current
+            self.reused += rows.size
+            return rows
+        return np.array([self._ensure(s) for s in sources.tolist()], dtype=np.int64)
 
     def _ensure(self, source: int) -> int:
-        slot = self._slot.get(source)
-        if slot is None:
-            self._queue_job(source)
-            self._run_queued()  # with whatever else is queued, in parallel
-            return self._slot[source]
-        self._slot.move_to_end(source)
-        if slot in self._queued:
-            self._run_queued()
+        """Row of ``source``, computed, repaired or reused; marked as used now."""
+        slot = int(self._row_of[source])
+        if slot < 0:
+            return self._compute(source)
+        self._used[slot] = self._clock
+        old = int(self._version[slot])
         ver = self.version
-        old = self._slot_version[slot]
         if old == ver:
             self.reused += 1
             return slot
-        self._slot_version[slot] = ver
+        self._version[slot] = ver
         self._float.pop(slot, None)
         g = self.graph
         new = np.asarray(self._log[old:], dtype=np.int64)
@@ -296,28 +245,77 @@ class KnownGraph:
         elif changed > 0:
             self.repaired += 1
         else:  # too much changed: a fresh search is cheaper
-            self.hops[slot] = self._template
-            self._queued[slot] = (source, False)
-            self.recomputed += 1
-            self._run_queued()
+            self._search(source, slot)
         return slot
 
-    def _alloc(self) -> int:
-        if self._free:
-            return self._free.pop()
-        rows, n = self.hops.shape
-        grown = np.empty((max(4, 2 * rows), n), dtype=np.int32)
-        grown[:rows] = self.hops  # queued jobs name rows by index, so they survive this
-        self.hops = grown  # float fields are copies, so they stay valid
-        self._slot_version.extend([-1] * (grown.shape[0] - rows))
-        self._free.extend(range(grown.shape[0] - 1, rows, -1))
-        return rows
+    def _compute(self, source: int) -> int:
+        """A row for a source not cached: shifted from a neighbour's field if one is cached
+        (in place when that neighbour is not in the current request), else searched."""
+        near = self._near_row(source)
+        if near is not None and self._used[near] != self._clock:
+            slot = near  # the neighbour's field is not wanted now: recycle its row
+            self._row_of[self._source[slot]] = -1
+        else:
+            slot = self._free_row()
+        self._row_of[source] = slot
+        self._source[slot] = source
+        self._version[slot] = self.version
+        self._used[slot] = self._clock
+        self._float.pop(slot, None)
+        if near is None:
+            self._search(source, slot)
+        else:
+            _shift_source_lattice(self._width, self._nbmask, self.hops[near], self.hops[slot],
+                                  source, self._queue)
+            self.shifted += 1
+            self.recomputed += 1
+        return slot
 
-    def _trim(self, keep: int) -> None:
-        """Evict least recently used fields beyond capacity, sparing the last ``keep``."""
-        limit = max(self.capacity, keep)
-        while len(self._slot) > limit:
-            _, slot = self._slot.popitem(last=False)
-            self._queued.pop(slot, None)
-            self._float.pop(slot, None)
-            self._free.append(slot)
+    def _search(self, source: int, slot: int) -> None:
+        row = self.hops[slot]
+        row[:] = self._template
+        if self._width:
+            _bfs_hops_lattice(self._width, self._nbmask, source, row, self._queue)
+        else:
+            _bfs_hops_csr(self.graph.indptr, self.graph.indices, source, row, self._queue)
+        self.recomputed += 1
+
+    def _near_row(self, source: int) -> int | None:
+        """Row of a cached field whose source is a neighbour of ``source`` at distance one
+        (brought up to date first): ``source``'s field then follows by a shift. Lattices
+        only, where the shift is exact; neither source may be an obstacle."""
+        if not self._width or self.blocked[source]:
+            return None
+        for other in self.graph.neighbors(source).tolist():
+            if self._row_of[other] < 0 or self.blocked[other]:
+                continue
+            keep = self._used[self._row_of[other]]
+            slot = self._ensure(other)  # repairs it if stale (usually it is fresh)
+            self._used[slot] = keep  # looking at it is not using it
+            if self.hops[slot, source] == 1:
+                return slot
+        return None
+
+    def _free_row(self) -> int:
+        """An unused row, or the least recently used one not used by the current request,
+        or a new row (the table grows by doubling)."""
+        rows = self.hops.shape[0]
+        free = np.flatnonzero(self._source < 0)
+        if free.size:
+            return int(free[0])
+        if rows >= self.capacity:
+            old = np.where(self._used == self._clock, np.iinfo(np.int64).max, self._used)
+            slot = int(np.argmin(old))
+            if old[slot] != np.iinfo(np.int64).max:
+                self._row_of[self._source[slot]] = -1
+                self._source[slot] = -1
+                self._float.pop(slot, None)
+                return slot
+        grown = max(rows + 1, min(max(4, 2 * rows), self.capacity))
+        hops = np.empty((grown, self.hops.shape[1]), dtype=np.int32)
+        hops[:rows] = self.hops
+        self.hops = hops  # float fields are copies, so they stay valid
+        self._source = np.concatenate([self._source, np.full(grown - rows, -1, np.int64)])
+        self._version = np.concatenate([self._version, np.zeros(grown - rows, np.int64)])
+        self._used = np.concatenate([self._used, np.zeros(grown - rows, np.int64)])
+        return rows
