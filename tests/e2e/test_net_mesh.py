@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import re
 import threading
+import time
 
 import numpy as np
 import pytest
@@ -25,12 +26,15 @@ pytestmark = pytest.mark.timeout(120)
 def test_mesh_survives_a_killed_robot_and_thirty_percent_loss(tmp_path):
     grid = empty_metric(3, 3)  # 60 x 60 cells of 5 cm, walls around
     params = ExplorationParams(robots=3, laser_range=1.0, comm_range=10.0, seed=1)
-    options = MeshOptions(time_scale=0.2, loss=0.3, inject_kill={1: 20}, timeout=90)
+    options = MeshOptions(time_scale=0.2, loss=0.3, inject_kill={1: 20}, dead_after=2.0,
+                          timeout=90)
     events: list[dict] = []
     lines: list[str] = []
 
+    t0 = time.monotonic()
+
     def say(line: str) -> None:
-        lines.append(line)
+        lines.append(f"{time.monotonic() - t0:.1f}s {line}")
         m = re.search(r"view on (tcp://127\.0\.0\.1:\d+)", line)
         if m:  # a live viewer of the display, as `swarmex watch` is
             def watch(address: str = m[1]) -> None:

@@ -82,12 +82,10 @@ def test_networked_run_is_the_simulated_run(tmp_path):
         address = endpoint(server)
         viewer = Viewer(address)
         _rogue(address)
-        a = procs.start("agents", "agent", "--connect", address, "--count", 2,
+        a = procs.start("agents", "agent", "--connect", address, "--count", 3,
                         "--inject-corrupt", 0.3, "--fault-seed", 1, "--server-timeout", 20)
-        b = procs.start("agent", "agent", "--connect", address, "--server-timeout", 20)
         assert server.wait(75) == 0, server.output
         assert a.wait(15) == 0, a.output
-        assert b.wait(15) == 0, b.output
         viewer.thread.join(10)
     net = json.loads(rec_path.read_text())
     world = _world()
@@ -125,17 +123,17 @@ def test_killed_agent_is_replaced_by_a_spare(tmp_path):
     with Procs() as procs:
         server = procs.start(
             "server", "serve", *GRID, "--agents", 3, "--seed", 2, "--port", 0,
-            "--time-scale", 0.03, "--heartbeat", 0.2, "--dead-after", 1.0,
+            "--time-scale", 0.02, "--heartbeat", 0.2, "--dead-after", 1.0,
             "--timeout", 60, "--json", rec_path,
         )
         address = endpoint(server)
         viewer = Viewer(address)
-        pair = procs.start("pair", "agent", "--connect", address, "--count", 2)
+        # two agents and a spare in one process, the victim alone in another
+        pair = procs.start("pair", "agent", "--connect", address, "--count", 2, "--spares", 1,
+                           "--connect-timeout", 60)
         victim = procs.start("victim", "agent", "--connect", address, "--id", 3)
-        spare = procs.start("spare", "agent", "--connect", address, "--spare",
-                            "--connect-timeout", 60)
         server.wait_line("mission started", 30)
-        spare.wait_line("waiting for a vacant id", 30)
+        pair.wait_line("waiting for a vacant id", 30)
         end = time.monotonic() + 30.0
         while viewer.jobs_of(3) < 2:
             assert time.monotonic() < end, "agent 3 never did two jobs"
@@ -145,7 +143,6 @@ def test_killed_agent_is_replaced_by_a_spare(tmp_path):
         server.wait_line(r"a spare took id 3", 10)
         assert server.wait(60) == 0, server.output
         assert pair.wait(15) == 0, pair.output
-        assert spare.wait(15) == 0, spare.output
         viewer.stop = True
     net = json.loads(rec_path.read_text())
     assert net["complete"]
@@ -153,6 +150,7 @@ def test_killed_agent_is_replaced_by_a_spare(tmp_path):
     assert [d["id"] for d in n["left"]] == [3] and [d["id"] for d in n["joined"]] == [3]
     assert [d["id"] for d in net["departed_agents"]] == [3]
     assert n["stats_received"] == 3  # the pair and the spare; the victim never landed
+    assert [a["metrics"].get("left_at") for a in net["agents"]] == [None, None, None]
     assert net["departed_agents"][0]["metrics"]["left_at"] > 0
     # every free cell done exactly once, counting the departed agent's finished jobs (its
     # unfinished one went back to not-done and was redone by someone else)

@@ -166,6 +166,9 @@ def agent(
     spare: bool = typer.Option(
         False, "--spare", help="Only take an id vacated mid-mission (wait for one)."
     ),
+    spares: int = typer.Option(
+        0, "--spares", help="Also run this many spares in this process (as --spare)."
+    ),
     server_timeout: float = typer.Option(
         10.0, "--server-timeout", help="Exit when the server is silent this long (s)."
     ),
@@ -191,6 +194,8 @@ def agent(
         raise InputError("--id must be >= 0, and only with --count 1")
     if spare and agent_id:
         raise InputError("give --spare or --id, not both")
+    if spares < 0:
+        raise InputError(f"--spares must be >= 0, got {spares}")
     if not 0.0 <= corrupt < 1.0:
         raise InputError(f"--inject-corrupt must be in [0, 1), got {corrupt}")
     if die_after is not None and die_after < 1:
@@ -201,7 +206,7 @@ def agent(
     faults = Faults(corrupt, die_after, fault_seed)
     want = -1 if spare else agent_id
     code = run_agents(address, count, want, server_timeout, connect_timeout, timeout, faults,
-                      _say)
+                      _say, spares)
     raise typer.Exit(code)
 
 

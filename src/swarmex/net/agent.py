@@ -190,6 +190,8 @@ class AgentClient:
         elif cmd == "END":
             if self.state == "done":
                 self._done(EXIT_OK)
+            elif self.state == "hello" and self.want_id < 0:
+                self._done(EXIT_OK, "the mission ended without needing a spare")
             else:
                 self._done(EXIT_UNFINISHED, "the mission ended before I finished")
 
@@ -351,8 +353,10 @@ def run_agents(
     timeout: float = 3600.0,
     faults: Faults | None = None,
     say=print,
+    spares: int = 0,
 ) -> int:
     """Run ``count`` agents (each its own connection) until all are done; the worst status.
+    ``spares`` more wait for an id vacated mid-mission (as ``--spare`` does).
 
     Compiled kernels run on one thread here: each agent stands for one UAV's computer, and
     several agent processes share the machine, where numba's parallel regions (the field
@@ -368,6 +372,9 @@ def run_agents(
         AgentClient(ctx, address, want_id if count == 1 or want_id < 0 else 0, server_timeout,
                     connect_timeout, faults, say)
         for _ in range(count)
+    ] + [
+        AgentClient(ctx, address, -1, server_timeout, connect_timeout, faults, say)
+        for _ in range(spares)
     ]
     poller = zmq.Poller()
     for a in agents:

@@ -44,7 +44,6 @@ import contextlib
 import math
 import os
 import shutil
-import subprocess
 import sys
 import tempfile
 import time
@@ -898,61 +897,107 @@ class DisplayProcess(Node):
 # ---------------------------------------------------------------------------- launcher
 
 
+#: what the fork server imports once, so each robot process starts in milliseconds instead
+#: of re-importing numpy, scipy and numba (seconds each, on a busy machine)
+PRELOAD = ["swarmex.net.mesh", "swarmex.missions.exploration.sim",
+           "swarmex.missions.exploration.robot", "swarmex.missions.exploration.record",
+           "swarmex.engine.record", "zmq"]
+
+
+def _robot_entry(run_dir: str, rid: int, log_path: str) -> None:
+    """A robot process's body (started by the fork server): output to its log file."""
+    log = os.open(log_path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o644)
+    os.dup2(log, 1)
+    os.dup2(log, 2)
+    sys.exit(main(["robot", run_dir, str(rid)]))
+
+
+def _display_entry(run_dir: str, monitor_url: str | None, conn: Any) -> None:
+    """The display process's body: its lines go back to the launcher through ``conn``."""
+    node = DisplayProcess(Path(run_dir), monitor_url=monitor_url)
+    try:
+        code = node.run(conn.send)
+    finally:
+        node.close()
+        node.view.close(0)
+        conn.send(None)
+        conn.close()
+    sys.exit(code)
+
+
 def run_processes(grid, params, options: MeshOptions, json_path: Path | None = None,
                   monitor_url: str | None = None, say=print) -> dict:
-    """``swarmex explore --processes``: a display and one process per robot; the record.
+    """``swarmex explore --processes``: a display and one OS process per robot; the record.
 
-    Every child is killed (by its own pid) if it outlives the run; the run directory (the
-    air) is removed at the end.
+    Processes come from a multiprocessing *fork server* that has imported the mission code
+    once (each child is still its own process with its own sockets, started from a clean
+    single-threaded parent, so no lock or thread of the launcher leaks into it). Every child
+    is killed (by its own pid) if it outlives the run; the run directory (the air) is
+    removed at the end.
     """
+    import multiprocessing
+
     from swarmex.missions.exploration.params import validate
 
     validate(params, grid)
+    mp = multiprocessing.get_context("forkserver")
+    mp.set_forkserver_preload(PRELOAD)
     run_dir = Path(tempfile.mkdtemp(prefix="swarmex-mesh-"))
-    procs: list[subprocess.Popen] = []
+    procs: list[Any] = []
     try:
         record_path = run_dir / "out.json"
         write_scenario(run_dir, grid, params, options, json_path or record_path)
-        py = [sys.executable, "-m", "swarmex.net.mesh"]
-        env = dict(os.environ, PYTHONUNBUFFERED="1")
-        display_cmd = [*py, "display", str(run_dir)]
-        if monitor_url:
-            display_cmd += ["--monitor", monitor_url]
-        display = subprocess.Popen(display_cmd, env=env, stdout=subprocess.PIPE,
-                                   stderr=subprocess.STDOUT, text=True)
+        lines, child_end = mp.Pipe(duplex=False)
+        display = mp.Process(target=_display_entry, args=(str(run_dir), monitor_url, child_end),
+                             name="swarmex-display")
+        # one robot, one computer: compiled kernels single-threaded. Set in the environment
+        # the fork server starts with (asking numba at run time would start its thread pool,
+        # whose lock a killed robot leaves behind)
+        saved = os.environ.get("NUMBA_NUM_THREADS")
+        os.environ["NUMBA_NUM_THREADS"] = "1"
+        try:
+            display.start()
+        finally:
+            if saved is None:
+                os.environ.pop("NUMBA_NUM_THREADS", None)
+            else:
+                os.environ["NUMBA_NUM_THREADS"] = saved
+        child_end.close()
         procs.append(display)
-        logs = []
         for rid in range(params.robots):
-            log = open(run_dir / f"robot-{rid}.log", "w")  # noqa: SIM115 (closed below)
-            logs.append(log)
-            procs.append(subprocess.Popen([*py, "robot", str(run_dir), str(rid)], env=env,
-                                          stdout=log, stderr=subprocess.STDOUT))
-        assert display.stdout is not None
-        for line in display.stdout:
-            say(line.rstrip("\n"))
-        code = display.wait(timeout=options.timeout + 30)
+            p = mp.Process(target=_robot_entry, name=f"swarmex-robot-{rid}",
+                           args=(str(run_dir), rid, str(run_dir / f"robot-{rid}.log")))
+            p.start()
+            procs.append(p)
+        deadline = time.monotonic() + options.timeout + 30
+        while time.monotonic() < deadline:
+            if lines.poll(0.5):
+                try:
+                    line = lines.recv()
+                except EOFError:
+                    break
+                if line is None:
+                    break
+                say(str(line))
+            elif not display.is_alive():
+                break
+        display.join(max(1.0, deadline - time.monotonic()))
         for p in procs[1:]:
-            try:
-                p.wait(timeout=10)
-            except subprocess.TimeoutExpired:
-                p.kill()
-        for log in logs:
-            log.close()
+            p.join(10)
         path = json_path or record_path
         if not path.exists():
             tails = [(run_dir / f"robot-{r}.log").read_text()[-300:]
-                     for r in range(params.robots)]
-            raise RuntimeError(f"the display wrote no record (exit {code});"
+                     for r in range(params.robots) if (run_dir / f"robot-{r}.log").exists()]
+            raise RuntimeError(f"the display wrote no record (exit {display.exitcode});"
                                f" robot output: {[t for t in tails if t]}")
         import json
 
         return json.loads(path.read_text())
     finally:
         for p in procs:
-            if p.poll() is None:
+            if p.is_alive():
                 p.kill()
-                with contextlib.suppress(subprocess.TimeoutExpired):
-                    p.wait(5)
+                p.join(5)
         shutil.rmtree(run_dir, ignore_errors=True)
 
 
@@ -962,7 +1007,8 @@ def main(argv: list[str] | None = None) -> int:
     if len(args) >= 2 and args[0] == "robot":
         import numba
 
-        numba.set_num_threads(1)  # one robot, one computer: no parallel regions
+        if numba.config.NUMBA_NUM_THREADS > 1:  # one robot, one computer
+            numba.set_num_threads(1)
         node = RobotProcess(Path(args[1]), int(args[2]))
         try:
             return node.run()

@@ -462,6 +462,10 @@ class TraversalServer:
         self._emit(ev.end(record))
         self._flush_events()
         self._to_agents(wire.pack(["END"]), keep=False)
+        end = wire.pack(["END"])
+        for p in list(self.peers.values()):  # spares still waiting for an id: nothing to do
+            if not p.id and not p.viewer:
+                self._send(p, end)
         if self.json_path is not None:
             write_record(self._record_obj, self.json_path)
             self.say(f"swarmex serve: wrote {self.json_path}")
