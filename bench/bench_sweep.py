@@ -9,6 +9,11 @@
 3. 2,000 runs through ``swarmex sweep`` (the CLI, progress bar included): the driver's peak
    RSS (target < 1 GiB).
 
+"cores obtained" is the CPU time of the driver and its workers over the wall time: on an idle
+2-core machine two workers obtain close to 2; on a shared one the scheduler decides (Linux
+groups a login session's processes, so a second worker does not get its session a bigger share
+of a saturated machine), which is what the load average line shows.
+
 Every phase runs in a fresh interpreter (so one phase's imports do not count in another's
 memory) into a fresh folder (so nothing is skipped as already finished). The machine is shared:
 the load average is printed, since other people's jobs on the same two cores lower the ratio.
@@ -20,6 +25,7 @@ the load average is printed, since other people's jobs on the same two cores low
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import os
 import subprocess
@@ -54,17 +60,20 @@ def phase_rate(spec: Path, out: Path, backend: str, workers: int) -> dict:
 
     loaded = load_sweep_spec(spec)
     shapes = mission_shapes(loaded.command, spec)
+    total = len(loaded.runs())
     stamps: list[float] = []
+    worker_cpu = [0.0]
+
+    def on_outcome(_outcome) -> None:
+        stamps.append(time.perf_counter())
+        if len(stamps) == total:  # the pool is still up: read its workers' CPU time
+            worker_cpu[0] = descendants_cpu()
+
+    cpu0 = time.process_time()
     start = time.perf_counter()
-    result = run_sweep(
-        loaded,
-        shapes,
-        out,
-        backend=backend,
-        workers=workers,
-        on_outcome=lambda _o: stamps.append(time.perf_counter()),
-    )
+    result = run_sweep(loaded, shapes, out, backend=backend, workers=workers, on_outcome=on_outcome)
     end = time.perf_counter()
+    cpu = time.process_time() - cpu0 + worker_cpu[0]
     n = len(stamps)
     lo, hi = int(0.1 * n), int(0.9 * n) - 1
     steady = (hi - lo) / (stamps[hi] - stamps[lo]) if hi > lo else float("nan")
@@ -74,7 +83,26 @@ def phase_rate(spec: Path, out: Path, backend: str, workers: int) -> dict:
         "wall": end - start,
         "rate": n / (end - start),
         "steady_rate": steady,
+        "cpu": cpu,
     }
+
+
+def descendants_cpu() -> float:
+    """CPU seconds of this process's live descendants (the pool's workers), from /proc."""
+    tick = os.sysconf("SC_CLK_TCK")
+    total, todo = 0.0, [os.getpid()]
+    while todo:
+        pid = todo.pop()
+        for task in Path(f"/proc/{pid}/task").glob("*"):
+            with contextlib.suppress(OSError):
+                todo += [int(c) for c in (task / "children").read_text().split()]
+        if pid != os.getpid():
+            try:
+                fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+                total += (int(fields[11]) + int(fields[12])) / tick
+            except (OSError, IndexError):
+                pass
+    return total
 
 
 def phase_memory(spec: Path, out: Path, workers: int) -> dict:
@@ -100,6 +128,17 @@ def child(args: list[str]) -> dict:
     if proc.returncode != 0:
         raise SystemExit(f"phase {args[0]} failed:\n{proc.stderr[-3000:]}")
     return json.loads(proc.stdout.strip().splitlines()[-1])
+
+
+def first_difference(a: list[dict], b: list[dict]) -> str:
+    """Where two tables differ (a shared working tree can change under a long benchmark)."""
+    if len(a) != len(b):
+        return f"{len(a)} rows against {len(b)}"
+    for ra, rb in zip(a, b, strict=True):
+        diff = {k: (ra[k], rb.get(k)) for k in ra if ra[k] != rb.get(k)}
+        if diff:
+            return f"run {ra['run']}: {diff}"
+    return "no difference"
 
 
 def rows(out: Path) -> list[dict]:
@@ -154,6 +193,8 @@ def main() -> None:
             print(
                 f"  {name}: {r['wall']:6.1f} s   end to end {r['rate']:6.1f} runs/s"
                 f"   steady {r['steady_rate']:6.1f} runs/s   ({r['failed']} failed)"
+                f"   CPU {1000 * r['cpu'] / r['runs']:.1f} ms/run,"
+                f" {r['cpu'] / r['wall']:.2f} cores obtained"
             )
         ratio = two["rate"] / one["rate"]
         steady = two["steady_rate"] / one["steady_rate"]
@@ -163,6 +204,8 @@ def main() -> None:
             f"  (target >= {TARGET_RATIO}x: {verdict})"
         )
         same = rows(tmp / "w1-0") == rows(tmp / "w2-0")
+        if not same:
+            print("  " + first_difference(rows(tmp / "w1-0"), rows(tmp / "w2-0")))
         print(f"  1-worker and 2-worker tables identical (except wall_seconds): {same}")
 
         if args.no_ray:
@@ -175,6 +218,8 @@ def main() -> None:
             else:
                 r = child(["rate", str(spec), str(tmp / "ray"), "ray", "2"])
                 equal = rows(tmp / "ray") == rows(tmp / "w2-0")
+                if not equal:
+                    print("  " + first_difference(rows(tmp / "ray"), rows(tmp / "w2-0")))
                 print(
                     f"\nray (local, 2 workers): {r['wall']:6.1f} s, {r['rate']:.1f} runs/s"
                     f" end to end, steady {r['steady_rate']:.1f} runs/s;"
