@@ -237,7 +237,7 @@ class Madgta:
         nbrs = belief.graph.neighbors(here)
         vacant = nbrs[~belief.km_at(nbrs)]
         if vacant.size:
-            cands = np.unique(vacant)
+            cands = _sorted_unique(vacant)
             if fast is not None:
                 v = self._best_near(belief, cands, rng, *fast)
             else:
@@ -358,6 +358,14 @@ class Nearest(Madgta):
 
 
 _NO_RIVALS = np.zeros(0, dtype=np.int64)
+
+
+def _sorted_unique(v: np.ndarray) -> np.ndarray:
+    """np.unique for the few neighbours of a vertex (CSR order is usually sorted already)."""
+    items = v.tolist()
+    if all(a < b for a, b in zip(items, items[1:], strict=False)):
+        return v
+    return np.unique(v)
 
 
 def _rival_classes(tpu: np.ndarray, jt: np.ndarray):

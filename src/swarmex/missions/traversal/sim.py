@@ -269,7 +269,7 @@ class _Sim:
             self.start_job(a, d.node, t)
         elif d.kind == "move":
             here = b.here
-            dt = self.graph.edge_length(here, d.node) * b.time_per_unit[a]
+            dt = _edge_length(self.graph, here, d.node) * b.time_per_unit[a]
             if not b.in_km(d.node):
                 b.reserve(d.node, a)
             self.broadcast(a, "next", d.node, eta=t + dt)
@@ -316,6 +316,15 @@ class _Sim:
             elif ev.kind == "deliver":
                 self.apply(self.beliefs[a], ev.data)
         return True
+
+
+def _edge_length(graph, u: int, v: int) -> float:
+    """NodeGraph.edge_length (first matching edge) without its numpy set-up cost."""
+    lo = int(graph.indptr[u])
+    for k, x in enumerate(graph.indices[lo : graph.indptr[u + 1]].tolist()):
+        if x == v:
+            return float(graph.weights[lo + k])
+    return graph.edge_length(u, v)  # raises KeyError naming the pair
 
 
 def _encode_done_list(status: np.ndarray) -> tuple[int, np.ndarray, np.ndarray]:
