@@ -57,9 +57,11 @@ import zmq
 from swarmex.net import events as ev
 from swarmex.net import wire
 
-CONTROL = ("HELLO", "GO", "STATUS", "STOP", "REPORT")
+CONTROL = ("HELLO", "GO", "BEAT", "STATUS", "STOP", "REPORT")
 RADIO_KIND = "R"
-STATUS_EVERY = 5  # ticks between STATUS frames
+STATUS_EVERY = 5  # ticks between STATUS frames (at most; and at least every STATUS_WALL s)
+STATUS_WALL = 0.25  # wall seconds: liveness must not depend on the time scale
+BEAT_WALL = 0.5  # the display's keep-alive on the control link
 DISPLAY = 10_000  # the display's node id (robots are 0..n-1)
 
 
@@ -238,7 +240,7 @@ def control_message(obj: Any) -> list:
     if not isinstance(obj, list) or not obj or obj[0] not in CONTROL:
         raise wire.EncodingError("not a control frame")
     cmd = obj[0]
-    arity = {"HELLO": 3, "GO": 1, "STATUS": 3, "STOP": 1, "REPORT": 3}[cmd]
+    arity = {"HELLO": 3, "GO": 1, "BEAT": 1, "STATUS": 3, "STOP": 1, "REPORT": 3}[cmd]
     if len(obj) != arity:
         raise wire.EncodingError(f"{cmd}: expected {arity - 1} fields")
     if cmd in ("HELLO", "STATUS", "REPORT"):
@@ -395,6 +397,7 @@ class RobotProcess(Node):
         self.stop = False
         self.go = False
         self.last_control = time.monotonic()
+        self.status_at = 0.0
         from swarmex.missions.exploration.params import max_ticks_for
 
         self.max_ticks = params.max_ticks or max_ticks_for(grid, params.laser_range)
@@ -469,6 +472,7 @@ class RobotProcess(Node):
             self.status()
 
     def status(self) -> None:
+        self.status_at = time.monotonic()
         r = self.robot
         self.control(["STATUS", self.id, {
             "t": self.t, "x": r.pos[0], "y": r.pos[1], "finished": r.finished,
@@ -540,12 +544,12 @@ class RobotProcess(Node):
                 if self.t <= max_ticks:
                     self.tick()
                     self.t += 1
-                elif self.t % STATUS_EVERY == 0:
-                    self.status()
                 next_tick += tick_wall
                 if next_tick < now - 1.0:  # far behind (a slow machine): do not burst
                     next_tick = now
-            wait = max(0.0, next_tick - time.monotonic())
+            if time.monotonic() - self.status_at >= STATUS_WALL:
+                self.status()  # telemetry is also the display's proof of life
+            wait = max(0.0, min(next_tick, self.status_at + STATUS_WALL) - time.monotonic())
             if self.pull.poll(int(wait * 1000)):
                 for f in self.recv_all():
                     self.on_frame(f)
@@ -725,6 +729,7 @@ class DisplayProcess(Node):
         tick_wall = 0.1 * opts.time_scale
         finished_since: float | None = None
         next_tick = t0
+        next_beat = t0
         code = 0
         while True:
             now = time.monotonic()
@@ -732,6 +737,9 @@ class DisplayProcess(Node):
                 say("swarmex mesh display: timeout")
                 code = 3
                 break
+            if now >= next_beat:  # robots leave when the experiment is gone
+                self.broadcast_control(["BEAT"])
+                next_beat = now + BEAT_WALL
             if now >= next_tick:
                 if self.mesh.heartbeat_due(self.t):
                     self.heartbeat()
