@@ -444,7 +444,8 @@ def _fmt(vals: list[float]) -> str:
 
 
 def write_report(
-    out: Path, d: Design, results, strat_rows, figures, check_rows, quick: bool, wall: float
+    out: Path, d: Design, results, strat_rows, figures, check_rows, quick: bool, wall: float,
+    n_runs: int,
 ) -> Path:
     tab = steps_table(results, d)
     lines = [
@@ -533,7 +534,8 @@ def write_report(
     for title, p in figures:
         lines += [f"### {title}", "", f"![{title}]({p.name})", ""]
     lines += [
-        f"Total wall time of this reproduction: {wall / 60:.1f} min ({len(results)} runs).",
+        f"Wall time of this invocation: {wall / 60:.1f} min for {n_runs} runs (runs already "
+        "in `runs.jsonl` are reused, not rerun).",
         "",
     ]
     path = out / "exploration.md"
@@ -643,7 +645,8 @@ def reproduce(
         )
     rows = checks(sweep_res, d)
     report = write_report(
-        out, d, sweep_res, strat_rows, figures, rows, quick, time.perf_counter() - t0
+        out, d, sweep_res, strat_rows, figures, rows, quick, time.perf_counter() - t0,
+        len(results) + len(pics),
     )
     for c in rows:
         progress(f"{'PASS' if c['holds'] else 'FAIL'}: {c['trend']} — {c['evidence']}")
