@@ -353,3 +353,38 @@ def test_killed_driver_loses_no_finished_run(tmp_path):
     assert result.skipped == len(kept)  # records without a journal line count too
     assert result.ran == 40 - len(kept) and result.failed == 0
     assert len(pq.read_table(out / "results.parquet")) == 40
+
+
+def crash_or_run(task, runs_dir):
+    """A worker function whose "crash" tasks kill their process, like a segfault would."""
+    from swarmex.experiments.sweep_worker import run_task
+
+    if task.command == "crash":
+        os._exit(3)
+    return run_task(task, runs_dir)
+
+
+def test_a_run_that_kills_its_worker_is_recorded_and_the_rest_finish(tmp_path):
+    from swarmex.experiments.sweep import _local
+    from swarmex.experiments.sweep_worker import Task
+
+    argv = ["--grid", "3x3", "--agents", "1", "--seed"]
+    tasks = [Task(i, f"r{i}", "traverse", [*argv, str(i)]) for i in range(6)]
+    tasks.insert(2, Task(99, "boom", "crash", []))
+    got = []
+    _local(tasks, 2, "traversal", tmp_path, got.append, runner=crash_or_run)
+    by_id = {o.run_id: o for o in got}
+    assert sorted(by_id) == sorted(t.run_id for t in tasks) and len(got) == 7
+    assert not by_id["boom"].ok and "worker process died" in by_id["boom"].error
+    assert all(by_id[f"r{i}"].ok for i in range(6))
+
+
+def test_workers_that_cannot_run_stop_the_sweep_without_recording_failures(tmp_path):
+    from swarmex.experiments.sweep import _local
+    from swarmex.experiments.sweep_worker import Task
+
+    got = []
+    with pytest.raises(InputError, match="died 3 times in a row"):
+        tasks = [Task(i, f"c{i}", "crash", []) for i in range(5)]
+        _local(tasks, 2, "traversal", tmp_path, got.append, runner=crash_or_run)
+    assert got == []

@@ -58,6 +58,7 @@ RESULTS = "results.parquet"
 JOURNAL = "journal.jsonl"
 METADATA_KEY = b"swarmex.sweep"
 RAY_CHUNK = 8  # runs per Ray actor call at most
+MAX_BREAKS = 3  # pool breaks in a row, no run completing: the workers cannot run at all
 MAX_ATTEMPTS = 2  # a run in flight when a worker process died twice is recorded as failed
 
 OnOutcome = Callable[[Outcome], None]
@@ -351,17 +352,28 @@ def _pool(workers: int, mission: str) -> ProcessPoolExecutor:
 
 
 def _local(
-    tasks: list[Task], workers: int, mission: str, runs_dir: Path, finish: OnOutcome
+    tasks: list[Task],
+    workers: int,
+    mission: str,
+    runs_dir: Path,
+    finish: OnOutcome,
+    runner: Callable[[Task, str], Outcome] = run_task,
 ) -> None:
     """A process pool with a bounded window of tasks in flight.
 
     If a worker process dies (a segfault, the OOM killer) the pool breaks and every task in
     flight is lost with it; those are retried one at a time in a new pool, and a task that
-    was in flight at ``MAX_ATTEMPTS`` deaths is recorded as failed instead of retried again.
+    was in flight at ``MAX_ATTEMPTS`` deaths is recorded as failed instead of retried again
+    (once another run has completed, which shows the workers themselves can run). If the pool
+    breaks ``MAX_BREAKS`` times in a row with no run completing, the workers cannot start at
+    all: the sweep stops with an error and records nothing as failed. (``runner`` is the
+    worker function; tests pass one that crashes.)
     """
     queue = deque(tasks)
     suspects: deque[Task] = deque()
     attempts: dict[str, int] = {}
+    dead: list[Task] = []  # gave up on, recorded once the pool is shown to work
+    breaks = 0  # pool breaks since the last completed run
     window = 2 * workers
     pool = _pool(workers, mission)
     flying: dict[Future, Task] = {}
@@ -370,28 +382,41 @@ def _local(
             limit = 1 if suspects or any(t.run_id in attempts for t in flying.values()) else window
             while len(flying) < limit and (suspects or queue):
                 task = suspects.popleft() if suspects else queue.popleft()
-                flying[pool.submit(run_task, task, str(runs_dir))] = task
+                flying[pool.submit(runner, task, str(runs_dir))] = task
             done, _ = wait(list(flying), return_when=FIRST_COMPLETED)
-            broken = False
+            lost: list[Task] = []
             for fut in done:
                 task = flying.pop(fut)
                 try:
                     outcome = fut.result()
                 except BrokenProcessPool:
-                    broken = True
-                    suspects.append(task)
+                    lost.append(task)
                     continue
                 attempts.pop(task.run_id, None)
+                breaks = 0
+                for gone in dead:
+                    finish(_died(gone))
+                dead.clear()
                 finish(outcome)
-            if broken:
-                suspects.extend(flying.pop(f) for f in list(flying))
+            if lost:
+                lost += [flying.pop(f) for f in list(flying)]
                 pool.shutdown(wait=False, cancel_futures=True)
-                for task in list(suspects):
+                breaks += 1
+                if breaks >= MAX_BREAKS:
+                    raise InputError(
+                        f"the sweep's worker processes died {breaks} times in a row before"
+                        " finishing a run (from a script, call run_sweep under"
+                        " `if __name__ == '__main__':`)"
+                    )
+                for task in lost:
                     attempts[task.run_id] = attempts.get(task.run_id, 0) + 1
                     if attempts[task.run_id] >= MAX_ATTEMPTS:
-                        suspects.remove(task)
-                        finish(_died(task))
+                        dead.append(task)
+                    else:
+                        suspects.append(task)
                 pool = _pool(workers, mission)
+        for gone in dead:  # the last runs crashed their workers: record them now
+            finish(_died(gone))
     finally:
         pool.shutdown(wait=True, cancel_futures=True)
 
