@@ -126,6 +126,23 @@ def test_other_missions_records_replay_without_a_map():
     assert events[-1]["type"] == "end" and events[-1]["t"] == 3
 
 
+def test_replay_at_infinite_speed_publishes_everything_at_once(record):
+    from swarmex.viz.monitor.hub import EventHub
+
+    events = record_events(record, free_cells(record), float("inf"))
+
+    async def go() -> list[dict]:
+        hub = EventHub()
+        q = hub.subscribe()
+        await asyncio.wait_for(replay(hub, events, float("inf"), wait_for_viewer=False), 5)
+        got: list[dict] = []
+        while not q.empty():
+            got += q.get_nowait()
+        return got
+
+    assert asyncio.run(go()) == events
+
+
 class ServerThread:
     """A monitor server on its own thread and event loop, stopped by the test or by linger."""
 
