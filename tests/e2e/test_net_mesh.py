@@ -26,10 +26,11 @@ pytestmark = pytest.mark.timeout(120)
 def test_mesh_survives_a_killed_robot_and_thirty_percent_loss(tmp_path):
     grid = empty_metric(3, 3)  # 60 x 60 cells of 5 cm, walls around
     params = ExplorationParams(robots=3, laser_range=1.0, comm_range=10.0, seed=1)
-    options = MeshOptions(time_scale=0.2, loss=0.3, inject_kill={1: 20}, dead_after=2.0,
+    options = MeshOptions(time_scale=0.2, loss=0.3, inject_kill={1: 20}, dead_after=3.0,
                           timeout=90)
     events: list[dict] = []
     lines: list[str] = []
+    watchers: list[threading.Thread] = []
 
     t0 = time.monotonic()
 
@@ -41,9 +42,12 @@ def test_mesh_survives_a_killed_robot_and_thirty_percent_loss(tmp_path):
                 for batch in viewer_batches(address, timeout=60):
                     events.extend(batch)
 
-            threading.Thread(target=watch, daemon=True).start()
+            watchers.append(threading.Thread(target=watch, daemon=True))
+            watchers[-1].start()
 
     record = run_processes(grid, params, options, tmp_path / "mesh.json", say=say)
+    for w in watchers:  # the viewer stops at the end event
+        w.join(10)
     assert (tmp_path / "mesh.json").exists()
     m = record["metrics"]
     assert record["mission"] == "exploration" and record["time_unit"] == "step"

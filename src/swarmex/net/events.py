@@ -70,10 +70,13 @@ def message(t: float, agent: int, kind: str, x: float | None = None,
     return {"type": "message", "t": t, "agent": agent, "to": to, "kind": kind, "x": x, "y": y}
 
 
-def end(record: dict) -> Event:
+def end(record: dict, after: list[Event] | None = None) -> Event:
+    """The end event; its ``t`` is no earlier than any event in ``after`` (times must not go
+    back, and the makespan can be earlier than the last message: staggered starts)."""
+    last = max((float(e["t"]) for e in after or () if "t" in e), default=0.0)
     return {
         "type": "end",
-        "t": record.get("makespan") or 0.0,
+        "t": max(float(record.get("makespan") or 0.0), last),
         "complete": bool(record.get("complete")),
         "makespan": record.get("makespan"),
         "time_unit": record.get("time_unit", "s"),

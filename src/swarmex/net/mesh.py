@@ -590,6 +590,7 @@ class DisplayProcess(Node):
         self.view.bind(view_bind)
         self.view_endpoint = self.view.getsockopt_string(zmq.LAST_ENDPOINT)
         self.viewers: set[bytes] = set()
+        self.viewer_beat = 0.0
         self.events: list[dict] = []
         self.pending: list[dict] = []
         self.forwarder = ev.IngestForwarder(monitor_url) if monitor_url else None
@@ -694,6 +695,13 @@ class DisplayProcess(Node):
                 self.viewers.add(ident)
                 if self.events:
                     self.view.send_multipart([ident, wire.pack(["EV", ev.dumps(self.events)])])
+        now = time.monotonic()
+        if now >= self.viewer_beat and self.viewers:  # viewers time out on silence
+            self.viewer_beat = now + 1.0
+            beat = wire.pack(["HB", float(self.t)])
+            for ident in self.viewers:
+                with contextlib.suppress(zmq.ZMQError):
+                    self.view.send_multipart([ident, beat], flags=zmq.NOBLOCK)
         if not self.pending:
             return
         batch, self.pending = self.pending, []
@@ -772,7 +780,7 @@ class DisplayProcess(Node):
         while set(self.reports) < live_ids and time.monotonic() < wait_until:
             self._pump(time.monotonic(), 0.05)
         self.record = self.build_record(time.monotonic() - t0, code == 0)
-        self._emit(ev.end(self.record))
+        self._emit(ev.end(self.record, self.events + self.pending))
         self._flush()
         if self.json_path is not None:
             from swarmex.engine.record import write_json_atomic
@@ -927,7 +935,7 @@ def _display_entry(run_dir: str, monitor_url: str | None, conn: Any) -> None:
         code = node.run(conn.send)
     finally:
         node.close()
-        node.view.close(0)
+        node.view.close(1000)  # let the last event batch reach the viewers
         conn.send(None)
         conn.close()
     sys.exit(code)
@@ -1029,7 +1037,7 @@ def main(argv: list[str] | None = None) -> int:
             return node.run(lambda s: print(s, flush=True))
         finally:
             node.close()
-            node.view.close(0)
+            node.view.close(1000)
     print("usage: python -m swarmex.net.mesh robot RUN_DIR ID | display RUN_DIR", file=sys.stderr)
     return 2
 

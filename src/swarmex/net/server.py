@@ -459,7 +459,7 @@ class TraversalServer:
     def _finish(self, code: int) -> None:
         record = self.build_record()
         self.record = record
-        self._emit(ev.end(record))
+        self._emit(ev.end(record, self.events + self.pending_events))
         self._flush_events()
         self._to_agents(wire.pack(["END"]), keep=False)
         end = wire.pack(["END"])
