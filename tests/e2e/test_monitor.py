@@ -295,7 +295,7 @@ def test_browser_shows_agents_moving_and_the_final_state(tmp_path):
     )
     if CHROMIUM is None:
         pytest.skip("chromium is not installed (apt-get install chromium; .ci/run does it)")
-    speed = 40.0  # the 185 s mission plays in about 4.6 s
+    speed = 50.0  # the 185 s mission plays in about 3.7 s
     proc, url, rec_path = start_monitor(tmp_path, speed)
     try:
         with sync_api.sync_playwright() as pw:

@@ -369,14 +369,14 @@ def test_a_run_that_kills_its_worker_is_recorded_and_the_rest_finish(tmp_path):
     from swarmex.experiments.sweep_worker import Task
 
     argv = ["--grid", "3x3", "--agents", "1", "--seed"]
-    tasks = [Task(i, f"r{i}", "traverse", [*argv, str(i)]) for i in range(6)]
-    tasks.insert(2, Task(99, "boom", "crash", []))
+    tasks = [Task(i, f"r{i}", "traverse", [*argv, str(i)]) for i in range(4)]
+    tasks.insert(1, Task(99, "boom", "crash", []))
     got = []
     _local(tasks, 2, "traversal", tmp_path, got.append, runner=crash_or_run)
     by_id = {o.run_id: o for o in got}
-    assert sorted(by_id) == sorted(t.run_id for t in tasks) and len(got) == 7
+    assert sorted(by_id) == sorted(t.run_id for t in tasks) and len(got) == 5
     assert not by_id["boom"].ok and "worker process died" in by_id["boom"].error
-    assert all(by_id[f"r{i}"].ok for i in range(6))
+    assert all(by_id[f"r{i}"].ok for i in range(4))
 
 
 def test_workers_that_cannot_run_stop_the_sweep_without_recording_failures(tmp_path):
