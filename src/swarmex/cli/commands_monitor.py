@@ -16,7 +16,6 @@ The first line printed is the page's address. The server listens on 127.0.0.1 on
 
 from __future__ import annotations
 
-import asyncio
 import math
 import tempfile
 from pathlib import Path
@@ -104,6 +103,8 @@ def monitor(
     ),
 ) -> None:
     """Serve the live monitor page of a simulated (or networked) mission on 127.0.0.1."""
+    import asyncio
+
     from swarmex.engine.record import read_record, write_json_atomic
     from swarmex.viz.monitor.events import record_events
     from swarmex.viz.monitor.hub import replay
