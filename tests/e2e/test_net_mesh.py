@@ -89,3 +89,29 @@ def test_bad_network_options_exit_2(capsys):
     ):
         assert main(argv) == 2
         assert msg in capsys.readouterr().err
+
+
+def test_scans_cross_the_mesh_by_multi_hop_relay():
+    """Three closed rooms in a row, one robot in each: the outer two are out of radio range
+    of each other (and the display sits with the first), so the third robot's scans reach
+    the first one and the display only through the middle robot's relaying."""
+    from swarmex.worlds import GridWorld
+    from swarmex.worlds.metric import MetricGrid
+
+    free = np.zeros((22, 64), dtype=bool)
+    for x0 in (1, 22, 43):  # 20 x 20 rooms (1 m), one wall cell between them
+        free[1:21, x0:x0 + 20] = True
+    grid = MetricGrid(GridWorld(free, source="three rooms"), 0.05)
+    starts = ((11, 11), (32, 11), (53, 11))  # 1.05 m apart; the ends 2.1 m apart
+    params = ExplorationParams(robots=3, laser_range=0.3, comm_range=1.5, seed=3,
+                               starts=starts)
+    record = run_processes(grid, params, MeshOptions(time_scale=0.1, timeout=60),
+                           say=lambda _s: None)
+    assert record["complete"] and record["metrics"]["explored_fraction"] >= 0.99
+    assert all(a["metrics"]["reported"] for a in record["agents"])
+    by = {a["id"]: a["metrics"]["scans_by_origin"] for a in record["agents"]}
+    assert by[0].get("2", 0) > 0 and by[2].get("0", 0) > 0  # 0 and 2 never heard each other
+    assert record["metrics"]["display_scans_by_origin"].get("2", 0) > 0
+    # the radio really was range-limited: heartbeats between the ends were not heard
+    assert record["agents"][0]["metrics"]["traffic"]["out_of_range"] > 0
+    assert record["agents"][2]["metrics"]["traffic"]["out_of_range"] > 0

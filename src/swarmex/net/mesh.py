@@ -255,6 +255,14 @@ def control_message(obj: Any) -> list:
 # ---------------------------------------------------------------------------- nodes
 
 
+def _by_origin(scans: dict) -> dict[str, int]:
+    """How many archived scans came from each robot (who heard whom, through any hops)."""
+    out: dict[str, int] = {}
+    for origin, _seq in scans:
+        out[str(origin)] = out.get(str(origin), 0) + 1
+    return dict(sorted(out.items()))
+
+
 @dataclass
 class Traffic:
     frames_out: int = 0
@@ -493,6 +501,7 @@ class RobotProcess(Node):
             "replan_reasons": dict(sorted(s.reasons.items())),
             "plan_ticks": list(s.plan_ticks), "scans": s.scans,
             "archive": len(r.belief.archive), "conflicts": s.conflicts,
+            "scans_by_origin": _by_origin(r.belief.archive.scans),
             "change_goals_sent": s.change_goals_sent,
             "blacklisted_regions": s.blacklisted_regions,
             "trajectory": self.trajectory,
@@ -842,6 +851,7 @@ class DisplayProcess(Node):
                         "steps", "moves", "plans", "replans", "replan_reasons", "scans",
                         "archive", "conflicts", "change_goals_sent", "blacklisted_regions")})
                     metrics["plan_intervals"] = intervals(rep["plan_ticks"])
+                    metrics["scans_by_origin"] = rep.get("scans_by_origin", {})
                     metrics["messages_sent"] = tr["frames_out"]
                     metrics["bytes_sent"] = tr["bytes_out"]
                     metrics["explored_fraction_own"] = float((free & reach).sum()) / n_reach
@@ -899,6 +909,7 @@ class DisplayProcess(Node):
                 "plan_intervals_avg": average_robot(plan_series),
                 "finished_robots": int(sum(1 for i in live if i["finished"])),
                 "robots_lost": int(sum(1 for i in self.robots.values() if not i["alive"])),
+                "display_scans_by_origin": _by_origin(self.belief.archive.scans),
                 "display_map_fraction": float(
                     ((self.belief.grid.logodds < 0) & reach).sum()) / n_reach,
                 "display_traffic": self.traffic.to_dict(),
@@ -925,7 +936,11 @@ def _robot_entry(run_dir: str, rid: int, log_path: str) -> None:
     log = os.open(log_path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o644)
     os.dup2(log, 1)
     os.dup2(log, 2)
-    sys.exit(main(["robot", run_dir, str(rid)]))
+    code = main(["robot", run_dir, str(rid)])
+    # a multiprocessing child ends with os._exit, which would kill ZeroMQ's I/O thread with
+    # the REPORT still queued: terminating the context waits for each socket's linger
+    zmq.Context.instance().term()
+    sys.exit(code)
 
 
 def _display_entry(run_dir: str, monitor_url: str | None, conn: Any) -> None:
@@ -936,6 +951,7 @@ def _display_entry(run_dir: str, monitor_url: str | None, conn: Any) -> None:
     finally:
         node.close()
         node.view.close(1000)  # let the last event batch reach the viewers
+        zmq.Context.instance().term()  # (see _robot_entry)
         conn.send(None)
         conn.close()
     sys.exit(code)
