@@ -1,0 +1,128 @@
+"""KnownGraph stays exact while obstacles are discovered (property tests).
+
+Every answer of the cache is compared with an independent computation (scipy's Dijkstra
+on the graph minus the obstacles known at that moment), whatever the interleaving of
+discoveries, requests, evictions and source moves.
+"""
+
+from __future__ import annotations
+
+import networkx as nx
+import numpy as np
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from swarmex.planning.fieldcache import KnownGraph
+from swarmex.worlds import GraphWorld, GridWorld
+
+from .test_distance import reference
+
+SETTINGS = settings(max_examples=40, deadline=None,
+                    suppress_health_check=[HealthCheck.too_slow])
+
+
+def grid_world(seed: int, w: int, h: int, connectivity: int) -> GridWorld:
+    rng = np.random.default_rng(seed)
+    return GridWorld(rng.random((h, w)) >= 0.1, connectivity=connectivity)
+
+
+def weighted_world(seed: int, n: int) -> GraphWorld:
+    g = nx.connected_watts_strogatz_graph(n, 4, 0.3, seed=seed)
+    rng = np.random.default_rng(seed)
+    for a, b in g.edges:
+        g.edges[a, b]["weight"] = float(rng.integers(1, 7)) * 0.25
+    return GraphWorld(g)
+
+
+# one step of a scenario: (op, vertex choice, number of vertices)
+OPS = st.lists(
+    st.tuples(st.sampled_from(["obstacles", "field", "slots", "distances", "walk"]),
+              st.integers(0, 10**6), st.integers(1, 4)),
+    min_size=1, max_size=25,
+)
+
+
+def run_scenario(world, ops, capacity: int) -> None:
+    g = world.graph
+    n = g.n_nodes
+    known = KnownGraph(g, capacity=capacity)
+    walker = 0
+    for op, pick, k in ops:
+        v = pick % n
+        if op == "obstacles":
+            # obstacles are discovered next to where someone is, as in the missions
+            near = [int(x) for x in g.neighbors(walker)] + [v]
+            known.add_obstacles([near[(pick + j) % len(near)] for j in range(k)])
+            continue
+        if op == "walk":  # a source moving to a neighbour: the shift path on lattices
+            nbrs = [int(x) for x in g.neighbors(walker) if not known.blocked[x]]
+            if nbrs:
+                walker = nbrs[pick % len(nbrs)]
+            v = walker
+        want = reference(g, v, known.blocked)
+        if op in ("field", "walk") or not known.uniform:  # hop rows are for uniform graphs
+            got = known.field(v)
+        elif op == "distances":
+            idx = np.arange(0, n, max(1, k))
+            got_part = known.distances(v, idx)
+            check(got_part, want[idx], known.uniform)
+            continue
+        else:  # several rows valid together
+            srcs = np.array([(pick + 7 * j) % n for j in range(k)] + [walker], dtype=np.int64)
+            rows = known.slots(srcs)
+            for s, r in zip(srcs.tolist(), rows.tolist(), strict=True):
+                hops = known.hops[r]
+                got = np.where(hops >= 0, hops * known.step, np.inf)
+                check(got, reference(g, s, known.blocked), True)
+            continue
+        check(got, want, known.uniform)
+
+
+def check(got: np.ndarray, want: np.ndarray, exact: bool) -> None:
+    assert np.array_equal(np.isinf(got), np.isinf(want))
+    fin = np.isfinite(want)
+    if exact:  # hop counts times one edge length: the very same floats
+        np.testing.assert_allclose(got[fin], want[fin], rtol=0, atol=1e-9)
+    else:  # float Dijkstra fields kept across discoveries may differ in the last bits
+        np.testing.assert_allclose(got[fin], want[fin], rtol=1e-9, atol=1e-9)
+
+
+@SETTINGS
+@given(seed=st.integers(0, 50), ops=OPS, capacity=st.integers(1, 6))
+def test_lattice_cache_is_exact(seed, ops, capacity):
+    run_scenario(grid_world(seed, 9, 7, 4), ops, capacity)
+
+
+@SETTINGS
+@given(seed=st.integers(0, 50), ops=OPS, capacity=st.integers(1, 6))
+def test_uniform_graph_cache_is_exact(seed, ops, capacity):
+    g = nx.connected_watts_strogatz_graph(40, 4, 0.3, seed=seed)
+    run_scenario(GraphWorld(g), ops, capacity)
+
+
+@SETTINGS
+@given(seed=st.integers(0, 50), ops=OPS, capacity=st.integers(1, 6))
+def test_weighted_cache_is_exact(seed, ops, capacity):
+    run_scenario(weighted_world(seed, 40), ops, capacity)
+
+
+@SETTINGS
+@given(seed=st.integers(0, 50), ops=OPS)
+def test_eight_connected_cache_is_exact(seed, ops):
+    run_scenario(grid_world(seed, 8, 8, 8), ops, 3)
+
+
+def test_counters_and_in_place_shift_on_a_walk():
+    world = GridWorld(np.ones((30, 30), dtype=bool))
+    known = KnownGraph(world.graph, capacity=4)
+    path = [world.node(x, 10) for x in range(5, 25)]
+    for v in path:
+        known.slot(v)
+    assert known.recomputed == len(path)
+    assert known.shifted == len(path) - 1  # each step derived from the previous field
+    assert (known._source >= 0).sum() == 1  # and in place: one row all along
+    before = known.reused + known.repaired
+    known.add_obstacles([world.node(3, 3)])
+    known.slot(path[-1])
+    assert known.reused + known.repaired == before + 1
+    check(known.field(path[-1]), reference(world.graph, path[-1], known.blocked), True)
