@@ -86,6 +86,8 @@ class TraversalRun:
     message_bytes: int
     wall_seconds: float
     stopped_early: bool = False
+    # distance-field cache counters, summed over the distinct caches (not part of the record)
+    field_cache: dict = field(default_factory=dict)
 
     @property
     def complete(self) -> bool:
@@ -287,6 +289,11 @@ class _Sim:
         home = distance_field(self.graph, nest, self.truth_blocked)[log.node]
         log.rtl_length = float(home)
 
+    def field_cache_stats(self) -> dict:
+        caches = {id(b.known): b.known for b in self.beliefs[1:]}.values()
+        keys = ("recomputed", "shifted", "repaired", "reused")
+        return {k: int(sum(getattr(c, k, 0) for c in caches)) for k in keys}
+
     # ---------------------------------------------------------------- run loop
     def run(self, max_events: int) -> bool:
         t0 = 0.0
@@ -411,4 +418,5 @@ def run_traversal(
         message_bytes=sim.message_bytes,
         wall_seconds=time.perf_counter() - wall,
         stopped_early=not finished,
+        field_cache=sim.field_cache_stats(),
     )
