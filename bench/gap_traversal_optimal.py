@@ -1,0 +1,240 @@
+"""MADGTA's gap to the exact optimum, and how long the exact MILP takes as maps grow.
+
+Gap (default): 32 seeded random small instances, a full 2⁵ factorial. The five bits of the
+instance number choose:
+
+* the grid: 3×4 or 4×4;
+* obstacles: none, or 15 % random ones;
+* 2 or 3 agents;
+* nests: all agents on one nest, as in Tables 5.1–5.2, or on distinct nests;
+* agents: the worked example's identical UAVs (2 s per edge, 9 s per job), or mixed ones
+  (1–2 s per edge, 5–10 s per job).
+
+On each instance this script runs MADGTA and the nearest-vacant baseline with several seeds
+each (their ties are random) and solves the exact optimum for both objectives. It prints
+one row per instance, then the mean and max gap in % of each online algorithm to the
+optimum:
+
+* sum:      total_time_all / optimal sum − 1       (the thesis's objective, §3.1)
+* makespan: largest total_time / optimal makespan − 1
+
+It also prints the share of runs that were exactly optimal; the thesis reports 2–5 % on
+6×6. The last line is the ratio of MADGTA's total_time_all to the optimum, averaged over
+runs, against the reference 1.0, the optimum itself.
+
+Thesis setting (``--thesis``): Table 5.1's 6×6 grid, 3 identical agents on one nest, for
+one nest per symmetry class. This gives MADGTA's sum gap where the thesis has its own
+numbers; the makespan is out of reach there, because 36 > 16.
+
+Scaling (``--scaling``): solve time of both objectives on growing random grids. This is
+what sets :data:`swarmex.missions.traversal.optimal.MAX_FREE_VERTICES`.
+
+    .venv/bin/python bench/gap_traversal_optimal.py [--instances 32] [--seeds 5] [--json F]
+    .venv/bin/python bench/gap_traversal_optimal.py --thesis [--seeds 20]
+    .venv/bin/python bench/gap_traversal_optimal.py --scaling [--time-limit 60] [--largest 64]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+
+import numpy as np
+
+from swarmex.missions.traversal import run_metrics, run_traversal
+from swarmex.missions.traversal.agents import AgentSpec
+from swarmex.missions.traversal.optimal import solve_optimal
+from swarmex.worlds import random_obstacles
+
+
+def instance(i: int) -> tuple[object, list[AgentSpec], str]:
+    """Instance i of the gap study: every choice is a function of i (seeded)."""
+    rng = np.random.default_rng(1000 + i)
+    w, h = (3, 4) if i % 2 == 0 else (4, 4)
+    density = 0.0 if (i // 2) % 2 == 0 else 0.15
+    world = random_obstacles(w, h, density, seed=rng)
+    m = 2 + (i // 4) % 2
+    shared = (i // 8) % 2 == 0
+    mixed = (i // 16) % 2 == 1
+    free = np.nonzero(~world.blocked)[0]
+    nests = [int(rng.choice(free))] * m if shared else [int(v) for v in rng.choice(free, m, False)]
+    agents = []
+    for nest in nests:
+        if mixed:
+            agents.append(AgentSpec(nest, float(rng.uniform(0.5, 1.0)), float(rng.uniform(5, 10))))
+        else:
+            agents.append(AgentSpec(nest, 0.5, 9.0))  # 2 s per unit edge, 9 s per job
+    label = (
+        f"{w}x{h} d={density:.2f} m={m} {'shared' if shared else 'distinct'} "
+        f"{'mixed' if mixed else 'same'}"
+    )
+    return world, agents, label
+
+
+def gap_study(n_instances: int, seeds: int, time_limit: float) -> dict:
+    rows = []
+    print(
+        f"{'#':>3} {'instance':38} {'n':>3} {'opt sum':>8} {'opt mk':>7} "
+        f"{'madgta sum%':>11} {'max':>6} {'mk%':>6} {'max':>6} {'nearest sum%':>12} {'mk%':>6}"
+    )
+    for i in range(n_instances):
+        world, agents, label = instance(i)
+        opt_sum = solve_optimal(world, agents, "sum", time_limit=time_limit)
+        opt_mk = solve_optimal(world, agents, "makespan", time_limit=time_limit)
+        row = {
+            "instance": i,
+            "label": label,
+            "n": len(opt_sum.vertices),
+            "opt_sum": opt_sum.value,
+            "opt_makespan": opt_mk.value,
+            "proven": opt_sum.proven_optimal and opt_mk.proven_optimal,
+            "solve_seconds": opt_sum.solve_seconds + opt_mk.solve_seconds,
+        }
+        for algorithm in ("madgta", "nearest"):
+            sums, mks, errors = [], [], []
+            for seed in range(seeds):
+                try:
+                    run = run_traversal(world, agents, algorithm=algorithm, seed=seed)
+                except Exception as exc:  # an online-policy bug must not hide the other runs
+                    errors.append(f"seed {seed}: {type(exc).__name__}: {exc}")
+                    continue
+                assert run.complete, (i, algorithm, seed)
+                totals, _ = run_metrics(run, 1.0)
+                sums.append(totals["total_time_all"] / opt_sum.value - 1.0)
+                mks.append(totals["max_total_time"] / opt_mk.value - 1.0)
+            row[algorithm] = {"sum_gap": sums, "makespan_gap": mks, "errors": errors}
+        rows.append(row)
+        g, n = row["madgta"], row["nearest"]
+        if not (g["sum_gap"] and n["sum_gap"]):
+            print(f"{i:>3} {label:38} {row['n']:>3} {row['opt_sum']:>8.2f} "
+                  f"{row['opt_makespan']:>7.2f}  online runs failed: "
+                  f"madgta {g['errors'][:1]}, nearest {n['errors'][:1]}", flush=True)
+            continue
+        print(
+            f"{i:>3} {label:38} {row['n']:>3} {row['opt_sum']:>8.2f} {row['opt_makespan']:>7.2f} "
+            f"{100 * np.mean(g['sum_gap']):>11.2f} {100 * max(g['sum_gap']):>6.2f} "
+            f"{100 * np.mean(g['makespan_gap']):>6.2f} {100 * max(g['makespan_gap']):>6.2f} "
+            f"{100 * np.mean(n['sum_gap']):>12.2f} {100 * np.mean(n['makespan_gap']):>6.2f}",
+            flush=True,
+        )
+    summary = {}
+    for algorithm in ("madgta", "nearest"):
+        failed = sum(len(r[algorithm]["errors"]) for r in rows)
+        if failed:
+            print(f"{algorithm}: {failed} of {len(rows) * seeds} runs raised and are left out: "
+                  + "; ".join(f"instance {r['instance']} {e}" for r in rows
+                              for e in r[algorithm]["errors"][:1]))
+        for key in ("sum_gap", "makespan_gap"):
+            runs = np.array([v for r in rows for v in r[algorithm][key]])
+            per_instance = np.array([np.mean(r[algorithm][key]) for r in rows
+                                     if r[algorithm][key]])
+            summary[f"{algorithm}_{key}"] = {
+                "mean_pct": float(100 * runs.mean()),
+                "max_pct": float(100 * runs.max()),
+                "median_instance_pct": float(100 * np.median(per_instance)),
+                "optimal_runs_pct": float(100 * np.mean(runs < 1e-9)),
+            }
+    print(f"\n{len(rows)} instances × {seeds} seeds; all optima proven: "
+          f"{all(r['proven'] for r in rows)}; "
+          f"exact solve time mean {np.mean([r['solve_seconds'] for r in rows]):.2f} s, "
+          f"max {max(r['solve_seconds'] for r in rows):.2f} s")
+    print(f"{'gap to optimum':28} {'mean %':>8} {'max %':>8} {'median inst %':>14} "
+          f"{'optimal runs %':>15}")
+    for name, s in summary.items():
+        print(f"{name:28} {s['mean_pct']:>8.2f} {s['max_pct']:>8.2f} "
+              f"{s['median_instance_pct']:>14.2f} {s['optimal_runs_pct']:>15.1f}")
+    ratio = 1.0 + summary["madgta_sum_gap"]["mean_pct"] / 100
+    print(f"\nratio MADGTA total_time_all / optimum (reference 1.0): {ratio:.4f}")
+    return {"rows": rows, "summary": summary}
+
+
+def thesis_setting(seeds: int, time_limit: float) -> dict:
+    """Table 5.1's setting: 6×6 nodes on 40×40 m, no obstacles, 3 identical agents on one
+    nest (3 m/s, 10 s jobs), one nest per symmetry class of the thesis's Tables 5.1-5.2."""
+    world = random_obstacles(6, 6, 0.0, seed=0)
+    unit = 40.0 / 6.0
+    out = []
+    print(f"{'nest (thesis id)':>16} {'optimal sum':>12} {'madgta mean':>12} {'min':>8} "
+          f"{'max':>8} {'gap mean %':>11} {'optimal runs':>13}")
+    for tid in (1, 2, 3, 8, 9, 15):  # corner, near corner, mid-border, diagonal, inner, centre
+        x, yb = (tid - 1) % 6, (tid - 1) // 6
+        nest = (5 - yb) * 6 + x
+        agents = [AgentSpec(nest, 3.0, 10.0)] * 3
+        opt = solve_optimal(world, agents, "sum", unit_length=unit, time_limit=time_limit)
+        totals = []
+        for seed in range(seeds):
+            run = run_traversal(world, agents, seed=seed, unit_length=unit)
+            totals.append(run_metrics(run, unit)[0]["total_time_all"])
+        t = np.array(totals)
+        gap = 100 * (t / opt.value - 1)
+        out.append({"nest": tid, "optimal_sum": opt.value, "proven": opt.proven_optimal,
+                    "madgta_sum": totals})
+        print(f"{tid:>16} {opt.value:>12.2f} {t.mean():>12.2f} {t.min():>8.2f} {t.max():>8.2f} "
+              f"{gap.mean():>11.2f} {np.mean(gap < 1e-6) * 100:>12.1f}%", flush=True)
+    return {"thesis_setting": out}
+
+
+def scaling(time_limit: float, largest: int) -> dict:
+    """Solve times on growing random grids: 2-4 agents, mixed on distinct nests or identical
+    on one shared nest (the symmetric case)."""
+    sizes = [(4, 4), (5, 4), (6, 3), (5, 5), (6, 5), (6, 6), (7, 6), (7, 7), (8, 7), (8, 8)]
+    cases = [(w, h, d) for w, h in sizes for d in (0.0, 0.15)]
+    out = []
+    print(f"{'grid':>6} {'agents':>8} {'m':>2} {'n':>3} {'objective':>9} {'seconds':>8} "
+          f"{'status':>20}")
+    for w, h, density in cases:
+        if w * h > largest:
+            continue
+        for m in (2, 3, 4):
+            for style in ("mixed", "same"):
+                rng = np.random.default_rng(w * 100 + h * 10 + m)
+                world = random_obstacles(w, h, density, seed=rng)
+                free = np.nonzero(~world.blocked)[0]
+                if style == "mixed":
+                    agents = [
+                        AgentSpec(int(v), float(rng.uniform(0.5, 1.0)), float(rng.uniform(5, 10)))
+                        for v in rng.choice(free, m, replace=False)
+                    ]
+                else:
+                    agents = [AgentSpec(int(free[0]), 0.5, 9.0)] * m
+                n = int(len(free))
+                for objective in ("sum", "makespan"):
+                    if objective == "makespan" and n > 18:
+                        continue  # the partition tables hold 2^n·n floats
+                    t = time.perf_counter()
+                    plan = solve_optimal(world, agents, objective, time_limit=time_limit,
+                                         max_vertices=largest)
+                    dt = time.perf_counter() - t
+                    out.append({"grid": f"{w}x{h}", "agents": style, "m": m, "n": n,
+                                "objective": objective, "seconds": dt, "status": plan.status,
+                                "gap": plan.gap})
+                    print(f"{w}x{h:<4} {style:>8} {m:>2} {n:>3} {objective:>9} {dt:>8.2f} "
+                          f"{plan.status:>20}", flush=True)
+    return {"scaling": out}
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--instances", type=int, default=32)
+    ap.add_argument("--seeds", type=int, default=5, help="online runs per instance")
+    ap.add_argument("--time-limit", type=float, default=60.0)
+    ap.add_argument("--scaling", action="store_true", help="measure solve time instead")
+    ap.add_argument("--largest", type=int, default=64, help="--scaling: largest grid (cells)")
+    ap.add_argument("--thesis", action="store_true",
+                    help="Table 5.1's 6x6 setting (sum only) instead")
+    ap.add_argument("--json", help="also write the numbers to this file")
+    args = ap.parse_args()
+    if args.scaling:
+        result = scaling(args.time_limit, args.largest)
+    elif args.thesis:
+        result = thesis_setting(args.seeds, args.time_limit)
+    else:
+        result = gap_study(args.instances, args.seeds, args.time_limit)
+    if args.json:
+        with open(args.json, "w", encoding="utf-8") as fh:
+            json.dump(result, fh, indent=1)
+
+
+if __name__ == "__main__":
+    main()
