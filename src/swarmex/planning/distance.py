@@ -26,8 +26,11 @@ gives the same floats.
 
 from __future__ import annotations
 
+import os
+import threading
 import weakref
 from collections.abc import Sequence
+from concurrent.futures import ThreadPoolExecutor
 
 import numba as nb
 import numpy as np
@@ -197,12 +200,12 @@ def _shift_source_lattice(width, nbmask, old, row, new_source, queue):  # pragma
 
 
 @nb.njit(cache=True, nogil=True)
-def _bfs(indptr, indices, step, blocked, sources, out):  # pragma: no cover - compiled
-    """Float BFS field; the visited test reads ``out`` itself, so there is no second array."""
+def _bfs(indptr, indices, step, blocked, sources, out, queue):  # pragma: no cover - compiled
+    """Float BFS field; the visited test reads ``out`` itself, so there is no second array.
+    ``queue`` is int32 scratch of length n."""
     n = indptr.shape[0] - 1
     for i in range(n):
         out[i] = np.inf
-    queue = np.empty(n, dtype=np.int32)
     tail = 0
     for s in sources:
         if out[s] > 0.0:
@@ -227,15 +230,54 @@ def _bfs(indptr, indices, step, blocked, sources, out):  # pragma: no cover - co
 
 
 @nb.njit(cache=True, nogil=True)
-def _dijkstra(indptr, indices, weights, blocked, sources, out):  # pragma: no cover - compiled
+def _bfs_lattice(width, nbmask, step, blocked, sources, out, queue):  # pragma: no cover
+    """:func:`_bfs` on a full 4-connected lattice (neighbours computed, not read)."""
+    n = out.shape[0]
+    for i in range(n):
+        out[i] = np.inf
+    tail = 0
+    for s in sources:
+        if out[s] > 0.0:
+            out[s] = 0.0
+            queue[tail] = s
+            tail += 1
+    head = 0
+    level = 0
+    while head < tail:
+        level += 1
+        val = level * step
+        end = tail
+        while head < end:
+            u = queue[head]
+            head += 1
+            m = nbmask[u]
+            for b in range(4):
+                if m & (1 << b):
+                    if b == 0:
+                        v = u - width
+                    elif b == 1:
+                        v = u - 1
+                    elif b == 2:
+                        v = u + 1
+                    else:
+                        v = u + width
+                    if out[v] == np.inf and not blocked[v]:
+                        out[v] = val
+                        queue[tail] = v
+                        tail += 1
+
+
+@nb.njit(cache=True, nogil=True)
+def _dijkstra(
+    indptr, indices, weights, blocked, sources, out, done, hd, hv
+):  # pragma: no cover - compiled
+    """Binary-heap Dijkstra. Scratch: ``done`` (bool, n) and the heap's distance and vertex
+    arrays ``hd``/``hv`` (length >= number of CSR entries + sources + 1)."""
     n = indptr.shape[0] - 1
     for i in range(n):
         out[i] = np.inf
-    done = np.zeros(n, dtype=np.bool_)
+        done[i] = False
     # binary heap of (distance, vertex) in two parallel arrays
-    cap = indices.shape[0] + sources.shape[0] + 1
-    hd = np.empty(cap, dtype=np.float64)
-    hv = np.empty(cap, dtype=np.int64)
     size = 0
     for s in sources:
         if out[s] > 0.0:
@@ -292,16 +334,26 @@ def _dijkstra(indptr, indices, weights, blocked, sources, out):  # pragma: no co
                 hv[i] = v
 
 
-@nb.njit(cache=True, nogil=True, parallel=True)
-def _bfs_many(indptr, indices, step, blocked, sources, out):  # pragma: no cover - compiled
-    for i in nb.prange(sources.shape[0]):
-        _bfs(indptr, indices, step, blocked, sources[i : i + 1], out[i])
-
-
-@nb.njit(cache=True, nogil=True, parallel=True)
-def _dijkstra_many(indptr, indices, weights, blocked, sources, out):  # pragma: no cover
-    for i in nb.prange(sources.shape[0]):
-        _dijkstra(indptr, indices, weights, blocked, sources[i : i + 1], out[i])
+@nb.njit(cache=True, nogil=True)
+def _fields_chunk(
+    indptr, indices, weights, width, nbmask, uniform, blocked, sources, out, lo, hi
+):  # pragma: no cover - compiled
+    """Rows ``lo:hi`` of :func:`distance_fields` (one thread's share), with own scratch."""
+    n = indptr.shape[0] - 1
+    queue = np.empty(n, dtype=np.int32)
+    done = np.empty(n, dtype=np.bool_)
+    cap = 1 if uniform else indices.shape[0] + 2
+    hd = np.empty(cap, dtype=np.float64)
+    hv = np.empty(cap, dtype=np.int64)
+    step = weights[0] if weights.shape[0] else 1.0
+    for i in range(lo, hi):
+        src = sources[i : i + 1]
+        if not uniform:
+            _dijkstra(indptr, indices, weights, blocked, src, out[i], done, hd, hv)
+        elif width > 0:
+            _bfs_lattice(width, nbmask, step, blocked, src, out[i], queue)
+        else:
+            _bfs(indptr, indices, step, blocked, src, out[i], queue)
 
 
 @nb.njit(cache=True, nogil=True)
@@ -506,6 +558,31 @@ def step_length(graph: NodeGraph) -> float:
     return float(graph.weights[0]) if graph.weights.size else 1.0
 
 
+_SCRATCH = threading.local()
+_POOL: ThreadPoolExecutor | None = None
+_POOL_LOCK = threading.Lock()
+
+
+def _scratch(name: str, size: int, dtype) -> np.ndarray:
+    """Per-thread reusable work array (fresh large arrays cost page faults every call)."""
+    store = getattr(_SCRATCH, "arrays", None)
+    if store is None:
+        store = _SCRATCH.arrays = {}
+    arr = store.get(name)
+    if arr is None or arr.size < size:
+        arr = store[name] = np.empty(size, dtype=dtype)
+    return arr[:size]
+
+
+def _pool() -> ThreadPoolExecutor:
+    global _POOL
+    with _POOL_LOCK:
+        if _POOL is None:
+            _POOL = ThreadPoolExecutor(max_workers=os.cpu_count() or 1,
+                                       thread_name_prefix="swarmex-fields")
+        return _POOL
+
+
 def distance_field(
     graph: NodeGraph,
     sources: int | Sequence[int] | np.ndarray,
@@ -514,11 +591,20 @@ def distance_field(
     """Shortest-path length from the nearest of ``sources`` to every vertex."""
     src = _as_sources(sources)
     blocked = _blocked_or_none(graph, blocked)
-    out = np.empty(graph.n_nodes, dtype=np.float64)
+    n = graph.n_nodes
+    out = np.empty(n, dtype=np.float64)
     if graph.uniform:
-        _bfs(graph.indptr, graph.indices, step_length(graph), blocked, src, out)
+        queue = _scratch("queue", n, np.int32)
+        width, mask = lattice_structure(graph)
+        if width:
+            _bfs_lattice(width, mask, step_length(graph), blocked, src, out, queue)
+        else:
+            _bfs(graph.indptr, graph.indices, step_length(graph), blocked, src, out, queue)
     else:
-        _dijkstra(graph.indptr, graph.indices, graph.weights, blocked, src, out)
+        cap = graph.indices.shape[0] + src.size + 1
+        _dijkstra(graph.indptr, graph.indices, graph.weights, blocked, src, out,
+                  _scratch("done", n, np.bool_), _scratch("hd", cap, np.float64),
+                  _scratch("hv", cap, np.int64))
     return out
 
 
@@ -529,17 +615,28 @@ def distance_fields(
 ) -> np.ndarray:
     """One separate field per source: array of shape ``(len(sources), n_nodes)``.
 
-    The fields are independent, so they are computed in parallel over the cores.
+    The fields are independent, so large batches are split over one thread per core (the
+    kernels release the GIL); each row equals :func:`distance_field` of its source.
     """
     src = _as_sources(sources)
-    out = np.empty((src.size, graph.n_nodes), dtype=np.float64)
+    n = graph.n_nodes
+    out = np.empty((src.size, n), dtype=np.float64)
     if src.size == 0:
         return out
     blocked = _blocked_or_none(graph, blocked)
-    if graph.uniform:
-        _bfs_many(graph.indptr, graph.indices, step_length(graph), blocked, src, out)
-    else:
-        _dijkstra_many(graph.indptr, graph.indices, graph.weights, blocked, src, out)
+    width, mask = lattice_structure(graph) if graph.uniform else (0, None)
+    mask = mask if mask is not None else np.zeros(1, dtype=np.uint8)
+    args = (graph.indptr, graph.indices, graph.weights, width, mask, bool(graph.uniform),
+            blocked, src, out)
+    workers = min(os.cpu_count() or 1, src.size)
+    if workers < 2 or src.size * n < 200_000:  # too little work to be worth a thread
+        _fields_chunk(*args, 0, src.size)
+        return out
+    bounds = np.linspace(0, src.size, workers + 1).astype(int)
+    jobs = [_pool().submit(_fields_chunk, *args, int(lo), int(hi))
+            for lo, hi in zip(bounds[:-1], bounds[1:], strict=True)]
+    for job in jobs:
+        job.result()
     return out
 
 

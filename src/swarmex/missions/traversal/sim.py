@@ -150,6 +150,7 @@ class _Sim:
         self.done_by = np.zeros(self.graph.n_nodes, dtype=np.int32)
         self.job_count = np.zeros(self.graph.n_nodes, dtype=np.int32)
         self.queue = EventQueue()
+        self._home_fields: dict[int, np.ndarray] = {}  # nest -> true distances (for RTL)
         self.messages = 0
         self.message_bytes = 0
 
@@ -286,8 +287,10 @@ class _Sim:
         log.finished_at = t
         self.active[a] = False
         nest = self.specs[a - 1].nest
-        home = distance_field(self.graph, nest, self.truth_blocked)[log.node]
-        log.rtl_length = float(home)
+        home = self._home_fields.get(nest)
+        if home is None:  # agents sharing a nest share the field
+            home = self._home_fields[nest] = distance_field(self.graph, nest, self.truth_blocked)
+        log.rtl_length = float(home[log.node])
 
     def field_cache_stats(self) -> dict:
         caches = {id(b.known): b.known for b in self.beliefs[1:]}.values()
