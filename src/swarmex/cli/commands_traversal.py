@@ -32,7 +32,7 @@ from rich.table import Table
 from swarmex.cli.app import app, console
 from swarmex.errors import InputError
 
-RENDER_SUFFIXES = (".png", ".gif")
+RENDER_SUFFIXES = (".png", ".gif", ".mp4")
 # Defaults of the timing options: the thesis's base agent (§5.1: 6.67 m edges flown at 3 m/s,
 # 10 s jobs, climb 1.5 m/s, descent 0.3 m/s) without the 5 m takeoff, so additional_time is
 # the return flight alone unless --altitude is given.
@@ -266,10 +266,9 @@ def run_and_report(
         write_record(record, json_path)
         console.print(f"wrote {json_path}")
     if render is not None:
-        from swarmex.viz import traversal_gif, traversal_png
+        from swarmex.viz.traversal import render_traversal
 
-        draw = traversal_gif if render.suffix.lower() == ".gif" else traversal_png
-        draw(data, world, render)
+        render_traversal(data, world, render)
         console.print(f"wrote {render}")
     return data
 
@@ -353,7 +352,7 @@ def traverse(
     render: Path | None = typer.Option(
         None,
         "--render",
-        help="Draw the paths (.png) or animate the run (.gif).",
+        help="Draw the paths (.png) or animate the run (.gif, .mp4).",
         show_default=False,
     ),
 ) -> None:
