@@ -652,10 +652,17 @@ def hop_field(
     """
     src = _as_sources(sources)
     blocked = _blocked_or_none(graph, blocked)
+    n = graph.n_nodes
     if out is None:
-        out = np.empty(graph.n_nodes, dtype=np.int32)
-    queue = np.empty(graph.n_nodes, dtype=np.int32)
-    _bfs_hops(graph.indptr, graph.indices, blocked, src, out, queue)
+        out = np.empty(n, dtype=np.int32)
+    queue = _scratch("queue", n, np.int32)
+    width, mask = lattice_structure(graph)
+    if width and src.size == 1:
+        np.copyto(out, np.where(blocked, BLOCKED, UNREACHED))
+        _bfs_hops_lattice(width, mask, int(src[0]), out, queue)
+        out[out < 0] = UNREACHED
+    else:
+        _bfs_hops(graph.indptr, graph.indices, blocked, src, out, queue)
     return out
 
 
