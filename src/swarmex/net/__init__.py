@@ -1,0 +1,11 @@
+"""The missions as networked programs over ZeroMQ, driving the simulators' own policy objects.
+
+* :mod:`~swarmex.net.wire` — frames (msgpack + CRC32) and the decoders every receiver uses;
+* :mod:`~swarmex.net.traversal`, :mod:`~swarmex.net.server`, :mod:`~swarmex.net.agent` —
+  seed 000's server and UAV clients (``swarmex serve`` / ``swarmex agent``);
+* :mod:`~swarmex.net.mesh` — seed 003's robots and display as processes on a mesh
+  (``swarmex explore --processes``);
+* :mod:`~swarmex.net.events`, :mod:`~swarmex.net.watch` — the live monitor stream.
+
+docs/net.md says how and why.
+"""
