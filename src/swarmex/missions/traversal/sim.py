@@ -23,13 +23,13 @@ times, with takeoff, are ``additional_time``.
 
 from __future__ import annotations
 
+import heapq
 import time
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from swarmex.comm.channel import Channel
-from swarmex.engine.events import EventQueue
 from swarmex.errors import InputError
 from swarmex.missions.traversal.agents import AgentSpec
 from swarmex.missions.traversal.belief import (
@@ -45,6 +45,37 @@ from swarmex.missions.traversal.belief import (
 from swarmex.missions.traversal.policies import Madgta, make_policy
 from swarmex.planning.distance import distance_field
 from swarmex.planning.fieldcache import KnownGraph
+
+
+class _Clock:
+    """:class:`swarmex.engine.events.EventQueue` with plain tuples ``(time, seq, kind,
+    agent, data)``: the same order (time, then scheduling order), but heapq compares the
+    tuples in C instead of calling a dataclass ``__lt__`` per comparison."""
+
+    __slots__ = ("_heap", "_seq", "now")
+
+    def __init__(self) -> None:
+        self._heap: list[tuple] = []
+        self._seq = 0
+        self.now = 0.0
+
+    def schedule(self, time: float, kind: str, agent: int = -1, data=None) -> None:
+        if time < self.now - 1e-12:
+            raise ValueError(f"cannot schedule into the past ({time} < {self.now})")
+        heapq.heappush(self._heap, (float(time), self._seq, kind, agent, data))
+        self._seq += 1
+
+    def pop(self) -> tuple:
+        ev = heapq.heappop(self._heap)
+        self.now = ev[0]
+        return ev
+
+    def __len__(self) -> int:
+        return len(self._heap)
+
+    def __bool__(self) -> bool:
+        return bool(self._heap)
+
 
 # kind -> deliver() code; 0: nothing for the receivers to do ("done" carries no state here)
 _KIND_CODES = {"pos": POS, "job": JOB, "next": NEXT, "undone": UNDONE, "done": 0}
@@ -149,7 +180,7 @@ class _Sim:
         self.pos_xy = np.zeros((m + 1, 2))
         self.done_by = np.zeros(self.graph.n_nodes, dtype=np.int32)
         self.job_count = np.zeros(self.graph.n_nodes, dtype=np.int32)
-        self.queue = EventQueue()
+        self.queue = _Clock()
         self._home_fields: dict[int, np.ndarray] = {}  # nest -> true distances (for RTL)
         self.messages = 0
         self.message_bytes = 0
@@ -304,27 +335,26 @@ class _Sim:
             self.queue.schedule(t0 + i * self.start_interval + s.takeoff_time, "start", i + 1)
         handled = 0
         while self.queue:
-            ev = self.queue.pop()
+            t, _, kind, a, data = self.queue.pop()
             handled += 1
             if handled > max_events:
                 return False
-            a = ev.agent
-            if ev.kind == "start":
+            if kind == "arrive":
+                self.arrive_at(a, data, t)
+            elif kind == "job_end":
+                self.end_job(a, data, t)
+            elif kind == "start":
                 self.active[a] = True
                 nest = self.specs[a - 1].nest
-                self.logs[a - 1].trajectory.append((ev.time, nest))
+                self.logs[a - 1].trajectory.append((t, nest))
                 self.pos_xy[a] = self.graph.pos[nest]
                 b = self.beliefs[a]
                 b.loc[a] = nest
                 seen = self.sense(a, nest)
                 self.broadcast(a, "pos", nest, seen)
-                self.decide(a, ev.time)
-            elif ev.kind == "arrive":
-                self.arrive_at(a, ev.data, ev.time)
-            elif ev.kind == "job_end":
-                self.end_job(a, ev.data, ev.time)
-            elif ev.kind == "deliver":
-                self.apply(self.beliefs[a], ev.data)
+                self.decide(a, t)
+            elif kind == "deliver":
+                self.apply(self.beliefs[a], data)
         return True
 
 
