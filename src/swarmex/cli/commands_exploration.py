@@ -73,6 +73,15 @@ def explore(
     max_ticks: int = typer.Option(None, "--max-ticks", help="Stop after this many steps."),
     json_path: Path = typer.Option(None, "--json", help="Write the result record here."),
     render: Path = typer.Option(None, "--render", help="Picture of the run (.png or .gif)."),
+    processes: bool = typer.Option(
+        False, "--processes", help="One OS process per robot plus a display, over ZeroMQ."
+    ),
+    time_scale: float = typer.Option(
+        1.0, "--time-scale", help="With --processes: wall seconds per mission second."
+    ),
+    inject_loss: float = typer.Option(
+        0.0, "--inject-loss", help="With --processes: drop this fraction of messages."
+    ),
 ) -> None:
     """Explore an unknown world with a team of laser robots sharing scans over a mesh."""
     from swarmex.engine.record import write_record
@@ -87,6 +96,15 @@ def explore(
         robot_radius=robot_radius, beams=beams, starts=parse_starts(starts), seed=seed,
         max_ticks=max_ticks,
     )
+    if processes:
+        if render is not None:
+            raise InputError("--render is not available with --processes (use swarmex monitor)")
+        from swarmex.cli.commands_net import run_mesh
+
+        rec = run_mesh(grid, params, time_scale, loss=inject_loss, json_path=json_path)
+        raise typer.Exit(0 if rec["complete"] else 1)
+    if inject_loss:
+        raise InputError("--inject-loss needs --processes")
     recorder = FrameRecorder() if render is not None and render.suffix.lower() == ".gif" else None
     run = run_exploration(grid, params, on_frame=recorder, frame_every=1 if recorder else 0)
     record = exploration_record(run)

@@ -1,0 +1,24 @@
+"""``explore --processes`` is wired to the mesh runtime; its options are validated up front."""
+
+from __future__ import annotations
+
+from swarmex.cli import main
+
+
+def test_render_is_refused_with_processes(tmp_path, capsys):
+    code = main(["explore", "--empty", "3x3", "--robots", "2", "--processes",
+                 "--render", str(tmp_path / "x.png")])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1 and "--processes" in err[0]
+
+
+def test_loss_needs_processes(capsys):
+    code = main(["explore", "--empty", "3x3", "--robots", "2", "--inject-loss", "0.1"])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1 and "--processes" in err[0]
+
+
+def test_processes_run_completes(tmp_path):
+    out = tmp_path / "mesh.json"
+    code = main(["explore", "--empty", "3x3", "--robots", "2", "--processes", "--json", str(out)])
+    assert code == 0 and out.exists()
