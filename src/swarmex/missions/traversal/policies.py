@@ -163,56 +163,63 @@ def _top_columns(util):  # pragma: no cover - compiled
     return top[:k]
 
 
+#: vertices per tile of the branch-3 scan: the per-class minima of a tile stay in L1 cache
+_TILE = 2048
+
+
 @nb.njit(cache=True, nogil=True)
 def _far_scan(
     hops_u, me_slot, slots, klass, ctpu, cjt, status, reserved, me, step, tpu_me, jt_me,
     far, mins, hmin,
 ):  # pragma: no cover - compiled
-    """Branch 3 in two streaming passes: W = vacant vertices I can reach, each one's min
+    """Branch 3 in one streaming pass: W = vacant vertices I can reach, each one's min
     over rivals of util, and the vertices tied at the max-min. Returns (|W|, number tied);
-    the tied vertices are left in ``far[:tied]``.
+    the tied vertices are left in ``far[:tied]``. ``hmin`` is (classes, _TILE) scratch.
 
     Rivals with the same speed and job time form a class, and within a class the cost is a
     non-decreasing function of the hop count, so the min over the class is the cost of the
     class's minimum hop count (``hops_u`` is the hop table viewed as uint32: unreached
     vertices, negative, become huge). Rounding is monotone too, so min over rivals of
     ``cost - mine`` equals that of the per-class minima: the floats match the generic code.
+    The rows are read tile by tile, so the minima never leave the cache.
     """
     n = status.shape[0]
     nk = ctpu.shape[0]
-    for k in range(nk):
-        hmin[k, :] = np.uint32(0xFFFFFFFF)
-    for i in range(slots.shape[0]):
-        row = hops_u[slots[i]]
-        hk = hmin[klass[i]]
-        for v in range(n):
-            hk[v] = min(hk[v], row[v])
     mine_row = hops_u[me_slot]
     nf = 0
-    for v in range(n):
-        if status[v] != 0:
-            continue
-        owner = reserved[v]
-        if owner != 0 and owner != me:
-            continue
-        hm = mine_row[v]
-        if hm >= np.uint32(0x80000000):
-            continue
-        mine = (hm * step) * tpu_me
-        mine = mine + jt_me
-        if nk == 0:
-            m = -mine
-        else:
-            m = np.inf
-            for k in range(nk):
-                h = hmin[k, v]
-                theirs = (np.inf if h >= np.uint32(0x80000000) else h * step) * ctpu[k]
-                u = theirs + cjt[k] - mine
-                if u < m:
-                    m = u
-        far[nf] = v
-        mins[nf] = m
-        nf += 1
+    for lo in range(0, n, _TILE):
+        hi = min(n, lo + _TILE)
+        for k in range(nk):
+            hmin[k, : hi - lo] = np.uint32(0xFFFFFFFF)
+        for i in range(slots.shape[0]):
+            row = hops_u[slots[i]]
+            hk = hmin[klass[i]]
+            for v in range(lo, hi):
+                hk[v - lo] = min(hk[v - lo], row[v])
+        for v in range(lo, hi):
+            if status[v] != 0:
+                continue
+            owner = reserved[v]
+            if owner != 0 and owner != me:
+                continue
+            hm = mine_row[v]
+            if hm >= np.uint32(0x80000000):
+                continue
+            mine = (hm * step) * tpu_me
+            mine = mine + jt_me
+            if nk == 0:
+                m = -mine
+            else:
+                m = np.inf
+                for k in range(nk):
+                    h = hmin[k, v - lo]
+                    theirs = (np.inf if h >= np.uint32(0x80000000) else h * step) * ctpu[k]
+                    u = theirs + cjt[k] - mine
+                    if u < m:
+                        m = u
+            far[nf] = v
+            mins[nf] = m
+            nf += 1
     if nf == 0:
         return 0, 0
     best = mins[:nf].max()
@@ -302,7 +309,7 @@ class Madgta:
         buf = getattr(self, "_buffers", None)
         if buf is None or buf[0].size != n or buf[2].shape[0] < classes:
             buf = (np.empty(n, dtype=np.int64), np.empty(n),
-                   np.empty((max(1, classes), n), dtype=np.uint32))
+                   np.empty((max(1, classes), _TILE), dtype=np.uint32))
             self._buffers = buf
         return buf
 
