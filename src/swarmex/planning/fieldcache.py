@@ -34,6 +34,8 @@ only when it is asked for. Two regimes, chosen by the graph:
 
 from __future__ import annotations
 
+import queue
+import threading
 from collections import OrderedDict
 
 import numba as nb
@@ -87,6 +89,70 @@ def _gather(hops, slot, vertices, step, out):  # pragma: no cover - compiled
         out[i] = np.inf if h < 0 else h * step
 
 
+class _Job:
+    """A field computation that the worker thread runs, or the thread that needs its result
+    if that one gets there first (so nobody ever waits for a worker the OS has not run)."""
+
+    __slots__ = ("lock", "run", "done", "error")
+
+    def __init__(self, run) -> None:
+        self.lock = threading.Lock()
+        self.run = run  # run(queue): the kernel call, given an int32 scratch queue
+        self.done = False
+        self.error: BaseException | None = None
+
+    def claim_and_run(self, scratch: np.ndarray) -> bool:
+        """Run it unless someone else has; False if someone else has it."""
+        if not self.lock.acquire(blocking=False):
+            return False
+        try:
+            if not self.done:
+                self.run(scratch)
+        except BaseException as exc:  # handed to whoever waits for the result
+            self.error = exc
+        finally:
+            self.done = True
+            self.lock.release()
+        return True
+
+    def wait(self, scratch: np.ndarray) -> None:
+        if not self.done and not self.claim_and_run(scratch):
+            with self.lock:  # the worker is on it: its kernel releases the GIL
+                pass
+        if self.error is not None:
+            raise self.error
+
+
+#: below this many vertices a shift is cheaper than handing it to a thread
+PREFETCH_MIN_NODES = 4096
+
+_JOBS: queue.SimpleQueue = queue.SimpleQueue()
+_WORKER: threading.Thread | None = None
+_WORKER_LOCK = threading.Lock()
+
+
+def _worker_loop() -> None:
+    scratch: dict[int, np.ndarray] = {}
+    while True:
+        job, n = _JOBS.get()
+        q = scratch.get(n)
+        if q is None:
+            q = scratch[n] = np.empty(n, dtype=np.int32)
+        job.claim_and_run(q)
+
+
+def _submit(job: _Job, n: int) -> None:
+    """Queue a job for the shared worker thread (a daemon: nothing to shut down)."""
+    global _WORKER
+    if _WORKER is None:
+        with _WORKER_LOCK:
+            if _WORKER is None:
+                _WORKER = threading.Thread(target=_worker_loop, name="swarmex-fields",
+                                           daemon=True)
+                _WORKER.start()
+    _JOBS.put((job, n))
+
+
 class KnownGraph:
     """A graph plus the obstacles someone knows about, with a cache of distance fields.
 
@@ -96,7 +162,7 @@ class KnownGraph:
     (served as they were).
     """
 
-    def __init__(self, graph: NodeGraph, capacity: int = 64) -> None:
+    def __init__(self, graph: NodeGraph, capacity: int = 64, prefetch: bool = False) -> None:
         self.graph = graph
         self.blocked = np.zeros(graph.n_nodes, dtype=bool)
         self._log: list[int] = []
@@ -108,6 +174,7 @@ class KnownGraph:
         self.uniform = bool(graph.uniform)
         # float fields (non-uniform graphs), keyed by source: (field, version)
         self._cache: OrderedDict[int, tuple[np.ndarray, int]] = OrderedDict()
+        self._prefetch = False
         if self.uniform:
             n = graph.n_nodes
             self.step = step_length(graph)
@@ -131,6 +198,10 @@ class KnownGraph:
             width, mask = lattice_structure(graph)
             self._width = width
             self._nbmask = mask if mask is not None else np.zeros(1, dtype=np.uint8)
+            # background shifts (see prefetch): row -> job writing it / jobs reading it
+            self._prefetch = prefetch and width > 0 and n >= PREFETCH_MIN_NODES
+            self._pending: dict[int, _Job] = {}
+            self._reading: dict[int, list[_Job]] = {}
 
     @property
     def version(self) -> int:
@@ -215,11 +286,71 @@ class KnownGraph:
         """Rows for several sources at once, all valid together (see :meth:`slot`)."""
         self._clock += 1
         rows = self._row_of[sources]
-        if rows.size and rows.min() >= 0 and (self._version[rows] == self.version).all():
+        if self._pending:
+            self._prune()
+        if (rows.size and rows.min() >= 0 and (self._version[rows] == self.version).all()
+                and not (self._pending and any(r in self._pending for r in rows.tolist()))):
             self._used[rows] = self._clock  # the common case: all cached and current
             self.reused += rows.size
             return rows
         return np.array([self._ensure(s) for s in sources.tolist()], dtype=np.int64)
+
+    def prefetch(self, source: int, near: int) -> None:
+        """Start deriving ``source``'s field from that of its neighbour ``near`` on the
+        worker thread (no-op unless enabled with ``prefetch=True``, or when ``source`` is
+        cached already or ``near`` is not). The simulator calls this when an agent decides
+        to move from ``near`` to ``source``: the field is ready when others first ask.
+
+        The new row knows the obstacles ``near``'s row knew; later ones are repaired on
+        first use, so results do not depend on the thread's timing.
+        """
+        if not self._prefetch:
+            return
+        source, near = int(source), int(near)
+        if self._row_of[source] >= 0 or self._row_of[near] < 0 or self.blocked[source]:
+            return
+        self._prune()
+        self._clock += 1
+        src = self._ensure(near)  # up to date (and settled: no job writes it)
+        if self.hops[src, source] != 1 or self.blocked[near]:
+            return
+        dst = self._free_row()
+        self._row_of[source] = dst
+        self._source[dst] = source
+        self._version[dst] = self._version[src]
+        self._used[dst] = self._clock
+        self._float.pop(dst, None)
+        hops, width, mask = self.hops, self._width, self._nbmask
+        job = _Job(lambda q: _shift_source_lattice(width, mask, hops[src], hops[dst], source, q))
+        self._pending[dst] = job
+        self._reading.setdefault(src, []).append(job)
+        self.shifted += 1
+        self.recomputed += 1
+        _submit(job, hops.shape[1])
+
+    def _prune(self) -> None:
+        """Forget finished background jobs (surfacing any error they raised)."""
+        for slot in [k for k, job in self._pending.items() if job.done]:
+            self._pending.pop(slot).wait(self._queue)
+        for slot in list(self._reading):
+            left = [job for job in self._reading[slot] if not job.done]
+            if left:
+                self._reading[slot] = left
+            else:
+                for job in self._reading.pop(slot):
+                    job.wait(self._queue)
+
+    def _settle(self, slot: int) -> None:
+        """Finish the background jobs that write or read row ``slot``."""
+        job = self._pending.pop(slot, None)
+        if job is not None:
+            job.wait(self._queue)
+        for job in self._reading.pop(slot, ()):
+            job.wait(self._queue)
+
+    def _settle_all(self) -> None:
+        for slot in list(self._pending) + list(self._reading):
+            self._settle(slot)
 
     def _ensure(self, source: int) -> int:
         """Row of ``source``, computed, repaired or reused; marked as used now."""
@@ -227,11 +358,17 @@ class KnownGraph:
         if slot < 0:
             return self._compute(source)
         self._used[slot] = self._clock
+        if self._pending:
+            job = self._pending.pop(slot, None)
+            if job is not None:  # a background shift: wait for it (or do it here)
+                job.wait(self._queue)
         old = int(self._version[slot])
         ver = self.version
         if old == ver:
             self.reused += 1
             return slot
+        if self._reading:
+            self._settle(slot)  # a background shift still reads this row
         self._version[slot] = ver
         self._float.pop(slot, None)
         g = self.graph
@@ -254,6 +391,8 @@ class KnownGraph:
         near = self._near_row(source)
         if near is not None and self._used[near] != self._clock:
             slot = near  # the neighbour's field is not wanted now: recycle its row
+            if self._reading:
+                self._settle(slot)
             self._row_of[self._source[slot]] = -1
         else:
             slot = self._free_row()
@@ -289,6 +428,8 @@ class KnownGraph:
         for other in self.graph.neighbors(source).tolist():
             if self._row_of[other] < 0 or self.blocked[other]:
                 continue
+            if int(self._row_of[other]) in self._pending:
+                continue  # being derived in the background
             keep = self._used[self._row_of[other]]
             slot = self._ensure(other)  # repairs it if stale (usually it is fresh)
             self._used[slot] = keep  # looking at it is not using it
@@ -304,13 +445,17 @@ class KnownGraph:
         if free.size:
             return int(free[0])
         if rows >= self.capacity:
-            old = np.where(self._used == self._clock, np.iinfo(np.int64).max, self._used)
+            never = np.iinfo(np.int64).max
+            old = np.where(self._used == self._clock, never, self._used)
+            for busy in (*self._pending, *self._reading):
+                old[busy] = never  # rows a background job writes or reads
             slot = int(np.argmin(old))
-            if old[slot] != np.iinfo(np.int64).max:
+            if old[slot] != never:
                 self._row_of[self._source[slot]] = -1
                 self._source[slot] = -1
                 self._float.pop(slot, None)
                 return slot
+        self._settle_all()  # rows are about to move
         grown = max(rows + 1, min(max(4, 2 * rows), self.capacity))
         hops = np.empty((grown, self.hops.shape[1]), dtype=np.int32)
         hops[:rows] = self.hops

@@ -165,7 +165,9 @@ class _Sim:
         # Under a perfect instant broadcast every belief's obstacle set is identical at every
         # instant, so one KnownGraph (and its field cache) is shared: copy elision, not
         # shared memory between agents.
-        shared = KnownGraph(self.graph, capacity=4 * m + 8) if channel.perfect else None
+        shared = (
+            KnownGraph(self.graph, capacity=4 * m + 8, prefetch=True) if channel.perfect else None
+        )
         # likewise the beliefs live in one team table, so a broadcast is one compiled call
         self.table = BeliefTable(m, self.graph.n_nodes) if channel.perfect else None
         self.beliefs = [None] + [
@@ -306,6 +308,7 @@ class _Sim:
             dt = _edge_length(self.graph, here, d.node) * b.time_per_unit[a]
             if not b.in_km(d.node):
                 b.reserve(d.node, a)
+            b.known.prefetch(d.node, here)  # its field, shifted in the background
             self.broadcast(a, "next", d.node, eta=t + dt)
             log.moves += 1
             log.travel_time += dt
