@@ -163,6 +163,56 @@ def _top_columns(util):  # pragma: no cover - compiled
     return top[:k]
 
 
+#: _near_choice outcomes: no vacant neighbour (branch 3), candidates to draw from, or
+#: candidates whose utilities numpy must rank (non-integer sums)
+_FAR, _PICK, _NUMPY = 0, 1, 2
+
+
+@nb.njit(cache=True, nogil=True)
+def _near_choice(
+    hops, me_slot, slots, indptr, indices, here, status, reserved, me, step, tpu_me, jt_me,
+    tpu, jt,
+):  # pragma: no cover - compiled
+    """Branch 2 in one call: the vacant neighbours W of ``here`` (not in KM, sorted,
+    unique), their utilities as Madgta.utilities computes them, and GetBestNode's choice.
+    Returns ``(_FAR, [])`` when W is empty, ``(_PICK, tied)`` for the final draw, or
+    ``(_NUMPY, W)`` when the sum tie-break must be left to numpy (see _top_columns)."""
+    lo = indptr[here]
+    hi = indptr[here + 1]
+    cands = np.empty(hi - lo, dtype=np.int64)
+    c = 0
+    for k in range(lo, hi):
+        v = indices[k]
+        owner = reserved[v]
+        if status[v] != 0 or (owner != 0 and owner != me):
+            continue
+        j = c  # insertion sort, dropping duplicates
+        while j > 0 and cands[j - 1] > v:
+            j -= 1
+        if j > 0 and cands[j - 1] == v:
+            continue
+        for t in range(c, j, -1):
+            cands[t] = cands[t - 1]
+        cands[j] = v
+        c += 1
+    if c == 0:
+        return _FAR, cands[:0]
+    cands = cands[:c]
+    r = slots.shape[0]
+    util = np.empty((max(r, 1), c))
+    if r == 0:  # no rival: minus the own cost (the generic code's -mine[None, :])
+        for j in range(c):
+            h = hops[me_slot, cands[j]]
+            mine = (np.inf if h < 0 else h * step) * tpu_me
+            util[0, j] = -(mine + jt_me)
+    else:
+        _util_matrix(hops, me_slot, slots, cands, step, tpu_me, jt_me, tpu, jt, util)
+    top = _top_columns(util)
+    if top[0] < 0:
+        return _NUMPY, cands
+    return _PICK, cands[top]
+
+
 #: vertices per tile of the branch-3 scan: the per-class minima of a tile stay in L1 cache
 _TILE = 2048
 
@@ -241,17 +291,13 @@ class Madgta:
         if not belief.in_km(here):
             return Decision("job", here, here, 1)
         fast = self._fast_rivals(belief)
+        if fast is not None:
+            return self._decide_compiled(belief, rng, *fast)
         nbrs = belief.graph.neighbors(here)
         vacant = nbrs[~belief.km_at(nbrs)]
         if vacant.size:
-            cands = _sorted_unique(vacant)
-            if fast is not None:
-                v = self._best_near(belief, cands, rng, *fast)
-            else:
-                v = self.best(belief, cands, rng)
+            v = self.best(belief, _sorted_unique(vacant), rng)
             return Decision("move", v, v, 2)
-        if fast is not None:
-            return self._decide_far(belief, rng, *fast)
         mine = belief.known.field(here)
         far = np.nonzero(~belief.km_mask() & np.isfinite(mine))[0]
         if far.size == 0:
@@ -313,14 +359,30 @@ class Madgta:
             self._buffers = buf
         return buf
 
-    def _best_near(self, belief, cands, rng, rivals, jt_me) -> int:
-        return _choose(cands, self._utility_matrix(belief, cands, rivals, jt_me), rng)
+    def _decide_compiled(self, belief: TraversalBelief, rng, rivals: np.ndarray, jt_me: float):
+        """Branches 2 and 3 from the hop rows; branch 2 in a single compiled call."""
+        known = belief.known
+        me = belief.me
+        me_slot, slots = self._hop_rows(belief, rivals)
+        g = belief.graph
+        code, picks = _near_choice(
+            known.hops, me_slot, slots, g.indptr, g.indices, belief.here, belief.status,
+            belief.reserved, me, known.step, belief.time_per_unit[me], jt_me,
+            belief.time_per_unit[rivals], belief.job_time[rivals],
+        )
+        if code == _FAR:
+            return self._decide_far(belief, rng, rivals, jt_me, me_slot, slots)
+        if code == _PICK:
+            v = _pick(picks, rng)
+        else:  # sums that numpy must add (see _top_columns): the generic selection
+            v = get_best_node(picks, self._utility_matrix(belief, picks, rivals, jt_me), rng)
+        return Decision("move", v, v, 2)
 
-    def _decide_far(self, belief: TraversalBelief, rng, rivals: np.ndarray, jt_me: float):
+    def _decide_far(self, belief: TraversalBelief, rng, rivals: np.ndarray, jt_me: float,
+                    me_slot: int, slots: np.ndarray):
         known = belief.known
         me = belief.me
         here = belief.here
-        me_slot, slots = self._hop_rows(belief, rivals)
         klass, ctpu, cjt = _rival_classes(belief.time_per_unit[rivals], belief.job_time[rivals])
         far, mins, hmin = self._scratch(belief.status.size, ctpu.size)
         nf, nt = _far_scan(
