@@ -415,7 +415,9 @@ class AgentCore:
         b.loc[self.me] = node
         b.now = t
         seen = self.sense(node)
-        if not b.in_km(node) and b.status[node] == 0:
+        do_job = b.job_on_arrival(node)
+        b.intent = -1
+        if do_job:
             self._start_job(node, t, seen)
         else:
             log.path.append((node, False))
@@ -459,8 +461,7 @@ class AgentCore:
         elif d.kind == "move":
             here = b.here
             dt = self.graph.edge_length(here, d.node) * b.time_per_unit[self.me]
-            if not b.in_km(d.node):
-                b.reserve(d.node, self.me)
+            b.announce_move(d.node)
             log.moves += 1
             log.travel_time += dt
             self._broadcast("C05", d.node, 0, (), t, t + dt, last=True)

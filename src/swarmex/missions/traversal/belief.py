@@ -68,6 +68,7 @@ class TraversalBelief:
             self.next_loc = table.next_loc[me]
             self.free_at = table.free_at[me]
         self.now = 0.0
+        self.intent = -1  # the vertex this agent announced it will do the job at (C05)
         self.time_per_unit = time_per_unit  # seconds per length unit, by id
         self.job_time = job_time  # seconds per job, by id
 
@@ -113,6 +114,31 @@ class TraversalBelief:
     def mark_not_done(self, v: int) -> None:
         if self.status[v] > 0:
             self.status[v] = 0
+
+    def announce_move(self, v: int) -> bool:
+        """Record this agent's own C05 for ``v``; True when it intends to do ``v``'s job.
+
+        The intent is kept apart from ``reserved`` because a later C05 from a rival for the
+        same vertex (a rival passing through, or one that had not yet heard ours under loss
+        or delay) overwrites the reservation there.
+        """
+        intends = not self.in_km(v)
+        self.intent = v if intends else -1
+        if intends:
+            self.reserve(v, self.me)
+        return intends
+
+    def job_on_arrival(self, v: int) -> bool:
+        """Whoever first reaches a vertex does its job (seed 000 §1.3).
+
+        The agent does it unless it knows the vertex is done, or it is only passing through a
+        vertex a rival announced. An agent that announced ``v`` itself does the job even if a
+        rival's C05 for ``v`` came later: otherwise two agents racing for one vertex could each
+        leave it to the other, and it would never be done.
+        """
+        if self.status[v] != 0:
+            return False
+        return self.intent == v or not self.in_km(v)
 
     def reserve(self, v: int, by: int) -> None:
         self.release(by)

@@ -256,7 +256,9 @@ class _Sim:
         b.loc[a] = node
         b.now = t
         seen = self.sense(a, node)
-        if not b.in_km(node) and b.status[node] == 0:
+        do_job = b.job_on_arrival(node)
+        b.intent = -1
+        if do_job:
             self.start_job(a, node, t, seen)
         else:
             log.path.append((node, False))
@@ -306,8 +308,7 @@ class _Sim:
         elif d.kind == "move":
             here = b.here
             dt = _edge_length(self.graph, here, d.node) * b.time_per_unit[a]
-            if not b.in_km(d.node):
-                b.reserve(d.node, a)
+            b.announce_move(d.node)
             b.known.prefetch(d.node, here)  # its field, shifted in the background
             self.broadcast(a, "next", d.node, eta=t + dt)
             log.moves += 1
