@@ -144,12 +144,13 @@ def test_shift_hop_field_equals_a_fresh_search(seed):
     free = np.flatnonzero(~blocked)
     s = int(rng.choice(free))
     hops = hop_field(g, s, blocked)
-    for _ in range(40):  # a random walk, each step shifting the field
+    for step in range(60):  # a random walk, each step shifting the field
         nbrs = [int(v) for v in g.neighbors(s) if not blocked[v]]
         if not nbrs:
             break
         s = nbrs[int(rng.integers(len(nbrs)))]
-        hops = shift_hop_field(g, hops, s)
+        method = ("auto", "cone", "complement")[step % 3]
+        hops = shift_hop_field(g, hops, s, method)
         fresh = hop_field(g, s, blocked)
         np.testing.assert_array_equal(np.maximum(hops, -1), fresh)
     with pytest.raises(ValueError):

@@ -200,6 +200,107 @@ def _shift_source_lattice(width, nbmask, old, row, new_source, queue):  # pragma
 
 
 @nb.njit(cache=True, nogil=True)
+def _shift_by_complement(
+    width, nbmask, old, row, new_source, old_source, mark, epoch, queue
+):  # pragma: no cover - compiled
+    """:func:`_shift_source_lattice` computed from the other side: a search over the
+    vertices *outside* the cone (those whose shortest paths from ``old_source`` all avoid
+    ``new_source``; they gain one hop), then one pass writing every distance. A vertex is
+    outside iff all its shortest-path parents are, so a level-by-level search from the old
+    source decides each vertex when it is first met. Costs about twice as much per vertex
+    as the cone search, so it pays when the cone is most of the graph (an agent stepping
+    away from the bulk of the map). ``mark`` (int32, n) gets ``epoch`` for outside
+    vertices and ``-epoch`` for rejected ones; ``old`` may be ``row``.
+    """
+    mark[old_source] = epoch
+    queue[0] = old_source
+    head = 0
+    tail = 1
+    while head < tail:
+        u = queue[head]
+        head += 1
+        want = old[u] + 1
+        m = nbmask[u]
+        for b in range(4):
+            if not m & (1 << b):
+                continue
+            if b == 0:
+                y = u - width
+            elif b == 1:
+                y = u - 1
+            elif b == 2:
+                y = u + 1
+            else:
+                y = u + width
+            if old[y] != want or mark[y] == epoch or mark[y] == -epoch or y == new_source:
+                continue
+            outside = True  # every parent of y (a neighbour one hop nearer) outside?
+            my = nbmask[y]
+            for c in range(4):
+                if not my & (1 << c):
+                    continue
+                if c == 0:
+                    p = y - width
+                elif c == 1:
+                    p = y - 1
+                elif c == 2:
+                    p = y + 1
+                else:
+                    p = y + width
+                if old[p] == want - 1 and mark[p] != epoch:
+                    outside = False
+                    break
+            if outside:
+                mark[y] = epoch
+                queue[tail] = y
+                tail += 1
+            else:
+                mark[y] = -epoch
+    for x in range(old.shape[0]):
+        o = old[x]
+        if o >= 0:
+            row[x] = o + 1 if mark[x] == epoch else o - 1
+        else:
+            row[x] = o
+    return tail
+
+
+@nb.njit(cache=True, nogil=True)
+def _cone_share(width, old, new_source, old_source, sample):  # pragma: no cover - compiled
+    """Rough share of the reachable vertices inside the cone of a shift: among a fixed
+    sample, those nearer (in lattice steps) to the new source than to the old one."""
+    ny, nx = divmod(new_source, width)
+    oy, ox = divmod(old_source, width)
+    reach = 0
+    ahead = 0
+    for x in sample:
+        if old[x] < 0:
+            continue
+        reach += 1
+        y, c = divmod(x, width)
+        if abs(y - ny) + abs(c - nx) < abs(y - oy) + abs(c - ox):
+            ahead += 1
+    return ahead / reach if reach else 0.0
+
+
+#: above this estimated cone share, a shift searches the complement instead of the cone
+COMPLEMENT_ABOVE = 0.7
+
+
+@nb.njit(cache=True, nogil=True)
+def _shift_lattice(
+    width, nbmask, old, row, new_source, old_source, sample, mark, epoch, queue
+):  # pragma: no cover - compiled
+    """Shift a lattice hop field to a neighbouring source by whichever search should be
+    smaller (see :func:`_shift_source_lattice` and :func:`_shift_by_complement`); the
+    result is the same either way."""
+    if _cone_share(width, old, new_source, old_source, sample) > COMPLEMENT_ABOVE:
+        return _shift_by_complement(width, nbmask, old, row, new_source, old_source, mark,
+                                    epoch, queue)
+    return _shift_source_lattice(width, nbmask, old, row, new_source, queue)
+
+
+@nb.njit(cache=True, nogil=True)
 def _bfs(indptr, indices, step, blocked, sources, out, queue):  # pragma: no cover - compiled
     """Float BFS field; the visited test reads ``out`` itself, so there is no second array.
     ``queue`` is int32 scratch of length n."""
@@ -690,17 +791,37 @@ def repair_hops(
     ))
 
 
-def shift_hop_field(graph: NodeGraph, hops: np.ndarray, new_source: int) -> np.ndarray:
-    """The hop field of ``new_source`` from ``hops``, the exact field of a neighbour of it,
-    on a 4-connected lattice graph (see :func:`lattice_structure`)."""
+def shift_hop_field(
+    graph: NodeGraph, hops: np.ndarray, new_source: int, method: str = "auto"
+) -> np.ndarray:
+    """The hop field of ``new_source`` from ``hops``, the exact single-source field of a
+    neighbour of it (which must not be an obstacle), on a 4-connected lattice graph (see
+    :func:`lattice_structure`). ``method``: search the ``"cone"`` (vertices that get
+    nearer), its ``"complement"``, or ``"auto"``: whichever looks smaller."""
     width, mask = lattice_structure(graph)
     if not width:
         raise ValueError("shift_hop_field needs a full 4-connected lattice graph")
     if hops[new_source] != 1:
         raise ValueError(f"vertex {new_source} is not at one hop from the field's source")
+    zeros = np.flatnonzero(hops == 0)
+    if zeros.size != 1:
+        raise ValueError("shift_hop_field needs a single-source field")
+    n = graph.n_nodes
     out = np.empty_like(hops)
-    _shift_source_lattice(width, mask, hops, out, int(new_source),
-                          np.empty(graph.n_nodes, dtype=np.int32))
+    queue = np.empty(n, dtype=np.int32)
+    mark = np.zeros(n, dtype=np.int32)
+    old_source = int(zeros[0])
+    if method == "cone":
+        _shift_source_lattice(width, mask, hops, out, int(new_source), queue)
+    elif method == "complement":
+        _shift_by_complement(width, mask, hops, out, int(new_source), old_source, mark, 1,
+                             queue)
+    elif method == "auto":
+        sample = np.arange(0, n, max(1, n // 1024))
+        _shift_lattice(width, mask, hops, out, int(new_source), old_source, sample, mark, 1,
+                       queue)
+    else:
+        raise ValueError(f"method must be auto, cone or complement, got {method!r}")
     return out
 
 

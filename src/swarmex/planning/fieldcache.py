@@ -16,8 +16,9 @@ only when it is asked for. Two regimes, chosen by the graph:
     walls are discovered cell by cell that turns about half of all field computations
     into small repairs;
   - the field of a vertex next to a cached source is *derived* from it on a lattice
-    (``_shift_source_lattice``: every distance moves by exactly one), which is what an
-    agent stepping to a neighbour needs, at about half the cost of a search;
+    (``_shift_lattice``: every distance moves by exactly one, so only the smaller side of
+    the split has to be searched), which is what an agent stepping to a neighbour needs,
+    at about a third of the cost of a search;
   - rows are recycled in least-recently-used order, and the row of a source that has just
     been left (an agent stepped away) is shifted in place rather than copied.
 
@@ -47,7 +48,7 @@ from swarmex.planning.distance import (
     _bfs_hops_csr,
     _bfs_hops_lattice,
     _repair_hops,
-    _shift_source_lattice,
+    _shift_lattice,
     distance_field,
     lattice_structure,
     step_length,
@@ -89,6 +90,25 @@ def _gather(hops, slot, vertices, step, out):  # pragma: no cover - compiled
         out[i] = np.inf if h < 0 else h * step
 
 
+class _Scratch:
+    """Work arrays of one thread for the shift kernels: search queue and visit marks (the
+    marks carry a fresh epoch per search, so they never need clearing)."""
+
+    __slots__ = ("queue", "mark", "epoch")
+
+    def __init__(self, n: int) -> None:
+        self.queue = np.empty(n, dtype=np.int32)
+        self.mark = np.zeros(n, dtype=np.int32)
+        self.epoch = 0
+
+    def next_epoch(self) -> int:
+        self.epoch += 1
+        if self.epoch >= 2**31 - 1:
+            self.mark[:] = 0
+            self.epoch = 1
+        return self.epoch
+
+
 class _Job:
     """A field computation that the worker thread runs, or the thread that needs its result
     if that one gets there first (so nobody ever waits for a worker the OS has not run)."""
@@ -97,11 +117,11 @@ class _Job:
 
     def __init__(self, run) -> None:
         self.lock = threading.Lock()
-        self.run = run  # run(queue): the kernel call, given an int32 scratch queue
+        self.run = run  # run(scratch): the kernel call, given the runner's _Scratch
         self.done = False
         self.error: BaseException | None = None
 
-    def claim_and_run(self, scratch: np.ndarray) -> bool:
+    def claim_and_run(self, scratch: _Scratch) -> bool:
         """Run it unless someone else has; False if someone else has it."""
         if not self.lock.acquire(blocking=False):
             return False
@@ -115,7 +135,7 @@ class _Job:
             self.lock.release()
         return True
 
-    def wait(self, scratch: np.ndarray) -> None:
+    def wait(self, scratch: _Scratch) -> None:
         if not self.done and not self.claim_and_run(scratch):
             with self.lock:  # the worker is on it: its kernel releases the GIL
                 pass
@@ -132,13 +152,13 @@ _WORKER_LOCK = threading.Lock()
 
 
 def _worker_loop() -> None:
-    scratch: dict[int, np.ndarray] = {}
+    scratch: dict[int, _Scratch] = {}
     while True:
         job, n = _JOBS.get()
-        q = scratch.get(n)
-        if q is None:
-            q = scratch[n] = np.empty(n, dtype=np.int32)
-        job.claim_and_run(q)
+        sc = scratch.get(n)
+        if sc is None:
+            sc = scratch[n] = _Scratch(n)
+        job.claim_and_run(sc)
 
 
 def _submit(job: _Job, n: int) -> None:
@@ -191,7 +211,10 @@ class KnownGraph:
             self._touched = np.empty(n, dtype=np.int32)
             self._work = np.empty(2 * n + 2, dtype=np.int32)
             self._key = np.empty(n, dtype=np.int32)
-            self._queue = np.empty(n, dtype=np.int32)
+            self._scratch = _Scratch(n)
+            self._queue = self._scratch.queue
+            # a fixed spread of vertices, to guess how big a shift's cone is
+            self._sample = np.random.default_rng(0).choice(n, min(n, 1024), replace=False)
             self._repair_limit = max(1, n // 6)
             # what a fresh hop row starts as: UNREACHED, or BLOCKED for known obstacles
             self._template = np.full(n, UNREACHED, dtype=np.int32)
@@ -321,7 +344,13 @@ class KnownGraph:
         self._used[dst] = self._clock
         self._float.pop(dst, None)
         hops, width, mask = self.hops, self._width, self._nbmask
-        job = _Job(lambda q: _shift_source_lattice(width, mask, hops[src], hops[dst], source, q))
+        sample, near_source = self._sample, near
+
+        def run(sc: _Scratch) -> None:
+            _shift_lattice(width, mask, hops[src], hops[dst], source, near_source, sample,
+                           sc.mark, sc.next_epoch(), sc.queue)
+
+        job = _Job(run)
         self._pending[dst] = job
         self._reading.setdefault(src, []).append(job)
         self.shifted += 1
@@ -331,22 +360,22 @@ class KnownGraph:
     def _prune(self) -> None:
         """Forget finished background jobs (surfacing any error they raised)."""
         for slot in [k for k, job in self._pending.items() if job.done]:
-            self._pending.pop(slot).wait(self._queue)
+            self._pending.pop(slot).wait(self._scratch)
         for slot in list(self._reading):
             left = [job for job in self._reading[slot] if not job.done]
             if left:
                 self._reading[slot] = left
             else:
                 for job in self._reading.pop(slot):
-                    job.wait(self._queue)
+                    job.wait(self._scratch)
 
     def _settle(self, slot: int) -> None:
         """Finish the background jobs that write or read row ``slot``."""
         job = self._pending.pop(slot, None)
         if job is not None:
-            job.wait(self._queue)
+            job.wait(self._scratch)
         for job in self._reading.pop(slot, ()):
-            job.wait(self._queue)
+            job.wait(self._scratch)
 
     def _settle_all(self) -> None:
         for slot in list(self._pending) + list(self._reading):
@@ -361,7 +390,7 @@ class KnownGraph:
         if self._pending:
             job = self._pending.pop(slot, None)
             if job is not None:  # a background shift: wait for it (or do it here)
-                job.wait(self._queue)
+                job.wait(self._scratch)
         old = int(self._version[slot])
         ver = self.version
         if old == ver:
@@ -389,6 +418,7 @@ class KnownGraph:
         """A row for a source not cached: shifted from a neighbour's field if one is cached
         (in place when that neighbour is not in the current request), else searched."""
         near = self._near_row(source)
+        near_source = int(self._source[near]) if near is not None else -1
         if near is not None and self._used[near] != self._clock:
             slot = near  # the neighbour's field is not wanted now: recycle its row
             if self._reading:
@@ -404,8 +434,9 @@ class KnownGraph:
         if near is None:
             self._search(source, slot)
         else:
-            _shift_source_lattice(self._width, self._nbmask, self.hops[near], self.hops[slot],
-                                  source, self._queue)
+            sc = self._scratch
+            _shift_lattice(self._width, self._nbmask, self.hops[near], self.hops[slot], source,
+                           near_source, self._sample, sc.mark, sc.next_epoch(), sc.queue)
             self.shifted += 1
             self.recomputed += 1
         return slot
