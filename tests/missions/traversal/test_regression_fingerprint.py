@@ -1,7 +1,9 @@
 """Bit-exact fingerprints of traversal runs, so a speed-up can never change a result.
 
 The hashes below were computed from the simulation *before* the performance work on distance
-fields, the field cache and the policy loop. Each case's result record (``wall_seconds`` and
+fields, the field cache and the policy loop; the cases changed by the arrival rule (commit
+ccf3914) were regenerated then and cross-checked against the pre-optimisation code with that
+rule applied, which gives the same hashes. Each case's result record (``wall_seconds`` and
 ``swarmex_version`` dropped: they are not behaviour) plus the thesis-style paths, decision
 branch counts and first doer per vertex are serialised as canonical JSON and hashed. Any
 change in a decision, a tie-break draw, a timing or a metric changes the hash.
