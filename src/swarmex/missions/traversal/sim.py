@@ -46,6 +46,11 @@ from swarmex.missions.traversal.policies import Madgta, make_policy
 from swarmex.planning.distance import distance_field
 from swarmex.planning.fieldcache import KnownGraph
 
+#: compute a moving agent's next field on a worker thread (KnownGraph.prefetch). Same
+#: results either way; it pays only when a second core is idle, and costs a little when the
+#: machine is busy (thread hand-offs), so it is off unless asked for.
+PREFETCH_FIELDS = False
+
 
 class _Clock:
     """:class:`swarmex.engine.events.EventQueue` with plain tuples ``(time, seq, kind,
@@ -166,7 +171,8 @@ class _Sim:
         # instant, so one KnownGraph (and its field cache) is shared: copy elision, not
         # shared memory between agents.
         shared = (
-            KnownGraph(self.graph, capacity=4 * m + 8, prefetch=True) if channel.perfect else None
+            KnownGraph(self.graph, capacity=4 * m + 8, prefetch=PREFETCH_FIELDS)
+            if channel.perfect else None
         )
         # likewise the beliefs live in one team table, so a broadcast is one compiled call
         self.table = BeliefTable(m, self.graph.n_nodes) if channel.perfect else None
