@@ -171,7 +171,7 @@ class _Sim:
         # instant, so one KnownGraph (and its field cache) is shared: copy elision, not
         # shared memory between agents.
         shared = (
-            KnownGraph(self.graph, capacity=4 * m + 8, prefetch=PREFETCH_FIELDS)
+            KnownGraph(self.graph, capacity=2 * m + 8, prefetch=PREFETCH_FIELDS)
             if channel.perfect else None
         )
         # likewise the beliefs live in one team table, so a broadcast is one compiled call
