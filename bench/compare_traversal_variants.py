@@ -1,0 +1,333 @@
+"""Compare traversal policies on the real MovingAI maps, and MADGTA over imperfect channels.
+
+Section 1 (``variants``): ``madgta``, ``madgta+`` (swarmex.missions.traversal.variants) and
+``nearest`` on the same maps, agent counts, nests and seeds. For every (map, agents, nests)
+cell it prints the mean makespan (largest ``total_time``, metrics.py), ``total_time_all``,
+``nodes_without_job_all`` and the ratio madgta+/madgta of mean makespans with the 95 %
+confidence interval of the *paired* difference (same seed, same nests), Student t.
+
+Section 2 (``comm``): MADGTA with the §4.1 done-nodes list over lossy, range-limited and
+delayed channels (the thesis's future work), against the perfect broadcast on the same
+nests and seeds: how often the mission completes, duplicate jobs, moves without a job, extra
+travel and makespan.
+
+Nests: ``shared`` puts every agent on one free cell; ``dist`` gives each agent its own cell.
+Cells are drawn from the largest 4-connected free component with a generator seeded by
+(seed, agents, nest mode), so every algorithm sees the same start. Agents are identical:
+2 s per edge, 9 s per job (the §3.2.4 example's figures), 0.5 s between starts.
+
+Maps are read from ``SWARMEX_MAPS`` (default ``../shared/maps``); an absent map is skipped
+with a message. den520d is left out by default (a run with 16 agents takes about 90 s).
+
+    .venv/bin/python bench/compare_traversal_variants.py                 # both sections
+    .venv/bin/python bench/compare_traversal_variants.py --section variants --seeds 10
+    .venv/bin/python bench/compare_traversal_variants.py --quick         # small maps only
+    .venv/bin/python bench/compare_traversal_variants.py --json out.json --jobs 2
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import sys
+import time
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from scipy import ndimage, stats
+
+from swarmex.comm.channel import Channel
+from swarmex.missions.traversal import run_metrics, run_traversal, uniform_agents
+from swarmex.worlds import GridWorld, load_movingai
+
+REPO = Path(__file__).resolve().parents[1]
+MAPS = [
+    "empty-16-16",
+    "random-32-32-20",
+    "room-32-32-4",
+    "random-64-64-20",
+    "warehouse-10-20-10-2-1",
+    "ost003d",
+]
+QUICK_MAPS = ["empty-16-16", "random-32-32-20", "room-32-32-4"]
+ALGORITHMS = ["madgta", "madgta+", "nearest"]
+TRAVEL, JOB = 2.0, 9.0
+NEST_MODES = ("shared", "dist")
+
+# (label, Channel kwargs): edge time is 2 s, so delay 1 is half an edge, 2 a whole one
+CHANNELS: list[tuple[str, dict]] = [
+    ("perfect", {}),
+    ("loss 0.1", {"loss": 0.1}),
+    ("loss 0.3", {"loss": 0.3}),
+    ("loss 0.6", {"loss": 0.6}),
+    ("range 10", {"range": 10.0}),
+    ("range 5", {"range": 5.0}),
+    ("range 3", {"range": 3.0}),
+    ("delay 2", {"delay": 2.0}),
+    ("delay 1", {"delay": 1.0}),
+    ("loss 0.3 + range 5", {"loss": 0.3, "range": 5.0}),
+]
+COMM_MAPS = ["random-32-32-20", "room-32-32-4"]
+
+
+def maps_dir() -> Path:
+    return Path(os.environ.get("SWARMEX_MAPS", REPO.parent / "shared" / "maps"))
+
+
+def load(name: str) -> GridWorld | None:
+    path = maps_dir() / f"{name}.map"
+    if not path.exists():
+        print(f"skipping {name}: {path} not found (set SWARMEX_MAPS)", file=sys.stderr)
+        return None
+    return load_movingai(path)
+
+
+def nests_for(world: GridWorld, agents: int, mode: str, seed: int) -> list[int]:
+    """Start cells from the largest free component, the same for every algorithm."""
+    labels, count = ndimage.label(world.free)
+    sizes = np.bincount(labels.ravel())
+    sizes[0] = 0
+    cells = np.nonzero(labels.ravel() == int(np.argmax(sizes)))[0]
+    rng = np.random.default_rng([seed, agents, NEST_MODES.index(mode)])
+    if mode == "shared":
+        return [int(rng.choice(cells))] * agents
+    return [int(v) for v in rng.choice(cells, agents, replace=False)]
+
+
+@dataclass(frozen=True)
+class Job:
+    map: str
+    agents: int
+    mode: str
+    seed: int
+    algorithm: str
+    channel: str = "perfect"
+
+
+def run_one(job: Job) -> dict:
+    world = load(job.map)
+    assert world is not None
+    nests = nests_for(world, job.agents, job.mode, job.seed)
+    channel = Channel(**dict(CHANNELS)[job.channel])
+    t0 = time.perf_counter()
+    run = run_traversal(
+        world, uniform_agents(nests, TRAVEL, JOB), job.algorithm, seed=job.seed, channel=channel
+    )
+    totals, _ = run_metrics(run, 1.0)
+    return {
+        **job.__dict__,
+        "complete": run.complete,
+        "makespan": totals["max_total_time"],
+        "total_time_all": totals["total_time_all"],
+        "nodes_without_job_all": totals["nodes_without_job_all"],
+        "travel_time_all": totals["travel_time_all"],
+        "duplicate_jobs": totals["duplicate_jobs"],
+        "nodes_missed": totals["nodes_missed"],
+        "message_bytes": totals["message_bytes"],
+        "wall": time.perf_counter() - t0,
+    }
+
+
+def run_all(jobs: list[Job], workers: int) -> list[dict]:
+    done: list[dict] = []
+    t0 = time.perf_counter()
+    if workers <= 1:
+        for i, job in enumerate(jobs, 1):
+            done.append(run_one(job))
+            _progress(i, len(jobs), t0)
+    else:
+        with ProcessPoolExecutor(workers) as pool:
+            for i, res in enumerate(pool.map(run_one, jobs), 1):
+                done.append(res)
+                _progress(i, len(jobs), t0)
+    if sys.stderr.isatty():
+        print(file=sys.stderr)
+    return done
+
+
+def _progress(i: int, n: int, t0: float) -> None:
+    if sys.stderr.isatty():
+        print(f"\r  {i}/{n} runs, {time.perf_counter() - t0:6.0f} s", end="", file=sys.stderr)
+    elif i == n or i % max(1, n // 10) == 0:
+        print(f"  {i}/{n} runs, {time.perf_counter() - t0:6.0f} s", file=sys.stderr)
+
+
+def paired_ci(a: np.ndarray, b: np.ndarray) -> tuple[float, float]:
+    """Mean of a - b and the half-width of its 95 % Student-t interval."""
+    d = a - b
+    if d.size < 2:
+        return float(d.mean()), math.nan
+    half = stats.t.ppf(0.975, d.size - 1) * d.std(ddof=1) / math.sqrt(d.size)
+    return float(d.mean()), float(half)
+
+
+def select(rows: list[dict], **key) -> list[dict]:
+    out = [r for r in rows if all(r[k] == v for k, v in key.items())]
+    return sorted(out, key=lambda r: r["seed"])
+
+
+def variants_table(rows: list[dict], algorithms: list[str]) -> list[str]:
+    lines = [
+        "| map | agents | nests | "
+        + " | ".join(f"{a} makespan" for a in algorithms)
+        + " | madgta+ / madgta | paired Δ (95 % CI) | "
+        + " | ".join(f"{a} total_time_all" for a in algorithms)
+        + " | "
+        + " | ".join(f"{a} moves w/o job" for a in algorithms)
+        + " |",
+    ]
+    lines.append("|" + "---|" * (4 + 3 * len(algorithms) + 1))
+    cells = sorted({(r["map"], r["agents"], r["mode"]) for r in rows}, key=_cell_order)
+    for mp, m, mode in cells:
+        means = {a: select(rows, map=mp, agents=m, mode=mode, algorithm=a) for a in algorithms}
+        mk = {a: np.array([r["makespan"] for r in v]) for a, v in means.items()}
+        base, plus = mk.get("madgta"), mk.get("madgta+")
+        if base is not None and plus is not None and base.size == plus.size and base.size:
+            d, half = paired_ci(plus, base)
+            ratio = f"{plus.mean() / base.mean():.3f}"
+            delta = f"{d:+.1f} ± {half:.1f}"
+        else:
+            ratio = delta = "–"
+        tt = [np.mean([r["total_time_all"] for r in means[a]]) for a in algorithms]
+        wj = [np.mean([r["nodes_without_job_all"] for r in means[a]]) for a in algorithms]
+        lines.append(
+            f"| {mp} | {m} | {mode} | "
+            + " | ".join(f"{mk[a].mean():.1f}" for a in algorithms)
+            + f" | {ratio} | {delta} | "
+            + " | ".join(f"{x:.0f}" for x in tt)
+            + " | "
+            + " | ".join(f"{x:.0f}" for x in wj)
+            + " |"
+        )
+    return lines
+
+
+def per_map_summary(rows: list[dict]) -> list[str]:
+    """Ratio of madgta+ to madgta per map, pooling agent counts and nests (paired by run)."""
+    lines = [
+        "| map | runs | mean makespan ratio | paired relative Δ (95 % CI) | better in |",
+        "|---|---|---|---|---|",
+    ]
+    maps = sorted({r["map"] for r in rows}, key=lambda m: MAPS.index(m) if m in MAPS else 99)
+    for mp in [*maps, None]:
+        rel, wins = [], 0
+        for m, mode in sorted({(r["agents"], r["mode"]) for r in rows if mp in (None, r["map"])}):
+            maps_here = [mp] if mp else maps
+            for name in maps_here:
+                base = select(rows, map=name, agents=m, mode=mode, algorithm="madgta")
+                plus = select(rows, map=name, agents=m, mode=mode, algorithm="madgta+")
+                for b, p in zip(base, plus, strict=True):
+                    rel.append(p["makespan"] / b["makespan"] - 1.0)
+                    wins += p["makespan"] < b["makespan"]
+        if not rel:
+            continue
+        r = np.array(rel)
+        d, half = paired_ci(r, np.zeros_like(r))
+        lines.append(
+            f"| {mp or 'all'} | {r.size} | {1 + r.mean():.3f} | "
+            f"{100 * d:+.2f} % ± {100 * half:.2f} % | {wins}/{r.size} |"
+        )
+    return lines
+
+
+def comm_table(rows: list[dict]) -> list[str]:
+    """One line per (map, algorithm, channel), against the same algorithm's perfect runs."""
+    lines = [
+        "| map | algorithm | channel | complete | duplicate jobs | moves w/o job "
+        "| extra travel | makespan / perfect | message kB |",
+        "|---|---|---|---|---|---|---|---|---|",
+    ]
+    algs = sorted({r["algorithm"] for r in rows}, key=lambda a: (a != "madgta", a))
+    for mp, alg in [(m, a) for m in sorted({r["map"] for r in rows}) for a in algs]:
+        perfect = select(rows, map=mp, algorithm=alg, channel="perfect")
+        for label, _ in CHANNELS:
+            cur = select(rows, map=mp, algorithm=alg, channel=label)
+            if not cur or len(cur) != len(perfect):
+                continue
+            trav = np.array([r["travel_time_all"] for r in cur])
+            trav0 = np.array([r["travel_time_all"] for r in perfect])
+            mk = np.array([r["makespan"] for r in cur])
+            mk0 = np.array([r["makespan"] for r in perfect])
+            lines.append(
+                f"| {mp} | {alg} | {label} | {sum(r['complete'] for r in cur)}/{len(cur)} | "
+                f"{np.mean([r['duplicate_jobs'] for r in cur]):.1f} | "
+                f"{np.mean([r['nodes_without_job_all'] for r in cur]):.0f} | "
+                f"{100 * (trav.sum() / trav0.sum() - 1):+.1f} % | "
+                f"{np.mean(mk / mk0):.3f} | "
+                f"{np.mean([r['message_bytes'] for r in cur]) / 1000:.0f} |"
+            )
+    return lines
+
+
+def _cell_order(cell: tuple[str, int, str]) -> tuple:
+    mp, m, mode = cell
+    return (MAPS.index(mp) if mp in MAPS else 99, mp, m, NEST_MODES.index(mode))
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--section", choices=["variants", "comm", "both"], default="both")
+    ap.add_argument("--maps", nargs="+", default=None, help=f"default: {' '.join(MAPS)}")
+    ap.add_argument("--agents", nargs="+", type=int, default=[4, 8, 16])
+    ap.add_argument("--seeds", type=int, default=5)
+    ap.add_argument("--nests", nargs="+", choices=NEST_MODES, default=list(NEST_MODES))
+    ap.add_argument("--algorithms", nargs="+", default=ALGORITHMS)
+    ap.add_argument("--comm-maps", nargs="+", default=COMM_MAPS)
+    ap.add_argument("--comm-agents", type=int, default=8)
+    ap.add_argument("--comm-seeds", type=int, default=4)
+    ap.add_argument("--comm-algorithms", nargs="+", default=["madgta", "madgta+"])
+    ap.add_argument("--quick", action="store_true", help="small maps, 3 seeds")
+    ap.add_argument("--jobs", type=int, default=1, help="worker processes (default 1)")
+    ap.add_argument("--json", type=Path, default=None, help="write every run's figures here")
+    args = ap.parse_args(argv)
+    if args.seeds < 1 or args.comm_seeds < 1:
+        ap.error("--seeds and --comm-seeds must be >= 1")
+    maps = args.maps or (QUICK_MAPS if args.quick else MAPS)
+    seeds = range(3 if args.quick else args.seeds)
+    out: dict[str, list[dict]] = {}
+
+    if args.section in ("variants", "both"):
+        present = [m for m in maps if load(m) is not None]
+        jobs = [
+            Job(mp, m, mode, s, alg)
+            for mp in present
+            for m in args.agents
+            for mode in args.nests
+            for s in seeds
+            for alg in args.algorithms
+        ]
+        print(f"variants: {len(jobs)} runs on {', '.join(present)}", file=sys.stderr)
+        rows = run_all(jobs, args.jobs)
+        out["variants"] = rows
+        print("\n## madgta+ against madgta and nearest (mean over seeds)\n")
+        print("\n".join(variants_table(rows, args.algorithms)))
+        if {"madgta", "madgta+"} <= set(args.algorithms):
+            print("\n## madgta+ / madgta per map (all agent counts and nests pooled)\n")
+            print("\n".join(per_map_summary(rows)))
+
+    if args.section in ("comm", "both"):
+        present = [m for m in args.comm_maps if load(m) is not None]
+        jobs = [
+            Job(mp, args.comm_agents, "dist", s, alg, label)
+            for mp in present
+            for s in range(2 if args.quick else args.comm_seeds)
+            for label, _ in CHANNELS
+            for alg in args.comm_algorithms
+        ]
+        print(f"comm: {len(jobs)} runs on {', '.join(present)}", file=sys.stderr)
+        rows = run_all(jobs, args.jobs)
+        out["comm"] = rows
+        print(f"\n## Imperfect channels ({args.comm_agents} agents, own nests)\n")
+        print("\n".join(comm_table(rows)))
+
+    if args.json:
+        args.json.write_text(json.dumps(out, indent=1))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
