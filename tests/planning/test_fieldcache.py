@@ -42,10 +42,12 @@ OPS = st.lists(
 )
 
 
-def run_scenario(world, ops, capacity: int) -> None:
+def run_scenario(world, ops, capacity: int, max_hop: int | None = None) -> None:
     g = world.graph
     n = g.n_nodes
     known = KnownGraph(g, capacity=capacity)
+    if max_hop is not None:  # pretend the narrow hop type holds only this much
+        known._max_hop = max_hop
     walker = 0
     for op, pick, k in ops:
         v = pick % n
@@ -104,6 +106,22 @@ def test_uniform_graph_cache_is_exact(seed, ops, capacity):
 @given(seed=st.integers(0, 50), ops=OPS, capacity=st.integers(1, 6))
 def test_weighted_cache_is_exact(seed, ops, capacity):
     run_scenario(weighted_world(seed, 40), ops, capacity)
+
+
+@SETTINGS
+@given(seed=st.integers(0, 50), ops=OPS, max_hop=st.integers(2, 12))
+def test_narrow_hop_table_widens_when_a_distance_does_not_fit(seed, ops, max_hop):
+    run_scenario(grid_world(seed, 9, 7, 4), ops, 3, max_hop=max_hop)
+
+
+def test_widening_keeps_the_fields():
+    world = GridWorld(np.ones((3, 40), dtype=bool))
+    known = KnownGraph(world.graph, capacity=4)
+    known._max_hop = 10
+    assert known.hops.dtype == np.int16
+    for v in (0, 1, 2, 3):  # a walk along the long side: the far end is 39 hops away
+        check(known.field(v), reference(world.graph, v, known.blocked), True)
+    assert known.hops.dtype == np.int32
 
 
 @SETTINGS

@@ -75,9 +75,11 @@ def _bfs_hops(indptr, indices, blocked, sources, hops, queue):  # pragma: no cov
 
 
 @nb.njit(cache=True, nogil=True)
-def _bfs_hops_csr(indptr, indices, source, hops, queue):  # pragma: no cover - compiled
+def _bfs_hops_csr(indptr, indices, source, hops, queue, max_hop):  # pragma: no cover
     """Single-source hop counts into ``hops``, which must arrive holding UNREACHED or
-    BLOCKED per vertex (a copy of a template: one array to test instead of two)."""
+    BLOCKED per vertex (a copy of a template: one array to test instead of two). Returns the
+    largest hop count, or -1 when it would exceed ``max_hop`` (the row is then unusable:
+    a narrow hop table has to be widened first)."""
     hops[source] = 0
     queue[0] = source
     tail = 1
@@ -85,6 +87,8 @@ def _bfs_hops_csr(indptr, indices, source, hops, queue):  # pragma: no cover - c
     level = 0
     while head < tail:
         level += 1
+        if level > max_hop:
+            return -1
         end = tail
         while head < end:
             u = queue[head]
@@ -95,11 +99,11 @@ def _bfs_hops_csr(indptr, indices, source, hops, queue):  # pragma: no cover - c
                     hops[v] = level
                     queue[tail] = v
                     tail += 1
-    return tail
+    return level - 1
 
 
 @nb.njit(cache=True, nogil=True)
-def _bfs_hops_lattice(width, nbmask, source, hops, queue):  # pragma: no cover - compiled
+def _bfs_hops_lattice(width, nbmask, source, hops, queue, max_hop):  # pragma: no cover
     """:func:`_bfs_hops_csr` on a full 4-connected lattice (a grid world's graph).
 
     Neighbours are computed (u ± 1, u ± width, gated by ``nbmask`` bits up/left/right/down)
@@ -113,6 +117,8 @@ def _bfs_hops_lattice(width, nbmask, source, hops, queue):  # pragma: no cover -
     level = 0
     while head < tail:
         level += 1
+        if level > max_hop:
+            return -1
         end = tail
         while head < end:
             u = queue[head]
@@ -142,7 +148,7 @@ def _bfs_hops_lattice(width, nbmask, source, hops, queue):  # pragma: no cover -
                     hops[v] = level
                     queue[tail] = v
                     tail += 1
-    return tail
+    return level - 1
 
 
 @nb.njit(cache=True, nogil=True)
@@ -459,12 +465,15 @@ def _fields_chunk(
 
 @nb.njit(cache=True, nogil=True)
 def _repair_hops(
-    indptr, indices, blocked, hops, source, new, state, touched, work, order_key, limit
+    indptr, indices, blocked, hops, source, new, state, touched, work, order_key, limit,
+    max_hop,
 ):  # pragma: no cover - compiled
     """Decremental BFS: make the single-source ``hops`` exact after ``new`` became blocked.
 
-    Returns how many vertices changed, or -1 (``hops`` untouched) when more than ``limit``
-    vertices would have to be re-derived, where a fresh BFS is cheaper. ``state`` (int8,
+    Returns ``(changed, largest value written)``; ``changed`` is -1 (``hops`` untouched)
+    when more than ``limit`` vertices would have to be re-derived, where a fresh BFS is
+    cheaper, and -2 (``hops`` unusable) when a distance would exceed ``max_hop``, the
+    largest value the table's integer type holds. ``state`` (int8,
     all zero on entry and on exit), ``touched``, ``work`` and ``order_key`` are scratch of
     length n.
 
@@ -531,7 +540,7 @@ def _repair_hops(
         if n_aff > limit:
             for j in range(nt):
                 state[touched[j]] = 0
-            return -1
+            return -1, 0
         for k in range(indptr[x], indptr[x + 1]):
             y = indices[k]
             if state[y] == 0 and hops[y] == hx + 1 and not blocked[y]:
@@ -545,7 +554,9 @@ def _repair_hops(
         v = touched[j]
         if state[v] == 3:
             hops[v] = -1
-    big = np.int32(2**30)
+    big = max_hop + 1  # "not derived yet"; a real distance never reaches it
+    capped = False  # a distance was cut at max_hop: the type is too narrow for this field
+    top = 0
     for j in range(n_aff):
         hops[order_key[j]] = big
     ns = 0
@@ -558,8 +569,11 @@ def _repair_hops(
             ok = state[p] != 2 and 0 <= hp < big and (p == source or not blocked[p])
             if ok and hp + 1 < best:
                 best = hp + 1
+            if ok and hp == max_hop:
+                capped = True
         if best < big:
             hops[x] = best
+            top = max(top, best)
             work[ns] = x
             ns += 1
     if ns > 1:
@@ -584,19 +598,26 @@ def _repair_hops(
             continue  # settled already (stale entry)
         state[x] = 4
         hx1 = hops[x] + 1
+        if hx1 == big:
+            capped = True
         for k in range(indptr[x], indptr[x + 1]):
             y = indices[k]
             if state[y] == 2 and hx1 < hops[y]:
                 hops[y] = hx1
+                top = max(top, hx1)
                 work[ft] = y
                 ft += 1
+    overflow = False
     for j in range(n_aff):
         x = order_key[j]
-        if state[x] == 2:  # never reached: cut off by the new obstacles
+        if state[x] == 2:  # never reached: cut off by the new obstacles (or too far)
             hops[x] = -1
+            overflow = overflow or capped
     for j in range(nt):
         state[touched[j]] = 0
-    return n_aff + n_removed
+    if overflow:
+        return -2, 0
+    return n_aff + n_removed, top
 
 
 _LATTICES: weakref.WeakKeyDictionary[NodeGraph, tuple[int, np.ndarray | None]] = (
@@ -652,6 +673,12 @@ def _blocked_or_none(graph: NodeGraph, blocked: np.ndarray | None) -> np.ndarray
     if blocked is None:
         return np.zeros(graph.n_nodes, dtype=bool)
     return blocked
+
+
+def max_hop_of(dtype) -> int:
+    """Largest hop count a hop table of integer ``dtype`` stores (one value is kept free
+    as the repair's "not derived yet" marker)."""
+    return int(np.iinfo(dtype).max) - 1
 
 
 def step_length(graph: NodeGraph) -> float:
@@ -760,7 +787,7 @@ def hop_field(
     width, mask = lattice_structure(graph)
     if width and src.size == 1:
         np.copyto(out, np.where(blocked, BLOCKED, UNREACHED))
-        _bfs_hops_lattice(width, mask, int(src[0]), out, queue)
+        _bfs_hops_lattice(width, mask, int(src[0]), out, queue, max_hop_of(np.int32))
         out[out < 0] = UNREACHED
     else:
         _bfs_hops(graph.indptr, graph.indices, blocked, src, out, queue)
@@ -784,11 +811,15 @@ def repair_hops(
     """
     n = graph.n_nodes
     new = np.asarray(new_blocked, dtype=np.int64).ravel()
-    return int(_repair_hops(
+    changed, _ = _repair_hops(
         graph.indptr, graph.indices, blocked, hops, int(source), new,
         np.zeros(n, dtype=np.int8), np.empty(n, dtype=np.int32),
         np.empty(2 * n + 2, dtype=np.int32), np.empty(n, dtype=np.int32), n,
-    ))
+        max_hop_of(hops.dtype),
+    )
+    if changed == -2:
+        raise OverflowError(f"a distance exceeds what {hops.dtype} holds")
+    return int(changed)
 
 
 def shift_hop_field(
@@ -806,6 +837,8 @@ def shift_hop_field(
     zeros = np.flatnonzero(hops == 0)
     if zeros.size != 1:
         raise ValueError("shift_hop_field needs a single-source field")
+    if hops.max() >= max_hop_of(hops.dtype):
+        raise OverflowError(f"shifted distances would exceed what {hops.dtype} holds")
     n = graph.n_nodes
     out = np.empty_like(hops)
     queue = np.empty(n, dtype=np.int32)

@@ -51,6 +51,7 @@ from swarmex.planning.distance import (
     _shift_lattice,
     distance_field,
     lattice_structure,
+    max_hop_of,
     step_length,
 )
 from swarmex.worlds.nodegraph import NodeGraph
@@ -198,7 +199,11 @@ class KnownGraph:
         if self.uniform:
             n = graph.n_nodes
             self.step = step_length(graph)
-            self.hops = np.empty((0, n), dtype=np.int32)  # one row per cached source
+            # one row per cached source; 16-bit hop counts halve the memory traffic of every
+            # kernel, and the table is widened to 32 bits if a distance ever needs it
+            self.hops = np.empty((0, n), dtype=np.int16)
+            self._max_hop = max_hop_of(np.int16)
+            self._row_max = np.empty(0, dtype=np.int64)  # row -> bound on its largest hop
             # bookkeeping in arrays, so a request for many fields is a few numpy operations
             self._row_of = np.full(n, -1, dtype=np.int64)  # source -> row
             self._source = np.empty(0, dtype=np.int64)  # row -> source (-1: free)
@@ -217,7 +222,7 @@ class KnownGraph:
             self._sample = np.random.default_rng(0).choice(n, min(n, 1024), replace=False)
             self._repair_limit = max(1, n // 6)
             # what a fresh hop row starts as: UNREACHED, or BLOCKED for known obstacles
-            self._template = np.full(n, UNREACHED, dtype=np.int32)
+            self._template = np.full(n, UNREACHED, dtype=self.hops.dtype)
             width, mask = lattice_structure(graph)
             self._width = width
             self._nbmask = mask if mask is not None else np.zeros(1, dtype=np.uint8)
@@ -337,7 +342,10 @@ class KnownGraph:
         src = self._ensure(near)  # up to date (and settled: no job writes it)
         if self.hops[src, source] != 1 or self.blocked[near]:
             return
+        if self._row_max[src] + 1 > self._max_hop:
+            self._widen()
         dst = self._free_row()
+        self._row_max[dst] = self._row_max[src] + 1
         self._row_of[source] = dst
         self._source[dst] = source
         self._version[dst] = self._version[src]
@@ -402,15 +410,19 @@ class KnownGraph:
         self._float.pop(slot, None)
         g = self.graph
         new = np.asarray(self._log[old:], dtype=np.int64)
-        changed = _repair_hops(
+        changed, top = _repair_hops(
             g.indptr, g.indices, self.blocked, self.hops[slot], source, new,
             self._state, self._touched, self._work, self._key, self._repair_limit,
+            self._max_hop,
         )
         if changed == 0:
             self.reused += 1
         elif changed > 0:
             self.repaired += 1
-        else:  # too much changed: a fresh search is cheaper
+            self._row_max[slot] = max(self._row_max[slot], top)
+        else:  # too much changed (a fresh search is cheaper), or too far for the type
+            if changed == -2:
+                self._widen()
             self._search(source, slot)
         return slot
 
@@ -419,6 +431,10 @@ class KnownGraph:
         (in place when that neighbour is not in the current request), else searched."""
         near = self._near_row(source)
         near_source = int(self._source[near]) if near is not None else -1
+        if near is not None:
+            bound = int(self._row_max[near]) + 1  # a shift adds at most one hop
+            if bound > self._max_hop:
+                self._widen()
         if near is not None and self._used[near] != self._clock:
             slot = near  # the neighbour's field is not wanted now: recycle its row
             if self._reading:
@@ -437,18 +453,35 @@ class KnownGraph:
             sc = self._scratch
             _shift_lattice(self._width, self._nbmask, self.hops[near], self.hops[slot], source,
                            near_source, self._sample, sc.mark, sc.next_epoch(), sc.queue)
+            self._row_max[slot] = bound
             self.shifted += 1
             self.recomputed += 1
         return slot
 
     def _search(self, source: int, slot: int) -> None:
-        row = self.hops[slot]
-        row[:] = self._template
-        if self._width:
-            _bfs_hops_lattice(self._width, self._nbmask, source, row, self._queue)
-        else:
-            _bfs_hops_csr(self.graph.indptr, self.graph.indices, source, row, self._queue)
+        while True:
+            row = self.hops[slot]
+            row[:] = self._template
+            if self._width:
+                top = _bfs_hops_lattice(self._width, self._nbmask, source, row, self._queue,
+                                        self._max_hop)
+            else:
+                top = _bfs_hops_csr(self.graph.indptr, self.graph.indices, source, row,
+                                    self._queue, self._max_hop)
+            if top >= 0:
+                break
+            self._widen()  # a distance does not fit the table's type
+        self._row_max[slot] = top
         self.recomputed += 1
+
+    def _widen(self) -> None:
+        """Switch the hop table to 32-bit integers (values are kept; nothing is redone)."""
+        if self.hops.dtype == np.int32:
+            raise OverflowError("hop counts beyond 32-bit integers")
+        self._settle_all()
+        self.hops = self.hops.astype(np.int32)
+        self._template = self._template.astype(np.int32)
+        self._max_hop = max_hop_of(np.int32)
 
     def _near_row(self, source: int) -> int | None:
         """Row of a cached field whose source is a neighbour of ``source`` at distance one
@@ -488,9 +521,10 @@ class KnownGraph:
                 return slot
         self._settle_all()  # rows are about to move
         grown = max(rows + 1, min(max(4, 2 * rows), self.capacity))
-        hops = np.empty((grown, self.hops.shape[1]), dtype=np.int32)
+        hops = np.empty((grown, self.hops.shape[1]), dtype=self.hops.dtype)
         hops[:rows] = self.hops
         self.hops = hops  # float fields are copies, so they stay valid
+        self._row_max = np.concatenate([self._row_max, np.zeros(grown - rows, np.int64)])
         self._source = np.concatenate([self._source, np.full(grown - rows, -1, np.int64)])
         self._version = np.concatenate([self._version, np.zeros(grown - rows, np.int64)])
         self._used = np.concatenate([self._used, np.zeros(grown - rows, np.int64)])

@@ -220,7 +220,7 @@ _TILE = 2048
 @nb.njit(cache=True, nogil=True)
 def _far_scan(
     hops_u, me_slot, slots, klass, ctpu, cjt, status, reserved, me, step, tpu_me, jt_me,
-    far, mins, hmin,
+    far, mins, hmin, full, high,
 ):  # pragma: no cover - compiled
     """Branch 3 in one streaming pass: W = vacant vertices I can reach, each one's min
     over rivals of util, and the vertices tied at the max-min. Returns (|W|, number tied);
@@ -228,9 +228,10 @@ def _far_scan(
 
     Rivals with the same speed and job time form a class, and within a class the cost is a
     non-decreasing function of the hop count, so the min over the class is the cost of the
-    class's minimum hop count (``hops_u`` is the hop table viewed as uint32: unreached
-    vertices, negative, become huge). Rounding is monotone too, so min over rivals of
-    ``cost - mine`` equals that of the per-class minima: the floats match the generic code.
+    class's minimum hop count (``hops_u`` is the hop table viewed as unsigned integers:
+    unreached vertices, negative, become ``high`` or more; ``full`` is the type's maximum).
+    Rounding is monotone too, so min over rivals of ``cost - mine`` equals that of the
+    per-class minima: the floats match the generic code.
     The rows are read tile by tile, so the minima never leave the cache.
     """
     n = status.shape[0]
@@ -240,7 +241,7 @@ def _far_scan(
     for lo in range(0, n, _TILE):
         hi = min(n, lo + _TILE)
         for k in range(nk):
-            hmin[k, : hi - lo] = np.uint32(0xFFFFFFFF)
+            hmin[k, : hi - lo] = full
         for i in range(slots.shape[0]):
             row = hops_u[slots[i]]
             hk = hmin[klass[i]]
@@ -253,7 +254,7 @@ def _far_scan(
             if owner != 0 and owner != me:
                 continue
             hm = mine_row[v]
-            if hm >= np.uint32(0x80000000):
+            if hm >= high:
                 continue
             mine = (hm * step) * tpu_me
             mine = mine + jt_me
@@ -263,7 +264,7 @@ def _far_scan(
                 m = np.inf
                 for k in range(nk):
                     h = hmin[k, v - lo]
-                    theirs = (np.inf if h >= np.uint32(0x80000000) else h * step) * ctpu[k]
+                    theirs = (np.inf if h >= high else h * step) * ctpu[k]
                     u = theirs + cjt[k] - mine
                     if u < m:
                         m = u
@@ -350,12 +351,13 @@ class Madgta:
                      belief.time_per_unit[rivals], belief.job_time[rivals], util)
         return util
 
-    def _scratch(self, n: int, classes: int):
+    def _scratch(self, n: int, classes: int, unsigned: np.dtype):
         """Reused work arrays of the branch-3 scan (fresh ones would page-fault each time)."""
         buf = getattr(self, "_buffers", None)
-        if buf is None or buf[0].size != n or buf[2].shape[0] < classes:
+        if (buf is None or buf[0].size != n or buf[2].shape[0] < classes
+                or buf[2].dtype != unsigned):
             buf = (np.empty(n, dtype=np.int64), np.empty(n),
-                   np.empty((max(1, classes), _TILE), dtype=np.uint32))
+                   np.empty((max(1, classes), _TILE), dtype=unsigned))
             self._buffers = buf
         return buf
 
@@ -384,11 +386,13 @@ class Madgta:
         me = belief.me
         here = belief.here
         klass, ctpu, cjt = _rival_classes(belief.time_per_unit[rivals], belief.job_time[rivals])
-        far, mins, hmin = self._scratch(belief.status.size, ctpu.size)
+        unsigned = np.dtype(known.hops.dtype.str.replace("i", "u"))
+        far, mins, hmin = self._scratch(belief.status.size, ctpu.size, unsigned)
+        full = np.iinfo(unsigned).max
         nf, nt = _far_scan(
-            known.hops.view(np.uint32), me_slot, slots, klass, ctpu, cjt,
+            known.hops.view(unsigned), me_slot, slots, klass, ctpu, cjt,
             belief.status, belief.reserved, me, known.step, belief.time_per_unit[me], jt_me,
-            far, mins, hmin,
+            far, mins, hmin, unsigned.type(full), unsigned.type(full // 2 + 1),
         )
         if nf == 0:
             return Decision("finish")
