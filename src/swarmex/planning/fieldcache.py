@@ -313,15 +313,19 @@ class KnownGraph:
     def slots(self, sources: np.ndarray) -> np.ndarray:
         """Rows for several sources at once, all valid together (see :meth:`slot`)."""
         self._clock += 1
-        rows = self._row_of[sources]
         if self._pending:
             self._prune()
-        if (rows.size and rows.min() >= 0 and (self._version[rows] == self.version).all()
-                and not (self._pending and any(r in self._pending for r in rows.tolist()))):
-            self._used[rows] = self._clock  # the common case: all cached and current
-            self.reused += rows.size
-            return rows
-        return np.array([self._ensure(s) for s in sources.tolist()], dtype=np.int64)
+        rows = self._row_of[sources]
+        ok = rows >= 0
+        ok[ok] = self._version[rows[ok]] == self.version
+        if self._pending:
+            ok &= np.array([r not in self._pending for r in rows.tolist()], dtype=bool)
+        self._used[rows[ok]] = self._clock  # first, so making the others cannot evict them
+        self.reused += int(ok.sum())
+        if not ok.all():
+            for i in np.flatnonzero(~ok).tolist():
+                rows[i] = self._ensure(int(sources[i]))
+        return rows
 
     def prefetch(self, source: int, near: int) -> None:
         """Start deriving ``source``'s field from that of its neighbour ``near`` on the

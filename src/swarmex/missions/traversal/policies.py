@@ -386,13 +386,12 @@ class Madgta:
         me = belief.me
         here = belief.here
         klass, ctpu, cjt = _rival_classes(belief.time_per_unit[rivals], belief.job_time[rivals])
-        unsigned = np.dtype(known.hops.dtype.str.replace("i", "u"))
+        unsigned, full, high = _unsigned_view(known.hops.dtype)
         far, mins, hmin = self._scratch(belief.status.size, ctpu.size, unsigned)
-        full = np.iinfo(unsigned).max
         nf, nt = _far_scan(
             known.hops.view(unsigned), me_slot, slots, klass, ctpu, cjt,
             belief.status, belief.reserved, me, known.step, belief.time_per_unit[me], jt_me,
-            far, mins, hmin, unsigned.type(full), unsigned.type(full // 2 + 1),
+            far, mins, hmin, full, high,
         )
         if nf == 0:
             return Decision("finish")
@@ -439,6 +438,19 @@ def _sorted_unique(v: np.ndarray) -> np.ndarray:
     if all(a < b for a, b in zip(items, items[1:], strict=False)):
         return v
     return np.unique(v)
+
+
+_UNSIGNED: dict = {}
+
+
+def _unsigned_view(dtype: np.dtype):
+    """(unsigned twin of a signed hop type, its maximum, its high bit), cached."""
+    hit = _UNSIGNED.get(dtype)
+    if hit is None:
+        unsigned = np.dtype(dtype.str.replace("i", "u"))
+        full = np.iinfo(unsigned).max
+        hit = _UNSIGNED[dtype] = (unsigned, unsigned.type(full), unsigned.type(full // 2 + 1))
+    return hit
 
 
 def _rival_classes(tpu: np.ndarray, jt: np.ndarray):
