@@ -9,9 +9,11 @@ from __future__ import annotations
 
 import networkx as nx
 import numpy as np
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from swarmex.planning import fieldcache
 from swarmex.planning.fieldcache import KnownGraph
 from swarmex.worlds import GraphWorld, GridWorld
 
@@ -36,21 +38,27 @@ def weighted_world(seed: int, n: int) -> GraphWorld:
 
 # one step of a scenario: (op, vertex choice, number of vertices)
 OPS = st.lists(
-    st.tuples(st.sampled_from(["obstacles", "field", "slots", "distances", "walk"]),
+    st.tuples(st.sampled_from(["obstacles", "field", "slots", "distances", "walk", "prefetch"]),
               st.integers(0, 10**6), st.integers(1, 4)),
     min_size=1, max_size=25,
 )
 
 
-def run_scenario(world, ops, capacity: int, max_hop: int | None = None) -> None:
+def run_scenario(world, ops, capacity: int, max_hop: int | None = None,
+                 prefetch: bool = False) -> None:
     g = world.graph
     n = g.n_nodes
-    known = KnownGraph(g, capacity=capacity)
+    known = KnownGraph(g, capacity=capacity, prefetch=prefetch)
     if max_hop is not None:  # pretend the narrow hop type holds only this much
         known._max_hop = max_hop
     walker = 0
     for op, pick, k in ops:
         v = pick % n
+        if op == "prefetch":  # announce a move: the field may be derived in the background
+            if known.uniform:
+                nbrs = [int(x) for x in g.neighbors(walker)]
+                known.prefetch(nbrs[pick % len(nbrs)], walker)
+            continue
         if op == "obstacles":
             # obstacles are discovered next to where someone is, as in the missions
             near = [int(x) for x in g.neighbors(walker)] + [v]
@@ -112,6 +120,14 @@ def test_weighted_cache_is_exact(seed, ops, capacity):
 @given(seed=st.integers(0, 50), ops=OPS, max_hop=st.integers(2, 12))
 def test_narrow_hop_table_widens_when_a_distance_does_not_fit(seed, ops, max_hop):
     run_scenario(grid_world(seed, 9, 7, 4), ops, 3, max_hop=max_hop)
+
+
+@SETTINGS
+@given(seed=st.integers(0, 50), ops=OPS, capacity=st.integers(1, 6))
+def test_background_shifts_keep_the_cache_exact(seed, ops, capacity):
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(fieldcache, "PREFETCH_MIN_NODES", 0)
+        run_scenario(grid_world(seed, 9, 7, 4), ops, capacity, prefetch=True)
 
 
 def test_widening_keeps_the_fields():

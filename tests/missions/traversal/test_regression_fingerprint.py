@@ -172,6 +172,17 @@ def test_fingerprint_unchanged(name: str) -> None:
     assert fingerprint(CASES[name]()) == EXPECTED[name]
 
 
+@pytest.mark.parametrize("name", ["random40-8a-s1", "shared-nest30-6a", "hetero-rooms-failures"])
+def test_fingerprint_unchanged_with_background_fields(name: str, monkeypatch) -> None:
+    """Fields derived on the worker thread (sim.PREFETCH_FIELDS) give the same runs."""
+    from swarmex.missions.traversal import sim
+    from swarmex.planning import fieldcache
+
+    monkeypatch.setattr(sim, "PREFETCH_FIELDS", True)
+    monkeypatch.setattr(fieldcache, "PREFETCH_MIN_NODES", 0)  # even on small maps
+    assert fingerprint(CASES[name]()) == EXPECTED[name]
+
+
 if __name__ == "__main__":  # regenerate EXPECTED
     for key in CASES:
         print(f'    "{key}": "{fingerprint(CASES[key]())}",')
