@@ -9,19 +9,21 @@ stays total).
 Which function to use:
 
 * :func:`distance_field` — one field, nearest of several sources (a multi-source search);
-* :func:`distance_fields` — one *separate* field per source, computed in parallel on all
-  cores (numba ``prange``; the kernels release the GIL), which is what MADGTA needs: the
-  distance from every agent to every candidate vertex;
-* :func:`hop_field` / :func:`repair_hops` — integer hop counts for graphs whose edges all
-  have one length. They are what :class:`~swarmex.planning.fieldcache.KnownGraph` stores:
-  half the memory of floats, and exact, so a field can be *repaired* in place when vertices
-  become blocked instead of being recomputed (hop counts have no rounding, so the repaired
-  field is bit-identical to a fresh one).
+* :func:`distance_fields` — one *separate* field per source, split over one thread per core
+  (the kernels release the GIL); each row equals :func:`distance_field` of its source;
+* :func:`hop_field`, :func:`repair_hops`, :func:`shift_hop_field` — integer hop counts for
+  graphs whose edges all have one length. They are what
+  :class:`~swarmex.planning.fieldcache.KnownGraph` stores: exact (no rounding), so a field
+  can be *repaired* in place when vertices become blocked, or *shifted* to a neighbouring
+  source, and the result is bit-identical to a fresh search either way.
 
-Kernels are numba-compiled loops over the CSR arrays: a level-synchronous breadth-first
-search when all edges have one length (grids), a binary-heap Dijkstra otherwise. A BFS field
-is ``hops * step`` computed per vertex, so every route to a field (BFS, repair, conversion)
-gives the same floats.
+Kernels are numba-compiled loops: a level-synchronous breadth-first search when all edges
+have one length, a binary-heap Dijkstra otherwise. On a full 4-connected lattice (what a
+4-connected grid world builds; :func:`lattice_structure` recognises it) the searches compute
+neighbours (u ± 1, u ± width) instead of reading the CSR arrays, about 3x faster. A BFS field
+is ``hops * step`` computed per vertex, so every route to a field (BFS, repair, shift,
+conversion) gives the same floats. Work arrays are reused per thread: fresh large arrays
+would cost page faults at every call.
 """
 
 from __future__ import annotations

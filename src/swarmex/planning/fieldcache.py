@@ -6,10 +6,11 @@ one by one, so naive caching would throw every field away at every discovery.
 :class:`KnownGraph` instead keeps a log of discoveries and brings a cached field up to date
 only when it is asked for. Two regimes, chosen by the graph:
 
-* **uniform edge lengths** (grids): fields are int32 hop counts, one row per cached source
-  in one 2-D array, so kernels read many fields in one call. Hop counts have no rounding, so
-  every route to a field gives the same integers and the cache policy cannot change a
-  result. That frees three shortcuts:
+* **uniform edge lengths** (grids): fields are hop counts, one row per cached source in one
+  2-D table, so kernels read many fields in one call. The table holds 16-bit integers (half
+  the memory traffic of every kernel) and is widened to 32 bits the first time a distance
+  would not fit. Hop counts have no rounding, so every route to a field gives the same
+  integers and the cache policy cannot change a result. That frees three shortcuts:
 
   - a stale field is *repaired* (``_repair_hops``: only the vertices whose shortest paths
     ran through the new obstacles are re-derived) instead of recomputed; on a map whose
@@ -22,8 +23,11 @@ only when it is asked for. Two regimes, chosen by the graph:
   - rows are recycled in least-recently-used order, and the row of a source that has just
     been left (an agent stepped away) is shifted in place rather than copied.
 
-  (A background thread computing the field of an agent's next vertex while the simulation
-  goes on was tried and dropped: under load its GIL hand-offs cost more than it saved.)
+  With ``prefetch=True`` the simulator's :meth:`KnownGraph.prefetch` hands the shift of
+  a moving agent's next field to a worker thread (the kernels release the GIL), and
+  whoever needs a field first runs it if the worker has not: results never depend on the
+  thread's timing. It pays only when a second core is idle; on a busy machine the
+  hand-offs cost a few per cent, which is why the simulator leaves it off by default.
 
 * **other graphs**: float Dijkstra fields, checked by :func:`_still_exact` (a field is
   unchanged by blocking a set of vertices iff every vertex whose shortest path could run

@@ -9,6 +9,10 @@
 
 KM (Algorithm 1) is ``status != 0`` plus vertices reserved by *other* agents. Beliefs are
 updated only by the agent's own sensing and by messages; policies read nothing else.
+
+A simulated team under a perfect broadcast keeps its beliefs as rows of one
+:class:`BeliefTable`, so a broadcast updates every receiver in one compiled call
+(:func:`deliver`); each belief still only ever sees its own rows.
 """
 
 from __future__ import annotations

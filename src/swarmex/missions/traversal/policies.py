@@ -19,6 +19,13 @@ How the thesis's open points are read here (spec §6; docs/traversal.md repeats 
 8. Termination: the agent stops when no vacant vertex is reachable on its known graph.
 9. With no known rival (one agent, or before anyone else has started), util is minus the
    agent's own cost: it goes to the nearest vacant vertex.
+
+Speed: on graphs with one edge length, :class:`Madgta` and :class:`Nearest` decide through
+compiled kernels that read the hop-count rows of the field cache (branch 2 in one call,
+branch 3 in one tiled scan with rivals grouped by speed and job time). Every float is
+computed with the same operations in the same order as the numpy code kept below for the
+other cases (and for subclasses that override ``utilities`` or ``best``), so the choices,
+and every draw from the generator, are the same bit for bit.
 """
 
 from __future__ import annotations
