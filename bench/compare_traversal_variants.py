@@ -34,6 +34,7 @@ import os
 import sys
 import time
 from concurrent.futures import ProcessPoolExecutor
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -106,6 +107,37 @@ class Job:
     seed: int
     algorithm: str
     channel: str = "perfect"
+    carry_obstacles: bool = False
+
+
+@contextmanager
+def obstacles_in_every_message(enabled: bool):
+    """What-if for the simulator (not a feature of it): every message over an imperfect
+    channel also carries all the obstacles its sender knows, as the thesis's KM list does.
+
+    sim.py sends only the obstacles seen at the current step, so an agent that misses one
+    message never learns those walls from anyone and plans paths through them. The patch
+    wraps the private ``_Sim.broadcast`` for one run and is undone afterwards; the proposed
+    change to sim.py itself is in docs/traversal-variants.md.
+    """
+    if not enabled:
+        yield
+        return
+    from swarmex.missions.traversal import sim
+
+    original = sim._Sim.broadcast
+
+    def broadcast(self, sender, kind, node, obstacles=(), eta=0.0):
+        if not self.channel.perfect:
+            known = np.nonzero(self.beliefs[sender].status == -1)[0]
+            obstacles = tuple(int(v) for v in known)
+        return original(self, sender, kind, node, obstacles, eta)
+
+    sim._Sim.broadcast = broadcast
+    try:
+        yield
+    finally:
+        sim._Sim.broadcast = original
 
 
 def run_one(job: Job) -> dict:
@@ -114,9 +146,11 @@ def run_one(job: Job) -> dict:
     nests = nests_for(world, job.agents, job.mode, job.seed)
     channel = Channel(**dict(CHANNELS)[job.channel])
     t0 = time.perf_counter()
-    run = run_traversal(
-        world, uniform_agents(nests, TRAVEL, JOB), job.algorithm, seed=job.seed, channel=channel
-    )
+    with obstacles_in_every_message(job.carry_obstacles):
+        run = run_traversal(
+            world, uniform_agents(nests, TRAVEL, JOB), job.algorithm, seed=job.seed,
+            channel=channel,
+        )
     totals, _ = run_metrics(run, 1.0)
     return {
         **job.__dict__,
@@ -242,12 +276,15 @@ def comm_table(rows: list[dict]) -> list[str]:
         "|---|---|---|---|---|---|---|---|---|",
     ]
     algs = sorted({r["algorithm"] for r in rows}, key=lambda a: (a != "madgta", a))
+    variants = [(label, carry) for label, _ in CHANNELS for carry in (False, True)]
     for mp, alg in [(m, a) for m in sorted({r["map"] for r in rows}) for a in algs]:
-        perfect = select(rows, map=mp, algorithm=alg, channel="perfect")
-        for label, _ in CHANNELS:
-            cur = select(rows, map=mp, algorithm=alg, channel=label)
+        perfect = select(rows, map=mp, algorithm=alg, channel="perfect", carry_obstacles=False)
+        for label, carry in variants:
+            cur = select(rows, map=mp, algorithm=alg, channel=label, carry_obstacles=carry)
             if not cur or len(cur) != len(perfect):
                 continue
+            if carry:
+                label = f"{label}, obstacles carried"
             trav = np.array([r["travel_time_all"] for r in cur])
             trav0 = np.array([r["travel_time_all"] for r in perfect])
             mk = np.array([r["makespan"] for r in cur])
@@ -280,6 +317,12 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--comm-agents", type=int, default=8)
     ap.add_argument("--comm-seeds", type=int, default=4)
     ap.add_argument("--comm-algorithms", nargs="+", default=["madgta", "madgta+"])
+    ap.add_argument(
+        "--carry-obstacles",
+        action="store_true",
+        help="comm: also run each imperfect channel with every message carrying the sender's "
+        "known obstacles (a what-if patch of the simulator, see obstacles_in_every_message)",
+    )
     ap.add_argument("--quick", action="store_true", help="small maps, 3 seeds")
     ap.add_argument("--jobs", type=int, default=1, help="worker processes (default 1)")
     ap.add_argument("--json", type=Path, default=None, help="write every run's figures here")
@@ -312,11 +355,12 @@ def main(argv: list[str] | None = None) -> int:
     if args.section in ("comm", "both"):
         present = [m for m in args.comm_maps if load(m) is not None]
         jobs = [
-            Job(mp, args.comm_agents, "dist", s, alg, label)
+            Job(mp, args.comm_agents, "dist", s, alg, label, carry)
             for mp in present
             for s in range(2 if args.quick else args.comm_seeds)
             for label, _ in CHANNELS
             for alg in args.comm_algorithms
+            for carry in ([False, True] if args.carry_obstacles and label != "perfect" else [False])
         ]
         print(f"comm: {len(jobs)} runs on {', '.join(present)}", file=sys.stderr)
         rows = run_all(jobs, args.jobs)
