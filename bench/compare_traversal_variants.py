@@ -240,29 +240,36 @@ def variants_table(rows: list[dict], algorithms: list[str]) -> list[str]:
     return lines
 
 
-def per_map_summary(rows: list[dict]) -> list[str]:
-    """Ratio of madgta+ to madgta per map, pooling agent counts and nests (paired by run)."""
+def pooled_summary(rows: list[dict], by: str) -> list[str]:
+    """Paired relative difference madgta+ vs madgta, pooled per ``by`` ("map" or "agents").
+
+    Each run of madgta+ is paired with madgta's run on the same map, agents, nests and seed;
+    the mean of ``makespan+ / makespan − 1`` gets a 95 % Student-t interval.
+    """
     lines = [
-        "| map | runs | mean makespan ratio | paired relative Δ (95 % CI) | better in |",
+        f"| {by} | runs | mean makespan ratio | paired relative Δ (95 % CI) | better in |",
         "|---|---|---|---|---|",
     ]
-    maps = sorted({r["map"] for r in rows}, key=lambda m: MAPS.index(m) if m in MAPS else 99)
-    for mp in [*maps, None]:
+    keys = sorted({r[by] for r in rows}, key=lambda k: (MAPS.index(k) if k in MAPS else 99, k))
+    for key in [*keys, None]:
         rel, wins = [], 0
-        for m, mode in sorted({(r["agents"], r["mode"]) for r in rows if mp in (None, r["map"])}):
-            maps_here = [mp] if mp else maps
-            for name in maps_here:
-                base = select(rows, map=name, agents=m, mode=mode, algorithm="madgta")
-                plus = select(rows, map=name, agents=m, mode=mode, algorithm="madgta+")
-                for b, p in zip(base, plus, strict=True):
-                    rel.append(p["makespan"] / b["makespan"] - 1.0)
-                    wins += p["makespan"] < b["makespan"]
+        cells = sorted({(r["map"], r["agents"], r["mode"]) for r in rows})
+        for mp, m, mode in cells:
+            if key is not None and {"map": mp, "agents": m}[by] != key:
+                continue
+            base = select(rows, map=mp, agents=m, mode=mode, algorithm="madgta")
+            plus = select(rows, map=mp, agents=m, mode=mode, algorithm="madgta+")
+            if len(base) != len(plus):
+                continue
+            for b, p in zip(base, plus, strict=True):
+                rel.append(p["makespan"] / b["makespan"] - 1.0)
+                wins += p["makespan"] < b["makespan"]
         if not rel:
             continue
         r = np.array(rel)
         d, half = paired_ci(r, np.zeros_like(r))
         lines.append(
-            f"| {mp or 'all'} | {r.size} | {1 + r.mean():.3f} | "
+            f"| {'all' if key is None else key} | {r.size} | {1 + r.mean():.3f} | "
             f"{100 * d:+.2f} % ± {100 * half:.2f} % | {wins}/{r.size} |"
         )
     return lines
@@ -300,6 +307,16 @@ def comm_table(rows: list[dict]) -> list[str]:
     return lines
 
 
+def print_summaries(rows: list[dict]) -> None:
+    print("\n## madgta+ / madgta per map (agent counts and nests pooled)\n")
+    print("\n".join(pooled_summary(rows, "map")))
+    print("\n## madgta+ / madgta per agent count (maps and nests pooled)\n")
+    print("\n".join(pooled_summary(rows, "agents")))
+    crowded = [r for r in rows if r["agents"] == max(x["agents"] for x in rows)]
+    print(f"\n## madgta+ / madgta per map, {crowded[0]['agents']} agents only\n")
+    print("\n".join(pooled_summary(crowded, "map")))
+
+
 def _cell_order(cell: tuple[str, int, str]) -> tuple:
     mp, m, mode = cell
     return (MAPS.index(mp) if mp in MAPS else 99, mp, m, NEST_MODES.index(mode))
@@ -326,7 +343,28 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--quick", action="store_true", help="small maps, 3 seeds")
     ap.add_argument("--jobs", type=int, default=1, help="worker processes (default 1)")
     ap.add_argument("--json", type=Path, default=None, help="write every run's figures here")
+    ap.add_argument(
+        "--from-json",
+        type=Path,
+        default=None,
+        help="print the tables of a previous --json file instead of running",
+    )
     args = ap.parse_args(argv)
+    if args.from_json:
+        saved = json.loads(args.from_json.read_text())
+        for row in saved.get("comm", []):
+            row.setdefault("carry_obstacles", False)
+        if saved.get("variants"):
+            rows = saved["variants"]
+            algs = [a for a in ALGORITHMS if any(r["algorithm"] == a for r in rows)]
+            print("\n## madgta+ against madgta and nearest (mean over seeds)\n")
+            print("\n".join(variants_table(rows, algs)))
+            if {"madgta", "madgta+"} <= set(algs):
+                print_summaries(rows)
+        if saved.get("comm"):
+            print("\n## Imperfect channels\n")
+            print("\n".join(comm_table(saved["comm"])))
+        return 0
     if args.seeds < 1 or args.comm_seeds < 1:
         ap.error("--seeds and --comm-seeds must be >= 1")
     maps = args.maps or (QUICK_MAPS if args.quick else MAPS)
@@ -335,6 +373,8 @@ def main(argv: list[str] | None = None) -> int:
 
     if args.section in ("variants", "both"):
         present = [m for m in maps if load(m) is not None]
+        if not present:
+            print(f"variants: none of the maps is in {maps_dir()}; nothing to run", file=sys.stderr)
         jobs = [
             Job(mp, m, mode, s, alg)
             for mp in present
@@ -344,13 +384,13 @@ def main(argv: list[str] | None = None) -> int:
             for alg in args.algorithms
         ]
         print(f"variants: {len(jobs)} runs on {', '.join(present)}", file=sys.stderr)
-        rows = run_all(jobs, args.jobs)
+        rows = run_all(jobs, args.jobs) if jobs else []
         out["variants"] = rows
-        print("\n## madgta+ against madgta and nearest (mean over seeds)\n")
-        print("\n".join(variants_table(rows, args.algorithms)))
-        if {"madgta", "madgta+"} <= set(args.algorithms):
-            print("\n## madgta+ / madgta per map (all agent counts and nests pooled)\n")
-            print("\n".join(per_map_summary(rows)))
+        if rows:
+            print("\n## madgta+ against madgta and nearest (mean over seeds)\n")
+            print("\n".join(variants_table(rows, args.algorithms)))
+            if {"madgta", "madgta+"} <= set(args.algorithms):
+                print_summaries(rows)
 
     if args.section in ("comm", "both"):
         present = [m for m in args.comm_maps if load(m) is not None]
@@ -363,10 +403,11 @@ def main(argv: list[str] | None = None) -> int:
             for carry in ([False, True] if args.carry_obstacles and label != "perfect" else [False])
         ]
         print(f"comm: {len(jobs)} runs on {', '.join(present)}", file=sys.stderr)
-        rows = run_all(jobs, args.jobs)
+        rows = run_all(jobs, args.jobs) if jobs else []
         out["comm"] = rows
-        print(f"\n## Imperfect channels ({args.comm_agents} agents, own nests)\n")
-        print("\n".join(comm_table(rows)))
+        if rows:
+            print(f"\n## Imperfect channels ({args.comm_agents} agents, own nests)\n")
+            print("\n".join(comm_table(rows)))
 
     if args.json:
         args.json.write_text(json.dumps(out, indent=1))

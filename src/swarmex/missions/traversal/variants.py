@@ -60,8 +60,9 @@ Both need nothing beyond what the §4.1/§4.2 messages already carry. The policy
 ``belief``: ``status`` and ``reserved`` (through KM), ``loc``, ``next_loc``, ``free_at``,
 ``now``, the speeds and job times every agent knows, and distances on its own known graph.
 
-The gain is small but consistent: about 0.3 % lower makespan over all maps, agent counts
-and nests pooled, up to 1–3 % on crowded maps with 16 agents. The figures are in
+The gain is small but consistent: about 0.3 % lower makespan over five real maps, agent
+counts and nests pooled, and 1–3 % on crowded maps with 16 agents. There is no effect on a
+large map with few agents per cell (ost003d). The figures are in
 docs/traversal-variants.md and come from bench/compare_traversal_variants.py. MADGTA is
 already within a few per cent of ``jobs × (J + T) / m`` on open maps, so there is little
 left to gain there.
