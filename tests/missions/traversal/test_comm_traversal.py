@@ -196,18 +196,17 @@ def test_lossy_channels_converge_after_one_final_done_list_exchange(name, seed):
     assert_sound(world, result, policy.beliefs)
 
 
-def test_without_the_final_exchange_a_lossy_run_can_leave_a_finished_agent_behind():
-    # Measured, not wished for: over 20 seeds at loss 0.6 some finished agent misses the last
-    # C07/C08, because nothing is sent after the last job. The gap is at most a few vertices,
-    # each one the agent had heard announced (C05) by a rival or had seen released.
+def test_without_the_final_exchange_a_finished_agent_lacks_at_most_the_last_few_jobs():
+    # Nothing is sent after the last job, so at loss 0.6 a finished agent can miss the last
+    # C07/C08 (about 1 agent in 20 over these seeds; docs/traversal-variants.md). The gap is
+    # bounded: each missing vertex is one the agent had heard announced (C05) or released.
+    # (If the simulator ever broadcasts the list once more at the end, the gaps become 0.)
     gaps = []
     for seed in range(20):
         world, nests, _, policy = run(seed, Channel(loss=0.6))
         todo = must_do(world, nests)
         gaps += [int((todo & (b.status <= 0)).sum()) for b in policy.beliefs.values()]
-    gaps_arr = np.array(gaps)
-    assert gaps_arr.sum() > 0
-    assert gaps_arr.max() <= 3
+    assert max(gaps) <= 3
 
 
 # ------------------------------------------------------------------ (2) the done-nodes list
