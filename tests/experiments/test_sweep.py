@@ -388,3 +388,30 @@ def test_workers_that_cannot_run_stop_the_sweep_without_recording_failures(tmp_p
         tasks = [Task(i, f"c{i}", "crash", []) for i in range(5)]
         _local(tasks, 2, "traversal", tmp_path, got.append, runner=crash_or_run)
     assert got == []
+
+
+def test_a_crash_inside_a_chunk_loses_only_unfinished_runs(tmp_path):
+    """Small runs travel in chunks; a crash mid-chunk keeps the runs recorded before it."""
+    from swarmex.experiments.sweep import _local
+    from swarmex.experiments.sweep_worker import Task
+
+    argv = ["--grid", "3x3", "--agents", "1", "--seed"]
+    tasks = [Task(i, f"r{i}", "traverse", [*argv, str(i)]) for i in range(60)]
+    tasks.insert(30, Task(99, "boom", "crash", []))
+    got = []
+    _local(tasks, 2, "traversal", tmp_path, got.append, runner=crash_or_run)
+    ids = [o.run_id for o in got]
+    assert sorted(ids) == sorted(t.run_id for t in tasks), "each run finishes exactly once"
+    by_id = {o.run_id: o for o in got}
+    assert not by_id["boom"].ok and all(by_id[f"r{i}"].ok for i in range(60))
+    assert len(list(tmp_path.glob("r*.json"))) == 60
+
+
+def test_chunk_size_follows_run_time_and_shrinks_at_the_end():
+    from swarmex.experiments.sweep import CHUNK_MAX, _chunk_size
+
+    assert _chunk_size(None, 1000, 2) == 1  # no run timed yet
+    assert _chunk_size(0.001, 1000, 2) == CHUNK_MAX  # tiny runs: the biggest chunks
+    assert _chunk_size(0.02, 1000, 2) == 5  # about 0.1 s of work per chunk
+    assert _chunk_size(5.0, 1000, 2) == 1  # long runs one at a time (Ctrl-C stays quick)
+    assert _chunk_size(0.001, 20, 2) == 2  # the tail: a quarter of a fair share

@@ -110,6 +110,7 @@ def sweep(
             f" {todo} to run) → {out_dir}"
         )
         state["task"] = progress.add_task("sweep", total=total, completed=finished)
+        progress.start()  # its drawing thread starts only now, after the workers are forked
 
     def on_outcome(outcome: Any) -> None:
         if not outcome.ok:
@@ -123,7 +124,7 @@ def sweep(
     except ValueError:  # not the main thread (an embedding program): leave signals alone
         previous = None
     try:
-        with progress:
+        try:
             result = run_sweep(
                 spec,
                 shapes,
@@ -135,6 +136,8 @@ def sweep(
                 on_start=on_start,
                 on_outcome=on_outcome,
             )
+        finally:
+            progress.stop()
     except KeyboardInterrupt:
         err_console.print(
             f"swarmex: interrupted; finished runs are saved in {out_dir}"

@@ -19,9 +19,9 @@ Backends, all giving the same records and table for the same spec (each run is s
 own ``--seed``; nothing depends on which worker ran it or when):
 
 * ``serial`` — in this process; the reference, and a debugging aid;
-* ``local`` — a process pool over the cores, forked from a server process that imported
-  swarmex once (``forkserver`` with preloading: each worker starts in milliseconds and runs
-  many tasks, and no fork happens from a process that has threads, like a progress bar);
+* ``local`` — a process pool over the cores, forked from the warmed-up driver while it has a
+  single thread (else from a fork server that imported swarmex once); small runs go to the
+  workers in chunks, so the driver's share of the cores stays small (see ``_local``);
 * ``ray`` — long-lived Ray actors, locally (``ray.init()``) or on a cluster by address.
 
 The driver keeps only outcomes (a few scalars per run) and a bounded window of tasks in
@@ -33,6 +33,7 @@ from __future__ import annotations
 import json
 import multiprocessing
 import os
+import threading
 from collections import deque
 from collections.abc import Callable, Iterable
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
@@ -49,7 +50,9 @@ from swarmex.experiments.sweep_worker import (
     Task,
     outcome_from_record,
     quiet_cli,
+    run_chunk,
     run_task,
+    warm_up,
     write_text_atomic,
 )
 
@@ -58,6 +61,8 @@ RESULTS = "results.parquet"
 JOURNAL = "journal.jsonl"
 METADATA_KEY = b"swarmex.sweep"
 RAY_CHUNK = 8  # runs per Ray actor call at most
+CHUNK_MAX = 16  # runs per local pool task at most
+CHUNK_SECONDS = 0.1  # what a local pool task should last, about
 MAX_BREAKS = 3  # pool breaks in a row, no run completing: the workers cannot run at all
 MAX_ATTEMPTS = 2  # a run in flight when a worker process died twice is recorded as failed
 
@@ -289,8 +294,16 @@ def run_sweep(
     outcomes = store.finished(runs, retry_failed)
     skipped = len(outcomes)
     pending = [tasks[r.run_id] for r in runs if r.run_id not in outcomes]
-    if on_start is not None:
-        on_start(len(runs), skipped)
+    started = False
+
+    def start() -> None:  # the local backend calls it once its workers are forked
+        nonlocal started
+        if not started and on_start is not None:
+            on_start(len(runs), skipped)
+        started = True
+
+    if not pending or backend != "local":
+        start()
 
     def finish(outcome: Outcome) -> None:
         store.save(outcome, by_id[outcome.run_id], tasks[outcome.run_id])
@@ -305,7 +318,12 @@ def run_sweep(
                 _serial(pending, store.runs_dir, finish)
             elif backend == "local":
                 _local(
-                    pending, workers or os.cpu_count() or 1, spec.mission, store.runs_dir, finish
+                    pending,
+                    workers or os.cpu_count() or 1,
+                    spec.mission,
+                    store.runs_dir,
+                    finish,
+                    ready=start,
                 )
             else:
                 _ray(pending, workers, ray_address, finish)
@@ -329,26 +347,51 @@ def _serial(tasks: Iterable[Task], runs_dir: Path, finish: OnOutcome) -> None:
 
 
 def _pool(workers: int, mission: str) -> ProcessPoolExecutor:
-    """Workers forked from a server process that already imported what a run imports.
+    """Workers that start with swarmex imported (and warmed, when forked from here).
 
-    The mission's package and the worlds are imported lazily by the commands; preloading them
-    once in the fork server saves every worker that import (seconds on a busy machine).
+    When this process has one thread, the workers are forked from it: they inherit every
+    import and the warm-up of :func:`~swarmex.experiments.sweep_worker.warm_up` and start in
+    milliseconds. Otherwise (a progress bar is drawing, or the pool is rebuilt mid-sweep) a
+    fork could copy a lock another thread holds, so they come from a fork server that
+    imports what a run imports once; its start-up (about a second) is the price of safety.
     """
-    ctx = multiprocessing.get_context("forkserver")
-    ctx.set_forkserver_preload(
-        [
-            "swarmex.cli",
-            "swarmex.experiments.sweep_worker",
-            "swarmex.engine.record",
-            "swarmex.worlds",
-            f"swarmex.missions.{mission}",
-        ]
-    )
     from swarmex.experiments.sweep_worker import init_worker
 
+    if _forkable():
+        ctx = multiprocessing.get_context("fork")
+    else:
+        ctx = multiprocessing.get_context("forkserver")
+        ctx.set_forkserver_preload(
+            [
+                "swarmex.cli",
+                "swarmex.experiments.sweep_worker",
+                "swarmex.engine.record",
+                "swarmex.worlds",
+                f"swarmex.missions.{mission}",
+            ]
+        )
     return ProcessPoolExecutor(
         max_workers=workers, mp_context=ctx, initializer=init_worker, initargs=(os.getpid(),)
     )
+
+
+def _forkable() -> bool:
+    return "fork" in multiprocessing.get_all_start_methods() and threading.active_count() == 1
+
+
+def _chunk_size(seconds_per_run: float | None, queued: int, workers: int) -> int:
+    """Runs per pool task: enough to make the hand-over cheap, few enough to stay responsive.
+
+    A small run costs a few milliseconds, about what sending it to a worker and its outcome
+    back costs the driver, which then competes with the workers for the cores; a chunk of
+    runs pays that once. Chunks last about ``CHUNK_SECONDS`` (Ctrl-C waits for the chunks in
+    flight), shrink towards the end so no worker is left with a long tail, and are single
+    runs until the first outcomes tell how long a run takes.
+    """
+    if seconds_per_run is None:
+        return 1
+    by_time = int(CHUNK_SECONDS / max(seconds_per_run, 1e-4))
+    return max(1, min(CHUNK_MAX, by_time, queued // (4 * workers)))
 
 
 def _local(
@@ -358,49 +401,69 @@ def _local(
     runs_dir: Path,
     finish: OnOutcome,
     runner: Callable[[Task, str], Outcome] = run_task,
+    ready: Callable[[], None] | None = None,
 ) -> None:
-    """A process pool with a bounded window of tasks in flight.
+    """A process pool with a bounded window of chunks of tasks in flight.
 
     If a worker process dies (a segfault, the OOM killer) the pool breaks and every task in
-    flight is lost with it; those are retried one at a time in a new pool, and a task that
-    was in flight at ``MAX_ATTEMPTS`` deaths is recorded as failed instead of retried again
-    (once another run has completed, which shows the workers themselves can run). If the pool
-    breaks ``MAX_BREAKS`` times in a row with no run completing, the workers cannot start at
-    all: the sweep stops with an error and records nothing as failed. (``runner`` is the
-    worker function; tests pass one that crashes.)
+    flight is lost with it (but for those whose record was written before the crash); those
+    are retried one at a time in a new pool, and a task that was in flight at
+    ``MAX_ATTEMPTS`` deaths is recorded as failed instead of retried again (once another run
+    has completed, which shows the workers themselves can run). If the pool breaks
+    ``MAX_BREAKS`` times in a row with no run completing, the workers cannot start at all:
+    the sweep stops with an error and records nothing as failed. (``runner`` is the worker
+    function; tests pass one that crashes. ``ready`` is called once the workers exist, so a
+    progress bar's thread starts after the fork.)
     """
     queue = deque(tasks)
     suspects: deque[Task] = deque()
     attempts: dict[str, int] = {}
     dead: list[Task] = []  # gave up on, recorded once the pool is shown to work
     breaks = 0  # pool breaks since the last completed run
-    window = 2 * workers
+    window = 2 * workers  # chunks in flight: one running and one queued per worker
+    timed = [0.0, 0]  # seconds and count of finished runs, for the chunk size
+    if tasks and _forkable():
+        warm_up(tasks[0])
     pool = _pool(workers, mission)
-    flying: dict[Future, Task] = {}
+    flying: dict[Future, list[Task]] = {}
     try:
         while queue or suspects or flying:
-            limit = 1 if suspects or any(t.run_id in attempts for t in flying.values()) else window
-            while len(flying) < limit and (suspects or queue):
-                task = suspects.popleft() if suspects else queue.popleft()
-                flying[pool.submit(runner, task, str(runs_dir))] = task
+            careful = suspects or any(t.run_id in attempts for c in flying.values() for t in c)
+            while len(flying) < (1 if careful else window) and (suspects or queue):
+                if suspects:
+                    chunk = [suspects.popleft()]
+                else:
+                    per_run = timed[0] / timed[1] if timed[1] else None
+                    size = _chunk_size(per_run, len(queue), workers)
+                    chunk = [queue.popleft() for _ in range(min(size, len(queue)))]
+                flying[pool.submit(run_chunk, runner, chunk, str(runs_dir))] = chunk
+            if ready is not None:
+                ready()  # the workers are forked by now
+                ready = None
             done, _ = wait(list(flying), return_when=FIRST_COMPLETED)
             lost: list[Task] = []
             for fut in done:
-                task = flying.pop(fut)
+                chunk = flying.pop(fut)
                 try:
-                    outcome = fut.result()
+                    outcomes = fut.result()
                 except BrokenProcessPool:
-                    lost.append(task)
+                    lost += chunk
                     continue
-                attempts.pop(task.run_id, None)
                 breaks = 0
                 for gone in dead:
                     finish(_died(gone))
                 dead.clear()
-                finish(outcome)
+                for task, outcome in zip(chunk, outcomes, strict=True):
+                    attempts.pop(task.run_id, None)
+                    timed[0] += outcome.wall_seconds or 0.0
+                    timed[1] += 1
+                    finish(outcome)
             if lost:
-                lost += [flying.pop(f) for f in list(flying)]
+                for chunk in flying.values():
+                    lost += chunk
+                flying.clear()
                 pool.shutdown(wait=False, cancel_futures=True)
+                lost = _keep_recorded(lost, runs_dir, finish)
                 breaks += 1
                 if breaks >= MAX_BREAKS:
                     raise InputError(
@@ -419,6 +482,20 @@ def _local(
             finish(_died(gone))
     finally:
         pool.shutdown(wait=True, cancel_futures=True)
+
+
+def _keep_recorded(lost: list[Task], runs_dir: Path, finish: OnOutcome) -> list[Task]:
+    """Finish the lost tasks whose record a worker wrote before its pool broke; return the rest."""
+    rest = []
+    for task in lost:
+        path = Path(runs_dir) / f"{task.run_id}.json"
+        try:
+            record = json.loads(path.read_text(encoding="utf-8"))
+        except (OSError, ValueError):
+            rest.append(task)
+            continue
+        finish(outcome_from_record(task.index, task.run_id, record))
+    return rest
 
 
 def _died(task: Task) -> Outcome:

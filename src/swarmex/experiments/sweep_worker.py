@@ -26,7 +26,7 @@ import tempfile
 import threading
 import time
 import traceback
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
@@ -80,6 +80,7 @@ def init_worker(driver_pid: int | None = None) -> None:
     """
     with contextlib.suppress(ValueError):  # not the main thread: nothing to do
         signal.signal(signal.SIGINT, signal.SIG_IGN)
+        signal.signal(signal.SIGTERM, signal.SIG_DFL)  # not the CLI's handler, if forked
     _silence()  # for the life of the process
     if driver_pid is not None:
         threading.Thread(target=_watch, args=(driver_pid,), daemon=True).start()
@@ -143,8 +144,9 @@ def _command(name: str) -> Any:
 
 
 def _scratch() -> Path:
+    """This process's scratch file (named by pid: a forked worker must not share its parent's)."""
     global _SCRATCH
-    if _SCRATCH is None:
+    if _SCRATCH is None or not _SCRATCH.name.endswith(f"-{os.getpid()}.json"):
         shm = Path("/dev/shm")
         base = shm if shm.is_dir() and os.access(shm, os.W_OK) else Path(tempfile.gettempdir())
         _SCRATCH = base / f"swarmex-sweep-{os.getpid()}.json"
@@ -179,6 +181,35 @@ def run_task(task: Task, runs_dir: str | None) -> Outcome:
     else:
         write_text_atomic(Path(runs_dir) / f"{task.run_id}.json", text)
     return outcome
+
+
+def run_chunk(
+    runner: Callable[[Task, str | None], Outcome], tasks: list[Task], runs_dir: str | None
+) -> list[Outcome]:
+    """Several tasks in one hand-over from the driver (see ``sweep._chunk_size``)."""
+    return [runner(task, runs_dir) for task in tasks]
+
+
+def warm_up(task: Task) -> None:
+    """Do in the driver, once, what every fresh worker would otherwise do before its first run.
+
+    The workers are forked from the driver after this, so they inherit it: the Click command
+    built from Typer's app, a first parse of the task's options (Click's first call imports
+    much of what it uses), and numba's code generation registries, which its first cached
+    kernel loads (a few tenths of a second per process). Best effort: a failure here only
+    means the workers warm up themselves.
+    """
+    with contextlib.suppress(Exception):
+        command = _command(task.command)
+        with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+            command.make_context(f"swarmex {task.command}", [*task.argv, "--json", os.devnull])
+    with contextlib.suppress(Exception):
+        import numpy as np
+
+        from swarmex.planning.distance import distance_field
+        from swarmex.worlds.grid import GridWorld
+
+        distance_field(GridWorld(np.ones((1, 2), dtype=bool)).graph, 0)
 
 
 def _invoke(task: Task) -> int:

@@ -11,12 +11,15 @@ from __future__ import annotations
 
 from collections.abc import Hashable, Iterable
 from functools import cached_property
+from typing import TYPE_CHECKING
 
-import networkx as nx
 import numpy as np
 
 from swarmex.errors import InputError
 from swarmex.worlds.nodegraph import NodeGraph
+
+if TYPE_CHECKING:  # networkx costs ~0.15 s to import; grid-only runs never need it
+    import networkx as nx
 
 
 class GraphWorld:
@@ -86,6 +89,8 @@ class GraphWorld:
             w = np.zeros(0)
         if np.any(np.asarray(w, dtype=float) <= 0):
             raise InputError("edge lengths must be positive")
+        import networkx as nx
+
         pos_attr = nx.get_node_attributes(g, "pos")
         if len(pos_attr) == n:
             pos = np.array([pos_attr[label] for label in self.labels], dtype=float)
