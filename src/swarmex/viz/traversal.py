@@ -32,6 +32,7 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
 from swarmex.errors import InputError
+from swarmex.viz.animation import write_mp4
 
 SMALL_CELLS = 2500  # up to 50x50 the thesis style (dots, edges, circles) stays legible
 MAX_FRAMES = 120  # an animation never has more frames than this, whatever the map size
@@ -371,7 +372,8 @@ def traversal_gif(
 
     if path.suffix.lower() == ".mp4":
         frames = [draw_at(float(t)).copy() for t in times]  # the canvas buffer is reused
-        return _save(lambda: _write_mp4(path, frames, seconds), path)
+        fps = max(1.0, len(frames) / seconds)
+        return _save(lambda: write_mp4(path, frames, fps), path)
     # the last frame shows every path and job, so its colours make the shared palette
     palette, lut = _palette(draw_at(float(times[-1])))
     frames = [_indexed(draw_at(float(t)), lut) for t in times]
@@ -527,39 +529,6 @@ def _write_gif(path: Path, frames: list[np.ndarray], palette: bytes, durations: 
         optimize=False,
         disposal=1,
     )
-
-
-def _write_mp4(path: Path, frames: list[np.ndarray], seconds: float) -> None:
-    """RGB frames → H.264 MP4 with imageio's ffmpeg plugin (imageio-ffmpeg ships the binary).
-
-    The frame rate spreads the frames over ``seconds``; the last frame is held for two seconds
-    like the GIF's. Frames are padded with white to even sizes, which yuv420p requires (instead
-    of imageio's default resize to multiples of 16, which would blur the grid).
-    """
-    try:
-        import imageio.v2 as iio
-        import imageio_ffmpeg  # noqa: F401  (the plugin's binary; fail clearly without it)
-    except ImportError:
-        raise InputError(
-            "--render .mp4 needs imageio-ffmpeg (pip install imageio-ffmpeg)"
-        ) from None
-    h, w = frames[0].shape[:2]
-    pad = ((0, h % 2), (0, w % 2), (0, 0))
-    fps = max(1.0, len(frames) / seconds)
-    hold = [frames[-1]] * int(round(2 * fps))
-    writer = iio.get_writer(
-        path,
-        format="FFMPEG",
-        mode="I",
-        fps=fps,
-        codec="libx264",
-        pixelformat="yuv420p",
-        macro_block_size=1,
-        ffmpeg_log_level="error",
-    )
-    with writer:
-        for f in [*frames, *hold]:
-            writer.append_data(np.pad(f, pad, constant_values=255) if any(pad[0] + pad[1]) else f)
 
 
 def render_traversal(record_or_run: Any, world, path: str | Path) -> Path:

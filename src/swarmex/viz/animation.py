@@ -1,0 +1,102 @@
+"""Write an animation — a list of RGB frames — to ``.gif`` or ``.mp4``, chosen by the suffix.
+
+Every mission's ``--render`` goes through here so the formats behave the same everywhere:
+the same suffix check and message, the same frame timing (the last frame is held so the final
+state can be read), the same even-size padding for H.264, and the same one-line
+:class:`~swarmex.errors.InputError` when the file cannot be written or the MP4 encoder is
+missing. The missions only draw frames; they never talk to imageio or Pillow themselves.
+
+GIFs are written with Pillow through imageio (adaptive palette per frame, which is fine for
+the few flat colours of these drawings). The traversal animation keeps its own palette-GIF
+writer because it shares one precomputed palette across hundreds of big frames for speed.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+
+from swarmex.errors import InputError
+
+ANIMATION_SUFFIXES = (".gif", ".mp4")
+RENDER_SUFFIXES = (".png", *ANIMATION_SUFFIXES)
+HOLD_SECONDS = 2.0  # the final state stays on screen this long before the loop restarts
+
+
+def check_suffix(path: Path, suffixes: Sequence[str] = RENDER_SUFFIXES) -> str:
+    """The lower-case suffix of ``path``, or an InputError naming the allowed ones.
+
+    Called before a run starts so a typo in ``--render`` costs nothing.
+    """
+    suffix = path.suffix.lower()
+    if suffix not in suffixes:
+        allowed = " or ".join(
+            [", ".join(suffixes[:-1]), suffixes[-1]] if suffixes[:-1] else suffixes
+        )
+        raise InputError(f"--render must end in {allowed}, got {path.name!r}")
+    return suffix
+
+
+def write_animation(path: str | Path, frames: Sequence[np.ndarray], fps: float) -> Path:
+    """Write RGB uint8 ``frames`` (all the same shape) as a GIF or an MP4 by ``path``'s suffix.
+
+    ``fps`` is the playback rate of the frames; the last one is then held for
+    :data:`HOLD_SECONDS` in both formats.
+    """
+    path = Path(path)
+    suffix = check_suffix(path, ANIMATION_SUFFIXES)
+    if not frames:
+        raise ValueError("an animation needs at least one frame")
+    fps = max(float(fps), 0.5)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        if suffix == ".mp4":
+            write_mp4(path, frames, fps)
+        else:
+            _write_gif(path, frames, fps)
+    except OSError as exc:
+        raise InputError(f"cannot write {path}: {exc.strerror or exc}") from None
+    return path
+
+
+def _write_gif(path: Path, frames: Sequence[np.ndarray], fps: float) -> None:
+    import imageio.v2 as iio
+
+    step = max(20, int(round(1000.0 / fps)))  # ms; browsers clamp shorter delays anyway
+    durations = [step] * (len(frames) - 1) + [int(1000 * HOLD_SECONDS)]
+    iio.mimsave(path, list(frames), format="GIF", duration=durations, loop=0)
+
+
+def write_mp4(path: Path, frames: Sequence[np.ndarray], fps: float) -> None:
+    """RGB frames → H.264 MP4 with imageio's ffmpeg plugin (imageio-ffmpeg ships the binary).
+
+    The last frame is held for :data:`HOLD_SECONDS` like the GIF's. Frames are padded with
+    white to even sizes, which yuv420p requires (instead of imageio's default resize to
+    multiples of 16, which would blur grids drawn one pixel per cell).
+    """
+    try:
+        import imageio.v2 as iio
+        import imageio_ffmpeg  # noqa: F401  (the plugin's binary; fail clearly without it)
+    except ImportError:
+        raise InputError(
+            "--render .mp4 needs imageio-ffmpeg (pip install imageio-ffmpeg)"
+        ) from None
+    h, w = frames[0].shape[:2]
+    pad = ((0, h % 2), (0, w % 2), (0, 0))
+    hold = [frames[-1]] * int(round(HOLD_SECONDS * fps))
+    writer = iio.get_writer(
+        path,
+        format="FFMPEG",
+        mode="I",
+        fps=fps,
+        codec="libx264",
+        pixelformat="yuv420p",
+        macro_block_size=1,
+        ffmpeg_log_level="error",
+    )
+    with writer:
+        for f in [*frames, *hold]:
+            f = np.ascontiguousarray(f[..., :3], dtype=np.uint8)
+            writer.append_data(np.pad(f, pad, constant_values=255) if any(pad[0] + pad[1]) else f)
