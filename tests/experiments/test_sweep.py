@@ -254,11 +254,8 @@ def test_ray_backend_without_ray_exits_2_with_one_line(tmp_path, capsys, monkeyp
     ]
 
 
-@pytest.mark.skipif(
-    os.environ.get("SWARMEX_SLOW") != "1",
-    reason="slow: starting Ray takes ~20 s here; set SWARMEX_SLOW=1 to run",
-)
 def test_ray_equals_serial(tmp_path):
+    """Ray (installed with the dev extra) gives the serial backend's table and records."""
     pytest.importorskip("ray", reason="ray is not installed (pip install 'swarmex[ray]')")
     path = write_spec(tmp_path)
     sweep(path, tmp_path / "serial")
@@ -364,12 +361,19 @@ def crash_or_run(task, runs_dir):
     return run_task(task, runs_dir)
 
 
+def tiny_traversal_tasks(n: int) -> list:
+    """``n`` 3x3 single-agent traversal tasks, ids r0..r{n-1} (seed = index)."""
+    from swarmex.experiments.sweep_worker import Task
+
+    argv = ["--grid", "3x3", "--agents", "1", "--seed"]
+    return [Task(i, f"r{i}", "traverse", [*argv, str(i)]) for i in range(n)]
+
+
 def test_a_run_that_kills_its_worker_is_recorded_and_the_rest_finish(tmp_path):
     from swarmex.experiments.sweep import _local
     from swarmex.experiments.sweep_worker import Task
 
-    argv = ["--grid", "3x3", "--agents", "1", "--seed"]
-    tasks = [Task(i, f"r{i}", "traverse", [*argv, str(i)]) for i in range(4)]
+    tasks = tiny_traversal_tasks(4)
     tasks.insert(1, Task(99, "boom", "crash", []))
     got = []
     _local(tasks, 2, "traversal", tmp_path, got.append, runner=crash_or_run)
@@ -395,8 +399,7 @@ def test_a_crash_inside_a_chunk_loses_only_unfinished_runs(tmp_path):
     from swarmex.experiments.sweep import _local
     from swarmex.experiments.sweep_worker import Task
 
-    argv = ["--grid", "3x3", "--agents", "1", "--seed"]
-    tasks = [Task(i, f"r{i}", "traverse", [*argv, str(i)]) for i in range(60)]
+    tasks = tiny_traversal_tasks(60)
     tasks.insert(30, Task(99, "boom", "crash", []))
     got = []
     _local(tasks, 2, "traversal", tmp_path, got.append, runner=crash_or_run)

@@ -15,28 +15,11 @@ from typing import Any
 import typer
 from rich.console import Console
 from rich.measure import Measurement
-from rich.progress import (
-    BarColumn,
-    MofNCompleteColumn,
-    Progress,
-    ProgressColumn,
-    TextColumn,
-    TimeElapsedColumn,
-    TimeRemainingColumn,
-)
 from rich.table import Table
-from rich.text import Text
 
 from swarmex.cli.app import app, console, err_console
 from swarmex.errors import InputError
-
-
-class RateColumn(ProgressColumn):
-    """Runs per second over Rich's recent window (the ETA uses the same estimate)."""
-
-    def render(self, task: Any) -> Text:
-        speed = task.finished_speed or task.speed
-        return Text("  …  runs/s" if speed is None else f"{speed:6.1f} runs/s", style="cyan")
+from swarmex.experiments.progress import runs_progress
 
 
 def mission_shapes(command_name: str, where: Path):
@@ -90,17 +73,7 @@ def sweep(
     spec = load_sweep_spec(spec_file)
     shapes = mission_shapes(spec.command, spec_file)
     out_dir = out if out is not None else Path(f"{spec_file.stem}-sweep")
-    progress = Progress(
-        TextColumn("[bold]{task.description}"),
-        BarColumn(),
-        MofNCompleteColumn(),
-        RateColumn(),
-        TimeElapsedColumn(),
-        TextColumn("ETA"),
-        TimeRemainingColumn(),
-        console=err_console,
-        transient=False,
-    )
+    progress = runs_progress("sweep", err_console, detail=True)
     state = {"task": None, "failed": 0}
 
     def on_start(total: int, finished: int) -> None:
@@ -109,13 +82,13 @@ def sweep(
             f"sweep: {total} runs of swarmex {spec.command} ({finished} finished before,"
             f" {todo} to run) → {out_dir}"
         )
-        state["task"] = progress.add_task("sweep", total=total, completed=finished)
+        state["task"] = progress.add_task("", total=total, completed=finished)
         progress.start()  # its drawing thread starts only now, after the workers are forked
 
     def on_outcome(outcome: Any) -> None:
         if not outcome.ok:
             state["failed"] += 1
-            progress.update(state["task"], description=f"sweep ({state['failed']} failed)")
+            progress.update(state["task"], description=f"({state['failed']} failed)")
         progress.advance(state["task"])
 
     # SIGTERM (a scheduler, `kill`) stops the sweep as cleanly as Ctrl-C: table written

@@ -27,6 +27,8 @@ from typing import Any
 
 import numpy as np
 
+from swarmex.experiments.progress import read_journal, runs_progress
+
 G = 128
 UNITS = 100
 BANDS = ("0-20", "20-40", "40-60", "60-80", "80-100", "random")
@@ -129,32 +131,17 @@ def tasks(foods: dict[str, list[tuple[int, int]]]) -> list[tuple[str, int, str, 
 
 
 def load_runs(path: Path) -> dict[str, dict[str, Any]]:
-    runs: dict[str, dict[str, Any]] = {}
-    if path.exists():
-        for line in path.read_text(encoding="utf-8").splitlines():
-            try:
-                r = json.loads(line)
-            except json.JSONDecodeError:
-                continue  # a torn last line from an interrupted run
-            runs[r["key"]] = r
-    return runs
+    return read_journal(path)
 
 
 def execute(todo: list, runs_path: Path, workers: int) -> None:
-    from rich.progress import BarColumn, Progress, TextColumn, TimeRemainingColumn
-
     done = load_runs(runs_path)
     todo = [t for t in todo if run_key(t[0], t[1], t[2], t[3], t[5]) not in done]
     if not todo:
         return
     with (
         runs_path.open("a", encoding="utf-8") as fh,
-        Progress(
-            TextColumn("foraging runs"),
-            BarColumn(),
-            TextColumn("{task.completed}/{task.total}"),
-            TimeRemainingColumn(),
-        ) as bar,
+        runs_progress("foraging") as bar,
     ):
         job = bar.add_task("runs", total=len(todo))
         if workers <= 1:

@@ -28,9 +28,9 @@ from pathlib import Path
 from typing import Any
 
 from rich.console import Console
-from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
 from swarmex import __version__
+from swarmex.experiments.progress import read_journal, runs_progress
 from swarmex.missions.roadmap.scenario import make_scenario, run_scenario
 from swarmex.worlds.polygon import PolygonWorld, parse_polygon_json
 
@@ -157,18 +157,6 @@ def run_job(job: Job) -> dict[str, Any]:
             **{k: m.get(k) for k in keep}, "wall_seconds": round(rec.wall_seconds, 4)}
 
 
-def load_journal(path: Path) -> dict[str, dict[str, Any]]:
-    done: dict[str, dict[str, Any]] = {}
-    if path.exists():
-        for line in path.read_text(encoding="utf-8").splitlines():
-            try:
-                d = json.loads(line)
-            except json.JSONDecodeError:
-                continue  # a torn last line from an interrupted run
-            done[d["key"]] = d
-    return done
-
-
 def reproduce(out: str | Path, quick: bool = False, console: Console | None = None) -> Path:
     from swarmex.viz.roadmap_report import write_report
 
@@ -176,13 +164,11 @@ def reproduce(out: str | Path, quick: bool = False, console: Console | None = No
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     journal = out / "roadmap_runs.jsonl"
-    done = load_journal(journal)
+    done = read_journal(journal)
     jobs = plan(quick)
     todo = [j for j in jobs if j.key not in done]
     t0 = time.perf_counter()
-    columns = (TextColumn("[bold]roadmap[/]"), BarColumn(), MofNCompleteColumn(),
-               TextColumn("{task.description}"), TimeElapsedColumn())
-    with Progress(*columns, console=console, transient=False) as bar, \
+    with runs_progress("roadmap", console, detail=True) as bar, \
             journal.open("a", encoding="utf-8") as fh:
         task = bar.add_task("", total=len(jobs), completed=len(jobs) - len(todo))
         for job in todo:

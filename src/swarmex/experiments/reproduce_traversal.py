@@ -591,25 +591,8 @@ def reproduce(
 
     Returns a small summary (paths, runs executed, elapsed seconds) for the CLI to print.
     """
-    from rich.progress import (
-        BarColumn,
-        MofNCompleteColumn,
-        Progress,
-        ProgressColumn,
-        TextColumn,
-        TimeElapsedColumn,
-        TimeRemainingColumn,
-    )
-    from rich.text import Text
-
+    from swarmex.experiments.progress import runs_progress
     from swarmex.experiments.reproduce_traversal_report import write_outputs
-
-    class RateColumn(ProgressColumn):
-        """Runs per second (Rich's own speed column formats bytes)."""
-
-        def render(self, task) -> Text:
-            speed = task.finished_speed or task.speed
-            return Text("–" if speed is None else f"{speed:.1f} runs/s", style="cyan")
 
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
@@ -631,18 +614,7 @@ def reproduce(
     t0 = time.perf_counter()
     executed = 0
     try:
-        with Progress(
-            TextColumn("[bold]traversal[/bold]"),
-            BarColumn(),
-            MofNCompleteColumn(),
-            RateColumn(),
-            TimeElapsedColumn(),
-            TextColumn("ETA"),
-            TimeRemainingColumn(),
-            console=console,
-            transient=False,
-            disable=console is None,
-        ) as bar:
+        with runs_progress("traversal", console, disable=console is None) as bar:
             task = bar.add_task("runs", total=len(specs), completed=already)
 
             def tick(_: dict[str, Any]) -> None:

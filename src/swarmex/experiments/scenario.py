@@ -63,18 +63,24 @@ class Scenario:
         return MISSIONS[self.mission]
 
 
+def read_toml(path: Path, what: str) -> dict[str, Any]:
+    """A TOML file's table; a missing, unreadable or malformed file is one InputError line
+    (``what`` names the file's role: "scenario file", "sweep spec")."""
+    try:
+        return tomllib.loads(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise InputError(f"{what} not found: {path}") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        reason = getattr(exc, "strerror", None) or str(exc)
+        raise InputError(f"cannot read {what} {path}: {reason}") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(f"{path}: not valid TOML: {exc}") from None
+
+
 def load_scenario(path: str | Path) -> Scenario:
     """Read and check a scenario file; every problem is an InputError naming the file."""
     path = Path(path)
-    try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise InputError(f"scenario file not found: {path}") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        reason = getattr(exc, "strerror", None) or str(exc)
-        raise InputError(f"cannot read scenario file {path}: {reason}") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise InputError(f"{path}: not valid TOML: {exc}") from None
+    data = read_toml(path, "scenario file")
     mission = data.pop("mission", None)
     if mission is None:
         raise InputError(f'{path}: no mission key (e.g. mission = "traversal")')

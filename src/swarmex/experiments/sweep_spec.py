@@ -29,13 +29,18 @@ from __future__ import annotations
 import hashlib
 import itertools
 import json
-import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 from swarmex.errors import InputError
-from swarmex.experiments.scenario import MISSIONS, OptionShape, Scenario, scenario_argv
+from swarmex.experiments.scenario import (
+    MISSIONS,
+    OptionShape,
+    Scenario,
+    read_toml,
+    scenario_argv,
+)
 
 # columns the sweep itself writes; a spec key may not take one of these names
 RESERVED = ("run", "seed", "complete", "makespan", "time_unit", "wall_seconds", "error")
@@ -114,16 +119,7 @@ def algorithm_option(shapes: dict[str, OptionShape], path: Path, command: str) -
 def load_sweep_spec(path: str | Path) -> SweepSpec:
     """Read and check a spec; every problem is an InputError naming the file and the key."""
     path = Path(path)
-    try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise InputError(f"sweep spec not found: {path}") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        reason = getattr(exc, "strerror", None) or str(exc)
-        raise InputError(f"cannot read sweep spec {path}: {reason}") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise InputError(f"{path}: not valid TOML: {exc}") from None
-    return parse_sweep_spec(data, path)
+    return parse_sweep_spec(read_toml(path, "sweep spec"), path)
 
 
 def parse_sweep_spec(data: dict[str, Any], path: Path) -> SweepSpec:
