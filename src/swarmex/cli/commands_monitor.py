@@ -55,7 +55,19 @@ def run_scenario_record(scenario: Path) -> dict:
         return read_record(out)
 
 
-def free_cells(record: dict):
+def _path(text: str, base: Path | None) -> Path:
+    """A path from a record: as written (the run's working directory), else beside ``base``.
+
+    Records store paths as they were typed, so a record replayed from elsewhere finds its map
+    next to the record file.
+    """
+    p = Path(text).expanduser()
+    if not p.is_absolute() and not p.exists() and base is not None and (base / p).exists():
+        return base / p
+    return p
+
+
+def free_cells(record: dict, base: Path | None = None):
     """The map of a traversal record (rebuilt from its params), else None (bounds only)."""
     params = record.get("params") or {}
     if record.get("mission") != "traversal" or (record.get("world") or {}).get("kind") != "grid":
@@ -63,12 +75,122 @@ def free_cells(record: dict):
     from swarmex.cli.commands_traversal import build_world
 
     try:
-        map_file = Path(params["map"]) if params.get("map") else None
+        map_file = _path(params["map"], base) if params.get("map") else None
         obstacles = [tuple(c) for c in params.get("obstacles") or []]
         world = build_world(map_file, params.get("grid"), obstacles, params.get("connectivity", 4))
     except (InputError, KeyError, TypeError):
         return None  # the map moved or the record is from elsewhere: draw the bounds only
     return world.free
+
+
+def foraging_world(record: dict) -> dict:
+    """The g×g grid of a foraging record (every cell free) with its nest and food marked.
+
+    As ``swarmex forage`` has it: the nest is the grid's centre cell (``nest_of``), the food
+    the cell the command chose (given or drawn from the seed), which the record keeps.
+    """
+    import numpy as np
+
+    from swarmex.missions.foraging.grid import nest_of
+    from swarmex.viz.monitor.events import world_event
+
+    params = record.get("params") or {}
+    g = int(params["grid"])
+    nx, ny = nest_of(g)
+    marks: list[dict[str, Any]] = [{"kind": "nest", "x": nx, "y": ny}]
+    if params.get("food") is not None:
+        fx, fy = (int(v) for v in params["food"])
+        marks.append({"kind": "food", "x": fx, "y": fy, "units": params.get("food_units")})
+    return world_event(record, np.ones((g, g), dtype=bool), marks=marks)
+
+
+def exploration_world(record: dict, base: Path | None) -> dict | None:
+    """The true occupancy grid of an exploration record, loaded as ``swarmex explore`` does."""
+    import re
+
+    from swarmex.cli.commands_exploration import load_world
+    from swarmex.viz.monitor.events import world_event
+
+    world = record.get("world") or {}
+    cell = world.get("cell_m", (record.get("params") or {}).get("cell"))
+    source = str(world.get("source", ""))
+    empty = re.fullmatch(r"empty (\S+)x(\S+) m", source)
+    if empty:  # --empty WxH: the record names the size in its source
+        grid = load_world(None, f"{empty.group(1)}x{empty.group(2)}", cell)
+    else:
+        grid = load_world(_path(source, base), None, cell)
+    if (grid.world.width, grid.world.height) != (world.get("width"), world.get("height")):
+        return None  # not the map the run used
+    return world_event(record, grid.free)
+
+
+def roadmap_world(record: dict, base: Path | None) -> dict | None:
+    """The polygon world of a roadmap record (its ``--env`` file), the roadmap and the goal."""
+    import shapely
+    from shapely.geometry import Polygon
+
+    from swarmex.viz.monitor.events import world_event
+    from swarmex.worlds.polygon import load_polygon_world
+
+    world = record.get("world") or {}
+    pw = load_polygon_world(_path(str((record.get("params") or {})["env"]), base))
+    if world.get("bounds") is not None and not all(
+        abs(a - b) <= 1e-9 * max(1.0, abs(b))
+        for a, b in zip(pw.bounds, world["bounds"], strict=True)
+    ):
+        return None  # the file changed since the run
+
+    def ring(coords: Any) -> list[list[float]]:
+        return [[round(x, 6), round(y, 6)] for x, y in list(coords)[:-1]]
+
+    rings = []
+    for part in shapely.get_parts(pw.union):
+        if isinstance(part, Polygon):  # disjoint parts: even-odd filling is exact
+            rings += [ring(part.exterior.coords), *(ring(h.coords) for h in part.interiors)]
+    edges: list[list[float]] = []
+    roadmap = record.get("roadmap") or {}
+    nodes = roadmap.get("nodes") or []
+    for i, j in roadmap.get("edges") or []:
+        edges.append([*nodes[i], *nodes[j]])
+    for a, b in roadmap.get("legs") or []:  # entry legs and the leg to the goal
+        edges.append([*a, *b])
+    marks = []
+    goal = record.get("goal")
+    if goal is not None:
+        marks.append({"kind": "goal", "x": goal[0], "y": goal[1]})
+    return world_event(
+        record,
+        bounds=list(pw.bounds),
+        y_up=not pw.y_down,
+        polygons=rings,
+        edges=edges,
+        marks=marks,
+    )
+
+
+def record_world(record: dict, base: Path | None = None) -> dict:
+    """The world event of any mission's record, its map rebuilt from the record's parameters
+    the way the mission's command built it; the bounds only when that cannot be done (the map
+    file moved or changed, a record from elsewhere).
+
+    ``base`` is a second folder to look for relative map paths in (the record file's).
+    """
+    from swarmex.viz.monitor.events import world_event
+
+    mission = record.get("mission")
+    built: dict | None = None
+    try:
+        if mission == "traversal":
+            built = world_event(record, free_cells(record, base))
+        elif mission == "foraging":
+            built = foraging_world(record)
+        elif mission == "exploration":
+            built = exploration_world(record, base)
+        elif mission == "roadmap":
+            built = roadmap_world(record, base)
+    except (InputError, KeyError, IndexError, TypeError, ValueError, OSError):
+        built = None
+    return built if built is not None else world_event(record)
 
 
 @app.command()
@@ -139,7 +261,8 @@ def monitor(
     server = MonitorServer(port, record)
     producer: Any = None
     if record is not None:
-        events = record_events(record, free_cells(record), speed)
+        base = record_file.resolve().parent if record_file is not None else None
+        events = record_events(record, speed=speed, world=record_world(record, base))
 
         def producer(hub):
             return replay(hub, events, speed, wait)
