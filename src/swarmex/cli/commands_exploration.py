@@ -63,7 +63,8 @@ def explore(
     laser_range: float = typer.Option(2.0, "--laser-range", help="Laser range, metres."),
     comm_range: float = typer.Option(10.0, "--comm-range", help="Radio range, metres."),
     strategy: str = typer.Option(
-        "greedy-exclusion", "--strategy",
+        "greedy-exclusion",
+        "--strategy",
         help="greedy | greedy-exclusion | utility | minpos | hungarian",
     ),
     starts: str = typer.Option(None, "--starts", help="Start cells 'x,y;x,y;…'."),
@@ -72,7 +73,9 @@ def explore(
     beams: int = typer.Option(360, "--beams", help="Laser beams per 360° scan."),
     max_ticks: int = typer.Option(None, "--max-ticks", help="Stop after this many steps."),
     json_path: Path = typer.Option(None, "--json", help="Write the result record here."),
-    render: Path = typer.Option(None, "--render", help="Picture of the run (.png or .gif)."),
+    render: Path = typer.Option(
+        None, "--render", help="Picture (.png) or animation (.gif, .mp4) of the run."
+    ),
     processes: bool = typer.Option(
         False, "--processes", help="One OS process per robot plus a display, over ZeroMQ."
     ),
@@ -88,12 +91,18 @@ def explore(
     from swarmex.missions.exploration import ExplorationParams, parse_starts, run_exploration
     from swarmex.missions.exploration.record import exploration_record
 
-    if render is not None and render.suffix.lower() not in (".png", ".gif"):
-        raise InputError(f"--render must end in .png or .gif, got {render.name}")
+    if render is not None and render.suffix.lower() not in (".png", ".gif", ".mp4"):
+        raise InputError(f"--render must end in .png, .gif or .mp4, got {render.name}")
     grid = load_world(map_path, empty, cell)
     params = ExplorationParams(
-        robots=robots, laser_range=laser_range, comm_range=comm_range, strategy=strategy,
-        robot_radius=robot_radius, beams=beams, starts=parse_starts(starts), seed=seed,
+        robots=robots,
+        laser_range=laser_range,
+        comm_range=comm_range,
+        strategy=strategy,
+        robot_radius=robot_radius,
+        beams=beams,
+        starts=parse_starts(starts),
+        seed=seed,
         max_ticks=max_ticks,
     )
     if processes:
@@ -105,7 +114,8 @@ def explore(
         raise typer.Exit(0 if rec["complete"] else 1)
     if inject_loss:
         raise InputError("--inject-loss needs --processes")
-    recorder = FrameRecorder() if render is not None and render.suffix.lower() == ".gif" else None
+    animate = render is not None and render.suffix.lower() in (".gif", ".mp4")
+    recorder = FrameRecorder() if animate else None
     run = run_exploration(grid, params, on_frame=recorder, frame_every=1 if recorder else 0)
     record = exploration_record(run)
     m = record.metrics
@@ -119,11 +129,11 @@ def explore(
     if json_path is not None:
         write_record(record, json_path)
     if render is not None:
-        from swarmex.viz.exploration import exploration_gif, exploration_png
+        from swarmex.viz.exploration import exploration_animation, exploration_png
 
         if recorder is not None:
             recorder.finish(run)
-            exploration_gif(recorder.frames, run, render)
+            exploration_animation(recorder.frames, run, render)
         else:
             exploration_png(run, render)
 

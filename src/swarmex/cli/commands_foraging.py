@@ -48,7 +48,9 @@ def forage(
     food_units: int = typer.Option(100, "--food-units", help="Units k at the food cell."),
     seed: int = typer.Option(0, "--seed", help="Seed of every random choice."),
     json_out: Path | None = typer.Option(None, "--json", help="Write the result record here."),
-    render: Path | None = typer.Option(None, "--render", help="Draw the run (.png or .gif)."),
+    render: Path | None = typer.Option(
+        None, "--render", help="Draw the run (.png) or animate it (.gif, .mp4)."
+    ),
 ) -> None:
     """Find food on a g×g grid, spread the word, carry k units home (seed 002)."""
     from swarmex.engine.record import write_record
@@ -62,7 +64,7 @@ def forage(
     if food is not None and food_distance is not None:
         raise InputError("give at most one of --food and --food-distance")
     _check_out(json_out, "--json")
-    _check_out(render, "--render", (".png", ".gif"))
+    _check_out(render, "--render", (".png", ".gif", ".mp4"))
     rng = np.random.default_rng(seed)
     if food is not None:
         cell = parse_cell(food, grid)

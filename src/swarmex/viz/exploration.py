@@ -1,11 +1,13 @@
 """Pictures of exploration runs: the team's map with the robots' paths (PNG) and its growth
-over time (GIF).
+over time (GIF or MP4).
 
 Colours follow the thesis's Fig. 1.2 in spirit: unknown is grey, known free is white,
 known obstacles are black, true walls nobody has seen are a darker grey; each robot's path
-is drawn in its own colour with a dot where it ended. GIF frames are composed directly as
-numpy RGB arrays (no matplotlib per frame), so a 400×400 animation of a few hundred frames
-costs about a second.
+is drawn in its own colour with a dot where it ended. Animation frames also paint the
+frontier (known free cells next to unknown ones, what the strategies choose goals from) in
+gold and each robot's current goal as a hollow square in its colour, so one sees why robots
+head where they do. Frames are composed directly as numpy RGB arrays (no matplotlib per
+frame), so a 400×400 animation of a few hundred frames costs about a second.
 """
 
 from __future__ import annotations
@@ -16,11 +18,13 @@ from pathlib import Path
 import numpy as np
 
 from swarmex.errors import InputError
+from swarmex.viz.animation import write_animation
 
 UNKNOWN = np.array([170, 170, 170], dtype=np.uint8)
 FREE = np.array([255, 255, 255], dtype=np.uint8)
 OCCUPIED = np.array([0, 0, 0], dtype=np.uint8)
 HIDDEN_WALL = np.array([120, 120, 120], dtype=np.uint8)
+FRONTIER = np.array([255, 190, 0], dtype=np.uint8)
 
 
 def robot_colours(n: int) -> np.ndarray:
@@ -57,6 +61,17 @@ def base_rgb(known: np.ndarray, truth_free: np.ndarray) -> np.ndarray:
     return img
 
 
+def frontier_mask(known: np.ndarray) -> np.ndarray:
+    """Known free cells with an unknown 4-neighbour: the boundary the team explores from."""
+    unknown = known == 0
+    near = np.zeros_like(unknown)
+    near[1:] |= unknown[:-1]
+    near[:-1] |= unknown[1:]
+    near[:, 1:] |= unknown[:, :-1]
+    near[:, :-1] |= unknown[:, 1:]
+    return (known == 1) & near
+
+
 def paths_until(trajectories: list[list[tuple[int, int, int]]], t: int) -> list[np.ndarray]:
     out = []
     for tr in trajectories:
@@ -66,23 +81,43 @@ def paths_until(trajectories: list[list[tuple[int, int, int]]], t: int) -> list[
 
 
 def rgb_frame(snap: Snapshot, trajectories, truth_free: np.ndarray, scale: int = 1) -> np.ndarray:
-    """One animation frame: map and paths in cells, robots as dots of a few pixels."""
+    """One animation frame: map, frontier and paths in cells; goals and robots in pixels."""
     img = base_rgb(snap.known, truth_free)
+    img[frontier_mask(snap.known)] = FRONTIER
     cols = robot_colours(len(trajectories))
     for i, p in enumerate(paths_until(trajectories, snap.t)):
         if p.size:
             img[p[:, 1], p[:, 0]] = cols[i]
     if scale > 1:
         img = img.repeat(scale, axis=0).repeat(scale, axis=1)
-    r = max(2, scale // 2)
+    r = max(3, scale)  # robots outsize a path cell, with a black rim, so they stand out
+
+    def box(cx: int, cy: int, half: int) -> tuple[slice, slice]:
+        return slice(max(0, cy - half), cy + half + 1), slice(max(0, cx - half), cx + half + 1)
+
+    for i, goal in enumerate(snap.goals):
+        if goal is None:
+            continue
+        gx, gy = goal[0] * scale + scale // 2, goal[1] * scale + scale // 2
+        outer = img[box(gx, gy, r + 2)]
+        saved = img[box(gx, gy, r)].copy()
+        outer[:] = cols[i]  # a hollow square two pixels thick: fill, then restore the inside
+        img[box(gx, gy, r)] = saved
     for i, (x, y) in enumerate(snap.positions):
         cx, cy = x * scale + scale // 2, y * scale + scale // 2
-        img[max(0, cy - r) : cy + r + 1, max(0, cx - r) : cx + r + 1] = cols[i]
+        img[box(cx, cy, r + 1)] = OCCUPIED
+        img[box(cx, cy, r)] = cols[i]
     return img
 
 
-def draw(ax, snap: Snapshot, trajectories, truth_free: np.ndarray, title: str = "",
-         laser_cells: float | None = None) -> None:
+def draw(
+    ax,
+    snap: Snapshot,
+    trajectories,
+    truth_free: np.ndarray,
+    title: str = "",
+    laser_cells: float | None = None,
+) -> None:
     """A matplotlib panel: the team map, paths, robot positions (and goals' exclusion discs)."""
     ax.imshow(base_rgb(snap.known, truth_free), interpolation="nearest")
     cols = robot_colours(len(trajectories)) / 255.0
@@ -117,28 +152,28 @@ def exploration_png(run, path: str | Path, title: str | None = None) -> Path:
     h, w = run.grid.shape
     fig, ax = plt.subplots(figsize=(6, 6 * h / max(w, 1) + 0.4), dpi=120)
     p = run.params
-    draw(ax, snap, run.trajectories, run.grid.free, title or (
-        f"{p.strategy}: {p.robots} robot(s), laser {p.laser_range:g} m, comm "
-        f"{p.comm_range:g} m — {run.makespan} steps, explored {run.explored_fraction():.1%}"
-    ))
+    draw(
+        ax,
+        snap,
+        run.trajectories,
+        run.grid.free,
+        title
+        or (
+            f"{p.strategy}: {p.robots} robot(s), laser {p.laser_range:g} m, comm "
+            f"{p.comm_range:g} m — {run.makespan} steps, explored {run.explored_fraction():.1%}"
+        ),
+    )
     _save(fig, path)
     plt.close(fig)
     return path
 
 
-def exploration_gif(frames: list[Snapshot], run, path: str | Path, fps: int = 12) -> Path:
-    import imageio.v2 as imageio
-
-    path = Path(path)
+def exploration_animation(frames: list[Snapshot], run, path: str | Path, fps: int = 12) -> Path:
+    """Write the recorded snapshots as a ``.gif`` or ``.mp4`` (by the suffix)."""
     h, w = run.grid.shape
     scale = max(1, 400 // max(h, w))
     images = [rgb_frame(s, run.trajectories, run.grid.free, scale) for s in frames]
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        imageio.mimsave(path, images, duration=1.0 / fps, loop=0)
-    except OSError as exc:
-        raise InputError(f"cannot write {path}: {exc.strerror}") from None
-    return path
+    return write_animation(path, images, fps)
 
 
 def _save(fig, path: Path) -> None:

@@ -1,9 +1,10 @@
-"""Pictures of a foraging run from its result record: a still (PNG) and an animation (GIF).
+"""Pictures of a foraging run from its result record: a still (PNG), an animation (GIF/MP4).
 
 The still shows what the thesis's pattern figures show (Figs. 14–48): each robot's walk in its
 own colour over the g×g grid, the nest as a star and the food as a square; the exploration part
 (up to the discovery) is drawn solid, everything after it faint. The animation shows robots as
-dots, filled when carrying food, with at most :data:`MAX_FRAMES` frames whatever the run length.
+dots, filled when carrying food, the food square shrinking as it is picked up, and counts of
+units left / carried / home, with at most :data:`MAX_FRAMES` frames whatever the run length.
 Only matplotlib's object API with the Agg canvas is used (headless, no global state).
 """
 
@@ -16,6 +17,8 @@ import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.collections import LineCollection
 from matplotlib.figure import Figure
+
+from swarmex.viz.animation import check_suffix, write_animation
 
 MAX_FRAMES = 120
 
@@ -70,40 +73,83 @@ def render_png(record: dict[str, Any], path: Path) -> None:
     fig.savefig(path)
 
 
-def render_gif(record: dict[str, Any], path: Path) -> None:
-    import imageio.v2 as imageio
+def carried_units(record: dict[str, Any], T: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Per round: which robots are shown carrying, units delivered, units still at the food.
 
+    The record lists pick-ups (at the food) and drops (in the nest) but not relay hand-overs,
+    so whose hands a unit is in between is not recorded. Drops are matched to outstanding
+    pick-ups first-in first-out: a robot is shown carrying from its pick-up until the drop
+    that delivers its unit, so the number of filled dots always equals the units in transit
+    (pick-ups minus drops), which is exact.
+    """
+    n = len(record["agents"])
+    events = sorted(
+        (int(t), kind != "pickup", a)  # pick-ups before drops in the same round
+        for a, ag in enumerate(record["agents"])
+        for t, _x, _y, kind in ag["jobs"]
+    )
+    carrying = np.zeros((n, T), dtype=bool)
+    delivered = np.zeros(T, dtype=np.int64)
+    picked = np.zeros(T, dtype=np.int64)
+    queue: list[tuple[int, int]] = []  # (robot, round of its pick-up) of units in transit
+    for t, is_drop, a in events:
+        if is_drop:
+            delivered[min(t, T - 1) :] += 1
+            if queue:
+                robot, since = queue.pop(0)
+                carrying[robot, since:t] = True
+        else:
+            picked[min(t, T - 1) :] += 1
+            queue.append((a, t))
+    for robot, since in queue:
+        carrying[robot, since:] = True
+    k = int(record["params"]["food_units"])
+    return carrying, delivered, k - picked
+
+
+def animation_frames(record: dict[str, Any], max_frames: int = MAX_FRAMES) -> list[np.ndarray]:
+    """RGB frames of the run: paths so far, robots (filled while carrying), food and nest.
+
+    The food square shrinks as units are picked up and the title counts units left at the
+    food, in transit and delivered, so the transport phase reads at a glance.
+    """
     g = int(record["params"]["grid"])
     nest, food = record["params"]["nest"], record["params"]["food"]
+    k = int(record["params"]["food_units"])
     pos = _positions(record)
     T = pos.shape[1]
-    carrying = np.zeros((len(pos), T), dtype=bool)
-    for a, ag in enumerate(record["agents"]):
-        for t, _x, _y, kind in ag["jobs"]:
-            carrying[a, int(t) :] = kind == "pickup"
-    frames_t = np.unique(np.linspace(0, T - 1, min(MAX_FRAMES, T)).astype(int))
+    carrying, delivered, left = carried_units(record, T)
+    frames_t = np.unique(np.linspace(0, T - 1, min(max_frames, T)).astype(int))
     cols = _colours(len(pos))
+    fig = Figure(figsize=(5, 5), dpi=80)
+    canvas = FigureCanvasAgg(fig)
     images = []
     for t in frames_t:
-        fig = Figure(figsize=(5, 5), dpi=80)
-        canvas = FigureCanvasAgg(fig)
+        fig.clear()
         ax = _axes(fig, g)
-        ax.plot(*nest, marker="*", ms=12, color="black", ls="")
-        ax.plot(*food, marker="s", ms=7, color="red", ls="")
+        ax.plot(*nest, marker="*", ms=14, color="black", ls="", zorder=3)
+        if left[t] > 0:  # the square's area follows the units still at the food
+            ax.plot(*food, marker="s", ms=4 + 8 * np.sqrt(left[t] / k), color="red", ls="")
+        else:
+            ax.plot(*food, marker="s", ms=8, mfc="none", mec="red", ls="")
         for a in range(len(pos)):
-            ax.plot(pos[a, : t + 1, 0], pos[a, : t + 1, 1], color=cols[a], lw=0.5, alpha=0.35)
+            ax.plot(pos[a, : t + 1, 0], pos[a, : t + 1, 1], color=cols[a], lw=0.8, alpha=0.45)
             face = cols[a] if carrying[a, t] else "white"
-            ax.plot(*pos[a, t], marker="o", ms=6, mec=cols[a], mfc=face, ls="")
-        ax.set_title(f"t = {t}", fontsize=9)
+            ax.plot(*pos[a, t], marker="o", ms=6, mec=cols[a], mfc=face, ls="", zorder=4)
+        in_transit = k - int(left[t]) - int(delivered[t])
+        ax.set_title(
+            f"t = {t} · food left {left[t]} · carried {in_transit} · home {delivered[t]}/{k}",
+            fontsize=9,
+        )
         canvas.draw()
         images.append(np.asarray(canvas.buffer_rgba())[:, :, :3].copy())
-    imageio.mimsave(path, images, duration=0.08)
+    return images
 
 
 def render_run(record: dict[str, Any], path: str | Path) -> Path:
+    """Draw (``.png``) or animate (``.gif``, ``.mp4``) a run, by the file's suffix."""
     path = Path(path)
-    if path.suffix.lower() == ".gif":
-        render_gif(record, path)
-    else:
+    if check_suffix(path) == ".png":
         render_png(record, path)
-    return path
+        return path
+    return write_animation(path, animation_frames(record), fps=12)

@@ -1,4 +1,4 @@
-"""Figures of roadmap runs: a PNG of the final state, a GIF of the run step by step.
+"""Figures of roadmap runs: a PNG of the final state, a GIF/MP4 of the run step by step.
 
 Drawn: obstacles (grey), the seen part of the free space (pale green raster), roadmap edges
 coloured by branch (WMA-RRT) or by connected component (PRM), the Main Root (black square),
@@ -19,8 +19,8 @@ from matplotlib.collections import LineCollection  # noqa: E402
 from matplotlib.colors import ListedColormap  # noqa: E402
 from matplotlib.patches import Polygon as MplPolygon  # noqa: E402
 
-from swarmex.errors import InputError  # noqa: E402
 from swarmex.missions.roadmap.sim import RoadmapRun  # noqa: E402
+from swarmex.viz.animation import check_suffix, write_animation  # noqa: E402
 
 PALETTE = plt.get_cmap("tab10").colors
 
@@ -60,21 +60,56 @@ def _first_use(run: RoadmapRun) -> np.ndarray:
     return first
 
 
-def draw(ax, run: RoadmapRun, t: int | None = None, first_use: np.ndarray | None = None,
-         title: str | None = None) -> None:
+def draw(
+    ax,
+    run: RoadmapRun,
+    t: int | None = None,
+    first_use: np.ndarray | None = None,
+    title: str | None = None,
+    built: int | None = None,
+) -> None:
+    """One panel: the world, seen space, roadmap, starts, agents and goal at step ``t``.
+
+    With ``t`` (an animation frame) the edges not yet travelled are grey and each agent's
+    path so far is drawn in its colour. With ``built`` the mission has not started: only the
+    roadmap's first ``built`` nodes and the edges between them are drawn (construction
+    phase), agents stand at their starts.
+    """
     w, rm, r = run.world, run.roadmap, run.raster
+    if built is not None:
+        t, first_use = 0, None
     xmin, ymin, xmax, ymax = w.bounds
     seen = r.seen_mask(t)
     img = np.where(r.free, np.where(seen, 1, 0), 2)
     cmap = ListedColormap(["#ffffff", "#cdeccd", "#ffffff"])
-    ax.imshow(img, origin="lower", extent=(r.x0, r.x0 + r.nx * r.h, r.y0, r.y0 + r.ny * r.h),
-              cmap=cmap, vmin=0, vmax=2, interpolation="nearest", zorder=0)
+    ax.imshow(
+        img,
+        origin="lower",
+        extent=(r.x0, r.x0 + r.nx * r.h, r.y0, r.y0 + r.ny * r.h),
+        cmap=cmap,
+        vmin=0,
+        vmax=2,
+        interpolation="nearest",
+        zorder=0,
+    )
     for poly in w.obstacles:
-        ax.add_patch(MplPolygon(np.asarray(poly.exterior.coords), closed=True, fc="#777777",
-                                ec="#444444", lw=0.5, zorder=1))
+        ax.add_patch(
+            MplPolygon(
+                np.asarray(poly.exterior.coords),
+                closed=True,
+                fc="#777777",
+                ec="#444444",
+                lw=0.5,
+                zorder=1,
+            )
+        )
     segs = rm.pos[rm.edges]
     colors = _edge_colors(run)
-    if t is not None and first_use is not None:
+    if built is not None:
+        exists = rm.edges.max(axis=1) < built if rm.n_edges else np.zeros(0, dtype=bool)
+        segs, colors = segs[exists], [c for c, e in zip(colors, exists, strict=True) if e]
+        ax.plot(*rm.pos[:built].T, ".", color="#555555", ms=2.5, zorder=4)
+    elif t is not None and first_use is not None:
         used = first_use <= t
         ax.add_collection(LineCollection(segs[~used], colors="#bbbbbb", lw=0.4, zorder=2))
         segs, colors = segs[used], [c for c, u in zip(colors, used, strict=True) if u]
@@ -82,6 +117,19 @@ def draw(ax, run: RoadmapRun, t: int | None = None, first_use: np.ndarray | None
     if rm.branch is not None:
         ax.plot(*rm.pos[0], "ks", ms=5, zorder=5)
     ax.plot(rm.starts[:, 0], rm.starts[:, 1], "o", mfc="none", mec="k", ms=4, zorder=5)
+    if t is not None and built is None:
+        for i, tr in enumerate(run.trajectories):
+            arr = np.asarray(tr).reshape(-1, 3)
+            done = arr[arr[:, 0] <= t]
+            ax.plot(
+                *done[:, 1:].T,
+                "-",
+                color=PALETTE[i % len(PALETTE)],
+                lw=2.2,
+                alpha=0.45,
+                zorder=4,
+                solid_capstyle="round",
+            )
     pos = _positions_at(run, t if t is not None else run.steps)
     for i, p in enumerate(pos):
         ax.plot(*p, "^", color=PALETTE[i % len(PALETTE)], mec="k", ms=7, zorder=6)
@@ -98,13 +146,21 @@ def draw(ax, run: RoadmapRun, t: int | None = None, first_use: np.ndarray | None
 
 def summary_title(run: RoadmapRun, t: int | None = None) -> str:
     rng = "∞" if np.isinf(run.sensor_range) else f"{run.sensor_range:g}"
-    cov = run.raster.coverage() if t is None else float(run.raster.seen_mask(t).sum()
-                                                        / max(run.raster.free_cells, 1))
-    s = (f"{run.planner} {run.task}: {run.roadmap.n_nodes} nodes, R={rng}, "
-         f"step {run.steps if t is None else t}, coverage {100 * cov:.1f}%")
+    cov = (
+        run.raster.coverage()
+        if t is None
+        else float(run.raster.seen_mask(t).sum() / max(run.raster.free_cells, 1))
+    )
+    s = (
+        f"{run.planner} {run.task}: {run.roadmap.n_nodes} nodes, R={rng}, "
+        f"step {run.steps if t is None else t}, coverage {100 * cov:.1f}%"
+    )
     if run.task == "search":
-        s += ", goal found" if run.goal_found else (
-            ", goal unreachable" if run.goal_unreachable else ", goal not found")
+        s += (
+            ", goal found"
+            if run.goal_found
+            else (", goal unreachable" if run.goal_unreachable else ", goal not found")
+        )
     return s
 
 
@@ -119,29 +175,43 @@ def render_png(run: RoadmapRun, path: str | Path, title: str | None = None) -> P
     return path
 
 
-def render_gif(run: RoadmapRun, path: str | Path, frames: int = 60) -> Path:
-    import imageio.v2 as imageio
+BUILD_FRAMES = 20  # frames spent on the roadmap's construction before the mission starts
 
-    path = Path(path)
+
+def animation_frames(run: RoadmapRun, frames: int = 60) -> list[np.ndarray]:
+    """RGB frames: the roadmap growing node by node, then the mission step by step.
+
+    The construction is replayed in node order — the order the builder added the nodes (for
+    WMA-RRT every node's parent is older; PRM's merge edges appear once both their nodes
+    exist). The mission part shows agents moving, their paths, edges lighting up in their
+    branch's colour when first travelled, and the seen area spreading.
+    """
     first = _first_use(run)
+    n = run.roadmap.n_nodes
+    sizes = np.unique(np.linspace(1, n, min(BUILD_FRAMES, n)).round().astype(int))
     times = np.unique(np.linspace(0, run.steps, min(frames, run.steps + 1)).round().astype(int))
     images = []
     fig, ax = plt.subplots(figsize=(6, 6 * run.world.height / run.world.width + 0.4), dpi=80)
-    for t in times:
-        ax.clear()
-        draw(ax, run, t=int(t), first_use=first, title=summary_title(run, int(t)))
-        fig.canvas.draw()
-        images.append(np.asarray(fig.canvas.buffer_rgba())[..., :3].copy())
-    plt.close(fig)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    imageio.mimsave(path, images, duration=0.12, loop=0)
-    return path
+    try:
+        for k in sizes:
+            ax.clear()
+            title = f"{run.planner}: building the roadmap, {k}/{n} nodes"
+            draw(ax, run, built=int(k), title=title)
+            fig.canvas.draw()
+            images.append(np.asarray(fig.canvas.buffer_rgba())[..., :3].copy())
+        for t in times:
+            ax.clear()
+            draw(ax, run, t=int(t), first_use=first, title=summary_title(run, int(t)))
+            fig.canvas.draw()
+            images.append(np.asarray(fig.canvas.buffer_rgba())[..., :3].copy())
+    finally:
+        plt.close(fig)
+    return images
 
 
 def render(run: RoadmapRun, path: str | Path) -> Path:
-    suffix = Path(path).suffix.lower()
-    if suffix == ".png":
+    """Draw (``.png``) or animate (``.gif``, ``.mp4``) a run, by the file's suffix."""
+    path = Path(path)
+    if check_suffix(path) == ".png":
         return render_png(run, path)
-    if suffix == ".gif":
-        return render_gif(run, path)
-    raise InputError(f"--render must end in .png or .gif, got {path}")
+    return write_animation(path, animation_frames(run), fps=8)
