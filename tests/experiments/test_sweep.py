@@ -140,6 +140,15 @@ def test_unknown_option_fails_before_running(tmp_path, capsys):
     assert not list((tmp_path / "o").glob("runs/*.json"))
 
 
+def test_missing_required_option_fails_before_running(tmp_path, capsys):
+    path = write_spec(tmp_path, 'mission = "foraging"\nagents = [2, 4]\nseeds = 2\n')
+    code = main(["sweep", str(path), "--backend", "serial", "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err
+    assert code == 2 and len(err.strip().splitlines()) == 1
+    assert "swarmex forage needs --grid" in err and "add grid = " in err
+    assert not list((tmp_path / "o").glob("runs/*"))
+
+
 # ---------------------------------------------------------------------------- results
 
 

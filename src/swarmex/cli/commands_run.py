@@ -34,6 +34,7 @@ def option_shapes(command: Any) -> dict[str, OptionShape]:
             is_flag=bool(getattr(param, "is_flag", False)),
             negation=negation,
             multiple=bool(getattr(param, "multiple", False)),
+            required=bool(getattr(param, "required", False)),
         )
     return shapes
 

@@ -50,6 +50,7 @@ class OptionShape:
     is_flag: bool = False  # a boolean flag: takes no value
     negation: str | None = None  # "--no-quick" when the flag has an off switch
     multiple: bool = False  # may be repeated
+    required: bool = False  # the command refuses to run without it
 
 
 @dataclass(frozen=True)

@@ -100,6 +100,13 @@ class SweepSpec:
                 name = algorithm_option(shapes, self.path, self.command)
             options[name] = value
         options["seed"] = run.seed
+        missing = [n for n, shape in shapes.items() if shape.required and n not in options]
+        if missing:  # before anything runs: otherwise every run would fail the same way
+            wanted = ", ".join(f"{n} = …" for n in missing)
+            raise InputError(
+                f"{self.path}: swarmex {self.command} needs"
+                f" {', '.join('--' + n for n in missing)}; add {wanted} to the spec"
+            )
         return scenario_argv(Scenario(self.path, self.mission, options), shapes)
 
 
