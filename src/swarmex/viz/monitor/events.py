@@ -11,11 +11,11 @@ type       fields
 =========  ==========================================================================
 hello      ``schema`` ("swarmex.monitor/1"), ``mission``, ``algorithm``, ``source``
            ("simulation" | "network"), ``time_unit``, ``agents`` (ids), ``speed``
-           (mission seconds per wall second, null when live), ``title``. Starts a mission:
-           a viewer clears its state. Optional ``messages``: "events" (every message sent
-           comes as a ``message`` event), "totals" (no per-message times: only the end's
-           totals are known, so a rate is n/a) or "none" (the mission sends no messages);
-           absent means "events".
+           (mission seconds per wall second, null when live or unpaced: ``--speed inf``),
+           ``title``. Starts a mission: a viewer clears its state. Optional ``messages``:
+           "events" (every message sent comes as a ``message`` event), "totals" (no
+           per-message times: only the end's totals are known, so a rate is n/a) or "none"
+           (the mission sends no messages); absent means "events".
 world      ``kind`` ("grid" | "graph" | "polygons"), ``width``, ``height``, ``source``,
            ``cells``: rows of ``.`` (free) and ``@`` (blocked), row 0 first, or null when
            the layout is unknown or not a grid (the viewer then draws the bounds only).
@@ -58,6 +58,7 @@ Messages rebuilt from a record (only where the record holds when they were sent)
 from __future__ import annotations
 
 import bisect
+import math
 from typing import Any
 
 import numpy as np
@@ -81,7 +82,7 @@ def hello_event(
         "source": source,
         "time_unit": record.get("time_unit", "s"),
         "agents": [a["id"] for a in record.get("agents", [])],
-        "speed": speed,
+        "speed": speed if speed is None or math.isfinite(speed) else None,  # JSON has no inf
         "title": f"{record.get('mission')} · {record.get('algorithm')} · {world.get('source', '')}",
     }
     if messages is not None:

@@ -40,6 +40,8 @@ INDEX_HTML = r"""<!doctype html>
             margin-right: 5px; vertical-align: -1px; border: 1px solid #0006; }
   h3 { margin: 14px 0 4px; font-size: 13px; }
   #final.hidden { display: none; }
+  .note { color: #666; font-size: 12px; }
+  .note:empty { display: none; }
 </style>
 </head>
 <body>
@@ -53,8 +55,10 @@ INDEX_HTML = r"""<!doctype html>
   <aside>
     <div class="clock">t = <span id="t">0.0</span> <span id="unit">s</span></div>
     <div class="kv"><span>speed</span><b id="speed">–</b></div>
-    <div class="kv"><span>messages / s (last 10 s of mission)</span><b id="rate">0.0</b></div>
-    <div class="kv"><span>messages</span><b id="messages">0</b></div>
+    <div class="kv"><span id="rate-label">messages / s (last 10 s of mission)</span>
+      <b id="rate">0.0</b></div>
+    <div class="kv"><span id="messages-label">messages</span><b id="messages">0</b></div>
+    <div class="note" id="messages-note"></div>
     <div class="kv"><span>jobs</span><b id="jobs">0</b></div>
     <div class="kv"><span>events received</span><b id="events">0</b></div>
     <table id="agents">
@@ -185,6 +189,9 @@ MONITOR_JS = r""""use strict";
 
   function extent() {
     const w = state.world;
+    if (w && Array.isArray(w.bounds) && w.bounds.length === 4) {
+      return { x0: w.bounds[0], y0: w.bounds[1], x1: w.bounds[2], y1: w.bounds[3] };
+    }
     if (w && w.width && w.height) {
       return w.kind === "grid"
         ? { x0: -0.5, y0: -0.5, x1: w.width - 0.5, y1: w.height - 0.5 }
@@ -204,7 +211,8 @@ MONITOR_JS = r""""use strict";
     const scale = Math.min((w - 2 * margin) / (e.x1 - e.x0), (h - 2 * margin) / (e.y1 - e.y0));
     const ox = (w - scale * (e.x1 - e.x0)) / 2 - scale * e.x0;
     const oy = (h - scale * (e.y1 - e.y0)) / 2 - scale * e.y0;
-    view = { w, h, scale, ox, oy, e };
+    // y_up worlds (polygon JSON files) put y = y0 at the bottom: mirror y inside the extent
+    view = { w, h, scale, ox, oy, e, flip: !!(state.world && state.world.y_up) };
     background = makeBackground();
     jobLayer = document.createElement("canvas");
     jobLayer.width = w; jobLayer.height = h;
@@ -213,7 +221,7 @@ MONITOR_JS = r""""use strict";
   }
 
   const px = (x) => view.ox + view.scale * x;
-  const py = (y) => view.oy + view.scale * y;
+  const py = (y) => view.oy + view.scale * (view.flip ? view.e.y0 + view.e.y1 - y : y);
 
   function makeBackground() {
     const bg = document.createElement("canvas");
@@ -251,9 +259,65 @@ MONITOR_JS = r""""use strict";
       }
     } else {
       g.fillStyle = "#fff";
-      g.fillRect(px(e.x0), py(e.y0), (e.x1 - e.x0) * view.scale, (e.y1 - e.y0) * view.scale);
+      g.fillRect(px(e.x0), Math.min(py(e.y0), py(e.y1)), (e.x1 - e.x0) * view.scale,
+                 (e.y1 - e.y0) * view.scale);
+    }
+    if (w) {
+      drawPolygons(g, w.polygons);
+      drawEdges(g, w.edges);
+      drawMarks(g, w.marks, w.kind === "grid");
     }
     return bg;
+  }
+
+  // the blocked region: rings of the obstacles' union (exteriors and holes), even-odd filled
+  function drawPolygons(g, rings) {
+    if (!Array.isArray(rings) || !rings.length) return;
+    g.fillStyle = "rgb(40, 40, 40)";
+    g.beginPath();
+    for (const ring of rings) {
+      if (!Array.isArray(ring) || ring.length < 3) continue;
+      g.moveTo(px(ring[0][0]), py(ring[0][1]));
+      for (let i = 1; i < ring.length; i++) g.lineTo(px(ring[i][0]), py(ring[i][1]));
+      g.closePath();
+    }
+    g.fill("evenodd");
+  }
+
+  // a roadmap: thin segments under the agents' paths
+  function drawEdges(g, edges) {
+    if (!Array.isArray(edges) || !edges.length) return;
+    g.strokeStyle = "#90a4aeb0";
+    g.lineWidth = Math.max(1, (window.devicePixelRatio || 1) * 0.8);
+    g.beginPath();
+    for (const [x1, y1, x2, y2] of edges) { g.moveTo(px(x1), py(y1)); g.lineTo(px(x2), py(y2)); }
+    g.stroke();
+  }
+
+  const MARKS = { nest: ["#6d4c41", "N"], food: ["#2e7d32", "F"], goal: ["#c62828", "G"] };
+
+  // fixed places (nest, food, goal): on their cell in a grid, a disc around the point otherwise
+  function drawMarks(g, marks, grid) {
+    if (!Array.isArray(marks)) return;
+    const dpr = window.devicePixelRatio || 1;
+    const r = Math.max(7 * dpr, grid ? view.scale * 0.5 : view.scale * 1.5);
+    g.font = `600 ${Math.round(r * 1.1)}px system-ui, sans-serif`;
+    g.textAlign = "center"; g.textBaseline = "middle";
+    for (const m of marks) {
+      const [fill, letter] = MARKS[m.kind] || ["#455a64", String(m.kind || "?")[0]];
+      const x = px(m.x), y = py(m.y);
+      g.globalAlpha = 0.35;
+      g.fillStyle = fill;
+      if (grid) g.fillRect(x - r, y - r, 2 * r, 2 * r);
+      else { g.beginPath(); g.arc(x, y, r, 0, 2 * Math.PI); g.fill(); }
+      g.globalAlpha = 1;
+      g.strokeStyle = fill;
+      g.lineWidth = Math.max(2, r * 0.18);
+      if (grid) g.strokeRect(x - r, y - r, 2 * r, 2 * r);
+      else { g.beginPath(); g.arc(x, y, r, 0, 2 * Math.PI); g.stroke(); }
+      g.fillStyle = fill;
+      g.fillText(letter, x, y);
+    }
   }
 
   function drawJobs() {
@@ -324,12 +388,30 @@ MONITOR_JS = r""""use strict";
     const h = state.hello;
     if (h) {
       $("title").textContent = h.title || `${h.mission} · ${h.algorithm}`;
-      $("unit").textContent = h.time_unit || "s";
+      const unit = h.time_unit || "s";
+      $("unit").textContent = unit;
+      $("rate-label").textContent = `messages / ${unit} (last ${RATE_WINDOW} ${unit}`
+        + `${unit === "s" ? "" : "s"} of mission)`;
       $("speed").textContent = h.speed ? `×${fmt(h.speed)}` : (h.source || "live");
     }
     $("t").textContent = state.t.toFixed(1);
-    $("rate").textContent = rate().toFixed(2);
-    $("messages").textContent = state.messages;
+    const mode = messageMode();
+    const e = state.end;
+    if (mode === "events") {
+      $("rate").textContent = rate().toFixed(2);
+      $("messages").textContent = state.messages;
+      $("messages-label").textContent = "messages";
+      $("messages-note").textContent = "";
+    } else {
+      // no per-message times: a rate would be invented, so say so; totals come with the end
+      $("rate").textContent = "n/a";
+      $("messages-label").textContent = mode === "none" ? "messages" : "messages (total)";
+      $("messages").textContent = mode === "none" ? "none"
+        : (e && typeof e.messages === "number" ? e.messages : "n/a");
+      $("messages-note").textContent = mode === "none"
+        ? "this mission sends no messages"
+        : "the record keeps message totals only, shown at the end";
+    }
     $("jobs").textContent = state.jobs;
     $("events").textContent = state.events;
     const body = document.querySelector("#agents tbody");
@@ -347,12 +429,11 @@ MONITOR_JS = r""""use strict";
       cells[1].textContent = a.x === null ? "–" : `${fmt(a.x)}, ${fmt(a.y)}`;
       cells[2].textContent = a.moves;
       cells[3].textContent = a.jobs;
-      cells[4].textContent = a.sent;
+      cells[4].textContent = mode === "events" ? a.sent : agentTotal(id);
     });
     const fin = $("final");
     if (state.ended && state.end) {
       fin.className = "";
-      const e = state.end;
       $("result").textContent = `${e.complete ? "complete" : "incomplete"} · makespan `
         + `${fmt(e.makespan)} ${e.time_unit || ""}`;
       const totals = $("totals");
@@ -371,6 +452,20 @@ MONITOR_JS = r""""use strict";
       fin.className = "hidden";
       $("totals").innerHTML = "";
     }
+  }
+
+  // "events": every message is an event; "totals": only the end's totals; "none"
+  function messageMode() {
+    const m = state.hello && state.hello.messages;
+    return m === "totals" || m === "none" ? m : "events";
+  }
+
+  function agentTotal(id) {
+    const e = state.end;
+    if (!e || messageMode() === "none") return "–";
+    const a = (e.agents || []).find((x) => x.id === id);
+    const v = a && a.metrics ? (a.metrics.messages_sent ?? a.metrics.messages) : undefined;
+    return typeof v === "number" ? v : "–";
   }
 
   // ------------------------------------------------------------------ wiring
@@ -413,6 +508,15 @@ MONITOR_JS = r""""use strict";
     mission: state.hello ? state.hello.mission : null,
     world: state.world ? { width: state.world.width, height: state.world.height,
                            rows: state.world.cells ? state.world.cells.length : 0 } : null,
+    map: state.world ? {
+      kind: state.world.kind,
+      polygons: (state.world.polygons || []).length,
+      edges: (state.world.edges || []).length,
+      marks: (state.world.marks || []).map((m) => m.kind),
+      yUp: !!state.world.y_up,
+    } : null,
+    messageMode: messageMode(),
+    messageTotal: state.end && typeof state.end.messages === "number" ? state.end.messages : null,
     agents: state.order.map((id) => {
       const a = state.agents.get(id);
       return { id, x: a.x, y: a.y, moves: a.moves, jobs: a.jobs, sent: a.sent,

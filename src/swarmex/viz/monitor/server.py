@@ -14,6 +14,7 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import json
+import math
 import socket
 from collections.abc import Coroutine
 from typing import Any
@@ -28,6 +29,25 @@ from swarmex.viz.monitor.hub import EventHub
 from swarmex.viz.monitor.page import INDEX_HTML, MONITOR_JS
 
 HOST = "127.0.0.1"
+
+
+def dumps(batch: Any) -> str:
+    """A batch as JSON the browser can parse: Python writes ``NaN``/``Infinity`` for such
+    floats, which ``JSON.parse`` rejects (losing the whole batch), so they go out as null."""
+    try:
+        return json.dumps(batch, allow_nan=False)
+    except ValueError:
+        return json.dumps(_finite(batch), allow_nan=False)
+
+
+def _finite(value: Any) -> Any:
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    if isinstance(value, dict):
+        return {k: _finite(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [_finite(v) for v in value]
+    return value
 
 
 def create_app(hub: EventHub, record: dict | None = None) -> Starlette:
@@ -56,7 +76,7 @@ def create_app(hub: EventHub, record: dict | None = None) -> Starlette:
                 batch = await q.get()
                 if batch is None:
                     break
-                await ws.send_text(json.dumps(batch))
+                await ws.send_text(dumps(batch))
         except (WebSocketDisconnect, RuntimeError):  # the viewer left mid-send
             pass
         finally:
