@@ -123,10 +123,11 @@ def animation_frames(record: dict[str, Any], max_frames: int = MAX_FRAMES) -> li
     cols = _colours(len(pos))
     fig = Figure(figsize=(5, 5), dpi=80)
     canvas = FigureCanvasAgg(fig)
+    ax = _axes(fig, g)  # built once: re-creating axes (ticks, spines) costs more than a frame
     images = []
     for t in frames_t:
-        fig.clear()
-        ax = _axes(fig, g)
+        for line in list(ax.lines):
+            line.remove()
         ax.plot(*nest, marker="*", ms=14, color="black", ls="", zorder=3)
         if left[t] > 0:  # the square's area follows the units still at the food
             ax.plot(*food, marker="s", ms=4 + 8 * np.sqrt(left[t] / k), color="red", ls="")
