@@ -22,7 +22,7 @@ import numpy as np
 import pytest
 
 from swarmex.cli import main
-from swarmex.cli.commands_monitor import free_cells
+from swarmex.cli.commands_monitor import free_cells, record_world
 from swarmex.engine.record import read_record
 from swarmex.viz.monitor.events import SCHEMA, record_events
 from swarmex.viz.monitor.hub import replay
@@ -100,8 +100,9 @@ def test_record_events_match_the_record(record):
     assert np.array_equal(cells, expected)
 
 
-def test_other_missions_records_replay_without_a_map():
-    """A foraging-style record (jobs carry a kind, no map layout): moves and jobs, no messages."""
+def test_a_record_without_its_world_parameters_replays_with_the_bounds():
+    """A foraging-style record lacking the parameters its map is rebuilt from (no grid, no
+    food): the bounds, moves and jobs (with their kind), and no invented messages."""
     record = {
         "mission": "foraging",
         "algorithm": "spiral",
@@ -119,8 +120,9 @@ def test_other_missions_records_replay_without_a_map():
             },
         ],
     }
-    events = record_events(record, free_cells(record), speed=1.0)
-    assert events[1]["cells"] is None and (events[1]["width"], events[1]["height"]) == (4, 4)
+    events = record_events(record, speed=1.0, world=record_world(record))
+    assert events[1]["cells"] is None and "marks" not in events[1]
+    assert (events[1]["width"], events[1]["height"]) == (4, 4)
     assert [e["kind"] for e in events if e["type"] == "job"] == ["pickup", "drop"]
     assert not [e for e in events if e["type"] == "message"]
     assert events[-1]["type"] == "end" and events[-1]["t"] == 3
@@ -270,8 +272,15 @@ def start_monitor(tmp_path: Path, speed: float) -> tuple[subprocess.Popen, str, 
     scenario = tmp_path / "mission.toml"
     scenario.write_text(SCENARIO)
     rec = tmp_path / "streamed.json"
-    cmd = [sys.executable, "-m", "swarmex", "monitor", "--scenario", str(scenario)]
-    cmd += ["--speed", str(speed), "--linger", "20", "--json", str(rec)]
+    proc, url = start_monitor_with(
+        ["--scenario", str(scenario), "--speed", str(speed), "--linger", "20", "--json", str(rec)]
+    )
+    return proc, url, rec
+
+
+def start_monitor_with(args: list[str]) -> tuple[subprocess.Popen, str]:
+    """``swarmex monitor ARGS`` in a subprocess; returns it and the page's URL."""
+    cmd = [sys.executable, "-m", "swarmex", "monitor", *args]
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     lines: queue.Queue = queue.Queue()
     threading.Thread(target=lambda: [lines.put(x) for x in proc.stdout], daemon=True).start()
@@ -284,7 +293,7 @@ def start_monitor(tmp_path: Path, speed: float) -> tuple[subprocess.Popen, str, 
             continue
         if "http://127.0.0.1:" in line:
             url = line[line.index("http://") :].split()[0]
-            return proc, url, rec
+            return proc, url
     proc.kill()
     raise AssertionError("swarmex monitor printed no address")
 
@@ -340,3 +349,56 @@ def test_browser_shows_agents_moving_and_the_final_state(tmp_path):
         assert shown["path"] == len(a["trajectory"])
         assert shown["jobs"] == len(a["jobs"])
     assert len(shot) > 5000  # a real picture of the map, paths and agents
+
+
+OBSTACLE_PIXELS = """() => {
+  const c = document.getElementById("map");
+  const d = c.getContext("2d").getImageData(0, 0, c.width, c.height).data;
+  let n = 0;
+  for (let i = 0; i < d.length; i += 4) {
+    if (d[i] === 40 && d[i + 1] === 40 && d[i + 2] === 40) n += 1;  // blocked: rgb(40,40,40)
+  }
+  return n / (c.width * c.height);
+}"""
+
+
+def test_browser_draws_a_roadmap_world_and_says_messages_are_na(tmp_path):
+    """A roadmap record: its polygons are painted (obstacle pixels on the canvas), the
+    roadmap and goal arrive, and the page says n/a for a rate it cannot know."""
+    sync_api = pytest.importorskip(
+        "playwright.sync_api", reason="playwright is not installed (pip install playwright)"
+    )
+    if CHROMIUM is None:
+        pytest.skip("chromium is not installed (apt-get install chromium; .ci/run does it)")
+    env = tmp_path / "env.json"
+    obstacles = [[[40, 30], [100, 30], [100, 90], [40, 90]]]  # 3600 of 30000 m²: 12 %
+    env.write_text(json.dumps({"bounds": [0, 0, 200, 150], "obstacles": obstacles}))
+    rec = tmp_path / "roadmap.json"
+    argv = ["roadmap", "--env", str(env), "--agents", "2", "--nodes", "40", "--step", "10"]
+    assert main([*argv, "--sensor-range", "20", "--seed", "1", "--json", str(rec)]) == 0
+    proc, url = start_monitor_with(["--record", str(rec), "--speed", "inf", "--linger", "15"])
+    try:
+        with sync_api.sync_playwright() as pw:
+            browser = pw.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
+            try:
+                page = browser.new_page(viewport={"width": 1000, "height": 600})
+                errors: list[str] = []
+                page.on("pageerror", lambda e: errors.append(str(e)))
+                page.goto(url, timeout=15000)
+                page.wait_for_function("monitorSnapshot().ended", timeout=15000)
+                page.wait_for_timeout(300)  # the panel refreshes every 200 ms
+                final = page.evaluate("monitorSnapshot()")
+                painted = page.evaluate(OBSTACLE_PIXELS)
+                rate = page.inner_text("#rate")
+            finally:
+                browser.close()
+    finally:
+        proc.terminate()
+        proc.wait(timeout=15)
+    record = read_record(rec)
+    assert not errors
+    assert final["mission"] == "roadmap" and final["map"]["polygons"] == 1
+    assert final["map"]["edges"] == len(record["roadmap"]["edges"]) + len(record["roadmap"]["legs"])
+    assert final["map"]["yUp"] is True
+    assert 0.02 < painted < 0.2  # the square, not nothing and not the whole canvas
+    assert final["messageMode"] == "none" and rate == "n/a"

@@ -9,6 +9,10 @@
 * none of these: the page waits for a producer on ``ws://127.0.0.1:PORT/ingest`` (how other
   programs feed it; schema at ``/schema`` and in docs/monitor.md).
 
+Every mission's world is rebuilt from the record's parameters the way its own command builds
+it (:func:`record_world`): traversal and exploration grids, the foraging grid with its nest
+and food, the roadmap's polygons, roadmap and goal.
+
 The first line printed is the page's address. The server listens on 127.0.0.1 only; ``--port
 0`` (the default) takes a free port. ``--linger S`` stops it S seconds after the mission ends
 (default: serve until Ctrl-C).
@@ -190,6 +194,11 @@ def record_world(record: dict, base: Path | None = None) -> dict:
             built = roadmap_world(record, base)
     except (InputError, KeyError, IndexError, TypeError, ValueError, OSError):
         built = None
+    world = record.get("world") or {}
+    size = (world.get("width"), world.get("height"))
+    cells = built["cells"] if built is not None else None
+    if cells and None not in size and (len(cells[0]), len(cells)) != size:
+        built = None  # the map file changed since the run: not the world it used
     return built if built is not None else world_event(record)
 
 

@@ -3,9 +3,11 @@
 Kept as Python strings rather than package data files so the page ships in every kind of
 install (a wheel carries modules, while data files need packaging configuration). The script
 is plain browser JavaScript with no build step and no third-party library: a canvas for the
-map, paths, jobs and agents, and a side panel for the clock, messages per second and the
-per-agent metrics. It applies the events of :mod:`swarmex.viz.monitor.events` to one state
-object, and exposes ``window.monitorSnapshot()`` (a plain copy of that state) for tests.
+map (grid cells, or even-odd filled polygons with y up when the world says so, roadmap edges,
+nest / food / goal marks), paths, jobs and agents, and a side panel for the clock, messages
+per second (or n/a when the record has no send times) and the per-agent metrics. It applies
+the events of :mod:`swarmex.viz.monitor.events` to one state object, and exposes
+``window.monitorSnapshot()`` (a plain copy of that state) for tests.
 """
 
 INDEX_HTML = r"""<!doctype html>
