@@ -107,37 +107,33 @@ class Job:
     seed: int
     algorithm: str
     channel: str = "perfect"
-    carry_obstacles: bool = False
+    carry_obstacles: bool = True  # the done list carries KM's obstacles (sim.py's own rule)
 
 
 @contextmanager
-def obstacles_in_every_message(enabled: bool):
-    """What-if for the simulator (not a feature of it): every message over an imperfect
-    channel also carries all the obstacles its sender knows, as the thesis's KM list does.
+def done_list_without_obstacles(enabled: bool):
+    """What-if for the simulator: the done-nodes list without the sender's known obstacles,
+    as swarmex sent it before 23 Nov 2026 (the §4.1 list's done / not-done vertices only).
 
-    sim.py sends only the obstacles seen at the current step, so an agent that misses one
-    message never learns those walls from anyone and plans paths through them. The patch
-    wraps the private ``_Sim.broadcast`` for one run and is undone afterwards; the proposed
-    change to sim.py itself is in docs/traversal-variants.md.
+    An agent that misses the one message announcing a wall then never learns it from anyone
+    and plans paths through it. The patch replaces the private ``sim._encode_km`` for one run
+    and restores it afterwards.
     """
     if not enabled:
         yield
         return
     from swarmex.missions.traversal import sim
 
-    original = sim._Sim.broadcast
+    original = sim._encode_km
 
-    def broadcast(self, sender, kind, node, obstacles=(), eta=0.0):
-        if not self.channel.perfect:
-            known = np.nonzero(self.beliefs[sender].status == -1)[0]
-            obstacles = tuple(int(v) for v in known)
-        return original(self, sender, kind, node, obstacles, eta)
+    def without_walls(status):
+        return (*sim._encode_done_list(status), np.zeros(0, dtype=np.int64))
 
-    sim._Sim.broadcast = broadcast
+    sim._encode_km = without_walls
     try:
         yield
     finally:
-        sim._Sim.broadcast = original
+        sim._encode_km = original
 
 
 def run_one(job: Job) -> dict:
@@ -146,7 +142,7 @@ def run_one(job: Job) -> dict:
     nests = nests_for(world, job.agents, job.mode, job.seed)
     channel = Channel(**dict(CHANNELS)[job.channel])
     t0 = time.perf_counter()
-    with obstacles_in_every_message(job.carry_obstacles):
+    with done_list_without_obstacles(not job.carry_obstacles):
         run = run_traversal(
             world, uniform_agents(nests, TRAVEL, JOB), job.algorithm, seed=job.seed,
             channel=channel,
@@ -283,15 +279,18 @@ def comm_table(rows: list[dict]) -> list[str]:
         "|---|---|---|---|---|---|---|---|---|",
     ]
     algs = sorted({r["algorithm"] for r in rows}, key=lambda a: (a != "madgta", a))
-    variants = [(label, carry) for label, _ in CHANNELS for carry in (False, True)]
+    variants = [(label, carry) for label, _ in CHANNELS for carry in (True, False)]
     for mp, alg in [(m, a) for m in sorted({r["map"] for r in rows}) for a in algs]:
-        perfect = select(rows, map=mp, algorithm=alg, channel="perfect", carry_obstacles=False)
+        perfect = select(rows, map=mp, algorithm=alg, channel="perfect")  # the list is unused
         for label, carry in variants:
-            cur = select(rows, map=mp, algorithm=alg, channel=label, carry_obstacles=carry)
+            if label == "perfect" and not carry:
+                continue
+            pick = {} if label == "perfect" else {"carry_obstacles": carry}
+            cur = select(rows, map=mp, algorithm=alg, channel=label, **pick)
             if not cur or len(cur) != len(perfect):
                 continue
-            if carry:
-                label = f"{label}, obstacles carried"
+            if not carry:
+                label = f"{label}, list without obstacles"
             trav = np.array([r["travel_time_all"] for r in cur])
             trav0 = np.array([r["travel_time_all"] for r in perfect])
             mk = np.array([r["makespan"] for r in cur])
@@ -335,10 +334,10 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--comm-seeds", type=int, default=4)
     ap.add_argument("--comm-algorithms", nargs="+", default=["madgta", "madgta+"])
     ap.add_argument(
-        "--carry-obstacles",
+        "--without-obstacles",
         action="store_true",
-        help="comm: also run each imperfect channel with every message carrying the sender's "
-        "known obstacles (a what-if patch of the simulator, see obstacles_in_every_message)",
+        help="comm: also run each imperfect channel with the done list stripped of the "
+        "sender's obstacles (the simulator before 23 Nov 2026, see done_list_without_obstacles)",
     )
     ap.add_argument("--quick", action="store_true", help="small maps, 3 seeds")
     ap.add_argument("--jobs", type=int, default=1, help="worker processes (default 1)")
@@ -353,7 +352,7 @@ def main(argv: list[str] | None = None) -> int:
     if args.from_json:
         saved = json.loads(args.from_json.read_text())
         for row in saved.get("comm", []):
-            row.setdefault("carry_obstacles", False)
+            row.setdefault("carry_obstacles", False)  # files from before the option
         if saved.get("variants"):
             rows = saved["variants"]
             algs = [a for a in ALGORITHMS if any(r["algorithm"] == a for r in rows)]
@@ -400,7 +399,9 @@ def main(argv: list[str] | None = None) -> int:
             for s in range(2 if args.quick else args.comm_seeds)
             for label, _ in CHANNELS
             for alg in args.comm_algorithms
-            for carry in ([False, True] if args.carry_obstacles and label != "perfect" else [False])
+            for carry in (
+                [True, False] if args.without_obstacles and label != "perfect" else [True]
+            )
         ]
         print(f"comm: {len(jobs)} runs on {', '.join(present)}", file=sys.stderr)
         rows = run_all(jobs, args.jobs) if jobs else []

@@ -30,7 +30,7 @@ from scipy import ndimage
 from swarmex.comm.channel import Channel
 from swarmex.missions.traversal import Madgta, run_metrics, run_traversal, uniform_agents
 from swarmex.missions.traversal.belief import DONE_BY_UNKNOWN, TraversalBelief
-from swarmex.missions.traversal.sim import _encode_done_list, _merge_done_list
+from swarmex.missions.traversal.sim import _encode_done_list, _encode_km, _merge_done_list
 from swarmex.planning.fieldcache import KnownGraph
 from swarmex.worlds import GridWorld, random_obstacles
 
@@ -147,8 +147,9 @@ def test_a_delay_shorter_than_an_edge_no_longer_leaves_a_vertex_undone(algorithm
 
 # ----------------------------------------------------------------------- (1) knowledge
 def final_exchange(beliefs: dict[int, TraversalBelief]) -> None:
-    """Every agent broadcasts its §4.1 done-nodes list once more, and every agent hears all."""
-    lists = {k: _encode_done_list(b.status.copy()) for k, b in beliefs.items()}
+    """Every agent broadcasts its §4.1 done-nodes list (KM) once more, and every agent hears
+    all."""
+    lists = {k: _encode_km(b.status.copy()) for k, b in beliefs.items()}
     for k, b in beliefs.items():
         for j, done_list in lists.items():
             if j != k:
@@ -165,8 +166,8 @@ def assert_sound(world: GridWorld, result, beliefs) -> None:
         for v in np.nonzero(b.status > 0)[0]:
             k = int(b.status[v])
             if k == DONE_BY_UNKNOWN:
-                # the not-done form of the list cannot tell a done vertex from an obstacle
-                assert v in doers or not world.free.ravel()[v]
+                # the not-done form names no doer; KM's obstacles keep walls out of it
+                assert v in doers, v
             else:
                 assert k in doers.get(int(v), set()), (v, k)
 
@@ -297,3 +298,32 @@ def test_loss_causes_duplicates_that_are_counted():
         independent.append(int(np.maximum(counts - 1, 0).sum()))
     assert counted == independent
     assert sum(counted) > 0  # the channel really was lossy enough to matter
+
+
+def test_km_list_teaches_walls_a_receiver_never_heard_of():
+    """A receiver that missed every obstacle announcement learns the walls from one KM list,
+    in both forms (done list, and not-done list once half is done), and never marks a wall
+    as a done vertex."""
+    world, nests = scenario(3)
+    run = run_traversal(world, uniform_agents(nests, TRAVEL, JOB), "madgta", seed=3)
+    walls = np.nonzero(~world.free.ravel())[0]
+    done = np.zeros(world.n_nodes, dtype=np.int32)
+    for agent in run.agents:
+        for _, v in agent.jobs:
+            done[v] = agent.id
+    for fraction in (0.2, 0.9):  # the done form, then the not-done form
+        sender = np.where(world.free.ravel(), 0, -1).astype(np.int32)
+        jobs = np.nonzero(done)[0]
+        keep = jobs[: int(fraction * world.free.sum())]
+        sender[keep] = done[keep]
+        bit, *_ = km = _encode_km(sender)
+        assert bit == (0 if fraction > 0.5 else 1)
+        receiver = TraversalBelief(
+            1, len(run.agents), KnownGraph(world.graph), np.ones(5), np.zeros(5)
+        )
+        _merge_done_list(receiver, km)
+        assert (receiver.status[walls] == -1).all()
+        assert (receiver.status[keep] > 0).all()
+        assert ((receiver.status > 0) == (sender > 0)).all()
+        assert _encode_done_list(sender)[0] == bit  # the list itself is the thesis's
+

@@ -207,8 +207,8 @@ class _Sim:
         # ID, node, job bit, done bit, checksum: 4 + 4 + 1 + 1 + 4 bytes, plus obstacle ids
         size = 14 + 4 * len(obstacles)
         if not self.channel.perfect:
-            done_list = _encode_done_list(belief.status)
-            size += 4 * done_list[1].size
+            done_list = _encode_km(belief.status)
+            size += 4 * (done_list[1].size + done_list[3].size)
         self.message_bytes += size
         if self.table is not None:  # perfect broadcast: every other belief, in one call
             code = _KIND_CODES[kind]
@@ -396,8 +396,32 @@ def _encode_done_list(status: np.ndarray) -> tuple[int, np.ndarray, np.ndarray]:
     return 0, np.nonzero(status == 0)[0], np.zeros(0, dtype=np.int32)
 
 
+def _encode_km(status: np.ndarray) -> tuple[int, np.ndarray, np.ndarray, np.ndarray]:
+    """What an imperfect channel's message carries: the thesis's KM, done ∪ known obstacles.
+
+    §4.1 defines the list as KM, and KM includes the obstacles; the done / not-done list of
+    :func:`_encode_done_list` cannot tell a receiver which of its vertices are walls, so the
+    sender's known obstacles ride along as a fourth field (4 bytes each). Without them an
+    agent that missed the one message announcing a wall plans paths through it for the rest
+    of the mission: under 30 % loss that cost up to 4x the travel on room maps
+    (docs/traversal-variants.md).
+    """
+    bit, idx, doers = _encode_done_list(status)
+    return bit, idx, doers, np.nonzero(status == -1)[0]
+
+
 def _merge_done_list(b: TraversalBelief, done_list) -> None:
-    bit, idx, doers = done_list
+    """Merge a received done-nodes field (with or without its KM obstacles) into ``b``.
+
+    Obstacles first, so that the not-done form (everything not listed is done) does not mark
+    a known wall as a done vertex.
+    """
+    bit, idx, doers, *obstacles = done_list
+    if obstacles:
+        walls = obstacles[0]
+        new = walls[b.status[walls] != -1]
+        if new.size:
+            b.see_obstacles(new.tolist())
     if bit:
         fresh = b.status[idx] == 0
         for v, k in zip(idx[fresh], doers[fresh], strict=True):
