@@ -8,6 +8,7 @@ missing (``playwright install`` downloads are not used).
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import json
 import queue
 import shutil
@@ -16,7 +17,8 @@ import sys
 import threading
 import time
 import urllib.request
-from pathlib import Path
+from collections.abc import Iterator
+from typing import Any
 
 import numpy as np
 import pytest
@@ -267,17 +269,6 @@ def test_monitor_bad_input_exits_2(argv, message, capsys):
 # ---------------------------------------------------------------------------- a browser
 
 
-def start_monitor(tmp_path: Path, speed: float) -> tuple[subprocess.Popen, str, Path]:
-    """``swarmex monitor --scenario`` in a subprocess; returns it, its URL and its record."""
-    scenario = tmp_path / "mission.toml"
-    scenario.write_text(SCENARIO)
-    rec = tmp_path / "streamed.json"
-    proc, url = start_monitor_with(
-        ["--scenario", str(scenario), "--speed", str(speed), "--linger", "20", "--json", str(rec)]
-    )
-    return proc, url, rec
-
-
 def start_monitor_with(args: list[str]) -> tuple[subprocess.Popen, str]:
     """``swarmex monitor ARGS`` in a subprocess; returns it and the page's URL."""
     cmd = [sys.executable, "-m", "swarmex", "monitor", *args]
@@ -298,14 +289,17 @@ def start_monitor_with(args: list[str]) -> tuple[subprocess.Popen, str]:
     raise AssertionError("swarmex monitor printed no address")
 
 
-def test_browser_shows_agents_moving_and_the_final_state(tmp_path):
+@contextlib.contextmanager
+def monitor_page(args: list[str]) -> Iterator[tuple[Any, list[str]]]:
+    """A headless Chromium page on ``swarmex monitor ARGS`` (skips without Playwright or
+    chromium); yields the page and the page's JavaScript errors. Browser and monitor are
+    closed on the way out, whatever happens."""
     sync_api = pytest.importorskip(
         "playwright.sync_api", reason="playwright is not installed (pip install playwright)"
     )
     if CHROMIUM is None:
         pytest.skip("chromium is not installed (apt-get install chromium; .ci/run does it)")
-    speed = 50.0  # the 185 s mission plays in about 3.7 s
-    proc, url, rec_path = start_monitor(tmp_path, speed)
+    proc, url = start_monitor_with(args)
     try:
         with sync_api.sync_playwright() as pw:
             browser = pw.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
@@ -314,28 +308,38 @@ def test_browser_shows_agents_moving_and_the_final_state(tmp_path):
                 errors: list[str] = []
                 page.on("pageerror", lambda e: errors.append(str(e)))
                 page.goto(url, timeout=15000)
-                page.wait_for_function(
-                    "() => { const s = monitorSnapshot();"
-                    " return s.agents.length === 3 && s.agents.every(a => a.x !== null)"
-                    " && s.t > 10; }",
-                    timeout=20000,
-                )
-                first = page.evaluate("monitorSnapshot()")
-                page.wait_for_timeout(1000)
-                second = page.evaluate("monitorSnapshot()")
-                assert not first["ended"], "the mission ended before the page saw it move"
-                assert second["t"] > first["t"]
-                assert sum(a["path"] for a in second["agents"]) > sum(
-                    a["path"] for a in first["agents"]
-                )
-                page.wait_for_function("monitorSnapshot().ended", timeout=30000)
-                final = page.evaluate("monitorSnapshot()")
-                shot = page.screenshot(path=str(tmp_path / "monitor.png"))
+                yield page, errors
             finally:
                 browser.close()
     finally:
         proc.terminate()
         proc.wait(timeout=15)
+
+
+def test_browser_shows_agents_moving_and_the_final_state(tmp_path):
+    speed = 50.0  # the 185 s mission plays in about 3.7 s
+    scenario = tmp_path / "mission.toml"
+    scenario.write_text(SCENARIO)
+    rec_path = tmp_path / "streamed.json"
+    args = ["--scenario", str(scenario), "--speed", str(speed), "--linger", "20"]
+    with monitor_page([*args, "--json", str(rec_path)]) as (page, errors):
+        page.wait_for_function(
+            "() => { const s = monitorSnapshot();"
+            " return s.agents.length === 3 && s.agents.every(a => a.x !== null)"
+            " && s.t > 10; }",
+            timeout=20000,
+        )
+        first = page.evaluate("monitorSnapshot()")
+        page.wait_for_timeout(1000)
+        second = page.evaluate("monitorSnapshot()")
+        assert not first["ended"], "the mission ended before the page saw it move"
+        assert second["t"] > first["t"]
+        assert sum(a["path"] for a in second["agents"]) > sum(
+            a["path"] for a in first["agents"]
+        )
+        page.wait_for_function("monitorSnapshot().ended", timeout=30000)
+        final = page.evaluate("monitorSnapshot()")
+        shot = page.screenshot(path=str(tmp_path / "monitor.png"))
     assert not errors
     record = read_record(rec_path)
     assert final["status"] == "ended" and final["draws"] > 0
@@ -365,36 +369,21 @@ OBSTACLE_PIXELS = """() => {
 def test_browser_draws_a_roadmap_world_and_says_messages_are_na(tmp_path):
     """A roadmap record: its polygons are painted (obstacle pixels on the canvas), the
     roadmap and goal arrive, and the page says n/a for a rate it cannot know."""
-    sync_api = pytest.importorskip(
-        "playwright.sync_api", reason="playwright is not installed (pip install playwright)"
-    )
-    if CHROMIUM is None:
-        pytest.skip("chromium is not installed (apt-get install chromium; .ci/run does it)")
     env = tmp_path / "env.json"
     obstacles = [[[40, 30], [100, 30], [100, 90], [40, 90]]]  # 3600 of 30000 m²: 12 %
     env.write_text(json.dumps({"bounds": [0, 0, 200, 150], "obstacles": obstacles}))
     rec = tmp_path / "roadmap.json"
     argv = ["roadmap", "--env", str(env), "--agents", "2", "--nodes", "40", "--step", "10"]
     assert main([*argv, "--sensor-range", "20", "--seed", "1", "--json", str(rec)]) == 0
-    proc, url = start_monitor_with(["--record", str(rec), "--speed", "inf", "--linger", "15"])
-    try:
-        with sync_api.sync_playwright() as pw:
-            browser = pw.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
-            try:
-                page = browser.new_page(viewport={"width": 1000, "height": 600})
-                errors: list[str] = []
-                page.on("pageerror", lambda e: errors.append(str(e)))
-                page.goto(url, timeout=15000)
-                page.wait_for_function("monitorSnapshot().ended", timeout=15000)
-                page.wait_for_timeout(300)  # the panel refreshes every 200 ms
-                final = page.evaluate("monitorSnapshot()")
-                painted = page.evaluate(OBSTACLE_PIXELS)
-                rate = page.inner_text("#rate")
-            finally:
-                browser.close()
-    finally:
-        proc.terminate()
-        proc.wait(timeout=15)
+    with monitor_page(["--record", str(rec), "--speed", "inf", "--linger", "15"]) as (
+        page,
+        errors,
+    ):
+        page.wait_for_function("monitorSnapshot().ended", timeout=15000)
+        page.wait_for_timeout(300)  # the panel refreshes every 200 ms
+        final = page.evaluate("monitorSnapshot()")
+        painted = page.evaluate(OBSTACLE_PIXELS)
+        rate = page.inner_text("#rate")
     record = read_record(rec)
     assert not errors
     assert final["mission"] == "roadmap" and final["map"]["polygons"] == 1
