@@ -7,7 +7,8 @@
    start-up (about 0.9 s: numba's first kernel load) weighs most. Two rates each: end to end
    (start-up included; the target) and steady state (the middle 80 % of the runs); best of
    --repeat tries, alternating.
-2. The same spec on Ray (unless --no-ray or Ray is missing): same table, bit for bit, except
+2. The same spec on Ray (unless --no-ray or Ray is missing), both started by ray.init() and as
+   an existing one-node cluster on loopback joined by --ray-address: same table, bit for bit, except
    ``wall_seconds``.
 3. 2,000 runs through ``swarmex sweep`` (the CLI, progress bar included): the driver's peak
    RSS (target < 1 GiB).
@@ -62,7 +63,9 @@ def spec_text(runs: int, workload: str = "issue") -> str:
 # ---------------------------------------------------------------------------- phases
 
 
-def phase_rate(spec: Path, out: Path, backend: str, workers: int) -> dict:
+def phase_rate(
+    spec: Path, out: Path, backend: str, workers: int, address: str | None = None
+) -> dict:
     """Run the sweep in this process and time it (called in a child interpreter)."""
     from swarmex.cli.commands_sweep import mission_shapes
     from swarmex.experiments.sweep import run_sweep
@@ -81,7 +84,15 @@ def phase_rate(spec: Path, out: Path, backend: str, workers: int) -> dict:
 
     cpu0 = time.process_time()
     start = time.perf_counter()
-    result = run_sweep(loaded, shapes, out, backend=backend, workers=workers, on_outcome=on_outcome)
+    result = run_sweep(
+        loaded,
+        shapes,
+        out,
+        backend=backend,
+        workers=None if address else workers,
+        ray_address=address,
+        on_outcome=on_outcome,
+    )
     end = time.perf_counter()
     cpu = time.process_time() - cpu0 + worker_cpu[0]
     n = len(stamps)
@@ -133,6 +144,37 @@ def phase_memory(spec: Path, out: Path, workers: int) -> dict:
     return {"code": code, "wall": wall, "peak_rss_mib": peak_kib / 1024}
 
 
+@contextlib.contextmanager
+def ray_cluster(cpus: int = 2):
+    """A one-node Ray cluster on loopback (``ray start --head``), stopped on the way out.
+
+    Ray rewrites 127.0.0.1 to the machine's network address unless
+    ``RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER=0``, and newer Ray wants an auth token unless
+    ``RAY_AUTH_MODE=disabled``; both are set for the head and the driver, so the whole
+    exchange stays on loopback. ``ray stop`` ends every Ray process of this user.
+    """
+    import socket
+
+    with socket.socket() as sock:
+        sock.bind(("127.0.0.1", 0))
+        port = sock.getsockname()[1]
+    saved = {k: os.environ.get(k) for k in ("RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER", "RAY_AUTH_MODE")}
+    os.environ.update(RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER="0", RAY_AUTH_MODE="disabled")
+    ray_cli = str(Path(sys.executable).with_name("ray"))
+    head = [ray_cli, "start", "--head", "--node-ip-address", "127.0.0.1", "--port", str(port)]
+    extra = ["--num-cpus", str(cpus), "--include-dashboard", "false", "--disable-usage-stats"]
+    try:
+        subprocess.run([*head, *extra], check=True, capture_output=True, timeout=120)
+        yield f"127.0.0.1:{port}"
+    finally:
+        subprocess.run([ray_cli, "stop"], capture_output=True, timeout=120)
+        for k, v in saved.items():
+            if v is None:
+                os.environ.pop(k, None)
+            else:
+                os.environ[k] = v
+
+
 def child(args: list[str]) -> dict:
     """Run one phase in a fresh interpreter and return its JSON line."""
     cmd = [sys.executable, __file__, "--phase", *args]
@@ -175,8 +217,9 @@ def main() -> None:
     if args.phase:
         kind, *rest = args.phase
         if kind == "rate":
-            spec, out, backend, workers = rest
-            print(json.dumps(phase_rate(Path(spec), Path(out), backend, int(workers))))
+            spec, out, backend, workers, *address = rest
+            rate = phase_rate(Path(spec), Path(out), backend, int(workers), *address)
+            print(json.dumps(rate))
         else:
             spec, out, workers = rest
             print(json.dumps(phase_memory(Path(spec), Path(out), int(workers))))
@@ -237,6 +280,13 @@ def main() -> None:
                     f"\nray (local, 2 workers): {r['wall']:6.1f} s, {r['rate']:.1f} runs/s"
                     f" end to end, steady {r['steady_rate']:.1f} runs/s;"
                     f" same table as local (except wall_seconds): {equal}"
+                )
+                with ray_cluster() as address:  # an existing cluster, joined by address
+                    r = child(["rate", str(spec), str(tmp / "ray-cluster"), "ray", "2", address])
+                equal = rows(tmp / "ray-cluster") == rows(tmp / "w2-0")
+                print(
+                    f"ray (cluster at {address}, joined by --ray-address): {r['wall']:6.1f} s,"
+                    f" {r['rate']:.1f} runs/s end to end; same table as local: {equal}"
                 )
 
         mem_spec = tmp / "memory.toml"

@@ -251,6 +251,31 @@ def test_local_pool_equals_serial_bit_for_bit(tmp_path):
     assert records(tmp_path / "local") == records(tmp_path / "serial")
 
 
+@pytest.mark.parametrize(
+    "address, message",
+    [
+        (
+            "127.0.0.1:{port}",
+            "no Ray cluster answers there",
+        ),  # nothing listens: no minutes-long retry
+        ("nonsense", "--ray-address must be HOST:PORT"),
+    ],
+)
+def test_unreachable_ray_address_exits_2_with_one_line(tmp_path, capsys, address, message):
+    import socket
+
+    pytest.importorskip("ray", reason="ray is not installed (pip install 'swarmex[ray]')")
+    with socket.socket() as s:  # a port that was free a moment ago: nothing listens there
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    path = write_spec(tmp_path)
+    argv = ["sweep", str(path), "--backend", "ray", "--out", str(tmp_path / "o")]
+    code = main([*argv, "--ray-address", address.format(port=port)])
+    err = capsys.readouterr().err
+    assert code == 2 and len(err.strip().splitlines()) == 1 and message in err
+    assert not list((tmp_path / "o").glob("runs/*"))
+
+
 def test_ray_backend_without_ray_exits_2_with_one_line(tmp_path, capsys, monkeypatch):
     monkeypatch.setitem(sys.modules, "ray", None)  # import ray -> ImportError
     path = write_spec(tmp_path)

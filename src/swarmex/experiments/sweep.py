@@ -287,6 +287,11 @@ def run_sweep(
         raise InputError(f"--workers must be at least 1, got {workers}")
     if backend == "ray":
         _import_ray()  # fail now, with one line, not after the progress bar appears
+        ray_address = ray_address or os.environ.get("RAY_ADDRESS") or None
+        if ray_address in ("auto", "local"):  # Ray's own words for "find it" / "start one"
+            ray_address = None
+        if ray_address:
+            _check_reachable(ray_address)
     runs = spec.runs()
     by_id = {r.run_id: r for r in runs}
     tasks = {r.run_id: Task(r.index, r.run_id, spec.command, spec.argv(r, shapes)) for r in runs}
@@ -517,6 +522,25 @@ def _import_ray() -> Any:
     return ray
 
 
+def _check_reachable(address: str, timeout: float = 5.0) -> None:
+    """Fail in one line when nothing listens at a Ray address (``ray.init`` would retry for
+    minutes, printing warnings, before giving up)."""
+    import socket
+
+    text = address.removeprefix("ray://")
+    host, _, port = text.rpartition(":")
+    if not host or not port.isdigit():
+        raise InputError(f"--ray-address must be HOST:PORT, got {address!r}")
+    try:
+        with socket.create_connection((host, int(port)), timeout=timeout):
+            pass
+    except OSError as exc:
+        reason = exc.strerror or type(exc).__name__
+        raise InputError(
+            f"--ray-address {address}: no Ray cluster answers there ({reason})"
+        ) from None
+
+
 def _ray(tasks: list[Task], workers: int | None, address: str | None, finish: OnOutcome) -> None:
     """Long-lived Ray actors, two chunks of tasks in flight each; records come back as text.
 
@@ -534,7 +558,12 @@ def _ray(tasks: list[Task], workers: int | None, address: str | None, finish: On
             kwargs["address"] = address
         elif workers:
             kwargs["num_cpus"] = workers
-        ray.init(**kwargs)
+        try:
+            ray.init(**kwargs)
+        except (ConnectionError, ValueError, RuntimeError) as exc:
+            where = f"a Ray cluster at {address}" if address else "a local Ray"
+            reason = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+            raise InputError(f"--backend ray: cannot start or join {where}: {reason}") from None
     try:
         n = workers or max(1, int(ray.cluster_resources().get("CPU", 1)))
         actor_cls = ray.remote(num_cpus=1)(RayWorker)
