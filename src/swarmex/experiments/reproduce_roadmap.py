@@ -6,7 +6,13 @@ Protocol (what the paper leaves open is fixed here and stated in the report):
   (walled-in team), 640 × 480 units; embedded below and shipped as ``examples/roadmap_*.json``
   (a test keeps the two identical).
 * Team: 3 agents (Fig. 5), default start cluster in the lower-left corner.
-* Sensor range ``r`` = 25 units (:data:`R_BASE`); 2r, 4r, ∞ as in the tables.
+* Sensor range ``r`` = 25 units (:data:`R_BASE`); 2r, 4r, ∞ as in the tables. The finite
+  rows are run a second time with r = ε (:data:`C_EPS` · ε; experiments ``t1eps``/``t2eps``),
+  the other reading of the unstated r, which fits Table 1 better.
+* A study of the readings (:func:`readings_study`): Table 1's trees grown under each reading
+  of ε and N, the sensor range fitted as a fixed length and as a multiple of ε, and coverage
+  against ε at a fixed node budget. A complete WMA-RRT run traverses every edge, so its
+  coverage is what the tree's edges (and the entry legs) see: the study sweeps them directly.
 * "Number of iterations" = independent runs; run i uses ``--seed i``, so every row of the
   report can be rerun alone with ``swarmex roadmap … --seed i``.
 * A third planner, ``wma-rrt-takeover`` (our improvement), runs on the same rows.
@@ -22,19 +28,25 @@ import csv
 import json
 import math
 import time
+from collections.abc import Sequence
 from dataclasses import asdict, dataclass
 from importlib import resources
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 from rich.console import Console
 
 from swarmex import __version__
 from swarmex.experiments.progress import read_journal, runs_progress
 from swarmex.missions.roadmap.scenario import make_scenario, run_scenario
+from swarmex.planning.roadmap import Roadmap
+from swarmex.planning.rrt_wma import build_wma_rrt
+from swarmex.sensing.coverage_raster import CoverageRaster
 from swarmex.worlds.polygon import PolygonWorld, parse_polygon_json
 
 R_BASE = 25.0
+C_EPS = 1.0  # r = C_EPS · ε in the t1eps / t2eps rows (the best c of the study's grid)
 AGENTS = 3
 MULTS = {"r": 1.0, "2r": 2.0, "4r": 4.0, "inf": math.inf}
 PLANNERS = ("wma-rrt", "prm", "wma-rrt-takeover")
@@ -118,7 +130,8 @@ class Job:
 
     @property
     def sensor_range(self) -> float:
-        return R_BASE * MULTS[self.mult]
+        base = C_EPS * self.step if self.exp.endswith("eps") else R_BASE
+        return base * MULTS[self.mult]
 
 
 def plan(quick: bool) -> list[Job]:
@@ -135,6 +148,12 @@ def plan(quick: bool) -> list[Job]:
                 for seed in range(runs):
                     jobs.append(Job(exp, env, task, planner, nodes, step, row["sensor_range"],
                                     seed))
+            if row["sensor_range"] == "inf" or (quick and row["sensor_range"] != "r"):
+                continue  # r = ε changes nothing at infinite range
+            for planner in PLANNERS[:2]:  # the second reading of r: WMA-RRT and PRM
+                for seed in range(runs):
+                    jobs.append(Job(exp + "eps", env, task, planner, nodes, step,
+                                    row["sensor_range"], seed))
     runs = 2 if quick else 10
     for env in ("fig14", "fig17"):
         for planner in PLANNERS:
@@ -155,6 +174,124 @@ def run_job(job: Job) -> dict[str, Any]:
             "tree_nodes", "budget_exhausted", "agents_off_roadmap")
     return {"key": job.key, **asdict(job), "complete": rec.complete,
             **{k: m.get(k) for k in keep}, "wall_seconds": round(rec.wall_seconds, 4)}
+
+
+def complete_coverage(w: PolygonWorld, rm: Roadmap, sensor_range: float,
+                      cells: int | None = None) -> float:
+    """Coverage after a complete run on ``rm``: the sensor swept along every edge and leg.
+
+    A complete WMA-RRT run walks every entry leg and every edge (a test checks it), and a
+    second pass of an edge sees nothing new, so this equals the run's final coverage
+    without simulating the agents.
+    """
+    ras = CoverageRaster(w, sensor_range) if cells is None else CoverageRaster(
+        w, sensor_range, cells)
+    for p, e in zip(rm.starts, rm.entry_node, strict=True):
+        ras.sense_segment(p, rm.pos[e], 0)
+    for u, v in rm.edges.tolist():
+        ras.sense_segment(rm.pos[u], rm.pos[v], 1)
+    return ras.coverage()
+
+
+GROWTH_READINGS = {
+    "exact ε, N accepted nodes (ours)": {},
+    "q_new stops at q_rand when nearer than ε": {"exact_step": False},
+    "N = sample points drawn (rejections count)": {"count_samples": True},
+}
+FIT_FIXED = (15.0, 20.0, 25.0, 30.0, 35.0, 40.0)
+FIT_SCALED = (0.6, 0.8, 1.0, 1.2, 1.4)
+SWEEP_NODES = (200, 800)
+SWEEP_STEPS = (20.0, 30.0, 40.0, 60.0, 80.0)
+SCALES = (0.5, 1.0, 2.0)
+
+
+def readings_study(quick: bool = False, seeds: Sequence[int] | None = None) -> dict[str, Any]:
+    """Which reading of ε, N and r could give the paper's Table 1 (its r, 2r, 4r rows)?
+
+    Why this exists: the paper has 200 nodes at ε = 40 beating 800 at ε = 20, and we do
+    not. Everything here is coverage after a complete run (:func:`complete_coverage`) on
+    the Fig. 8 environment with the reproduction's team, mean over ``seeds`` (seed i builds
+    tree i, as in the tables). Returns plain data for the report (and JSON).
+    """
+    seeds = list(range(1 if quick else 5) if seeds is None else seeds)
+    w = world("fig8")
+    starts = make_scenario(w, agents=AGENTS, nodes=AGENTS, step=20.0, sensor_range=1.0).starts
+    ref = [r for r in reference("roadmap_table1.csv") if r["sensor_range"] != "inf"]
+    configs = sorted({(int(r["nodes"]), float(r["step"])) for r in ref},
+                     key=lambda c: (c[1], c[0]))
+    trees: dict[tuple[str, int, float, int], Roadmap] = {}
+
+    def tree(reading: str, nodes: int, step: float, seed: int) -> Roadmap:
+        key = (reading, nodes, step, seed)
+        if key not in trees:
+            trees[key] = build_wma_rrt(w, starts, nodes, step, np.random.default_rng(seed),
+                                       **GROWTH_READINGS[reading])
+        return trees[key]
+
+    cache: dict[tuple[str, int, float, float], float] = {}
+
+    def cov(reading: str, nodes: int, step: float, rng_r: float) -> float:
+        key = (reading, nodes, step, round(rng_r, 6))
+        if key not in cache:
+            cache[key] = 100.0 * float(np.mean(
+                [complete_coverage(w, tree(reading, nodes, step, s), rng_r) for s in seeds]))
+        return cache[key]
+
+    ours = next(iter(GROWTH_READINGS))
+    growth = []
+    for reading in GROWTH_READINGS:
+        for nodes, step in configs:
+            rms = [tree(reading, nodes, step, s) for s in seeds]
+            growth.append({
+                "reading": reading, "nodes": nodes, "step": step,
+                "tree_nodes": float(np.mean([rm.n_nodes - 1 for rm in rms])),
+                "tree_length": float(np.mean([rm.edge_length[AGENTS:].sum() for rm in rms])),
+                "coverage_r25": cov(reading, nodes, step, R_BASE),
+                "coverage_eps": cov(reading, nodes, step, C_EPS * step),
+            })
+    fits = []
+    for model, params in (("fixed", FIT_FIXED), ("eps", FIT_SCALED)):
+        for c in params:
+            err = [cov(ours, int(r["nodes"]), float(r["step"]),
+                       (c if model == "fixed" else c * float(r["step"]))
+                       * MULTS[r["sensor_range"]]) - float(r["wma_rrt_coverage_pct"])
+                   for r in ref]
+            fits.append({"model": model, "param": c,
+                         "rmse": float(np.sqrt(np.mean(np.square(err)))),
+                         "bias": float(np.mean(err))})
+    sweep = []
+    for nodes in SWEEP_NODES:
+        for step in SWEEP_STEPS:
+            sweep.append({"nodes": nodes, "step": step,
+                          "tree_length": float(np.mean(
+                              [tree(ours, nodes, step, s).edge_length[AGENTS:].sum()
+                               for s in seeds])),
+                          "coverage_r25": cov(ours, nodes, step, R_BASE),
+                          "coverage_eps": cov(ours, nodes, step, C_EPS * step)})
+    # the drawing's scale is unknown: a world s times larger is this one with ε and r divided
+    # by s, so the claim's pair is rerun at other scales on the same map
+    scales = []
+    for scale in SCALES:
+        row: dict[str, Any] = {"scale": scale}
+        for nodes, step in ((200, 40.0), (800, 20.0)):
+            for name, rng_r in (("r25", R_BASE / scale), ("eps", C_EPS * step / scale)):
+                row[f"{nodes}_{step:g}_{name}"] = cov(ours, nodes, step / scale, rng_r)
+        scales.append(row)
+    return {"seeds": len(seeds), "r_base": R_BASE, "c_eps": C_EPS, "growth": growth,
+            "fits": fits, "sweep": sweep, "scales": scales}
+
+
+def _study(out: Path, quick: bool) -> dict[str, Any]:
+    """The study, read back from ``roadmap_readings.json`` when it was made with this plan."""
+    path = out / "roadmap_readings.json"
+    if path.exists():
+        old = json.loads(path.read_text(encoding="utf-8"))
+        if old.get("quick") == quick and old.get("c_eps") == C_EPS \
+                and old.get("r_base") == R_BASE:
+            return old
+    study = {"quick": quick, **readings_study(quick)}
+    path.write_text(json.dumps(study, indent=1) + "\n", encoding="utf-8")
+    return study
 
 
 def reproduce(out: str | Path, quick: bool = False, console: Console | None = None) -> Path:
@@ -180,10 +317,13 @@ def reproduce(out: str | Path, quick: bool = False, console: Console | None = No
             fh.flush()
             bar.advance(task)
     results = [done[j.key] for j in jobs]
+    console.print("readings study (trees swept edge by edge)…")
+    study = _study(out, quick)
     report = write_report(out, results, quick=quick, seconds=time.perf_counter() - t0,
-                          version=__version__, new_runs=len(todo))
+                          version=__version__, new_runs=len(todo), study=study)
     console.print(f"report: {report}")
     return report
 
 
-__all__ = ["ENVIRONMENTS", "R_BASE", "Job", "plan", "reproduce", "run_job", "world"]
+__all__ = ["C_EPS", "ENVIRONMENTS", "R_BASE", "Job", "complete_coverage", "plan",
+           "readings_study", "reproduce", "run_job", "world"]

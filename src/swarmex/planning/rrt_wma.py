@@ -148,7 +148,17 @@ def build_wma_rrt(
     n_nodes: int,
     step: float,
     rng: np.random.Generator,
+    *,
+    exact_step: bool = True,
+    count_samples: bool = False,
 ) -> Roadmap:
+    """The WMA-RRT with ``n_nodes`` accepted nodes (see the module docstring).
+
+    Two other readings of seed 004 are options, for the study in the reproduction report:
+    ``exact_step=False`` stops ``q_new`` at ``q_rand`` when it is nearer than ε, and
+    ``count_samples=True`` reads ``n_nodes`` as the number of sample points drawn (Fig. 6's
+    "number of sample points"), so rejected samples count too and the tree is smaller.
+    """
     starts = np.asarray(starts, dtype=np.float64).reshape(-1, 2)
     n = len(starts)
     if n < 1:
@@ -159,7 +169,12 @@ def build_wma_rrt(
         raise InputError(f"--step must be positive, got {step}")
     root, rule = main_root(world, starts, step)
     sec = secondary_roots(world, root, starts, step)
-    pos, par, lab, drawn = grow_rrt(world, sec, np.arange(n), n_nodes, step, rng)
+    if count_samples:
+        pos, par, lab, drawn = grow_rrt(world, sec, np.arange(n), n + n_nodes, step, rng,
+                                        max_samples=n_nodes, exact_step=exact_step)
+    else:
+        pos, par, lab, drawn = grow_rrt(world, sec, np.arange(n), n_nodes, step, rng,
+                                        exact_step=exact_step)
     # shift by one so node 0 is the Main Root; Secondary Roots hang from it
     pos = np.vstack([root, pos])
     parent = np.concatenate([[-1], np.where(par < 0, 0, par + 1)])

@@ -25,9 +25,16 @@ def test_plan_covers_both_tables():
     t2 = [j for j in full if j.exp == "t2"]
     assert len(t1) == 20 * 10 * 3 and len(t2) == 16 * 30 * 3
     assert {j.mult for j in t1} == {"r", "2r", "4r", "inf"}
+    # the second reading of r (r = ε): finite rows only, WMA-RRT and PRM
+    t1e = [j for j in full if j.exp == "t1eps"]
+    t2e = [j for j in full if j.exp == "t2eps"]
+    assert len(t1e) == 15 * 10 * 2 and len(t2e) == 12 * 30 * 2
+    assert {j.mult for j in t1e} == {"r", "2r", "4r"}
+    assert {j.planner for j in t1e + t2e} == {"wma-rrt", "prm"}
     assert len({j.key for j in full}) == len(full)
     quick = rr.plan(quick=True)
-    assert len(quick) < 120 and {j.exp for j in quick} == {"t1", "t2", "unreach"}
+    assert len(quick) < 120
+    assert {j.exp for j in quick} == {"t1", "t2", "t1eps", "t2eps", "unreach"}
 
 
 def test_report_from_a_tiny_sweep(tmp_path, monkeypatch):
@@ -42,6 +49,8 @@ def test_report_from_a_tiny_sweep(tmp_path, monkeypatch):
     report = rr.reproduce(tmp_path, quick=True)
     text = report.read_text()
     assert "Table 1" in text and "Table 2" in text and "| 400 | 20 | r | 74 |" in text
+    assert "The unreproduced claim" in text and "r = c·ε (c): RMSE" in text
+    assert (tmp_path / "roadmap_readings.json").exists()
     assert (tmp_path / "fig6_coverage_vs_samples.png").stat().st_size > 1000
     lines = (tmp_path / "roadmap_runs.jsonl").read_text().splitlines()
     assert len(lines) == len(jobs)
