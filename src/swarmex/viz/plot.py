@@ -85,8 +85,12 @@ def plot_sweep(
             ax.bar(pos, np.nan_to_num(mean), width * 0.95, yerr=half, capsize=3, label=label)
     if kind == "bar":
         ax.set_xticks(np.arange(len(xs)), [_label(v) for v in xs])
+    elif len(xs) <= 12:  # the swept values themselves (no "2.25 agents" between them)
+        ax.set_xticks([float(v) for v in xs], [_label(v) for v in xs])
     ax.set_xlabel(x)
-    ax.set_ylabel("fraction complete" if y == "complete" else y)
+    units = {r.get("time_unit") for r in ok} - {None}
+    unit = f" ({units.pop()})" if y == "makespan" and len(units) == 1 else ""
+    ax.set_ylabel("fraction complete" if y == "complete" else f"{y}{unit}")
     runs_per = len(ok) / max(1, len(xs) * len(hues))
     ax.set_title(
         f"{meta.get('mission', 'sweep')}: {y} vs {x} · mean ± 95 % CI (≈{runs_per:.0f} runs/point)",
