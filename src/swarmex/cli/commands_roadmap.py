@@ -19,7 +19,11 @@ def roadmap(
     agents: int = typer.Option(..., "--agents", help="Number of agents (= branches)."),
     nodes: int = typer.Option(..., "--nodes", help="Roadmap nodes K (Main Root excluded)."),
     step: float = typer.Option(..., "--step", help="Step size ε between nodes."),
-    sensor_range: str = typer.Option(..., "--sensor-range", help="Sensor range R, or 'inf'."),
+    sensor_range: str = typer.Option(
+        ...,
+        "--sensor-range",
+        help="Sensor range R, a multiple of the step ('1eps', '2eps'), or 'inf'.",
+    ),
     goal: str = typer.Option(None, "--goal", help="Goal 'x,y' (search)."),
     starts: str = typer.Option(None, "--starts", help="Starts 'x,y;x,y;…'."),
     seed: int = typer.Option(0, "--seed"),
