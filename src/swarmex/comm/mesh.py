@@ -19,6 +19,10 @@ to its direct neighbours. Two pieces, kept apart so the networked runtime can re
   send timeout drops them). Delivery is instantaneous, so a flood crosses the whole
   connected component within one 100 ms tick, as it would over a LAN.
 
+Unicasts to robots beyond direct range are routed by AODV (:mod:`swarmex.comm.aodv`), whose
+hellos are these heartbeats; :meth:`DiscNetwork.totals` counts its control messages
+(RREQ, RREP, RERR) separately as ``aodv_messages`` / ``aodv_bytes``.
+
 Timing constants the thesis leaves open (spec §6.9) are parameters: heartbeat period 1 s
 (the thesis's), neighbour timeout 3 heartbeat periods (three missed heartbeats, AODV's
 ``ALLOWED_HELLO_LOSS`` is 2 plus the current one).
@@ -33,6 +37,8 @@ from typing import Any, Protocol
 import numpy as np
 
 from swarmex.errors import InputError
+
+AODV_KINDS = ("RREQ", "RREP", "RERR")  # routing control (swarmex.comm.aodv)
 
 
 class Sized(Protocol):
@@ -168,15 +174,20 @@ class DiscNetwork:
         self._head = 0
 
     def totals(self) -> dict[str, Any]:
+        """Traffic of the run; ``aodv_*`` is the routing control (RREQ, RREP, RERR), which
+        ``messages_sent`` / ``bytes_sent`` include too."""
         by_kind: dict[str, list[int]] = {}
         for c in self.sent:
             for k, (m, b) in c.by_kind.items():
                 row = by_kind.setdefault(k, [0, 0])
                 row[0] += m
                 row[1] += b
+        control = [by_kind[k] for k in AODV_KINDS if k in by_kind]
         return {
             "messages_sent": sum(c.messages for c in self.sent),
             "bytes_sent": sum(c.bytes for c in self.sent),
             "messages_lost": sum(c.lost for c in self.sent),
+            "aodv_messages": sum(m for m, _ in control),
+            "aodv_bytes": sum(b for _, b in control),
             "by_kind": {k: {"messages": m, "bytes": b} for k, (m, b) in sorted(by_kind.items())},
         }

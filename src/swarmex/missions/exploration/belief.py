@@ -37,6 +37,12 @@ class ScanArchive:
         bisect.insort(self._seqs.setdefault(rec.origin, []), rec.seq)
         return True
 
+    def has_gap(self, origin: int) -> bool:
+        """True if some seq of ``origin`` below the highest one held is missing (an
+        origin numbers its scans 0, 1, 2, …)."""
+        seqs = self._seqs.get(origin)
+        return bool(seqs) and len(seqs) != seqs[-1] + 1
+
     def summary(self) -> tuple[tuple[int, int, int], ...]:
         """Runs ``(origin, first, last + 1)`` of consecutive seqs held: NEED_MAP's content."""
         runs: list[tuple[int, int, int]] = []

@@ -39,6 +39,7 @@ class ExplorationParams:
     plan_period: int = 20  # ticks (2 s)
     heartbeat_period: int = 10  # ticks (1 s)
     neighbour_timeout: int = 30  # ticks (3 s)
+    aodv: bool = True  # route unicasts (NEED_MAP, MAP, CHANGE_GOAL) with AODV (simulator)
 
     def as_dict(self) -> dict:
         d = asdict(self)
@@ -64,8 +65,11 @@ def validate(params: ExplorationParams, grid: MetricGrid) -> None:
     get_strategy(params.strategy)
     if params.robots < 1:
         raise InputError(f"--robots must be at least 1, got {params.robots}")
-    for name, v in (("--laser-range", params.laser_range), ("--comm-range", params.comm_range),
-                    ("--robot-radius", params.robot_radius)):
+    for name, v in (
+        ("--laser-range", params.laser_range),
+        ("--comm-range", params.comm_range),
+        ("--robot-radius", params.robot_radius),
+    ):
         if math.isnan(v) or v <= 0:
             raise InputError(f"{name} must be a positive number of metres, got {v:g}")
     if math.isinf(params.laser_range) or params.laser_range < 2 * grid.cell:

@@ -45,6 +45,29 @@ def robot_steps(run: ExplorationRun) -> list[int]:
     ]
 
 
+def unicast_stats(run: ExplorationRun) -> dict[str, int]:
+    """The AODV unicast queue's fate, summed over the team (zeros when AODV is off): sent by
+    applications, delivered (and how many over two or more hops), dropped at their expiry
+    without a route, dropped by the hop limit, route discoveries (RREQs originated) and
+    link breaks; plus the ``NEED_MAP`` requests to the origin of missing scans."""
+    keys = (
+        "sent",
+        "delivered",
+        "delivered_multihop",
+        "expired",
+        "dropped_hops",
+        "discoveries",
+        "link_breaks",
+    )
+    out = dict.fromkeys(keys, 0)
+    for r in run.robots:
+        if r.aodv is not None:
+            for k in keys:
+                out[k] += int(getattr(r.aodv.stats, k))
+    out["gap_requests"] = int(sum(r.stats.gap_requests for r in run.robots))
+    return out
+
+
 def exploration_metrics(run: ExplorationRun) -> tuple[dict[str, Any], list[dict[str, Any]]]:
     net = run.network.totals()
     steps = robot_steps(run)
@@ -57,22 +80,25 @@ def exploration_metrics(run: ExplorationRun) -> tuple[dict[str, Any], list[dict[
         for k, v in s.reasons.items():
             reasons[k] = reasons.get(k, 0) + v
         sent = run.network.sent[r.id]
-        per_robot.append({
-            "steps": st,
-            "moves": s.moves,
-            "plans": s.plans,
-            "replans": s.replans,
-            "replan_reasons": dict(sorted(s.reasons.items())),
-            "plan_intervals": intervals(s.plan_ticks),
-            "scans": s.scans,
-            "archive": len(r.belief.archive),
-            "conflicts": s.conflicts,
-            "change_goals_sent": s.change_goals_sent,
-            "blacklisted_regions": s.blacklisted_regions,
-            "messages_sent": sent.messages,
-            "bytes_sent": sent.bytes,
-            "explored_fraction_own": float(((r.belief.grid.logodds < 0) & reach).sum()) / n_reach,
-        })
+        per_robot.append(
+            {
+                "steps": st,
+                "moves": s.moves,
+                "plans": s.plans,
+                "replans": s.replans,
+                "replan_reasons": dict(sorted(s.reasons.items())),
+                "plan_intervals": intervals(s.plan_ticks),
+                "scans": s.scans,
+                "archive": len(r.belief.archive),
+                "conflicts": s.conflicts,
+                "change_goals_sent": s.change_goals_sent,
+                "blacklisted_regions": s.blacklisted_regions,
+                "messages_sent": sent.messages,
+                "bytes_sent": sent.bytes,
+                "explored_fraction_own": float(((r.belief.grid.logodds < 0) & reach).sum())
+                / n_reach,
+            }
+        )
     team = {
         "explored_fraction": run.explored_fraction(),
         "reachable_free_cells": int(reach.sum()),
@@ -90,6 +116,9 @@ def exploration_metrics(run: ExplorationRun) -> tuple[dict[str, Any], list[dict[
         "bytes_sent": net["bytes_sent"],
         "messages_lost": net["messages_lost"],
         "messages_by_kind": net["by_kind"],
+        "aodv_messages": net["aodv_messages"],
+        "aodv_bytes": net["aodv_bytes"],
+        "unicasts": unicast_stats(run),
         "plan_intervals_avg": average_robot([p["plan_intervals"] for p in per_robot]),
         "finished_robots": int(sum(r.finished for r in run.robots)),
     }

@@ -41,6 +41,29 @@ Reactions and the choices behind them (spec §6.3–6.7, 6.13):
   gap narrower than the robot) are blacklisted at each plan, not forever, since a later map
   may reveal a way round. A finished robot stays in the mesh (relays, answers ``NEED_MAP``),
   re-checks its map on the timer, and resumes if new frontiers appear.
+
+Unicasts and AODV (spec §2.8, seed §3.3.5; ``RobotConfig.aodv``, on in the simulator). The
+messages addressed to one robot — ``NEED_MAP``, ``MAP``, ``CHANGE_GOAL`` — go through the
+thesis's unicast queue, :meth:`ExplorerRobot.unicast`: AODV
+(:class:`~swarmex.comm.aodv.AodvNode`) sends them at once along a valid route or keeps them
+while it discovers one, until their lifetime ends (``CHANGE_GOAL`` one planning period, after
+which it is stale; the others ``unicast_lifetime``, 10 s). Heartbeats are AODV's hellos, a
+neighbour timeout or a failed send (:meth:`link_failed`) a link break. Which of them can
+need more than one hop is a reading of the seed:
+
+* ``MAP`` answers a ``NEED_MAP`` and ``CHANGE_GOAL`` answers a ``GOAL``, and both requests
+  come straight from a neighbour (``GOAL`` is one hop: "broadcasts to all neighbors"), so
+  with instantaneous delivery their target is in range; AODV only matters for them if the
+  link breaks before the reply leaves (then the reply is re-queued and re-routed). Multi-hop
+  goal knowledge (flooded ``GOAL``) is not what the thesis describes, so ``CHANGE_GOAL``
+  never starts from a robot two hops away.
+* ``NEED_MAP`` to the **origin of missing scans**: seqs number each origin's scans, so a robot
+  that holds (o, 7) but not (o, 5) knows it missed some (flood copies sent to a neighbour
+  that had just left the range are lost), and o is the one robot sure to hold them — usually
+  several hops away. The seed's ``NEED_MAP`` "inform[s] about the need to send the entire
+  scans archive to the message sender"; sending it where the need can be met is our reading
+  of its open trigger (spec §6.7). The ``MAP`` comes back along the reverse route. At most
+  one such request per origin per unicast lifetime.
 """
 
 from __future__ import annotations
@@ -50,6 +73,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from swarmex.comm.aodv import AodvMessage, AodvNode, AodvTiming, Routed
 from swarmex.comm.mesh import MeshNode
 from swarmex.missions.exploration.belief import Cell, ExplorationBelief
 from swarmex.missions.exploration.messages import (
@@ -91,6 +115,8 @@ class RobotConfig:
     heartbeat_period: int = 10  # 1 s
     neighbour_timeout: int = 30  # 3 s
     goal_ttl: int = 40  # two planning periods
+    aodv: bool = False  # route unicasts with AODV (the simulator turns it on)
+    unicast_lifetime: int = 100  # 10 s: a queued NEED_MAP / MAP waits this long for a route
     offsets: np.ndarray = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
@@ -107,13 +133,18 @@ class RobotStats:
     moves: int = 0
     conflicts: int = 0
     change_goals_sent: int = 0
+    gap_requests: int = 0  # NEED_MAP sent to the origin of missing scans (AODV on)
     blacklisted_regions: int = 0  # unreachable frontier regions at the latest plan
     finished_at: int | None = None
 
 
 class ExplorerRobot:
     def __init__(
-        self, rid: int, config: RobotConfig, pos: Cell, plan_phase: int = 0,
+        self,
+        rid: int,
+        config: RobotConfig,
+        pos: Cell,
+        plan_phase: int = 0,
         heartbeat_phase: int = 0,
     ) -> None:
         self.id = rid
@@ -130,6 +161,20 @@ class ExplorerRobot:
         self.request: str | None = None  # reason of a pending unscheduled plan
         self.last_plan_t = -1
         self.stats = RobotStats()
+        self.aodv: AodvNode | None = None
+        if config.aodv:
+            self.aodv = AodvNode(
+                rid,
+                self.mesh.relay_targets,
+                AodvTiming(
+                    active_route=config.neighbour_timeout,
+                    my_route=2 * config.neighbour_timeout,
+                    reverse_route=config.neighbour_timeout,
+                    hello_route=config.neighbour_timeout,
+                    retry=config.heartbeat_period,
+                ),
+            )
+        self.asked: dict[int, int] = {}  # origin -> tick of the last gap NEED_MAP to it
 
     # ------------------------------------------------------------------ state
     @property
@@ -146,6 +191,27 @@ class ExplorerRobot:
 
     def _neighbours(self, but: int | None = None) -> list[int]:
         return self.mesh.relay_targets(but)
+
+    def _lifetime(self, msg: object) -> int:
+        """How long a unicast may wait for a route: a ``CHANGE_GOAL`` one planning period
+        (after that the sender has re-planned and re-announced its goal, so the order is
+        stale), the others ``unicast_lifetime``."""
+        if isinstance(msg, ChangeGoal):
+            return self.cfg.plan_period
+        return self.cfg.unicast_lifetime
+
+    def unicast(self, dst: int, msg: Message, t: int) -> Out:
+        """The thesis's unicast queue: by AODV when routing is on, else to a neighbour."""
+        if self.aodv is None:
+            return [(dst, msg)]
+        return self.aodv.send(dst, msg, t, self._lifetime(msg))
+
+    def link_failed(self, dst: int, msg: object, t: int) -> Out:
+        """The radio could not deliver a unicast to ``dst`` (it left the range): AODV
+        breaks the link, re-queues the payload and rediscovers a route."""
+        if self.aodv is None:
+            return []
+        return self.aodv.send_failed(dst, msg, t, self._lifetime(msg))
 
     def _request(self, reason: str) -> None:
         if self.request is None:
@@ -171,38 +237,88 @@ class ExplorerRobot:
             out.append((RADIO, Heartbeat(self.id, *self.pos)))
         for gone in self.mesh.expire(t):
             self.belief.forget(gone)
+            if self.aodv is not None:
+                out.extend(self.aodv.link_broken(gone, t))
+        if self.aodv is not None:
+            out.extend(self.aodv.tick(t))
         return out
 
     def on_message(self, src: int, msg: Message, t: int) -> Out:
         out: Out = []
+        aodv = self.aodv
         if isinstance(msg, Heartbeat):
             self.belief.hear_position(src, (msg.x, msg.y), t)
-            if self.mesh.hear(src, t):
-                out.append((src, NeedMap(self.id, self.belief.archive.summary())))
+            new = self.mesh.hear(src, t)
+            if aodv is not None:
+                out.extend(aodv.hello(src, t))  # heartbeats are AODV's hello messages
+            if new:
+                out.extend(self.unicast(src, NeedMap(self.id, self.belief.archive.summary()), t))
             return out
         if src not in self.mesh.neighbours:  # reverse connection
             self.mesh.hear(src, t)
+            if aodv is not None:
+                out.extend(aodv.hello(src, t))
+        if aodv is not None:
+            if isinstance(msg, (AodvMessage, Routed)):
+                sent, delivered = aodv.receive(src, msg, t)
+                out.extend(sent)
+                for orig, payload in delivered:  # a multi-hop unicast for this robot
+                    out.extend(self._handle(orig, None, payload, t))
+                return out
+            if type(msg) in (NeedMap, MapMsg, ChangeGoal):
+                aodv.delivered_direct()
+        out.extend(self._handle(src, src, msg, t))
+        return out
+
+    def _handle(self, sender: int, via: int | None, msg: Message, t: int) -> Out:
+        """An application message from ``sender``, received from neighbour ``via`` (None
+        when it came over several hops: then its scans are passed on to every neighbour)."""
+        out: Out = []
         if isinstance(msg, ScanMsg):  # SCAN and MAP
             new = tuple(r for r in msg.scans if self.mesh.first_time(r.key))
             for r in new:
                 self.belief.integrate(r)
             if new:
                 fwd = ScanMsg(self.id, new)
-                out.extend((n, fwd) for n in self._neighbours(but=src))
+                out.extend((n, fwd) for n in self._neighbours(but=via))
+                if self.aodv is not None:
+                    out.extend(self._ask_for_gaps(new, t))
         elif isinstance(msg, NeedMap):
             missing = self.belief.archive.missing_for(msg.have)
             if missing:
-                out.append((src, MapMsg(self.id, tuple(missing))))
+                out.extend(self.unicast(sender, MapMsg(self.id, tuple(missing)), t))
         elif isinstance(msg, Goal):
-            self.belief.hear_position(src, (msg.x, msg.y), t)
-            self.belief.hear_goal(src, msg.goal, msg.priority, t)
-            out.extend(self._check_conflict(src, msg.goal, msg.priority))
+            self.belief.hear_position(sender, (msg.x, msg.y), t)
+            self.belief.hear_goal(sender, msg.goal, msg.priority, t)
+            out.extend(self._check_conflict(sender, msg.goal, msg.priority, t))
         elif isinstance(msg, ChangeGoal):
-            self.belief.hear_goal(src, msg.goal, msg.priority, t)
+            self.belief.hear_goal(sender, msg.goal, msg.priority, t)
             self._request("change_goal")
         return out
 
-    def _check_conflict(self, src: int, goal: Cell | None, priority: float) -> Out:
+    def _ask_for_gaps(self, new: tuple[ScanRecord, ...], t: int) -> Out:
+        """``NEED_MAP`` to the origin of scans this archive has a hole in.
+
+        Seqs count each origin's scans from 0, so a robot holding (o, 7) but not (o, 5)
+        knows it missed some of o's scans (copies lost to a neighbour that had left the
+        range, or a partition) — and o is the one robot sure to hold them. It is usually
+        several hops away: AODV finds the route, and o's ``MAP`` comes back along it.
+        At most one request per origin per unicast lifetime.
+        """
+        out: Out = []
+        arch = self.belief.archive
+        for origin in sorted({r.origin for r in new}):
+            if origin == self.id or not arch.has_gap(origin):
+                continue
+            last = self.asked.get(origin)
+            if last is not None and t - last <= self.cfg.unicast_lifetime:
+                continue
+            self.asked[origin] = t
+            self.stats.gap_requests += 1
+            out.extend(self.unicast(origin, NeedMap(self.id, arch.summary()), t))
+        return out
+
+    def _check_conflict(self, src: int, goal: Cell | None, priority: float, t: int) -> Out:
         if not self.cfg.strategy.priorities or goal is None or self.goal is None:
             return []
         if math.dist(goal, self.goal) > self.cfg.laser_cells:
@@ -213,7 +329,7 @@ class ExplorerRobot:
             self._request("conflict")
             return []
         self.stats.change_goals_sent += 1
-        return [(src, ChangeGoal(self.id, self.goal, mine))]
+        return self.unicast(src, ChangeGoal(self.id, self.goal, mine), t)
 
     # ---------------------------------------------------------------- motion
     def next_step(self) -> Cell | None:
@@ -275,12 +391,20 @@ class ExplorerRobot:
             return fields[c]
 
         ctx = GoalContext(
-            me=self.id, pos=(x, y), frontiers=fr, eligible=eligible, dist=d,
+            me=self.id,
+            pos=(x, y),
+            frontiers=fr,
+            eligible=eligible,
+            dist=d,
             laser_cells=cfg.laser_cells,
             team_goals=self.belief.team_goals(t, cfg.goal_ttl) if cfg.strategy.exclusion else {},
-            team_pos=(self.belief.team_positions(t, cfg.neighbour_timeout)
-                      if cfg.strategy.needs_rivals else {}),
-            current_goal=self.goal, field_from=field_from,
+            team_pos=(
+                self.belief.team_positions(t, cfg.neighbour_timeout)
+                if cfg.strategy.needs_rivals
+                else {}
+            ),
+            current_goal=self.goal,
+            field_from=field_from,
         )
         goal = cfg.strategy.choose(ctx) if eligible.any() else None
         had_goal = self.goal is not None

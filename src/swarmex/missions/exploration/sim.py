@@ -11,8 +11,10 @@ thesis's movement period; exploration time is counted in these *steps*) runs:
 2. **sensing** — every robot that moved (and every robot at tick 0) gets a laser scan
    ray-cast against the truth; a robot that stood still would get the same scan again from
    a static world and a noise-free laser, so it takes none;
-3. **messages** — heartbeats and timeouts, then every queued message is delivered, relays
-   included, until the network is quiet (instantaneous, :mod:`swarmex.comm.mesh`);
+3. **messages** — heartbeats and timeouts (and AODV's queue: expiries, discovery retries),
+   then every queued message is delivered, relays included, until the network is quiet
+   (instantaneous, :mod:`swarmex.comm.mesh`); a unicast whose next hop has left the range
+   is reported to its sender at once (:class:`Wire`), as a send timeout would be;
 4. **planning** — robots whose timer fires or who have a request plan, in id order, each
    one's GOAL delivered before the next plans.
 
@@ -30,8 +32,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from swarmex.comm.aodv import Routed, Rrep
 from swarmex.comm.mesh import DiscNetwork
-from swarmex.missions.exploration.messages import ScanMsg
+from swarmex.missions.exploration.messages import ChangeGoal, MapMsg, NeedMap, ScanMsg
 from swarmex.missions.exploration.params import (
     Cell,
     ExplorationParams,
@@ -97,14 +100,26 @@ def legal_step(free: np.ndarray, a: Cell, b: Cell) -> bool:
     return not (dx and dy) or bool(free[a[1], b[0]] and free[b[1], a[0]])
 
 
+_UNICAST = (NeedMap, MapMsg, ChangeGoal, Routed, Rrep)
+
+
 class Wire:
-    """Carries robots' outgoing ``(destination, message)`` lists over a :class:`DiscNetwork`."""
+    """Carries robots' outgoing ``(destination, message)`` lists over a :class:`DiscNetwork`.
+
+    A robot that routes with AODV learns when a unicast (an application unicast, a routed
+    hop or an RREP) cannot reach its next hop — the thesis's nanomsg send timeout — and
+    reacts at once (:meth:`ExplorerRobot.link_failed`); floods and RERRs are fire-and-forget.
+    """
 
     def __init__(self, net: DiscNetwork, robots: list[ExplorerRobot]) -> None:
         self.net = net
         self.robots = robots
+        self.t = 0
 
-    def send(self, src: int, out: Out) -> None:
+    def send(self, src: int, out: Out, t: int | None = None) -> None:
+        if t is not None:
+            self.t = t
+        routed = self.robots[src].aodv is not None
         i = 0
         while i < len(out):  # consecutive sends of one message go out together
             dst, msg = out[i]
@@ -113,6 +128,10 @@ class Wire:
                 j += 1
             if dst == RADIO:
                 self.net.broadcast(src, msg)
+            elif routed and type(msg) in _UNICAST:
+                for d, m in out[i:j]:
+                    if not self.net.unicast(src, d, m):
+                        self.send(src, self.robots[src].link_failed(d, m, self.t))
             else:
                 self.net.unicast_many(src, [d for d, _ in out[i:j]], msg)
             i = j
@@ -125,21 +144,26 @@ class Wire:
         sent but not handed over (the flood's main cost in Python calls).
         """
         robots = self.robots
+        self.t = t
         for src, dst, msg in self.net.drain():
             r = robots[dst]
             if type(msg) is ScanMsg and src in r.mesh.neighbours:
                 seen = r.mesh.seen
                 scans = msg.scans
-                if (scans[0].key in seen) if len(scans) == 1 else all(
-                    s.key in seen for s in scans
-                ):
+                if (scans[0].key in seen) if len(scans) == 1 else all(s.key in seen for s in scans):
                     continue
             self.send(dst, r.on_message(src, msg, t))
 
 
 def build_robots(
-    grid: MetricGrid, params: ExplorationParams, rng: np.random.Generator
+    grid: MetricGrid,
+    params: ExplorationParams,
+    rng: np.random.Generator,
+    routing: bool = False,
 ) -> tuple[list[ExplorerRobot], tuple[Cell, ...], Laser]:
+    """The team. ``routing`` turns AODV on (the simulator passes ``params.aodv``); it is off
+    by default because the networked runtime's frame decoder knows only the application
+    messages, so its robots keep sending every unicast to a direct neighbour."""
     laser = Laser(params.laser_range, params.beams, grid.cell)
     starts = params.starts or default_starts(grid, params.robots, params.robot_radius)
     radius_cells = params.robot_radius / grid.cell
@@ -154,6 +178,7 @@ def build_robots(
         heartbeat_period=params.heartbeat_period,
         neighbour_timeout=params.neighbour_timeout,
         goal_ttl=2 * params.plan_period,
+        aodv=routing,
     )
     plan_phase = rng.integers(0, params.plan_period, params.robots)
     hb_phase = rng.integers(0, params.heartbeat_period, params.robots)
@@ -173,11 +198,16 @@ def run_exploration(
     validate(params, grid)
     t0 = time.perf_counter()
     rng = np.random.default_rng(params.seed)
-    robots, starts, laser = build_robots(grid, params, rng)
+    robots, starts, laser = build_robots(grid, params, rng, routing=params.aodv)
     n = len(robots)
     net = DiscNetwork(n, params.comm_range)
     run = ExplorationRun(
-        params, grid, robots, starts, [[(0, x, y)] for x, y in starts], net,
+        params,
+        grid,
+        robots,
+        starts,
+        [[(0, x, y)] for x, y in starts],
+        net,
         reachable=reachable_free(grid.free, starts),
     )
     truth = grid.free
@@ -201,12 +231,12 @@ def run_exploration(
             net.move(np.array([r.pos for r in robots], dtype=np.float64) * grid.cell)
         for i, r in enumerate(robots):
             if moved[i]:
-                wire.send(i, r.observe(laser.cast(truth, *r.pos), t))
+                wire.send(i, r.observe(laser.cast(truth, *r.pos), t), t)
         for i, r in enumerate(robots):
-            wire.send(i, r.housekeeping(t))
+            wire.send(i, r.housekeeping(t), t)
         wire.settle(t)
         for i, r in enumerate(robots):
-            wire.send(i, r.maybe_plan(t))
+            wire.send(i, r.maybe_plan(t), t)
             wire.settle(t)
         run.makespan = t
         if on_frame is not None and frame_every > 0 and t % frame_every == 0:
@@ -218,4 +248,3 @@ def run_exploration(
     if on_frame is not None and frame_every > 0 and run.makespan % frame_every:
         on_frame(run.makespan, run)
     return run
-
