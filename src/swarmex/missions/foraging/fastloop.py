@@ -31,6 +31,56 @@ def _sidesteps(opts, k, x, y, g):
 
 
 @njit(cache=True)
+def _free_sides(opts, k, x, y, g):
+    """Append the side cells not already among ``opts[:k]`` (the frozen-crowd rule)."""
+    first = k
+    for dx, dy in ((1, 0), (0, -1), (-1, 0), (0, 1)):
+        nx, ny = x + dx, y + dy
+        if not (0 <= nx < g and 0 <= ny < g):
+            continue
+        seen = False
+        for j in range(first):
+            if opts[j, 0] == nx and opts[j, 1] == ny:
+                seen = True
+        if not seen:
+            opts[k, 0] = nx
+            opts[k, 1] = ny
+            k += 1
+    return k
+
+
+def transport_memo(key: tuple | None, n: int) -> np.ndarray:
+    """The compiled loop's copy of ``Mission.transport_key`` (its layout: see _same_as_memo)."""
+    memo = np.full(3 + 5 * n, -1, dtype=np.int64)
+    if key is not None:
+        pos, carrying, tmode, pidx, units, delivered = key
+        memo[:3] = (1, units, delivered)
+        for a in range(n):
+            memo[3 + 5 * a : 8 + 5 * a] = (*pos[a], int(carrying[a]), tmode[a], pidx[a])
+    return memo
+
+
+@njit(cache=True)
+def _same_as_memo(memo, pos, carrying, tmode, pidx, units, delivered):
+    """Whether the transport state equals the one stored in ``memo``; stores the new one.
+
+    Layout: [valid, units, delivered, then per robot x, y, carrying, tmode, pidx].
+    """
+    same = memo[0] == 1 and memo[1] == units and memo[2] == delivered
+    memo[0] = 1
+    memo[1] = units
+    memo[2] = delivered
+    for a in range(pos.shape[0]):
+        base = 3 + 5 * a
+        vals = (pos[a, 0], pos[a, 1], 1 if carrying[a] else 0, tmode[a], pidx[a])
+        for j in range(5):
+            if memo[base + j] != vals[j]:
+                same = False
+            memo[base + j] = vals[j]
+    return same
+
+
+@njit(cache=True)
 def _toward(opts, k, x, y, qx, qy):
     if qx != x:
         opts[k, 0] = x + (1 if qx > x else -1)
@@ -118,12 +168,14 @@ def _order(cur, opts, out):
 @njit(cache=True)
 def transport_tail(
     pos, carrying, tmode, pidx, join_at, state, path, path_of, nest, food, relay,
-    history, jobs, handovers,
+    history, jobs, handovers, memo,
 ):  # fmt: skip
     """Play rounds until done or ``history`` is full.
 
     ``state`` = [t, units, delivered, k, n_jobs, rows_written, done]; positions after each
     Look are written to ``history``; jobs as rows (t, agent, kind 0=pickup 1=drop).
+    ``memo`` holds the previous round's state after Look, for the frozen-crowd rule of
+    ``Mission.step``.
     """
     n = pos.shape[0]
     g = path_of.shape[0]
@@ -188,6 +240,7 @@ def transport_tail(
             state[6] = 1
             break
         # ---- Compute: options
+        frozen = _same_as_memo(memo, pos, carrying, tmode, pidx, state[1], state[2])
         for a in range(n):
             x, y = pos[a, 0], pos[a, 1]
             k = 0
@@ -202,6 +255,8 @@ def transport_tail(
                         k = _toward(opts[a], 0, x, y, nest[0], nest[1])
                     else:
                         k = _toward(opts[a], 0, x, y, food[0], food[1])
+                    if frozen and k > 0:
+                        k = _free_sides(opts[a], k, x, y, g)
                     opts[a, k, 0] = x
                     opts[a, k, 1] = y
                     k += 1

@@ -98,6 +98,9 @@ class Mission:
         self.history: list[list[Cell]] = []
         self.join_at: dict[int, int] = {}
         self.tail_chunks: list[np.ndarray] = []
+        # the transport state after the last Look, to spot a frozen crowd (see step)
+        self._last_key: tuple | None = None
+        self._frozen = False
 
     # ------------------------------------------------------------------ prediction
     def on_route(self, a: int) -> bool:
@@ -240,7 +243,10 @@ class Mission:
             if not self.carrying[a] and self.units == 0:
                 return [p, *sidesteps(p, self.g)], False
             goal = self.nest if self.carrying[a] else self.food
-            return [*toward(p, goal), p], False
+            moves = toward(p, goal)
+            if self._frozen and moves:  # break a frozen crowd: any free side will do
+                moves += [c for c in sidesteps(p, self.g) if c not in moves]
+            return [*moves, p], False
         if tm == JOIN:
             return [*toward(p, self.path[self.join_at[a]]), p], False
         if tm == RELAY:
@@ -255,7 +261,33 @@ class Mission:
             return [p], False
         return [p, *sidesteps(p, self.g)], False
 
+    def transport_key(self) -> tuple | None:
+        """Everything a transport round's moves depend on (None while anyone explores or
+        communicates: their routes depend on the clock)."""
+        if any(m != TRANSPORT for m in self.mode):
+            return None
+        return (
+            tuple(self.pos),
+            tuple(self.carrying),
+            tuple(self.tmode),
+            tuple(self.pidx),
+            self.units,
+            self.delivered,
+        )
+
     def step(self) -> None:
+        """One round's Compute and Move (after ``look``).
+
+        A crowd can freeze: End-to-End robots near the food that each want the next one's
+        cell while a fourth takes one of those cells first all wait, and since a transport
+        round depends only on this state, every later round would be the same. When the
+        state after Look equals the previous round's, robots that want to move may also
+        step to a free side cell for this round. Runs that never freeze (every run that
+        completes without this rule) are unchanged.
+        """
+        key = self.transport_key()
+        self._frozen = key is not None and key == self._last_key
+        self._last_key = key
         n = self.n
         opts, following = [], []
         for a in range(n):
@@ -299,7 +331,7 @@ class Mission:
             self.step()
 
     def _tail(self, record: bool, limit: int) -> None:
-        from swarmex.missions.foraging.fastloop import transport_tail
+        from swarmex.missions.foraging.fastloop import transport_memo, transport_tail
 
         n, g = self.n, self.g
         pos = np.asarray(self.pos, dtype=np.int64)
@@ -317,10 +349,11 @@ class Mission:
         food = np.asarray(self.food, dtype=np.int64)
         relay = self.transport != END_TO_END
         chunk = np.empty((4096, n, 2), dtype=np.int64)
+        memo = transport_memo(self._last_key, n)
         while True:
             rows = transport_tail(
                 pos, carrying, tmode, pidx, join_at, state, path, path_of, nest, food, relay,
-                chunk, jobs, handovers,
+                chunk, jobs, handovers, memo,
             )  # fmt: skip
             if record:
                 self.tail_chunks.append(chunk[:rows].astype(np.int32))

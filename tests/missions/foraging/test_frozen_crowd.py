@@ -1,0 +1,73 @@
+"""End-to-End robots that freeze in a crowd near the food get going again (docs/foraging.md).
+
+The frozen state is detected by an exact repeat of the transport state after Look; the rule
+then lets robots that want to move take a free side cell for that round. Before the rule
+these runs never finished (NoProgress).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from swarmex.cli import main
+from swarmex.missions.foraging.sim import Mission, run_mission
+from swarmex.missions.foraging.timed import timed_plan
+
+# a run that froze before the rule: (pattern, g, n, food, k)
+FROZE = [("strips", 12, 6, (7, 4), 48)]
+
+
+@pytest.mark.parametrize("pattern, g, n, food, k", FROZE)
+def test_a_run_that_froze_now_finishes_and_the_compiled_loop_agrees(pattern, g, n, food, k):
+    plan = timed_plan(pattern, g, n)
+    slow = run_mission(plan, food, k, "end-to-end", fast=False)
+    fast = run_mission(plan, food, k, "end-to-end", fast=True)
+    assert slow.complete and slow.delivered == k
+    assert slow.makespan == fast.makespan
+    assert np.array_equal(slow.positions, fast.positions)
+    assert slow.jobs == fast.jobs
+    # replay: every move is one step or a stay, and no two robots share a non-nest cell
+    steps = np.abs(np.diff(slow.positions, axis=0)).sum(axis=2)
+    assert steps.max() <= 1
+    nest = tuple(plan.plan.nest)
+    for row in slow.positions:
+        cells = [tuple(c) for c in row.tolist() if tuple(c) != nest]
+        assert len(cells) == len(set(cells))
+
+
+def test_the_rule_fires_only_on_an_exact_repeat(monkeypatch):
+    """Count frozen rounds: a run that never repeats its state never uses the rule."""
+    fired = []
+    original = Mission.step
+
+    def step(self):
+        original(self)
+        fired.append(self._frozen)
+
+    monkeypatch.setattr(Mission, "step", step)
+    plan = timed_plan("strips", 12, 6)
+    run_mission(plan, (7, 4), 48, "end-to-end", fast=False)
+    assert any(fired)  # the crowd froze and was broken
+    fired.clear()
+    run_mission(plan, (2, 9), 12, "end-to-end", fast=False)
+    assert not any(fired)
+
+
+@pytest.mark.parametrize("pattern, g, n", [("strips", 12, 6), ("sectors", 16, 8)])
+def test_every_food_cell_finishes_end_to_end(pattern, g, n):
+    plan = timed_plan(pattern, g, n)
+    for fx in range(g):
+        for fy in range(g):
+            if (fx, fy) == tuple(plan.plan.nest):
+                continue
+            for k in (n, 4 * n):
+                out = run_mission(plan, (fx, fy), k, "end-to-end", record=False)
+                assert out.complete, (fx, fy, k)
+
+
+def test_the_cli_example_that_used_to_hang(capsys):
+    argv = ["forage", "--grid", "12", "--agents", "6", "--algorithm", "strips"]
+    extra = ["--food", "7,4", "--transport", "end-to-end", "--food-units", "48"]
+    assert main([*argv, *extra]) == 0
+    assert "48/48" in capsys.readouterr().out
