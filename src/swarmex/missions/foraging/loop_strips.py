@@ -27,6 +27,7 @@ from __future__ import annotations
 from swarmex.errors import InputError
 from swarmex.missions.foraging.grid import Cell, lpath, nest_of
 from swarmex.missions.foraging.plan import Plan
+from swarmex.missions.foraging.strips import strip_plan
 
 
 def legs(xs: range, rows: list[int], first_down: bool) -> list[Cell]:
@@ -69,26 +70,9 @@ def plan(g: int, n: int) -> Plan:
         cells = loop(g, s * h, h, upper_first=(s % 2 == 0))
         strips.append((s, cells))
     strips.sort(key=lambda e: (-abs(e[1][0][1] - nest[1]), e[1][0][1]))
-    routes, explore_from, owner = [], [], []
     first_step = (cx - 1, nest[1])
-    for s, cells in strips:
-        start = cells[0]
-        r = [nest, first_step, *lpath(first_step, start, x_first=False)]
-        explore_from.append(len(r) - 1)
-        r.extend(cells[1:])
-        routes.append(r)
-        owner.append(s)
-    index = {s: a for a, s in enumerate(owner)}
-    neighbours = [[index[t] for t in (s - 1, s + 1) if t in index] for s in owner]
-    return Plan(
-        "loop-strips",
-        g,
-        n,
-        routes,
-        depart=list(range(1, n + 1)),
-        explore_from=explore_from,
-        neighbours=neighbours,
-        sync=True,
-        follow_path_comm=False,
-        notes={"strip": h, "strip_of": owner},
-    )
+    legs = [
+        (s, [nest, first_step, *lpath(first_step, cells[0], x_first=False)], cells)
+        for s, cells in strips
+    ]
+    return strip_plan("loop-strips", g, n, h, legs, follow_path_comm=False)

@@ -58,17 +58,36 @@ def plan(g: int, n: int) -> Plan:
     touch: Cell = (0, nest[1])
     cells = start_cells(g, n)
     order = sorted(cells, key=lambda c: -manhattan(c[0], touch))  # stable on ties
-    routes, explore_from, owner = [], [], []
+    legs = []
     for cell, s, bottom in order:
-        r = [nest, *lpath(nest, touch), *lpath(touch, cell, x_first=False)]
-        explore_from.append(len(r) - 1)
-        r.extend(sweep(g, s, strip, bottom)[1:])
-        routes.append(r)
+        deploy = [nest, *lpath(nest, touch), *lpath(touch, cell, x_first=False)]
+        legs.append((s, deploy, sweep(g, s, strip, bottom)))
+    return strip_plan("strips", g, n, strip, legs, follow_path_comm=True)
+
+
+def strip_plan(
+    name: str,
+    g: int,
+    n: int,
+    strip: int,
+    legs: list[tuple[int, list[Cell], list[Cell]]],
+    follow_path_comm: bool,
+) -> Plan:
+    """A plan of one robot per horizontal strip, robots in departure order.
+
+    ``legs`` holds, per robot, its strip's index, its deployment route from the nest (ending
+    at the strip's first cell) and its exploration route (starting there). Neighbours are the
+    robots of the adjacent strips, the ones a strip's robot informs (§4.1).
+    """
+    routes, explore_from, owner = [], [], []
+    for s, deploy, explore in legs:
+        explore_from.append(len(deploy) - 1)
+        routes.append([*deploy, *explore[1:]])
         owner.append(s)
     by_strip = {s: a for a, s in enumerate(owner)}
     neighbours = [[by_strip[t] for t in (s - 1, s + 1) if t in by_strip] for s in owner]
     return Plan(
-        "strips",
+        name,
         g,
         n,
         routes,
@@ -76,6 +95,6 @@ def plan(g: int, n: int) -> Plan:
         explore_from=explore_from,
         neighbours=neighbours,
         sync=True,
-        follow_path_comm=True,
+        follow_path_comm=follow_path_comm,
         notes={"strip": strip, "strip_of": owner},
     )
