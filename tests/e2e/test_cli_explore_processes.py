@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import json
+
 from swarmex.cli import main
 
 
@@ -22,3 +24,5 @@ def test_processes_run_completes(tmp_path):
     out = tmp_path / "mesh.json"
     code = main(["explore", "--empty", "3x3", "--robots", "2", "--processes", "--json", str(out)])
     assert code == 0 and out.exists()
+    record = json.loads(out.read_text())
+    assert record["params"]["aodv"] is False  # the processes send one-hop unicasts only

@@ -41,6 +41,7 @@ abruptly at a given tick; ``loss`` drops that share of radio frames at the recei
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import math
 import os
 import shutil
@@ -972,6 +973,9 @@ def run_processes(grid, params, options: MeshOptions, json_path: Path | None = N
     from swarmex.missions.exploration.params import validate
 
     validate(params, grid)
+    # the processes send one-hop unicasts only (their frames have no AODV control types):
+    # say so in the record rather than the simulator's default
+    params = dataclasses.replace(params, aodv=False)
     mp = multiprocessing.get_context("forkserver")
     mp.set_forkserver_preload(PRELOAD)
     run_dir = Path(tempfile.mkdtemp(prefix="swarmex-mesh-"))
