@@ -58,7 +58,7 @@ from dataclasses import dataclass, field
 from functools import cached_property
 from typing import Any, ClassVar, Protocol
 
-import msgpack
+from swarmex.comm.message import PackedMessage, packed_size
 
 Out = list[tuple[int, Any]]  # (neighbour, message) transmissions
 
@@ -72,25 +72,10 @@ class Payload(Protocol):
     def nbytes(self) -> int: ...
 
 
-def _packed(d: dict[str, Any]) -> int:
-    return len(msgpack.packb(d, use_bin_type=True))
-
-
-class AodvMessage:
+class AodvMessage(PackedMessage):
     """AODV control message: ``kind``, ``to_dict()`` (msgpack-ready) and ``nbytes``."""
 
-    kind: ClassVar[str] = ""
     src: int  # the transmitting neighbour (one hop)
-
-    def body(self) -> dict[str, Any]:
-        raise NotImplementedError
-
-    def to_dict(self) -> dict[str, Any]:
-        return {"type": self.kind, **self.body()}
-
-    @cached_property
-    def nbytes(self) -> int:
-        return _packed(self.to_dict())
 
 
 @dataclass(eq=False)
@@ -188,7 +173,7 @@ class Routed:
             "hops": self.hops,
             "payload": None,
         }
-        return _packed(head) - 1 + int(self.payload.nbytes)  # None packs to one byte
+        return packed_size(head) - 1 + int(self.payload.nbytes)  # None packs to one byte
 
 
 CONTROL_KINDS = ("RREQ", "RREP", "RERR")

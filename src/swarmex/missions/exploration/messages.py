@@ -32,11 +32,10 @@ from typing import Any, ClassVar
 
 import msgpack
 
+from swarmex.comm.message import PackedMessage, packed_size
 from swarmex.sensing.occupancy import LocalMap
 
-
-def _packed_size(d: dict) -> int:
-    return len(msgpack.packb(d, use_bin_type=True))
+_packed_size = packed_size
 
 
 def _scans_size(scans: tuple) -> int:
@@ -81,18 +80,8 @@ class ScanRecord:
         return _packed_size(self.to_dict())
 
 
-class Message:
-    kind: ClassVar[str] = ""
-
-    def body(self) -> dict[str, Any]:
-        raise NotImplementedError
-
-    def to_dict(self) -> dict[str, Any]:
-        return {"type": self.kind, **self.body()}
-
-    @cached_property
-    def nbytes(self) -> int:
-        return _packed_size(self.to_dict())
+class Message(PackedMessage):
+    """An exploration message (the table above)."""
 
 
 @dataclass(eq=False)
