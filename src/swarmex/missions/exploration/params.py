@@ -40,6 +40,11 @@ class ExplorationParams:
     heartbeat_period: int = 10  # ticks (1 s)
     neighbour_timeout: int = 30  # ticks (3 s)
     aodv: bool = True  # route unicasts (NEED_MAP, MAP, CHANGE_GOAL) with AODV (simulator)
+    # a robot that lost a goal conflict leaves the winner's zone even when every candidate
+    # is in some zone (off: it falls back on plain greedy, usually the same goal)
+    conflict_yield: bool = False
+    # ticks a robot stands still after each plan generation (planning time; 0: instantaneous)
+    plan_pause: int = 0
 
     def as_dict(self) -> dict:
         d = asdict(self)
@@ -82,6 +87,8 @@ def validate(params: ExplorationParams, grid: MetricGrid) -> None:
     for name in ("plan_period", "heartbeat_period", "neighbour_timeout"):
         if getattr(params, name) < 1:
             raise InputError(f"{name} must be at least one tick")
+    if params.plan_pause < 0:
+        raise InputError(f"plan_pause must be zero or more ticks, got {params.plan_pause}")
     if params.max_ticks is not None and params.max_ticks < 1:
         raise InputError(f"--max-ticks must be positive, got {params.max_ticks}")
     if params.starts is not None:

@@ -34,6 +34,14 @@ Reactions and the choices behind them (spec §6.3–6.7, 6.13):
   higher-priority one sends ``CHANGE_GOAL`` to the other, which re-plans. A robot plans at
   most once per tick, so a ping-pong between two robots that both fall back onto the same
   zone costs one plan per tick each — the end-of-exploration crowding the thesis reports.
+* Two options (off by default; the team-size study, docs/exploration.md) make a re-plan
+  cost what the thesis's explanation of its optimal team size needs it to cost (§4.2–4.3:
+  more plan generations → more steps): ``conflict_yield`` — the loser of a conflict may not
+  keep a goal in the winner's zone even when every candidate lies in some zone (off: the
+  "prefers" fallback is plain greedy, usually the goal it had); ``plan_pause`` — the robot
+  stands still for that many ticks after every plan generation (planning time, during which
+  the motion thread would wait; off: planning is instantaneous, as in the thesis's step
+  count, which the text never says planning interrupts).
 * Unscheduled plans are also requested when the goal is reached and when the next cell of
   the path turns out blocked (the motion thread finds "no plan"). The timer keeps running
   from the robot's start: an unscheduled plan does not move it.
@@ -117,6 +125,8 @@ class RobotConfig:
     goal_ttl: int = 40  # two planning periods
     aodv: bool = False  # route unicasts with AODV (the simulator turns it on)
     unicast_lifetime: int = 100  # 10 s: a queued NEED_MAP / MAP waits this long for a route
+    conflict_yield: bool = False  # a conflict's loser leaves the winner's zone (see plan)
+    plan_pause: int = 0  # ticks the robot stands still after a plan generation
     offsets: np.ndarray = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
@@ -175,6 +185,8 @@ class ExplorerRobot:
                 ),
             )
         self.asked: dict[int, int] = {}  # origin -> tick of the last gap NEED_MAP to it
+        self.beaten_by: set[int] = set()  # robots that won a conflict since the last plan
+        self.hold = 0  # ticks left standing still while a plan is computed (plan_pause)
 
     # ------------------------------------------------------------------ state
     @property
@@ -293,6 +305,7 @@ class ExplorerRobot:
             out.extend(self._check_conflict(sender, msg.goal, msg.priority, t))
         elif isinstance(msg, ChangeGoal):
             self.belief.hear_goal(sender, msg.goal, msg.priority, t)
+            self.beaten_by.add(sender)
             self._request("change_goal")
         return out
 
@@ -326,6 +339,7 @@ class ExplorerRobot:
         self.stats.conflicts += 1
         mine = float(self.remaining)
         if (priority, src) < (mine, self.id):
+            self.beaten_by.add(src)
             self._request("conflict")
             return []
         self.stats.change_goals_sent += 1
@@ -335,6 +349,9 @@ class ExplorerRobot:
     def next_step(self) -> Cell | None:
         """The cell the robot wants to enter this tick, or None (no plan, or path blocked)."""
         if self.path_i >= self.path.shape[0]:
+            return None
+        if self.hold > 0:  # still planning (plan_pause)
+            self.hold -= 1
             return None
         x, y = (int(v) for v in self.path[self.path_i])
         lo = self.belief.grid.logodds
@@ -405,7 +422,9 @@ class ExplorerRobot:
             ),
             current_goal=self.goal,
             field_from=field_from,
+            winners=self._winners(t),
         )
+        self.beaten_by.clear()
         goal = cfg.strategy.choose(ctx) if eligible.any() else None
         had_goal = self.goal is not None
         was_finished = self.finished
@@ -425,10 +444,25 @@ class ExplorerRobot:
         self.path = path_to(dist, trav, goal[0], goal[1], x, y)
         self.path_i = 0
         self._record_plan(t, reason)
+        self.hold = cfg.plan_pause
         if not cfg.strategy.exclusion:
             return []
         msg = Goal(self.id, goal, float(self.remaining), x, y)
         return [(n, msg) for n in self._neighbours()]
+
+    def _winners(self, t: int) -> dict[int, Cell]:
+        """Goals of the robots that beat this one since its last plan, when it yields.
+
+        With ``conflict_yield`` a robot that lost a conflict must leave the winner's zone:
+        the thesis's loser "starts the unscheduled re-planning" so that the robots
+        "negotiate the rescheduling of their goals" (§3.3.4, §4.2). Without it the
+        re-plan follows the "prefers" fallback like any other plan, and when every
+        candidate is in some zone that is plain greedy — usually the goal it just had.
+        """
+        if not self.cfg.conflict_yield or not self.beaten_by:
+            return {}
+        goals = self.belief.team_goals(t, self.cfg.goal_ttl)
+        return {r: goals[r] for r in sorted(self.beaten_by) if r in goals}
 
     def _record_plan(self, t: int, reason: str | None) -> None:
         s = self.stats

@@ -19,9 +19,11 @@ thesis's movement period; exploration time is counted in these *steps*) runs:
    one's GOAL delivered before the next plans.
 
 Robots are points for each other: they may share a cell (the thesis's robots do not avoid
-each other, spec §6.5). The run ends when every robot has finished (its map has no reachable
-frontier) or at ``max_ticks``; randomness (timer and heartbeat phases: the robots' processes
-did not start at the same instant) comes from one generator seeded by ``seed``.
+each other, spec §6.5; nor can they block each other — each Robot Application simulates its
+laser from the map file and its own position, §3.1, so no robot is in another's world). The
+run ends when every robot has finished (its map has no reachable frontier) or at
+``max_ticks``; randomness (timer and heartbeat phases: the robots' processes did not start at
+the same instant) comes from one generator seeded by ``seed``.
 """
 
 from __future__ import annotations
@@ -179,6 +181,8 @@ def build_robots(
         neighbour_timeout=params.neighbour_timeout,
         goal_ttl=2 * params.plan_period,
         aodv=routing,
+        conflict_yield=params.conflict_yield,
+        plan_pause=params.plan_pause,
     )
     plan_phase = rng.integers(0, params.plan_period, params.robots)
     hb_phase = rng.integers(0, params.heartbeat_period, params.robots)

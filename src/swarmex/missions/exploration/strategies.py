@@ -59,6 +59,9 @@ class GoalContext:
     team_pos: dict[int, Cell] = field(default_factory=dict)
     current_goal: Cell | None = None
     field_from: Callable[[Cell], np.ndarray] | None = None  # step field from a cell
+    # goals of the robots that beat this one in a conflict since its last plan (only with
+    # ``conflict_yield``): their zones stay closed even when every candidate is excluded
+    winners: dict[int, Cell] = field(default_factory=dict)
 
 
 def _nearest(ctx: GoalContext, idx: np.ndarray) -> Cell | None:
@@ -82,17 +85,30 @@ def greedy(ctx: GoalContext) -> Cell | None:
 
 def excluded(ctx: GoalContext, idx: np.ndarray) -> np.ndarray:
     """Which candidates lie within the laser range of a neighbour's announced goal."""
+    return _within(ctx, idx, ctx.team_goals)
+
+
+def _within(ctx: GoalContext, idx: np.ndarray, goals: dict[int, Cell]) -> np.ndarray:
     out = np.zeros(idx.size, dtype=bool)
     r2 = ctx.laser_cells**2
-    for gx, gy in ctx.team_goals.values():
+    for gx, gy in goals.values():
         out |= (ctx.frontiers.xs[idx] - gx) ** 2 + (ctx.frontiers.ys[idx] - gy) ** 2 <= r2
     return out
 
 
 def greedy_exclusion(ctx: GoalContext) -> Cell | None:
+    """Nearest candidate outside every neighbour's zone; if there is none, the nearest
+    outside the zones of the robots that just beat this one (``ctx.winners``, empty unless
+    ``conflict_yield``), and only then the nearest of all ("prefers")."""
     idx = np.nonzero(ctx.eligible)[0]
     free_zone = idx[~excluded(ctx, idx)]
-    return _nearest(ctx, free_zone if free_zone.size else idx)
+    if free_zone.size:
+        return _nearest(ctx, free_zone)
+    if ctx.winners:
+        yielded = idx[~_within(ctx, idx, ctx.winners)]
+        if yielded.size:
+            return _nearest(ctx, yielded)
+    return _nearest(ctx, idx)
 
 
 def _rivals_and_costs(ctx: GoalContext) -> tuple[np.ndarray, np.ndarray]:
