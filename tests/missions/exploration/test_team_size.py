@@ -10,6 +10,7 @@ checked against geometry and trajectories rather than the code's own bookkeeping
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 
@@ -51,8 +52,6 @@ def _ring_robot(conflict_yield: bool) -> tuple[ExplorerRobot, dict[int, tuple[in
     """A robot in the open whose whole frontier ring (radius = laser range) is covered by
     four neighbours' zones, at 0°, 90°, 180° and 270° around it."""
     cfg = config(shape=(60, 60), laser_m=0.5)  # laser 10 cells
-    from dataclasses import replace
-
     cfg = replace(cfg, conflict_yield=conflict_yield)
     me = ExplorerRobot(0, cfg, (30, 30))
     scan(me)

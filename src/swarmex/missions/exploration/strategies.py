@@ -83,17 +83,18 @@ def greedy(ctx: GoalContext) -> Cell | None:
     return _nearest(ctx, np.nonzero(ctx.eligible)[0])
 
 
-def excluded(ctx: GoalContext, idx: np.ndarray) -> np.ndarray:
-    """Which candidates lie within the laser range of a neighbour's announced goal."""
-    return _within(ctx, idx, ctx.team_goals)
-
-
 def _within(ctx: GoalContext, idx: np.ndarray, goals: dict[int, Cell]) -> np.ndarray:
+    """Which candidates lie within the laser range (a zone) of any of ``goals``."""
     out = np.zeros(idx.size, dtype=bool)
     r2 = ctx.laser_cells**2
     for gx, gy in goals.values():
         out |= (ctx.frontiers.xs[idx] - gx) ** 2 + (ctx.frontiers.ys[idx] - gy) ** 2 <= r2
     return out
+
+
+def excluded(ctx: GoalContext, idx: np.ndarray) -> np.ndarray:
+    """Which candidates lie within the laser range of a neighbour's announced goal."""
+    return _within(ctx, idx, ctx.team_goals)
 
 
 def greedy_exclusion(ctx: GoalContext) -> Cell | None:
