@@ -67,3 +67,24 @@ def test_unreadable_map_files(tmp_path, capsys):
     assert main(["explore", "--map", str(y), "--robots", "1"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "m.pgm" in err
+
+
+def test_routing_and_negotiation_options_reach_the_run(tmp_path):
+    """--no-aodv, --conflict-yield and --plan-pause land in the record's params, and a
+    planning pause makes the same mission slower."""
+    base = ["explore", "--empty", "6x6", "--robots", "3", "--comm-range", "2", "--seed", "1"]
+    made = {}
+    for name, extra in [
+        ("default", []),
+        ("no-aodv", ["--no-aodv"]),
+        ("paused", ["--conflict-yield", "--plan-pause", "3"]),
+    ]:
+        out = tmp_path / f"{name}.json"
+        assert main([*base, *extra, "--json", str(out)]) == 0
+        made[name] = json.loads(out.read_text())
+    assert made["default"]["params"]["aodv"] is True
+    assert made["no-aodv"]["params"]["aodv"] is False
+    paused = made["paused"]["params"]
+    assert paused["conflict_yield"] is True and paused["plan_pause"] == 3
+    assert made["paused"]["makespan"] > made["default"]["makespan"]
+

@@ -85,6 +85,15 @@ def explore(
     inject_loss: float = typer.Option(
         0.0, "--inject-loss", help="With --processes: drop this fraction of messages."
     ),
+    aodv: bool = typer.Option(
+        True, "--aodv/--no-aodv", help="Route multi-hop unicasts with AODV (simulator)."
+    ),
+    conflict_yield: bool = typer.Option(
+        False, "--conflict-yield", help="A goal conflict's loser must leave the winner's zone."
+    ),
+    plan_pause: int = typer.Option(
+        0, "--plan-pause", help="Steps a robot stands still after each plan (0: none)."
+    ),
 ) -> None:
     """Explore an unknown world with a team of laser robots sharing scans over a mesh."""
     from swarmex.engine.record import write_record
@@ -104,6 +113,9 @@ def explore(
         starts=parse_starts(starts),
         seed=seed,
         max_ticks=max_ticks,
+        aodv=aodv,
+        conflict_yield=conflict_yield,
+        plan_pause=plan_pause,
     )
     if processes:
         if render is not None:
