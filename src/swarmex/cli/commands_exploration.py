@@ -7,6 +7,7 @@ from pathlib import Path
 import typer
 
 from swarmex.cli.app import app, console, reproduce_app
+from swarmex.cli.outputs import RENDER_SUFFIXES, check_output
 from swarmex.errors import InputError
 
 
@@ -100,8 +101,8 @@ def explore(
     from swarmex.missions.exploration import ExplorationParams, parse_starts, run_exploration
     from swarmex.missions.exploration.record import exploration_record
 
-    if render is not None and render.suffix.lower() not in (".png", ".gif", ".mp4"):
-        raise InputError(f"--render must end in .png, .gif or .mp4, got {render.name}")
+    check_output(json_path, "--json")
+    check_output(render, "--render", RENDER_SUFFIXES)
     grid = load_world(map_path, empty, cell)
     params = ExplorationParams(
         robots=robots,

@@ -16,17 +16,8 @@ import typer
 from rich.table import Table
 
 from swarmex.cli.app import app, console, reproduce_app
+from swarmex.cli.outputs import RENDER_SUFFIXES, check_output
 from swarmex.errors import InputError
-
-
-def _check_out(path: Path | None, option: str, suffixes: tuple[str, ...] = ()) -> None:
-    if path is None:
-        return
-    if suffixes and path.suffix.lower() not in suffixes:
-        raise InputError(f"{option}: use a {' or '.join(suffixes)} file, not {path.name!r}")
-    parent = path.resolve().parent
-    if not parent.is_dir():
-        raise InputError(f"{option}: directory {parent} does not exist")
 
 
 @app.command()
@@ -63,8 +54,8 @@ def forage(
     check_inputs(algorithm, grid, agents, food_units, transport)
     if food is not None and food_distance is not None:
         raise InputError("give at most one of --food and --food-distance")
-    _check_out(json_out, "--json")
-    _check_out(render, "--render", (".png", ".gif", ".mp4"))
+    check_output(json_out, "--json")
+    check_output(render, "--render", RENDER_SUFFIXES)
     rng = np.random.default_rng(seed)
     if food is not None:
         cell = parse_cell(food, grid)

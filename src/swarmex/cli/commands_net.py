@@ -22,10 +22,10 @@ from swarmex.cli.app import app, console
 from swarmex.cli.commands_traversal import (
     DEFAULTS,
     build_world,
-    check_output,
     parse_cells,
     resolve_nests,
 )
+from swarmex.cli.outputs import check_output
 from swarmex.errors import InputError
 
 HOSTS_HELP = "Interface to bind (127.0.0.1 = this machine only; * = all)."

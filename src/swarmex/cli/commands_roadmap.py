@@ -7,6 +7,7 @@ from pathlib import Path
 import typer
 
 from swarmex.cli.app import app, console, reproduce_app
+from swarmex.cli.outputs import RENDER_SUFFIXES, check_output
 
 
 @app.command()
@@ -36,11 +37,10 @@ def roadmap(
 ) -> None:
     """Coverage or goal search by a team on a WMA-RRT (or PRM) roadmap."""
     from swarmex.engine.record import write_record
-    from swarmex.errors import InputError
     from swarmex.missions.roadmap.scenario import make_scenario, run_scenario
 
-    if render is not None and render.suffix.lower() not in (".png", ".gif", ".mp4"):
-        raise InputError(f"--render must end in .png, .gif or .mp4, got {render}")
+    check_output(json_out, "--json")
+    check_output(render, "--render", RENDER_SUFFIXES)
     sc = make_scenario(
         env,
         agents=agents,

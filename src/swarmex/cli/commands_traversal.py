@@ -20,7 +20,6 @@ paths included), so a long run never dies at the end on an unwritable file.
 from __future__ import annotations
 
 import math
-import os
 import re
 from pathlib import Path
 from typing import Any
@@ -30,9 +29,9 @@ import typer
 from rich.table import Table
 
 from swarmex.cli.app import app, console
+from swarmex.cli.outputs import RENDER_SUFFIXES, check_output
 from swarmex.errors import InputError
 
-RENDER_SUFFIXES = (".png", ".gif", ".mp4")
 # Defaults of the timing options: the thesis's base agent (§5.1: 6.67 m edges flown at 3 m/s,
 # 10 s jobs, climb 1.5 m/s, descent 0.3 m/s) without the 5 m takeoff, so additional_time is
 # the return flight alone unless --altitude is given.
@@ -137,26 +136,6 @@ def resolve_nests(world, nests: str | None, agents: int) -> list[int]:
         if not world.free[y, x]:
             raise InputError(f"--nests: cell ({x},{y}) is an obstacle")
     return [world.node(*cells[i % len(cells)]) for i in range(agents)]
-
-
-def check_output(path: Path | None, option: str, suffixes: tuple[str, ...] = ()) -> None:
-    """Fail now, not after the run, if ``path`` cannot be written (or has a bad suffix)."""
-    if path is None:
-        return
-    if suffixes and path.suffix.lower() not in suffixes:
-        raise InputError(
-            f"{option}: unsupported file type {path.suffix or '(none)'!r} for {path}"
-            f" (use {' or '.join(suffixes)})"
-        )
-    if path.is_dir():
-        raise InputError(f"{option}: {path} is a directory")
-    parent = path.parent
-    while not parent.exists() and parent != parent.parent:
-        parent = parent.parent  # the writer creates missing folders below the first existing one
-    if not parent.is_dir():
-        raise InputError(f"{option}: cannot write {path}: {parent} is not a directory")
-    if not os.access(parent, os.W_OK | os.X_OK):
-        raise InputError(f"{option}: cannot write {path}: {parent} is not writable")
 
 
 # ---------------------------------------------------------------------------- output

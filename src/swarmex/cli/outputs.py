@@ -1,0 +1,36 @@
+"""Output files named on the command line, checked before a run starts.
+
+A typo in ``--json`` or ``--render`` (a wrong suffix, a missing or read-only folder) should
+cost one line and exit status 2 at once, not a finished run that cannot be saved. Every
+command checks its output options here, so the messages read the same everywhere.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+from swarmex.errors import InputError
+from swarmex.viz.animation import RENDER_SUFFIXES
+
+__all__ = ["RENDER_SUFFIXES", "check_output"]
+
+
+def check_output(path: Path | None, option: str, suffixes: tuple[str, ...] = ()) -> None:
+    """Fail now, not after the run, if ``path`` cannot be written (or has a bad suffix)."""
+    if path is None:
+        return
+    if suffixes and path.suffix.lower() not in suffixes:
+        raise InputError(
+            f"{option}: unsupported file type {path.suffix or '(none)'!r} for {path}"
+            f" (use {' or '.join(suffixes)})"
+        )
+    if path.is_dir():
+        raise InputError(f"{option}: {path} is a directory")
+    parent = path.parent
+    while not parent.exists() and parent != parent.parent:
+        parent = parent.parent  # the writer creates missing folders below the first existing one
+    if not parent.is_dir():
+        raise InputError(f"{option}: cannot write {path}: {parent} is not a directory")
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise InputError(f"{option}: cannot write {path}: {parent} is not writable")
