@@ -7,7 +7,8 @@ import numpy as np
 from swarmex.comm.mesh import DiscNetwork
 from swarmex.missions.exploration.robot import ExplorerRobot, RobotConfig
 from swarmex.missions.exploration.sim import Wire
-from swarmex.missions.exploration.strategies import get_strategy
+from swarmex.missions.exploration.strategies import GoalContext, get_strategy
+from swarmex.sensing.frontiers import Frontiers
 from swarmex.sensing.laser import Laser
 
 CELL = 0.05
@@ -45,3 +46,14 @@ def heartbeats(robots, wire, t) -> None:
     for r in robots:
         wire.send(r.id, r.housekeeping(t))
     wire.settle(t)
+
+
+def goal_context(cells, dists, **kw):
+    """A GoalContext whose candidates are ``cells`` (x, y), each its own frontier region,
+    ``dists`` steps from a robot at (0, 0)."""
+    xs = np.array([c[0] for c in cells])
+    ys = np.array([c[1] for c in cells])
+    fr = Frontiers(ys, xs, np.arange(len(cells)), np.ones(len(cells), int), 0)
+    return GoalContext(me=0, pos=(0, 0), frontiers=fr, eligible=np.ones(len(cells), bool),
+                       dist=np.array(dists), laser_cells=10.0, **kw)
+

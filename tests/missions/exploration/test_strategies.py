@@ -7,7 +7,6 @@ import pytest
 
 from swarmex.missions.exploration.messages import ChangeGoal, Goal
 from swarmex.missions.exploration.strategies import (
-    GoalContext,
     get_strategy,
     greedy,
     greedy_exclusion,
@@ -15,18 +14,8 @@ from swarmex.missions.exploration.strategies import (
     minpos,
     utility,
 )
-from swarmex.sensing.frontiers import Frontiers
 from tests.missions.exploration.helpers import config, team
-
-
-def context(cells, dists, **kw) -> GoalContext:
-    """Candidates at ``cells`` (x, y), each its own region, ``dists`` steps from the robot."""
-    xs = np.array([c[0] for c in cells])
-    ys = np.array([c[1] for c in cells])
-    fr = Frontiers(ys, xs, np.arange(len(cells)), np.ones(len(cells), int), 0)
-    return GoalContext(me=0, pos=(0, 0), frontiers=fr, eligible=np.ones(len(cells), bool),
-                       dist=np.array(dists), laser_cells=10.0, **kw)
-
+from tests.missions.exploration.helpers import goal_context as context
 
 CELLS = [(5, 0), (30, 0), (60, 0)]
 

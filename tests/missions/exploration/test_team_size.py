@@ -12,24 +12,13 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 
-import numpy as np
-
 from swarmex.missions.exploration import ExplorationParams, run_exploration
 from swarmex.missions.exploration.messages import ChangeGoal, Goal
 from swarmex.missions.exploration.robot import ExplorerRobot
-from swarmex.missions.exploration.strategies import GoalContext, greedy_exclusion
-from swarmex.sensing.frontiers import Frontiers
+from swarmex.missions.exploration.strategies import greedy_exclusion
 from swarmex.worlds.metric import empty_metric
 from tests.missions.exploration.helpers import config, scan
-
-
-def _context(cells, dists, **kw) -> GoalContext:
-    xs = np.array([c[0] for c in cells])
-    ys = np.array([c[1] for c in cells])
-    fr = Frontiers(ys, xs, np.arange(len(cells)), np.ones(len(cells), int), 0)
-    return GoalContext(me=0, pos=(0, 0), frontiers=fr, eligible=np.ones(len(cells), bool),
-                       dist=np.array(dists), laser_cells=10.0, **kw)
-
+from tests.missions.exploration.helpers import goal_context as _context
 
 CELLS = [(5, 0), (30, 0), (60, 0)]
 ZONES = {7: (8, 0), 8: (31, 0), 9: (55, 0)}  # every candidate lies in some zone
