@@ -30,12 +30,14 @@ flight, so its memory does not grow with the records' size.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import multiprocessing
 import os
 import threading
+import warnings
 from collections import deque
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Iterator
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass
@@ -381,7 +383,24 @@ def _pool(workers: int, mission: str) -> ProcessPoolExecutor:
 
 
 def _forkable() -> bool:
+    """Whether forking this process is safe: no other Python thread (a progress bar, a
+    server) could hold a lock the child inherits.
+
+    The only other threads are then native ones: OpenBLAS's idle server threads (numpy's and
+    scipy's), which OpenBLAS quiesces around a fork itself. Python 3.12+ still warns about any
+    second OS thread (DeprecationWarning); :func:`_quiet_fork` silences exactly that warning
+    where we fork knowingly.
+    """
     return "fork" in multiprocessing.get_all_start_methods() and threading.active_count() == 1
+
+
+@contextlib.contextmanager
+def _quiet_fork() -> Iterator[None]:
+    with warnings.catch_warnings():
+        warnings.filterwarnings(
+            "ignore", message=r".*multi-threaded, use of fork\(\)", category=DeprecationWarning
+        )
+        yield
 
 
 def _chunk_size(seconds_per_run: float | None, queued: int, workers: int) -> int:
@@ -441,7 +460,8 @@ def _local(
                     per_run = timed[0] / timed[1] if timed[1] else None
                     size = _chunk_size(per_run, len(queue), workers)
                     chunk = [queue.popleft() for _ in range(min(size, len(queue)))]
-                flying[pool.submit(run_chunk, runner, chunk, str(runs_dir))] = chunk
+                with _quiet_fork():  # the first submit forks the workers
+                    flying[pool.submit(run_chunk, runner, chunk, str(runs_dir))] = chunk
             if ready is not None:
                 ready()  # the workers are forked by now
                 ready = None
