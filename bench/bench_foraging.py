@@ -18,16 +18,7 @@ from swarmex.missions.foraging.sim import run_mission
 from swarmex.missions.foraging.timed import timed_plan
 
 G, UNITS = 128, 100
-PATTERNS = [
-    ("strips", 16),
-    ("zigzag", 16),
-    ("hilbert", 16),
-    ("sectors", 16),
-    ("spiral", 16),
-    ("modified-zigzag", 8),
-    ("loop-strips", 16),
-    ("rings", 16),
-]
+PATTERNS = TRANSPORT_CONFIGS  # the reproduction's eight n = 16 (or 8) configurations
 
 
 def timed_run(T, food, record, fast):

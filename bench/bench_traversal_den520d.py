@@ -15,8 +15,6 @@ without it the benchmark says so and exits 0.
 from __future__ import annotations
 
 import argparse
-import hashlib
-import json
 import os
 import resource
 import sys
@@ -27,6 +25,7 @@ import numpy as np
 
 from swarmex.missions.traversal import run_traversal, traversal_record, uniform_agents
 from swarmex.missions.traversal import sim as traversal_sim
+from swarmex.missions.traversal.metrics import run_fingerprint as fingerprint
 from swarmex.worlds import load_movingai, random_obstacles
 
 GOAL_SECONDS = 20.0
@@ -41,17 +40,6 @@ def maps_dir() -> Path:
     return Path(os.environ.get("SWARMEX_MAPS", repo.parent / "shared" / "maps"))
 
 
-def fingerprint(run) -> str:
-    """Same digest as tests/missions/traversal/test_regression_fingerprint.py."""
-    rec = traversal_record(run, params={}).to_dict()
-    rec.pop("wall_seconds", None)
-    rec.pop("swarmex_version", None)
-    rec["_paths"] = run.path_strings()
-    rec["_branches"] = [a.decisions_by_branch for a in run.agents]
-    rec["_done_by"] = run.done_by.tolist()
-    rec["_messages"] = [run.messages, run.message_bytes]
-    blob = json.dumps(rec, sort_keys=True, separators=(",", ":"), allow_nan=True)
-    return hashlib.sha256(blob.encode()).hexdigest()
 
 
 def peak_rss_mb() -> float:

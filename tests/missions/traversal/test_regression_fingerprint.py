@@ -14,8 +14,6 @@ If a change of *semantics* is intended (or the record gains a field), regenerate
 
 from __future__ import annotations
 
-import hashlib
-import json
 from collections.abc import Callable
 
 import networkx as nx
@@ -26,9 +24,9 @@ from swarmex.comm import Channel
 from swarmex.missions.traversal import (
     AgentSpec,
     run_traversal,
-    traversal_record,
     uniform_agents,
 )
+from swarmex.missions.traversal.metrics import run_fingerprint as fingerprint
 from swarmex.missions.traversal.sim import TraversalRun
 from swarmex.worlds import GraphWorld, GridWorld
 from swarmex.worlds.generators import random_obstacles, rooms
@@ -155,16 +153,6 @@ EXPECTED: dict[str, str] = {
 }
 
 
-def fingerprint(run: TraversalRun) -> str:
-    rec = traversal_record(run, params={}).to_dict()
-    rec.pop("wall_seconds", None)
-    rec.pop("swarmex_version", None)
-    rec["_paths"] = run.path_strings()
-    rec["_branches"] = [a.decisions_by_branch for a in run.agents]
-    rec["_done_by"] = run.done_by.tolist()
-    rec["_messages"] = [run.messages, run.message_bytes]
-    blob = json.dumps(rec, sort_keys=True, separators=(",", ":"), allow_nan=True)
-    return hashlib.sha256(blob.encode()).hexdigest()
 
 
 @pytest.mark.parametrize("name", sorted(CASES))

@@ -14,6 +14,9 @@ the last job or move, including the staggered starts), messages and bytes.
 
 from __future__ import annotations
 
+import hashlib
+import json
+
 import numpy as np
 
 from swarmex.engine.record import AgentRecord, ResultRecord
@@ -83,3 +86,21 @@ def traversal_record(run: TraversalRun, params: dict, unit_length: float = 1.0) 
         agents=agents,
         wall_seconds=run.wall_seconds,
     )
+
+
+def run_fingerprint(run: TraversalRun) -> str:
+    """A SHA-256 of everything a run decided: its record (without ``wall_seconds`` and
+    ``swarmex_version``, which are not behaviour), the thesis-style paths, decision branch
+    counts, first doer per vertex and message totals. Speed work must leave it unchanged
+    (tests/missions/traversal/test_regression_fingerprint.py, bench/bench_traversal_den520d.py).
+    """
+    rec = traversal_record(run, params={}).to_dict()
+    rec.pop("wall_seconds", None)
+    rec.pop("swarmex_version", None)
+    rec["_paths"] = run.path_strings()
+    rec["_branches"] = [a.decisions_by_branch for a in run.agents]
+    rec["_done_by"] = run.done_by.tolist()
+    rec["_messages"] = [run.messages, run.message_bytes]
+    blob = json.dumps(rec, sort_keys=True, separators=(",", ":"), allow_nan=True)
+    return hashlib.sha256(blob.encode()).hexdigest()
+
