@@ -51,8 +51,9 @@ def _worked(seed: int) -> TraversalRun:
 
 def _random(size: int, density: float, agents: int, seed: int, **kw) -> TraversalRun:
     world = random_obstacles(size, size, density, seed=seed)
-    return run_traversal(world, uniform_agents(_nests(world, agents, seed), 1.0, 1.0),
-                         seed=seed, **kw)
+    return run_traversal(
+        world, uniform_agents(_nests(world, agents, seed), 1.0, 1.0), seed=seed, **kw
+    )
 
 
 def _shared_nest(size: int, agents: int, seed: int) -> TraversalRun:
@@ -64,14 +65,19 @@ def _shared_nest(size: int, agents: int, seed: int) -> TraversalRun:
 
 def _lossy() -> TraversalRun:
     world = random_obstacles(20, 20, 0.2, seed=3)
-    return run_traversal(world, uniform_agents(_nests(world, 4, 3), 1.0, 2.0), seed=3,
-                         channel=Channel(loss=0.2))
+    return run_traversal(
+        world, uniform_agents(_nests(world, 4, 3), 1.0, 2.0), seed=3, channel=Channel(loss=0.2)
+    )
 
 
 def _delayed_ranged() -> TraversalRun:
     world = random_obstacles(16, 16, 0.2, seed=4)
-    return run_traversal(world, uniform_agents(_nests(world, 4, 4), 1.0, 1.0), seed=4,
-                         channel=Channel(loss=0.1, delay=0.3, range=6.0))
+    return run_traversal(
+        world,
+        uniform_agents(_nests(world, 4, 4), 1.0, 1.0),
+        seed=4,
+        channel=Channel(loss=0.1, delay=0.3, range=6.0),
+    )
 
 
 def _eight_connected() -> TraversalRun:
@@ -105,8 +111,9 @@ def _weighted_graph() -> TraversalRun:
 
 def _nearest() -> TraversalRun:
     world = random_obstacles(20, 20, 0.25, seed=8)
-    return run_traversal(world, uniform_agents(_nests(world, 4, 8), 1.0, 1.0),
-                         algorithm="nearest", seed=8)
+    return run_traversal(
+        world, uniform_agents(_nests(world, 4, 8), 1.0, 1.0), algorithm="nearest", seed=8
+    )
 
 
 CASES: dict[str, Callable[[], TraversalRun]] = {
@@ -151,8 +158,6 @@ EXPECTED: dict[str, str] = {
     "weighted-graph": "b5ec3ac7877d9f89e64f864fda00fc5272375274eeca7cd7b295c5e78cfec644",
     "nearest": "8bb6fc02d8f87bb133674817b1b3e6e8c7d47602c50aa2247aeead7a9eda45d8",
 }
-
-
 
 
 @pytest.mark.parametrize("name", sorted(CASES))
