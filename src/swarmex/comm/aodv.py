@@ -56,20 +56,11 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import Any, ClassVar, Protocol
+from typing import Any, ClassVar
 
 from swarmex.comm.message import PackedMessage, packed_size
 
 Out = list[tuple[int, Any]]  # (neighbour, message) transmissions
-
-
-class Payload(Protocol):
-    kind: str
-
-    def to_dict(self) -> dict[str, Any]: ...
-
-    @property
-    def nbytes(self) -> int: ...
 
 
 class AodvMessage(PackedMessage):
@@ -176,7 +167,7 @@ class Routed:
         return packed_size(head) - 1 + int(self.payload.nbytes)  # None packs to one byte
 
 
-CONTROL_KINDS = ("RREQ", "RREP", "RERR")
+CONTROL_KINDS = ("RREQ", "RREP", "RERR")  # routing control, counted apart by DiscNetwork
 MAX_HOPS = 64  # a routed payload is dropped after this many hops (RFC 3561's IP TTL role)
 
 

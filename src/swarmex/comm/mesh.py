@@ -36,9 +36,8 @@ from typing import Any, Protocol
 
 import numpy as np
 
+from swarmex.comm.aodv import CONTROL_KINDS as AODV_KINDS
 from swarmex.errors import InputError
-
-AODV_KINDS = ("RREQ", "RREP", "RERR")  # routing control (swarmex.comm.aodv)
 
 
 class Sized(Protocol):
