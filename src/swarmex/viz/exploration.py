@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from swarmex.errors import InputError
+from swarmex.sensing.frontiers import frontier_mask
 from swarmex.viz.animation import write_animation
 
 UNKNOWN = np.array([170, 170, 170], dtype=np.uint8)
@@ -61,17 +62,6 @@ def base_rgb(known: np.ndarray, truth_free: np.ndarray) -> np.ndarray:
     return img
 
 
-def frontier_mask(known: np.ndarray) -> np.ndarray:
-    """Known free cells with an unknown 4-neighbour: the boundary the team explores from."""
-    unknown = known == 0
-    near = np.zeros_like(unknown)
-    near[1:] |= unknown[:-1]
-    near[:-1] |= unknown[1:]
-    near[:, 1:] |= unknown[:, :-1]
-    near[:, :-1] |= unknown[:, 1:]
-    return (known == 1) & near
-
-
 def paths_until(trajectories: list[list[tuple[int, int, int]]], t: int) -> list[np.ndarray]:
     out = []
     for tr in trajectories:
@@ -83,7 +73,7 @@ def paths_until(trajectories: list[list[tuple[int, int, int]]], t: int) -> list[
 def rgb_frame(snap: Snapshot, trajectories, truth_free: np.ndarray, scale: int = 1) -> np.ndarray:
     """One animation frame: map, frontier and paths in cells; goals and robots in pixels."""
     img = base_rgb(snap.known, truth_free)
-    img[frontier_mask(snap.known)] = FRONTIER
+    img[frontier_mask(snap.known == 1, snap.known == 0)] = FRONTIER  # free, unknown
     cols = robot_colours(len(trajectories))
     for i, p in enumerate(paths_until(trajectories, snap.t)):
         if p.size:
