@@ -24,6 +24,7 @@ from swarmex.cli.commands_traversal import (
     build_world,
     parse_cells,
     resolve_nests,
+    where_params,
 )
 from swarmex.cli.outputs import check_output
 from swarmex.errors import InputError
@@ -118,11 +119,7 @@ def serve(
 
     validate_nests(world, specs)
     params = {  # the keys of swarmex traverse's record, then the network's own
-        "map": None if map_file is None else str(map_file),
-        "grid": grid,
-        "obstacles": [list(c) for c in blocked],
-        "agents": agents,
-        "nests": [list(world.xy(n)) for n in nest_nodes],
+        **where_params(map_file, grid, blocked, world, nest_nodes),
         "travel_time": travel_time,
         "job_time": job_time,
         "algorithm": algorithm,

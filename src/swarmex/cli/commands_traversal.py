@@ -263,6 +263,18 @@ def _optimal(world, specs, p: dict):
     return optimal_record(world, specs, p["objective"], p["seed"], p, 1.0)
 
 
+def where_params(map_file, grid, blocked, world, nest_nodes) -> dict[str, Any]:
+    """The first keys of a traversal record's params, the same for ``swarmex traverse`` and
+    ``swarmex serve``: the map or grid, the blocked cells, the team size and its nests."""
+    return {
+        "map": None if map_file is None else str(map_file),
+        "grid": grid,
+        "obstacles": [list(c) for c in blocked],
+        "agents": len(nest_nodes),
+        "nests": [list(world.xy(n)) for n in nest_nodes],
+    }
+
+
 # ---------------------------------------------------------------------------- commands
 
 
@@ -344,11 +356,7 @@ def traverse(
     world = build_world(map_file, grid, blocked, connectivity)
     nest_nodes = resolve_nests(world, nests, agents)
     params = {
-        "map": None if map_file is None else str(map_file),
-        "grid": grid,
-        "obstacles": [list(c) for c in blocked],
-        "agents": agents,
-        "nests": [list(world.xy(n)) for n in nest_nodes],
+        **where_params(map_file, grid, blocked, world, nest_nodes),
         "travel_time": travel_time,
         "job_time": job_time,
         "algorithm": algorithm,
