@@ -97,14 +97,18 @@ def _nanmean(values: Iterable[float]) -> float:
     return float(a.mean()) if len(a) else float("nan")
 
 
+def _mae(rows: list[dict[str, Any]], planner: str = "wma") -> float:
+    """Mean |ours − paper| of one planner's column over ``rows`` (NaN cells skipped)."""
+    return _nanmean(np.abs([r[f"ours_{planner}"] - r[f"paper_{planner}"] for r in rows]))
+
+
 def _gain_summary(rows: list[dict[str, Any]]) -> dict[str, float]:
     ours = np.array([r["ours_wma"] - r["ours_prm"] for r in rows])
     paper = np.array([r["paper_wma"] - r["paper_prm"] for r in rows])
     return {
         "ours_ge": int((ours >= -1e-9).sum()), "paper_ge": int((paper >= 0).sum()),
         "ours_mean": _nanmean(ours), "paper_mean": float(paper.mean()),
-        "mae_wma": _nanmean(np.abs([r["ours_wma"] - r["paper_wma"] for r in rows])),
-        "mae_prm": _nanmean(np.abs([r["ours_prm"] - r["paper_prm"] for r in rows])),
+        "mae_wma": _mae(rows), "mae_prm": _mae(rows, "prm"),
         "n": len(rows),
     }
 
@@ -203,8 +207,8 @@ def write_report(out: Path, results: list[dict[str, Any]], quick: bool, seconds:
                  study: dict[str, Any] | None = None) -> Path:
     from swarmex.experiments.reproduce_roadmap import R_BASE, reference
 
-    t1 = table1(results, reference("roadmap_table1.csv"))
-    t2 = table2(results, reference("roadmap_table2.csv"))
+    ref1, ref2 = reference("roadmap_table1.csv"), reference("roadmap_table2.csv")
+    t1, t2 = table1(results, ref1), table2(results, ref2)
     _write_csv(out / "table1.csv", t1)
     _write_csv(out / "table2.csv", t2)
     g1, g2 = _gain_summary(t1), _gain_summary(t2)
@@ -232,9 +236,9 @@ def write_report(out: Path, results: list[dict[str, Any]], quick: bool, seconds:
     lines = _markdown(t1, t2, g1, g2, cov_imp, srch_imp, un, figs, quick, seconds, version,
                       R_BASE, prm_all, multi, results,
                       len(results) if new_runs is None else new_runs)
-    t1e = [r for r in table1(results, reference("roadmap_table1.csv"), "t1eps")
+    t1e = [r for r in table1(results, ref1, "t1eps")
            if r["sensor"] != "inf" and not np.isnan(r["ours_wma"])]
-    t2e = [r for r in table2(results, reference("roadmap_table2.csv"), "t2eps")
+    t2e = [r for r in table2(results, ref2, "t2eps")
            if r["sensor"] != "inf" and r["runs"]]
     if t1e:
         _write_csv(out / "table1_r_eps.csv", t1e)
@@ -342,10 +346,6 @@ def readings_section(t1: list[dict[str, Any]], t2: list[dict[str, Any]],
                            f"{row['800_20_r25']:.1f} | {row['200_40_eps']:.1f} | "
                            f"{row['800_20_eps']:.1f} |")
     if t1e:
-        def mae(rows: list[dict[str, Any]]) -> float:
-            return _nanmean(abs(r["ours_wma"] - r["paper_wma"]) for r in rows)
-
-        fin = [r for r in t1 if r["sensor"] != "inf"]
         out += ["", f"**Table 1 rerun with r = {_eps(study['c_eps'] if study else 1.0)}** "
                 f"({t1e[0]['runs']} runs per row; the ∞ rows do not change):", "",
                 "| nodes | step | sensor | paper WMA-RRT | ours, r = 25 | ours, r = ε | "
@@ -358,10 +358,10 @@ def readings_section(t1: list[dict[str, Any]], t2: list[dict[str, Any]],
                        f"{_fmt(r['ours_wma'], r['ours_wma_sd'])} | {r['paper_prm']:.0f} | "
                        f"{_fmt(r['ours_prm'], r['ours_prm_sd'])} |")
         fin_e = {_row_key(r) for r in t1e}
-        fin = [r for r in fin if _row_key(r) in fin_e]
+        fin = [r for r in t1 if _row_key(r) in fin_e]  # the same rows at r = 25
         g = _gain_summary(t1e)
         out += ["", f"- Mean |ours − paper| over these {len(t1e)} rows: WMA-RRT "
-                f"{mae(fin):.1f} points with r = 25, {mae(t1e):.1f} with r = ε; PRM with "
+                f"{_mae(fin):.1f} points with r = 25, {_mae(t1e):.1f} with r = ε; PRM with "
                 f"r = ε {g['mae_prm']:.1f}. WMA-RRT ≥ PRM in {g['ours_ge']}/{g['n']} rows "
                 f"(paper {g['paper_ge']}/{g['n']}).",
                 f"- At range r: 200/40 {_cov(fin, 200, 40):.1f} vs 800/20 "
@@ -384,10 +384,7 @@ def readings_section(t1: list[dict[str, Any]], t2: list[dict[str, Any]],
         keys = {_row_key(r) for r in t2e}
         b2 = [r for r in t2 if _row_key(r) in keys]
         out += ["", "- Mean |ours − paper| (WMA-RRT) over these rows: "
-                f"{_nanmean(abs(r['ours_wma'] - r['paper_wma']) for r in b2):.1f} points "
-                "with r = 25, "
-                f"{_nanmean(abs(r['ours_wma'] - r['paper_wma']) for r in t2e):.1f} with "
-                "r = ε."]
+                f"{_mae(b2):.1f} points with r = 25, {_mae(t2e):.1f} with r = ε."]
     out.append("")
     return out
 
