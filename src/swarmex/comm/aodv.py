@@ -322,12 +322,11 @@ class AodvNode:
         out: Out = []
         keep: list[Pending] = []
         for p in self.queue:
-            if self.route(p.dest, t) is None:
+            r = self.route(p.dest, t)
+            if r is None:
                 keep.append(p)
             else:
                 self.retry_at.pop(p.dest, None)
-                r = self.route(p.dest, t)
-                assert r is not None
                 out.extend(self._transmit(r, p, t))
         self.queue = keep
         return out
@@ -335,20 +334,18 @@ class AodvNode:
     # ------------------------------------------------------------- receiving
     def hello(self, nbr: int, t: float) -> Out:
         """A heartbeat from ``nbr``: a valid one-hop route (hello message)."""
-        r = self.routes.get(nbr)
-        if r is not None and r.valid and r.hops == 1 and r.next_hop == nbr:
-            r.expires = max(r.expires, t + self.timing.hello_route)
-            return []
-        self._update(nbr, -1 if r is None else r.seq, 1, nbr, t + self.timing.hello_route)
-        return self._flush(t)
+        return self._flush(t) if self._heard(nbr, t) else []
 
-    def _heard(self, nbr: int, t: float) -> None:
-        """Any AODV message proves the one-hop link to its transmitter (RFC 3561 §6.5)."""
+    def _heard(self, nbr: int, t: float) -> bool:
+        """Any AODV message proves the one-hop link to its transmitter (RFC 3561 §6.5).
+        False if it only refreshed the valid one-hop route already held; else the table was
+        offered the route, and queued payloads may now have one."""
         r = self.routes.get(nbr)
         if r is not None and r.valid and r.hops == 1 and r.next_hop == nbr:
             r.expires = max(r.expires, t + self.timing.hello_route)
-        else:
-            self._update(nbr, -1 if r is None else r.seq, 1, nbr, t + self.timing.hello_route)
+            return False
+        self._update(nbr, -1 if r is None else r.seq, 1, nbr, t + self.timing.hello_route)
+        return True
 
     def receive(self, src: int, msg: Any, t: float) -> tuple[Out, list[tuple[int, Any]]]:
         """An AODV message from neighbour ``src``: (transmissions, delivered payloads as
