@@ -8,7 +8,7 @@ draw the environment figures), so the report can be rebuilt without rerunning th
 from __future__ import annotations
 
 import csv
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from pathlib import Path
 from typing import Any
 
@@ -264,6 +264,24 @@ def _eps(c: float) -> str:
     return "ε" if c == 1 else f"{c:g} ε"
 
 
+def _rerun_table(
+    eps_rows: list[dict[str, Any]], base_rows: list[dict[str, Any]],
+    cells: Callable[[dict[str, Any], dict[str, Any]], tuple[str, str, str]],
+) -> tuple[list[str], list[dict[str, Any]]]:
+    """A table's r = ε rerun beside its r = 25 run: the markdown lines, and the r = 25 rows
+    of the same (nodes, step, sensor). ``cells(r25_row, eps_row)`` formats ours at r = 25,
+    ours at r = ε and ours PRM at r = ε."""
+    base = {_row_key(r): r for r in base_rows}
+    same = [base[_row_key(r)] for r in eps_rows]
+    lines = ["| nodes | step | sensor | paper WMA-RRT | ours, r = 25 | ours, r = ε | "
+             "paper PRM | ours PRM, r = ε |", "|---:|---:|:---:|---:|---:|---:|---:|---:|"]
+    for r, b in zip(eps_rows, same, strict=True):
+        at25, eps, prm = cells(b, r)
+        lines.append(f"| {r['nodes']} | {r['step']} | {_label(r['sensor'])} | "
+                     f"{r['paper_wma']:.0f} | {at25} | {eps} | {r['paper_prm']:.0f} | {prm} |")
+    return lines, same
+
+
 def readings_section(t1: list[dict[str, Any]], t2: list[dict[str, Any]],
                      t1e: list[dict[str, Any]], t2e: list[dict[str, Any]],
                      study: dict[str, Any] | None) -> list[str]:
@@ -346,19 +364,11 @@ def readings_section(t1: list[dict[str, Any]], t2: list[dict[str, Any]],
                            f"{row['800_20_r25']:.1f} | {row['200_40_eps']:.1f} | "
                            f"{row['800_20_eps']:.1f} |")
     if t1e:
+        table, fin = _rerun_table(t1e, t1, lambda b, r: (
+            _fmt(b["ours_wma"], b["ours_wma_sd"]), _fmt(r["ours_wma"], r["ours_wma_sd"]),
+            _fmt(r["ours_prm"], r["ours_prm_sd"])))
         out += ["", f"**Table 1 rerun with r = {_eps(study['c_eps'] if study else 1.0)}** "
-                f"({t1e[0]['runs']} runs per row; the ∞ rows do not change):", "",
-                "| nodes | step | sensor | paper WMA-RRT | ours, r = 25 | ours, r = ε | "
-                "paper PRM | ours PRM, r = ε |", "|---:|---:|:---:|---:|---:|---:|---:|---:|"]
-        base = {_row_key(r): r for r in t1}
-        for r in t1e:
-            b = base[_row_key(r)]
-            out.append(f"| {r['nodes']} | {r['step']} | {_label(r['sensor'])} | "
-                       f"{r['paper_wma']:.0f} | {_fmt(b['ours_wma'], b['ours_wma_sd'])} | "
-                       f"{_fmt(r['ours_wma'], r['ours_wma_sd'])} | {r['paper_prm']:.0f} | "
-                       f"{_fmt(r['ours_prm'], r['ours_prm_sd'])} |")
-        fin_e = {_row_key(r) for r in t1e}
-        fin = [r for r in t1 if _row_key(r) in fin_e]  # the same rows at r = 25
+                f"({t1e[0]['runs']} runs per row; the ∞ rows do not change):", "", *table]
         g = _gain_summary(t1e)
         out += ["", f"- Mean |ours − paper| over these {len(t1e)} rows: WMA-RRT "
                 f"{_mae(fin):.1f} points with r = 25, {_mae(t1e):.1f} with r = ε; PRM with "
@@ -371,19 +381,12 @@ def readings_section(t1: list[dict[str, Any]], t2: list[dict[str, Any]],
                 f"with r = 25, {_cov(t1e, 200, 40):.1f} vs {_cov(t1e, 400, 20):.1f} with "
                 "r = ε (paper 88 vs 74)."]
     if t2e:
-        out += ["", "**Table 2 rerun with r = ε** (goal found, % of runs):", "",
-                "| nodes | step | sensor | paper WMA-RRT | ours, r = 25 | ours, r = ε | "
-                "paper PRM | ours PRM, r = ε |", "|---:|---:|:---:|---:|---:|---:|---:|---:|"]
-        base2 = {_row_key(r): r for r in t2}
-        for r in t2e:
-            b = base2[_row_key(r)]
-            out.append(f"| {r['nodes']} | {r['step']} | {_label(r['sensor'])} | "
-                       f"{r['paper_wma']:.0f} | {_fmt(b['ours_wma'], None, 0)} | "
-                       f"{_fmt(r['ours_wma'], None, 0)} ({r['found_wma']}/{r['runs']}) | "
-                       f"{r['paper_prm']:.0f} | {_fmt(r['ours_prm'], None, 0)} |")
-        keys = {_row_key(r) for r in t2e}
-        b2 = [r for r in t2 if _row_key(r) in keys]
-        out += ["", "- Mean |ours − paper| (WMA-RRT) over these rows: "
+        table, b2 = _rerun_table(t2e, t2, lambda b, r: (
+            _fmt(b["ours_wma"], None, 0),
+            f"{_fmt(r['ours_wma'], None, 0)} ({r['found_wma']}/{r['runs']})",
+            _fmt(r["ours_prm"], None, 0)))
+        out += ["", "**Table 2 rerun with r = ε** (goal found, % of runs):", "", *table,
+                "", "- Mean |ours − paper| (WMA-RRT) over these rows: "
                 f"{_mae(b2):.1f} points with r = 25, {_mae(t2e):.1f} with r = ε."]
     out.append("")
     return out
