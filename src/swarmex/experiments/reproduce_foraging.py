@@ -130,12 +130,8 @@ def tasks(foods: dict[str, list[tuple[int, int]]]) -> list[tuple[str, int, str, 
     return out
 
 
-def load_runs(path: Path) -> dict[str, dict[str, Any]]:
-    return read_journal(path)
-
-
 def execute(todo: list, runs_path: Path, workers: int) -> None:
-    done = load_runs(runs_path)
+    done = read_journal(runs_path)
     todo = [t for t in todo if run_key(t[0], t[1], t[2], t[3], t[5]) not in done]
     if not todo:
         return
@@ -252,7 +248,7 @@ def reproduce(out: Path, quick: bool = False, workers: int = 2, seed: int = 2015
     todo = tasks(foods)
     workers = max(1, min(workers, os.cpu_count() or 1))
     execute(todo, out / "runs.jsonl", workers)
-    runs = load_runs(out / "runs.jsonl")
+    runs = read_journal(out / "runs.jsonl")
     keys = {run_key(t[0], t[1], t[2], t[3], t[5]) for t in todo}
     runs = {k: v for k, v in runs.items() if k in keys}
     table = aggregate(runs)

@@ -45,6 +45,7 @@ from pathlib import Path
 from typing import Any
 
 from swarmex.errors import InputError
+from swarmex.experiments.progress import read_journal
 from swarmex.experiments.scenario import OptionShape
 from swarmex.experiments.sweep_spec import RunSpec, SweepSpec
 from swarmex.experiments.sweep_worker import (
@@ -127,17 +128,14 @@ class SweepStore:
         return done
 
     def _read_journal(self) -> dict[str, Outcome]:
+        """Outcomes by run id; a line cut short by a crash is skipped (its run is re-read
+        from its record, or run again)."""
         out: dict[str, Outcome] = {}
-        path = self.dir / JOURNAL
-        if not path.exists():
-            return out
-        with path.open(encoding="utf-8") as fh:
-            for line in fh:
-                try:
-                    outcome = Outcome.from_json(json.loads(line))
-                except (json.JSONDecodeError, TypeError):
-                    continue  # a line cut short by a crash: its run is re-read or re-run
-                out[outcome.run_id] = outcome
+        for run_id, row in read_journal(self.dir / JOURNAL, key="run_id").items():
+            try:
+                out[run_id] = Outcome.from_json(row)
+            except TypeError:  # a row missing fields: treat it like a torn line
+                continue
         return out
 
     def _from_record(self, run: RunSpec) -> Outcome:
