@@ -186,6 +186,9 @@ def test_exploration_map_file_is_the_true_occupancy(tmp_path):
     assert np.array_equal(cells, map_free(MAP_ROWS))
     for a in record["agents"]:  # and every cell a robot stood on is free in the drawing
         assert all(cells[y, x] for _, x, y in a["trajectory"])
+    # the map file changed size since the run: not the world it used, so the bounds only
+    write_map(path, [row + "." for row in MAP_ROWS])
+    assert record_world(record)["cells"] is None
 
 
 # ---------------------------------------------------------------------------- roadmap

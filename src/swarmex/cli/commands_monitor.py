@@ -108,7 +108,7 @@ def foraging_world(record: dict) -> dict:
     return world_event(record, np.ones((g, g), dtype=bool), marks=marks)
 
 
-def exploration_world(record: dict, base: Path | None) -> dict | None:
+def exploration_world(record: dict, base: Path | None) -> dict:
     """The true occupancy grid of an exploration record, loaded as ``swarmex explore`` does."""
     import re
 
@@ -123,9 +123,7 @@ def exploration_world(record: dict, base: Path | None) -> dict | None:
         grid = load_world(None, f"{empty.group(1)}x{empty.group(2)}", cell)
     else:
         grid = load_world(_path(source, base), None, cell)
-    if (grid.world.width, grid.world.height) != (world.get("width"), world.get("height")):
-        return None  # not the map the run used
-    return world_event(record, grid.free)
+    return world_event(record, grid.free)  # record_world drops it if the size changed
 
 
 def roadmap_world(record: dict, base: Path | None) -> dict | None:
