@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from swarmex.cli import main
-from swarmex.missions.foraging.sim import Mission, run_mission
+from swarmex.missions.foraging.sim import TRANSPORT, Mission, run_mission
 from swarmex.missions.foraging.timed import timed_plan
 
 # a run that froze before the rule: (pattern, g, n, food, k)
@@ -37,12 +37,27 @@ def test_a_run_that_froze_now_finishes_and_the_compiled_loop_agrees(pattern, g, 
 
 
 def test_the_rule_fires_only_on_an_exact_repeat(monkeypatch):
-    """Count frozen rounds: a run that never repeats its state never uses the rule."""
+    """Count frozen rounds: a run that never repeats its state never uses the rule, and the
+    rule fires exactly on the rounds whose state after Look (snapshotted here, from the
+    mission's own fields) repeats the previous round's with every robot transporting."""
     fired = []
     original = Mission.step
+    previous = [None]
 
     def step(self):
+        snap = (
+            [tuple(p) for p in self.pos],
+            list(self.carrying),
+            list(self.tmode),
+            list(self.pidx),
+            self.units,
+            self.delivered,
+        )
+        transporting = all(m == TRANSPORT for m in self.mode)
+        repeated = transporting and snap == previous[0]
+        previous[0] = snap if transporting else None
         original(self)
+        assert self._frozen == repeated
         fired.append(self._frozen)
 
     monkeypatch.setattr(Mission, "step", step)
@@ -50,6 +65,7 @@ def test_the_rule_fires_only_on_an_exact_repeat(monkeypatch):
     run_mission(plan, (7, 4), 48, "end-to-end", fast=False)
     assert any(fired)  # the crowd froze and was broken
     fired.clear()
+    previous[0] = None
     run_mission(plan, (2, 9), 12, "end-to-end", fast=False)
     assert not any(fired)
 
