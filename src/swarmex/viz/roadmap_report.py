@@ -334,10 +334,11 @@ def readings_section(t1: list[dict[str, Any]], t2: list[dict[str, Any]],
         for w in study["sweep"]:
             out.append(f"| {w['nodes']} | {w['step']:g} | {w['tree_length']:.0f} | "
                        f"{w['coverage_r25']:.1f} | {w['coverage_eps']:.1f} |")
-        big = [w for w in study["sweep"] if w["nodes"] == max(SWEEP := [
-            x["nodes"] for x in study["sweep"]]) and w["step"] == min(
-            x["step"] for x in study["sweep"])]
-        small = [w for w in study["sweep"] if w["nodes"] == min(SWEEP)]
+        # the largest budget at the finest step, against the smallest budget at every step
+        sizes = [w["nodes"] for w in study["sweep"]]
+        finest = min(w["step"] for w in study["sweep"])
+        big = [w for w in study["sweep"] if w["nodes"] == max(sizes) and w["step"] == finest]
+        small = [w for w in study["sweep"] if w["nodes"] == min(sizes)]
         if big and small:
             ref_r, ref_e = big[0]["coverage_r25"], big[0]["coverage_eps"]
             beat_r = [w["step"] for w in small if w["coverage_r25"] > ref_r]
@@ -348,7 +349,7 @@ def readings_section(t1: list[dict[str, Any]], t2: list[dict[str, Any]],
 
             out += ["", f"{big[0]['nodes']} nodes at ε = {big[0]['step']:g} cover "
                     f"{ref_r:.1f} % at r = {study['r_base']:g} and {ref_e:.1f} % at "
-                    f"r = {_eps(study['c_eps'])}. {min(SWEEP)} nodes do better "
+                    f"r = {_eps(study['c_eps'])}. {min(sizes)} nodes do better "
                     f"{steps(beat_r)} with r = {study['r_base']:g}, and {steps(beat_e)} "
                     f"with r = {_eps(study['c_eps'])}. A 200/40 run is complete by its end, "
                     "so no step budget can raise its coverage above these values."]
