@@ -142,7 +142,7 @@ class Routed:
     def kind(self) -> str:
         return str(self.payload.kind)
 
-    def to_dict(self) -> dict[str, Any]:
+    def _with(self, payload: Any) -> dict[str, Any]:
         return {
             "type": "DATA",
             "src": self.src,
@@ -150,21 +150,16 @@ class Routed:
             "dest": self.dest,
             "exp": self.expires,
             "hops": self.hops,
-            "payload": self.payload.to_dict(),
+            "payload": payload,
         }
+
+    def to_dict(self) -> dict[str, Any]:
+        return self._with(self.payload.to_dict())
 
     @cached_property
     def nbytes(self) -> int:
-        head = {
-            "type": "DATA",
-            "src": self.src,
-            "orig": self.orig,
-            "dest": self.dest,
-            "exp": self.expires,
-            "hops": self.hops,
-            "payload": None,
-        }
-        return packed_size(head) - 1 + int(self.payload.nbytes)  # None packs to one byte
+        # the envelope around a placeholder (None packs to one byte), plus the payload's size
+        return packed_size(self._with(None)) - 1 + int(self.payload.nbytes)
 
 
 CONTROL_KINDS = ("RREQ", "RREP", "RERR")  # routing control, counted apart by DiscNetwork
