@@ -53,7 +53,7 @@ Readings of what the seed leaves open (recorded in ``docs/exploration.md`` too):
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from functools import cached_property
 from typing import Any, ClassVar
@@ -410,16 +410,30 @@ class AodvNode:
         return [(back.next_hop, Rrep(self.id, m.orig, m.dest, m.dest_seq, hops, m.lifetime))]
 
     def _on_rerr(self, src: int, m: Rerr, t: float) -> Out:
+        lost, tell = self._invalidate(
+            (r, max(r.seq, seq))
+            for dest, seq in m.unreachable
+            if (r := self.routes.get(dest)) is not None and r.valid and r.next_hop == src
+        )
+        return self._rerr(lost, tell)
+
+    def _invalidate(
+        self, broken: Iterable[tuple[Route, int]]
+    ) -> tuple[list[tuple[int, int]], set[int]]:
+        """Mark each route broken with its new destination sequence number: the
+        ``(destination, seq)`` pairs lost and the precursors to tell (taken off the routes)."""
         lost: list[tuple[int, int]] = []
         tell: set[int] = set()
-        for dest, seq in m.unreachable:
-            r = self.routes.get(dest)
-            if r is not None and r.valid and r.next_hop == src:
-                r.valid = False
-                r.seq = max(r.seq, seq)
-                lost.append((dest, r.seq))
-                tell |= r.precursors
-                r.precursors.clear()
+        for r, seq in broken:
+            r.valid = False
+            r.seq = seq
+            lost.append((r.dest, seq))
+            tell |= r.precursors
+            r.precursors.clear()
+        return lost, tell
+
+    def _rerr(self, lost: list[tuple[int, int]], tell: set[int]) -> Out:
+        """One RERR listing ``lost``, to each of ``tell`` (id order)."""
         if not lost or not tell:
             return []
         msg = Rerr(self.id, tuple(lost))
@@ -430,25 +444,17 @@ class AodvNode:
         """The link to ``nbr`` is gone (heartbeat timeout or a failed send): invalidate
         every route through it and tell their precursors (RERR, the thesis's "RREP with
         infinite metric")."""
-        lost: list[tuple[int, int]] = []
-        tell: set[int] = set()
-        for dest in sorted(self.routes):
-            r = self.routes[dest]
-            if r.valid and r.next_hop == nbr:
-                r.valid = False
-                if r.seq >= 0:
-                    r.seq += 1  # RFC 3561 §6.11: the broken route's number is raised
-                lost.append((dest, r.seq))
-                tell |= r.precursors
-                r.precursors.clear()
+        lost, tell = self._invalidate(
+            # RFC 3561 §6.11: a broken route's (known) sequence number is raised
+            (r, r.seq + 1 if r.seq >= 0 else r.seq)
+            for r in (self.routes[d] for d in sorted(self.routes))
+            if r.valid and r.next_hop == nbr
+        )
         if not lost:
             return []
         self.stats.link_breaks += 1
         tell.discard(nbr)
-        if not tell:
-            return []
-        msg = Rerr(self.id, tuple(lost))
-        return [(n, msg) for n in sorted(tell)]
+        return self._rerr(lost, tell)
 
     def send_failed(self, nbr: int, msg: Any, t: float, lifetime: float) -> Out:
         """A transmission to ``nbr`` could not be delivered (out of range): the link is
