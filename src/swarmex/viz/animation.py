@@ -53,7 +53,7 @@ def write_animation(path: str | Path, frames: Sequence[np.ndarray], fps: float) 
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
         if suffix == ".mp4":
-            write_mp4(path, frames, fps)
+            _write_mp4(path, frames, fps)
         else:
             _write_gif(path, frames, fps)
     except OSError as exc:
@@ -69,7 +69,7 @@ def _write_gif(path: Path, frames: Sequence[np.ndarray], fps: float) -> None:
     iio.mimsave(path, list(frames), format="GIF", duration=durations, loop=0)
 
 
-def write_mp4(path: Path, frames: Sequence[np.ndarray], fps: float) -> None:
+def _write_mp4(path: Path, frames: Sequence[np.ndarray], fps: float) -> None:
     """RGB frames → H.264 MP4 with imageio's ffmpeg plugin (imageio-ffmpeg ships the binary).
 
     The last frame is held for :data:`HOLD_SECONDS` like the GIF's. Frames are padded with

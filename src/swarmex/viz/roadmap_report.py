@@ -336,7 +336,7 @@ def readings_section(t1: list[dict[str, Any]], t2: list[dict[str, Any]],
                        f"{w['coverage_r25']:.1f} | {w['coverage_eps']:.1f} |")
         # the largest budget at the finest step, against the smallest budget at every step
         sizes = [w["nodes"] for w in study["sweep"]]
-        finest = min(w["step"] for w in study["sweep"])
+        finest = min((w["step"] for w in study["sweep"]), default=None)
         big = [w for w in study["sweep"] if w["nodes"] == max(sizes) and w["step"] == finest]
         small = [w for w in study["sweep"] if w["nodes"] == min(sizes)]
         if big and small:

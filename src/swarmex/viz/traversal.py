@@ -32,12 +32,15 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
 from swarmex.errors import InputError
-from swarmex.viz.animation import write_mp4
+from swarmex.viz.animation import (
+    ANIMATION_SUFFIXES,
+    HOLD_SECONDS,
+    RENDER_SUFFIXES,
+    write_animation,
+)
 
 SMALL_CELLS = 2500  # up to 50x50 the thesis style (dots, edges, circles) stays legible
 MAX_FRAMES = 120  # an animation never has more frames than this, whatever the map size
-ANIMATION_SUFFIXES = (".gif", ".mp4")
-RENDER_SUFFIXES = (".png", *ANIMATION_SUFFIXES)
 
 
 def as_record(record_or_run: Any) -> dict:
@@ -373,12 +376,12 @@ def traversal_gif(
     if path.suffix.lower() == ".mp4":
         frames = [draw_at(float(t)).copy() for t in times]  # the canvas buffer is reused
         fps = max(1.0, len(frames) / seconds)
-        return _save(lambda: write_mp4(path, frames, fps), path)
+        return write_animation(path, frames, fps)
     # the last frame shows every path and job, so its colours make the shared palette
     palette, lut = _palette(draw_at(float(times[-1])))
     frames = [_indexed(draw_at(float(t)), lut) for t in times]
     step = max(20, int(1000 * seconds / len(frames)))
-    durations = [step] * (len(frames) - 1) + [2000]
+    durations = [step] * (len(frames) - 1) + [int(1000 * HOLD_SECONDS)]
     return _save(lambda: _write_gif(path, frames, palette, durations), path)
 
 
