@@ -35,8 +35,6 @@ import msgpack
 from swarmex.comm.message import PackedMessage, packed_size
 from swarmex.sensing.occupancy import LocalMap
 
-_packed_size = packed_size
-
 
 def _scans_size(scans: tuple) -> int:
     """Encoded size of a list of scans (array header plus each scan's cached size)."""
@@ -47,7 +45,7 @@ def _scans_size(scans: tuple) -> int:
 @lru_cache(maxsize=4096)
 def _head_size(kind: str, src: int) -> int:
     """Size of a scan container's envelope with an empty scan list."""
-    return _packed_size({"type": kind, "src": src, "scans": []})
+    return packed_size({"type": kind, "src": src, "scans": []})
 
 
 @dataclass(eq=False)
@@ -77,7 +75,7 @@ class ScanRecord:
 
     @cached_property
     def nbytes(self) -> int:
-        return _packed_size(self.to_dict())
+        return packed_size(self.to_dict())
 
 
 class Message(PackedMessage):
