@@ -42,7 +42,7 @@ from swarmex.experiments.progress import read_journal, runs_progress
 from swarmex.missions.roadmap.scenario import make_scenario, run_scenario
 from swarmex.planning.roadmap import Roadmap
 from swarmex.planning.rrt_wma import build_wma_rrt
-from swarmex.sensing.coverage_raster import CoverageRaster
+from swarmex.sensing.coverage_raster import DEFAULT_CELLS, CoverageRaster
 from swarmex.worlds.polygon import PolygonWorld, parse_polygon_json
 
 R_BASE = 25.0
@@ -177,15 +177,14 @@ def run_job(job: Job) -> dict[str, Any]:
 
 
 def complete_coverage(w: PolygonWorld, rm: Roadmap, sensor_range: float,
-                      cells: int | None = None) -> float:
+                      cells: int = DEFAULT_CELLS) -> float:
     """Coverage after a complete run on ``rm``: the sensor swept along every edge and leg.
 
     A complete WMA-RRT run walks every entry leg and every edge (a test checks it), and a
     second pass of an edge sees nothing new, so this equals the run's final coverage
     without simulating the agents.
     """
-    ras = CoverageRaster(w, sensor_range) if cells is None else CoverageRaster(
-        w, sensor_range, cells)
+    ras = CoverageRaster(w, sensor_range, cells)
     for p, e in zip(rm.starts, rm.entry_node, strict=True):
         ras.sense_segment(p, rm.pos[e], 0)
     for u, v in rm.edges.tolist():
