@@ -192,9 +192,9 @@ class AodvStats:
     delivered: int = 0  # payloads that reached this node as their destination
     delivered_multihop: int = 0  # ... over two or more hops
     expired: int = 0  # payloads dropped here at their expiry (no route in time)
+    dropped_hops: int = 0  # payloads dropped here after MAX_HOPS hops (a routing loop)
     discoveries: int = 0  # RREQs originated (first tries and retries)
     link_breaks: int = 0
-    dropped_hops: int = 0  # payloads dropped here after MAX_HOPS hops (a routing loop)
 
 
 @dataclass(frozen=True)

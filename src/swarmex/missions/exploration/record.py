@@ -14,10 +14,12 @@ says honestly what is missing.
 
 from __future__ import annotations
 
+from dataclasses import asdict, fields
 from typing import Any
 
 import numpy as np
 
+from swarmex.comm.aodv import AodvStats
 from swarmex.engine.record import AgentRecord, ResultRecord
 from swarmex.missions.exploration.params import TICK_SECONDS
 from swarmex.missions.exploration.sim import ExplorationRun
@@ -50,20 +52,11 @@ def unicast_stats(run: ExplorationRun) -> dict[str, int]:
     applications, delivered (and how many over two or more hops), dropped at their expiry
     without a route, dropped by the hop limit, route discoveries (RREQs originated) and
     link breaks; plus the ``NEED_MAP`` requests to the origin of missing scans."""
-    keys = (
-        "sent",
-        "delivered",
-        "delivered_multihop",
-        "expired",
-        "dropped_hops",
-        "discoveries",
-        "link_breaks",
-    )
-    out = dict.fromkeys(keys, 0)
+    out = dict.fromkeys((f.name for f in fields(AodvStats)), 0)
     for r in run.robots:
         if r.aodv is not None:
-            for k in keys:
-                out[k] += int(getattr(r.aodv.stats, k))
+            for k, v in asdict(r.aodv.stats).items():
+                out[k] += int(v)
     out["gap_requests"] = int(sum(r.stats.gap_requests for r in run.robots))
     return out
 
