@@ -197,18 +197,19 @@ def animation_frames(run: RoadmapRun, frames: int = 60) -> list[np.ndarray]:
     n = run.roadmap.n_nodes
     sizes = np.unique(np.linspace(1, n, min(BUILD_FRAMES, n)).round().astype(int))
     times = np.unique(np.linspace(0, run.steps, min(frames, run.steps + 1)).round().astype(int))
+    panels = [
+        {"built": int(k), "title": f"{run.planner}: building the roadmap, {k}/{n} nodes"}
+        for k in sizes
+    ]
+    panels += [
+        {"t": int(t), "first_use": first, "title": summary_title(run, int(t))} for t in times
+    ]
     images = []
     fig, ax = plt.subplots(figsize=(6, 6 * run.world.height / run.world.width + 0.4), dpi=80)
     try:
-        for k in sizes:
+        for panel in panels:
             _clear(ax)
-            title = f"{run.planner}: building the roadmap, {k}/{n} nodes"
-            draw(ax, run, built=int(k), title=title)
-            fig.canvas.draw()
-            images.append(np.asarray(fig.canvas.buffer_rgba())[..., :3].copy())
-        for t in times:
-            _clear(ax)
-            draw(ax, run, t=int(t), first_use=first, title=summary_title(run, int(t)))
+            draw(ax, run, **panel)
             fig.canvas.draw()
             images.append(np.asarray(fig.canvas.buffer_rgba())[..., :3].copy())
     finally:
