@@ -169,12 +169,10 @@ def build_wma_rrt(
         raise InputError(f"--step must be positive, got {step}")
     root, rule = main_root(world, starts, step)
     sec = secondary_roots(world, root, starts, step)
-    if count_samples:
-        pos, par, lab, drawn = grow_rrt(world, sec, np.arange(n), n + n_nodes, step, rng,
-                                        max_samples=n_nodes, exact_step=exact_step)
-    else:
-        pos, par, lab, drawn = grow_rrt(world, sec, np.arange(n), n_nodes, step, rng,
-                                        exact_step=exact_step)
+    # counting draws: stop after n_nodes samples, however many were accepted
+    total, draws = (n + n_nodes, n_nodes) if count_samples else (n_nodes, None)
+    pos, par, lab, drawn = grow_rrt(world, sec, np.arange(n), total, step, rng,
+                                    max_samples=draws, exact_step=exact_step)
     # shift by one so node 0 is the Main Root; Secondary Roots hang from it
     pos = np.vstack([root, pos])
     parent = np.concatenate([[-1], np.where(par < 0, 0, par + 1)])
