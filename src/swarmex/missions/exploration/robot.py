@@ -107,6 +107,7 @@ from swarmex.sensing.occupancy import rasterise
 
 RADIO = -1  # destination of a radio broadcast (heartbeats)
 Out = list[tuple[int, Message]]
+UNICASTS = (NeedMap, MapMsg, ChangeGoal)  # the messages addressed to one robot
 
 
 @dataclass(frozen=True)
@@ -277,7 +278,7 @@ class ExplorerRobot:
                 for orig, payload in delivered:  # a multi-hop unicast for this robot
                     out.extend(self._handle(orig, None, payload, t))
                 return out
-            if type(msg) in (NeedMap, MapMsg, ChangeGoal):
+            if type(msg) in UNICASTS:
                 aodv.delivered_direct()
         out.extend(self._handle(src, src, msg, t))
         return out

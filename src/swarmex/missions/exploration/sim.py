@@ -36,7 +36,7 @@ import numpy as np
 
 from swarmex.comm.aodv import Routed, Rrep
 from swarmex.comm.mesh import DiscNetwork
-from swarmex.missions.exploration.messages import ChangeGoal, MapMsg, NeedMap, ScanMsg
+from swarmex.missions.exploration.messages import ScanMsg
 from swarmex.missions.exploration.params import (
     Cell,
     ExplorationParams,
@@ -46,7 +46,7 @@ from swarmex.missions.exploration.params import (
     validate,
 )
 from swarmex.missions.exploration.paths import distance_steps
-from swarmex.missions.exploration.robot import RADIO, ExplorerRobot, Out, RobotConfig
+from swarmex.missions.exploration.robot import RADIO, UNICASTS, ExplorerRobot, Out, RobotConfig
 from swarmex.missions.exploration.strategies import get_strategy
 from swarmex.sensing.laser import Laser
 from swarmex.worlds.metric import MetricGrid
@@ -102,7 +102,7 @@ def legal_step(free: np.ndarray, a: Cell, b: Cell) -> bool:
     return not (dx and dy) or bool(free[a[1], b[0]] and free[b[1], a[0]])
 
 
-_UNICAST = (NeedMap, MapMsg, ChangeGoal, Routed, Rrep)
+_UNICAST = (*UNICASTS, Routed, Rrep)  # unicasts whose failed send a router learns of
 
 
 class Wire:
