@@ -215,18 +215,18 @@ def team_jobs(d: Design, quick: bool) -> list[dict[str, Any]]:
     return jobs
 
 
-def team_table(results, d: Design, quick: bool) -> dict[str, dict[int, list[dict[str, Any]]]]:
-    """variant → team size → its runs (from ``team_jobs``)."""
+def team_table(results, d: Design) -> dict[str, dict[int, list[dict[str, Any]]]]:
+    """variant → team size → its runs (from ``team_jobs``; other runs in ``results`` are
+    skipped)."""
     out: dict[str, dict[int, list[dict[str, Any]]]] = {}
     for r in results.values():
         j = r["job"]
-        if j["laser"] != max(d.lasers) or j["comm"] != max(d.comms):
-            continue
         if j["kind"] not in ("sweep", "teamsize") or j["strategy"] != "greedy-exclusion":
             continue
+        if j["laser"] != max(d.lasers) or j["comm"] != max(d.comms):
+            continue
         for name, opts in TEAM_VARIANTS.items():
-            keys = ("conflict_yield", "plan_pause")
-            if all(j.get(k) == opts.get(k) for k in keys):
+            if all(j.get(k) == opts.get(k) for k in ("conflict_yield", "plan_pause")):
                 out.setdefault(name, {}).setdefault(j["robots"], []).append(r)
     return out
 
@@ -750,9 +750,7 @@ def reproduce(
             )
         )
     rows = checks(sweep_res, d)
-    team_res = team_table(
-        {k: v for k, v in results.items() if v["job"]["kind"] in ("sweep", "teamsize")}, d, quick
-    )
+    team_res = team_table(results, d)
     for row in rows:
         if row["trend"].startswith("an optimal team size") and team_res:
             sizes = sorted({n for v in team_res.values() for n in v})
