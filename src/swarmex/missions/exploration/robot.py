@@ -321,6 +321,7 @@ class ExplorerRobot:
         """
         out: Out = []
         arch = self.belief.archive
+        have = None  # the archive's summary, computed once if some origin is asked
         for origin in sorted({r.origin for r in new}):
             if origin == self.id or not arch.has_gap(origin):
                 continue
@@ -329,7 +330,9 @@ class ExplorerRobot:
                 continue
             self.asked[origin] = t
             self.stats.gap_requests += 1
-            out.extend(self.unicast(origin, NeedMap(self.id, arch.summary()), t))
+            if have is None:
+                have = arch.summary()
+            out.extend(self.unicast(origin, NeedMap(self.id, have), t))
         return out
 
     def _check_conflict(self, src: int, goal: Cell | None, priority: float, t: int) -> Out:
