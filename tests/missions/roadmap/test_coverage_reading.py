@@ -27,8 +27,10 @@ from swarmex.planning.rrt_wma import build_wma_rrt
 from .conftest import cluster
 
 
-def brute_force_seen(world, raster, walks: list[np.ndarray], rng_r: float) -> np.ndarray:
-    """Cells seen from the walks, by shapely: viewpoints at most one cell apart per segment."""
+def brute_force_seen(world, raster, walks: list[np.ndarray],
+                     rng_r: float) -> tuple[np.ndarray, np.ndarray]:
+    """(free, seen) cell masks of ``raster``'s grid, by shapely: a cell is free when its centre
+    is, and seen from a walk's viewpoints, at most one cell apart along each segment."""
     obstacles = shapely.union_all(list(world.obstacles))
     h = raster.h
     xs = raster.x0 + (np.arange(raster.nx) + 0.5) * h
