@@ -221,6 +221,8 @@ def test_roadmap_polygons_roadmap_and_goal(tmp_path, planner):
     nodes = np.array(roadmap["nodes"])
     for (i, j), seg in zip(roadmap["edges"], world["edges"], strict=False):
         assert seg == [*nodes[i], *nodes[j]]
+    legs = world["edges"][len(roadmap["edges"]) :]  # then the entry legs and the goal's
+    assert legs == [[*a, *b] for a, b in roadmap["legs"]]
     assert world["marks"] == [{"kind": "goal", "x": 180.0, "y": 130.0}]
     assert events[0]["messages"] == "none" and not messages(events)
     assert events[-1]["messages"] is None
