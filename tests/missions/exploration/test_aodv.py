@@ -14,8 +14,9 @@ import numpy as np
 import pytest
 from scipy.sparse.csgraph import shortest_path
 
-from swarmex.comm.aodv import AodvNode, Routed
-from swarmex.missions.exploration import ExplorationParams, run_exploration
+from swarmex.comm.aodv import AodvNode, Rerr, Routed, Rrep, Rreq
+from swarmex.comm.mesh import DiscNetwork
+from swarmex.missions.exploration import ExplorationParams, run_exploration, sim
 from swarmex.missions.exploration.messages import ChangeGoal, NeedMap
 from swarmex.missions.exploration.record import exploration_metrics
 from swarmex.worlds.metric import empty_metric, load_metric
@@ -199,9 +200,30 @@ def test_routed_envelope_size_is_its_msgpack_encoding():
     assert node.send(5, pay, 0, 10) == [] and node.tick(11) == [] and node.stats.expired == 1
 
 
-def test_exploration_with_aodv_routes_gap_requests_over_several_hops():
+class LoggedNetwork(DiscNetwork):
+    """A DiscNetwork that also lists every message copy put on the air."""
+
+    log: list = []
+
+    def broadcast(self, src, msg):
+        self.log.append(msg)
+        return super().broadcast(src, msg)
+
+    def unicast(self, src, dst, msg):
+        self.log.append(msg)
+        return super().unicast(src, dst, msg)
+
+    def unicast_many(self, src, dsts, msg):
+        self.log.extend([msg] * len(dsts))
+        return super().unicast_many(src, dsts, msg)
+
+
+def test_exploration_with_aodv_routes_gap_requests_over_several_hops(monkeypatch):
     grid = load_metric_or_skip()
     p = ExplorationParams(robots=6, comm_range=5.0, seed=0)
+    sent: list = []
+    monkeypatch.setattr(LoggedNetwork, "log", sent)
+    monkeypatch.setattr(sim, "DiscNetwork", LoggedNetwork)
     run = run_exploration(grid, p)
     team_m, _ = exploration_metrics(run)
     assert run.complete and team_m["explored_fraction"] >= 0.99
@@ -212,9 +234,17 @@ def test_exploration_with_aodv_routes_gap_requests_over_several_hops():
     assert team_m["aodv_messages"] == sum(
         by_kind.get(k, {"messages": 0})["messages"] for k in ("RREQ", "RREP", "RERR")
     )
+    # independently: the control messages actually transmitted, sized by msgpack itself
+    control = [m for m in sent if isinstance(m, (Rreq, Rrep, Rerr))]
+    assert team_m["aodv_messages"] == len(control) > 0
+    assert team_m["aodv_bytes"] == sum(
+        len(msgpack.packb(m.to_dict(), use_bin_type=True)) for m in control
+    )
+    sent.clear()
     # without AODV nothing is routed and nothing is counted as routing
     off, _ = exploration_metrics(run_exploration(grid, dataclasses.replace(p, aodv=False)))
     assert off["aodv_messages"] == 0 and off["unicasts"]["sent"] == 0
+    assert sent and not any(isinstance(m, (Rreq, Rrep, Rerr, Routed)) for m in sent)
     assert off["explored_fraction"] >= 0.99
 
 
