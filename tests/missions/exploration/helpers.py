@@ -56,4 +56,3 @@ def goal_context(cells, dists, **kw):
     fr = Frontiers(ys, xs, np.arange(len(cells)), np.ones(len(cells), int), 0)
     return GoalContext(me=0, pos=(0, 0), frontiers=fr, eligible=np.ones(len(cells), bool),
                        dist=np.array(dists), laser_cells=10.0, **kw)
-
