@@ -80,13 +80,9 @@ def run_network(grid: str, agents: int, scale: float, per_process: int, seed: in
 
 
 def simulate(grid: str, agents: int, seed: int) -> dict:
-    from swarmex.cli.commands_traversal import DEFAULTS, build_world, resolve_nests
-    from swarmex.missions.traversal import run_traversal, traversal_record, uniform_agents
+    import swarmex
 
-    world = build_world(None, grid, [], 4)
-    nests = resolve_nests(world, None, agents)
-    specs = uniform_agents(nests, DEFAULTS["travel_time"], DEFAULTS["job_time"])
-    return traversal_record(run_traversal(world, specs, seed=seed), {}).to_dict()
+    return swarmex.run("traversal", grid=grid, agents=agents, seed=seed).to_dict()
 
 
 def mesh_rows(size: str, robots: int, scale: float, seed: int) -> list[dict]:

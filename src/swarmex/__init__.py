@@ -1,8 +1,72 @@
 """swarmex: teams of agents that explore, cover and search unknown environments.
 
+The public API is small and explicit::
+
+    import swarmex
+    swarmex.missions()                 # ['exploration', 'foraging', 'roadmap', 'traversal']
+    rec = swarmex.run("foraging", grid=128, agents=16, algorithm="sectors", seed=3)
+    rec.to_dict()                      # == the JSON of `swarmex forage ... --seed 3 --json`
+
 The package is organised as a simulation core (``worlds``, ``sensing``, ``planning``,
-``comm``, ``engine``), the four missions of the source studies (``missions``) and the
-surfaces users touch (``net``, ``experiments``, ``viz``, ``cli``).
+``comm``, ``engine``), the four missions behind one contract (``missions``), and the
+surfaces built on it (``net``, ``envs``, ``viz``, ``experiments``, ``studies``, ``cli``).
+Heavy modules are imported only when a mission first runs, so ``import swarmex`` is cheap.
 """
 
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any
+
+from swarmex.errors import InputError
+
+if TYPE_CHECKING:
+    from swarmex.engine.record import ResultRecord
+
 __version__ = "0.1.0"
+__all__ = ["InputError", "ResultRecord", "StopRun", "__version__", "missions", "run"]
+
+
+def missions() -> list[str]:
+    """The registered mission names (built-in and from installed plugins), sorted."""
+    from swarmex.missions.registry import names
+
+    return names()
+
+
+def run(
+    mission: str,
+    *,
+    seed: int = 0,
+    on_frame: Callable[[Any], Any] | None = None,
+    **params: Any,
+) -> ResultRecord:
+    """Run one mission and return its result record.
+
+    ``params`` are the mission command's options with ``-`` written ``_`` (``travel_time``,
+    ``food_units``, ``laser_range``, ...); values may be the CLI's strings or plain Python
+    values (``grid="12x12"`` or ``grid=(12, 12)``). Bad parameters raise :class:`InputError`
+    before any work starts. ``on_frame(frame)`` is called with the run's frames as they
+    happen; raising :class:`StopRun` from it ends the run early (the record is then
+    incomplete). ``record.to_dict()`` equals the JSON that ``swarmex COMMAND ... --json``
+    writes for the same options and seed, ``wall_seconds`` aside.
+    """
+    from swarmex.missions.registry import get
+
+    m = get(mission)
+    if "seed" in params:
+        raise InputError("give the seed once, as seed=")
+    p = m.params({**params, "seed": seed})
+    return m.run(p, on_frame=on_frame).record
+
+
+def __getattr__(name: str) -> Any:
+    if name == "ResultRecord":
+        from swarmex.engine.record import ResultRecord
+
+        return ResultRecord
+    if name == "StopRun":
+        from swarmex.missions.base import StopRun
+
+        return StopRun
+    raise AttributeError(f"module 'swarmex' has no attribute {name!r}")

@@ -105,15 +105,16 @@ def test_traversal_mp4_render(tmp_path, capsys):
     pytest.importorskip("imageio_ffmpeg", reason="imageio-ffmpeg is not installed")
     import imageio.v2 as iio
 
-    from swarmex.cli.commands_traversal import build_world
     from swarmex.engine.record import read_record
+    from swarmex.missions.traversal.mission import build_world
+    from swarmex.missions.traversal.params import TraversalParams
     from swarmex.viz.traversal import render_traversal
 
     rec = tmp_path / "r.json"
     assert main(["traverse", "--grid", "5x3", "--agents", "2", "--json", str(rec)]) == 0
     capsys.readouterr()
     record = read_record(rec)
-    world = build_world(None, "5x3", [], 4)
+    world = build_world(TraversalParams.from_values(grid="5x3", agents=2))
     path = render_traversal(record, world, tmp_path / "run.mp4")
     reader = iio.get_reader(path)
     meta = reader.get_meta_data()

@@ -76,12 +76,20 @@ def free_cells(record: dict, base: Path | None = None):
     params = record.get("params") or {}
     if record.get("mission") != "traversal" or (record.get("world") or {}).get("kind") != "grid":
         return None
-    from swarmex.cli.commands_traversal import build_world
+    from swarmex.missions.traversal.mission import build_world
+    from swarmex.missions.traversal.params import TraversalParams
 
     try:
         map_file = _path(params["map"], base) if params.get("map") else None
-        obstacles = [tuple(c) for c in params.get("obstacles") or []]
-        world = build_world(map_file, params.get("grid"), obstacles, params.get("connectivity", 4))
+        world = build_world(
+            TraversalParams.from_values(
+                map=map_file,
+                grid=params.get("grid"),
+                obstacles=params.get("obstacles") or (),
+                connectivity=params.get("connectivity", 4),
+                agents=1,
+            )
+        )
     except (InputError, KeyError, TypeError):
         return None  # the map moved or the record is from elsewhere: draw the bounds only
     return world.free

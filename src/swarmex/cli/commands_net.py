@@ -19,15 +19,15 @@ from pathlib import Path
 import typer
 
 from swarmex.cli.app import app, console
-from swarmex.cli.commands_traversal import (
-    DEFAULTS,
-    build_world,
-    parse_cells,
-    resolve_nests,
-    where_params,
-)
 from swarmex.cli.outputs import check_output
 from swarmex.errors import InputError
+from swarmex.missions.traversal.params import TraversalParams
+
+_TRAVERSAL = TraversalParams.options()
+
+
+def _default(name: str):  # the traversal mission owns every default (missions/traversal)
+    return _TRAVERSAL[name].default
 
 HOSTS_HELP = "Interface to bind (127.0.0.1 = this machine only; * = all)."
 
@@ -52,19 +52,19 @@ def serve(
     agents: int = typer.Option(..., "--agents", help="Number of agent ids (>= 1)."),
     nests: str | None = typer.Option(None, "--nests", help='Start cells "x,y;…" (round-robin).'),
     travel_time: float = typer.Option(
-        DEFAULTS["travel_time"], "--travel-time", help="Seconds per grid edge."
+        _default("travel_time"), "--travel-time", help="Seconds per grid edge."
     ),
-    job_time: float = typer.Option(DEFAULTS["job_time"], "--job-time", help="Seconds per job."),
+    job_time: float = typer.Option(_default("job_time"), "--job-time", help="Seconds per job."),
     algorithm: str = typer.Option("madgta", "--algorithm", help="madgta | nearest."),
-    connectivity: int = typer.Option(DEFAULTS["connectivity"], "--connectivity", help="4 or 8."),
+    connectivity: int = typer.Option(_default("connectivity"), "--connectivity", help="4 or 8."),
     start_interval: float = typer.Option(
-        DEFAULTS["start_interval"], "--start-interval", help="Seconds between agents' starts."
+        _default("start_interval"), "--start-interval", help="Seconds between agents' starts."
     ),
-    altitude: float = typer.Option(DEFAULTS["altitude"], "--altitude", help="Altitude, m."),
-    up_speed: float = typer.Option(DEFAULTS["up_speed"], "--up-speed", help="Climb, m/s."),
-    down_speed: float = typer.Option(DEFAULTS["down_speed"], "--down-speed", help="Descent, m/s."),
+    altitude: float = typer.Option(_default("altitude"), "--altitude", help="Altitude, m."),
+    up_speed: float = typer.Option(_default("up_speed"), "--up-speed", help="Climb, m/s."),
+    down_speed: float = typer.Option(_default("down_speed"), "--down-speed", help="Descent, m/s."),
     job_failure: float = typer.Option(
-        DEFAULTS["job_failure"], "--job-failure", help="Probability a job fails."
+        _default("job_failure"), "--job-failure", help="Probability a job fails."
     ),
     seed: int = typer.Option(0, "--seed", help="Seed of every random choice."),
     port: int = typer.Option(..., "--port", help="TCP port to listen on (0: a free one)."),
@@ -95,7 +95,6 @@ def serve(
     json_path: Path | None = typer.Option(None, "--json", help="Write the result record here."),
 ) -> None:
     """Seed 000's mission server: ids, mission data, relay, monitor, result record."""
-    from swarmex.missions.traversal import uniform_agents
     from swarmex.net.server import TraversalServer
     from swarmex.net.traversal import Mission
 
@@ -111,29 +110,29 @@ def serve(
         raise InputError("--dead-after must be longer than --heartbeat")
     if monitor_url is not None and not monitor_url.startswith(("ws://", "wss://")):
         raise InputError(f"--monitor: expected ws://HOST:PORT/ingest, got {monitor_url!r}")
-    blocked = parse_cells(obstacles or "", "--obstacles")
-    world = build_world(map_file, grid, blocked, connectivity)
-    nest_nodes = resolve_nests(world, nests, agents)
-    specs = uniform_agents(nest_nodes, travel_time, job_time, 1.0, altitude, up_speed, down_speed)
+    from swarmex.missions.registry import get
+    from swarmex.missions.traversal.mission import agent_specs, record_params
+
+    traversal = get("traversal")
+    tparams = traversal.params(
+        {
+            "map": map_file, "grid": grid, "obstacles": obstacles, "agents": agents,
+            "nests": nests, "travel_time": travel_time, "job_time": job_time,
+            "algorithm": algorithm, "connectivity": connectivity,
+            "start_interval": start_interval, "altitude": altitude, "up_speed": up_speed,
+            "down_speed": down_speed, "job_failure": job_failure, "seed": seed,
+        }
+    )
+    if tparams.algorithm not in ("madgta", "madgta+", "nearest"):
+        raise InputError(f"--algorithm must be madgta, madgta+ or nearest, got {algorithm!r}")
+    prepared = traversal.prepare(tparams)
+    world, nest_nodes = prepared.world, prepared.nests
+    specs = agent_specs(tparams, nest_nodes)
     from swarmex.missions.traversal.sim import validate_nests
 
     validate_nests(world, specs)
     params = {  # the keys of swarmex traverse's record, then the network's own
-        **where_params(map_file, grid, blocked, world, nest_nodes),
-        "travel_time": travel_time,
-        "job_time": job_time,
-        "algorithm": algorithm,
-        "objective": DEFAULTS["objective"],
-        "connectivity": connectivity,
-        "start_interval": start_interval,
-        "altitude": altitude,
-        "up_speed": up_speed,
-        "down_speed": down_speed,
-        "comm_range": None,
-        "loss": 0.0,
-        "delay": 0.0,
-        "job_failure": job_failure,
-        "seed": seed,
+        **record_params(tparams, prepared),
         "network": {"time_scale": time_scale, "rng": rng, "done_lists": done_lists,
                     "heartbeat": heartbeat, "dead_after": dead_after},
     }

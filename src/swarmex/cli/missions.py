@@ -1,0 +1,152 @@
+"""Mission commands generated from each mission's Params (issue 12).
+
+Every option of ``swarmex traverse | forage | explore | roadmap`` is read off the mission's
+Params declarations: flag, help, default, type. The command body only checks the output
+paths, builds the Params (the mission's own parsers and checks), runs the mission through the
+contract, and hands the outcome to the mission's printer and renderer. So the command line,
+``swarmex.run``, scenario files and sweeps cannot drift apart: there is one list of options.
+
+Typer reads a command's options from its function signature; the signature here is built
+from the Params (``inspect.Signature``), which Typer honours like a hand-written one.
+"""
+
+from __future__ import annotations
+
+import inspect
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import typer
+
+from swarmex.cli.app import app, console
+from swarmex.cli.outputs import RENDER_SUFFIXES, check_output
+from swarmex.missions.base import FrameCallback, Mission, OptionInfo, Outcome
+
+
+@dataclass(frozen=True)
+class Extra:
+    """A command-line-only option (not a mission parameter), e.g. ``--processes``."""
+
+    name: str
+    default: Any
+    help: str
+    annotation: Any
+    flag: str | None = None  # default: --name-with-dashes
+
+
+@dataclass
+class Surface:
+    """How the CLI shows one mission: its summary printer and renderer."""
+
+    report: Callable[[Outcome, Any], None]
+    render: Callable[[Outcome, Path, list[Any]], None] | None = None
+    # a frame collector for animations: (render path) -> on_frame callback, or None
+    recorder: Callable[[Path], FrameCallback | None] | None = None
+    extras: Sequence[Extra] = ()
+    # runs instead of the simulator when an extra asks for it (e.g. explore --processes)
+    alternative: Callable[[Mission[Any, Any], Any, dict[str, Any], Path | None], bool] | None = (
+        None
+    )
+    json_flag: str = "--json"
+    render_help: str = "Draw the run (.png) or animate it (.gif, .mp4)."
+
+
+def _annotation(info: OptionInfo) -> Any:
+    kind = info.kind
+    if kind is bool:
+        return bool
+    if info.default is None or info.required:
+        return kind | None
+    return kind
+
+
+def _typer_option(info: OptionInfo) -> Any:
+    flags = [info.flag if info.negation is None else f"{info.flag}/{info.negation}"]
+    default: Any
+    if info.required:
+        default = ...
+    elif isinstance(info.default, int | float | bool | str):
+        default = info.default
+    else:
+        default = None  # tuples, paths, None: the Params default applies
+    kw: dict[str, Any] = {"help": info.help, "show_default": default not in (None, ...)}
+    if info.metavar:
+        kw["metavar"] = info.metavar
+    return typer.Option(default, *flags, **kw)
+
+
+def mission_command(mission: Mission[Any, Any], surface: Surface) -> Callable[..., Any]:
+    """Register ``swarmex <mission.command>`` on the app and return its function."""
+    options = mission.params_type.options()
+    extras = {e.name: e for e in surface.extras}
+
+    def command(**kwargs: Any) -> Any:
+        json_path: Path | None = kwargs.pop("json_path")
+        render: Path | None = kwargs.pop("render")
+        extra_values = {name: kwargs.pop(name) for name in extras}
+        check_output(json_path, surface.json_flag)
+        check_output(render, "--render", RENDER_SUFFIXES)
+        params = mission.params({k: v for k, v in kwargs.items() if v is not None})
+        if surface.alternative is not None and surface.alternative(
+            mission, params, {**extra_values, "render": render}, json_path
+        ):
+            return None
+        world = mission.prepare(params)
+        on_frame = surface.recorder(render) if surface.recorder and render else None
+        outcome = mission.execute(params, world, on_frame)
+        surface.report(outcome, params)
+        if json_path is not None:
+            from swarmex.engine.record import write_record
+
+            write_record(outcome.record, json_path)
+            console.print(f"wrote {json_path}")
+        if render is not None and surface.render is not None:
+            if on_frame is not None and hasattr(on_frame, "finish"):
+                on_frame.finish(outcome.run)
+            surface.render(outcome, render, list(getattr(on_frame, "frames", ())))
+            console.print(f"wrote {render}")
+        return None
+
+    sig: list[inspect.Parameter] = []
+    for info in options.values():
+        sig.append(
+            inspect.Parameter(
+                info.name,
+                inspect.Parameter.KEYWORD_ONLY,
+                default=_typer_option(info),
+                annotation=_annotation(info),
+            )
+        )
+    for e in surface.extras:
+        sig.append(
+            inspect.Parameter(
+                e.name,
+                inspect.Parameter.KEYWORD_ONLY,
+                default=typer.Option(
+                    e.default, e.flag or "--" + e.name.replace("_", "-"), help=e.help
+                ),
+                annotation=e.annotation,
+            )
+        )
+    for name, flag, helptext in (
+        ("json_path", surface.json_flag, "Write the result record here."),
+        ("render", "--render", surface.render_help),
+    ):
+        sig.append(
+            inspect.Parameter(
+                name,
+                inspect.Parameter.KEYWORD_ONLY,
+                default=typer.Option(None, flag, help=helptext, show_default=False),
+                annotation=Path | None,
+            )
+        )
+    command.__signature__ = inspect.Signature(sig)  # type: ignore[attr-defined]
+    command.__doc__ = mission.summary
+    command.__name__ = mission.command
+    app.command(name=mission.command, help=mission.summary)(command)
+    return command
+
+
+__all__ = ["Extra", "Surface", "mission_command"]

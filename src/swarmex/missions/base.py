@@ -1,0 +1,386 @@
+"""The Mission contract: what every mission implements once, and every surface relies on.
+
+A mission is three things:
+
+* a **Params** dataclass (a subclass of :class:`Params`) that owns every parameter's default,
+  unit, parser and validation rule. Each field is declared with :func:`option`, which names
+  its command-line flag and says how a value given as the CLI's string *or* as a plain Python
+  value (``grid="12x12"`` or ``grid=(12, 12)``) becomes the typed value. Nothing else in
+  swarmex knows a mission's defaults: the CLI's options, scenario files, sweeps and
+  ``swarmex.run`` all read them from here;
+* a :class:`Mission` object that turns valid Params into a prepared world (every check that
+  needs the world happens there, before any work starts), runs it and builds the
+  :class:`~swarmex.engine.record.ResultRecord`;
+* an entry in the explicit registry (:mod:`swarmex.missions.registry`).
+
+Why a dataclass of options rather than the CLI's signature: the Python API, TOML files and
+sweeps need the same names, defaults and checks as the command line, and a plain dataclass
+is what a library user can read, construct and ``dataclasses.replace``. The CLI generates
+its options from these declarations (cli/missions.py), so the two cannot drift.
+
+Parsing is strict and names the parameter: ``agents="three"`` is an
+:class:`~swarmex.errors.InputError` "--agents: expected an integer, got 'three'", raised
+before any work starts, and an unknown keyword names the nearest valid one.
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+import re
+from abc import ABC, abstractmethod
+from collections.abc import Callable, Iterable, Mapping, Sequence
+from dataclasses import MISSING, dataclass, field, fields
+from pathlib import Path
+from typing import Any, ClassVar, Generic, TypeVar
+
+from swarmex.engine.record import ResultRecord
+from swarmex.errors import InputError
+
+Parser = Callable[[Any, str], Any]  # (raw value, "--flag") -> typed value, or InputError
+Cell = tuple[int, int]
+
+REQUIRED: Any = MISSING  # the default of an option the user must give
+
+
+class StopRun(Exception):  # noqa: N818 - a control-flow signal, not an error
+    """Raised by an ``on_frame`` callback to end a run early (the record is then incomplete)."""
+
+
+# ---------------------------------------------------------------------------- parsers
+
+
+def integer(lo: int | None = None, hi: int | None = None) -> Parser:
+    """Whole numbers: ``3``, ``"3"``; not ``3.5``, ``True`` or ``"three"``."""
+
+    def parse(value: Any, flag: str) -> int:
+        if isinstance(value, bool):
+            raise InputError(f"{flag}: expected an integer, got {value!r}")
+        whole_float = isinstance(value, float) and value.is_integer()
+        digits = isinstance(value, str) and re.fullmatch(r"\s*[-+]?\d+\s*", value)
+        if isinstance(value, int) or whole_float or digits:
+            out = int(value)
+        else:
+            raise InputError(f"{flag}: expected an integer, got {value!r}")
+        if lo is not None and out < lo:
+            raise InputError(f"{flag} must be at least {lo}, got {out}")
+        if hi is not None and out > hi:
+            raise InputError(f"{flag} must be at most {hi}, got {out}")
+        return out
+
+    parse.kind = int  # type: ignore[attr-defined]
+    return parse
+
+
+def real(
+    lo: float | None = None,
+    *,
+    above: float | None = None,
+    hi: float | None = None,
+    below: float | None = None,
+    finite: bool = True,
+) -> Parser:
+    """Numbers: ``2.5``, ``"2.5"``; bounds ``lo <= x``, ``above < x``, ``x <= hi``, ``x < below``.
+
+    NaN is always refused; infinity only with ``finite=False``.
+    """
+
+    def parse(value: Any, flag: str) -> float:
+        if isinstance(value, bool):
+            raise InputError(f"{flag}: expected a number, got {value!r}")
+        try:
+            out = float(value)
+        except (TypeError, ValueError):
+            raise InputError(f"{flag}: expected a number, got {value!r}") from None
+        if math.isnan(out) or (finite and math.isinf(out)):
+            raise InputError(f"{flag} must be a finite number, got {value!r}")
+        if lo is not None and out < lo:
+            raise InputError(f"{flag} must be at least {lo:g}, got {out:g}")
+        if above is not None and not out > above:
+            raise InputError(f"{flag} must be greater than {above:g}, got {out:g}")
+        if hi is not None and out > hi:
+            raise InputError(f"{flag} must be at most {hi:g}, got {out:g}")
+        if below is not None and not out < below:
+            raise InputError(f"{flag} must be less than {below:g}, got {out:g}")
+        return out
+
+    parse.kind = float  # type: ignore[attr-defined]
+    return parse
+
+
+def text(choices: Sequence[str] | None = None, *, lower: bool = False) -> Parser:
+    """Strings, optionally one of ``choices`` (the error lists them)."""
+
+    def parse(value: Any, flag: str) -> str:
+        if not isinstance(value, str):
+            raise InputError(f"{flag}: expected text, got {value!r}")
+        out = value.strip().lower() if lower else value
+        if choices is not None and out not in choices:
+            raise InputError(f"{flag} must be one of {', '.join(choices)}, got {value!r}")
+        return out
+
+    parse.kind = str  # type: ignore[attr-defined]
+    parse.choices = tuple(choices) if choices else None  # type: ignore[attr-defined]
+    return parse
+
+
+def boolean() -> Parser:
+    def parse(value: Any, flag: str) -> bool:
+        if isinstance(value, bool):
+            return value
+        if isinstance(value, str) and value.strip().lower() in ("true", "1", "yes", "on"):
+            return True
+        if isinstance(value, str) and value.strip().lower() in ("false", "0", "no", "off"):
+            return False
+        raise InputError(f"{flag}: expected true or false, got {value!r}")
+
+    parse.kind = bool  # type: ignore[attr-defined]
+    return parse
+
+
+def path() -> Parser:
+    def parse(value: Any, flag: str) -> Path:
+        if isinstance(value, Path):
+            return value
+        if isinstance(value, str) and value.strip():
+            return Path(value)
+        raise InputError(f"{flag}: expected a file path, got {value!r}")
+
+    parse.kind = Path  # type: ignore[attr-defined]
+    return parse
+
+
+_CELL = re.compile(r"^\s*(-?\d+)\s*,\s*(-?\d+)\s*$")
+
+
+def _pair(value: Any, flag: str, what: str = "cell") -> Cell:
+    if isinstance(value, str):
+        m = _CELL.match(value)
+        if m:
+            return int(m[1]), int(m[2])
+    elif (
+        isinstance(value, Sequence)
+        and len(value) == 2
+        and all(isinstance(v, int) and not isinstance(v, bool) for v in value)
+    ):
+        return int(value[0]), int(value[1])
+    raise InputError(f'{flag}: malformed {what} {value!r} (expected "x,y" or (x, y))')
+
+
+def cell() -> Parser:
+    """One cell: ``"3,4"`` or ``(3, 4)``."""
+
+    def parse(value: Any, flag: str) -> Cell:
+        return _pair(value, flag)
+
+    parse.kind = str  # type: ignore[attr-defined]
+    return parse
+
+
+def cells() -> Parser:
+    """Cells: ``"1,2;3,4"``, ``["1,2", "3,4"]`` or ``[(1, 2), (3, 4)]`` -> a tuple of cells.
+
+    Empty parts of a string (a trailing ``;``) are skipped.
+    """
+
+    def parse(value: Any, flag: str) -> tuple[Cell, ...]:
+        if isinstance(value, str):
+            parts: Iterable[Any] = [p for p in value.split(";") if p.strip()]
+        elif isinstance(value, Sequence):
+            parts = value
+        else:
+            raise InputError(f'{flag}: expected cells "x,y;x,y;…", got {value!r}')
+        out = []
+        for p in parts:
+            if isinstance(p, str):
+                m = _CELL.match(p)
+                if not m:
+                    raise InputError(
+                        f'{flag}: malformed cell {p.strip()!r} (expected "x,y;x,y;…")'
+                    )
+                out.append((int(m[1]), int(m[2])))
+            else:
+                out.append(_pair(p, flag))
+        return tuple(out)
+
+    parse.kind = str  # type: ignore[attr-defined]
+    return parse
+
+
+def optional(inner: Parser) -> Parser:
+    """``None`` stays ``None``; anything else goes through ``inner``."""
+
+    def parse(value: Any, flag: str) -> Any:
+        return None if value is None else inner(value, flag)
+
+    parse.kind = getattr(inner, "kind", str)  # type: ignore[attr-defined]
+    parse.choices = getattr(inner, "choices", None)  # type: ignore[attr-defined]
+    return parse
+
+
+# ---------------------------------------------------------------------------- options
+
+
+@dataclass(frozen=True)
+class OptionInfo:
+    """One parameter as the surfaces see it."""
+
+    name: str  # "travel_time"
+    flag: str  # "--travel-time"
+    default: Any  # REQUIRED when the user must give it
+    help: str
+    parse: Parser
+    negation: str | None = None  # "--no-aodv" for a boolean with an off switch
+    metavar: str | None = None
+
+    @property
+    def required(self) -> bool:
+        return self.default is REQUIRED
+
+    @property
+    def kind(self) -> type:
+        return getattr(self.parse, "kind", str)  # type: ignore[no-any-return]
+
+    @property
+    def choices(self) -> tuple[str, ...] | None:
+        return getattr(self.parse, "choices", None)
+
+
+def option(
+    default: Any = REQUIRED,
+    *,
+    help: str,
+    parse: Parser,
+    flag: str | None = None,
+    negation: str | None = None,
+    metavar: str | None = None,
+) -> Any:
+    """Declare a Params field: its default, help line, parser and (optionally) CLI flag."""
+    meta = {"help": help, "parse": parse, "flag": flag, "negation": negation, "metavar": metavar}
+    if default is REQUIRED:
+        return field(default=None, metadata={"swarmex": meta, "required": True})
+    return field(default=default, metadata={"swarmex": meta, "required": False})
+
+
+P = TypeVar("P", bound="Params")
+
+
+@dataclass(frozen=True)
+class Params:
+    """Base of every mission's parameters: build with :meth:`from_values`, never invalid.
+
+    Subclasses are frozen dataclasses whose fields are declared with :func:`option`, and
+    override :meth:`check` for rules that tie fields together (no world needed).
+    """
+
+    mission: ClassVar[str] = ""
+
+    @classmethod
+    def options(cls) -> dict[str, OptionInfo]:
+        out = {}
+        for f in fields(cls):
+            meta = f.metadata.get("swarmex")
+            if meta is None:
+                continue
+            out[f.name] = OptionInfo(
+                name=f.name,
+                flag=meta["flag"] or "--" + f.name.replace("_", "-"),
+                default=REQUIRED if f.metadata.get("required") else f.default,
+                help=meta["help"],
+                parse=meta["parse"],
+                negation=meta["negation"],
+                metavar=meta["metavar"],
+            )
+        return out
+
+    @classmethod
+    def from_values(cls: type[P], values: Mapping[str, Any] | None = None, **kw: Any) -> P:
+        """Parse and validate user values (CLI strings or Python values) into Params.
+
+        Keys are the option names with ``-`` or ``_``. Raises InputError for an unknown key
+        (naming the nearest valid one), a missing required option or a bad value.
+        """
+        raw = {**(values or {}), **kw}
+        opts = cls.options()
+        given: dict[str, Any] = {}
+        for key, value in raw.items():
+            name = str(key).replace("-", "_")
+            if name not in opts:
+                raise InputError(unknown_message(cls.mission, name, opts))
+            if name in given:
+                raise InputError(f"{opts[name].flag} is given twice")
+            given[name] = value
+        parsed: dict[str, Any] = {}
+        for name, info in opts.items():
+            if name in given and given[name] is not None:
+                parsed[name] = info.parse(given[name], info.flag)
+            elif info.required:
+                raise InputError(f"{cls.mission}: {info.flag} is required")
+            else:
+                parsed[name] = info.default
+        params = cls(**parsed)
+        params.check()
+        return params
+
+    def check(self) -> None:
+        """Cross-field rules that need no world; raise InputError naming the option."""
+
+    def values(self) -> dict[str, Any]:
+        """The parameters as a plain dict (option name -> typed value)."""
+        return {name: getattr(self, name) for name in self.options()}
+
+
+def unknown_message(mission: str, name: str, opts: Mapping[str, Any]) -> str:
+    close = difflib.get_close_matches(name, list(opts), n=1, cutoff=0.5)
+    hint = f"; did you mean {close[0]!r}?" if close else f" (valid: {', '.join(sorted(opts))})"
+    return f"{mission or 'mission'}: unknown parameter {name!r}{hint}"
+
+
+# ---------------------------------------------------------------------------- missions
+
+
+@dataclass
+class Outcome:
+    """What a run leaves: the record every surface reads, plus the in-memory run object the
+    renderers draw (it holds arrays the record does not, e.g. exploration's final maps)."""
+
+    record: ResultRecord
+    run: Any = None
+    world: Any = None
+
+
+FrameCallback = Callable[[Any], Any]
+W = TypeVar("W")
+
+
+class Mission(ABC, Generic[P, W]):
+    """One mission behind the contract. Subclasses set the class attributes and implement
+    :meth:`prepare` and :meth:`execute`.
+
+    * :meth:`prepare` does every check that needs the world (map files, start cells, team
+      size against free cells) and returns the prepared world; it must raise InputError
+      *before* any long work.
+    * :meth:`execute` runs and records; ``on_frame`` (if given) is called with the run's
+      frames as they happen, the objects that ``--render`` and the monitor draw; raising
+      :class:`StopRun` from it ends the run early.
+    """
+
+    name: ClassVar[str]  # "traversal"
+    command: ClassVar[str]  # "traverse"
+    summary: ClassVar[str]  # one line for --help
+    params_type: ClassVar[type[Params]]
+    time_unit: ClassVar[str]
+
+    def params(self, values: Mapping[str, Any] | None = None, **kw: Any) -> P:
+        return self.params_type.from_values(values, **kw)  # type: ignore[return-value]
+
+    @abstractmethod
+    def prepare(self, params: P) -> W:
+        """The world the run happens in, with every world-dependent check done."""
+
+    @abstractmethod
+    def execute(self, params: P, world: W, on_frame: FrameCallback | None = None) -> Outcome:
+        """Run the mission on a prepared world and build its record."""
+
+    def run(self, params: P, on_frame: FrameCallback | None = None) -> Outcome:
+        return self.execute(params, self.prepare(params), on_frame)

@@ -1,0 +1,72 @@
+"""The explicit registry of missions: name -> the object implementing the contract.
+
+Why explicit: registration by import side effect makes the set of missions depend on what
+happened to be imported. Here the four built-in missions are listed by module path and
+imported only when first asked for (so ``swarmex --help`` stays light), and third-party
+packages add missions through the ``swarmex.missions`` entry-point group, whose entries name
+a :class:`~swarmex.missions.base.Mission` subclass or instance::
+
+    [project.entry-points."swarmex.missions"]
+    patrol = "my_package.patrol:PatrolMission"
+"""
+
+from __future__ import annotations
+
+import difflib
+import importlib
+from functools import cache
+from importlib.metadata import entry_points
+from typing import Any
+
+from swarmex.errors import InputError
+from swarmex.missions.base import Mission
+
+BUILTIN: dict[str, str] = {
+    "exploration": "swarmex.missions.exploration.mission:ExplorationMission",
+    "foraging": "swarmex.missions.foraging.mission:ForagingMission",
+    "roadmap": "swarmex.missions.roadmap.mission:RoadmapMission",
+    "traversal": "swarmex.missions.traversal.mission:TraversalMission",
+}
+ENTRY_POINT_GROUP = "swarmex.missions"
+
+
+def _load(target: str) -> Mission[Any, Any]:
+    module, _, attr = target.partition(":")
+    obj = getattr(importlib.import_module(module), attr)
+    return obj() if isinstance(obj, type) else obj
+
+
+@cache
+def _plugins() -> dict[str, Any]:
+    return {ep.name: ep for ep in entry_points(group=ENTRY_POINT_GROUP) if ep.name not in BUILTIN}
+
+
+def names() -> list[str]:
+    """Registered mission names, sorted."""
+    return sorted({*BUILTIN, *_plugins()})
+
+
+@cache
+def get(name: str) -> Mission[Any, Any]:
+    """The mission called ``name``; an unknown name is an InputError naming the nearest."""
+    if name in BUILTIN:
+        return _load(BUILTIN[name])
+    plugin = _plugins().get(name)
+    if plugin is not None:
+        obj = plugin.load()
+        mission = obj() if isinstance(obj, type) else obj
+        if not isinstance(mission, Mission):
+            raise InputError(f"entry point {name!r} does not name a swarmex Mission")
+        return mission
+    close = difflib.get_close_matches(str(name), names(), n=1, cutoff=0.5)
+    hint = f"; did you mean {close[0]!r}?" if close else ""
+    raise InputError(f"unknown mission {name!r} (choose from {', '.join(names())}){hint}")
+
+
+def by_command(command: str) -> Mission[Any, Any]:
+    """The mission whose CLI command is ``command`` (``"traverse"`` -> traversal)."""
+    for name in names():
+        mission = get(name)
+        if mission.command == command:
+            return mission
+    raise InputError(f"no mission has the command {command!r}")

@@ -1,0 +1,151 @@
+"""Parameters of a traversal run (seed 000), with their defaults, units and checks.
+
+Conventions (also in ``swarmex traverse --help``):
+
+* Cells are ``x,y`` with x the column and y the row, row 0 the first map row (DESIGN.md);
+  lists are ``"x,y;x,y;…"`` or Python sequences of pairs.
+* ``travel_time`` is seconds per unit edge (a diagonal of ``connectivity=8`` takes √2 times as
+  long); ``job_time`` seconds per job.
+* Nests: agent *i* starts at nest ``i mod len(nests)``, so fewer nests than agents are shared
+  round-robin (the thesis runs 1..m nests; several agents on one nest is its standard
+  setting), and listing a cell twice is the same as sharing it. More nests than agents is an
+  error (a nest nobody uses is a typo). Without ``nests`` every agent starts at the first
+  free cell in row-major order (smallest y, then smallest x).
+* Obstacles listed twice are harmless; ``obstacles`` may add walls to a ``map`` too.
+
+Defaults of the timing options are the thesis's base agent (§5.1: 6.67 m edges flown at
+3 m/s, 10 s jobs, climb 1.5 m/s, descent 0.3 m/s) without the 5 m takeoff, so
+``additional_time`` is the return flight alone unless ``altitude`` is given.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from swarmex.errors import InputError
+from swarmex.missions.base import (
+    REQUIRED,
+    Cell,
+    Params,
+    cells,
+    integer,
+    option,
+    optional,
+    path,
+    real,
+    text,
+)
+
+ALGORITHMS = ("madgta", "madgta+", "nearest", "optimal")
+OBJECTIVES = ("sum", "makespan")
+MAX_GRID_CELLS = 16_000_000  # a 4000x4000 grid; beyond that the arrays alone exhaust memory
+_GRID = re.compile(r"^\s*(\d+)\s*[xX×]\s*(\d+)\s*$")
+
+
+def grid_size() -> Any:
+    """``"10x12"`` or ``(10, 12)`` -> (width, height), each >= 1, at most MAX_GRID_CELLS."""
+
+    def parse(value: Any, flag: str) -> tuple[int, int]:
+        if isinstance(value, str):
+            m = _GRID.match(value)
+            if not m:
+                raise InputError(f"{flag}: expected WxH such as 10x10, got {value!r}")
+            w, h = int(m[1]), int(m[2])
+        elif (
+            isinstance(value, list | tuple)
+            and len(value) == 2
+            and all(isinstance(v, int) and not isinstance(v, bool) for v in value)
+        ):
+            w, h = int(value[0]), int(value[1])
+        else:
+            raise InputError(f"{flag}: expected WxH such as 10x10, got {value!r}")
+        if w < 1 or h < 1:
+            raise InputError(f"{flag}: width and height must be >= 1, got {value!r}")
+        if w * h > MAX_GRID_CELLS:
+            raise InputError(f"{flag}: {w}x{h} has more than {MAX_GRID_CELLS:,} cells")
+        return w, h
+
+    parse.kind = str  # type: ignore[attr-defined]
+    return parse
+
+
+def connectivity() -> Any:
+    inner = integer()
+
+    def parse(value: Any, flag: str) -> int:
+        out = inner(value, flag)
+        if out not in (4, 8):
+            raise InputError(f"{flag} must be 4 or 8, got {out}")
+        return int(out)
+
+    parse.kind = int  # type: ignore[attr-defined]
+    return parse
+
+
+@dataclass(frozen=True)
+class TraversalParams(Params):
+    mission = "traversal"
+
+    map: Path | None = option(
+        None, help="MovingAI .map file (or give --grid).", parse=optional(path())
+    )
+    grid: tuple[int, int] | None = option(
+        None, help="Empty WxH grid, e.g. 10x10 (or give --map).", parse=optional(grid_size())
+    )
+    obstacles: tuple[Cell, ...] = option(
+        (), help='Blocked cells "x,y;x,y;…" (x column, y row).', parse=cells()
+    )
+    agents: int = option(REQUIRED, help="Number of agents (>= 1).", parse=integer(lo=1))
+    nests: tuple[Cell, ...] | None = option(
+        None,
+        help='Start cells "x,y;…", shared round-robin when fewer than agents. '
+        "Default: the first free cell in row-major order.",
+        parse=optional(cells()),
+    )
+    travel_time: float = option(
+        2.22, help="Seconds per grid edge (thesis: 6.67 m at 3 m/s).", parse=real(above=0)
+    )
+    job_time: float = option(10.0, help="Seconds per job.", parse=real(lo=0))
+    algorithm: str = option(
+        "madgta",
+        help="madgta | madgta+ | nearest | optimal (exact MILP).",
+        parse=text(ALGORITHMS),
+    )
+    objective: str = option(
+        "sum", help="What optimal minimises: sum (thesis §3.1) | makespan.", parse=text(OBJECTIVES)
+    )
+    connectivity: int = option(4, help="4 or 8 neighbours per cell.", parse=connectivity())
+    start_interval: float = option(
+        0.5, help="Seconds between agents' starts.", parse=real(lo=0)
+    )
+    altitude: float = option(0.0, help="Working altitude, metres.", parse=real(lo=0))
+    up_speed: float = option(1.5, help="Climb speed, m/s.", parse=real(above=0))
+    down_speed: float = option(0.3, help="Descent speed, m/s.", parse=real(above=0))
+    comm_range: float | None = option(
+        None,
+        help="Broadcast range in cells (default: unlimited).",
+        parse=optional(real(above=0, finite=False)),
+    )
+    loss: float = option(
+        0.0, help="Probability a receiver misses a message.", parse=real(lo=0, below=1)
+    )
+    delay: float = option(0.0, help="Message delay, seconds.", parse=real(lo=0))
+    job_failure: float = option(
+        0.0, help="Probability a job fails and must be redone.", parse=real(lo=0, below=1)
+    )
+    seed: int = option(0, help="Seed of every random choice.", parse=integer())
+
+    def check(self) -> None:
+        if (self.map is None) == (self.grid is None):
+            raise InputError("give exactly one of --map FILE or --grid WxH")
+        if self.nests is not None:
+            if not self.nests:
+                raise InputError("--nests: no cell given")
+            if len(self.nests) > self.agents:
+                raise InputError(f"--nests: {len(self.nests)} nests for only {self.agents} agents")
+
+
+__all__ = ["ALGORITHMS", "OBJECTIVES", "TraversalParams"]
