@@ -72,7 +72,7 @@ def phase_rate(
     from swarmex.experiments.sweep_spec import load_sweep_spec
 
     loaded = load_sweep_spec(spec)
-    shapes = mission_shapes(loaded.command, spec)
+    shapes = mission_shapes(loaded.mission, spec)
     total = len(loaded.runs())
     stamps: list[float] = []
     worker_cpu = [0.0]

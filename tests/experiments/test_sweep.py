@@ -35,7 +35,7 @@ def write_spec(tmp_path: Path, text: str = SPEC, name: str = "spec.toml") -> Pat
 
 def sweep(path: Path, out: Path, backend: str = "serial", **kw):
     spec = load_sweep_spec(path)
-    return run_sweep(spec, mission_shapes(spec.command, path), out, backend=backend, **kw)
+    return run_sweep(spec, mission_shapes(spec.mission, path), out, backend=backend, **kw)
 
 
 def records(out: Path) -> dict[str, dict]:
@@ -73,17 +73,13 @@ def test_product_expansion_order_and_ids(tmp_path):
     assert all(r.params["grid"] == "4x4" for r in runs)  # a scalar is a one-value column
     assert len({r.run_id for r in runs}) == 8
     assert [r.run_id for r in load_sweep_spec(spec.path).runs()] == [r.run_id for r in runs]
-    shapes = mission_shapes("traverse", spec.path)
-    assert spec.argv(runs[3], shapes) == [
-        "--algorithm",
-        "madgta",
-        "--grid",
-        "4x4",
-        "--agents",
-        "2",
-        "--seed",
-        "1",
-    ]
+    shapes = mission_shapes("traversal", spec.path)
+    assert spec.values(runs[3], shapes) == {
+        "algorithm": "madgta",
+        "grid": "4x4",
+        "agents": 2,
+        "seed": 1,
+    }
 
 
 def test_spec_fixed_table_seed_count_and_algorithm_option(tmp_path):
@@ -103,14 +99,11 @@ def test_spec_fixed_table_seed_count_and_algorithm_option(tmp_path):
     from swarmex.experiments.scenario import OptionShape
 
     shapes = {n: OptionShape(flag=f"--{n}") for n in ("strategy", "starts", "seed")}
-    assert spec.argv(run, shapes) == [
-        "--strategy",
-        "greedy",
-        "--starts",
-        "1,1;2,2",
-        "--seed",
-        "0",
-    ]
+    assert spec.values(run, shapes) == {
+        "strategy": "greedy",
+        "starts": ["1,1", "2,2"],
+        "seed": 0,
+    }
 
 
 @pytest.mark.parametrize(
@@ -206,7 +199,8 @@ def test_failing_runs_are_recorded_and_do_not_stop_the_sweep(tmp_path):
     assert all("40 agents but the map has only 9 free cells" in r["error"] for r in failed)
     assert all(r["makespan"] is None and r["complete"] is None for r in failed)
     info = json.loads((out / "runs" / f"{failed[0]['run']}.error.json").read_text())
-    assert info["argv"][-4:] == ["--agents", "40", "--seed", "0"] and info["error"]
+    assert info["params"]["agents"] == 40 and info["seed"] == 0 and info["error"]
+    assert info["mission"] == "traversal"
     # failures count as finished; --retry-failed runs them again
     again = sweep(out.parent / "spec.toml", out)
     assert (again.ran, again.skipped) == (0, 6)
@@ -390,7 +384,7 @@ def crash_or_run(task, runs_dir):
     """A worker function whose "crash" tasks kill their process, like a segfault would."""
     from swarmex.experiments.sweep_worker import run_task
 
-    if task.command == "crash":
+    if task.mission == "crash":
         os._exit(3)
     return run_task(task, runs_dir)
 
@@ -399,8 +393,8 @@ def tiny_traversal_tasks(n: int) -> list:
     """``n`` 3x3 single-agent traversal tasks, ids r0..r{n-1} (seed = index)."""
     from swarmex.experiments.sweep_worker import Task
 
-    argv = ["--grid", "3x3", "--agents", "1", "--seed"]
-    return [Task(i, f"r{i}", "traverse", [*argv, str(i)]) for i in range(n)]
+    values = {"grid": "3x3", "agents": 1}
+    return [Task(i, f"r{i}", "traversal", {**values, "seed": i}) for i in range(n)]
 
 
 def test_a_run_that_kills_its_worker_is_recorded_and_the_rest_finish(tmp_path):
@@ -408,7 +402,7 @@ def test_a_run_that_kills_its_worker_is_recorded_and_the_rest_finish(tmp_path):
     from swarmex.experiments.sweep_worker import Task
 
     tasks = tiny_traversal_tasks(4)
-    tasks.insert(1, Task(99, "boom", "crash", []))
+    tasks.insert(1, Task(99, "boom", "crash", {}))
     got = []
     _local(tasks, 2, "traversal", tmp_path, got.append, runner=crash_or_run)
     by_id = {o.run_id: o for o in got}
@@ -423,7 +417,7 @@ def test_workers_that_cannot_run_stop_the_sweep_without_recording_failures(tmp_p
 
     got = []
     with pytest.raises(InputError, match="died 3 times in a row"):
-        tasks = [Task(i, f"c{i}", "crash", []) for i in range(5)]
+        tasks = [Task(i, f"c{i}", "crash", {}) for i in range(5)]
         _local(tasks, 2, "traversal", tmp_path, got.append, runner=crash_or_run)
     assert got == []
 
@@ -434,7 +428,7 @@ def test_a_crash_inside_a_chunk_loses_only_unfinished_runs(tmp_path):
     from swarmex.experiments.sweep_worker import Task
 
     tasks = tiny_traversal_tasks(60)
-    tasks.insert(30, Task(99, "boom", "crash", []))
+    tasks.insert(30, Task(99, "boom", "crash", {}))
     got = []
     _local(tasks, 2, "traversal", tmp_path, got.append, runner=crash_or_run)
     ids = [o.run_id for o in got]

@@ -21,7 +21,6 @@ The first line printed is the page's address. The server listens on 127.0.0.1 on
 from __future__ import annotations
 
 import math
-import tempfile
 from pathlib import Path
 from typing import Any
 
@@ -32,31 +31,20 @@ from swarmex.errors import InputError
 
 
 def run_scenario_record(scenario: Path) -> dict:
-    """Run a scenario file's mission in this process and return its result record."""
-    from swarmex.cli import _cx
-    from swarmex.cli.commands_run import option_shapes
-    from swarmex.engine.record import read_record
-    from swarmex.experiments.scenario import load_scenario, scenario_argv
-    from swarmex.experiments.sweep_worker import quiet_cli
+    """Run a scenario file's mission in this process (through the Mission contract) and
+    return its result record; the file's output keys (json, render) are ignored here."""
+    from swarmex.experiments.scenario import load_scenario, mission_shapes, scenario_values
+    from swarmex.missions.registry import get
 
     scn = load_scenario(scenario)
-    command = typer.main.get_command(app).commands.get(scn.command)
-    if command is None:
-        raise InputError(f"{scenario}: this installation has no 'swarmex {scn.command}' command")
-    shapes = option_shapes(command)
     options = {k: v for k, v in scn.options.items() if k not in ("json", "render")}
     scn = type(scn)(scn.path, scn.mission, options)
-    with tempfile.TemporaryDirectory(prefix="swarmex-monitor-") as tmp:
-        out = Path(tmp) / "record.json"
-        argv = [*scenario_argv(scn, shapes), "--json", str(out)]
-        try:
-            with quiet_cli():  # its summary would name our temporary record file
-                command.main(args=argv, prog_name=f"swarmex {scn.command}", standalone_mode=False)
-        except _cx.UsageError as exc:
-            raise InputError(f"{scenario}: {exc.format_message()}") from None
-        except InputError as exc:
-            raise InputError(f"{scenario}: {exc}") from None
-        return read_record(out)
+    try:
+        mission = get(scn.mission)
+        params = mission.params(scenario_values(scn, mission_shapes(scn.mission)))
+        return mission.run(params).record.to_dict()
+    except InputError as exc:
+        raise InputError(f"{scenario}: {exc}") from None
 
 
 def _path(text: str, base: Path | None) -> Path:

@@ -22,18 +22,14 @@ from swarmex.errors import InputError
 from swarmex.experiments.progress import runs_progress
 
 
-def mission_shapes(command_name: str, where: Path):
-    """Option shapes of ``swarmex COMMAND`` (as ``swarmex run`` reads them)."""
-    from swarmex.cli.commands_run import option_shapes
+def mission_shapes(mission: str, where: Path):
+    """Option shapes of a mission's parameters (read off its Params)."""
+    from swarmex.experiments.scenario import mission_shapes as shapes
 
-    group = typer.main.get_command(app)
-    command = group.commands.get(command_name)
-    if command is None:
-        raise InputError(
-            f"{where}: the mission needs the 'swarmex {command_name}' command,"
-            " which this installation does not have yet"
-        )
-    return option_shapes(command)
+    try:
+        return shapes(mission)
+    except InputError as exc:
+        raise InputError(f"{where}: {exc}") from None
 
 
 @app.command()
@@ -71,7 +67,7 @@ def sweep(
     from swarmex.experiments.sweep_spec import load_sweep_spec
 
     spec = load_sweep_spec(spec_file)
-    shapes = mission_shapes(spec.command, spec_file)
+    shapes = mission_shapes(spec.mission, spec_file)
     out_dir = out if out is not None else Path(f"{spec_file.stem}-sweep")
     progress = runs_progress("sweep", err_console, detail=True)
     state = {"task": None, "failed": 0}

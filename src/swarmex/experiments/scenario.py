@@ -158,6 +158,43 @@ def scenario_argv(scenario: Scenario, shapes: dict[str, OptionShape]) -> list[st
     return argv
 
 
+def mission_shapes(mission: str) -> dict[str, OptionShape]:
+    """Option shapes of a mission's parameters, read off its Params (option name with dashes
+    -> shape): what a spec or scenario may set, and which values are paths or flags."""
+    from swarmex.missions.registry import get
+
+    shapes = {}
+    for info in get(mission).params_type.options().values():
+        shapes[info.flag[2:]] = OptionShape(
+            flag=info.flag,
+            is_path=info.kind is Path,
+            is_flag=info.kind is bool,
+            negation=info.negation,
+            required=info.required,
+        )
+    return shapes
+
+
+def scenario_values(scenario: Scenario, shapes: dict[str, OptionShape]) -> dict[str, Any]:
+    """The mission parameters of ``scenario`` as Python values for ``Mission.params``:
+    file values as they are (the mission's parsers accept TOML's strings, numbers, booleans
+    and lists), relative paths taken from the file's folder. An unknown key is an InputError
+    listing the known ones."""
+    values: dict[str, Any] = {}
+    for name, value in scenario.options.items():
+        shape = shapes.get(name)
+        if shape is None:
+            known = ", ".join(sorted(shapes))
+            raise InputError(
+                f"{scenario.path}: swarmex {scenario.command} has no option --{name}"
+                f" (it has: {known})"
+            )
+        if shape.is_path and isinstance(value, str):
+            value = resolve_path(scenario.path.parent, value)
+        values[name.replace("-", "_")] = value
+    return values
+
+
 def resolve_path(folder: Path, text: str) -> Path:
     """A path from a scenario: ``~`` expanded, relative ones taken from the file's folder."""
     p = Path(text).expanduser()

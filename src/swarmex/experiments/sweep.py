@@ -3,7 +3,7 @@
 The sweep folder (``--out DIR``) holds::
 
     DIR/runs/<run id>.json         the result record of each finished run (DESIGN.md schema)
-    DIR/runs/<run id>.error.json   what a failed run said (its argv, params, error, traceback)
+    DIR/runs/<run id>.error.json   what a failed run said (its mission, params, error, traceback)
     DIR/journal.jsonl              one line per finished run: its row-sized outcome
     DIR/results.parquet            one row per finished run of the spec, in product order
 
@@ -52,7 +52,6 @@ from swarmex.experiments.sweep_worker import (
     Outcome,
     Task,
     outcome_from_record,
-    quiet_cli,
     run_chunk,
     run_task,
     warm_up,
@@ -156,8 +155,7 @@ class SweepStore:
         else:
             info = {
                 "run": run.run_id,
-                "command": task.command,
-                "argv": task.argv,
+                "mission": task.mission,
                 "params": run.params,
                 "seed": run.seed,
                 "error": outcome.error,
@@ -276,8 +274,9 @@ def run_sweep(
 ) -> SweepResult:
     """Run every unfinished run of ``spec`` and write DIR/results.parquet.
 
-    ``shapes`` are the mission command's option shapes (see ``swarmex run``); every run's argv
-    is built and checked before anything runs, so a misspelt option fails at once.
+    ``shapes`` are the mission's option shapes (:func:`~swarmex.experiments.scenario.
+    mission_shapes`); every run's parameters are built and checked before anything runs, so a
+    misspelt option fails at once.
     ``on_start(total, already_finished)`` and ``on_outcome(outcome)`` drive a progress display;
     an exception raised by ``on_outcome`` (Ctrl-C) stops the sweep after saving what finished.
     """
@@ -294,7 +293,7 @@ def run_sweep(
             _check_reachable(ray_address)
     runs = spec.runs()
     by_id = {r.run_id: r for r in runs}
-    tasks = {r.run_id: Task(r.index, r.run_id, spec.command, spec.argv(r, shapes)) for r in runs}
+    tasks = {r.run_id: Task(r.index, r.run_id, spec.mission, spec.values(r, shapes)) for r in runs}
     store = SweepStore(out_dir)
     outcomes = store.finished(runs, retry_failed)
     skipped = len(outcomes)
@@ -346,8 +345,7 @@ def run_sweep(
 
 def _serial(tasks: Iterable[Task], runs_dir: Path, finish: OnOutcome) -> None:
     for task in tasks:
-        with quiet_cli():
-            outcome = run_task(task, str(runs_dir))
+        outcome = run_task(task, str(runs_dir))
         finish(outcome)
 
 

@@ -39,7 +39,7 @@ from swarmex.experiments.scenario import (
     OptionShape,
     Scenario,
     read_toml,
-    scenario_argv,
+    scenario_values,
 )
 
 # columns the sweep itself writes; a spec key may not take one of these names
@@ -87,11 +87,11 @@ class SweepSpec:
                 out.append(RunSpec(len(out), run_id(self.mission, params, seed), params, seed))
         return out
 
-    def argv(self, run: RunSpec, shapes: dict[str, OptionShape]) -> list[str]:
-        """The mission command's argv (without ``--json``) for ``run``.
+    def values(self, run: RunSpec, shapes: dict[str, OptionShape]) -> dict[str, Any]:
+        """The mission parameters of ``run``, for ``Mission.params`` (no argv in between).
 
-        Built by :func:`~swarmex.experiments.scenario.scenario_argv`, so values follow the
-        scenario rules and relative paths are taken from the spec's folder.
+        Built by :func:`~swarmex.experiments.scenario.scenario_values`, so relative paths are
+        taken from the spec's folder, and checked for required options before anything runs.
         """
         options: dict[str, Any] = {}
         for key, value in run.params.items():
@@ -107,7 +107,7 @@ class SweepSpec:
                 f"{self.path}: swarmex {self.command} needs"
                 f" {', '.join('--' + n for n in missing)}; add {wanted} to the spec"
             )
-        return scenario_argv(Scenario(self.path, self.mission, options), shapes)
+        return scenario_values(Scenario(self.path, self.mission, options), shapes)
 
 
 def run_id(mission: str, params: dict[str, Any], seed: int) -> str:

@@ -1,12 +1,11 @@
-"""The worker side of a sweep: run one mission command in this process, return a small row.
+"""The worker side of a sweep: run one mission in this process, return a small row.
 
 Why in-process: starting a Python interpreter and importing swarmex costs more than a small run
-itself, so a worker is a long-lived process that imported swarmex once and calls the mission's
-command object directly, exactly as ``swarmex run`` does (the command parses, validates and
-writes the record; the sweep never re-implements a mission's options). The command's Rich
-summary is switched off in workers (it would be rendered and thrown away for every run), and
-the record is written to a scratch file on a RAM disk when there is one, then moved into the
-sweep folder with an atomic rename.
+itself, so a worker is a long-lived process that imported swarmex once and calls the mission
+directly through the Mission contract (``Mission.params`` parses and validates exactly as the
+command line does, ``Mission.run`` runs and records); no argv and no CLI are involved. The
+record is written into the sweep folder with an atomic rename, in the same JSON layout as
+``--json``.
 
 What goes back to the driver is an :class:`Outcome`: the scalars of the record (complete,
 makespan, the totals in ``metrics``), or the error. Trajectories never cross the process
@@ -22,11 +21,10 @@ import io
 import json
 import os
 import signal
-import tempfile
 import threading
 import time
 import traceback
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
@@ -38,8 +36,8 @@ from swarmex.errors import InputError
 class Task:
     index: int
     run_id: str
-    command: str  # "traverse"
-    argv: list[str]  # the command's options, without --json
+    mission: str  # "traversal"
+    values: dict[str, Any]  # the mission's parameters (Mission.params), seed included
 
 
 @dataclass
@@ -67,12 +65,8 @@ class Outcome:
         return cls(**{k: v for k, v in d.items() if k in names})
 
 
-_COMMANDS: dict[str, Any] = {}
-_SCRATCH: Path | None = None
-
-
 def init_worker(driver_pid: int | None = None) -> None:
-    """Prepare a pool process: ignore Ctrl-C (the driver stops us), silence the CLI's output.
+    """Prepare a pool process: ignore Ctrl-C (the driver stops us).
 
     With ``driver_pid``, a watchdog thread ends this process once the driver is gone: a pool
     worker forked by the fork server is not the driver's child, and if the driver is killed
@@ -81,7 +75,6 @@ def init_worker(driver_pid: int | None = None) -> None:
     with contextlib.suppress(ValueError):  # not the main thread: nothing to do
         signal.signal(signal.SIGINT, signal.SIG_IGN)
         signal.signal(signal.SIGTERM, signal.SIG_DFL)  # not the CLI's handler, if forked
-    _silence()  # for the life of the process
     if driver_pid is not None:
         threading.Thread(target=_watch, args=(driver_pid,), daemon=True).start()
 
@@ -97,84 +90,24 @@ def _watch(driver_pid: int, interval: float = 1.0) -> None:
             pass
 
 
-@contextlib.contextmanager
-def quiet_cli() -> Iterator[None]:
-    """Make the commands' Rich consoles skip their output (rendering it is most of the cost).
-
-    Restored on exit, so the serial backend can use it around each run inside the CLI's own
-    process and still print its summary afterwards.
-    """
-    saved = _silence()
-    try:
-        yield
-    finally:
-        for c, old in saved:
-            if old is None:
-                del c.print
-            else:
-                c.print = old  # type: ignore[method-assign]
-
-
-def _silence() -> list[tuple[Any, Any]]:
-    """Replace the shared consoles' ``print``; returns what was there, to restore it."""
-    from swarmex.cli.app import console, err_console
-
-    saved = [(c, c.__dict__.get("print")) for c in (console, err_console)]
-    for c, _ in saved:
-        c.print = _silent  # type: ignore[method-assign]
-    return saved
-
-
-def _silent(*_args: Any, **_kwargs: Any) -> None:
-    return None
-
-
-def _command(name: str) -> Any:
-    """The Click command of ``swarmex NAME``, built once per process (Typer is slow at it)."""
-    if name not in _COMMANDS:
-        import typer
-
-        from swarmex.cli import app
-
-        group = typer.main.get_command(app)
-        _COMMANDS.update(group.commands)
-    if name not in _COMMANDS:
-        raise InputError(f"this installation has no 'swarmex {name}' command")
-    return _COMMANDS[name]
-
-
-def _scratch() -> Path:
-    """This process's scratch file (named by pid: a forked worker must not share its parent's)."""
-    global _SCRATCH
-    if _SCRATCH is None or not _SCRATCH.name.endswith(f"-{os.getpid()}.json"):
-        shm = Path("/dev/shm")
-        base = shm if shm.is_dir() and os.access(shm, os.W_OK) else Path(tempfile.gettempdir())
-        _SCRATCH = base / f"swarmex-sweep-{os.getpid()}.json"
-    return _SCRATCH
-
-
 def run_task(task: Task, runs_dir: str | None) -> Outcome:
     """Run one task; write its record into ``runs_dir`` (or return it when that is None).
 
     A failing run is an Outcome with ``error`` set, never an exception: one bad configuration
     must not stop a sweep.
     """
-    scratch = _scratch()
-    scratch.unlink(missing_ok=True)
+    from swarmex.missions.registry import get
+
+    sink = io.StringIO()  # a library that prints (a solver's banner) must not garble the bar
     try:
-        code = _invoke(task)
-        if code:
-            return _failed(task, f"swarmex {task.command} exited with status {code}")
-        text = scratch.read_text(encoding="utf-8")
+        with contextlib.redirect_stdout(sink):
+            mission = get(task.mission)
+            record = mission.run(mission.params(task.values)).record.to_dict()
     except InputError as exc:
         return _failed(task, str(exc))
     except Exception as exc:  # a failing run is data, not a crash
-        if hasattr(exc, "format_message"):  # Click's usage errors: bad input, not a bug
-            return _failed(task, exc.format_message())
         return _failed(task, f"{type(exc).__name__}: {exc}", traceback.format_exc())
-    finally:
-        scratch.unlink(missing_ok=True)
-    record = json.loads(text)
+    text = json.dumps(record, indent=1)  # the layout of --json (engine.record.write_record)
     outcome = outcome_from_record(task.index, task.run_id, record)
     if runs_dir is None:
         outcome.record_text = text
@@ -193,16 +126,18 @@ def run_chunk(
 def warm_up(task: Task) -> None:
     """Do in the driver, once, what every fresh worker would otherwise do before its first run.
 
-    The workers are forked from the driver after this, so they inherit it: the Click command
-    built from Typer's app, a first parse of the task's options (Click's first call imports
-    much of what it uses), and numba's code generation registries, which its first cached
-    kernel loads (a few tenths of a second per process). Best effort: a failure here only
-    means the workers warm up themselves.
+    The workers are forked from the driver after this, so they inherit it: the mission's
+    modules (imported by a first parse of the task's parameters and a first world), and
+    numba's code generation registries, which its first cached kernel loads (a few tenths of
+    a second per process). Best effort: a failure here only means the workers warm up
+    themselves.
     """
     with contextlib.suppress(Exception):
-        command = _command(task.command)
-        with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
-            command.make_context(f"swarmex {task.command}", [*task.argv, "--json", os.devnull])
+        from swarmex.missions.registry import get
+
+        mission = get(task.mission)
+        mission.prepare(mission.params(task.values))
+        import swarmex.engine.record  # noqa: F401
     with contextlib.suppress(Exception):
         import numpy as np
 
@@ -210,20 +145,6 @@ def warm_up(task: Task) -> None:
         from swarmex.worlds.grid import GridWorld
 
         distance_field(GridWorld(np.ones((1, 2), dtype=bool)).graph, 0)
-
-
-def _invoke(task: Task) -> int:
-    argv = [*task.argv, "--json", str(_scratch())]
-    sink = io.StringIO()
-    try:
-        with contextlib.redirect_stdout(sink), contextlib.redirect_stderr(sink):
-            result = _command(task.command).main(
-                args=argv, prog_name=f"swarmex {task.command}", standalone_mode=False
-            )
-    except SystemExit as exc:  # typer.Exit and friends
-        return exc.code if isinstance(exc.code, int) else 1
-    code = getattr(result, "exit_code", 0)
-    return code if isinstance(code, int) else 0
 
 
 def _failed(task: Task, message: str, detail: str | None = None) -> Outcome:
