@@ -18,6 +18,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
+import swarmex.missions as _missions_package  # noqa: F401  (before the function below)
 from swarmex.errors import InputError
 
 if TYPE_CHECKING:
@@ -28,7 +29,12 @@ __all__ = ["InputError", "ResultRecord", "StopRun", "__version__", "missions", "
 
 
 def missions() -> list[str]:
-    """The registered mission names (built-in and from installed plugins), sorted."""
+    """The registered mission names (built-in and from installed plugins), sorted.
+
+    (The subpackage ``swarmex.missions`` is imported above, first, so that this function and
+    not the subpackage is the package's ``missions`` attribute; import the subpackage's
+    modules by their full names, ``from swarmex.missions.base import Mission``.)
+    """
     from swarmex.missions.registry import names
 
     return names()

@@ -1,9 +1,10 @@
 """``swarmex run SCENARIO.toml``: any mission command, with its options read from a file.
 
-The scenario (see :mod:`swarmex.experiments.scenario`) is turned into the argv of the
-mission's own command, which is then invoked: there is no second parser to keep in step with
-the commands, and a mission becomes runnable from files as soon as its command exists.
-Options given after the file override the file's (``swarmex run s.toml --seed 3``).
+The scenario's values (see :mod:`swarmex.experiments.scenario`) go straight to the mission's
+Params parsers, the same ones ``swarmex.run`` and the command line use, so a file value means
+what the Python value means (``grid = [6, 5]`` is ``grid=(6, 5)``). Options given after the
+file override the file's (``swarmex run s.toml --seed 3``). ``option_shapes`` reads option
+shapes off a Click command, for tools that still build argv.
 """
 
 from __future__ import annotations
@@ -15,7 +16,12 @@ import typer
 
 from swarmex.cli.app import app
 from swarmex.errors import InputError
-from swarmex.experiments.scenario import OptionShape, load_scenario, scenario_argv
+from swarmex.experiments.scenario import (
+    OptionShape,
+    load_scenario,
+    mission_shapes,
+    scenario_values,
+)
 
 
 def option_shapes(command: Any) -> dict[str, OptionShape]:
@@ -56,20 +62,22 @@ def run_scenario(
     scenario: Path = typer.Argument(..., help="TOML file: mission = ... plus the options."),
 ) -> Any:
     """Run any mission from a scenario file (options after the file override it)."""
-    from swarmex.cli import _cx  # the Click exceptions module Typer uses (set up by the package)
+    from swarmex.cli.missions import COMMANDS, invoke
+    from swarmex.experiments.scenario import resolve_path
 
     scn = load_scenario(scenario)
-    group = typer.main.get_command(app)
-    command = group.commands.get(scn.command)
-    if command is None:
+    if scn.mission not in COMMANDS:
         raise InputError(
             f"{scenario}: mission {scn.mission!r} needs the 'swarmex {scn.command}' command,"
             " which this installation does not have yet"
         )
-    argv = [*scenario_argv(scn, option_shapes(command)), *ctx.args]
+    options = dict(scn.options)
+    outputs = {k: options.pop(k) for k in ("json", "render") if k in options}
     try:
-        return command.main(args=argv, prog_name=f"swarmex {scn.command}", standalone_mode=False)
+        values = scenario_values(type(scn)(scn.path, scn.mission, options),
+                                 mission_shapes(scn.mission))
+        for key, value in outputs.items():
+            values[key] = resolve_path(scn.path.parent, str(value))
+        return invoke(scn.mission, values, ctx.args)
     except InputError as exc:
         raise InputError(f"{scenario}: {exc}") from None
-    except _cx.UsageError as exc:
-        raise InputError(f"{scenario}: {exc.format_message()}") from None

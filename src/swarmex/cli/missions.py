@@ -22,6 +22,7 @@ import typer
 
 from swarmex.cli.app import app, console
 from swarmex.cli.outputs import RENDER_SUFFIXES, check_output
+from swarmex.errors import InputError
 from swarmex.missions.base import FrameCallback, Mission, OptionInfo, Outcome
 
 
@@ -75,6 +76,9 @@ def _typer_option(info: OptionInfo) -> Any:
     if info.metavar:
         kw["metavar"] = info.metavar
     return typer.Option(default, *flags, **kw)
+
+
+COMMANDS: dict[str, Callable[..., Any]] = {}  # mission name -> its generated command
 
 
 def mission_command(mission: Mission[Any, Any], surface: Surface) -> Callable[..., Any]:
@@ -146,7 +150,62 @@ def mission_command(mission: Mission[Any, Any], surface: Surface) -> Callable[..
     command.__doc__ = mission.summary
     command.__name__ = mission.command
     app.command(name=mission.command, help=mission.summary)(command)
+    COMMANDS[mission.name] = command
     return command
+
+
+def invoke(mission: str, values: dict[str, Any], overrides: Sequence[str] = ()) -> Any:
+    """Run mission ``mission``'s command with ``values`` (Python values, e.g. from a
+    scenario file; ``json``/``render`` as paths) and then the command-line ``overrides``
+    (``["--seed", "3"]``), which win. Values go to the mission's own parsers unchanged, so a
+    file's ``grid = [6, 5]`` means what ``grid=(6, 5)`` means in Python."""
+    command = COMMANDS[mission]
+    sig = inspect.signature(command)
+    kwargs: dict[str, Any] = {}
+    for name, param in sig.parameters.items():
+        default = getattr(param.default, "default", None)
+        kwargs[name] = None if default is ... else default
+    by_flag: dict[str, tuple[str, Any]] = {}
+    for name, param in sig.parameters.items():
+        decls = getattr(param.default, "param_decls", None) or ()
+        for decl in decls:
+            for i, flag in enumerate(decl.split("/")):
+                by_flag[flag] = (name, param.annotation if i == 0 else "negation")
+    for key, value in values.items():
+        name = {"json": "json_path"}.get(key, key)
+        if name not in kwargs:
+            raise InputError(f"swarmex {command.__name__} has no option --{key}")
+        kwargs[name] = value
+    args = list(overrides)
+    while args:
+        flag = args.pop(0)
+        value: Any
+        flag, _, inline = flag.partition("=")
+        if flag not in by_flag:
+            raise InputError(f"swarmex {command.__name__} has no option {flag}")
+        name, kind = by_flag[flag]
+        if kind == "negation":
+            value = False
+        elif kind is bool:
+            value = True
+        else:
+            if not inline and not args:
+                raise InputError(f"{flag} needs a value")
+            value = inline or args.pop(0)
+            if kind in (Path, Path | None):
+                value = Path(value)
+            elif kind in (float, float | None, int, int | None) and name not in values:
+                value = _number(value, flag, int if kind in (int, int | None) else float)
+        kwargs[name] = value
+    return command(**kwargs)
+
+
+def _number(text: str, flag: str, kind: type) -> Any:
+    try:
+        return kind(text)
+    except ValueError:
+        what = "an integer" if kind is int else "a number"
+        raise InputError(f"{flag}: expected {what}, got {text!r}") from None
 
 
 __all__ = ["Extra", "Surface", "mission_command"]

@@ -127,6 +127,7 @@ class TraversalMission(Mission[TraversalParams, TraversalWorld]):
             Channel(p.loss, p.delay, comm),
             start_interval=p.start_interval,
             job_failure=p.job_failure,
+            on_frame=on_frame,
         )
         return Outcome(traversal_record(run, rparams), run, world.world)
 

@@ -31,12 +31,15 @@ from __future__ import annotations
 
 import heapq
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
 from swarmex.comm.channel import Channel
 from swarmex.errors import InputError
+from swarmex.missions.base import StopRun
 from swarmex.missions.traversal.agents import AgentSpec
 from swarmex.missions.traversal.belief import (
     DONE_BY_UNKNOWN,
@@ -113,6 +116,18 @@ class AgentLog:
     @property
     def node(self) -> int:
         return self.trajectory[-1][1]
+
+
+@dataclass(frozen=True)
+class TraversalFrame:
+    """One moment of a traversal run, for ``on_frame`` (a notebook's animation, a monitor):
+    the event that just happened and where every started agent is (cells x, y)."""
+
+    t: float  # seconds
+    event: str  # "start" | "arrive" | "job_end"
+    agent: int  # the agent the event happened to
+    positions: tuple[tuple[int, float, float], ...]  # (agent id, x, y)
+    jobs_done: int  # vertices with at least one job started
 
 
 @dataclass
@@ -345,7 +360,9 @@ class _Sim:
         return {k: int(sum(getattr(c, k, 0) for c in caches)) for k in keys}
 
     # ---------------------------------------------------------------- run loop
-    def run(self, max_events: int) -> bool:
+    def run(self, max_events: int, on_frame: Callable[[TraversalFrame], Any] | None = None) -> bool:
+        """Handle events until none is left (True) or ``max_events`` or an ``on_frame``
+        callback's :class:`StopRun` ends the run early (False)."""
         t0 = 0.0
         for i, s in enumerate(self.specs):
             self.queue.schedule(t0 + i * self.start_interval + s.takeoff_time, "start", i + 1)
@@ -371,7 +388,23 @@ class _Sim:
                 self.decide(a, t)
             elif kind == "deliver":
                 self.apply(self.beliefs[a], data)
+                continue
+            if on_frame is not None:
+                try:
+                    on_frame(self.frame(t, kind, a))
+                except StopRun:
+                    return False
         return True
+
+    def frame(self, t: float, kind: str, agent: int) -> TraversalFrame:
+        """What the run looks like at ``t``: each started agent's vertex and the jobs done."""
+        pos = self.graph.pos
+        where = tuple(
+            (log.id, *(float(c) for c in pos[log.trajectory[-1][1]]))
+            for log in self.logs
+            if log.trajectory
+        )
+        return TraversalFrame(float(t), kind, int(agent), where, int((self.job_count > 0).sum()))
 
 
 def _edge_length(graph, u: int, v: int) -> float:
@@ -463,8 +496,13 @@ def run_traversal(
     unit_length: float = 1.0,
     job_failure: float = 0.0,
     max_events: int | None = None,
+    on_frame: Callable[[TraversalFrame], Any] | None = None,
 ) -> TraversalRun:
-    """Run one traversal mission; every random choice comes from ``seed``."""
+    """Run one traversal mission; every random choice comes from ``seed``.
+
+    ``on_frame`` is called after every start, arrival and job end with a
+    :class:`TraversalFrame`; raising :class:`~swarmex.missions.base.StopRun` from it ends the
+    run there (the run is then incomplete)."""
     validate_nests(world, agents)
     if start_interval < 0:
         raise InputError(f"start interval must be >= 0, got {start_interval}")
@@ -478,7 +516,7 @@ def run_traversal(
     reach = np.isfinite(distance_field(world.graph, [s.nest for s in agents], world.blocked))
     reach &= ~world.blocked
     limit = max_events or 50 * (int(reach.sum()) + 10) * (len(agents) + 1) * 4
-    finished = sim.run(limit)
+    finished = sim.run(limit, on_frame)
     return TraversalRun(
         world=world,
         agents=sim.logs,
