@@ -389,10 +389,13 @@ class TraversalServer:
     def _events_for(self, b: wire.Broadcast, arrival: bool) -> None:
         x, y = self._xy(b.node) if b.node >= 0 else (None, None)
         t = b.t
-        if arrival:
-            self._emit(ev.move(t, b.id, x, y))
-        if b.cmd == "C07" and b.job:
-            self._emit(ev.job(t, b.id, x, y))
+        # a move or job event needs a place (a C04/C07 at node -1 passes the wire checks,
+        # but "x": null breaks the monitor's schema and ``swarmex watch``)
+        if x is not None and y is not None:
+            if arrival:
+                self._emit(ev.move(t, b.id, x, y))
+            if b.cmd == "C07" and b.job:
+                self._emit(ev.job(t, b.id, x, y))
         kind = {
             "C04": "pos", "C05": "next", "C06": "halfway", "C09": "finish", "C10": "home",
             "C11": "landed",
