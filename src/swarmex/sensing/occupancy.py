@@ -28,6 +28,7 @@ from dataclasses import dataclass, field
 
 import numba as nb
 import numpy as np
+from numpy.typing import NDArray
 
 P_HIT = 0.7
 P_MISS = 0.4
@@ -51,7 +52,10 @@ def probability(logodds: np.ndarray) -> np.ndarray:
 
 
 @nb.njit(cache=True, nogil=True)
-def _rasterise(x0, y0, angles, ranges, max_cells, bx, by, free_p, occ_p):  # pragma: no cover
+def _rasterise(
+    x0: int, y0: int, angles: NDArray[np.float64], ranges: NDArray[np.float64],
+    max_cells: float, bx: int, by: int, free_p: NDArray[np.bool_], occ_p: NDArray[np.bool_],
+) -> None:  # pragma: no cover
     ph, pw = free_p.shape
     for b in range(angles.shape[0]):
         r = ranges[b]
@@ -95,7 +99,10 @@ def _rasterise(x0, y0, angles, ranges, max_cells, bx, by, free_p, occ_p):  # pra
 
 
 @nb.njit(cache=True, nogil=True)
-def _add_clipped(flat, index, delta, lo, hi):  # pragma: no cover - compiled
+def _add_clipped(
+    flat: NDArray[np.float32], index: NDArray[np.int64], delta: NDArray[np.float32],
+    lo: np.float32, hi: np.float32,
+) -> None:  # pragma: no cover - compiled
     for k in range(index.shape[0]):
         i = index[k]
         v = flat[i] + delta[k]
@@ -178,7 +185,7 @@ class OccupancyGrid:
 
     @property
     def shape(self) -> tuple[int, int]:
-        return self.logodds.shape  # type: ignore[return-value]
+        return self.logodds.shape
 
     def apply(self, local: LocalMap) -> None:
         """Bayesian update with one local map (own or received: the same function)."""
