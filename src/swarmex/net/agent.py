@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import os
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -63,7 +64,7 @@ class AgentClient:
         server_timeout: float = 10.0,
         connect_timeout: float = 30.0,
         faults: Faults | None = None,
-        say=print,
+        say: Callable[[str], object] = print,
     ) -> None:
         self.address = address
         self.want_id = want_id
@@ -352,7 +353,7 @@ def run_agents(
     connect_timeout: float = 30.0,
     timeout: float = 3600.0,
     faults: Faults | None = None,
-    say=print,
+    say: Callable[[str], object] = print,
     spares: int = 0,
 ) -> int:
     """Run ``count`` agents (each its own connection) until all are done; the worst status.
@@ -367,7 +368,7 @@ def run_agents(
 
     numba.set_num_threads(1)
     warm_up()
-    ctx = zmq.Context.instance()
+    ctx: zmq.Context[zmq.Socket[bytes]] = zmq.Context.instance()
     agents = [
         AgentClient(ctx, address, want_id if count == 1 or want_id < 0 else 0, server_timeout,
                     connect_timeout, faults, say)

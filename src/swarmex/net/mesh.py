@@ -48,15 +48,22 @@ import shutil
 import sys
 import tempfile
 import time
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import zmq
 
+from swarmex.comm.message import PackedMessage
 from swarmex.net import events as ev
 from swarmex.net import wire
+
+if TYPE_CHECKING:  # imported where used: each process loads only what it needs
+    from swarmex.missions.exploration.messages import Message
+    from swarmex.missions.exploration.params import ExplorationParams
+    from swarmex.worlds.metric import MetricGrid
 
 CONTROL = ("HELLO", "GO", "BEAT", "STATUS", "STOP", "REPORT")
 RADIO_KIND = "R"
@@ -104,8 +111,8 @@ class MeshOptions:
         )
 
 
-def write_scenario(run_dir: Path, grid, params, options: MeshOptions,
-                   json_path: Path | None) -> None:
+def write_scenario(run_dir: Path, grid: MetricGrid, params: ExplorationParams,
+                   options: MeshOptions, json_path: Path | None) -> None:
     from swarmex.missions.exploration.params import default_starts
 
     starts = params.starts or default_starts(grid, params.robots, params.robot_radius)
@@ -125,7 +132,9 @@ def write_scenario(run_dir: Path, grid, params, options: MeshOptions,
     tmp.rename(run_dir / "scenario.msgpack")
 
 
-def read_scenario(run_dir: Path):
+def read_scenario(
+    run_dir: Path,
+) -> tuple[MetricGrid, ExplorationParams, MeshOptions, str | None]:
     """(grid, params, options, json path) of a run directory."""
     from swarmex.missions.exploration.params import ExplorationParams
     from swarmex.worlds import GridWorld
@@ -146,7 +155,7 @@ def read_scenario(run_dir: Path):
 # ---------------------------------------------------------------------------- radio frames
 
 
-def encode_radio(src: int, pos: tuple[int, int], msg) -> bytes:
+def encode_radio(src: int, pos: tuple[int, int], msg: PackedMessage) -> bytes:
     return wire.pack([RADIO_KIND, src, int(pos[0]), int(pos[1]), msg.to_dict()])
 
 
@@ -182,13 +191,13 @@ def _check_scans(scans: Any, shape: tuple[int, int]) -> None:
                 raise wire.EncodingError(f"scan {key}: expected {nbytes} bytes")
 
 
-def decode_radio(frame: bytes, shape: tuple[int, int]):
+def decode_radio(frame: bytes, shape: tuple[int, int]) -> tuple[int, tuple[int, int], Message]:
     """``(src, (x, y), message)`` of a radio frame, fully checked against the map's shape;
     :class:`~swarmex.net.wire.WireError` for anything malformed."""
     return radio_message(wire.unpack(frame), shape)
 
 
-def radio_message(obj: Any, shape: tuple[int, int]):
+def radio_message(obj: Any, shape: tuple[int, int]) -> tuple[int, tuple[int, int], Message]:
     """:func:`decode_radio` after the unpacking."""
     from swarmex.missions.exploration.messages import from_dict
 
@@ -301,7 +310,7 @@ class Node:
         self.id = node_id
         self.run_dir = run_dir
         self.options = options
-        self.ctx = zmq.Context.instance()
+        self.ctx: zmq.Context[zmq.Socket[bytes]] = zmq.Context.instance()
         self.pull = self.ctx.socket(zmq.PULL)
         self.pull.setsockopt(zmq.LINGER, 0)
         self.pull.bind("tcp://127.0.0.1:*")
@@ -414,7 +423,7 @@ class RobotProcess(Node):
     def pos(self) -> tuple[int, int]:
         return self.robot.pos
 
-    def send_out(self, out) -> None:
+    def send_out(self, out: Iterable[tuple[int, PackedMessage]]) -> None:
         from swarmex.missions.exploration.robot import RADIO
 
         for dst, msg in out:
@@ -587,11 +596,12 @@ class DisplayProcess(Node):
         self.grid = grid
         self.params = params
         self.json_path = None if json_path is None else Path(json_path)
+        assert params.starts is not None  # a scenario's starts are always filled in
         self.starts = params.starts
-        self.cell = options.display_cell or params.starts[0]
+        self.cell = options.display_cell or self.starts[0]
         self.belief = ExplorationBelief(grid.shape, self.cell)
         self.mesh = MeshNode(DISPLAY, params.heartbeat_period, params.neighbour_timeout)
-        self.reachable = reachable_free(grid.free, params.starts)
+        self.reachable = reachable_free(grid.free, self.starts)
         self.robots: dict[int, dict[str, Any]] = {}
         self.reports: dict[int, dict] = {}
         self.t = 0
@@ -641,7 +651,7 @@ class DisplayProcess(Node):
         elif isinstance(msg, Goal) and src in self.robots:
             self.robots[src]["goal"] = msg.goal
 
-    def radio(self, dst: int, msg) -> None:
+    def radio(self, dst: int, msg: PackedMessage) -> None:
         self.send_frame(dst, encode_radio(DISPLAY, self.cell, msg), msg.kind)
 
     def heartbeat(self) -> None:
@@ -659,7 +669,7 @@ class DisplayProcess(Node):
             self.traffic.bad_frames += 1
             return
         info = self.robots.setdefault(rid, {"seen": now, "finished": False, "t": 0,
-                                            "pos": tuple(self.params.starts[rid]),
+                                            "pos": tuple(self.starts[rid]),
                                             "trajectory": [], "goal": None,
                                             "alive": True})
         info["seen"] = now
@@ -725,7 +735,7 @@ class DisplayProcess(Node):
             self.forwarder.send(batch)
 
     # ---- run
-    def run(self, say=print) -> int:
+    def run(self, say: Callable[[str], object] = print) -> int:
         opts = self.options
         n = self.params.robots
         say(f"swarmex mesh display: view on {self.view_endpoint}, waiting for {n} robots")
@@ -841,7 +851,7 @@ class DisplayProcess(Node):
             rep = self.reports.get(rid)
             metrics: dict[str, Any] = {"alive": bool(info.get("alive")),
                                        "reported": rep is not None}
-            traj = info["trajectory"] or [[0, *params.starts[rid]]]
+            traj = info["trajectory"] or [[0, *self.starts[rid]]]
             if rep is not None:
                 try:
                     free = np.unpackbits(np.frombuffer(rep["free"], np.uint8),
@@ -881,7 +891,7 @@ class DisplayProcess(Node):
         complete = ended and bool(live) and all(i["finished"] for i in live)
         makespan = max(steps) if steps else 0
         p = params.as_dict()
-        p["starts"] = [list(s) for s in params.starts]
+        p["starts"] = [list(s) for s in self.starts]
         p["cell"] = self.grid.cell
         p["processes"] = self.options.to_wire()
         record = {
@@ -958,8 +968,9 @@ def _display_entry(run_dir: str, monitor_url: str | None, conn: Any) -> None:
     sys.exit(code)
 
 
-def run_processes(grid, params, options: MeshOptions, json_path: Path | None = None,
-                  monitor_url: str | None = None, say=print) -> dict:
+def run_processes(grid: MetricGrid, params: ExplorationParams, options: MeshOptions,
+                  json_path: Path | None = None, monitor_url: str | None = None,
+                  say: Callable[[str], object] = print) -> dict:
     """``swarmex explore --processes``: a display and one OS process per robot; the record.
 
     Processes come from a multiprocessing *fork server* that has imported the mission code
@@ -1043,21 +1054,22 @@ def main(argv: list[str] | None = None) -> int:
     if len(args) >= 2 and args[0] == "robot":
         import numba
 
-        if numba.config.NUMBA_NUM_THREADS > 1:  # one robot, one computer
-            numba.set_num_threads(1)
-        node = RobotProcess(Path(args[1]), int(args[2]))
+        # (numba's config sets its attributes from the environment: invisible to mypy)
+        if numba.config.NUMBA_NUM_THREADS > 1:  # type: ignore[attr-defined]
+            numba.set_num_threads(1)  # one robot, one computer
+        robot = RobotProcess(Path(args[1]), int(args[2]))
         try:
-            return node.run()
+            return robot.run()
         finally:
-            node.close()
+            robot.close()
     if len(args) >= 2 and args[0] == "display":
         url = args[args.index("--monitor") + 1] if "--monitor" in args else None
-        node = DisplayProcess(Path(args[1]), monitor_url=url)
+        display = DisplayProcess(Path(args[1]), monitor_url=url)
         try:
-            return node.run(lambda s: print(s, flush=True))
+            return display.run(lambda s: print(s, flush=True))
         finally:
-            node.close()
-            node.view.close(1000)
+            display.close()
+            display.view.close(1000)
     print("usage: python -m swarmex.net.mesh robot RUN_DIR ID | display RUN_DIR", file=sys.stderr)
     return 2
 

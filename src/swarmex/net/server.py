@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -85,7 +86,7 @@ class TraversalServer:
         init_timeout: float = 60.0,
         spare_wait: float = 0.0,
         monitor_url: str | None = None,
-        say=print,
+        say: Callable[[str], object] = print,
     ) -> None:
         self.mission = mission
         self.bind = bind
@@ -110,7 +111,7 @@ class TraversalServer:
         self.wall0 = 0.0
         self.forwarder = ev.IngestForwarder(monitor_url) if monitor_url else None
         self.record: dict | None = None
-        self.ctx = zmq.Context.instance()
+        self.ctx: zmq.Context[zmq.Socket[bytes]] = zmq.Context.instance()
         self.sock = self.ctx.socket(zmq.ROUTER)
         self.sock.setsockopt(zmq.LINGER, 500)
         self.sock.setsockopt(zmq.SNDHWM, 0)

@@ -50,6 +50,7 @@ the order stays consistent.
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -380,8 +381,8 @@ class AgentCore:
             self._end_job(node, t)
         return self.outbox
 
-    def _broadcast(self, cmd: str, node: int, job: int = 0, obstacles=(), t: float = 0.0,
-                   eta: float = 0.0, last: bool = False) -> None:
+    def _broadcast(self, cmd: str, node: int, job: int = 0, obstacles: Iterable[int] = (),
+                   t: float = 0.0, eta: float = 0.0, last: bool = False) -> None:
         nodes = doers = None
         bit = 1
         if self.mission.done_lists:
@@ -425,7 +426,7 @@ class AgentCore:
             self._broadcast("C07", node, 0, seen, t)
             self._decide(t)
 
-    def _start_job(self, node: int, t: float, seen=()) -> None:
+    def _start_job(self, node: int, t: float, seen: Iterable[int] = ()) -> None:
         log = self.log
         if not log.path or log.path[-1][0] != node:
             log.path.append((node, False))
