@@ -24,6 +24,7 @@ import os
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 import zmq
@@ -115,7 +116,7 @@ class AgentClient:
         self.frames_out += 1
         self.bytes_out += len(frame)
 
-    def _send(self, obj: list) -> None:
+    def _send(self, obj: list[Any]) -> None:
         self._send_frame(wire.pack(obj))
 
     def _done(self, code: int, why: str = "") -> None:
@@ -148,7 +149,7 @@ class AgentClient:
         if b.id == self.id and ends_step(b):
             self.inflight = False
 
-    def _on_control(self, msg: list, now: float) -> None:
+    def _on_control(self, msg: list[Any], now: float) -> None:
         cmd = msg[0]
         if cmd == "ID" and self.state == "hello":
             self.id = int(msg[1])
@@ -200,7 +201,7 @@ class AgentClient:
         assert self.mission is not None
         self.t0w = now - clock * self.mission.time_scale
 
-    def _on_mission(self, data: dict, log: list, now: float) -> None:
+    def _on_mission(self, data: dict[str, Any], log: list[Any], now: float) -> None:
         mission = Mission.from_wire(data)
         if not 1 <= self.id <= mission.n_agents:
             raise wire.EncodingError("mission data without my id")

@@ -70,7 +70,7 @@ def message(t: float, agent: int, kind: str, x: float | None = None,
     return {"type": "message", "t": t, "agent": agent, "to": to, "kind": kind, "x": x, "y": y}
 
 
-def end(record: dict, after: list[Event] | None = None) -> Event:
+def end(record: dict[str, Any], after: list[Event] | None = None) -> Event:
     """The end event; its ``t`` is no earlier than any event in ``after`` (times must not go
     back, and the makespan can be earlier than the last message: staggered starts)."""
     last = max((float(e["t"]) for e in after or () if "t" in e), default=0.0)

@@ -90,7 +90,7 @@ class MeshOptions:
     inject_kill: dict[int, int] = field(default_factory=dict)  # robot id -> tick to die at
     display_cell: tuple[int, int] | None = None  # default: the first robot's start
 
-    def to_wire(self) -> dict:
+    def to_wire(self) -> dict[str, Any]:
         return {
             "time_scale": self.time_scale, "loss": self.loss,
             "send_timeout_ms": self.send_timeout_ms, "dead_after": self.dead_after,
@@ -101,7 +101,7 @@ class MeshOptions:
         }
 
     @classmethod
-    def from_wire(cls, d: dict) -> MeshOptions:
+    def from_wire(cls, d: dict[str, Any]) -> MeshOptions:
         cell = d.get("display_cell")
         return cls(
             float(d["time_scale"]), float(d["loss"]), int(d["send_timeout_ms"]),
@@ -240,12 +240,12 @@ def radio_message(obj: Any, shape: tuple[int, int]) -> tuple[int, tuple[int, int
         raise wire.EncodingError(f"radio body: {type(exc).__name__}") from None
 
 
-def decode_control(frame: bytes) -> list:
+def decode_control(frame: bytes) -> list[Any]:
     """A control-link frame (HELLO, GO, STATUS, STOP, REPORT), shape-checked."""
     return control_message(wire.unpack(frame))
 
 
-def control_message(obj: Any) -> list:
+def control_message(obj: Any) -> list[Any]:
     """:func:`decode_control` after the unpacking."""
     if not isinstance(obj, list) or not obj or obj[0] not in CONTROL:
         raise wire.EncodingError("not a control frame")
@@ -292,7 +292,7 @@ class Traffic:
         row[0] += 1
         row[1] += nbytes
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         return {
             "frames_out": self.frames_out, "bytes_out": self.bytes_out,
             "send_timeouts": self.send_timeouts, "frames_in": self.frames_in,
@@ -434,7 +434,7 @@ class RobotProcess(Node):
             else:
                 self.send_frame(dst, frame, msg.kind)
 
-    def control(self, obj: list) -> None:
+    def control(self, obj: list[Any]) -> None:
         frame = wire.pack(obj)
         self.send_frame(DISPLAY, frame, obj[0])
 
@@ -499,7 +499,7 @@ class RobotProcess(Node):
         }])
         self.unsent_moves = []
 
-    def report(self) -> dict:
+    def report(self) -> dict[str, Any]:
         r = self.robot
         s = r.stats
         free = r.belief.grid.logodds < 0
@@ -614,10 +614,10 @@ class DisplayProcess(Node):
         self.events: list[dict] = []
         self.pending: list[dict] = []
         self.forwarder = ev.IngestForwarder(monitor_url) if monitor_url else None
-        self.record: dict | None = None
+        self.record: dict[str, Any] | None = None
 
     # ---- radio
-    def on_radio(self, obj: list) -> None:
+    def on_radio(self, obj: list[Any]) -> None:
         from swarmex.missions.exploration.messages import Goal, Heartbeat, MapMsg, NeedMap, ScanMsg
 
         try:
@@ -663,7 +663,7 @@ class DisplayProcess(Node):
         self.mesh.expire(self.t)
 
     # ---- control
-    def on_control(self, obj: list, now: float) -> None:
+    def on_control(self, obj: list[Any], now: float) -> None:
         cmd, rid = obj[0], int(obj[1])
         if rid >= self.params.robots:
             self.traffic.bad_frames += 1
@@ -692,13 +692,13 @@ class DisplayProcess(Node):
         elif cmd == "REPORT":
             self.reports[rid] = obj[2]
 
-    def broadcast_control(self, obj: list) -> None:
+    def broadcast_control(self, obj: list[Any]) -> None:
         frame = wire.pack(obj)
         for rid in sorted(self.robots):
             self.send_frame(rid, frame, obj[0])
 
     # ---- events
-    def _emit(self, *events: dict) -> None:
+    def _emit(self, *events: ev.Event) -> None:
         self.pending.extend(events)
 
     def _flush(self) -> None:
@@ -828,7 +828,7 @@ class DisplayProcess(Node):
                 if obj[0] in ("HELLO", "STATUS", "REPORT"):
                     self.on_control(obj, now)
 
-    def build_record(self, wall: float, ended: bool) -> dict:
+    def build_record(self, wall: float, ended: bool) -> dict[str, Any]:
         from swarmex import __version__
         from swarmex.engine.record import plain
         from swarmex.missions.exploration.params import TICK_SECONDS
@@ -970,7 +970,7 @@ def _display_entry(run_dir: str, monitor_url: str | None, conn: Any) -> None:
 
 def run_processes(grid: MetricGrid, params: ExplorationParams, options: MeshOptions,
                   json_path: Path | None = None, monitor_url: str | None = None,
-                  say: Callable[[str], object] = print) -> dict:
+                  say: Callable[[str], object] = print) -> dict[str, Any]:
     """``swarmex explore --processes``: a display and one OS process per robot; the record.
 
     Processes come from a multiprocessing *fork server* that has imported the mission code

@@ -110,7 +110,7 @@ class TraversalServer:
         self.t0w = 0.0
         self.wall0 = 0.0
         self.forwarder = ev.IngestForwarder(monitor_url) if monitor_url else None
-        self.record: dict | None = None
+        self.record: dict[str, Any] | None = None
         self.ctx: zmq.Context[zmq.Socket[bytes]] = zmq.Context.instance()
         self.sock = self.ctx.socket(zmq.ROUTER)
         self.sock.setsockopt(zmq.LINGER, 500)
@@ -140,7 +140,7 @@ class TraversalServer:
         self.counters.frames_out += 1
         self.counters.bytes_out += len(frame)
 
-    def _reply(self, peer: Peer, obj: list) -> None:
+    def _reply(self, peer: Peer, obj: list[Any]) -> None:
         self._send(peer, wire.pack(obj))
 
     def _to_agents(self, frame: bytes, keep: bool = True) -> None:
@@ -243,7 +243,7 @@ class TraversalServer:
         except wire.WireError:
             c.dropped_encoding += 1
 
-    def _on_control(self, peer: Peer, msg: list) -> None:
+    def _on_control(self, peer: Peer, msg: list[Any]) -> None:
         cmd = msg[0]
         if cmd == "MON":
             if not peer.viewer:
@@ -365,7 +365,7 @@ class TraversalServer:
         x, y = self.mission.world.graph.pos[node]
         return float(x), float(y)
 
-    def _on_broadcast(self, peer: Peer, frame: bytes, msg: list) -> None:
+    def _on_broadcast(self, peer: Peer, frame: bytes, msg: list[Any]) -> None:
         b = wire.Broadcast.from_wire(msg)
         a = b.id
         if (not peer.has_mission or peer.id != a or self.holder.get(a) != peer.ident
@@ -483,7 +483,7 @@ class TraversalServer:
         c = self.counters
         return c.dropped_checksum + c.dropped_encoding + c.dropped_content + c.dropped_sender
 
-    def build_record(self) -> dict:
+    def build_record(self) -> dict[str, Any]:
         m = self.mission
         rec = self.recorder
         for a in range(1, m.n_agents + 1):
@@ -525,7 +525,7 @@ class TraversalServer:
         self._record_obj = record
         return record.to_dict()
 
-    def network_metrics(self, wall: float) -> dict:
+    def network_metrics(self, wall: float) -> dict[str, Any]:
         c = self.counters
         mission_wall = (time.monotonic() - self.t0w) if self.started else 0.0
         per_agent = []

@@ -40,7 +40,7 @@ def grow_rrt(
     step: float,
     rng: np.random.Generator,
     max_samples: int | None = None,
-    trace: list | None = None,
+    trace: list[tuple[tuple[float, float], int]] | None = None,
     exact_step: bool = True,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
     """Grow from the ``init`` nodes; returns ``(pos, parent, label, samples_drawn)``.

@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Any
 
 import numba as nb
 import numpy as np
@@ -117,7 +118,7 @@ class LocalMap:
     y0: int  # row of the box's first cell
     free: np.ndarray  # bool (rows, cols)
     occ: np.ndarray  # bool (rows, cols), disjoint from ``free``
-    _sparse: dict | None = field(default=None, repr=False)
+    _sparse: dict[int, tuple[np.ndarray, np.ndarray]] | None = field(default=None, repr=False)
 
     def sparse(self, width: int) -> tuple[np.ndarray, np.ndarray]:
         """(flat cell indices in a grid ``width`` wide, log-odds increments); cached."""
@@ -132,7 +133,7 @@ class LocalMap:
             got = self._sparse[width] = (index.astype(np.int64), delta)
         return got
 
-    def to_wire(self) -> dict:
+    def to_wire(self) -> dict[str, Any]:
         """msgpack-friendly form: box plus two bit-packed masks."""
         h, w = self.free.shape
         return {
@@ -142,7 +143,7 @@ class LocalMap:
         }
 
     @classmethod
-    def from_wire(cls, d: dict) -> LocalMap:
+    def from_wire(cls, d: dict[str, Any]) -> LocalMap:
         x0, y0, w, h = (int(v) for v in d["box"])
         n = w * h
 
