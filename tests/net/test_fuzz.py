@@ -144,6 +144,23 @@ def test_server_and_agent_survive_any_frames(items):
         client.sock.close(0)
 
 
+def test_server_events_need_a_place():
+    """A C04 or C07 at node -1 passes the wire checks but has no place: no move or job event
+    for it (a null x, y breaks the monitor's schema and ``swarmex watch``), only messages."""
+    from swarmex.net.server import TraversalServer
+
+    server = TraversalServer(_mission(), "tcp://127.0.0.1:*", say=lambda _s: None)
+    try:
+        server._events_for(wire.Broadcast("C04", 1, -1), True)
+        server._events_for(wire.Broadcast("C07", 1, -1, job=1), True)
+        server._events_for(wire.Broadcast("C04", 1, 5), True)
+        events = server.pending_events
+        assert [e["type"] for e in events] == ["message", "message", "move", "message"]
+        assert (events[2]["x"], events[2]["y"]) == (1.0, 1.0)
+    finally:
+        server.sock.close(0)
+
+
 # ---------------------------------------------------------------- the exploration mesh
 
 

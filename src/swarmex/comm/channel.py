@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -60,7 +61,7 @@ class Channel:
             mask &= rng.random(n) >= self.loss
         return np.nonzero(mask)[0]
 
-    def describe(self) -> dict:
+    def describe(self) -> dict[str, Any]:
         return {
             "loss": self.loss,
             "delay": self.delay,

@@ -41,7 +41,10 @@ from swarmex.errors import InputError
 
 
 class Sized(Protocol):
-    kind: str
+    """A message as the radio counts it (read-only: a class constant or a property will do)."""
+
+    @property
+    def kind(self) -> str: ...
 
     @property
     def nbytes(self) -> int: ...

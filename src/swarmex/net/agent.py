@@ -22,7 +22,9 @@ from __future__ import annotations
 
 import os
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 import zmq
@@ -63,7 +65,7 @@ class AgentClient:
         server_timeout: float = 10.0,
         connect_timeout: float = 30.0,
         faults: Faults | None = None,
-        say=print,
+        say: Callable[[str], object] = print,
     ) -> None:
         self.address = address
         self.want_id = want_id
@@ -114,7 +116,7 @@ class AgentClient:
         self.frames_out += 1
         self.bytes_out += len(frame)
 
-    def _send(self, obj: list) -> None:
+    def _send(self, obj: list[Any]) -> None:
         self._send_frame(wire.pack(obj))
 
     def _done(self, code: int, why: str = "") -> None:
@@ -147,7 +149,7 @@ class AgentClient:
         if b.id == self.id and ends_step(b):
             self.inflight = False
 
-    def _on_control(self, msg: list, now: float) -> None:
+    def _on_control(self, msg: list[Any], now: float) -> None:
         cmd = msg[0]
         if cmd == "ID" and self.state == "hello":
             self.id = int(msg[1])
@@ -199,7 +201,7 @@ class AgentClient:
         assert self.mission is not None
         self.t0w = now - clock * self.mission.time_scale
 
-    def _on_mission(self, data: dict, log: list, now: float) -> None:
+    def _on_mission(self, data: dict[str, Any], log: list[Any], now: float) -> None:
         mission = Mission.from_wire(data)
         if not 1 <= self.id <= mission.n_agents:
             raise wire.EncodingError("mission data without my id")
@@ -352,7 +354,7 @@ def run_agents(
     connect_timeout: float = 30.0,
     timeout: float = 3600.0,
     faults: Faults | None = None,
-    say=print,
+    say: Callable[[str], object] = print,
     spares: int = 0,
 ) -> int:
     """Run ``count`` agents (each its own connection) until all are done; the worst status.
@@ -367,7 +369,7 @@ def run_agents(
 
     numba.set_num_threads(1)
     warm_up()
-    ctx = zmq.Context.instance()
+    ctx: zmq.Context[zmq.Socket[bytes]] = zmq.Context.instance()
     agents = [
         AgentClient(ctx, address, want_id if count == 1 or want_id < 0 else 0, server_timeout,
                     connect_timeout, faults, say)

@@ -23,7 +23,7 @@ import json
 import queue
 import threading
 import time
-from collections.abc import Callable
+from collections.abc import Awaitable, Callable, Iterator
 from typing import Any
 
 import numpy as np
@@ -70,7 +70,7 @@ def message(t: float, agent: int, kind: str, x: float | None = None,
     return {"type": "message", "t": t, "agent": agent, "to": to, "kind": kind, "x": x, "y": y}
 
 
-def end(record: dict, after: list[Event] | None = None) -> Event:
+def end(record: dict[str, Any], after: list[Event] | None = None) -> Event:
     """The end event; its ``t`` is no earlier than any event in ``after`` (times must not go
     back, and the makespan can be earlier than the last message: staggered starts)."""
     last = max((float(e["t"]) for e in after or () if "t" in e), default=0.0)
@@ -155,7 +155,7 @@ class IngestForwarder:
 
 
 def viewer_batches(address: str, timeout: float = 10.0,
-                   stop: Callable[[], bool] | None = None):
+                   stop: Callable[[], bool] | None = None) -> Iterator[list[Any]]:
     """Yield event batches from a mission server (or exploration display) at ``address``.
 
     Ends after an ``end`` event, or when nothing (not even a heartbeat) came for
@@ -165,7 +165,7 @@ def viewer_batches(address: str, timeout: float = 10.0,
 
     from swarmex.net import wire
 
-    ctx = zmq.Context.instance()
+    ctx: zmq.Context[zmq.Socket[bytes]] = zmq.Context.instance()
     sock = ctx.socket(zmq.DEALER)
     sock.setsockopt(zmq.LINGER, 0)
     sock.setsockopt(zmq.RCVHWM, 0)
@@ -203,7 +203,7 @@ def viewer_batches(address: str, timeout: float = 10.0,
         sock.close(0)
 
 
-def network_producer(address: str, timeout: float = 10.0):
+def network_producer(address: str, timeout: float = 10.0) -> Callable[[Any], Awaitable[None]]:
     """A producer for the web monitor's server loop: publishes a live mission's batches.
 
     ``MonitorServer.run(producer, …)`` calls ``producer(hub)``; this one reads the mission's
@@ -212,7 +212,7 @@ def network_producer(address: str, timeout: float = 10.0):
 
     async def produce(hub: Any) -> None:
         loop = asyncio.get_running_loop()
-        q: asyncio.Queue = asyncio.Queue()
+        q: asyncio.Queue[list[Any] | None] = asyncio.Queue()
         done = threading.Event()
 
         def pump() -> None:

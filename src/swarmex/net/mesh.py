@@ -48,15 +48,22 @@ import shutil
 import sys
 import tempfile
 import time
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import zmq
 
+from swarmex.comm.message import PackedMessage
 from swarmex.net import events as ev
 from swarmex.net import wire
+
+if TYPE_CHECKING:  # imported where used: each process loads only what it needs
+    from swarmex.missions.exploration.messages import Message
+    from swarmex.missions.exploration.params import ExplorationParams
+    from swarmex.worlds.metric import MetricGrid
 
 CONTROL = ("HELLO", "GO", "BEAT", "STATUS", "STOP", "REPORT")
 RADIO_KIND = "R"
@@ -83,7 +90,7 @@ class MeshOptions:
     inject_kill: dict[int, int] = field(default_factory=dict)  # robot id -> tick to die at
     display_cell: tuple[int, int] | None = None  # default: the first robot's start
 
-    def to_wire(self) -> dict:
+    def to_wire(self) -> dict[str, Any]:
         return {
             "time_scale": self.time_scale, "loss": self.loss,
             "send_timeout_ms": self.send_timeout_ms, "dead_after": self.dead_after,
@@ -94,7 +101,7 @@ class MeshOptions:
         }
 
     @classmethod
-    def from_wire(cls, d: dict) -> MeshOptions:
+    def from_wire(cls, d: dict[str, Any]) -> MeshOptions:
         cell = d.get("display_cell")
         return cls(
             float(d["time_scale"]), float(d["loss"]), int(d["send_timeout_ms"]),
@@ -104,8 +111,8 @@ class MeshOptions:
         )
 
 
-def write_scenario(run_dir: Path, grid, params, options: MeshOptions,
-                   json_path: Path | None) -> None:
+def write_scenario(run_dir: Path, grid: MetricGrid, params: ExplorationParams,
+                   options: MeshOptions, json_path: Path | None) -> None:
     from swarmex.missions.exploration.params import default_starts
 
     starts = params.starts or default_starts(grid, params.robots, params.robot_radius)
@@ -125,7 +132,9 @@ def write_scenario(run_dir: Path, grid, params, options: MeshOptions,
     tmp.rename(run_dir / "scenario.msgpack")
 
 
-def read_scenario(run_dir: Path):
+def read_scenario(
+    run_dir: Path,
+) -> tuple[MetricGrid, ExplorationParams, MeshOptions, str | None]:
     """(grid, params, options, json path) of a run directory."""
     from swarmex.missions.exploration.params import ExplorationParams
     from swarmex.worlds import GridWorld
@@ -146,7 +155,7 @@ def read_scenario(run_dir: Path):
 # ---------------------------------------------------------------------------- radio frames
 
 
-def encode_radio(src: int, pos: tuple[int, int], msg) -> bytes:
+def encode_radio(src: int, pos: tuple[int, int], msg: PackedMessage) -> bytes:
     return wire.pack([RADIO_KIND, src, int(pos[0]), int(pos[1]), msg.to_dict()])
 
 
@@ -182,13 +191,13 @@ def _check_scans(scans: Any, shape: tuple[int, int]) -> None:
                 raise wire.EncodingError(f"scan {key}: expected {nbytes} bytes")
 
 
-def decode_radio(frame: bytes, shape: tuple[int, int]):
+def decode_radio(frame: bytes, shape: tuple[int, int]) -> tuple[int, tuple[int, int], Message]:
     """``(src, (x, y), message)`` of a radio frame, fully checked against the map's shape;
     :class:`~swarmex.net.wire.WireError` for anything malformed."""
     return radio_message(wire.unpack(frame), shape)
 
 
-def radio_message(obj: Any, shape: tuple[int, int]):
+def radio_message(obj: Any, shape: tuple[int, int]) -> tuple[int, tuple[int, int], Message]:
     """:func:`decode_radio` after the unpacking."""
     from swarmex.missions.exploration.messages import from_dict
 
@@ -231,12 +240,12 @@ def radio_message(obj: Any, shape: tuple[int, int]):
         raise wire.EncodingError(f"radio body: {type(exc).__name__}") from None
 
 
-def decode_control(frame: bytes) -> list:
+def decode_control(frame: bytes) -> list[Any]:
     """A control-link frame (HELLO, GO, STATUS, STOP, REPORT), shape-checked."""
     return control_message(wire.unpack(frame))
 
 
-def control_message(obj: Any) -> list:
+def control_message(obj: Any) -> list[Any]:
     """:func:`decode_control` after the unpacking."""
     if not isinstance(obj, list) or not obj or obj[0] not in CONTROL:
         raise wire.EncodingError("not a control frame")
@@ -283,7 +292,7 @@ class Traffic:
         row[0] += 1
         row[1] += nbytes
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         return {
             "frames_out": self.frames_out, "bytes_out": self.bytes_out,
             "send_timeouts": self.send_timeouts, "frames_in": self.frames_in,
@@ -301,7 +310,7 @@ class Node:
         self.id = node_id
         self.run_dir = run_dir
         self.options = options
-        self.ctx = zmq.Context.instance()
+        self.ctx: zmq.Context[zmq.Socket[bytes]] = zmq.Context.instance()
         self.pull = self.ctx.socket(zmq.PULL)
         self.pull.setsockopt(zmq.LINGER, 0)
         self.pull.bind("tcp://127.0.0.1:*")
@@ -414,7 +423,7 @@ class RobotProcess(Node):
     def pos(self) -> tuple[int, int]:
         return self.robot.pos
 
-    def send_out(self, out) -> None:
+    def send_out(self, out: Iterable[tuple[int, PackedMessage]]) -> None:
         from swarmex.missions.exploration.robot import RADIO
 
         for dst, msg in out:
@@ -425,7 +434,7 @@ class RobotProcess(Node):
             else:
                 self.send_frame(dst, frame, msg.kind)
 
-    def control(self, obj: list) -> None:
+    def control(self, obj: list[Any]) -> None:
         frame = wire.pack(obj)
         self.send_frame(DISPLAY, frame, obj[0])
 
@@ -490,7 +499,7 @@ class RobotProcess(Node):
         }])
         self.unsent_moves = []
 
-    def report(self) -> dict:
+    def report(self) -> dict[str, Any]:
         r = self.robot
         s = r.stats
         free = r.belief.grid.logodds < 0
@@ -587,11 +596,12 @@ class DisplayProcess(Node):
         self.grid = grid
         self.params = params
         self.json_path = None if json_path is None else Path(json_path)
+        assert params.starts is not None  # a scenario's starts are always filled in
         self.starts = params.starts
-        self.cell = options.display_cell or params.starts[0]
+        self.cell = options.display_cell or self.starts[0]
         self.belief = ExplorationBelief(grid.shape, self.cell)
         self.mesh = MeshNode(DISPLAY, params.heartbeat_period, params.neighbour_timeout)
-        self.reachable = reachable_free(grid.free, params.starts)
+        self.reachable = reachable_free(grid.free, self.starts)
         self.robots: dict[int, dict[str, Any]] = {}
         self.reports: dict[int, dict] = {}
         self.t = 0
@@ -604,10 +614,10 @@ class DisplayProcess(Node):
         self.events: list[dict] = []
         self.pending: list[dict] = []
         self.forwarder = ev.IngestForwarder(monitor_url) if monitor_url else None
-        self.record: dict | None = None
+        self.record: dict[str, Any] | None = None
 
     # ---- radio
-    def on_radio(self, obj: list) -> None:
+    def on_radio(self, obj: list[Any]) -> None:
         from swarmex.missions.exploration.messages import Goal, Heartbeat, MapMsg, NeedMap, ScanMsg
 
         try:
@@ -641,7 +651,7 @@ class DisplayProcess(Node):
         elif isinstance(msg, Goal) and src in self.robots:
             self.robots[src]["goal"] = msg.goal
 
-    def radio(self, dst: int, msg) -> None:
+    def radio(self, dst: int, msg: PackedMessage) -> None:
         self.send_frame(dst, encode_radio(DISPLAY, self.cell, msg), msg.kind)
 
     def heartbeat(self) -> None:
@@ -653,13 +663,13 @@ class DisplayProcess(Node):
         self.mesh.expire(self.t)
 
     # ---- control
-    def on_control(self, obj: list, now: float) -> None:
+    def on_control(self, obj: list[Any], now: float) -> None:
         cmd, rid = obj[0], int(obj[1])
         if rid >= self.params.robots:
             self.traffic.bad_frames += 1
             return
         info = self.robots.setdefault(rid, {"seen": now, "finished": False, "t": 0,
-                                            "pos": tuple(self.params.starts[rid]),
+                                            "pos": tuple(self.starts[rid]),
                                             "trajectory": [], "goal": None,
                                             "alive": True})
         info["seen"] = now
@@ -682,13 +692,13 @@ class DisplayProcess(Node):
         elif cmd == "REPORT":
             self.reports[rid] = obj[2]
 
-    def broadcast_control(self, obj: list) -> None:
+    def broadcast_control(self, obj: list[Any]) -> None:
         frame = wire.pack(obj)
         for rid in sorted(self.robots):
             self.send_frame(rid, frame, obj[0])
 
     # ---- events
-    def _emit(self, *events: dict) -> None:
+    def _emit(self, *events: ev.Event) -> None:
         self.pending.extend(events)
 
     def _flush(self) -> None:
@@ -725,7 +735,7 @@ class DisplayProcess(Node):
             self.forwarder.send(batch)
 
     # ---- run
-    def run(self, say=print) -> int:
+    def run(self, say: Callable[[str], object] = print) -> int:
         opts = self.options
         n = self.params.robots
         say(f"swarmex mesh display: view on {self.view_endpoint}, waiting for {n} robots")
@@ -818,7 +828,7 @@ class DisplayProcess(Node):
                 if obj[0] in ("HELLO", "STATUS", "REPORT"):
                     self.on_control(obj, now)
 
-    def build_record(self, wall: float, ended: bool) -> dict:
+    def build_record(self, wall: float, ended: bool) -> dict[str, Any]:
         from swarmex import __version__
         from swarmex.engine.record import plain
         from swarmex.missions.exploration.params import TICK_SECONDS
@@ -841,7 +851,7 @@ class DisplayProcess(Node):
             rep = self.reports.get(rid)
             metrics: dict[str, Any] = {"alive": bool(info.get("alive")),
                                        "reported": rep is not None}
-            traj = info["trajectory"] or [[0, *params.starts[rid]]]
+            traj = info["trajectory"] or [[0, *self.starts[rid]]]
             if rep is not None:
                 try:
                     free = np.unpackbits(np.frombuffer(rep["free"], np.uint8),
@@ -881,7 +891,7 @@ class DisplayProcess(Node):
         complete = ended and bool(live) and all(i["finished"] for i in live)
         makespan = max(steps) if steps else 0
         p = params.as_dict()
-        p["starts"] = [list(s) for s in params.starts]
+        p["starts"] = [list(s) for s in self.starts]
         p["cell"] = self.grid.cell
         p["processes"] = self.options.to_wire()
         record = {
@@ -958,8 +968,9 @@ def _display_entry(run_dir: str, monitor_url: str | None, conn: Any) -> None:
     sys.exit(code)
 
 
-def run_processes(grid, params, options: MeshOptions, json_path: Path | None = None,
-                  monitor_url: str | None = None, say=print) -> dict:
+def run_processes(grid: MetricGrid, params: ExplorationParams, options: MeshOptions,
+                  json_path: Path | None = None, monitor_url: str | None = None,
+                  say: Callable[[str], object] = print) -> dict[str, Any]:
     """``swarmex explore --processes``: a display and one OS process per robot; the record.
 
     Processes come from a multiprocessing *fork server* that has imported the mission code
@@ -1043,21 +1054,22 @@ def main(argv: list[str] | None = None) -> int:
     if len(args) >= 2 and args[0] == "robot":
         import numba
 
-        if numba.config.NUMBA_NUM_THREADS > 1:  # one robot, one computer
-            numba.set_num_threads(1)
-        node = RobotProcess(Path(args[1]), int(args[2]))
+        # (numba's config sets its attributes from the environment: invisible to mypy)
+        if numba.config.NUMBA_NUM_THREADS > 1:  # type: ignore[attr-defined]
+            numba.set_num_threads(1)  # one robot, one computer
+        robot = RobotProcess(Path(args[1]), int(args[2]))
         try:
-            return node.run()
+            return robot.run()
         finally:
-            node.close()
+            robot.close()
     if len(args) >= 2 and args[0] == "display":
         url = args[args.index("--monitor") + 1] if "--monitor" in args else None
-        node = DisplayProcess(Path(args[1]), monitor_url=url)
+        display = DisplayProcess(Path(args[1]), monitor_url=url)
         try:
-            return node.run(lambda s: print(s, flush=True))
+            return display.run(lambda s: print(s, flush=True))
         finally:
-            node.close()
-            node.view.close(1000)
+            display.close()
+            display.view.close(1000)
     print("usage: python -m swarmex.net.mesh robot RUN_DIR ID | display RUN_DIR", file=sys.stderr)
     return 2
 

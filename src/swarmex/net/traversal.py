@@ -50,6 +50,7 @@ the order stays consistent.
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -101,7 +102,7 @@ class Mission:
     rng_mode: str = "shared"
     done_lists: bool = True  # Fig. 4.17's done-nodes field on every broadcast
     heartbeat: float = 0.25  # wall seconds between heartbeats
-    params: dict = field(default_factory=dict)
+    params: dict[str, Any] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         if self.rng_mode not in RNG_MODES:
@@ -124,7 +125,7 @@ class Mission:
         t0 = 0.0
         return (t0 + i * self.start_interval + self.specs[i].takeoff_time, i)
 
-    def to_wire(self) -> dict:
+    def to_wire(self) -> dict[str, Any]:
         w = self.world
         return {
             "world": {
@@ -307,7 +308,7 @@ def forget_agent(b: TraversalBelief, agent: int, open_node: int) -> None:
         b.next_loc[agent] = -1
 
 
-def catch_up(belief: TraversalBelief, replica: Replica, msg: list) -> None:
+def catch_up(belief: TraversalBelief, replica: Replica, msg: list[Any]) -> None:
     """One message of the stream so far, applied as a late joiner applies it: every
     broadcast as a rival's (its predecessor's with the same id too: what it had done is
     done), ``LEFT`` and ``JOIN`` as everybody applied them."""
@@ -380,8 +381,8 @@ class AgentCore:
             self._end_job(node, t)
         return self.outbox
 
-    def _broadcast(self, cmd: str, node: int, job: int = 0, obstacles=(), t: float = 0.0,
-                   eta: float = 0.0, last: bool = False) -> None:
+    def _broadcast(self, cmd: str, node: int, job: int = 0, obstacles: Iterable[int] = (),
+                   t: float = 0.0, eta: float = 0.0, last: bool = False) -> None:
         nodes = doers = None
         bit = 1
         if self.mission.done_lists:
@@ -425,7 +426,7 @@ class AgentCore:
             self._broadcast("C07", node, 0, seen, t)
             self._decide(t)
 
-    def _start_job(self, node: int, t: float, seen=()) -> None:
+    def _start_job(self, node: int, t: float, seen: Iterable[int] = ()) -> None:
         log = self.log
         if not log.path or log.path[-1][0] != node:
             log.path.append((node, False))
@@ -483,7 +484,7 @@ class AgentCore:
             return 0.0
         return self.log.rtl_length * self.mission.unit_length / self.spec.travel_speed
 
-    def stats(self) -> dict:
+    def stats(self) -> dict[str, Any]:
         """The statistics uploaded after C11 (seed 000 §4.3: path, jobs, times)."""
         log = self.log
         return {
@@ -543,7 +544,7 @@ class Incarnation:
     log: AgentLog
     left_at: float | None = None
     abandoned_jobs: list[tuple[float, int]] = field(default_factory=list)
-    stats: dict | None = None
+    stats: dict[str, Any] | None = None
 
 
 class Recorder:

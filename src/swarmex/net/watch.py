@@ -28,7 +28,7 @@ class TerminalView:
         self.jobs = 0
         self.messages = 0
         self.ended = False
-        self.end: dict | None = None
+        self.end: dict[str, Any] | None = None
         self._live = Live(self._table(), console=console, auto_refresh=False) \
             if live and not quiet else None
         if self._live is not None:

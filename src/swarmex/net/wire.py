@@ -150,7 +150,9 @@ def pack_nodes(nodes: Any) -> bytes:
     return np.asarray(nodes, dtype="<u4").tobytes()
 
 
-def message(obj: Any, commands: tuple[str, ...] = CONTROL_COMMANDS + BROADCAST_COMMANDS) -> list:
+def message(
+    obj: Any, commands: tuple[str, ...] = CONTROL_COMMANDS + BROADCAST_COMMANDS
+) -> list[Any]:
     """``obj`` checked to be a non-empty array starting with one of ``commands``."""
     if not isinstance(obj, list) or not obj or not isinstance(obj[0], str):
         raise EncodingError("a message is an array starting with its command")
@@ -159,7 +161,7 @@ def message(obj: Any, commands: tuple[str, ...] = CONTROL_COMMANDS + BROADCAST_C
     return obj
 
 
-def arity(msg: list, n: int) -> list:
+def arity(msg: list[Any], n: int) -> list[Any]:
     if len(msg) != n:
         raise EncodingError(f"{msg[0]}: expected {n - 1} fields, got {len(msg) - 1}")
     return msg
@@ -184,7 +186,7 @@ class Broadcast:
     eta: float = 0.0
     rng: bytes | None = None
 
-    def to_wire(self) -> list:
+    def to_wire(self) -> list[Any]:
         empty = b""
         return [
             self.cmd,
@@ -232,7 +234,7 @@ def decode_broadcast(frame: bytes) -> Broadcast:
     return Broadcast.from_wire(unpack(frame))
 
 
-def decode_message(frame: bytes) -> list:
+def decode_message(frame: bytes) -> list[Any]:
     """Any traversal message as a checked array (broadcast fields are checked too)."""
     msg = message(unpack(frame))
     if msg[0] in BROADCAST_COMMANDS:
@@ -248,7 +250,7 @@ _CONTROL_ARITY = {
 }
 
 
-def check_control(msg: list) -> list:
+def check_control(msg: list[Any]) -> list[Any]:
     """Shape and field types of a control message (see the module's table)."""
     cmd = msg[0]
     if cmd == "HB":  # agent: id (int); server: mission clock (number)

@@ -33,9 +33,11 @@ import threading
 import weakref
 from collections.abc import Sequence
 from concurrent.futures import ThreadPoolExecutor
+from typing import Any
 
 import numba as nb
 import numpy as np
+from numpy.typing import DTypeLike, NDArray
 
 from swarmex.worlds.nodegraph import NodeGraph
 
@@ -45,9 +47,27 @@ UNREACHED = np.int32(-1)
 #: so the search needs one comparison per neighbour instead of a second array
 BLOCKED = np.int32(-2)
 
+# array types of the kernels' arguments (the CSR arrays are NodeGraph's)
+Indptr = NDArray[np.int64]
+Indices = NDArray[np.int32]
+Weights = NDArray[np.float64]
+Mask = NDArray[np.bool_]
+Vertices = NDArray[np.int64]
+#: 4-connected lattice neighbour bits (see :func:`lattice_structure`)
+NbMask = NDArray[np.uint8]
+#: int32 scratch: search queues and lists of vertices
+Scratch = NDArray[np.int32]
+#: hop counts: int32 fields; a KnownGraph's table holds int16 until it needs int32
+Hops = NDArray[np.signedinteger[Any]]
+#: a distance field (inf: unreachable)
+Field = NDArray[np.float64]
+
 
 @nb.njit(cache=True, nogil=True)
-def _bfs_hops(indptr, indices, blocked, sources, hops, queue):  # pragma: no cover - compiled
+def _bfs_hops(
+    indptr: Indptr, indices: Indices, blocked: Mask, sources: Vertices, hops: Hops,
+    queue: Scratch,
+) -> int:  # pragma: no cover - compiled
     """Hop counts from the nearest source into ``hops`` (int32, -1 unreached); returns the
     number of vertices reached. ``queue`` is int32 scratch of length n."""
     n = indptr.shape[0] - 1
@@ -77,7 +97,9 @@ def _bfs_hops(indptr, indices, blocked, sources, hops, queue):  # pragma: no cov
 
 
 @nb.njit(cache=True, nogil=True)
-def _bfs_hops_csr(indptr, indices, source, hops, queue, max_hop):  # pragma: no cover
+def _bfs_hops_csr(
+    indptr: Indptr, indices: Indices, source: int, hops: Hops, queue: Scratch, max_hop: int
+) -> int:  # pragma: no cover
     """Single-source hop counts into ``hops``, which must arrive holding UNREACHED or
     BLOCKED per vertex (a copy of a template: one array to test instead of two). Returns the
     largest hop count, or -1 when it would exceed ``max_hop`` (the row is then unusable:
@@ -105,7 +127,9 @@ def _bfs_hops_csr(indptr, indices, source, hops, queue, max_hop):  # pragma: no 
 
 
 @nb.njit(cache=True, nogil=True)
-def _bfs_hops_lattice(width, nbmask, source, hops, queue, max_hop):  # pragma: no cover
+def _bfs_hops_lattice(
+    width: int, nbmask: NbMask, source: int, hops: Hops, queue: Scratch, max_hop: int
+) -> int:  # pragma: no cover
     """:func:`_bfs_hops_csr` on a full 4-connected lattice (a grid world's graph).
 
     Neighbours are computed (u ± 1, u ± width, gated by ``nbmask`` bits up/left/right/down)
@@ -154,7 +178,9 @@ def _bfs_hops_lattice(width, nbmask, source, hops, queue, max_hop):  # pragma: n
 
 
 @nb.njit(cache=True, nogil=True)
-def _shift_source_lattice(width, nbmask, old, row, new_source, queue):  # pragma: no cover
+def _shift_source_lattice(
+    width: int, nbmask: NbMask, old: Hops, row: Hops, new_source: int, queue: Scratch
+) -> int:  # pragma: no cover
     """Write into ``row`` the hop field of ``new_source``, given in ``old`` the exact field
     of a neighbour of it (``old`` may be ``row`` itself: the shift works in place).
 
@@ -209,8 +235,9 @@ def _shift_source_lattice(width, nbmask, old, row, new_source, queue):  # pragma
 
 @nb.njit(cache=True, nogil=True)
 def _shift_by_complement(
-    width, nbmask, old, row, new_source, old_source, mark, epoch, queue
-):  # pragma: no cover - compiled
+    width: int, nbmask: NbMask, old: Hops, row: Hops, new_source: int, old_source: int,
+    mark: Scratch, epoch: int, queue: Scratch,
+) -> int:  # pragma: no cover - compiled
     """:func:`_shift_source_lattice` computed from the other side: a search over the
     vertices *outside* the cone (those whose shortest paths from ``old_source`` all avoid
     ``new_source``; they gain one hop), then one pass writing every distance. A vertex is
@@ -274,7 +301,9 @@ def _shift_by_complement(
 
 
 @nb.njit(cache=True, nogil=True)
-def _cone_share(width, old, new_source, old_source, sample):  # pragma: no cover - compiled
+def _cone_share(
+    width: int, old: Hops, new_source: int, old_source: int, sample: Vertices
+) -> float:  # pragma: no cover - compiled
     """Rough share of the reachable vertices inside the cone of a shift: among a fixed
     sample, those nearer (in lattice steps) to the new source than to the old one."""
     ny, nx = divmod(new_source, width)
@@ -297,8 +326,9 @@ COMPLEMENT_ABOVE = 0.7
 
 @nb.njit(cache=True, nogil=True)
 def _shift_lattice(
-    width, nbmask, old, row, new_source, old_source, sample, mark, epoch, queue
-):  # pragma: no cover - compiled
+    width: int, nbmask: NbMask, old: Hops, row: Hops, new_source: int, old_source: int,
+    sample: Vertices, mark: Scratch, epoch: int, queue: Scratch,
+) -> int:  # pragma: no cover - compiled
     """Shift a lattice hop field to a neighbouring source by whichever search should be
     smaller (see :func:`_shift_source_lattice` and :func:`_shift_by_complement`); the
     result is the same either way."""
@@ -309,7 +339,10 @@ def _shift_lattice(
 
 
 @nb.njit(cache=True, nogil=True)
-def _bfs(indptr, indices, step, blocked, sources, out, queue):  # pragma: no cover - compiled
+def _bfs(
+    indptr: Indptr, indices: Indices, step: float, blocked: Mask, sources: Vertices,
+    out: Field, queue: Scratch,
+) -> None:  # pragma: no cover - compiled
     """Float BFS field; the visited test reads ``out`` itself, so there is no second array.
     ``queue`` is int32 scratch of length n."""
     n = indptr.shape[0] - 1
@@ -339,7 +372,10 @@ def _bfs(indptr, indices, step, blocked, sources, out, queue):  # pragma: no cov
 
 
 @nb.njit(cache=True, nogil=True)
-def _bfs_lattice(width, nbmask, step, blocked, sources, out, queue):  # pragma: no cover
+def _bfs_lattice(
+    width: int, nbmask: NbMask, step: float, blocked: Mask, sources: Vertices, out: Field,
+    queue: Scratch,
+) -> None:  # pragma: no cover
     """:func:`_bfs` on a full 4-connected lattice (neighbours computed, not read)."""
     n = out.shape[0]
     for i in range(n):
@@ -378,8 +414,9 @@ def _bfs_lattice(width, nbmask, step, blocked, sources, out, queue):  # pragma: 
 
 @nb.njit(cache=True, nogil=True)
 def _dijkstra(
-    indptr, indices, weights, blocked, sources, out, done, hd, hv
-):  # pragma: no cover - compiled
+    indptr: Indptr, indices: Indices, weights: Weights, blocked: Mask, sources: Vertices,
+    out: Field, done: Mask, hd: NDArray[np.float64], hv: NDArray[np.int64],
+) -> None:  # pragma: no cover - compiled
     """Binary-heap Dijkstra. Scratch: ``done`` (bool, n) and the heap's distance and vertex
     arrays ``hd``/``hv`` (length >= number of CSR entries + sources + 1)."""
     n = indptr.shape[0] - 1
@@ -445,8 +482,9 @@ def _dijkstra(
 
 @nb.njit(cache=True, nogil=True)
 def _fields_chunk(
-    indptr, indices, weights, width, nbmask, uniform, blocked, sources, out, lo, hi
-):  # pragma: no cover - compiled
+    indptr: Indptr, indices: Indices, weights: Weights, width: int, nbmask: NbMask,
+    uniform: bool, blocked: Mask, sources: Vertices, out: NDArray[np.float64], lo: int, hi: int,
+) -> None:  # pragma: no cover - compiled
     """Rows ``lo:hi`` of :func:`distance_fields` (one thread's share), with own scratch."""
     n = indptr.shape[0] - 1
     queue = np.empty(n, dtype=np.int32)
@@ -467,9 +505,10 @@ def _fields_chunk(
 
 @nb.njit(cache=True, nogil=True)
 def _repair_hops(
-    indptr, indices, blocked, hops, source, new, state, touched, work, order_key, limit,
-    max_hop,
-):  # pragma: no cover - compiled
+    indptr: Indptr, indices: Indices, blocked: Mask, hops: Hops, source: int, new: Vertices,
+    state: NDArray[np.int8], touched: Scratch, work: Scratch, order_key: Scratch, limit: int,
+    max_hop: int,
+) -> tuple[int, int]:  # pragma: no cover - compiled
     """Decremental BFS: make the single-source ``hops`` exact after ``new`` became blocked.
 
     Returns ``(changed, largest value written)``; ``changed`` is -1 (``hops`` untouched)
@@ -622,12 +661,12 @@ def _repair_hops(
     return n_aff + n_removed, top
 
 
-_LATTICES: weakref.WeakKeyDictionary[NodeGraph, tuple[int, np.ndarray | None]] = (
+_LATTICES: weakref.WeakKeyDictionary[NodeGraph, tuple[int, NbMask | None]] = (
     weakref.WeakKeyDictionary()
 )
 
 
-def lattice_structure(graph: NodeGraph) -> tuple[int, np.ndarray | None]:
+def lattice_structure(graph: NodeGraph) -> tuple[int, NbMask | None]:
     """``(width, nbmask)`` if ``graph`` is exactly a full 4-connected ``width``-wide lattice
     with one edge length (what a 4-connected GridWorld builds), else ``(0, None)``.
 
@@ -638,7 +677,7 @@ def lattice_structure(graph: NodeGraph) -> tuple[int, np.ndarray | None]:
     hit = _LATTICES.get(graph)
     if hit is not None:
         return hit
-    result: tuple[int, np.ndarray | None] = (0, None)
+    result: tuple[int, NbMask | None] = (0, None)
     n = graph.n_nodes
     if graph.uniform and n > 0 and graph.indices.size:
         diffs = np.abs(np.repeat(np.arange(n), np.diff(graph.indptr)) - graph.indices)
@@ -677,7 +716,7 @@ def _blocked_or_none(graph: NodeGraph, blocked: np.ndarray | None) -> np.ndarray
     return blocked
 
 
-def max_hop_of(dtype) -> int:
+def max_hop_of(dtype: type[np.integer[Any]] | np.dtype[np.integer[Any]]) -> int:
     """Largest hop count a hop table of integer ``dtype`` stores (one value is kept free
     as the repair's "not derived yet" marker)."""
     return int(np.iinfo(dtype).max) - 1
@@ -693,7 +732,7 @@ _POOL: ThreadPoolExecutor | None = None
 _POOL_LOCK = threading.Lock()
 
 
-def _scratch(name: str, size: int, dtype) -> np.ndarray:
+def _scratch(name: str, size: int, dtype: DTypeLike) -> np.ndarray:
     """Per-thread reusable work array (fresh large arrays cost page faults every call)."""
     store = getattr(_SCRATCH, "arrays", None)
     if store is None:
@@ -726,7 +765,7 @@ def distance_field(
     if graph.uniform:
         queue = _scratch("queue", n, np.int32)
         width, mask = lattice_structure(graph)
-        if width:
+        if mask is not None:  # (width > 0)
             _bfs_lattice(width, mask, step_length(graph), blocked, src, out, queue)
         else:
             _bfs(graph.indptr, graph.indices, step_length(graph), blocked, src, out, queue)
@@ -787,7 +826,7 @@ def hop_field(
         out = np.empty(n, dtype=np.int32)
     queue = _scratch("queue", n, np.int32)
     width, mask = lattice_structure(graph)
-    if width and src.size == 1:
+    if mask is not None and src.size == 1:  # (width > 0)
         np.copyto(out, np.where(blocked, BLOCKED, UNREACHED))
         _bfs_hops_lattice(width, mask, int(src[0]), out, queue, max_hop_of(np.int32))
         out[out < 0] = UNREACHED
@@ -832,7 +871,7 @@ def shift_hop_field(
     :func:`lattice_structure`). ``method``: search the ``"cone"`` (vertices that get
     nearer), its ``"complement"``, or ``"auto"``: whichever looks smaller."""
     width, mask = lattice_structure(graph)
-    if not width:
+    if mask is None:  # (width == 0)
         raise ValueError("shift_hop_field needs a full 4-connected lattice graph")
     if hops[new_source] != 1:
         raise ValueError(f"vertex {new_source} is not at one hop from the field's source")

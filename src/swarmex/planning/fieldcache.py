@@ -42,13 +42,22 @@ from __future__ import annotations
 import queue
 import threading
 from collections import OrderedDict
+from collections.abc import Callable, Iterable
 
 import numba as nb
 import numpy as np
+from numpy.typing import NDArray
 
 from swarmex.planning.distance import (
     BLOCKED,
     UNREACHED,
+    Field,
+    Hops,
+    Indices,
+    Indptr,
+    Mask,
+    Vertices,
+    Weights,
     _bfs_hops_csr,
     _bfs_hops_lattice,
     _repair_hops,
@@ -62,7 +71,10 @@ from swarmex.worlds.nodegraph import NodeGraph
 
 
 @nb.njit(cache=True, nogil=True)
-def _still_exact(indptr, indices, weights, blocked, field, new_obstacles):  # pragma: no cover
+def _still_exact(
+    indptr: Indptr, indices: Indices, weights: Weights, blocked: Mask, field: Field,
+    new_obstacles: Vertices,
+) -> bool:  # pragma: no cover
     for o in new_obstacles:
         do = field[o]
         if not np.isfinite(do):
@@ -88,7 +100,9 @@ def _still_exact(indptr, indices, weights, blocked, field, new_obstacles):  # pr
 
 
 @nb.njit(cache=True, nogil=True)
-def _gather(hops, slot, vertices, step, out):  # pragma: no cover - compiled
+def _gather(
+    hops: Hops, slot: int, vertices: Vertices, step: float, out: NDArray[np.float64]
+) -> None:  # pragma: no cover - compiled
     row = hops[slot]
     for i in range(vertices.shape[0]):
         h = row[vertices[i]]
@@ -120,7 +134,7 @@ class _Job:
 
     __slots__ = ("lock", "run", "done", "error")
 
-    def __init__(self, run) -> None:
+    def __init__(self, run: Callable[[_Scratch], None]) -> None:
         self.lock = threading.Lock()
         self.run = run  # run(scratch): the kernel call, given the runner's _Scratch
         self.done = False
@@ -151,7 +165,7 @@ class _Job:
 #: below this many vertices a shift is cheaper than handing it to a thread
 PREFETCH_MIN_NODES = 4096
 
-_JOBS: queue.SimpleQueue = queue.SimpleQueue()
+_JOBS: queue.SimpleQueue[tuple[_Job, int]] = queue.SimpleQueue()
 _WORKER: threading.Thread | None = None
 _WORKER_LOCK = threading.Lock()
 
@@ -239,7 +253,7 @@ class KnownGraph:
     def version(self) -> int:
         return len(self._log)
 
-    def add_obstacles(self, vertices) -> bool:
+    def add_obstacles(self, vertices: Iterable[int] | np.ndarray) -> bool:
         """Mark vertices as known obstacles; returns True if any was new."""
         new = False
         for v in vertices:

@@ -23,8 +23,10 @@ scanning those ≤ B fresh nodes) are redone with a scalar check. B grows with t
 from __future__ import annotations
 
 import math
+from typing import cast
 
 import numpy as np
+from numpy.typing import NDArray
 from scipy.spatial import cKDTree
 
 from swarmex.worlds.polygon import PolygonWorld
@@ -38,7 +40,7 @@ def grow_rrt(
     step: float,
     rng: np.random.Generator,
     max_samples: int | None = None,
-    trace: list | None = None,
+    trace: list[tuple[tuple[float, float], int]] | None = None,
     exact_step: bool = True,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
     """Grow from the ``init`` nodes; returns ``(pos, parent, label, samples_drawn)``.
@@ -61,7 +63,10 @@ def grow_rrt(
     while count < n_total and drawn < max_samples:
         batch = int(min(128, max(8, count // 4), max_samples - drawn))
         q = world.sample_free(rng, batch)
-        dist, near = cKDTree(pos[:count]).query(q)
+        # a 2-D query gives arrays (not the scalars of a single point)
+        dist, near = cast(
+            "tuple[NDArray[np.float64], NDArray[np.intp]]", cKDTree(pos[:count]).query(q)
+        )
         base = pos[near]
         d = q - base
         length = np.hypot(d[:, 0], d[:, 1])

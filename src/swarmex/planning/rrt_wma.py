@@ -30,8 +30,11 @@ edge ``v − 1`` is ``(parent[v], v)`` and branch k's first edge is edge k.
 
 from __future__ import annotations
 
+from typing import cast
+
 import numpy as np
 import shapely
+from shapely.geometry.base import BaseGeometry
 
 from swarmex.errors import InputError
 from swarmex.planning.roadmap import Roadmap
@@ -54,8 +57,9 @@ def _valid_roots(world: PolygonWorld, cand: np.ndarray, starts: np.ndarray) -> n
     return ok
 
 
-def _hull_vertices(starts: np.ndarray) -> tuple[np.ndarray, shapely.Geometry]:
-    hull = shapely.convex_hull(shapely.multipoints(starts))
+def _hull_vertices(starts: np.ndarray) -> tuple[np.ndarray, BaseGeometry]:
+    # an (n, 2) array of coordinates makes one MultiPoint, not an array of them
+    hull = shapely.convex_hull(cast(shapely.MultiPoint, shapely.multipoints(starts)))
     if isinstance(hull, shapely.Polygon):
         return np.asarray(hull.exterior.coords)[:-1], hull
     return np.zeros((0, 2)), hull

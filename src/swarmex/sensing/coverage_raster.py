@@ -20,6 +20,7 @@ cells, so callers may skip it (the simulations do, per undirected edge).
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 
@@ -96,6 +97,6 @@ class CoverageRaster:
         counts = np.bincount(np.minimum(at, steps), minlength=steps + 1)
         return (np.cumsum(counts) / self.free_cells).tolist()
 
-    def describe(self) -> dict:
+    def describe(self) -> dict[str, Any]:
         return {"cells_x": self.nx, "cells_y": self.ny, "cell_size": self.h,
                 "free_cells": self.free_cells}

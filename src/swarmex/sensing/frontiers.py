@@ -21,6 +21,7 @@ from dataclasses import dataclass
 
 import numba as nb
 import numpy as np
+from numpy.typing import NDArray
 
 
 def frontier_mask(free: np.ndarray, unknown: np.ndarray) -> np.ndarray:
@@ -56,7 +57,9 @@ class Frontiers:
 
 
 @nb.njit(cache=True, nogil=True)
-def _label(ys, xs, h, w, eight):  # pragma: no cover - compiled
+def _label(
+    ys: NDArray[np.int64], xs: NDArray[np.int64], h: int, w: int, eight: bool
+) -> tuple[NDArray[np.int64], int]:  # pragma: no cover - compiled
     """Component index of each listed cell (breadth-first, numbered in list order)."""
     n = ys.shape[0]
     where = np.full((h, w), -1, dtype=np.int64)
@@ -92,7 +95,9 @@ def _label(ys, xs, h, w, eight):  # pragma: no cover - compiled
 
 
 @nb.njit(cache=True, nogil=True)
-def _frontier_cells(logodds):  # pragma: no cover - compiled
+def _frontier_cells(
+    logodds: NDArray[np.float32],
+) -> tuple[NDArray[np.int64], NDArray[np.int64]]:  # pragma: no cover - compiled
     """Rows and columns, in raster order, of free cells (< 0) with an unknown (== 0)
     4-neighbour."""
     h, w = logodds.shape
@@ -113,7 +118,10 @@ def _frontier_cells(logodds):  # pragma: no cover - compiled
     return ys[:n].copy(), xs[:n].copy()
 
 
-def _regions(ys, xs, shape, min_size: int, connectivity: int) -> Frontiers:
+def _regions(
+    ys: NDArray[np.int64], xs: NDArray[np.int64], shape: tuple[int, ...], min_size: int,
+    connectivity: int,
+) -> Frontiers:
     lab, n = _label(ys, xs, shape[0], shape[1], connectivity == 8)
     sizes = np.bincount(lab, minlength=n)
     keep_region = sizes >= max(1, int(min_size))

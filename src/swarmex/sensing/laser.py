@@ -31,6 +31,7 @@ from functools import cached_property
 
 import numba as nb
 import numpy as np
+from numpy.typing import NDArray
 
 from swarmex.errors import InputError
 
@@ -39,7 +40,7 @@ ANGLE0_FRACTION = 0.6180339887498949
 
 
 @nb.njit(cache=True, nogil=True, inline="always")
-def _axis(d: float):  # pragma: no cover - compiled
+def _axis(d: float) -> tuple[int, float]:  # pragma: no cover - compiled
     """Step direction and crossing spacing of one axis (Δ = inf when the beam is parallel)."""
     if d > 0.0:
         return 1, 1.0 / d
@@ -49,7 +50,10 @@ def _axis(d: float):  # pragma: no cover - compiled
 
 
 @nb.njit(cache=True, nogil=True)
-def cast_rays_cells(free, x0, y0, angles, max_cells, out):  # pragma: no cover - compiled
+def cast_rays_cells(
+    free: NDArray[np.bool_], x0: int, y0: int, angles: NDArray[np.float64], max_cells: float,
+    out: NDArray[np.float64],
+) -> None:  # pragma: no cover - compiled
     """Range (cells) of every beam from the centre of cell (x0, y0); ``max_cells`` if no hit."""
     h, w = free.shape
     for b in range(angles.shape[0]):

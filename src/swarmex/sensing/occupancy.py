@@ -25,9 +25,11 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Any
 
 import numba as nb
 import numpy as np
+from numpy.typing import NDArray
 
 P_HIT = 0.7
 P_MISS = 0.4
@@ -51,7 +53,10 @@ def probability(logodds: np.ndarray) -> np.ndarray:
 
 
 @nb.njit(cache=True, nogil=True)
-def _rasterise(x0, y0, angles, ranges, max_cells, bx, by, free_p, occ_p):  # pragma: no cover
+def _rasterise(
+    x0: int, y0: int, angles: NDArray[np.float64], ranges: NDArray[np.float64],
+    max_cells: float, bx: int, by: int, free_p: NDArray[np.bool_], occ_p: NDArray[np.bool_],
+) -> None:  # pragma: no cover
     ph, pw = free_p.shape
     for b in range(angles.shape[0]):
         r = ranges[b]
@@ -95,7 +100,10 @@ def _rasterise(x0, y0, angles, ranges, max_cells, bx, by, free_p, occ_p):  # pra
 
 
 @nb.njit(cache=True, nogil=True)
-def _add_clipped(flat, index, delta, lo, hi):  # pragma: no cover - compiled
+def _add_clipped(
+    flat: NDArray[np.float32], index: NDArray[np.int64], delta: NDArray[np.float32],
+    lo: np.float32, hi: np.float32,
+) -> None:  # pragma: no cover - compiled
     for k in range(index.shape[0]):
         i = index[k]
         v = flat[i] + delta[k]
@@ -110,7 +118,7 @@ class LocalMap:
     y0: int  # row of the box's first cell
     free: np.ndarray  # bool (rows, cols)
     occ: np.ndarray  # bool (rows, cols), disjoint from ``free``
-    _sparse: dict | None = field(default=None, repr=False)
+    _sparse: dict[int, tuple[np.ndarray, np.ndarray]] | None = field(default=None, repr=False)
 
     def sparse(self, width: int) -> tuple[np.ndarray, np.ndarray]:
         """(flat cell indices in a grid ``width`` wide, log-odds increments); cached."""
@@ -125,7 +133,7 @@ class LocalMap:
             got = self._sparse[width] = (index.astype(np.int64), delta)
         return got
 
-    def to_wire(self) -> dict:
+    def to_wire(self) -> dict[str, Any]:
         """msgpack-friendly form: box plus two bit-packed masks."""
         h, w = self.free.shape
         return {
@@ -135,7 +143,7 @@ class LocalMap:
         }
 
     @classmethod
-    def from_wire(cls, d: dict) -> LocalMap:
+    def from_wire(cls, d: dict[str, Any]) -> LocalMap:
         x0, y0, w, h = (int(v) for v in d["box"])
         n = w * h
 
@@ -178,7 +186,7 @@ class OccupancyGrid:
 
     @property
     def shape(self) -> tuple[int, int]:
-        return self.logodds.shape  # type: ignore[return-value]
+        return self.logodds.shape
 
     def apply(self, local: LocalMap) -> None:
         """Bayesian update with one local map (own or received: the same function)."""

@@ -18,15 +18,20 @@ from __future__ import annotations
 
 import numba as nb
 import numpy as np
+from numpy.typing import NDArray
 
 
 @nb.njit(cache=True, inline="always")
-def _orient(ax, ay, bx, by, cx, cy):  # pragma: no cover - compiled
+def _orient(
+    ax: float, ay: float, bx: float, by: float, cx: float, cy: float
+) -> float:  # pragma: no cover - compiled
     return (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
 
 
 @nb.njit(cache=True)
-def segments_touch(px, py, qx, qy, ax, ay, bx, by):  # pragma: no cover - compiled
+def segments_touch(
+    px: float, py: float, qx: float, qy: float, ax: float, ay: float, bx: float, by: float
+) -> bool:  # pragma: no cover - compiled
     """Closed test: do segments pq and ab share at least one point?"""
     if max(px, qx) < min(ax, bx) or max(ax, bx) < min(px, qx):
         return False
@@ -44,7 +49,10 @@ def segments_touch(px, py, qx, qy, ax, ay, bx, by):  # pragma: no cover - compil
 
 
 @nb.njit(cache=True)
-def first_blocker(px, py, qx, qy, edges, local, n_local, hint):  # pragma: no cover - compiled
+def first_blocker(
+    px: float, py: float, qx: float, qy: float, edges: NDArray[np.float64],
+    local: NDArray[np.int64], n_local: int, hint: int,
+) -> int:  # pragma: no cover - compiled
     """Index of an edge blocking segment pq (the hinted one first), or -1."""
     if hint >= 0:
         e = edges[hint]
@@ -61,7 +69,9 @@ def first_blocker(px, py, qx, qy, edges, local, n_local, hint):  # pragma: no co
 
 
 @nb.njit(cache=True)
-def segments_blocked(a, b, edges):  # pragma: no cover - compiled
+def segments_blocked(
+    a: NDArray[np.float64], b: NDArray[np.float64], edges: NDArray[np.float64]
+) -> NDArray[np.bool_]:  # pragma: no cover - compiled
     """Vector form: for each row i, does segment a[i]–b[i] touch any edge?"""
     m = a.shape[0]
     out = np.zeros(m, dtype=np.bool_)
@@ -73,7 +83,10 @@ def segments_blocked(a, b, edges):  # pragma: no cover - compiled
 
 
 @nb.njit(cache=True)
-def _sweep_cell(ax, ay, bx, by, m, rng_r, cx, cy, edges, local, n_local, hint):
+def _sweep_cell(
+    ax: float, ay: float, bx: float, by: float, m: int, rng_r: float, cx: float, cy: float,
+    edges: NDArray[np.float64], local: NDArray[np.int64], n_local: int, hint: int,
+) -> tuple[bool, int]:
     # pragma: no cover - compiled
     """Is cell centre c seen from some viewpoint p_s = a + s/m (b − a)? → (seen, blocker).
 
@@ -144,15 +157,21 @@ def _sweep_cell(ax, ay, bx, by, m, rng_r, cx, cy, edges, local, n_local, hint):
 
 
 @nb.njit(cache=True)
-def _shadowed(ax, ay, bx, by, qx, qy, e):  # pragma: no cover - compiled
+def _shadowed(
+    ax: float, ay: float, bx: float, by: float, qx: float, qy: float, e: NDArray[np.float64]
+) -> bool:  # pragma: no cover - compiled
     """Does wall edge e hide point q from both a and b (hence from all of segment ab)?"""
     return (segments_touch(ax, ay, qx, qy, e[0], e[1], e[2], e[3])
             and segments_touch(bx, by, qx, qy, e[0], e[1], e[2], e[3]))
 
 
 @nb.njit(cache=True)
-def sweep_segment(ax, ay, bx, by, rng_r, spacing, x0, y0, h, free, seen_at, blocker,
-                  block_unseen, block_hint, bs, edges, t_now):  # pragma: no cover - compiled
+def sweep_segment(
+    ax: float, ay: float, bx: float, by: float, rng_r: float, spacing: float, x0: float,
+    y0: float, h: float, free: NDArray[np.bool_], seen_at: NDArray[np.int64],
+    blocker: NDArray[np.int64], block_unseen: NDArray[np.int64],
+    block_hint: NDArray[np.int64], bs: int, edges: NDArray[np.float64], t_now: int,
+) -> int:  # pragma: no cover - compiled
     """Sense along segment a→b: viewpoints every ``spacing``; mark visible free cells.
 
     A cell is seen when some viewpoint is within range and has line of sight to its centre.
@@ -242,7 +261,10 @@ def sweep_segment(ax, ay, bx, by, rng_r, spacing, x0, y0, h, free, seen_at, bloc
 
 
 @nb.njit(cache=True)
-def first_sighting(ax, ay, bx, by, gx, gy, rng_r, spacing, edges):  # pragma: no cover
+def first_sighting(
+    ax: float, ay: float, bx: float, by: float, gx: float, gy: float, rng_r: float,
+    spacing: float, edges: NDArray[np.float64],
+) -> float:  # pragma: no cover
     """Fraction t ∈ [0, 1] of the first viewpoint along a→b that sees g, or -1."""
     length = np.hypot(bx - ax, by - ay)
     m = max(1, int(np.ceil(length / spacing)))

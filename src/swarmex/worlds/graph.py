@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from collections.abc import Hashable, Iterable
 from functools import cached_property
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -99,7 +99,7 @@ class GraphWorld:
             pos = np.array([layout[label] for label in self.labels], dtype=float)
         return NodeGraph.from_edges(n, u, v, w, pos)
 
-    def describe(self) -> dict:
+    def describe(self) -> dict[str, Any]:
         return {
             "kind": "graph",
             "source": self.source,

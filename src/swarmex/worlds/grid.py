@@ -12,6 +12,7 @@ diagonal squeeze between two walls is a property of the terrain, not of anyone's
 from __future__ import annotations
 
 from functools import cached_property
+from typing import Any
 
 import numpy as np
 
@@ -94,7 +95,7 @@ class GridWorld:
             h * w, np.concatenate(us), np.concatenate(vs), np.concatenate(ws), pos
         )
 
-    def describe(self) -> dict:
+    def describe(self) -> dict[str, Any]:
         return {
             "kind": "grid",
             "source": self.source,

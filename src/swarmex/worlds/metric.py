@@ -12,6 +12,7 @@ import math
 import re
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -44,7 +45,7 @@ class MetricGrid:
         """A length in metres expressed in cells (not rounded)."""
         return metres / self.cell
 
-    def describe(self) -> dict:
+    def describe(self) -> dict[str, Any]:
         d = self.world.describe()
         d["cell_m"] = self.cell
         d["width_m"] = self.world.width * self.cell
