@@ -171,11 +171,11 @@ def invoke(mission: str, values: dict[str, Any], overrides: Sequence[str] = ()) 
         for decl in decls:
             for i, flag in enumerate(decl.split("/")):
                 by_flag[flag] = (name, param.annotation if i == 0 else "negation")
-    for key, value in values.items():
+    for key, given in values.items():
         name = {"json": "json_path"}.get(key, key)
         if name not in kwargs:
             raise InputError(f"swarmex {command.__name__} has no option --{key}")
-        kwargs[name] = value
+        kwargs[name] = given
     args = list(overrides)
     while args:
         flag = args.pop(0)

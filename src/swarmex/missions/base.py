@@ -239,7 +239,8 @@ class OptionInfo:
 
     @property
     def kind(self) -> type:
-        return getattr(self.parse, "kind", str)  # type: ignore[no-any-return]
+        kind: type = getattr(self.parse, "kind", str)
+        return kind
 
     @property
     def choices(self) -> tuple[str, ...] | None:

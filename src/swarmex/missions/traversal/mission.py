@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 
@@ -140,4 +140,5 @@ def _optimal(world: Any, specs: list[Any], p: TraversalParams, rparams: dict[str
         if exc.name != "swarmex.missions.traversal.optimal":
             raise
         raise InputError("--algorithm optimal is not available in this installation") from None
-    return optimal_record(world, specs, p.objective, p.seed, rparams, 1.0)
+    objective: Literal["sum", "makespan"] = "makespan" if p.objective == "makespan" else "sum"
+    return optimal_record(world, specs, objective, p.seed, rparams, 1.0)
