@@ -27,7 +27,7 @@ from typing import Any
 import typer
 
 from swarmex.cli.app import app, console
-from swarmex.errors import InputError
+from swarmex.errors import InputError, require
 
 
 def run_scenario_record(scenario: Path) -> dict:
@@ -233,6 +233,8 @@ def monitor(
     from swarmex.engine.record import read_record, write_json_atomic
     from swarmex.viz.monitor.events import record_events
     from swarmex.viz.monitor.hub import replay
+    for module in ("starlette", "uvicorn", "websockets"):
+        require(module, "monitor", "swarmex monitor")
     from swarmex.viz.monitor.server import MonitorServer
 
     if sum(x is not None for x in (scenario, record_file, connect)) > 1:

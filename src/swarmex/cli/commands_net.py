@@ -20,7 +20,7 @@ import typer
 
 from swarmex.cli.app import app, console
 from swarmex.cli.outputs import check_output
-from swarmex.errors import InputError
+from swarmex.errors import InputError, require
 from swarmex.missions.traversal.params import TraversalParams
 
 _TRAVERSAL = TraversalParams.options()
@@ -110,6 +110,8 @@ def serve(
         raise InputError("--dead-after must be longer than --heartbeat")
     if monitor_url is not None and not monitor_url.startswith(("ws://", "wss://")):
         raise InputError(f"--monitor: expected ws://HOST:PORT/ingest, got {monitor_url!r}")
+    if monitor_url is not None:
+        require("websockets", "monitor", "--monitor")
     from swarmex.missions.registry import get
     from swarmex.missions.traversal.mission import agent_specs, record_params
 

@@ -106,7 +106,8 @@ def sweep(
                 on_outcome=on_outcome,
             )
         finally:
-            progress.stop()
+            if state["task"] is not None:  # a bar never started would print a blank line
+                progress.stop()
     except KeyboardInterrupt:
         err_console.print(
             f"swarmex: interrupted; finished runs are saved in {out_dir}"

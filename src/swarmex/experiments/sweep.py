@@ -44,7 +44,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from swarmex.errors import InputError
+from swarmex.errors import InputError, require
 from swarmex.experiments.progress import read_journal
 from swarmex.experiments.scenario import OptionShape
 from swarmex.experiments.sweep_spec import RunSpec, SweepSpec
@@ -529,12 +529,9 @@ def _died(task: Task) -> Outcome:
 
 
 def _import_ray() -> Any:
-    try:
-        import ray
-    except ImportError:
-        raise InputError(
-            "--backend ray needs Ray, which is not installed (pip install 'swarmex[ray]')"
-        ) from None
+    require("ray", "ray", "--backend ray")
+    import ray
+
     return ray
 
 

@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from swarmex.errors import InputError
+from swarmex.errors import InputError, require
 
 ANIMATION_SUFFIXES = (".gif", ".mp4")
 RENDER_SUFFIXES = (".png", *ANIMATION_SUFFIXES)
@@ -76,13 +76,9 @@ def _write_mp4(path: Path, frames: Sequence[np.ndarray], fps: float) -> None:
     white to even sizes, which yuv420p requires (instead of imageio's default resize to
     multiples of 16, which would blur grids drawn one pixel per cell).
     """
-    try:
-        import imageio.v2 as iio
-        import imageio_ffmpeg  # noqa: F401  (the plugin's binary; fail clearly without it)
-    except ImportError:
-        raise InputError(
-            "--render .mp4 needs imageio-ffmpeg (pip install imageio-ffmpeg)"
-        ) from None
+    require("imageio_ffmpeg", "video", "--render .mp4")  # the plugin's binary
+    import imageio.v2 as iio
+
     h, w = frames[0].shape[:2]
     pad = ((0, h % 2), (0, w % 2), (0, 0))
     hold = [frames[-1]] * int(round(HOLD_SECONDS * fps))

@@ -1,0 +1,28 @@
+"""A missing optional extra costs one line naming what to install, never a traceback."""
+
+from __future__ import annotations
+
+import sys
+
+import pytest
+
+from swarmex.cli import main
+
+
+@pytest.mark.parametrize(
+    ("module", "argv", "extra"),
+    [
+        ("imageio_ffmpeg",
+         ["traverse", "--grid", "3x3", "--agents", "1", "--render", "{tmp}/a.mp4"],
+         "video"),
+        ("starlette", ["monitor", "--scenario", "{tmp}/s.toml"], "monitor"),
+        ("ray", ["sweep", "{tmp}/s.toml", "--backend", "ray", "--out", "{tmp}/o"], "ray"),
+    ],
+)
+def test_missing_extra_is_one_line(module, argv, extra, tmp_path, capsys, monkeypatch):
+    (tmp_path / "s.toml").write_text('mission = "traversal"\ngrid = "3x3"\nagents = 1\n')
+    monkeypatch.setitem(sys.modules, module, None)  # import of it now raises ImportError
+    code = main([a.format(tmp=tmp_path) for a in argv])
+    err = capsys.readouterr().err
+    assert code == 2
+    assert err.count("\n") == 1 and f"pip install 'swarmex[{extra}]'" in err, err
