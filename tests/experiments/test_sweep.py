@@ -276,7 +276,9 @@ def test_ray_backend_without_ray_exits_2_with_one_line(tmp_path, capsys, monkeyp
     code = main(["sweep", str(path), "--backend", "ray", "--out", str(tmp_path / "o")])
     err = capsys.readouterr().err
     assert code == 2
-    assert err.splitlines() == ["swarmex: error: --backend ray needs ray: pip install 'swarmex[ray]'"]
+    assert err.splitlines() == [
+        "swarmex: error: --backend ray needs ray: pip install 'swarmex[ray]'"
+    ]
 
 
 def test_ray_equals_serial(tmp_path):
