@@ -108,7 +108,8 @@ def exploration_world(record: dict, base: Path | None) -> dict:
     """The true occupancy grid of an exploration record, loaded as ``swarmex explore`` does."""
     import re
 
-    from swarmex.cli.commands_exploration import load_world
+    from swarmex.missions.exploration.mission import build_world
+    from swarmex.missions.exploration.params import ExplorationParams
     from swarmex.viz.monitor.events import world_event
 
     world = record.get("world") or {}
@@ -116,9 +117,10 @@ def exploration_world(record: dict, base: Path | None) -> dict:
     source = str(world.get("source", ""))
     empty = re.fullmatch(r"empty (\S+)x(\S+) m", source)
     if empty:  # --empty WxH: the record names the size in its source
-        grid = load_world(None, f"{empty.group(1)}x{empty.group(2)}", cell)
+        where: dict[str, Any] = {"empty": f"{empty.group(1)}x{empty.group(2)}"}
     else:
-        grid = load_world(_path(source, base), None, cell)
+        where = {"map": _path(source, base)}
+    grid = build_world(ExplorationParams.from_values(where, cell=cell, robots=1))
     return world_event(record, grid.free)  # record_world drops it if the size changed
 
 

@@ -320,15 +320,17 @@ def mesh(
     json_path: Path = typer.Option(None, "--json", help="Write the result record here."),
 ) -> None:
     """``swarmex explore --processes`` under another name (one process per robot)."""
-    from swarmex.cli.commands_exploration import load_world
-    from swarmex.missions.exploration import ExplorationParams, parse_starts
+    from swarmex.missions.registry import get
 
-    grid = load_world(map_path, empty, cell)
-    params = ExplorationParams(
-        robots=robots, laser_range=laser_range, comm_range=comm_range, strategy=strategy,
-        robot_radius=robot_radius, beams=beams, starts=parse_starts(starts), seed=seed,
-        max_ticks=max_ticks,
+    exploration = get("exploration")
+    params = exploration.params(
+        {k: v for k, v in {
+            "map": map_path, "empty": empty, "cell": cell, "robots": robots,
+            "laser_range": laser_range, "comm_range": comm_range, "strategy": strategy,
+            "robot_radius": robot_radius, "beams": beams, "starts": starts, "seed": seed,
+            "max_ticks": max_ticks,
+        }.items() if v is not None}
     )
-    record = run_mesh(grid, params, time_scale, loss, parse_kills(kills), send_timeout,
-                      timeout, json_path, monitor_url)
+    record = run_mesh(exploration.prepare(params).grid, params, time_scale, loss,
+                      parse_kills(kills), send_timeout, timeout, json_path, monitor_url)
     raise typer.Exit(0 if record["complete"] else 1)

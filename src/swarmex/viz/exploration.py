@@ -12,12 +12,12 @@ frame), so a 400×400 animation of a few hundred frames costs about a second.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from swarmex.errors import InputError
+from swarmex.missions.exploration.frames import Snapshot, snapshot  # re-exported for viz users
 from swarmex.sensing.frontiers import frontier_mask
 from swarmex.viz.animation import write_animation
 
@@ -34,23 +34,6 @@ def robot_colours(n: int) -> np.ndarray:
 
     cmap = matplotlib.colormaps["tab10" if n <= 10 else "tab20"]
     return (np.array([cmap(i % cmap.N)[:3] for i in range(n)]) * 255).astype(np.uint8)
-
-
-@dataclass
-class Snapshot:
-    """The team's knowledge at one tick: 0 unknown, 1 free, 2 occupied (any robot's map)."""
-
-    t: int
-    known: np.ndarray  # uint8 (rows, cols)
-    positions: list[tuple[int, int]]
-    goals: list[tuple[int, int] | None]
-
-
-def snapshot(t: int, run) -> Snapshot:
-    known = np.zeros(run.grid.shape, dtype=np.uint8)
-    known[run.team_free()] = 1
-    known[run.team_occupied()] = 2
-    return Snapshot(t, known, [r.pos for r in run.robots], [r.goal for r in run.robots])
 
 
 def base_rgb(known: np.ndarray, truth_free: np.ndarray) -> np.ndarray:

@@ -5,8 +5,11 @@
 * :mod:`.strategies` — goal choice: greedy, the thesis's greedy-exclusion, and Burgard's
   utility, MinPos and Hungarian assignment;
 * :mod:`.paths` — inflation, step fields and paths on one robot's map;
-* :mod:`.params`, :mod:`.sim` — parameters and the simulator (truth, lasers, radio, clock);
-* :mod:`.record` — metrics and the DESIGN.md result record.
+* :mod:`.params`, :mod:`.sim` — parameters (the Mission contract's Params) and the simulator
+  (truth, lasers, radio, clock);
+* :mod:`.record` — metrics and the DESIGN.md result record;
+* :mod:`.frames` — the per-tick snapshots ``on_frame`` receives and animations draw;
+* :mod:`.mission` — the mission behind the contract (world loading and checks, run, record).
 """
 
 from swarmex.missions.exploration.params import ExplorationParams, parse_starts

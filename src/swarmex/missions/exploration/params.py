@@ -1,4 +1,6 @@
-"""Parameters of one exploration run, validated up front with messages naming the option.
+"""Parameters of one exploration run, with their defaults, units and checks (the Mission
+contract's Params for ``swarmex explore``, ``swarmex.run("exploration", ...)``, scenario files
+and sweeps, and the simulator's own parameters).
 
 Defaults are the thesis's experiment (ch. 4) where it gives them — 5 cm cells, 100 ms ticks,
 planning every 2 s, heartbeats every 1 s, a 2 m laser — and swarmex's choices where it does
@@ -6,96 +8,191 @@ not (spec §6.11–6.12): a robot of radius 0.1 m, a 10 m radio, 360 beams, a 3 
 timeout, and robots starting as a compact group around the free cell nearest the map's
 centre (the thesis does not give start positions; a common start makes the team's initial
 dispersion, Fig. 4.3(a), part of the run).
+
+Conventions (also in ``swarmex explore --help``):
+
+* the world is exactly one of ``map`` (a MovingAI ``.map`` read at ``cell`` metres per cell,
+  or a ROS ``.yaml``/``.pgm`` map at its own resolution) and ``empty`` (a walled rectangle of
+  ``"WxH"`` or ``(W, H)`` metres at ``cell``, default 0.05 m);
+* lengths are metres (``laser_range``, ``comm_range``, ``robot_radius``; ``comm_range`` may be
+  ``inf``); times are steps of 100 ms (``max_ticks``, ``plan_pause``);
+* ``starts`` are cells ``x,y`` (x the column, y the row, row 0 the first map row), one per
+  robot: ``"1,2;3,4"`` or ``[(1, 2), (3, 4)]``.
+
+Every value check lives in the options' parsers (and :meth:`ExplorationParams.check_run` for
+the rules tying options together); :func:`validate` reruns them on Params built directly
+(``ExplorationParams(robots=3, ...)``, as the simulator's tests and the reproduction do) and
+adds the checks that need the world. The fields declared without :func:`option`
+(``plan_period``, ``heartbeat_period``, ``neighbour_timeout``) are the simulator's own
+constants: no command-line flag, the thesis's values.
 """
 
 from __future__ import annotations
 
 import math
-import re
+from collections.abc import Sequence
 from dataclasses import asdict, dataclass
+from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 from swarmex.errors import InputError
+from swarmex.missions.base import (
+    REQUIRED,
+    Params,
+    Parser,
+    boolean,
+    cells,
+    integer,
+    option,
+    optional,
+    path,
+    real,
+    text,
+)
 from swarmex.missions.exploration.paths import distance_steps, footprint_offsets, inflate
-from swarmex.missions.exploration.strategies import get_strategy
-from swarmex.worlds.metric import MetricGrid
+from swarmex.missions.exploration.strategies import STRATEGIES
+from swarmex.worlds.metric import MetricGrid, parse_size
 
 Cell = tuple[int, int]
 TICK_SECONDS = 0.1
+WORLD_OPTIONS = ("map", "empty", "cell")  # how the world is built: not simulator parameters
+
+
+def metric_size() -> Parser:
+    """``"20x20"`` or ``(20, 20)`` -> (width, height) in metres, both positive and finite."""
+
+    def parse(value: Any, flag: str) -> tuple[float, float]:
+        if isinstance(value, str):
+            return parse_size(value)
+        if (
+            isinstance(value, Sequence)
+            and len(value) == 2
+            and all(isinstance(v, int | float) and not isinstance(v, bool) for v in value)
+        ):
+            w, h = float(value[0]), float(value[1])
+            if not all(math.isfinite(v) and v > 0 for v in (w, h)):
+                raise InputError(f"{flag} sizes must be positive, got {value!r}")
+            return w, h
+        raise InputError(f"{flag} must look like WxH in metres (e.g. 20x20), got {value!r}")
+
+    parse.kind = str  # type: ignore[attr-defined]
+    return parse
+
+
+def start_cells() -> Parser:
+    """Cells ``"x,y;x,y"`` or pairs; ``None`` or a blank string: the default group start."""
+    inner = cells()
+
+    def parse(value: Any, flag: str) -> tuple[Cell, ...] | None:
+        if value is None or (isinstance(value, str) and not value.strip()):
+            return None
+        return inner(value, flag)  # type: ignore[no-any-return]
+
+    parse.kind = str  # type: ignore[attr-defined]
+    return parse
 
 
 @dataclass(frozen=True)
-class ExplorationParams:
-    robots: int = 1
-    laser_range: float = 2.0  # metres
-    comm_range: float = 10.0  # metres (inf: everyone hears everyone)
-    strategy: str = "greedy-exclusion"
-    robot_radius: float = 0.1  # metres
-    beams: int = 360
-    starts: tuple[Cell, ...] | None = None  # cells (x, y); default: a group at the centre
-    seed: int = 0
-    max_ticks: int | None = None  # default: generous, from the map size (see max_ticks_for)
+class ExplorationParams(Params):
+    mission = "exploration"
+
+    map: Path | None = option(
+        None, help="MovingAI .map or ROS map (.yaml beside its .pgm).", parse=optional(path())
+    )
+    empty: tuple[float, float] | None = option(
+        None, help="Empty walled world WxH in metres.", parse=optional(metric_size())
+    )
+    cell: float | None = option(
+        None,
+        help="Cell size in metres (default 0.05; a ROS map has its own).",
+        parse=optional(real(above=0)),
+    )
+    robots: int = option(REQUIRED, help="Team size.", parse=integer(lo=1))
+    laser_range: float = option(2.0, help="Laser range, metres.", parse=real(above=0))
+    # inf: everyone hears everyone
+    comm_range: float = option(
+        10.0, help="Radio range, metres.", parse=real(above=0, finite=False)
+    )
+    strategy: str = option(
+        "greedy-exclusion",
+        help="greedy | greedy-exclusion | utility | minpos | hungarian",
+        parse=text(tuple(STRATEGIES)),
+    )
+    robot_radius: float = option(0.1, help="Robot radius, metres.", parse=real(above=0))
+    beams: int = option(360, help="Laser beams per 360° scan.", parse=integer(lo=8))
+    starts: tuple[Cell, ...] | None = option(  # default: a group at the centre
+        None, help="Start cells 'x,y;x,y;…'.", parse=start_cells()
+    )
+    seed: int = option(0, help="Seed of every random choice.", parse=integer())
+    # default: generous, from the map size (see max_ticks_for)
+    max_ticks: int | None = option(
+        None, help="Stop after this many steps.", parse=optional(integer(lo=1))
+    )
     plan_period: int = 20  # ticks (2 s)
     heartbeat_period: int = 10  # ticks (1 s)
     neighbour_timeout: int = 30  # ticks (3 s)
-    aodv: bool = True  # route unicasts (NEED_MAP, MAP, CHANGE_GOAL) with AODV (simulator)
+    # route unicasts (NEED_MAP, MAP, CHANGE_GOAL) with AODV (simulator)
+    aodv: bool = option(
+        True,
+        help="Route multi-hop unicasts with AODV (simulator).",
+        parse=boolean(),
+        negation="--no-aodv",
+    )
     # a robot that lost a goal conflict leaves the winner's zone even when every candidate
     # is in some zone (off: it falls back on plain greedy, usually the same goal)
-    conflict_yield: bool = False
+    conflict_yield: bool = option(
+        False,
+        help="A goal conflict's loser must leave the winner's zone.",
+        parse=boolean(),
+    )
     # ticks a robot stands still after each plan generation (planning time; 0: instantaneous)
-    plan_pause: int = 0
+    plan_pause: int = option(
+        0, help="Steps a robot stands still after each plan (0: none).", parse=integer(lo=0)
+    )
+
+    def check(self) -> None:
+        if (self.map is None) == (self.empty is None):
+            raise InputError("give exactly one of --map FILE and --empty WxH")
+        self.check_run()
+
+    def check_run(self) -> None:
+        """The cross-field rules the simulator relies on (no world needed)."""
+        for name in ("plan_period", "heartbeat_period", "neighbour_timeout"):
+            if getattr(self, name) < 1:
+                raise InputError(f"{name} must be at least one tick")
+        if self.starts is not None and len(self.starts) != self.robots:
+            raise InputError(f"--starts gives {len(self.starts)} cells for {self.robots} robots")
+
+    def check_values(self) -> None:
+        """Every option's own parser on the value it holds (for Params built directly)."""
+        for name, info in self.options().items():
+            info.parse(getattr(self, name), info.flag)
 
     def as_dict(self) -> dict:
-        d = asdict(self)
+        """The simulator's parameters (the record's ``params``, the mesh's scenario)."""
+        d = {k: v for k, v in asdict(self).items() if k not in WORLD_OPTIONS}
         d["starts"] = None if self.starts is None else [list(s) for s in self.starts]
         d["comm_range"] = None if math.isinf(self.comm_range) else self.comm_range
         return d
 
 
 def parse_starts(text: str | None) -> tuple[Cell, ...] | None:
-    """``"x,y;x,y"`` (cells) → tuple of cells."""
-    if text is None or not text.strip():
-        return None
-    out = []
-    for part in text.split(";"):
-        m = re.fullmatch(r"\s*(-?\d+)\s*,\s*(-?\d+)\s*", part)
-        if not m:
-            raise InputError(f"--starts must be 'x,y;x,y;…' in cells, got {part.strip()!r}")
-        out.append((int(m.group(1)), int(m.group(2))))
-    return tuple(out)
+    """``"x,y;x,y"`` (cells) → tuple of cells (``--starts``' own parser)."""
+    return start_cells()(text, "--starts")  # type: ignore[no-any-return]
 
 
 def validate(params: ExplorationParams, grid: MetricGrid) -> None:
-    get_strategy(params.strategy)
-    if params.robots < 1:
-        raise InputError(f"--robots must be at least 1, got {params.robots}")
-    for name, v in (
-        ("--laser-range", params.laser_range),
-        ("--comm-range", params.comm_range),
-        ("--robot-radius", params.robot_radius),
-    ):
-        if math.isnan(v) or v <= 0:
-            raise InputError(f"{name} must be a positive number of metres, got {v:g}")
-    if math.isinf(params.laser_range) or params.laser_range < 2 * grid.cell:
+    """Every option's check, then the checks that need the world (before any run)."""
+    params.check_values()
+    params.check_run()
+    if params.laser_range < 2 * grid.cell:
         raise InputError(
-            f"--laser-range must be finite and at least two cells ({2 * grid.cell:g} m), "
+            f"--laser-range must be at least two cells ({2 * grid.cell:g} m), "
             f"got {params.laser_range:g}"
         )
-    if params.beams < 8:
-        raise InputError(f"the laser needs at least 8 beams, got {params.beams}")
-    for name in ("plan_period", "heartbeat_period", "neighbour_timeout"):
-        if getattr(params, name) < 1:
-            raise InputError(f"{name} must be at least one tick")
-    if params.plan_pause < 0:
-        raise InputError(f"plan_pause must be zero or more ticks, got {params.plan_pause}")
-    if params.max_ticks is not None and params.max_ticks < 1:
-        raise InputError(f"--max-ticks must be positive, got {params.max_ticks}")
     if params.starts is not None:
-        if len(params.starts) != params.robots:
-            raise InputError(
-                f"--starts gives {len(params.starts)} cells for {params.robots} robots"
-            )
         h, w = grid.shape
         for x, y in params.starts:
             if not (0 <= x < w and 0 <= y < h):

@@ -21,13 +21,15 @@ thesis's movement period; exploration time is counted in these *steps*) runs:
 Robots are points for each other: they may share a cell (the thesis's robots do not avoid
 each other, spec §6.5; nor can they block each other — each Robot Application simulates its
 laser from the map file and its own position, §3.1, so no robot is in another's world). The
-run ends when every robot has finished (its map has no reachable frontier) or at
-``max_ticks``; randomness (timer and heartbeat phases: the robots' processes did not start at
-the same instant) comes from one generator seeded by ``seed``.
+run ends when every robot has finished (its map has no reachable frontier), at ``max_ticks``,
+or when the frame hook raises :class:`~swarmex.missions.base.StopRun` (complete only if every
+robot had finished by then); randomness (timer and heartbeat phases: the robots' processes did
+not start at the same instant) comes from one generator seeded by ``seed``.
 """
 
 from __future__ import annotations
 
+import contextlib
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -36,6 +38,7 @@ import numpy as np
 
 from swarmex.comm.aodv import Routed, Rrep
 from swarmex.comm.mesh import DiscNetwork
+from swarmex.missions.base import StopRun
 from swarmex.missions.exploration.messages import ScanMsg
 from swarmex.missions.exploration.params import (
     Cell,
@@ -220,6 +223,7 @@ def run_exploration(
     wire = Wire(net, robots)
 
     moved = [True] * n
+    stopped = False
     for t in range(max_ticks + 1):
         if t > 0:
             for i, r in enumerate(robots):
@@ -243,12 +247,17 @@ def run_exploration(
             wire.send(i, r.maybe_plan(t), t)
             wire.settle(t)
         run.makespan = t
+        run.complete = all(r.finished for r in robots)
         if on_frame is not None and frame_every > 0 and t % frame_every == 0:
-            on_frame(t, run)
-        if all(r.finished for r in robots):
-            run.complete = True
+            try:
+                on_frame(t, run)
+            except StopRun:
+                stopped = True
+                break
+        if run.complete:
             break
     run.wall_seconds = time.perf_counter() - t0
-    if on_frame is not None and frame_every > 0 and run.makespan % frame_every:
-        on_frame(run.makespan, run)
+    if not stopped and on_frame is not None and frame_every > 0 and run.makespan % frame_every:
+        with contextlib.suppress(StopRun):  # the run has ended anyway
+            on_frame(run.makespan, run)
     return run

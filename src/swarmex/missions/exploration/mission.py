@@ -1,0 +1,96 @@
+"""The exploration mission (seed 003) behind the Mission contract.
+
+``prepare`` loads the metric world of ``map`` or ``empty`` (at ``cell`` metres per cell) and
+does every check that needs it — the laser against the cell size, the starts against the
+walls, room for the team's default group start — before any tick runs; ``execute`` runs the
+simulator and builds the record (:func:`~swarmex.missions.exploration.record.exploration_record`).
+
+Frames are :class:`~swarmex.missions.exploration.frames.Snapshot` objects, one per tick. A
+callback with a ``wants(t) -> bool`` method (as
+:class:`~swarmex.missions.exploration.frames.FrameRecorder` has) is asked first, so no frame
+is built that it would drop. Raising :class:`~swarmex.missions.base.StopRun` from the callback
+ends the run at that tick.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+from typing import Any
+
+from swarmex.missions.base import FrameCallback, Mission, Outcome
+from swarmex.missions.exploration.params import (
+    Cell,
+    ExplorationParams,
+    default_starts,
+    validate,
+)
+from swarmex.worlds.metric import DEFAULT_CELL, MetricGrid, empty_metric, load_metric
+
+
+@dataclass
+class ExplorationWorld:
+    """A prepared exploration: the true metric grid and each robot's start cell."""
+
+    grid: MetricGrid
+    starts: tuple[Cell, ...]
+
+
+def build_world(p: ExplorationParams) -> MetricGrid:
+    """The metric grid of ``map`` or ``empty`` (``cell`` metres per cell; a ROS map has its
+    own resolution, which ``cell`` may only repeat)."""
+    if p.empty is not None:
+        return empty_metric(*p.empty, DEFAULT_CELL if p.cell is None else p.cell)
+    if p.map is None:
+        p.check()  # names the missing option
+    assert p.map is not None
+    return load_metric(p.map, p.cell)
+
+
+class ExplorationMission(Mission[ExplorationParams, ExplorationWorld]):
+    name = "exploration"
+    command = "explore"
+    summary = "Explore an unknown world with a team of laser robots sharing scans over a mesh."
+    params_type = ExplorationParams
+    time_unit = "step"
+
+    def prepare(self, params: ExplorationParams) -> ExplorationWorld:
+        grid = build_world(params)
+        validate(params, grid)
+        starts = params.starts or default_starts(grid, params.robots, params.robot_radius)
+        return ExplorationWorld(grid, tuple(starts))
+
+    def execute(
+        self,
+        params: ExplorationParams,
+        world: ExplorationWorld,
+        on_frame: FrameCallback | None = None,
+    ) -> Outcome:
+        from swarmex.missions.exploration.record import exploration_record
+        from swarmex.missions.exploration.sim import run_exploration
+
+        hook = None if on_frame is None else _frame_hook(on_frame)
+        # the starts prepare chose (the default group start is the same cells the run would
+        # compute; the record lists the starts either way)
+        run = run_exploration(
+            world.grid,
+            replace(params, starts=world.starts),
+            on_frame=hook,
+            frame_every=0 if hook is None else 1,
+        )
+        return Outcome(exploration_record(run), run, world.grid)
+
+
+def _frame_hook(on_frame: FrameCallback) -> Any:
+    """The simulator's ``(t, run)`` hook that hands ``on_frame`` the tick's Snapshot."""
+    from swarmex.missions.exploration.frames import snapshot
+
+    wants = getattr(on_frame, "wants", None)
+
+    def hook(t: int, run: Any) -> None:
+        if wants is None or wants(t):
+            on_frame(snapshot(t, run))
+
+    return hook
+
+
+__all__ = ["ExplorationMission", "ExplorationWorld", "build_world"]
