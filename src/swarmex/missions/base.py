@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import difflib
 import math
+import numbers
 import re
 from abc import ABC, abstractmethod
 from collections.abc import Callable, Iterable, Mapping, Sequence
@@ -58,7 +59,7 @@ def integer(lo: int | None = None, hi: int | None = None) -> Parser:
             raise InputError(f"{flag}: expected an integer, got {value!r}")
         whole_float = isinstance(value, float) and value.is_integer()
         digits = isinstance(value, str) and re.fullmatch(r"\s*[-+]?\d+\s*", value)
-        if isinstance(value, int) or whole_float or digits:
+        if isinstance(value, numbers.Integral) or whole_float or digits:
             out = int(value)
         else:
             raise InputError(f"{flag}: expected an integer, got {value!r}")
@@ -150,10 +151,17 @@ def path() -> Parser:
     return parse
 
 
+def plain_sequence(value: Any) -> Any:
+    """A numpy array as the nested list it holds (users pass arrays of cells); else as is."""
+    tolist = getattr(value, "tolist", None)
+    return tolist() if callable(tolist) and not isinstance(value, str) else value
+
+
 _CELL = re.compile(r"^\s*(-?\d+)\s*,\s*(-?\d+)\s*$")
 
 
 def _pair(value: Any, flag: str, what: str = "cell") -> Cell:
+    value = plain_sequence(value)
     if isinstance(value, str):
         m = _CELL.match(value)
         if m:
@@ -161,7 +169,7 @@ def _pair(value: Any, flag: str, what: str = "cell") -> Cell:
     elif (
         isinstance(value, Sequence)
         and len(value) == 2
-        and all(isinstance(v, int) and not isinstance(v, bool) for v in value)
+        and all(isinstance(v, numbers.Integral) and not isinstance(v, bool) for v in value)
     ):
         return int(value[0]), int(value[1])
     raise InputError(f'{flag}: malformed {what} {value!r} (expected "x,y" or (x, y))')
@@ -184,6 +192,7 @@ def cells() -> Parser:
     """
 
     def parse(value: Any, flag: str) -> tuple[Cell, ...]:
+        value = plain_sequence(value)
         if isinstance(value, str):
             parts: Iterable[Any] = [p for p in value.split(";") if p.strip()]
         elif isinstance(value, Sequence):

@@ -88,7 +88,7 @@ def start_cells() -> Parser:
     def parse(value: Any, flag: str) -> tuple[Cell, ...] | None:
         if value is None or (isinstance(value, str) and not value.strip()):
             return None
-        return inner(value, flag)  # type: ignore[no-any-return]
+        return inner(value, flag)
 
     parse.kind = str  # type: ignore[attr-defined]
     return parse
@@ -180,7 +180,7 @@ class ExplorationParams(Params):
 
 def parse_starts(text: str | None) -> tuple[Cell, ...] | None:
     """``"x,y;x,y"`` (cells) → tuple of cells (``--starts``' own parser)."""
-    return start_cells()(text, "--starts")  # type: ignore[no-any-return]
+    return start_cells()(text, "--starts")
 
 
 def validate(params: ExplorationParams, grid: MetricGrid) -> None:

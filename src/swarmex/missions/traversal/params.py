@@ -20,6 +20,7 @@ Defaults of the timing options are the thesis's base agent (§5.1: 6.67 m edges 
 
 from __future__ import annotations
 
+import numbers
 import re
 from dataclasses import dataclass
 from pathlib import Path
@@ -35,6 +36,7 @@ from swarmex.missions.base import (
     option,
     optional,
     path,
+    plain_sequence,
     real,
     text,
 )
@@ -49,6 +51,7 @@ def grid_size() -> Any:
     """``"10x12"`` or ``(10, 12)`` -> (width, height), each >= 1, at most MAX_GRID_CELLS."""
 
     def parse(value: Any, flag: str) -> tuple[int, int]:
+        value = plain_sequence(value)
         if isinstance(value, str):
             m = _GRID.match(value)
             if not m:
@@ -57,7 +60,7 @@ def grid_size() -> Any:
         elif (
             isinstance(value, list | tuple)
             and len(value) == 2
-            and all(isinstance(v, int) and not isinstance(v, bool) for v in value)
+            and all(isinstance(v, numbers.Integral) and not isinstance(v, bool) for v in value)
         ):
             w, h = int(value[0]), int(value[1])
         else:
