@@ -129,11 +129,11 @@ def roadmap_world(record: dict, base: Path | None) -> dict | None:
     import shapely
     from shapely.geometry import Polygon
 
+    from swarmex.missions.roadmap.mission import load_environment
     from swarmex.viz.monitor.events import world_event
-    from swarmex.worlds.polygon import load_polygon_world
 
     world = record.get("world") or {}
-    pw = load_polygon_world(_path(str((record.get("params") or {})["env"]), base))
+    pw = load_environment(_path(str((record.get("params") or {})["env"]), base))
     if world.get("bounds") is not None and not all(
         abs(a - b) <= 1e-9 * max(1.0, abs(b))
         for a, b in zip(pw.bounds, world["bounds"], strict=True)

@@ -1,77 +1,50 @@
-"""``swarmex roadmap`` and ``swarmex reproduce roadmap`` (seed 004: WMA-RRT against PRM)."""
+"""``swarmex roadmap`` and ``swarmex reproduce roadmap`` (seed 004: WMA-RRT against PRM).
+
+The options, their defaults and checks are the mission's (missions/roadmap/params.py); this
+module only prints the summary line and draws the run.
+"""
 
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import typer
 
-from swarmex.cli.app import app, console, reproduce_app
-from swarmex.cli.outputs import RENDER_SUFFIXES, check_output
+from swarmex.cli.app import console, reproduce_app
+from swarmex.cli.missions import Surface, mission_command
+from swarmex.missions.base import Outcome
+from swarmex.missions.registry import get
 
 
-@app.command()
-def roadmap(
-    env: Path = typer.Option(..., "--env", help="JSON polygons, MovingAI .map or image."),
-    task: str = typer.Option("coverage", "--task", help="coverage | search"),
-    planner: str = typer.Option(
-        "wma-rrt", "--planner", help="wma-rrt | prm | wma-rrt-takeover (improved helpers)"
-    ),
-    agents: int = typer.Option(..., "--agents", help="Number of agents (= branches)."),
-    nodes: int = typer.Option(..., "--nodes", help="Roadmap nodes K (Main Root excluded)."),
-    step: float = typer.Option(..., "--step", help="Step size ε between nodes."),
-    sensor_range: str = typer.Option(
-        ...,
-        "--sensor-range",
-        help="Sensor range R, a multiple of the step ('1eps', '2eps'), or 'inf'.",
-    ),
-    goal: str = typer.Option(None, "--goal", help="Goal 'x,y' (search)."),
-    starts: str = typer.Option(None, "--starts", help="Starts 'x,y;x,y;…'."),
-    seed: int = typer.Option(0, "--seed"),
-    step_budget: int = typer.Option(
-        None, "--step-budget", help="Stop after this many steps (PRM default: 2K)."
-    ),
-    raster: int = typer.Option(256, "--raster", help="Coverage raster cells on the long side."),
-    json_out: Path = typer.Option(None, "--json", help="Write the result record here."),
-    render: Path = typer.Option(None, "--render", help="Write a .png, .gif or .mp4 of the run."),
-) -> None:
-    """Coverage or goal search by a team on a WMA-RRT (or PRM) roadmap."""
-    from swarmex.engine.record import write_record
-    from swarmex.missions.roadmap.scenario import make_scenario, run_scenario
-
-    check_output(json_out, "--json")
-    check_output(render, "--render", RENDER_SUFFIXES)
-    sc = make_scenario(
-        env,
-        agents=agents,
-        nodes=nodes,
-        step=step,
-        sensor_range=sensor_range,
-        task=task,
-        planner=planner,
-        goal=goal,
-        starts=starts,
-        seed=seed,
-        step_budget=step_budget,
-        raster_cells=raster,
-    )
-    run, rec = run_scenario(sc)
-    m = rec.metrics
+def summary_line(record: dict[str, Any]) -> str:
+    """One line: planner, task, the end and the seed-004 metrics of a roadmap record."""
+    m = record["metrics"]
+    task = record["params"]["task"]
     line = (
-        f"{rec.algorithm} {sc.task}: complete={rec.complete} steps={m['steps']} "
+        f"{record['algorithm']} {task}: complete={record['complete']} steps={m['steps']} "
         f"coverage={100 * m['coverage']:.1f}% nodes={m['tree_nodes']} "
         f"components={m['components']} cycles={m['cycles']} "
         f"edge_revisits={m['edge_revisits']} path={m['path_length']:.0f}"
     )
-    if sc.task == "search":
+    if task == "search":
         line += f" goal_found={m['goal_found']} goal_unreachable={m['goal_unreachable']}"
-    console.print(line, highlight=False)
-    if json_out is not None:
-        write_record(rec, json_out)
-    if render is not None:
-        from swarmex.viz.roadmap_plot import render as draw
+    return line
 
-        draw(run, render)
+
+def report(outcome: Outcome, params: Any) -> None:
+    console.print(summary_line(outcome.record.to_dict()), highlight=False)
+
+
+def render(outcome: Outcome, path: Path, frames: list[Any]) -> None:
+    from swarmex.viz.roadmap_plot import render as draw
+
+    draw(outcome.run, path)
+
+
+roadmap = mission_command(
+    get("roadmap"), Surface(report, render, render_help="Write a .png, .gif or .mp4 of the run.")
+)
 
 
 @reproduce_app.command("roadmap")

@@ -216,6 +216,69 @@ def cells() -> Parser:
     return parse
 
 
+Point = tuple[float, float]
+
+
+def _coordinate(value: Any) -> float | None:
+    """A finite coordinate from a number (not a bool) or its text, else None."""
+    if isinstance(value, bool):
+        return None
+    try:
+        out = float(value)
+    except (TypeError, ValueError):
+        return None
+    return out if math.isfinite(out) else None
+
+
+def _listed(value: Any) -> Any:
+    """A numpy array as the plain list it holds (so arrays pass where sequences do)."""
+    return value.tolist() if hasattr(value, "tolist") and hasattr(value, "ndim") else value
+
+
+def _point(value: Any, flag: str) -> Point:
+    """``"x,y"`` or ``(x, y)``, finite real coordinates, or an InputError naming ``flag``."""
+    parts = value.split(",") if isinstance(value, str) else _listed(value)
+    if isinstance(parts, Sequence) and len(parts) == 2:
+        x, y = _coordinate(parts[0]), _coordinate(parts[1])
+        if x is not None and y is not None:
+            return x, y
+    raise InputError(f"{flag}: malformed point {value!r} (expected finite 'x,y' or (x, y))")
+
+
+def point() -> Parser:
+    """One point of a continuous world: ``"1.5,2"`` or ``(1.5, 2)`` -> ``(1.5, 2.0)``."""
+
+    def parse(value: Any, flag: str) -> Point:
+        if isinstance(value, str) and ";" in value.strip().strip(";"):
+            raise InputError(f"{flag} takes one 'x,y' point, got {value!r}")
+        return _point(value.strip().strip(";") if isinstance(value, str) else value, flag)
+
+    parse.kind = str  # type: ignore[attr-defined]
+    return parse
+
+
+def points() -> Parser:
+    """Points: ``"1,2;3.5,4"`` or ``[(1, 2), (3.5, 4)]`` -> a non-empty tuple of points.
+
+    Empty parts of a string (a trailing ``;``) are skipped.
+    """
+
+    def parse(value: Any, flag: str) -> tuple[Point, ...]:
+        value = _listed(value)
+        if isinstance(value, str):
+            parts: Sequence[Any] = [p for p in value.split(";") if p.strip()]
+        elif isinstance(value, Sequence):
+            parts = value
+        else:
+            raise InputError(f"{flag}: expected points 'x,y;x,y;…', got {value!r}")
+        if not parts:
+            raise InputError(f"{flag}: no points given")
+        return tuple(_point(p, flag) for p in parts)
+
+    parse.kind = str  # type: ignore[attr-defined]
+    return parse
+
+
 def optional(inner: Parser) -> Parser:
     """``None`` stays ``None``; anything else goes through ``inner``."""
 

@@ -18,19 +18,27 @@ Ends: WMA-RRT coverage when every branch is COMPLETE; WMA-RRT search when every 
 the goal, or when every branch is COMPLETE with no ½ flag (the agents have established that the
 goal is unreachable from where they are, Figs. 14–16). PRM agents have no such knowledge, so
 their runs end at the step budget (or, in search, when all stand on the goal).
+
+Frames: with ``on_frame`` the loop hands a :class:`RoadmapFrame` to the callback after the
+initial sensing (step 0) and after every step; a callback that raises
+:class:`~swarmex.missions.base.StopRun` ends the run there (incomplete, unless that very step
+had met the end condition). Without it the loop does exactly the same work as before.
 """
 
 from __future__ import annotations
 
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
 from swarmex.errors import InputError
+from swarmex.missions.base import StopRun
 from swarmex.missions.roadmap.blackboard import PRMBoard, WMABoard
+from swarmex.missions.roadmap.params import PLANNERS, TASKS
 from swarmex.missions.roadmap.prm_policy import PRMWalker
 from swarmex.missions.roadmap.wma_policy import WMAAgent
 from swarmex.planning.prm import build_prm
@@ -39,8 +47,39 @@ from swarmex.planning.rrt_wma import build_wma_rrt
 from swarmex.sensing.coverage_raster import DEFAULT_CELLS, CoverageRaster
 from swarmex.worlds.polygon import PolygonWorld
 
-PLANNERS = ("wma-rrt", "prm", "wma-rrt-takeover")
-TASKS = ("coverage", "search")
+__all__ = ["PLANNERS", "TASKS", "RoadmapFrame", "RoadmapRun", "build_roadmap", "run_roadmap"]
+
+
+@dataclass(frozen=True)
+class RoadmapFrame:
+    """One moment of a roadmap run, as it happens: what a live view needs to draw it.
+
+    ``roadmap`` is the run's roadmap (the same object in every frame; with the world it is
+    the static part of the picture); the arrays are copies, safe to keep.
+    """
+
+    step: int  # 0 after the initial sensing, then t after step t
+    positions: np.ndarray  # (n, 2) every agent's position
+    states: tuple[str, ...]  # each agent's state (entry, explore, free, ..., at-goal)
+    moved: tuple[int, ...]  # the agents that moved in this step, in the order they acted
+    edge_traversals: np.ndarray  # (E,) traversals of each roadmap edge so far
+    coverage: float  # seen free raster cells / free raster cells
+    goal_found: bool
+    roadmap: Roadmap
+
+
+def _frame(t: int, agents: list[Any], moved: list[int], board: WMABoard | PRMBoard,
+           raster: CoverageRaster, rm: Roadmap) -> RoadmapFrame:
+    return RoadmapFrame(
+        step=t,
+        positions=np.array([a.xy for a in agents], dtype=np.float64).reshape(-1, 2),
+        states=tuple(str(a.state) for a in agents),
+        moved=tuple(moved),
+        edge_traversals=np.array(board.traversals, copy=True),
+        coverage=raster.coverage(),
+        goal_found=board.anchor is not None,
+        roadmap=rm,
+    )
 
 
 @dataclass
@@ -90,8 +129,13 @@ def run_roadmap(
     step_budget: int | None = None,
     raster_cells: int = DEFAULT_CELLS,
     roadmap: Roadmap | None = None,
+    on_frame: Callable[[RoadmapFrame], Any] | None = None,
 ) -> RoadmapRun:
-    """Build the roadmap (unless given) and run the behaviour; one generator from ``seed``."""
+    """Build the roadmap (unless given) and run the behaviour; one generator from ``seed``.
+
+    ``on_frame`` (optional) is called with a :class:`RoadmapFrame` at step 0 and after every
+    step; raising StopRun from it ends the run after that step.
+    """
     if task not in TASKS:
         raise InputError(f"--task must be one of {', '.join(TASKS)}, got {task!r}")
     if planner not in PLANNERS:
@@ -128,8 +172,15 @@ def run_roadmap(
     ended = False
     unreachable = False
     all_at_goal = -1
-    while t < budget and not ended:
+    stopped = False
+    if on_frame is not None:
+        try:
+            on_frame(_frame(0, agents, [], board, raster, rm))
+        except StopRun:
+            stopped = True
+    while t < budget and not ended and not stopped:
         t += 1
+        moved: list[int] = []
         for i in rng.permutation(n):
             a = agents[i]
             mv = a.decide(t, rng)
@@ -147,6 +198,7 @@ def run_roadmap(
             a.arrive(mv, t)
             length[i] += math.hypot(mv.to[0] - src[0], mv.to[1] - src[1])
             moves[i] += 1
+            moved.append(int(i))
             traj[i].append([float(t), float(mv.to[0]), float(mv.to[1])])
             if sight >= 0:
                 a.found_goal(src + sight * (mv.to - src), goal_xy, t)
@@ -160,6 +212,11 @@ def run_roadmap(
             for a in agents:  # free agents at the Main Root have nothing left to help
                 if a.state in ("free", "wait"):
                     a.state = "done"
+        if on_frame is not None:
+            try:
+                on_frame(_frame(t, agents, moved, board, raster, rm))
+            except StopRun:
+                stopped = True
     t2 = time.perf_counter()
     goal_found = task == "search" and board.anchor is not None
     complete = all_at_goal >= 0 if planner == "prm" else ended

@@ -1,4 +1,4 @@
-"""Start positions and goal: parsing, validation and the default start cluster.
+"""Start positions and goal: validation and the default start cluster.
 
 Seed 004 assumes the agents "are situated close to each other" (§2) but never says where. The
 default here is deterministic — the same team layout in every run, so that runs differ only
@@ -15,27 +15,6 @@ import shapely
 
 from swarmex.errors import InputError
 from swarmex.worlds.polygon import PolygonWorld
-
-
-def parse_points(text: str, what: str) -> np.ndarray:
-    """``"x,y;x,y;…"`` → (m, 2) array, or an InputError naming ``what``."""
-    pts = []
-    for part in (p for p in text.split(";") if p.strip()):
-        xy = part.split(",")
-        try:
-            if len(xy) != 2:
-                raise ValueError
-            x, y = float(xy[0]), float(xy[1])
-        except ValueError:
-            raise InputError(
-                f"{what}: expected 'x,y' pairs separated by ';', got {part!r}"
-            ) from None
-        if not (np.isfinite(x) and np.isfinite(y)):
-            raise InputError(f"{what}: coordinates must be finite, got {part!r}")
-        pts.append((x, y))
-    if not pts:
-        raise InputError(f"{what}: no points given")
-    return np.array(pts, dtype=np.float64)
 
 
 def default_starts(world: PolygonWorld, n: int) -> np.ndarray:
