@@ -12,8 +12,22 @@
 * :mod:`.mission` — the mission behind the contract (world loading and checks, run, record).
 """
 
-from swarmex.missions.exploration.params import ExplorationParams, parse_starts
-from swarmex.missions.exploration.sim import ExplorationRun, run_exploration
-from swarmex.missions.exploration.strategies import STRATEGIES
+# Exports load on first use (PEP 562), so that importing one module of this package (its
+# Params, for the command line's options) does not import the simulator and its kernels.
+from importlib import import_module as _import_module
+from typing import Any as _Any
 
-__all__ = ["STRATEGIES", "ExplorationParams", "ExplorationRun", "parse_starts", "run_exploration"]
+_EXPORTS = {
+    "ExplorationParams": "params",
+    "parse_starts": "params",
+    "ExplorationRun": "sim",
+    "run_exploration": "sim",
+    "STRATEGIES": "strategies",
+}
+__all__ = sorted(_EXPORTS)
+
+
+def __getattr__(name: str) -> _Any:
+    if name in _EXPORTS:
+        return getattr(_import_module(f"{__name__}.{_EXPORTS[name]}"), name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -51,7 +51,6 @@ from swarmex.missions.base import (
     real,
     text,
 )
-from swarmex.missions.exploration.paths import distance_steps, footprint_offsets, inflate
 from swarmex.missions.exploration.strategies import STRATEGIES
 from swarmex.worlds.metric import MetricGrid, parse_size
 
@@ -213,6 +212,8 @@ def max_ticks_for(grid: MetricGrid, laser_range: float) -> int:
 
 def default_starts(grid: MetricGrid, n: int, radius_m: float) -> tuple[Cell, ...]:
     """``n`` cells around the traversable cell nearest the centre, a robot diameter apart."""
+    from swarmex.missions.exploration.paths import distance_steps, footprint_offsets, inflate
+
     r = radius_m / grid.cell
     trav = grid.free & ~inflate(~grid.free, footprint_offsets(r))
     if not trav.any():

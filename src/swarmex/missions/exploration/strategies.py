@@ -37,7 +37,6 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.optimize import linear_sum_assignment
 
 from swarmex.errors import InputError
 from swarmex.sensing.frontiers import Frontiers, chunk_targets
@@ -169,6 +168,8 @@ def minpos(ctx: GoalContext) -> Cell | None:
 
 
 def hungarian(ctx: GoalContext) -> Cell | None:
+    from scipy.optimize import linear_sum_assignment  # here: scipy.optimize is slow to import
+
     targets, cost = _rivals_and_costs(ctx)
     if targets.size == 0 or not np.isfinite(cost[0]).any():
         return None

@@ -7,20 +7,27 @@ Modules: :mod:`.blackboard` (the shared roadmap arrays), :mod:`.wma_policy` and
 :mod:`.mission` (the mission behind the contract: ``swarmex.run("roadmap", ...)``).
 """
 
-from swarmex.missions.roadmap.blackboard import COMPLETE, HALF
-from swarmex.missions.roadmap.record import build_record, run_metrics
-from swarmex.missions.roadmap.replay import replay_problems
-from swarmex.missions.roadmap.sim import PLANNERS, TASKS, RoadmapFrame, RoadmapRun, run_roadmap
+# Exports load on first use (PEP 562), so that importing one module of this package (its
+# Params, for the command line's options) does not import the simulator and its kernels.
+from importlib import import_module as _import_module
+from typing import Any as _Any
 
-__all__ = [
-    "COMPLETE",
-    "HALF",
-    "PLANNERS",
-    "TASKS",
-    "RoadmapFrame",
-    "RoadmapRun",
-    "build_record",
-    "replay_problems",
-    "run_metrics",
-    "run_roadmap",
-]
+_EXPORTS = {
+    "COMPLETE": "blackboard",
+    "HALF": "blackboard",
+    "build_record": "record",
+    "run_metrics": "record",
+    "replay_problems": "replay",
+    "PLANNERS": "sim",
+    "TASKS": "sim",
+    "RoadmapFrame": "sim",
+    "RoadmapRun": "sim",
+    "run_roadmap": "sim",
+}
+__all__ = sorted(_EXPORTS)
+
+
+def __getattr__(name: str) -> _Any:
+    if name in _EXPORTS:
+        return getattr(_import_module(f"{__name__}.{_EXPORTS[name]}"), name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
