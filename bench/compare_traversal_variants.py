@@ -116,24 +116,24 @@ def done_list_without_obstacles(enabled: bool):
     as swarmex sent it before 23 Nov 2026 (the §4.1 list's done / not-done vertices only).
 
     An agent that misses the one message announcing a wall then never learns it from anyone
-    and plans paths through it. The patch replaces the private ``sim._encode_km`` for one run
-    and restores it afterwards.
+    and plans paths through it. The patch replaces ``agent.encode_km`` (what every agent's
+    outgoing list is) for one run and restores it afterwards.
     """
     if not enabled:
         yield
         return
-    from swarmex.missions.traversal import sim
+    from swarmex.missions.traversal import agent
 
-    original = sim._encode_km
+    original = agent.encode_km
 
     def without_walls(status):
-        return (*sim._encode_done_list(status), np.zeros(0, dtype=np.int64))
+        return (*agent.encode_done_list(status), np.zeros(0, dtype=np.int64))
 
-    sim._encode_km = without_walls
+    agent.encode_km = without_walls
     try:
         yield
     finally:
-        sim._encode_km = original
+        agent.encode_km = original
 
 
 def run_one(job: Job) -> dict:

@@ -2,10 +2,12 @@
 
 Seed 000 ran MADGTA as one TCP client per UAV and a server that relays every broadcast to
 all agents and never tells one what to do (§4.1–4.3). swarmex does the same over ZeroMQ and
-drives the very :class:`~swarmex.missions.traversal.policies.Madgta` object the simulator
-drives. The point of the design below is that a networked run is *the same run* as
-``swarmex traverse`` with the same seed: same decisions, same times, same record (bar the
-wall clock and the byte counts).
+runs the very agent core the simulator runs,
+:class:`~swarmex.missions.traversal.agent.TraversalAgent` (belief, policy, arrival rule,
+messages, how a received one is applied); :class:`AgentCore` adds only this runtime's glue.
+The point of the design below is that a networked run is *the same run* as ``swarmex
+traverse`` with the same seed: same decisions, same times, same record (bar the wall clock
+and the byte counts).
 
 Why that needs more than relaying messages in real time: in the simulator two events at the
 same mission time run in a fixed order (time, then scheduling order — see
@@ -45,22 +47,43 @@ stops counting it as a rival. A spare may then take the vacant id: it replays th
 far (the server keeps it) to rebuild the same belief and key table, and the server relays
 ``JOIN`` with its start time (no earlier than any event still to run, plus its takeoff), so
 the order stays consistent.
+
+Done-nodes lists (Fig. 4.17) are carried (``--no-done-lists`` drops them) and merged by
+every receiver exactly as in the simulator. On the reliable, ordered relay a list never tells
+a receiver anything new in a fault-free run (each sender has applied everything before its
+step, and receivers have too), so it cannot move a run off the simulated one. After a
+departure, a list sent before its sender heard ``LEFT`` still counts the departed agent's
+unfinished node as done; the core never lets a list re-mark a node it reverted that way
+(only a C07 for it does).
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
 
 from swarmex.errors import InputError
+from swarmex.missions.traversal.agent import (
+    DONE,
+    JOB,
+    NEXT,
+    PASS,
+    START,
+    UNDONE,
+    AdjacencySensor,
+    AgentLog,
+    DoneList,
+    Message,
+    TraversalAgent,
+    apply_message,
+    forget_rival,
+)
 from swarmex.missions.traversal.agents import AgentSpec
-from swarmex.missions.traversal.belief import TraversalBelief
+from swarmex.missions.traversal.belief import DONE_BY_UNKNOWN, TraversalBelief
 from swarmex.missions.traversal.policies import Madgta, make_policy
-from swarmex.missions.traversal.sim import AgentLog, _encode_done_list
 from swarmex.net.wire import (
     BROADCAST_COMMANDS,
     Broadcast,
@@ -102,7 +125,7 @@ class Mission:
     rng_mode: str = "shared"
     done_lists: bool = True  # Fig. 4.17's done-nodes field on every broadcast
     heartbeat: float = 0.25  # wall seconds between heartbeats
-    params: dict[str, Any] = field(default_factory=dict)
+    params: dict = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         if self.rng_mode not in RNG_MODES:
@@ -125,7 +148,7 @@ class Mission:
         t0 = 0.0
         return (t0 + i * self.start_interval + self.specs[i].takeoff_time, i)
 
-    def to_wire(self) -> dict[str, Any]:
+    def to_wire(self) -> dict:
         w = self.world
         return {
             "world": {
@@ -272,43 +295,62 @@ def check_broadcast(b: Broadcast, mission: Mission) -> None:
             raise EncodingError("listed node outside the map")
     if b.obstacles and max(b.obstacles) >= n:
         raise EncodingError("obstacle outside the map")
+    if b.done_bit and b.doers is not None and b.doers.size:
+        ok = ((b.doers >= 1) & (b.doers <= mission.n_agents)) | (b.doers == DONE_BY_UNKNOWN)
+        if not ok.all():  # receivers merge the list: a doer is an agent id
+            raise EncodingError("listed doer is not an agent")
+
+
+def message_of(b: Broadcast) -> Message:
+    """A broadcast as the agent core's :class:`~swarmex.missions.traversal.agent.Message`:
+    C04 is ``start``, C07 ``job`` or ``pass`` (job bit), C05 ``next``, C08 ``done`` or
+    ``undone`` (job bit); C06 and C09–C11 change no belief but may carry obstacles and a
+    done-nodes list. An empty done list (``--no-done-lists``) is no list."""
+    cmd = b.cmd
+    if cmd == "C07":
+        kind = JOB if b.job else PASS
+    elif cmd == "C08":
+        kind = DONE if b.job else UNDONE
+    else:
+        kind = _KIND_OF.get(cmd, cmd)
+    done_list: DoneList | None = None
+    if b.nodes is not None and (b.nodes.size or not b.done_bit):
+        doers = b.doers if b.doers is not None else np.zeros(0, dtype=np.int64)
+        done_list = (b.done_bit, b.nodes, doers)
+    return Message(kind, b.id, b.node, b.obstacles, b.eta, b.t, done_list)
+
+
+_KIND_OF = {"C04": START, "C05": NEXT}
+_CMD_OF = {
+    START: ("C04", 0), PASS: ("C07", 0), JOB: ("C07", 1), NEXT: ("C05", 0),
+    DONE: ("C08", 1), UNDONE: ("C08", 0),
+}
+
+
+def broadcast_of(m: Message) -> Broadcast:
+    """An agent core's message as the Fig. 4.17 broadcast (:func:`message_of` inverted). The
+    done list goes without its fourth field, the sender's known obstacles: the wire has
+    none, and needs none on a reliable relay, where every receiver has had each wall in the
+    obstacles of the broadcast of the agent that first saw it."""
+    cmd, job = _CMD_OF[m.kind]
+    bit, nodes, doers = (1, None, None) if m.done_list is None else m.done_list[:3]
+    return Broadcast(cmd, m.sender, m.node, job, bit, nodes, doers, m.obstacles, float(m.t),
+                     float(m.eta))
 
 
 def apply_to_belief(b: TraversalBelief, msg: Broadcast) -> None:
-    """A rival's broadcast applied to a belief, exactly as ``sim._Sim.apply`` applies the
-    simulator's messages (C04 and C07 without the job bit are its ``pos``, C07 with it
-    ``job``, C05 ``next``, C08 ``done`` / ``undone``; the others change no belief)."""
-    s, node = msg.id, msg.node
-    if msg.obstacles:
-        b.see_obstacles(msg.obstacles)
-    if msg.cmd == "C04" or (msg.cmd == "C07" and not msg.job):
-        b.loc[s] = node
-        b.release(s)
-    elif msg.cmd == "C07":
-        b.loc[s] = node
-        b.mark_done(node, s)
-        b.next_loc[s] = node
-        b.free_at[s] = msg.eta
-    elif msg.cmd == "C05":
-        b.reserve(node, s)
-        b.next_loc[s] = node
-        b.free_at[s] = msg.eta
-    elif msg.cmd == "C08" and not msg.job:
-        b.mark_not_done(node)
+    """A broadcast applied to a belief by the agent core's rule
+    (:func:`~swarmex.missions.traversal.agent.apply_message`), the simulator's: its
+    obstacles, its done-nodes list merged, then the command's own update."""
+    apply_message(b, message_of(msg))
 
 
 def forget_agent(b: TraversalBelief, agent: int, open_node: int) -> None:
-    """A departed rival: its unfinished job returns to not-done, it holds nothing, and it is
-    no longer a rival (seed 000 §4.2: "conditionally accomplished" reverts on failure)."""
-    if open_node >= 0 and b.status[open_node] == agent:
-        b.mark_not_done(open_node)
-    b.release(agent)
-    if 0 <= agent < b.loc.size:
-        b.loc[agent] = -1
-        b.next_loc[agent] = -1
+    """A departed rival (``LEFT``): :func:`~swarmex.missions.traversal.agent.forget_rival`."""
+    forget_rival(b, agent, open_node)
 
 
-def catch_up(belief: TraversalBelief, replica: Replica, msg: list[Any]) -> None:
+def catch_up(belief: TraversalBelief, replica: Replica, msg: list) -> None:
     """One message of the stream so far, applied as a late joiner applies it: every
     broadcast as a rival's (its predecessor's with the same id too: what it had done is
     done), ``LEFT`` and ``JOIN`` as everybody applied them."""
@@ -333,9 +375,12 @@ def new_belief(mission: Mission, me: int) -> TraversalBelief:
 
 
 class AgentCore:
-    """One agent's mission logic, network-free: the simulator's per-agent steps
-    (``_Sim.arrive_at``, ``start_job``, ``end_job``, ``decide``) with every broadcast
-    appended to :attr:`outbox` instead of being applied to the other beliefs.
+    """One networked agent: the mission's agent core
+    (:class:`~swarmex.missions.traversal.agent.TraversalAgent`, :attr:`agent`: the very class
+    the simulator runs) with this runtime's glue: which event is next, the shared
+    generator's state loaded before a step, the job failure draw, the agent's messages
+    turned into broadcasts (the last of a step carrying the generator's state), and the
+    termination stage's C09.
 
     The policy sees only :attr:`belief`; the true map is used for what the simulator also
     takes from it: this agent's adjacency sensing and its flight home.
@@ -345,138 +390,68 @@ class AgentCore:
         self.mission = mission
         self.me = me
         self.spec = mission.specs[me - 1]
-        self.graph = mission.world.graph
-        self.truth_blocked = mission.world.blocked
-        self.policy = policy or make_policy(mission.algorithm)
-        self.belief = new_belief(mission, me)
-        self.log = AgentLog(me, self.spec)
+        world = mission.world
         seed = mission.seed if mission.rng_mode == "shared" else [mission.seed, me]
-        self.rng = np.random.default_rng(seed)
+        self._said: list[Message] = []
+        self.agent = TraversalAgent(
+            me, self.spec, new_belief(mission, me), policy or make_policy(mission.algorithm),
+            np.random.default_rng(seed), AdjacencySensor(world.graph, world.blocked),
+            self._said.append, done_lists=mission.done_lists,
+        )
         self.next_kind = "start"
         self.next_node = self.spec.nest
         self.outbox: list[Broadcast] = []
         self.finished = False
 
+    @property
+    def belief(self) -> TraversalBelief:
+        return self.agent.belief
+
+    @property
+    def log(self) -> AgentLog:
+        return self.agent.log
+
     # ---- stream
     def receive(self, msg: Broadcast) -> None:
-        if msg.id != self.me:
-            apply_to_belief(self.belief, msg)
+        self.agent.receive(message_of(msg))
 
     def forget(self, agent: int, open_node: int) -> None:
-        if agent != self.me:
-            forget_agent(self.belief, agent, open_node)
+        self.agent.forget(agent, open_node)
 
     # ---- one event
     def step(self, t: float, rng: bytes | None) -> list[Broadcast]:
         """Run this agent's next event at time ``t``; returns the broadcasts, in order."""
-        self.outbox = []
+        agent = self.agent
+        self._said.clear()
         if rng is not None and self.mission.rng_mode == "shared":
-            set_rng_state(self.rng, rng)
+            set_rng_state(agent.rng, rng)
         kind, node = self.next_kind, self.next_node
         if kind == "start":
-            self._start(t)
+            nxt = agent.start(t)
         elif kind == "arrive":
-            self._arrive(node, t)
+            nxt = agent.arrive(node, t)
         else:
-            self._end_job(node, t)
-        return self.outbox
-
-    def _broadcast(self, cmd: str, node: int, job: int = 0, obstacles: Iterable[int] = (),
-                   t: float = 0.0, eta: float = 0.0, last: bool = False) -> None:
-        nodes = doers = None
-        bit = 1
-        if self.mission.done_lists:
-            bit, nodes, doers = _encode_done_list(self.belief.status)
-        self.outbox.append(
-            Broadcast(cmd, self.me, int(node), job, bit, nodes, doers,
-                      tuple(int(v) for v in obstacles), float(t), float(eta),
-                      rng_state(self.rng) if last else None)
-        )
-
-    def sense(self, node: int) -> list[int]:
-        nbrs = self.graph.neighbors(node)
-        seen = nbrs[self.truth_blocked[nbrs]]
-        new = [int(v) for v in seen if self.belief.status[v] != -1]
-        self.belief.see_obstacles(new)
-        return new
-
-    def _start(self, t: float) -> None:
-        nest = self.spec.nest
-        self.log.trajectory.append((t, nest))
-        b = self.belief
-        b.loc[self.me] = nest
-        seen = self.sense(nest)
-        self._broadcast("C04", nest, 0, seen, t)
-        self._decide(t)
-
-    def _arrive(self, node: int, t: float) -> None:
-        log = self.log
-        log.trajectory.append((t, node))
-        b = self.belief
-        b.loc[self.me] = node
-        b.now = t
-        seen = self.sense(node)
-        do_job = b.job_on_arrival(node)
-        b.intent = -1
-        if do_job:
-            self._start_job(node, t, seen)
+            fail = self.mission.job_failure
+            nxt = agent.end_job(node, t, fail > 0 and agent.rng.random() < fail)
+        out = [broadcast_of(m) for m in self._said]
+        if nxt.kind == "finish":
+            out.append(self._finish(t))
         else:
-            log.path.append((node, False))
-            b.release(self.me)
-            self._broadcast("C07", node, 0, seen, t)
-            self._decide(t)
+            self.next_kind, self.next_node = nxt.kind, nxt.node
+        out[-1] = replace(out[-1], rng=rng_state(agent.rng))  # the step's last message
+        self.outbox = out
+        return out
 
-    def _start_job(self, node: int, t: float, seen: Iterable[int] = ()) -> None:
+    def _finish(self, t: float) -> Broadcast:
         log = self.log
-        if not log.path or log.path[-1][0] != node:
-            log.path.append((node, False))
-        self.belief.mark_done(node, self.me)
-        log.jobs.append((t, node))
-        end = t + self.spec.job_time
-        self._broadcast("C07", node, 1, seen, t, end, last=True)
-        self.next_kind, self.next_node = "job_end", node
-
-    def _end_job(self, node: int, t: float) -> None:
-        log = self.log
-        log.job_time += self.spec.job_time
-        fail = self.mission.job_failure
-        if fail > 0 and self.rng.random() < fail:
-            log.failed_jobs += 1
-            self.belief.mark_not_done(node)
-            self._broadcast("C08", node, 0, (), t)
-        else:
-            log.path[-1] = (node, True)
-            if log.moves == 0:
-                log.nest_job = True
-            self._broadcast("C08", node, 1, (), t)
-        self._decide(t)
-
-    def _decide(self, t: float) -> None:
-        b = self.belief
-        b.now = t
-        d = self.policy.decide(b, self.rng)
-        log = self.log
-        log.decisions_by_branch[d.branch] += 1
-        if d.kind == "job":
-            self._start_job(d.node, t)
-        elif d.kind == "move":
-            here = b.here
-            dt = self.graph.edge_length(here, d.node) * b.time_per_unit[self.me]
-            b.announce_move(d.node)
-            log.moves += 1
-            log.travel_time += dt
-            self._broadcast("C05", d.node, 0, (), t, t + dt, last=True)
-            self.next_kind, self.next_node = "arrive", d.node
-        else:
-            self._finish(t)
-
-    def _finish(self, t: float) -> None:
-        log = self.log
-        log.finished_at = t
-        home = distance_field(self.graph, self.spec.nest, self.truth_blocked)[log.node]
-        log.rtl_length = float(home)
+        world = self.mission.world
+        log.rtl_length = float(distance_field(world.graph, self.spec.nest, world.blocked)[log.node])
         self.finished = True
-        self._broadcast("C09", log.node, 0, (), t, t + self.rtl_time(), last=True)
+        bit, nodes, doers = 1, None, None
+        if self.mission.done_lists:
+            bit, nodes, doers = self.agent.encode_done_list()[:3]
+        return Broadcast("C09", self.me, log.node, 0, bit, nodes, doers, (), float(t),
+                         float(t + self.rtl_time()))
 
     def rtl_time(self) -> float:
         """Mission seconds of the flight home (C09 → C10)."""
@@ -484,7 +459,7 @@ class AgentCore:
             return 0.0
         return self.log.rtl_length * self.mission.unit_length / self.spec.travel_speed
 
-    def stats(self) -> dict[str, Any]:
+    def stats(self) -> dict:
         """The statistics uploaded after C11 (seed 000 §4.3: path, jobs, times)."""
         log = self.log
         return {
@@ -544,7 +519,7 @@ class Incarnation:
     log: AgentLog
     left_at: float | None = None
     abandoned_jobs: list[tuple[float, int]] = field(default_factory=list)
-    stats: dict[str, Any] | None = None
+    stats: dict | None = None
 
 
 class Recorder:
@@ -662,11 +637,13 @@ __all__ = [
     "Replica",
     "WireError",
     "apply_to_belief",
+    "broadcast_of",
     "catch_up",
     "ends_step",
     "check_broadcast",
     "check_stats",
     "forget_agent",
+    "message_of",
     "run_inprocess",
     "warm_up",
 ]

@@ -1,6 +1,7 @@
 """Traversal mission (seed 000): MADGTA, its baselines and variants on any graph."""
 
 from swarmex.missions.traversal import variants  # noqa: F401,E402  (registers variants)
+from swarmex.missions.traversal.agent import TraversalAgent
 from swarmex.missions.traversal.agents import AgentSpec, uniform_agents
 from swarmex.missions.traversal.metrics import run_metrics, traversal_record
 from swarmex.missions.traversal.policies import Madgta, Nearest, get_best_node, make_policy
@@ -10,6 +11,7 @@ __all__ = [
     "AgentSpec",
     "Madgta",
     "Nearest",
+    "TraversalAgent",
     "TraversalRun",
     "get_best_node",
     "make_policy",

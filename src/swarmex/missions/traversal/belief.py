@@ -6,6 +6,7 @@
 * ``reserved[v]``: the agent id that announced ``v`` as its next node (C05), 0 if none.
 * ``loc[k]``: the last vertex agent ``k`` physically reached (-1 until heard from).
 * ``known``: the graph minus known obstacles, with its distance-field cache.
+* ``orphaned``: vertices reverted to not done because the rival doing their job left.
 
 KM (Algorithm 1) is ``status != 0`` plus vertices reserved by *other* agents. Beliefs are
 updated only by the agent's own sensing and by messages; policies read nothing else.
@@ -73,6 +74,9 @@ class TraversalBelief:
             self.free_at = table.free_at[me]
         self.now = 0.0
         self.intent = -1  # the vertex this agent announced it will do the job at (C05)
+        # vertices reverted to not done because the rival doing their job left the mission:
+        # a done-nodes list may not mark them done again, only a C07 (agent.merge_done_list)
+        self.orphaned: set[int] = set()
         self.time_per_unit = time_per_unit  # seconds per length unit, by id
         self.job_time = job_time  # seconds per job, by id
 
@@ -168,8 +172,9 @@ def deliver(
 ):  # pragma: no cover - compiled
     """Apply one message to every belief of a :class:`BeliefTable` except the sender's.
 
-    Row for row the same updates, in the same order, as :meth:`TraversalBelief.see_obstacles`
-    followed by the per-kind handling of the simulator (``_Sim.apply``): position (and
+    Row for row the same updates, in the same order, as
+    :func:`swarmex.missions.traversal.agent.apply_message` for a message without a done list
+    (the agent core's rule for a received message): position (and
     release of the sender's reservation), job start (conditionally accomplished), next node
     (reservation) or job failure. Obstacles must already be in the shared known graph.
     """
