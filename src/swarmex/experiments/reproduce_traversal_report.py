@@ -19,7 +19,16 @@ from typing import Any
 import numpy as np
 from scipy import stats as sps
 
-from swarmex.experiments.candles import Reference, candle_chart
+from swarmex.engine.stats import (
+    Z95,
+    Summary,
+    implied_sample_size,
+    intervals_overlap,
+    normal_ci,
+    position_in_interval,
+    standard_errors_apart,
+    summarize,
+)
 from swarmex.experiments.reproduce_traversal import (
     JOB_TIME,
     PER_AGENT_METRICS,
@@ -32,15 +41,7 @@ from swarmex.experiments.reproduce_traversal import (
     build_plan,
     reference_rows,
 )
-from swarmex.experiments.stats import (
-    Summary,
-    implied_sample_size,
-    intervals_overlap,
-    normal_ci,
-    position_in_interval,
-    standard_errors_apart,
-    summarize,
-)
+from swarmex.viz.candles import Reference, candle_chart
 
 #: The thesis's best fleet size by preparation time p (Figs. 5.13–5.14, §5.1.2 text).
 THESIS_FLEET = ((10, 0.0, 48.0), (7, 81.0, 104.0), (4, 227.0, 377.0), (2, 764.0, math.inf))
@@ -117,7 +118,7 @@ def analyse_groups(groups: Sequence[Group], runs: dict[str, dict]) -> list[Group
                     values = [v for r in rs for v in r["agents"][metric]]
                 else:
                     values = [_per_run(r, metric) for r in rs]
-                ours[name] = summarize(values)
+                ours[name] = summarize(values, z=Z95)
         opt_hits = sum(1 for r in rs if r["totals"]["nodes_without_job_all"] == 0)
         floor_hits = 0
         for r in rs:
@@ -133,7 +134,7 @@ def analyse_figures(plan: Plan, runs: dict[str, dict]) -> list[FigureResult]:
         bars = []
         for b in f.bars:
             rs = _runs_for(runs, b.config.key, b.reps)
-            s = summarize([_per_run(r, f.metric) for r in rs]) if rs else None
+            s = summarize([_per_run(r, f.metric) for r in rs], z=Z95) if rs else None
             bars.append(BarResult(b.label, s, rs))
         fr = FigureResult(f, bars)
         labels = [b.label for b in bars]
@@ -277,7 +278,7 @@ def _fleet_chart(
     """Cost lines n·p + T_max(n), their lower envelope, our and the thesis's best-n bands."""
     import matplotlib.pyplot as plt
 
-    from swarmex.experiments.candles import OURS, THEIRS
+    from swarmex.viz.candles import OURS, THEIRS
 
     ps = np.linspace(0, p_max, 401)
     fig, ax = plt.subplots(figsize=(6.2, 4.4), dpi=110)

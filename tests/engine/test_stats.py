@@ -1,25 +1,25 @@
-"""Summary statistics and the resumable run store, checked against hand-computed values."""
+"""Summary statistics and confidence intervals, checked against hand-computed values."""
 
 from __future__ import annotations
 
-import json
 import math
 
 import pytest
 
-from swarmex.experiments.runstore import RunStore, stable_seed
-from swarmex.experiments.stats import (
+from swarmex.engine.stats import (
+    Z95,
     implied_sample_size,
     intervals_overlap,
     normal_ci,
     position_in_interval,
     standard_errors_apart,
     summarize,
+    summarize_groups,
 )
 
 
 def test_summary_of_four_values_by_hand():
-    s = summarize([4.0, 1.0, 3.0, 2.0])
+    s = summarize([4.0, 1.0, 3.0, 2.0], z=Z95)
     assert (s.n, s.min, s.max, s.median, s.mean) == (4, 1.0, 4.0, 2.5, 2.5)
     # sample STD: sqrt(((1.5² + 0.5²) * 2) / 3) = sqrt(5/3)
     assert s.std == pytest.approx(math.sqrt(5 / 3))
@@ -49,12 +49,13 @@ def test_implied_sample_size_inverts_the_ci():
 
 
 def test_degenerate_samples():
-    one = summarize([7.0])
+    one = summarize([7.0], z=Z95)
     assert (one.std, one.ci_low, one.ci_high) == (0.0, 7.0, 7.0)
-    const = summarize([3.0] * 5)
+    const = summarize([3.0] * 5, z=Z95)
     assert const.ci == (3.0, 3.0)
-    with pytest.raises(ValueError):
-        summarize([])
+    assert summarize([3.0] * 5).ci == (3.0, 3.0)  # Student t too: no spread, no width
+    empty = summarize([])
+    assert empty.n == 0 and math.isnan(empty.mean) and math.isnan(empty.half_width)
     with pytest.raises(ValueError):
         normal_ci(0.0, 1.0, 0)
 
@@ -66,33 +67,32 @@ def test_overlap_position_and_distance():
     assert position_in_interval(450.0, (450.45, 453.07)) == "below"
     assert position_in_interval(451.0, (450.45, 453.07)) == "inside"
     assert position_in_interval(454.0, (450.45, 453.07)) == "above"
-    s = summarize([1.0, 2.0, 3.0, 4.0])  # standard error sqrt(5/3)/2
+    s = summarize([1.0, 2.0, 3.0, 4.0], z=Z95)  # standard error sqrt(5/3)/2
     assert standard_errors_apart(s, 2.0) == pytest.approx(0.5 / (math.sqrt(5 / 3) / 2))
 
 
-def test_stable_seed_is_a_fixed_function_of_its_parts():
-    assert stable_seed("traversal", "k", 3) == stable_seed("traversal", "k", 3)
-    assert stable_seed("traversal", "k", 3) != stable_seed("traversal", "k", 4)
-    assert 0 <= stable_seed("x") < 2**32
-    # sha256("a|1")[:4] little-endian: pinned so seeds never drift between versions
-    assert stable_seed("a", 1) == int.from_bytes(
-        __import__("hashlib").sha256(b"a|1").digest()[:4], "little"
-    )
+def test_t_interval_matches_a_hand_computation():
+    s = summarize([1.0, 2.0, 3.0, 4.0])
+    sd = math.sqrt(((1.5**2) * 2 + (0.5**2) * 2) / 3)  # sample sd of 1..4
+    t_975_3 = 3.182446305284263  # Student t quantile, 3 degrees of freedom
+    assert s.mean == 2.5 and s.n == 4
+    assert s.half_width == pytest.approx(t_975_3 * sd / 2, rel=1e-12)
+    assert math.isnan(summarize([7.0]).half_width) and summarize([7.0]).mean == 7.0
+    assert summarize([None, float("nan")]).n == 0
 
 
-def test_run_store_keeps_runs_across_an_interruption(tmp_path):
-    path = tmp_path / "runs.json"
-    store = RunStore(path, {"study": "t"}, flush_every=1e9)
-    store.add({"id": "a#0", "x": 1})
-    store.add({"id": "a#1", "x": 2})
-    # simulate a kill: no close(), and a torn last journal line
-    store._journal.write('{"id": "a#2", "x"')
-    store._journal.flush()
-    again = RunStore(path, {"study": "t"})
-    assert "a#0" in again and "a#1" in again and "a#2" not in again
-    again.add_config("a", {"p": 1})
-    again.close()
-    data = json.loads(path.read_text())
-    assert set(data["runs"]) == {"a#0", "a#1"}
-    assert data["configs"] == {"a": {"p": 1}} and data["study"] == "t"
-    assert not store.journal_path.exists()
+def test_summarize_groups_and_skips_failures():
+    rows = [
+        {"a": 1, "seed": 0, "makespan": 10.0, "complete": True, "error": None},
+        {"a": 1, "seed": 1, "makespan": 14.0, "complete": False, "error": None},
+        {"a": 2, "seed": 0, "makespan": None, "complete": None, "error": "boom"},
+        {"a": 2, "seed": 1, "makespan": 5.0, "complete": True, "error": None},
+    ]
+    g1, g2 = summarize_groups(rows, ["a"], ["makespan", "complete"])
+    assert g1.config == {"a": 1} and (g1.runs, g1.failed) == (2, 0)
+    assert g1.stats["makespan"].mean == 12.0
+    t_975_1 = 12.706204736174698
+    sd = math.sqrt(8)  # sample sd of 10 and 14
+    assert g1.stats["makespan"].half_width == pytest.approx(t_975_1 * sd / math.sqrt(2))
+    assert g1.stats["complete"].mean == 0.5
+    assert (g2.runs, g2.failed, g2.stats["makespan"].n) == (2, 1, 1)

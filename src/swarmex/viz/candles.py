@@ -20,7 +20,7 @@ import matplotlib
 matplotlib.use("Agg")  # files only: reproductions run headless, in workers and in CI
 import matplotlib.pyplot as plt  # noqa: E402
 
-from swarmex.experiments.stats import Summary  # noqa: E402
+from swarmex.engine.stats import Summary  # noqa: E402
 
 OURS = "#1f77b4"
 THEIRS = "#d62728"
