@@ -8,20 +8,8 @@ import typer
 
 from swarmex.cli.app import app, console, reproduce_app
 from swarmex.cli.outputs import RENDER_SUFFIXES, check_output
+from swarmex.cli.shared import load_world, run_mesh
 from swarmex.errors import InputError
-
-
-def load_world(map_path: Path | None, empty: str | None, cell: float | None):
-    """The metric grid named by exactly one of ``--map`` and ``--empty``."""
-    from swarmex.worlds.metric import DEFAULT_CELL, empty_metric, load_metric, parse_size
-
-    if (map_path is None) == (empty is None):
-        raise InputError("give exactly one of --map FILE and --empty WxH")
-    if cell is not None and not cell > 0:
-        raise InputError(f"--cell must be a positive number of metres, got {cell:g}")
-    if empty is not None:
-        return empty_metric(*parse_size(empty), DEFAULT_CELL if cell is None else cell)
-    return load_metric(map_path, cell)
 
 
 class FrameRecorder:
@@ -121,8 +109,6 @@ def explore(
     if processes:
         if render is not None:
             raise InputError("--render is not available with --processes (use swarmex monitor)")
-        from swarmex.cli.commands_net import run_mesh
-
         rec = run_mesh(grid, params, time_scale, loss=inject_loss, json_path=json_path)
         raise typer.Exit(0 if rec["complete"] else 1)
     if inject_loss:

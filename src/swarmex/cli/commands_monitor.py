@@ -112,7 +112,7 @@ def exploration_world(record: dict, base: Path | None) -> dict:
     """The true occupancy grid of an exploration record, loaded as ``swarmex explore`` does."""
     import re
 
-    from swarmex.cli.commands_exploration import load_world
+    from swarmex.cli.shared import load_world
     from swarmex.viz.monitor.events import world_event
 
     world = record.get("world") or {}

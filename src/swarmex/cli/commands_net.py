@@ -12,7 +12,6 @@ to the web monitor's ingest WebSocket with ``--forward``. The protocol is descri
 
 from __future__ import annotations
 
-import math
 import sys
 from pathlib import Path
 
@@ -27,15 +26,10 @@ from swarmex.cli.commands_traversal import (
     where_params,
 )
 from swarmex.cli.outputs import check_output
+from swarmex.cli.shared import _positive, _say, load_world, run_mesh
 from swarmex.errors import InputError
 
 HOSTS_HELP = "Interface to bind (127.0.0.1 = this machine only; * = all)."
-
-
-def _positive(value: float, option: str, zero_ok: bool = False) -> None:
-    ok = value >= 0 if zero_ok else value > 0
-    if not ok or math.isnan(value) or math.isinf(value):
-        raise InputError(f"{option} must be {'>= 0' if zero_ok else '> 0'}, got {value}")
 
 
 def _address(connect: str) -> str:
@@ -150,11 +144,6 @@ def serve(
     raise typer.Exit(code)
 
 
-def _say(text: str) -> None:
-    console.print(text, highlight=False, soft_wrap=True)
-    console.file.flush()
-
-
 @app.command()
 def agent(
     connect: str = typer.Option(..., "--connect", help="The server: tcp://HOST:PORT."),
@@ -264,38 +253,6 @@ def parse_kills(text: str | None) -> dict[int, int]:
     return out
 
 
-def run_mesh(grid, params, time_scale: float = 1.0, loss: float = 0.0,
-             kills: dict[int, int] | None = None, send_timeout_ms: int = 20,
-             timeout: float = 600.0, json_path: Path | None = None,
-             monitor_url: str | None = None) -> dict:
-    """``explore --processes``: validate the network options, run, print the summary line."""
-    from swarmex.net.mesh import MeshOptions, run_processes
-
-    _positive(time_scale, "--time-scale")
-    _positive(timeout, "--timeout")
-    if not 0.0 <= loss < 1.0:
-        raise InputError(f"--inject-loss must be in [0, 1), got {loss}")
-    if send_timeout_ms < 1:
-        raise InputError(f"--send-timeout must be >= 1 ms, got {send_timeout_ms}")
-    kills = kills or {}
-    for rid in kills:
-        if not 0 <= rid < params.robots:
-            raise InputError(f"--inject-kill: no robot {rid} (ids 0..{params.robots - 1})")
-    check_output(json_path, "--json")
-    options = MeshOptions(time_scale=time_scale, loss=loss, send_timeout_ms=send_timeout_ms,
-                          timeout=timeout, inject_kill=kills)
-    record = run_processes(grid, params, options, json_path, monitor_url, _say)
-    m = record["metrics"]
-    console.print(
-        f"exploration/{params.strategy} as processes: {params.robots} robot(s) — "
-        f"complete={record['complete']}, {record['makespan']:.0f} steps, explored "
-        f"{m['explored_fraction']:.2%}, robots lost {m['robots_lost']}, messages "
-        f"{m['messages_sent']} ({m['bytes_sent']} B), {record['wall_seconds']:.1f} s",
-        highlight=False,
-    )
-    return record
-
-
 @app.command(hidden=True)
 def mesh(
     map_path: Path = typer.Option(None, "--map", help="MovingAI .map or ROS map."),
@@ -319,7 +276,6 @@ def mesh(
     json_path: Path = typer.Option(None, "--json", help="Write the result record here."),
 ) -> None:
     """``swarmex explore --processes`` under another name (one process per robot)."""
-    from swarmex.cli.commands_exploration import load_world
     from swarmex.missions.exploration import ExplorationParams, parse_starts
 
     grid = load_world(map_path, empty, cell)
