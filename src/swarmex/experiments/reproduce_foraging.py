@@ -21,13 +21,13 @@ import json
 import os
 from collections import defaultdict
 from concurrent.futures import ProcessPoolExecutor, as_completed
-from importlib import resources
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from swarmex.experiments.progress import read_journal, runs_progress
+from swarmex.studies import reference_file
 
 G = 128
 UNITS = 100
@@ -211,11 +211,7 @@ def aggregate(runs: dict[str, dict[str, Any]]) -> dict[tuple, dict[str, float]]:
 
 
 def reference() -> dict[tuple, dict[str, float]]:
-    text = (
-        resources.files("swarmex.experiments")
-        .joinpath("reference/foraging_fig78_79.csv")
-        .read_text(encoding="utf-8")
-    )
+    text = reference_file("foraging_fig78_79.csv").read_text(encoding="utf-8")
     inv = {v: k for k, v in BAND_LABEL.items()}
     out = {}
     for row in csv.DictReader(text.splitlines()):

@@ -30,7 +30,6 @@ import math
 import time
 from collections.abc import Sequence
 from dataclasses import asdict, dataclass
-from importlib import resources
 from pathlib import Path
 from typing import Any
 
@@ -43,6 +42,7 @@ from swarmex.missions.roadmap.scenario import make_scenario, run_scenario
 from swarmex.planning.roadmap import Roadmap
 from swarmex.planning.rrt_wma import build_wma_rrt
 from swarmex.sensing.coverage_raster import DEFAULT_CELLS, CoverageRaster
+from swarmex.studies import reference_file
 from swarmex.worlds.polygon import PolygonWorld, parse_polygon_json
 
 R_BASE = 25.0
@@ -107,8 +107,7 @@ def world(name: str) -> PolygonWorld:
 
 
 def reference(name: str) -> list[dict[str, str]]:
-    ref = resources.files("swarmex.experiments") / "reference" / name
-    with ref.open(encoding="utf-8") as fh:
+    with reference_file(name).open(encoding="utf-8") as fh:
         return list(csv.DictReader(fh))
 
 

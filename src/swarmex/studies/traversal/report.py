@@ -1,4 +1,4 @@
-"""Analysis, figures and the Markdown report of ``swarmex reproduce traversal``.
+"""The Markdown report of ``swarmex reproduce traversal`` (and its figures, via :mod:`.figures`).
 
 Everything here reads the raw per-run records (``traversal.json``), never reruns anything:
 the report can be rebuilt from the JSON alone (:func:`rebuild`). The report puts the thesis's
@@ -12,413 +12,39 @@ import gzip
 import json
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
-from scipy import stats as sps
 
 from swarmex.engine.stats import (
-    Z95,
-    Summary,
     implied_sample_size,
     intervals_overlap,
-    normal_ci,
     position_in_interval,
     standard_errors_apart,
-    summarize,
 )
-from swarmex.experiments.reproduce_traversal import (
-    JOB_TIME,
-    PER_AGENT_METRICS,
+from swarmex.studies.traversal.analysis import (
+    CORNER_CI,
+    THESIS_FLEET,
+    FigureResult,
+    GroupResult,
+    analyse_figures,
+    analyse_groups,
+    anova_groups,
+    bar_means,
+    best_fleet,
+    fleet_t_max,
+    optimum_6x6,
+)
+from swarmex.studies.traversal.design import (
     THESIS_METRIC,
     TRAVEL_SPEED,
-    FigureSpec,
-    Group,
     Plan,
-    ReferenceRow,
     build_plan,
-    reference_rows,
 )
-from swarmex.viz.candles import Reference, candle_chart
-
-#: The thesis's best fleet size by preparation time p (Figs. 5.13–5.14, §5.1.2 text).
-THESIS_FLEET = ((10, 0.0, 48.0), (7, 81.0, 104.0), (4, 227.0, 377.0), (2, 764.0, math.inf))
-CORNER_CI = (450.45, 453.07)
+from swarmex.studies.traversal.figures import draw_figures
 
 
-@dataclass
-class GroupResult:
-    group: Group
-    runs: list[dict[str, Any]]
-    ours: dict[str, Summary]  # thesis metric name → our summary
-    thesis: dict[str, ReferenceRow]
-    optimal_hits: int  # runs with 35 moves (no travel without a job): the true optimum
-    madgta_floor_hits: int  # runs at the best total MADGTA's always-move rule allows
-
-
-@dataclass
-class BarResult:
-    label: str
-    summary: Summary | None
-    runs: list[dict[str, Any]]
-
-
-@dataclass
-class FigureResult:
-    spec: FigureSpec
-    bars: list[BarResult]
-    verdict: str = ""
-    stated_rows: list[tuple[str, str, float, Summary | None]] = field(default_factory=list)
-
-
-def _runs_for(runs: dict[str, dict], key: str, reps: int) -> list[dict[str, Any]]:
-    return [runs[f"{key}#{r}"] for r in range(reps) if f"{key}#{r}" in runs]
-
-
-def _per_run(rec: dict[str, Any], metric: str) -> float:
-    return float(rec["totals"][metric])
-
-
-def optimum_6x6(size: int = 6, side: float = 40.0, nest_degree: int = 4, agents: int = 3):
-    """Lower bounds on totalTimeAll for one nest on an empty grid: (optimum, MADGTA floor).
-
-    Every vertex but the nest must be entered at least once, so ≥ size²−1 moves and size²
-    jobs: the optimum of the §3.1 objective (one agent can snake through a Hamiltonian path;
-    idle agents cost nothing). MADGTA never lets an agent idle while work remains, so each
-    agent's first move enters a neighbour of the nest; with fewer neighbours than agents some
-    first moves repeat a vertex: ≥ size²−1 + max(0, agents − degree) moves.
-    """
-    edge = side / size / TRAVEL_SPEED
-    jobs = size * size * JOB_TIME
-    moves = size * size - 1
-    return jobs + moves * edge, jobs + (moves + max(0, agents - nest_degree)) * edge
-
-
-def _degree(k: int, size: int) -> int:
-    x, y = (k - 1) % size, (k - 1) // size
-    return sum(
-        0 <= x + dx < size and 0 <= y + dy < size for dx, dy in ((1, 0), (-1, 0), (0, 1), (0, -1))
-    )
-
-
-def analyse_groups(groups: Sequence[Group], runs: dict[str, dict]) -> list[GroupResult]:
-    """Our Table 5.1–5.2 statistics per group, beside the thesis's rows for that group."""
-    by_group: dict[str, dict[str, ReferenceRow]] = {}
-    for row in reference_rows():
-        by_group.setdefault(row.group, {})[row.metric] = row
-    results = []
-    for g in groups:
-        rs = _runs_for(runs, g.config.key, g.reps)
-        ours: dict[str, Summary] = {}
-        if rs:
-            for name, metric in THESIS_METRIC.items():
-                if metric in PER_AGENT_METRICS:
-                    values = [v for r in rs for v in r["agents"][metric]]
-                else:
-                    values = [_per_run(r, metric) for r in rs]
-                ours[name] = summarize(values, z=Z95)
-        opt_hits = sum(1 for r in rs if r["totals"]["nodes_without_job_all"] == 0)
-        floor_hits = 0
-        for r in rs:
-            _, floor = optimum_6x6(nest_degree=_degree(r["nest"], 6))
-            floor_hits += _per_run(r, "total_time_all") <= floor + 1e-6
-        results.append(GroupResult(g, rs, ours, by_group.get(g.label, {}), opt_hits, floor_hits))
-    return results
-
-
-def analyse_figures(plan: Plan, runs: dict[str, dict]) -> list[FigureResult]:
-    out = []
-    for f in plan.figures:
-        bars = []
-        for b in f.bars:
-            rs = _runs_for(runs, b.config.key, b.reps)
-            s = summarize([_per_run(r, f.metric) for r in rs], z=Z95) if rs else None
-            bars.append(BarResult(b.label, s, rs))
-        fr = FigureResult(f, bars)
-        labels = [b.label for b in bars]
-        for st in f.stated:
-            if st.bar is None:
-                for b in bars:
-                    fr.stated_rows.append((st.text, b.label, st.value, b.summary))
-            elif st.bar in labels:
-                summary = bars[labels.index(st.bar)].summary
-                fr.stated_rows.append((st.text, st.bar, st.value, summary))
-        fr.verdict = _verdict(fr)
-        out.append(fr)
-    return out
-
-
-def _anova(bars: Sequence[BarResult], metric: str) -> float:
-    samples = [[_per_run(r, metric) for r in b.runs] for b in bars if len(b.runs) >= 2]
-    if len(samples) < 2:
-        return math.nan
-    if all(np.ptp(s) == 0 for s in samples):
-        return math.nan
-    return float(sps.f_oneway(*samples).pvalue)
-
-
-def _means(fr: FigureResult) -> list[tuple[str, float]]:
-    return [(b.label, b.summary.mean) for b in fr.bars if b.summary]
-
-
-def _verdict(fr: FigureResult) -> str:
-    """One paragraph comparing the thesis's claim about a figure with our bars."""
-    means = _means(fr)
-    if not means:
-        return "No runs."
-    f = fr.spec
-    p = _anova(fr.bars, f.metric)
-    p_text = f"one-way ANOVA across the bars: p = {p:.3g}" if math.isfinite(p) else ""
-    lo = min(means, key=lambda t: t[1])
-    hi = max(means, key=lambda t: t[1])
-    if f.number in ("5.3", "5.4", "5.5", "5.6"):
-        avg = float(np.mean([m for _, m in means]))
-        text = (
-            f"Our bar means span {lo[1]:.1f}–{hi[1]:.1f} s (lowest at {lo[0]}, highest at "
-            f"{hi[0]}; spread {hi[1] - lo[1]:.1f} s = {100 * (hi[1] - lo[1]) / avg:.2f} % of the "
-            f"average {avg:.1f} s); {p_text}. "
-        )
-        whisk = float(np.mean([b.summary.max - b.summary.min for b in fr.bars if b.summary]))
-        nmin = min(b.summary.n for b in fr.bars if b.summary)
-        if math.isfinite(p):
-            text += (
-                "No detectable nest effect, as the thesis says."
-                if p > 0.05
-                else f"With {nmin} or more runs per bar the nest location has a statistically "
-                f"detectable effect, but it is small next to the min–max whiskers (on average "
-                f"{whisk:.0f} s long) that the thesis's candlesticks show, so it agrees with "
-                "the thesis's reading of its plots."
-            )
-        if f.stated:
-            v = f.stated[0].value
-            text += f" Against the stated ≈{v:.0f} s our average is {100 * (avg - v) / v:+.2f} %."
-        return text
-    if f.number in ("5.7", "5.8", "5.9", "5.11"):
-        first, last = means[0], means[-1]
-        rise = last[1] - first[1]
-        text = (
-            f"Mean totalTimeAll goes from {first[1]:.1f} s with {first[0]} agents to "
-            f"{last[1]:.1f} s with {last[0]} ({rise:+.1f} s, {100 * rise / first[1]:+.2f} %); "
-            f"the lowest mean is at {lo[0]} agents. "
-        )
-        if f.number == "5.9":
-            text += (
-                'The thesis\'s "best number of agents < 5" holds.'
-                if int(lo[0]) < 5
-                else "Unlike the thesis (best < 5), our minimum is at 5 or more agents."
-            )
-        elif f.number in ("5.7", "5.8"):
-            text += (
-                "The rising trend matches the thesis."
-                if rise > 0
-                else "We do not see the thesis's rising trend."
-            )
-        return text
-    if f.number == "5.10":
-        order = [m for _, m in means]
-        mono = all(b <= a for a, b in zip(order, order[1:], strict=False))
-        per_free = [(b.label, b.summary.mean / (400 - int(b.label))) for b in fr.bars if b.summary]
-        return (
-            "Mean totalTimeAll by obstacle count: "
-            + ", ".join(f"{lab}: {m:.0f} s" for lab, m in means)
-            + (
-                ". It decreases monotonically, as in the thesis"
-                if mono
-                else ". It does not decrease monotonically"
-            )
-            + "; per free node it is "
-            + ", ".join(f"{v:.2f}" for _, v in per_free)
-            + " s, so the drop is the saved jobs (10 s each) minus some extra detours."
-        )
-    if f.number == "5.12":
-        return (
-            "Mean mission duration (max totalTime_i) by agents: "
-            + ", ".join(f"{lab}: {m:.0f} s" for lab, m in means)
-            + ". More agents shorten the mission roughly as 1/m, as in the thesis."
-        )
-    return p_text
-
-
-# ---------------------------------------------------------------- fleet size (Figs 5.13/5.14)
-def best_fleet(t_max: dict[int, float], p_max: float = 2000.0) -> list[tuple[int, float, float]]:
-    """Intervals of preparation time p on which n minimises n·p + T_max(n) (spec [derived]).
-
-    Returns ``(n, p_from, p_to)`` in increasing p; the lower envelope of straight lines, found
-    exactly from their pairwise crossings.
-    """
-    ns = sorted(t_max)
-    if not ns:
-        return []
-    cuts = {0.0, p_max}
-    for i, a in enumerate(ns):
-        for b in ns[i + 1 :]:
-            p = (t_max[a] - t_max[b]) / (b - a)
-            if 0 < p < p_max:
-                cuts.add(p)
-    pts = sorted(cuts)
-    out: list[tuple[int, float, float]] = []
-    for lo, hi in zip(pts, pts[1:], strict=False):
-        mid = (lo + hi) / 2
-        n = min(ns, key=lambda k: (k * mid + t_max[k], k))
-        if out and out[-1][0] == n:
-            out[-1] = (n, out[-1][1], hi)
-        else:
-            out.append((n, lo, hi))
-    if out:
-        n, lo, _ = out[-1]
-        out[-1] = (n, lo, math.inf)
-    return out
-
-
-def _fleet_chart(
-    path: Path, t_max: dict[int, float], ns: list[int], title: str, p_max: float
-) -> Path:
-    """Cost lines n·p + T_max(n), their lower envelope, our and the thesis's best-n bands."""
-    import matplotlib.pyplot as plt
-
-    from swarmex.viz.candles import OURS, THEIRS
-
-    ps = np.linspace(0, p_max, 401)
-    fig, ax = plt.subplots(figsize=(6.2, 4.4), dpi=110)
-    present = [n for n in ns if n in t_max]
-    for n in present:
-        ax.plot(ps, n * ps + t_max[n], label=f"{n} agents", linewidth=1.3)
-    env = np.min([n * ps + t_max[n] for n in t_max], axis=0)
-    ax.plot(ps, env, color="black", linewidth=2.4, alpha=0.35, label="best over all fleets")
-    ax.set_xlim(0, p_max)
-    lo_y, hi_y = ax.get_ylim()
-    band = (hi_y - lo_y) * 0.06
-    ax.set_ylim(lo_y - 2.4 * band, hi_y)
-
-    def bands(items, y: float, color: str, label: str) -> None:
-        for j, (n, lo, hi) in enumerate(items):
-            hi = min(hi, p_max)
-            if hi <= lo or lo >= p_max:
-                continue
-            ax.add_patch(
-                plt.Rectangle(
-                    (lo, y),
-                    hi - lo,
-                    band * 0.8,
-                    color=color,
-                    alpha=0.25,
-                    label=label if j == 0 else None,
-                )
-            )
-            ax.annotate(
-                str(n),
-                ((lo + hi) / 2, y + band * 0.4),
-                ha="center",
-                va="center",
-                fontsize=7,
-                color=color,
-            )
-
-    bands(best_fleet(t_max), lo_y - band, OURS, "best n (ours)")
-    bands(THESIS_FLEET, lo_y - 2.2 * band, THEIRS, "best n (thesis)")
-    ax.set_xlabel("preparation time per UAV p (s)")
-    ax.set_ylabel("n·p + mean max totalTime_i (s)")
-    ax.set_title(title, fontsize=10)
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=7, loc="upper left")
-    fig.tight_layout()
-    fig.savefig(path)
-    plt.close(fig)
-    return path
-
-
-# ---------------------------------------------------------------- figures
-def _thesis_summary(row: ReferenceRow | None) -> Summary | None:
-    if row is None:
-        return None
-    return Summary(108, row.min, row.max, row.median, row.mean, row.std, row.ci_low, row.ci_high)
-
-
-def draw_figures(groups: list[GroupResult], figs: list[FigureResult], out: Path) -> list[Path]:
-    paths: list[Path] = []
-    by_nest = {k: g for g in groups for k in g.group.config.nests}
-
-    def group_fig(number: str, nodes: list[tuple[str, int]], title: str) -> None:
-        chosen = [(lab, by_nest[k]) for lab, k in nodes if k in by_nest and by_nest[k].ours]
-        if not chosen:
-            return
-        paths.append(
-            candle_chart(
-                out / f"fig_{number.replace('.', '_')}.png",
-                [lab for lab, _ in chosen],
-                [g.ours["totalTimeAll"] for _, g in chosen],
-                f"Fig. {number}: {title}",
-                "nest node (its symmetry group)",
-                "totalTimeAll (s)",
-                theirs=[_thesis_summary(g.thesis.get("totalTimeAll")) for _, g in chosen],
-            )
-        )
-
-    group_fig("5.1", [("1", 1), ("2", 2), ("3", 3)], "6×6, 40×40 m, 3 agents, nest on the border")
-    group_fig("5.2", [("8", 8), ("15 = 22", 15)], "6×6, 40×40 m, 3 agents, nest in the middle")
-    for fr in figs:
-        f = fr.spec
-        present = [b for b in fr.bars if b.summary]
-        if not present:
-            continue
-        labels = [b.label for b in present]
-        refs = []
-        for st in f.stated:
-            if st.bar is None:
-                refs.append(Reference(st.value, f"thesis: {st.text}"))
-            elif st.bar in labels:
-                refs.append(Reference(st.value, "thesis (stated)", labels.index(st.bar)))
-        ylabel = "max totalTime_i (s)" if f.metric == "max_total_time" else "totalTimeAll (s)"
-        paths.append(
-            candle_chart(
-                out / f"fig_{f.number.replace('.', '_')}.png",
-                labels,
-                [b.summary for b in present],
-                f"Fig. {f.number}: {f.title}",
-                f.xlabel,
-                ylabel,
-                references=refs,
-                note=_n_note([b.summary.n for b in present]),
-            )
-        )
-    t_max = _t_max(figs)
-    if t_max:
-        paths.append(
-            _fleet_chart(
-                out / "fig_5_13.png",
-                t_max,
-                list(range(2, 7)),
-                "Fig. 5.13: fleet cost n·p + T_max(n), 2–6 agents",
-                1000.0,
-            )
-        )
-        paths.append(
-            _fleet_chart(
-                out / "fig_5_14.png",
-                t_max,
-                list(range(6, 11)),
-                "Fig. 5.14: fleet cost n·p + T_max(n), 6–10 agents",
-                250.0,
-            )
-        )
-    return paths
-
-
-def _n_note(ns: list[int]) -> str:
-    lo, hi = min(ns), max(ns)
-    return f"n = {lo} runs per bar" if lo == hi else f"n = {lo}–{hi} runs per bar"
-
-
-def _t_max(figs: list[FigureResult]) -> dict[int, float]:
-    for fr in figs:
-        if fr.spec.number == "5.12":
-            return {int(b.label): b.summary.mean for b in fr.bars if b.summary}
-    return {}
-
-
-# ---------------------------------------------------------------- report
 def _f(x: float, nd: int = 2) -> str:
     return f"{x:.{nd}f}"
 
@@ -501,7 +127,7 @@ def render_report(
         "Every raw per-run number is in `traversal.json` (key `runs`, one record per run: "
         "seed, nest, obstacles, totals and the per-agent metrics); figures and this report "
         "can be rebuilt from it with "
-        "`swarmex.experiments.reproduce_traversal_report.rebuild(DIR)`.",
+        "`swarmex.studies.traversal.report.rebuild(DIR)`.",
         "",
         "**Model.** Discrete-event simulation of MADGTA (`swarmex.missions.traversal`), "
         "thesis parameters: 3 identical agents (or 2–10 in the series), travel 3 m/s, job 10 s, "
@@ -574,7 +200,7 @@ def render_report(
         + ".",
         "",
     ]
-    p = _anova_groups(groups)
+    p = anova_groups(groups)
     if math.isfinite(p):
         L += [f"One-way ANOVA of our totalTimeAll across the six groups: p = {p:.3g}.", ""]
     # optimum
@@ -703,15 +329,8 @@ def _sessions_text(sessions: list[dict[str, Any]]) -> str:
     )
 
 
-def _anova_groups(groups: list[GroupResult]) -> float:
-    samples = [[_per_run(r, "total_time_all") for r in g.runs] for g in groups if len(g.runs) > 1]
-    if len(samples) < 2:
-        return math.nan
-    return float(sps.f_oneway(*samples).pvalue)
-
-
 def _fleet_section(figs: list[FigureResult]) -> list[str]:
-    t_max = _t_max(figs)
+    t_max = fleet_t_max(figs)
     if not t_max:
         return []
     ours = best_fleet(t_max)
@@ -750,7 +369,7 @@ def _nest_spread(by_num: dict[str, FigureResult]) -> str:
     parts = []
     for number in ("5.5", "5.6"):
         fr = by_num.get(number)
-        means = [m for _, m in _means(fr)] if fr else []
+        means = [m for _, m in bar_means(fr)] if fr else []
         if means:
             avg = float(np.mean(means))
             parts.append(
@@ -1001,7 +620,7 @@ def _explanations(
                 "probably read off the lower end of a bar.",
                 "",
             ]
-    t_max = _t_max(figs)
+    t_max = fleet_t_max(figs)
     if len(t_max) >= 3:
         L += [
             "**6. Fleet sizes.** The best n switches where the lines n·p + T_max(n) cross, "
@@ -1029,11 +648,4 @@ def _explanations(
     return L
 
 
-__all__ = [
-    "best_fleet",
-    "normal_ci",
-    "optimum_6x6",
-    "rebuild",
-    "render_report",
-    "write_outputs",
-]
+__all__ = ["rebuild", "render_report", "write_outputs"]

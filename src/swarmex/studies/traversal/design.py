@@ -1,48 +1,32 @@
-"""``swarmex reproduce traversal``: rerun seed 000's chapter-5 simulation series.
+"""Which runs ``swarmex reproduce traversal`` makes: seed 000's chapter-5 plan.
 
 What is rerun (spec §4): Tables 5.1–5.2 (6×6 grid, 40×40 m, three identical agents from one
 nest, the six symmetry groups of nests, ~108 runs each: the run count the tables' intervals
 imply) and the series behind Figures 5.1–5.14 (10×10, 15×15 and 20×20 grids, 2–10 agents,
 nests on the border or the diagonal, obstacle counts, mission duration, best fleet size).
 
-How (and why this way):
+Every run is one :class:`RunSpec` of a :class:`Config`: the thesis's agent parameters (3 m/s,
+10 s jobs, 5 m altitude, 1.5 m/s up, 0.3 m/s down, clients 0.5 s apart) and node spacing
+side/nodesOnEdge (spec §4.1 [derived]). A run's seed is a hash of its configuration and
+repetition number, so results do not depend on scheduling or on the number of worker
+processes, and a configuration shared by two figures (e.g. 20×20, 10 agents, nest 3 in
+Figs. 5.5 and 5.11) is run once and reused. The thesis's Tables 5.1–5.2 are read from the
+package (:func:`reference_rows`).
 
-* Every run is one call of :func:`~swarmex.missions.traversal.run_traversal` with the
-  thesis's agent parameters (3 m/s, 10 s jobs, 5 m altitude, 1.5 m/s up, 0.3 m/s down,
-  clients 0.5 s apart) and node spacing side/nodesOnEdge (spec §4.1 [derived]).
-* A run's seed is a hash of its configuration and repetition number, so results do not depend
-  on scheduling or on the number of worker processes, and a configuration shared by two
-  figures (e.g. 20×20, 10 agents, nest 3 in Figs. 5.5 and 5.11) is run once and reused.
-* Results go to ``traversal.json`` through :class:`~swarmex.experiments.runstore.RunStore`
-  as they complete; a rerun skips every run already stored (an interrupted sweep resumes,
-  and a ``--quick`` sweep's runs are a subset of the full one's).
-* Runs are spread over a ``ProcessPoolExecutor`` (spawned workers: the parent runs a Rich
-  progress thread, and forking a threaded process is unsafe).
-
-The analysis, figures and the Markdown report are in
-:mod:`swarmex.experiments.reproduce_traversal_report`.
+Executing the plan is :mod:`.runs`; the analysis, figures and report are :mod:`.analysis`,
+:mod:`.figures` and :mod:`.report`; :func:`swarmex.studies.traversal.reproduce` runs them all.
 """
 
 from __future__ import annotations
 
 import csv
-import random
 import re
-import time
-from collections.abc import Callable, Iterable
-from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from collections.abc import Iterable
 from dataclasses import dataclass, field, replace
-from importlib import resources
-from multiprocessing import get_context
-from pathlib import Path
 from typing import Any
 
-import numpy as np
-from scipy import ndimage
-
-from swarmex import __version__
-from swarmex.engine.record import plain
-from swarmex.experiments.runstore import RunStore, stable_seed
+from swarmex.experiments.runstore import stable_seed
+from swarmex.studies import reference_file
 
 # ---------------------------------------------------------------- thesis parameters (§5.1.2)
 TRAVEL_SPEED = 3.0  # m/s (300 cm/s)
@@ -248,8 +232,7 @@ GROUP_NAMES = (
 
 def reference_rows() -> list[ReferenceRow]:
     """Tables 5.1–5.2 as shipped in the package (copied from ../shared/reference)."""
-    ref = resources.files("swarmex.experiments").joinpath("reference/traversal_tables_5_1_5_2.csv")
-    with ref.open(encoding="utf-8") as fh:
+    with reference_file("traversal_tables_5_1_5_2.csv").open(encoding="utf-8") as fh:
         return [
             ReferenceRow(
                 r["nest_nodes"],
@@ -445,214 +428,3 @@ def build_plan(quick: bool = False, reps: int | None = None) -> Plan:
         for g in (groups[:1] if quick else groups)
     ]
     return Plan(quick, groups, figures, sensitivity)
-
-
-# ---------------------------------------------------------------- one run
-def obstacle_layout(size: int, count: int, keep_free: int, seed: int) -> list[int]:
-    """``count`` random obstacle nodes (thesis ids), never ``keep_free``, free cells connected.
-
-    Fig. 5.10 plots obstacle *counts*, so we place exactly that many and redraw rather than
-    fill disconnected pockets (which would change the count).
-    """
-    if count == 0:
-        return []
-    rng = np.random.default_rng(seed)
-    candidates = np.array([k for k in range(1, size * size + 1) if k != keep_free])
-    for _ in range(10_000):
-        chosen = np.sort(rng.choice(candidates, size=count, replace=False))
-        free = np.ones((size, size), dtype=bool)
-        for k in chosen:
-            v = thesis_node(int(k), size)
-            free[v // size, v % size] = False
-        if ndimage.label(free)[1] == 1:
-            return [int(k) for k in chosen]
-    raise RuntimeError(f"no connected layout with {count} obstacles on {size}x{size}")
-
-
-def execute(spec: RunSpec) -> dict[str, Any]:
-    """Run one configuration repetition and return its JSON-ready record (worker entry)."""
-    from swarmex.missions.traversal import AgentSpec, run_metrics, run_traversal
-    from swarmex.worlds import GridWorld
-
-    cfg = spec.config
-    n = cfg.size
-    obstacles = obstacle_layout(
-        n, cfg.obstacles, spec.nest, stable_seed("traversal-obstacles", cfg.key, spec.rep)
-    )
-    free = np.ones((n, n), dtype=bool)
-    for k in obstacles:
-        v = thesis_node(k, n)
-        free[v // n, v % n] = False
-    world = GridWorld(free, source=f"thesis {n}x{n}")
-    nest = thesis_node(spec.nest, n)
-    # Uneven starts (sensitivity series): the simulator starts client i at 0.5·i s plus its
-    # takeoff time, so a slower climb is how a late start is expressed; it changes only
-    # additionalTime_i (takeoff), which the sensitivity analysis does not use.
-    offsets = [0.0] * cfg.agents
-    if cfg.jitter:
-        rng = np.random.default_rng(stable_seed("traversal-jitter", cfg.key, spec.rep))
-        offsets = [float(x) for x in rng.uniform(0.0, cfg.jitter, cfg.agents)]
-    ups = [UP_SPEED if off == 0 else ALTITUDE / (ALTITUDE / UP_SPEED + off) for off in offsets]
-    agents = [AgentSpec(nest, TRAVEL_SPEED, JOB_TIME, ALTITUDE, up, DOWN_SPEED) for up in ups]
-    t0 = time.perf_counter()
-    run = run_traversal(
-        world,
-        agents,
-        "madgta",
-        seed=spec.seed,
-        start_interval=START_INTERVAL,
-        unit_length=cfg.unit_length,
-    )
-    totals, per_agent = run_metrics(run, cfg.unit_length)
-    wall = time.perf_counter() - t0
-    keep = (
-        "total_time_all",
-        "nodes_without_job_all",
-        "max_total_time",
-        "mission_end",
-        "duplicate_jobs",
-        "nodes_missed",
-        "reachable_nodes",
-    )
-    return plain(
-        {
-            "id": spec.id,
-            "config": cfg.key,
-            "rep": spec.rep,
-            "seed": spec.seed,
-            "nest": spec.nest,
-            "obstacles": obstacles,
-            "start_offsets": offsets,
-            "complete": run.complete,
-            "totals": {k: totals[k] for k in keep},
-            "agents": {m: [a[m] for a in per_agent] for m in (*PER_AGENT_METRICS, "finished_at")},
-            "wall_seconds": wall,
-        }
-    )
-
-
-# ---------------------------------------------------------------- the sweep
-def run_sweep(
-    specs: list[RunSpec],
-    store: RunStore,
-    workers: int,
-    on_result: Callable[[dict[str, Any]], None] | None = None,
-) -> int:
-    """Run every spec not yet in ``store``; returns how many were run now.
-
-    Pending runs are shuffled (deterministically): costly and cheap configurations then mix
-    evenly, so the progress rate is steady and the ETA honest. Order cannot change results
-    (each run's seed is its own).
-    """
-    pending = [s for s in specs if s.id not in store]
-    random.Random(0).shuffle(pending)
-
-    def done(rec: dict[str, Any]) -> None:
-        store.add(rec)
-        if on_result:
-            on_result(rec)
-
-    if workers <= 1:
-        for s in pending:
-            done(execute(s))
-        return len(pending)
-    window = 8 * workers
-    with ProcessPoolExecutor(max_workers=workers, mp_context=get_context("spawn")) as pool:
-        todo = iter(pending)
-        running: set[Future] = set()
-        try:
-            while True:
-                while len(running) < window:
-                    s = next(todo, None)
-                    if s is None:
-                        break
-                    running.add(pool.submit(execute, s))
-                if not running:
-                    break
-                finished, running = wait(running, return_when=FIRST_COMPLETED)
-                for fut in finished:
-                    done(fut.result())
-        except BaseException:
-            for fut in running:
-                fut.cancel()
-            raise
-    return len(pending)
-
-
-def reproduce(
-    out: Path,
-    quick: bool = False,
-    workers: int | None = None,
-    reps: int | None = None,
-    progress: Callable[[int, int], Any] | None = None,
-    console=None,
-) -> dict[str, Any]:
-    """Run (or resume) the sweep into ``out``/traversal.json, then write figures and report.
-
-    Returns a small summary (paths, runs executed, elapsed seconds) for the CLI to print.
-    """
-    from swarmex.experiments.progress import runs_progress
-    from swarmex.experiments.reproduce_traversal_report import write_outputs
-
-    out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
-    workers = workers if workers is not None else (1 if quick else 2)
-    plan = build_plan(quick, reps)
-    specs = plan.run_specs()
-    header = {
-        "study": "traversal",
-        "seed_file": "000_a5793bd95eb4b07a.txt",
-        "format": 1,
-        "swarmex_version": __version__,
-        "agent_params": AGENT_PARAMS,
-    }
-    store = RunStore(out / "traversal.json", header)
-    sessions = _previous_sessions(out / "traversal.json")
-    for key, cfg in plan.configs().items():
-        store.add_config(key, cfg.params())
-    already = sum(1 for s in specs if s.id in store)
-    t0 = time.perf_counter()
-    executed = 0
-    try:
-        with runs_progress("traversal", console, disable=console is None) as bar:
-            task = bar.add_task("runs", total=len(specs), completed=already)
-
-            def tick(_: dict[str, Any]) -> None:
-                bar.advance(task)
-                if progress:
-                    progress(int(bar.tasks[0].completed), len(specs))
-
-            executed = run_sweep(specs, store, workers, tick)
-    finally:
-        elapsed = time.perf_counter() - t0
-        store.header["sessions"] = [
-            *sessions,
-            {
-                "mode": "quick" if quick else "full",
-                "workers": workers,
-                "runs_planned": len(specs),
-                "runs_executed": executed,
-                "elapsed_s": round(elapsed, 2),
-                "finished": executed == len(specs) - already,
-            },
-        ]
-        store.close()
-    paths = write_outputs(plan, store.runs, out, store.header)
-    return {
-        "json": out / "traversal.json",
-        "report": paths["report"],
-        "figures": paths["figures"],
-        "runs": len(specs),
-        "executed": executed,
-        "elapsed_s": elapsed,
-        "workers": workers,
-    }
-
-
-def _previous_sessions(path: Path) -> list[dict[str, Any]]:
-    import json
-
-    try:
-        return list(json.loads(path.read_text(encoding="utf-8")).get("sessions", []))
-    except (OSError, ValueError):
-        return []

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import csv
 import json
 import math
 from pathlib import Path
@@ -10,19 +9,17 @@ from pathlib import Path
 import pytest
 
 from swarmex.cli import main
-from swarmex.experiments.reproduce_traversal import (
+from swarmex.experiments.runstore import RunStore
+from swarmex.studies.traversal.analysis import best_fleet, optimum_6x6
+from swarmex.studies.traversal.design import (
     Config,
     RunSpec,
     build_plan,
     diagonal_node,
     reference_rows,
-    run_sweep,
     thesis_node,
 )
-from swarmex.experiments.reproduce_traversal_report import best_fleet, optimum_6x6
-from swarmex.experiments.runstore import RunStore
-
-CSV = Path(__file__).resolve().parents[2] / "src/swarmex/experiments/reference"
+from swarmex.studies.traversal.runs import run_sweep
 
 
 @pytest.fixture(scope="module")
@@ -57,15 +54,6 @@ def test_report_has_every_thesis_number_beside_ours(quick_out):
     for stated in ("4750", "4580", "4760", "2300", "1500", "450"):
         assert f"| {stated} |" in report
     assert "| CIs overlap |" in report
-
-
-def test_reference_csv_matches_the_shared_copy():
-    shared = Path(__file__).resolve().parents[3] / "shared/reference"
-    if not shared.exists():
-        pytest.skip("../shared/reference not present")
-    name = "traversal_tables_5_1_5_2.csv"
-    with open(shared / name) as a, open(CSV / name) as b:
-        assert list(csv.reader(a)) == list(csv.reader(b))
 
 
 def test_thesis_numbering():
