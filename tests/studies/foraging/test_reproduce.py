@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
-from swarmex.experiments import reproduce_foraging as R
-from swarmex.viz.foraging_report import write_report
+from swarmex.studies.foraging import analysis as A
+from swarmex.studies.foraging import design as R
+from swarmex.studies.foraging.report import write_report
 
 
 def test_reference_has_the_78_rows_of_figs_78_79():
@@ -32,10 +33,10 @@ def test_aggregate_and_report(tmp_path):
                 "key": key, "pattern": pattern, "n": n, "band": band, "i": i,
                 "transport": "relay-food", "cells_revisited": 0, "wall": 0.01, **m,
             }  # fmt: skip
-    table = R.aggregate(runs)
+    table = A.aggregate(runs)
     row = table[("random", "strips", 16, "relay-food")]
     assert row["exploration"] == 640.5 and row["runs"] == 2
-    R.write_csv(table, tmp_path / "t.csv")
+    A.write_csv(table, tmp_path / "t.csv")
     path = write_report(tmp_path, table, {}, ref, {}, True, 1, 2, runs, {})
     text = path.read_text()
     assert text.count("| RANDOM |") >= 13

@@ -1,4 +1,4 @@
-"""The figures of seed 002's ch. 6 (Figs. 56–77) from the reproduction's mean table.
+"""The figures of ``swarmex reproduce foraging``: seed 002's Figs. 56–77 from the mean table.
 
 The thesis's figures are bar charts of mean times per pattern and number of robots; we draw the
 same quantities with the same numbering so the report can refer to them one by one. Inputs are
@@ -13,6 +13,8 @@ from pathlib import Path
 import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
+
+from swarmex.studies.foraging.design import TRANSPORT_CONFIGS
 
 PATTERNS = ("strips", "zigzag", "hilbert", "sectors", "spiral", "loop-strips", "rings")
 COLOURS = {
@@ -116,8 +118,6 @@ def ratio_fig(table, out: Path) -> Path:
 
 def transport_fig(table, out: Path) -> Path:
     fig, ax = _fig("Fig. 69: transport algorithms (random, total time)", "rounds", width=9)
-    from swarmex.experiments.reproduce_foraging import TRANSPORT_CONFIGS
-
     kinds = ("relay-food", "relay-path", "end-to-end")
     width = 0.26
     for j, kind in enumerate(kinds):

@@ -1,4 +1,4 @@
-"""The markdown report of ``swarmex reproduce foraging``: our means beside Figs. 78–79.
+"""The Markdown report of ``swarmex reproduce foraging``: our means beside Figs. 78–79.
 
 Each table row shows the thesis's value, ours and the difference; the rows are followed by the
 checks of the thesis's qualitative findings (who wins where), our strategy against the thesis's
@@ -11,17 +11,11 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
+from swarmex.studies.foraging.design import BAND_LABEL as LABEL
+from swarmex.studies.foraging.design import BANDS, TRANSPORT_CONFIGS
+
 COLUMNS = ("exploration", "communication", "comm_transport", "transportation", "total")
 HEAD = ("EXPLORATION", "COMMUNICATION", "COMM+TRANS", "TRANSPORTATION", "total")
-BANDS = ("0-20", "20-40", "40-60", "60-80", "80-100", "random")
-LABEL = {
-    "0-20": "0%-20%",
-    "20-40": "20%-40%",
-    "40-60": "40%-60%",
-    "60-80": "60%-80%",
-    "80-100": "80%-100%",
-    "random": "RANDOM",
-}
 RF = "relay-food"
 THESIS_PATTERNS = ("strips", "zigzag", "hilbert", "sectors", "spiral")
 
@@ -319,8 +313,6 @@ def exact_section(exact: dict) -> list[str]:
 
 
 def transport_section(table) -> list[str]:
-    from swarmex.experiments.reproduce_foraging import TRANSPORT_CONFIGS
-
     lines = [
         "| pattern | N | relay-food | relay-path | end-to-end |",
         "|---|---|---|---|---|",
