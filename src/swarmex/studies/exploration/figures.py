@@ -1,4 +1,4 @@
-"""The figures of seed 003's chapter 4, redrawn from swarmex runs, and the strategy chart.
+"""The figures of ``swarmex reproduce exploration``: seed 003's Figs. 4.1–4.4, and strategies.
 
 * Fig. 4.1 — mean exploration steps of a team member against team size, one curve per
   communication range, (a) laser 2 m, (b) laser 1.5 m; error bars are the spread (standard

@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from swarmex.experiments.reproduce_exploration import Design, checks, phase_intervals
+from swarmex.studies.exploration.analysis import checks, phase_intervals
+from swarmex.studies.exploration.design import Design
 
 D = Design(world_m=10.0, sizes=(1, 2, 10), comms=(5.0, 20.0), lasers=(2.0, 1.5), runs=1)
 
