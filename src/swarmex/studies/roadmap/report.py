@@ -1,33 +1,31 @@
-"""The roadmap reproduction report: ``roadmap.md``, CSV tables and figures from run summaries.
+"""The report of ``swarmex reproduce roadmap``: ``roadmap.md``, the CSV tables and figures.
 
-Pure post-processing of the run journal written by
-:mod:`swarmex.experiments.reproduce_roadmap` (plus a handful of reruns of single seeds to
-draw the environment figures), so the report can be rebuilt without rerunning the sweep.
+Pure post-processing of the run journal written by :mod:`.runs` (through :mod:`.analysis`;
+:mod:`.figures` reruns a handful of single seeds to draw the environment figures), so the
+report can be rebuilt without rerunning the sweep.
 """
 
 from __future__ import annotations
 
 import csv
-from collections.abc import Callable, Iterable
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from swarmex.viz.roadmap_figures import bars, fig6
+from swarmex.studies.roadmap.analysis import (
+    gain_summary,
+    improvement,
+    mae,
+    table1,
+    table2,
+    unreachable,
+)
+from swarmex.studies.roadmap.design import R_BASE, reference
+from swarmex.studies.roadmap.figures import bars, draw_examples, fig6
 
 SENSOR_ORDER = ("r", "2r", "4r", "inf")
-
-
-def _pick(results: Iterable[dict[str, Any]], **want: Any) -> list[dict[str, Any]]:
-    return [r for r in results if all(r.get(k) == v for k, v in want.items())]
-
-
-def _mean_sd(vals: list[float]) -> tuple[float, float]:
-    if not vals:
-        return float("nan"), float("nan")
-    a = np.asarray(vals, dtype=float)
-    return float(a.mean()), float(a.std(ddof=1)) if len(a) > 1 else 0.0
 
 
 def _fmt(mean: float, sd: float | None = None, digits: int = 1) -> str:
@@ -40,49 +38,6 @@ def _label(mult: str) -> str:
     return "∞" if mult == "inf" else mult
 
 
-def table1(results: list[dict[str, Any]], ref: list[dict[str, str]],
-           exp: str = "t1") -> list[dict[str, Any]]:
-    rows = []
-    for row in ref:
-        key = {"exp": exp, "nodes": int(row["nodes"]), "step": float(row["step"]),
-               "mult": row["sensor_range"]}
-        cell = {}
-        for planner in ("wma-rrt", "prm"):
-            runs = _pick(results, planner=planner, **key)
-            cell[planner] = _mean_sd([100 * r["coverage"] for r in runs]) + (len(runs),)
-        prm_runs = _pick(results, planner="prm", **key)
-        rows.append({
-            "nodes": key["nodes"], "step": int(key["step"]), "sensor": row["sensor_range"],
-            "paper_wma": float(row["wma_rrt_coverage_pct"]),
-            "ours_wma": cell["wma-rrt"][0], "ours_wma_sd": cell["wma-rrt"][1],
-            "paper_prm": float(row["prm_coverage_pct"]),
-            "ours_prm": cell["prm"][0], "ours_prm_sd": cell["prm"][1],
-            "runs": cell["wma-rrt"][2],
-            "prm_components": _mean_sd([r["components"] for r in prm_runs])[0],
-        })
-    return rows
-
-
-def table2(results: list[dict[str, Any]], ref: list[dict[str, str]],
-           exp: str = "t2") -> list[dict[str, Any]]:
-    rows = []
-    for row in ref:
-        key = {"exp": exp, "nodes": int(row["nodes"]), "step": float(row["step"]),
-               "mult": row["sensor_range"]}
-        out: dict[str, Any] = {"nodes": key["nodes"], "step": int(key["step"]),
-                               "sensor": row["sensor_range"],
-                               "paper_wma": float(row["wma_rrt_success_pct"]),
-                               "paper_prm": float(row["prm_success_pct"])}
-        for planner, name in (("wma-rrt", "wma"), ("prm", "prm")):
-            runs = _pick(results, planner=planner, **key)
-            k = sum(bool(r["goal_found"]) for r in runs)
-            out[f"ours_{name}"] = 100.0 * k / len(runs) if runs else float("nan")
-            out[f"found_{name}"] = k
-            out["runs"] = len(runs)
-        rows.append(out)
-    return rows
-
-
 def _write_csv(path: Path, rows: list[dict[str, Any]]) -> None:
     with path.open("w", newline="", encoding="utf-8") as fh:
         w = csv.DictWriter(fh, fieldnames=list(rows[0]))
@@ -91,127 +46,14 @@ def _write_csv(path: Path, rows: list[dict[str, Any]]) -> None:
             w.writerow({k: (round(v, 3) if isinstance(v, float) else v) for k, v in r.items()})
 
 
-def _nanmean(values: Iterable[float]) -> float:
-    a = np.asarray(list(values), dtype=float)
-    a = a[~np.isnan(a)]
-    return float(a.mean()) if len(a) else float("nan")
-
-
-def _mae(rows: list[dict[str, Any]], planner: str = "wma") -> float:
-    """Mean |ours − paper| of one planner's column over ``rows`` (NaN cells skipped)."""
-    return _nanmean(np.abs([r[f"ours_{planner}"] - r[f"paper_{planner}"] for r in rows]))
-
-
-def _gain_summary(rows: list[dict[str, Any]]) -> dict[str, float]:
-    ours = np.array([r["ours_wma"] - r["ours_prm"] for r in rows])
-    paper = np.array([r["paper_wma"] - r["paper_prm"] for r in rows])
-    return {
-        "ours_ge": int((ours >= -1e-9).sum()), "paper_ge": int((paper >= 0).sum()),
-        "ours_mean": _nanmean(ours), "paper_mean": float(paper.mean()),
-        "mae_wma": _mae(rows), "mae_prm": _mae(rows, "prm"),
-        "n": len(rows),
-    }
-
-
-def improvement(results: list[dict[str, Any]]) -> tuple[list[dict[str, Any]], list[dict]]:
-    cov, srch = [], []
-    for exp, target in (("t1", cov), ("t2", srch)):
-        configs = sorted({(r["nodes"], r["step"]) for r in results if r["exp"] == exp},
-                         key=lambda c: (c[1], c[0]))
-        for nodes, step in configs:
-            row: dict[str, Any] = {"nodes": nodes, "step": int(step)}
-            for planner, name in (("wma-rrt", "base"), ("wma-rrt-takeover", "takeover")):
-                runs = _pick(results, exp=exp, planner=planner, nodes=nodes, step=step, mult="r")
-                row[f"runs_{name}"] = len(runs)
-                if exp == "t1":
-                    row[f"steps_{name}"] = _mean_sd([r["steps"] for r in runs])[0]
-                    row[f"path_{name}"] = _mean_sd([r["path_length"] for r in runs])[0]
-                    row[f"revisits_{name}"] = _mean_sd([r["edge_revisits"] for r in runs])[0]
-                else:
-                    found = [r for r in runs if r["goal_found"]]
-                    row[f"success_{name}"] = 100.0 * len(found) / len(runs) if runs else np.nan
-                    row[f"found_{name}"] = _mean_sd([r["found_step"] for r in found])[0]
-                    row[f"all_{name}"] = _mean_sd([r["all_at_goal_step"] for r in found])[0]
-            if row["runs_base"] and row["runs_takeover"]:
-                target.append(row)
-    return cov, srch
-
-
-def unreachable(results: list[dict[str, Any]]) -> list[dict[str, Any]]:
-    rows = []
-    for env in ("fig14", "fig17"):
-        for planner in ("wma-rrt", "wma-rrt-takeover", "prm"):
-            runs = _pick(results, exp="unreach", env=env, planner=planner)
-            if not runs:
-                continue
-            rows.append({
-                "env": env, "planner": planner, "runs": len(runs),
-                "found": sum(bool(r["goal_found"]) for r in runs),
-                "unreachable": sum(bool(r["goal_unreachable"]) for r in runs),
-                "complete": sum(bool(r["complete"]) for r in runs),
-                "budget": sum(bool(r["budget_exhausted"]) for r in runs),
-                "steps": _mean_sd([r["steps"] for r in runs])[0],
-                "revisits": _mean_sd([r["edge_revisits"] for r in runs])[0],
-                "components": _mean_sd([r["components"] for r in runs])[0],
-                "cycles": _mean_sd([r["cycles"] for r in runs])[0],
-                "off": sum(int(r.get("agents_off_roadmap") or 0) > 0 for r in runs),
-                "coverage": _mean_sd([100 * r["coverage"] for r in runs])[0],
-            })
-    return rows
-
-
-def draw_examples(out: Path, results: list[dict[str, Any]]) -> dict[str, str]:
-    """Rerun a few single seeds and draw them (cheap; the sweep keeps no trajectories)."""
-    from swarmex.experiments.reproduce_roadmap import AGENTS, R_BASE, world
-    from swarmex.missions.roadmap.scenario import make_scenario
-    from swarmex.viz.roadmap_plot import render_png
-
-    prm15 = [r for r in _pick(results, exp="unreach", env="fig14", planner="prm")
-             if not r.get("agents_off_roadmap")]
-    seed15 = prm15[0]["seed"] if prm15 else 0
-    specs = {
-        "fig8_wma_rrt.png": ("fig8", "coverage", "wma-rrt", 400, 20, 0,
-                             "Fig. 8 environment, WMA-RRT coverage (400 nodes, ε=20, r)"),
-        "fig8_prm.png": ("fig8", "coverage", "prm", 400, 20, 0,
-                         "Fig. 8 environment, PRM coverage (400 nodes, ε=20, r)"),
-        "fig11_wma_rrt.png": ("fig11", "search", "wma-rrt", 200, 20, 0,
-                              "Fig. 11 environment, WMA-RRT goal search (200 nodes, ε=20, r)"),
-        "fig16_wma_rrt.png": ("fig14", "search", "wma-rrt", 400, 20, 0,
-                              "Figs. 14/16: walled-in team, WMA-RRT establishes unreachable"),
-        "fig15_prm.png": ("fig14", "search", "prm", 400, 20, seed15,
-                          f"Fig. 15: walled-in team on a PRM (seed {seed15}): no end"),
-        "fig17_wma_rrt.png": ("fig17", "search", "wma-rrt", 400, 20, 0,
-                              "Fig. 17: start moved outside, WMA-RRT finds the goal"),
-    }
-    made = {}
-    for name, (env, task, planner, nodes, step, seed, title) in specs.items():
-        sc = make_scenario(world(env), agents=AGENTS, nodes=nodes, step=step,
-                           sensor_range=R_BASE, task=task, planner=planner, seed=seed)
-        run = sc.run()
-        render_png(run, out / name, title=f"{title}\n" + _title_tail(run))
-        made[name] = title
-    return made
-
-
-def _title_tail(run: Any) -> str:
-    s = f"steps {run.steps}, coverage {100 * run.raster.coverage():.1f}%"
-    if run.task == "search":
-        s += (", goal found" if run.goal_found
-              else ", goal unreachable (all branches COMPLETE)" if run.goal_unreachable
-              else ", goal not found, step budget exhausted")
-    return s
-
-
 def write_report(out: Path, results: list[dict[str, Any]], quick: bool, seconds: float,
                  version: str, new_runs: int | None = None,
                  study: dict[str, Any] | None = None) -> Path:
-    from swarmex.experiments.reproduce_roadmap import R_BASE, reference
-
     ref1, ref2 = reference("roadmap_table1.csv"), reference("roadmap_table2.csv")
     t1, t2 = table1(results, ref1), table2(results, ref2)
     _write_csv(out / "table1.csv", t1)
     _write_csv(out / "table2.csv", t2)
-    g1, g2 = _gain_summary(t1), _gain_summary(t2)
+    g1, g2 = gain_summary(t1), gain_summary(t2)
     # Fig. 6: step 40, range r
     f6 = [r for r in t1 if r["step"] == 40 and r["sensor"] == "r"]
     nodes = [r["nodes"] for r in f6]
@@ -370,9 +212,9 @@ def readings_section(t1: list[dict[str, Any]], t2: list[dict[str, Any]],
             _fmt(r["ours_prm"], r["ours_prm_sd"])))
         out += ["", f"**Table 1 rerun with r = {_eps(study['c_eps'] if study else 1.0)}** "
                 f"({t1e[0]['runs']} runs per row; the ∞ rows do not change):", "", *table]
-        g = _gain_summary(t1e)
+        g = gain_summary(t1e)
         out += ["", f"- Mean |ours − paper| over these {len(t1e)} rows: WMA-RRT "
-                f"{_mae(fin):.1f} points with r = 25, {_mae(t1e):.1f} with r = ε; PRM with "
+                f"{mae(fin):.1f} points with r = 25, {mae(t1e):.1f} with r = ε; PRM with "
                 f"r = ε {g['mae_prm']:.1f}. WMA-RRT ≥ PRM in {g['ours_ge']}/{g['n']} rows "
                 f"(paper {g['paper_ge']}/{g['n']}).",
                 f"- At range r: 200/40 {_cov(fin, 200, 40):.1f} vs 800/20 "
@@ -388,7 +230,7 @@ def readings_section(t1: list[dict[str, Any]], t2: list[dict[str, Any]],
             _fmt(r["ours_prm"], None, 0)))
         out += ["", "**Table 2 rerun with r = ε** (goal found, % of runs):", "", *table,
                 "", "- Mean |ours − paper| (WMA-RRT) over these rows: "
-                f"{_mae(b2):.1f} points with r = 25, {_mae(t2e):.1f} with r = ε."]
+                f"{mae(b2):.1f} points with r = 25, {mae(t2e):.1f} with r = ε."]
     out.append("")
     return out
 

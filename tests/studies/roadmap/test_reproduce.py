@@ -7,7 +7,8 @@ from pathlib import Path
 
 import pytest
 
-from swarmex.experiments import reproduce_roadmap as rr
+from swarmex.studies import roadmap
+from swarmex.studies.roadmap import design as rr
 
 EXAMPLES = Path(__file__).resolve().parents[3] / "examples"
 
@@ -44,9 +45,9 @@ def test_report_from_a_tiny_sweep(tmp_path, monkeypatch):
              for p in ("wma-rrt", "prm", "wma-rrt-takeover")]
     jobs += [rr.Job("unreach", "fig14", "search", p, 60, 20.0, "r", 0)
              for p in ("wma-rrt", "prm")]
-    monkeypatch.setattr(rr, "plan", lambda quick: jobs)
-    monkeypatch.setattr("swarmex.viz.roadmap_report.draw_examples", lambda out, res: {})
-    report = rr.reproduce(tmp_path, quick=True)
+    monkeypatch.setattr("swarmex.studies.roadmap.pipeline.plan", lambda quick: jobs)
+    monkeypatch.setattr("swarmex.studies.roadmap.report.draw_examples", lambda out, res: {})
+    report = roadmap.reproduce(tmp_path, quick=True)
     text = report.read_text()
     assert "Table 1" in text and "Table 2" in text and "| 400 | 20 | r | 74 |" in text
     assert "The unreproduced claim" in text and "r = c·ε (c): RMSE" in text
@@ -55,5 +56,5 @@ def test_report_from_a_tiny_sweep(tmp_path, monkeypatch):
     lines = (tmp_path / "roadmap_runs.jsonl").read_text().splitlines()
     assert len(lines) == len(jobs)
     # a rerun resumes: nothing new is appended
-    rr.reproduce(tmp_path, quick=True)
+    roadmap.reproduce(tmp_path, quick=True)
     assert len((tmp_path / "roadmap_runs.jsonl").read_text().splitlines()) == len(jobs)
