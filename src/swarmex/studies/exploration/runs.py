@@ -9,6 +9,7 @@ from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 from typing import Any
 
+from swarmex.experiments.progress import read_journal
 from swarmex.missions.exploration import ExplorationParams, run_exploration
 from swarmex.missions.exploration.record import exploration_metrics
 from swarmex.studies.exploration.design import job_key, make_world
@@ -64,22 +65,9 @@ def run_job(job: dict[str, Any]) -> dict[str, Any]:
     return out
 
 
-def load_store(path: Path) -> dict[str, dict[str, Any]]:
-    out: dict[str, dict[str, Any]] = {}
-    if path.exists():
-        for line in path.read_text(encoding="utf-8").splitlines():
-            if line.strip():
-                try:
-                    rec = json.loads(line)
-                except json.JSONDecodeError:
-                    continue  # a line cut short by an interruption
-                out[rec["key"]] = rec
-    return out
-
-
 def execute(jobs, workers: int, store: Path | None, progress: Callable[[str], None]):
     """Run jobs (cached ones skipped when ``store`` is given); returns results by key."""
-    done = load_store(store) if store else {}
+    done = read_journal(store) if store else {}
     todo = [j for j in jobs if job_key(j) not in done]
     results = {job_key(j): done[job_key(j)] for j in jobs if job_key(j) in done}
     if not todo:
