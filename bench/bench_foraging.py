@@ -13,9 +13,9 @@ from __future__ import annotations
 
 import time
 
-from swarmex.experiments.reproduce_foraging import TABLE_CONFIGS, TRANSPORT_CONFIGS, food_cells
 from swarmex.missions.foraging.sim import run_mission
 from swarmex.missions.foraging.timed import timed_plan
+from swarmex.studies.foraging.design import TABLE_CONFIGS, TRANSPORT_CONFIGS, food_cells
 
 G, UNITS = 128, 100
 PATTERNS = TRANSPORT_CONFIGS  # the reproduction's eight n = 16 (or 8) configurations

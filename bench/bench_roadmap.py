@@ -23,11 +23,11 @@ import time
 
 import numpy as np
 
-from swarmex.experiments.reproduce_roadmap import R_BASE, world
 from swarmex.missions.roadmap import run_roadmap
 from swarmex.missions.roadmap.starts import default_starts
 from swarmex.planning.prm import build_prm
 from swarmex.planning.rrt_wma import build_wma_rrt
+from swarmex.studies.roadmap.design import R_BASE, world
 
 BUILD_GOAL = 0.2
 RUN_GOAL = 2.0

@@ -29,7 +29,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 import os
 import sys
 import time
@@ -39,9 +38,10 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-from scipy import ndimage, stats
+from scipy import ndimage
 
 from swarmex.comm.channel import Channel
+from swarmex.engine.stats import summarize
 from swarmex.missions.traversal import run_metrics, run_traversal, uniform_agents
 from swarmex.worlds import GridWorld, load_movingai
 
@@ -187,12 +187,9 @@ def _progress(i: int, n: int, t0: float) -> None:
 
 
 def paired_ci(a: np.ndarray, b: np.ndarray) -> tuple[float, float]:
-    """Mean of a - b and the half-width of its 95 % Student-t interval."""
-    d = a - b
-    if d.size < 2:
-        return float(d.mean()), math.nan
-    half = stats.t.ppf(0.975, d.size - 1) * d.std(ddof=1) / math.sqrt(d.size)
-    return float(d.mean()), float(half)
+    """Mean of a - b and the half-width of its 95 % Student-t interval (NaN for one pair)."""
+    s = summarize(a - b)
+    return s.mean, s.half_width
 
 
 def select(rows: list[dict], **key) -> list[dict]:

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import json
-import math
 import os
 import sys
 from pathlib import Path
@@ -13,8 +12,8 @@ import pytest
 
 from swarmex.cli import main
 from swarmex.cli.commands_sweep import _mean_ci, mission_shapes
+from swarmex.engine.stats import summarize
 from swarmex.errors import InputError
-from swarmex.experiments.summary import mean_ci, summarize
 from swarmex.experiments.sweep import read_results, run_sweep
 from swarmex.experiments.sweep_spec import load_sweep_spec, parse_sweep_spec
 
@@ -294,33 +293,6 @@ def test_ray_equals_serial(tmp_path):
 # ---------------------------------------------------------------------------- summary
 
 
-def test_mean_ci_matches_a_hand_computation():
-    s = mean_ci([1.0, 2.0, 3.0, 4.0])
-    sd = math.sqrt(((1.5**2) * 2 + (0.5**2) * 2) / 3)  # sample sd of 1..4
-    t_975_3 = 3.182446305284263  # Student t quantile, 3 degrees of freedom
-    assert s.mean == 2.5 and s.n == 4
-    assert s.half_width == pytest.approx(t_975_3 * sd / 2, rel=1e-12)
-    assert math.isnan(mean_ci([7.0]).half_width) and mean_ci([7.0]).mean == 7.0
-    assert mean_ci([None, float("nan")]).n == 0
-
-
-def test_summarize_groups_and_skips_failures():
-    rows = [
-        {"a": 1, "seed": 0, "makespan": 10.0, "complete": True, "error": None},
-        {"a": 1, "seed": 1, "makespan": 14.0, "complete": False, "error": None},
-        {"a": 2, "seed": 0, "makespan": None, "complete": None, "error": "boom"},
-        {"a": 2, "seed": 1, "makespan": 5.0, "complete": True, "error": None},
-    ]
-    g1, g2 = summarize(rows, ["a"], ["makespan", "complete"])
-    assert g1.config == {"a": 1} and (g1.runs, g1.failed) == (2, 0)
-    assert g1.stats["makespan"].mean == 12.0
-    t_975_1 = 12.706204736174698
-    sd = math.sqrt(8)  # sample sd of 10 and 14
-    assert g1.stats["makespan"].half_width == pytest.approx(t_975_1 * sd / math.sqrt(2))
-    assert g1.stats["complete"].mean == 0.5
-    assert (g2.runs, g2.failed, g2.stats["makespan"].n) == (2, 1, 1)
-
-
 def test_cli_summary_prints_means_and_cis(tmp_path, capsys):
     path = write_spec(tmp_path)
     out = tmp_path / "out"
@@ -343,7 +315,7 @@ def test_cli_summary_prints_means_and_cis(tmp_path, capsys):
     assert "±" in text and "total_" in text and "nearest" in text
     rows = table_rows(out)
     mine = [r["makespan"] for r in rows if r["algorithm"] == "madgta" and r["agents"] == 2]
-    s = mean_ci(mine)
+    s = summarize(mine)
     assert _mean_ci(s.mean, s.half_width) in text
     assert _mean_ci(1234.5, 0.5) == "1,234 ± 0.5" and _mean_ci(12.34, 5.678) == "12.3 ± 5.68"
 

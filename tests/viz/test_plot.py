@@ -9,8 +9,8 @@ import pytest
 from PIL import Image
 
 from swarmex.cli import main
+from swarmex.engine.stats import summarize
 from swarmex.errors import InputError
-from swarmex.experiments.summary import mean_ci
 from swarmex.viz.plot import plot_sweep, series
 
 META = {"mission": "traversal", "axes": ["algorithm", "agents", "grid"]}
@@ -42,7 +42,7 @@ def test_series_are_means_and_cis_per_level():
     assert list(s) == ["madgta", "nearest"]
     assert [st.mean for st in s["madgta"]] == [101.0, 51.0, 26.0]
     assert [st.mean for st in s["nearest"]] == [111.0, 61.0, 36.0]
-    assert s["madgta"][0].half_width == pytest.approx(mean_ci([100, 101, 102]).half_width)
+    assert s["madgta"][0].half_width == pytest.approx(summarize([100, 101, 102]).half_width)
     assert s["madgta"][0].half_width == pytest.approx(4.302652729911275 * 1 / math.sqrt(3))
 
 

@@ -60,7 +60,7 @@ def processes(
         return False
     if extras["render"] is not None:
         raise InputError("--render is not available with --processes (use swarmex monitor)")
-    from swarmex.cli.commands_net import run_mesh
+    from swarmex.cli.shared import run_mesh
 
     world = mission.prepare(params)
     rec = run_mesh(
@@ -102,7 +102,7 @@ def reproduce_exploration(
     workers: int = typer.Option(2, "--workers", help="Worker processes."),
 ) -> None:
     """Rerun the thesis's chapter 4 (Figs. 4.1–4.4) and the strategy comparison."""
-    from swarmex.experiments.reproduce_exploration import reproduce
+    from swarmex.studies.exploration import reproduce
 
     if workers < 1:
         raise InputError(f"--workers must be at least 1, got {workers}")

@@ -100,7 +100,7 @@ def reproduce_foraging(
     seed: int = typer.Option(2015, "--seed", help="Seed of the food positions."),
 ) -> None:
     """Regenerate Figs. 56–79 of seed 002 (128×128 grid) beside the thesis's numbers."""
-    from swarmex.experiments.reproduce_foraging import reproduce
+    from swarmex.studies.foraging import reproduce
 
     if workers < 1:
         raise InputError(f"--workers must be at least 1 (got {workers})")

@@ -12,7 +12,6 @@ to the web monitor's ingest WebSocket with ``--forward``. The protocol is descri
 
 from __future__ import annotations
 
-import math
 import sys
 from pathlib import Path
 
@@ -20,6 +19,7 @@ import typer
 
 from swarmex.cli.app import app, console
 from swarmex.cli.outputs import check_output
+from swarmex.cli.shared import _positive, _say, run_mesh
 from swarmex.errors import InputError, require
 from swarmex.missions.traversal.params import TraversalParams
 
@@ -30,12 +30,6 @@ def _default(name: str):  # the traversal mission owns every default (missions/t
     return _TRAVERSAL[name].default
 
 HOSTS_HELP = "Interface to bind (127.0.0.1 = this machine only; * = all)."
-
-
-def _positive(value: float, option: str, zero_ok: bool = False) -> None:
-    ok = value >= 0 if zero_ok else value > 0
-    if not ok or math.isnan(value) or math.isinf(value):
-        raise InputError(f"{option} must be {'>= 0' if zero_ok else '> 0'}, got {value}")
 
 
 def _address(connect: str) -> str:
@@ -151,11 +145,6 @@ def serve(
     raise typer.Exit(code)
 
 
-def _say(text: str) -> None:
-    console.print(text, highlight=False, soft_wrap=True)
-    console.file.flush()
-
-
 @app.command()
 def agent(
     connect: str = typer.Option(..., "--connect", help="The server: tcp://HOST:PORT."),
@@ -263,38 +252,6 @@ def parse_kills(text: str | None) -> dict[int, int]:
         if not sep or out[int(rid)] < 0:
             raise InputError(f"--inject-kill: expected ID@TICK, got {part.strip()!r}")
     return out
-
-
-def run_mesh(grid, params, time_scale: float = 1.0, loss: float = 0.0,
-             kills: dict[int, int] | None = None, send_timeout_ms: int = 20,
-             timeout: float = 600.0, json_path: Path | None = None,
-             monitor_url: str | None = None) -> dict:
-    """``explore --processes``: validate the network options, run, print the summary line."""
-    from swarmex.net.mesh import MeshOptions, run_processes
-
-    _positive(time_scale, "--time-scale")
-    _positive(timeout, "--timeout")
-    if not 0.0 <= loss < 1.0:
-        raise InputError(f"--inject-loss must be in [0, 1), got {loss}")
-    if send_timeout_ms < 1:
-        raise InputError(f"--send-timeout must be >= 1 ms, got {send_timeout_ms}")
-    kills = kills or {}
-    for rid in kills:
-        if not 0 <= rid < params.robots:
-            raise InputError(f"--inject-kill: no robot {rid} (ids 0..{params.robots - 1})")
-    check_output(json_path, "--json")
-    options = MeshOptions(time_scale=time_scale, loss=loss, send_timeout_ms=send_timeout_ms,
-                          timeout=timeout, inject_kill=kills)
-    record = run_processes(grid, params, options, json_path, monitor_url, _say)
-    m = record["metrics"]
-    console.print(
-        f"exploration/{params.strategy} as processes: {params.robots} robot(s) — "
-        f"complete={record['complete']}, {record['makespan']:.0f} steps, explored "
-        f"{m['explored_fraction']:.2%}, robots lost {m['robots_lost']}, messages "
-        f"{m['messages_sent']} ({m['bytes_sent']} B), {record['wall_seconds']:.1f} s",
-        highlight=False,
-    )
-    return record
 
 
 @app.command(hidden=True)

@@ -32,7 +32,7 @@ def reproduce_traversal(
     Writes OUT/traversal.json (every run, resumable), OUT/fig_5_*.png and OUT/traversal.md
     (the thesis's numbers and ours side by side).
     """
-    from swarmex.experiments.reproduce_traversal import reproduce
+    from swarmex.studies.traversal import reproduce
 
     if workers is not None and workers < 1:
         raise InputError(f"--workers must be >= 1, got {workers}")

@@ -53,6 +53,6 @@ def reproduce_roadmap(
     quick: bool = typer.Option(False, "--quick", help="A few runs per row (under a minute)."),
 ) -> None:
     """Tables 1–2, Fig. 6 and Figs. 14–17 of seed 004, beside the paper's numbers."""
-    from swarmex.experiments.reproduce_roadmap import reproduce
+    from swarmex.studies.roadmap import reproduce
 
     reproduce(out, quick=quick, console=console)

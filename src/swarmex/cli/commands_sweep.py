@@ -1,7 +1,7 @@
 """``swarmex sweep SPEC.toml`` and ``swarmex plot DIR``: experiments at scale and their figures.
 
 Thin: the spec is read by :mod:`swarmex.experiments.sweep_spec`, run by
-:mod:`swarmex.experiments.sweep`, summarised by :mod:`swarmex.experiments.summary` and drawn
+:mod:`swarmex.experiments.sweep`, summarised by :mod:`swarmex.engine.stats` and drawn
 by :mod:`swarmex.viz.plot`. What lives here is the progress bar and the tables.
 """
 
@@ -136,7 +136,7 @@ def _terminate(_signum: int, _frame: Any) -> None:
 
 def print_summary(out_dir: Path, extra_metrics: list[str]) -> None:
     """A Rich table: one row per configuration, means ± 95 % CI half widths."""
-    from swarmex.experiments.summary import summarize
+    from swarmex.engine.stats import summarize_groups
     from swarmex.experiments.sweep import read_results
 
     table, meta = read_results(out_dir)
@@ -153,7 +153,7 @@ def print_summary(out_dir: Path, extra_metrics: list[str]) -> None:
         "makespan",
         *[m for m in extra_metrics if m not in ("complete", "makespan")],
     ]
-    groups = summarize(rows, by, metrics)
+    groups = summarize_groups(rows, by, metrics)
     out = Table(
         title=f"{meta.get('mission', '')} sweep · mean ± 95 % CI (Student t over seeds)",
         title_justify="left",

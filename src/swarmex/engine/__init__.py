@@ -1,5 +1,6 @@
-"""The clock and the record: discrete events, the run loop helpers, the result record."""
+"""The clock and the record: discrete events, the result record, atomic writes, statistics."""
 
+from swarmex.engine.atomic import atomic_open, atomic_path, write_atomic
 from swarmex.engine.events import Event, EventQueue
 from swarmex.engine.record import (
     AgentRecord,
@@ -15,8 +16,11 @@ __all__ = [
     "Event",
     "EventQueue",
     "ResultRecord",
+    "atomic_open",
+    "atomic_path",
     "plain",
     "read_record",
+    "write_atomic",
     "write_json_atomic",
     "write_record",
 ]

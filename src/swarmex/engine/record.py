@@ -10,8 +10,6 @@ from __future__ import annotations
 
 import json
 import math
-import os
-import tempfile
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
@@ -19,6 +17,7 @@ from typing import Any
 import numpy as np
 
 from swarmex import __version__
+from swarmex.engine.atomic import atomic_open
 from swarmex.errors import InputError
 
 
@@ -73,27 +72,15 @@ class ResultRecord:
 
 
 def write_json_atomic(data: Any, path: str | Path) -> Path:
-    """Write JSON to a temporary file beside ``path`` and rename it into place.
+    """Write JSON atomically (:mod:`swarmex.engine.atomic`: temp file beside ``path``, fsync,
+    rename), with the mode a plain ``open`` would give it.
 
     A reader never sees a half-written file, and an interrupted run leaves the previous file
     (or none) rather than a truncated one.
     """
-    path = Path(path)
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    except OSError as exc:
-        raise InputError(f"cannot write {path}: {exc.strerror}") from None
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            json.dump(plain(data), fh, indent=1)
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    return path
+    with atomic_open(path, fsync=True) as fh:
+        json.dump(plain(data), fh, indent=1)
+    return Path(path)
 
 
 def write_record(record: ResultRecord, path: str | Path) -> Path:

@@ -5,9 +5,9 @@ once, so an interrupted sweep loses nothing, (2) one self-contained JSON file th
 reports can be rebuilt from without rerunning, and (3) a restart that skips what is done.
 Rewriting a multi-megabyte JSON after every 20 ms run would cost more than the runs, so each
 result is first appended to a line-oriented journal (``<name>.journal.jsonl``, flushed per
-line) and the JSON is rewritten atomically (temp file + rename) every few seconds and at the
-end; opening the store merges both, and a clean :meth:`RunStore.close` folds the journal in
-and deletes it. A torn last journal line (a kill mid-write) is ignored.
+line) and the JSON is rewritten atomically (:func:`swarmex.engine.atomic.write_atomic`) every
+few seconds and at the end; opening the store merges both, and a clean :meth:`RunStore.close`
+folds the journal in and deletes it. A torn last journal line (a kill mid-write) is ignored.
 
 Seeds come from :func:`stable_seed`, a hash of the run's identity, so a run's result does not
 depend on the order runs are scheduled in or on how many worker processes share them.
@@ -19,10 +19,11 @@ import contextlib
 import hashlib
 import json
 import os
-import tempfile
 import time
 from pathlib import Path
 from typing import Any
+
+from swarmex.engine.atomic import write_atomic
 
 
 def stable_seed(*parts: object) -> int:
@@ -32,20 +33,6 @@ def stable_seed(*parts: object) -> int:
     """
     text = "|".join(str(p) for p in parts)
     return int.from_bytes(hashlib.sha256(text.encode()).digest()[:4], "little")
-
-
-def atomic_write_text(path: Path, text: str) -> None:
-    """Write via a temp file in the same directory and rename, so readers never see half."""
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            fh.write(text)
-        os.chmod(tmp, 0o644)  # mkstemp creates 0600; results are meant to be shared
-        os.replace(tmp, path)
-    except BaseException:
-        with contextlib.suppress(OSError):
-            os.unlink(tmp)
-        raise
 
 
 class RunStore:
@@ -107,7 +94,7 @@ class RunStore:
     def flush(self) -> None:
         """Rewrite the JSON atomically with everything stored so far."""
         data = {**self.header, "configs": self.configs, "runs": self.runs}
-        atomic_write_text(self.path, json.dumps(data, separators=(",", ":"), sort_keys=True))
+        write_atomic(self.path, json.dumps(data, separators=(",", ":"), sort_keys=True))
         self._last_flush = time.monotonic()
         self._dirty = False
 

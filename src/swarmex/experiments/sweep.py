@@ -44,6 +44,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from swarmex.engine.atomic import atomic_path
 from swarmex.errors import InputError, require
 from swarmex.experiments.progress import read_journal
 from swarmex.experiments.scenario import OptionShape
@@ -234,9 +235,8 @@ def _column(values: list[Any]):
 def write_table(table, path: Path) -> Path:
     import pyarrow.parquet as pq
 
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    pq.write_table(table, tmp)
-    os.replace(tmp, path)
+    with atomic_path(path) as tmp:
+        pq.write_table(table, tmp)
     return path
 
 

@@ -4,9 +4,9 @@ Two looks, chosen by the x parameter unless ``kind`` says otherwise: a numeric x
 size in cells, a probability) gives lines with markers and a shaded 95 % confidence band, as
 in seed 000's and 002's curves; a categorical x (algorithm, transport, map) gives grouped bars
 with CI whiskers, as in their comparison charts. ``hue`` splits the data into coloured series.
-Each point is the mean over the seeds of one configuration (:mod:`swarmex.experiments.summary`
-computes it); parameters that vary but are neither x nor hue are pooled, and the returned note
-says so, since pooling different configurations widens the bands.
+Each point is the mean over the seeds of one configuration, with its Student-t interval
+(:func:`swarmex.engine.stats.summarize`); parameters that vary but are neither x nor hue are
+pooled, and the returned note says so, since pooling different configurations widens the bands.
 
 matplotlib's object API with the Agg canvas, as in :mod:`swarmex.viz.traversal`: no pyplot
 state, headless-safe.
@@ -21,8 +21,8 @@ import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
+from swarmex.engine.stats import Summary, summarize
 from swarmex.errors import InputError
-from swarmex.experiments.summary import Stat, mean_ci
 
 KINDS = ("auto", "line", "bar")
 SUFFIXES = (".png", ".svg")
@@ -126,14 +126,14 @@ def series(
     hue: str | None,
     xs: list[Any] | None = None,
     hues: list[Any] | None = None,
-) -> dict[Any, list[Stat]]:
+) -> dict[Any, list[Summary]]:
     """Per hue value (None without hue), the mean and CI of ``y`` at each x level."""
     xs = xs if xs is not None else _levels([r[x] for r in rows])
     hues = hues if hues is not None else (_levels([r[hue] for r in rows]) if hue else [None])
     out = {}
     for h in hues:
         sel = [r for r in rows if hue is None or r[hue] == h]
-        out[h] = [mean_ci([_num(r[y]) for r in sel if r[x] == v]) for v in xs]
+        out[h] = [summarize([_num(r[y]) for r in sel if r[x] == v]) for v in xs]
     return out
 
 

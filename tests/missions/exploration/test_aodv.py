@@ -258,7 +258,7 @@ def test_empty_world_with_aodv_completes_and_is_deterministic():
 
 
 def load_metric_or_skip():
-    from swarmex.experiments.reproduce_exploration import maps_dir
+    from swarmex.studies.exploration.design import maps_dir
 
     path = maps_dir() / "room-32-32-4.map"
     if not path.exists():

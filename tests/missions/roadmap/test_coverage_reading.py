@@ -19,10 +19,11 @@ import pytest
 import shapely
 
 from swarmex.errors import InputError
-from swarmex.experiments import reproduce_roadmap as rr
 from swarmex.missions.roadmap.scenario import make_scenario, parse_range
 from swarmex.missions.roadmap.sim import run_roadmap
 from swarmex.planning.rrt_wma import build_wma_rrt
+from swarmex.studies.roadmap import design as rr
+from swarmex.studies.roadmap.readings import complete_coverage
 
 from .conftest import cluster
 
@@ -67,7 +68,7 @@ def test_coverage_is_what_the_agents_walk_saw(clutter, rng_r):
     assert run.raster.coverage() == pytest.approx(seen.sum() / free.sum())
     assert 0.2 < run.raster.coverage() < 1.0  # a case where the range matters
     # the walk traversed every edge, so the tree's own sweep gives the same number
-    assert rr.complete_coverage(clutter, run.roadmap, rng_r, cells=64) == pytest.approx(
+    assert complete_coverage(clutter, run.roadmap, rng_r, cells=64) == pytest.approx(
         run.raster.coverage())
 
 
@@ -77,7 +78,7 @@ def test_a_larger_step_helps_at_equal_nodes_not_at_equal_length(clutter):
     starts = cluster(3)
 
     def cov(nodes: int, step: float) -> float:
-        return float(np.mean([rr.complete_coverage(
+        return float(np.mean([complete_coverage(
             clutter, build_wma_rrt(clutter, starts, nodes, step, np.random.default_rng(s)),
             8.0, cells=64) for s in range(4)]))
 

@@ -1,0 +1,57 @@
+"""Helpers that more than one command module uses, so that no command module imports another.
+
+``swarmex explore --processes`` and ``swarmex mesh`` both launch the process mesh (their
+worlds come from the exploration mission, ``missions/exploration/mission.py``).
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+from swarmex.cli.app import console
+from swarmex.cli.outputs import check_output
+from swarmex.errors import InputError
+
+
+def _positive(value: float, option: str, zero_ok: bool = False) -> None:
+    ok = value >= 0 if zero_ok else value > 0
+    if not ok or math.isnan(value) or math.isinf(value):
+        raise InputError(f"{option} must be {'>= 0' if zero_ok else '> 0'}, got {value}")
+
+
+def _say(text: str) -> None:
+    console.print(text, highlight=False, soft_wrap=True)
+    console.file.flush()
+
+
+def run_mesh(grid, params, time_scale: float = 1.0, loss: float = 0.0,
+             kills: dict[int, int] | None = None, send_timeout_ms: int = 20,
+             timeout: float = 600.0, json_path: Path | None = None,
+             monitor_url: str | None = None) -> dict:
+    """``explore --processes``: validate the network options, run, print the summary line."""
+    from swarmex.net.mesh import MeshOptions, run_processes
+
+    _positive(time_scale, "--time-scale")
+    _positive(timeout, "--timeout")
+    if not 0.0 <= loss < 1.0:
+        raise InputError(f"--inject-loss must be in [0, 1), got {loss}")
+    if send_timeout_ms < 1:
+        raise InputError(f"--send-timeout must be >= 1 ms, got {send_timeout_ms}")
+    kills = kills or {}
+    for rid in kills:
+        if not 0 <= rid < params.robots:
+            raise InputError(f"--inject-kill: no robot {rid} (ids 0..{params.robots - 1})")
+    check_output(json_path, "--json")
+    options = MeshOptions(time_scale=time_scale, loss=loss, send_timeout_ms=send_timeout_ms,
+                          timeout=timeout, inject_kill=kills)
+    record = run_processes(grid, params, options, json_path, monitor_url, _say)
+    m = record["metrics"]
+    console.print(
+        f"exploration/{params.strategy} as processes: {params.robots} robot(s) — "
+        f"complete={record['complete']}, {record['makespan']:.0f} steps, explored "
+        f"{m['explored_fraction']:.2%}, robots lost {m['robots_lost']}, messages "
+        f"{m['messages_sent']} ({m['bytes_sent']} B), {record['wall_seconds']:.1f} s",
+        highlight=False,
+    )
+    return record

@@ -1,0 +1,30 @@
+"""``swarmex reproduce roadmap``: run (or resume) the jobs, the readings study, the report."""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+from rich.console import Console
+
+from swarmex import __version__
+from swarmex.studies.roadmap.design import plan
+from swarmex.studies.roadmap.readings import cached_readings_study
+from swarmex.studies.roadmap.runs import execute
+
+
+def reproduce(out: str | Path, quick: bool = False, console: Console | None = None) -> Path:
+    from swarmex.studies.roadmap.report import write_report
+
+    console = console or Console()
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    jobs = plan(quick)
+    t0 = time.perf_counter()
+    results, new_runs = execute(jobs, out / "roadmap_runs.jsonl", console)
+    console.print("readings study (trees swept edge by edge)…")
+    study = cached_readings_study(out, quick)
+    report = write_report(out, results, quick=quick, seconds=time.perf_counter() - t0,
+                          version=__version__, new_runs=new_runs, study=study)
+    console.print(f"report: {report}")
+    return report

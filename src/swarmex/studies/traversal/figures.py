@@ -1,0 +1,159 @@
+"""The figures of ``swarmex reproduce traversal``: Figs. 5.1–5.14 redrawn from the analysis.
+
+Candlesticks as in the thesis (:mod:`swarmex.viz.candles`: whiskers min–max, body the 95 %
+CI of the mean) with the thesis's own numbers overlaid, and the fleet-cost charts of
+Figs. 5.13–5.14.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from swarmex.engine.stats import Summary
+from swarmex.studies.traversal.analysis import (
+    THESIS_FLEET,
+    FigureResult,
+    GroupResult,
+    best_fleet,
+    fleet_t_max,
+)
+from swarmex.studies.traversal.design import ReferenceRow
+from swarmex.viz.candles import OURS, THEIRS, Reference, candle_chart
+
+
+def _fleet_chart(
+    path: Path, t_max: dict[int, float], ns: list[int], title: str, p_max: float
+) -> Path:
+    """Cost lines n·p + T_max(n), their lower envelope, our and the thesis's best-n bands."""
+    import matplotlib.pyplot as plt
+
+    ps = np.linspace(0, p_max, 401)
+    fig, ax = plt.subplots(figsize=(6.2, 4.4), dpi=110)
+    present = [n for n in ns if n in t_max]
+    for n in present:
+        ax.plot(ps, n * ps + t_max[n], label=f"{n} agents", linewidth=1.3)
+    env = np.min([n * ps + t_max[n] for n in t_max], axis=0)
+    ax.plot(ps, env, color="black", linewidth=2.4, alpha=0.35, label="best over all fleets")
+    ax.set_xlim(0, p_max)
+    lo_y, hi_y = ax.get_ylim()
+    band = (hi_y - lo_y) * 0.06
+    ax.set_ylim(lo_y - 2.4 * band, hi_y)
+
+    def bands(items, y: float, color: str, label: str) -> None:
+        for j, (n, lo, hi) in enumerate(items):
+            hi = min(hi, p_max)
+            if hi <= lo or lo >= p_max:
+                continue
+            ax.add_patch(
+                plt.Rectangle(
+                    (lo, y),
+                    hi - lo,
+                    band * 0.8,
+                    color=color,
+                    alpha=0.25,
+                    label=label if j == 0 else None,
+                )
+            )
+            ax.annotate(
+                str(n),
+                ((lo + hi) / 2, y + band * 0.4),
+                ha="center",
+                va="center",
+                fontsize=7,
+                color=color,
+            )
+
+    bands(best_fleet(t_max), lo_y - band, OURS, "best n (ours)")
+    bands(THESIS_FLEET, lo_y - 2.2 * band, THEIRS, "best n (thesis)")
+    ax.set_xlabel("preparation time per UAV p (s)")
+    ax.set_ylabel("n·p + mean max totalTime_i (s)")
+    ax.set_title(title, fontsize=10)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7, loc="upper left")
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
+    return path
+
+
+def _thesis_summary(row: ReferenceRow | None) -> Summary | None:
+    if row is None:
+        return None
+    return Summary(108, row.min, row.max, row.median, row.mean, row.std, row.ci_low, row.ci_high)
+
+
+def draw_figures(groups: list[GroupResult], figs: list[FigureResult], out: Path) -> list[Path]:
+    paths: list[Path] = []
+    by_nest = {k: g for g in groups for k in g.group.config.nests}
+
+    def group_fig(number: str, nodes: list[tuple[str, int]], title: str) -> None:
+        chosen = [(lab, by_nest[k]) for lab, k in nodes if k in by_nest and by_nest[k].ours]
+        if not chosen:
+            return
+        paths.append(
+            candle_chart(
+                out / f"fig_{number.replace('.', '_')}.png",
+                [lab for lab, _ in chosen],
+                [g.ours["totalTimeAll"] for _, g in chosen],
+                f"Fig. {number}: {title}",
+                "nest node (its symmetry group)",
+                "totalTimeAll (s)",
+                theirs=[_thesis_summary(g.thesis.get("totalTimeAll")) for _, g in chosen],
+            )
+        )
+
+    group_fig("5.1", [("1", 1), ("2", 2), ("3", 3)], "6×6, 40×40 m, 3 agents, nest on the border")
+    group_fig("5.2", [("8", 8), ("15 = 22", 15)], "6×6, 40×40 m, 3 agents, nest in the middle")
+    for fr in figs:
+        f = fr.spec
+        present = [b for b in fr.bars if b.summary]
+        if not present:
+            continue
+        labels = [b.label for b in present]
+        refs = []
+        for st in f.stated:
+            if st.bar is None:
+                refs.append(Reference(st.value, f"thesis: {st.text}"))
+            elif st.bar in labels:
+                refs.append(Reference(st.value, "thesis (stated)", labels.index(st.bar)))
+        ylabel = "max totalTime_i (s)" if f.metric == "max_total_time" else "totalTimeAll (s)"
+        paths.append(
+            candle_chart(
+                out / f"fig_{f.number.replace('.', '_')}.png",
+                labels,
+                [b.summary for b in present],
+                f"Fig. {f.number}: {f.title}",
+                f.xlabel,
+                ylabel,
+                references=refs,
+                note=_n_note([b.summary.n for b in present]),
+            )
+        )
+    t_max = fleet_t_max(figs)
+    if t_max:
+        paths.append(
+            _fleet_chart(
+                out / "fig_5_13.png",
+                t_max,
+                list(range(2, 7)),
+                "Fig. 5.13: fleet cost n·p + T_max(n), 2–6 agents",
+                1000.0,
+            )
+        )
+        paths.append(
+            _fleet_chart(
+                out / "fig_5_14.png",
+                t_max,
+                list(range(6, 11)),
+                "Fig. 5.14: fleet cost n·p + T_max(n), 6–10 agents",
+                250.0,
+            )
+        )
+    return paths
+
+
+def _n_note(ns: list[int]) -> str:
+    lo, hi = min(ns), max(ns)
+    return f"n = {lo} runs per bar" if lo == hi else f"n = {lo}–{hi} runs per bar"

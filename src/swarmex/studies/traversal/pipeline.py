@@ -1,0 +1,92 @@
+"""``swarmex reproduce traversal``: plan, run (or resume), then write figures and report."""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+from swarmex import __version__
+from swarmex.experiments.runstore import RunStore
+from swarmex.studies.traversal.design import AGENT_PARAMS, build_plan
+from swarmex.studies.traversal.runs import run_sweep
+
+
+def reproduce(
+    out: Path,
+    quick: bool = False,
+    workers: int | None = None,
+    reps: int | None = None,
+    progress: Callable[[int, int], Any] | None = None,
+    console=None,
+) -> dict[str, Any]:
+    """Run (or resume) the sweep into ``out``/traversal.json, then write figures and report.
+
+    Returns a small summary (paths, runs executed, elapsed seconds) for the CLI to print.
+    """
+    from swarmex.experiments.progress import runs_progress
+    from swarmex.studies.traversal.report import write_outputs
+
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    workers = workers if workers is not None else (1 if quick else 2)
+    plan = build_plan(quick, reps)
+    specs = plan.run_specs()
+    header = {
+        "study": "traversal",
+        "seed_file": "000_a5793bd95eb4b07a.txt",
+        "format": 1,
+        "swarmex_version": __version__,
+        "agent_params": AGENT_PARAMS,
+    }
+    store = RunStore(out / "traversal.json", header)
+    sessions = _previous_sessions(out / "traversal.json")
+    for key, cfg in plan.configs().items():
+        store.add_config(key, cfg.params())
+    already = sum(1 for s in specs if s.id in store)
+    t0 = time.perf_counter()
+    executed = 0
+    try:
+        with runs_progress("traversal", console, disable=console is None) as bar:
+            task = bar.add_task("runs", total=len(specs), completed=already)
+
+            def tick(_: dict[str, Any]) -> None:
+                bar.advance(task)
+                if progress:
+                    progress(int(bar.tasks[0].completed), len(specs))
+
+            executed = run_sweep(specs, store, workers, tick)
+    finally:
+        elapsed = time.perf_counter() - t0
+        store.header["sessions"] = [
+            *sessions,
+            {
+                "mode": "quick" if quick else "full",
+                "workers": workers,
+                "runs_planned": len(specs),
+                "runs_executed": executed,
+                "elapsed_s": round(elapsed, 2),
+                "finished": executed == len(specs) - already,
+            },
+        ]
+        store.close()
+    paths = write_outputs(plan, store.runs, out, store.header)
+    return {
+        "json": out / "traversal.json",
+        "report": paths["report"],
+        "figures": paths["figures"],
+        "runs": len(specs),
+        "executed": executed,
+        "elapsed_s": elapsed,
+        "workers": workers,
+    }
+
+
+def _previous_sessions(path: Path) -> list[dict[str, Any]]:
+    import json
+
+    try:
+        return list(json.loads(path.read_text(encoding="utf-8")).get("sessions", []))
+    except (OSError, ValueError):
+        return []

@@ -1,0 +1,168 @@
+"""Running the plan of ``swarmex reproduce traversal``: one run, and the resumable sweep.
+
+* Every run is one call of :func:`~swarmex.missions.traversal.run_traversal` with the
+  thesis's agent parameters (:mod:`.design`); its record keeps the totals and per-agent
+  metrics the analysis needs.
+* Results go to ``traversal.json`` through :class:`~swarmex.experiments.runstore.RunStore`
+  as they complete; a rerun skips every run already stored (an interrupted sweep resumes,
+  and a ``--quick`` sweep's runs are a subset of the full one's).
+* Runs are spread over a ``ProcessPoolExecutor`` (spawned workers: the parent runs a Rich
+  progress thread, and forking a threaded process is unsafe).
+"""
+
+from __future__ import annotations
+
+import random
+import time
+from collections.abc import Callable
+from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from multiprocessing import get_context
+from typing import Any
+
+import numpy as np
+from scipy import ndimage
+
+from swarmex.engine.record import plain
+from swarmex.experiments.runstore import RunStore, stable_seed
+from swarmex.studies.traversal.design import (
+    ALTITUDE,
+    DOWN_SPEED,
+    JOB_TIME,
+    PER_AGENT_METRICS,
+    START_INTERVAL,
+    TRAVEL_SPEED,
+    UP_SPEED,
+    RunSpec,
+    thesis_node,
+)
+
+
+def obstacle_layout(size: int, count: int, keep_free: int, seed: int) -> list[int]:
+    """``count`` random obstacle nodes (thesis ids), never ``keep_free``, free cells connected.
+
+    Fig. 5.10 plots obstacle *counts*, so we place exactly that many and redraw rather than
+    fill disconnected pockets (which would change the count).
+    """
+    if count == 0:
+        return []
+    rng = np.random.default_rng(seed)
+    candidates = np.array([k for k in range(1, size * size + 1) if k != keep_free])
+    for _ in range(10_000):
+        chosen = np.sort(rng.choice(candidates, size=count, replace=False))
+        free = np.ones((size, size), dtype=bool)
+        for k in chosen:
+            v = thesis_node(int(k), size)
+            free[v // size, v % size] = False
+        if ndimage.label(free)[1] == 1:
+            return [int(k) for k in chosen]
+    raise RuntimeError(f"no connected layout with {count} obstacles on {size}x{size}")
+
+
+def execute(spec: RunSpec) -> dict[str, Any]:
+    """Run one configuration repetition and return its JSON-ready record (worker entry)."""
+    from swarmex.missions.traversal import AgentSpec, run_metrics, run_traversal
+    from swarmex.worlds import GridWorld
+
+    cfg = spec.config
+    n = cfg.size
+    obstacles = obstacle_layout(
+        n, cfg.obstacles, spec.nest, stable_seed("traversal-obstacles", cfg.key, spec.rep)
+    )
+    free = np.ones((n, n), dtype=bool)
+    for k in obstacles:
+        v = thesis_node(k, n)
+        free[v // n, v % n] = False
+    world = GridWorld(free, source=f"thesis {n}x{n}")
+    nest = thesis_node(spec.nest, n)
+    # Uneven starts (sensitivity series): the simulator starts client i at 0.5·i s plus its
+    # takeoff time, so a slower climb is how a late start is expressed; it changes only
+    # additionalTime_i (takeoff), which the sensitivity analysis does not use.
+    offsets = [0.0] * cfg.agents
+    if cfg.jitter:
+        rng = np.random.default_rng(stable_seed("traversal-jitter", cfg.key, spec.rep))
+        offsets = [float(x) for x in rng.uniform(0.0, cfg.jitter, cfg.agents)]
+    ups = [UP_SPEED if off == 0 else ALTITUDE / (ALTITUDE / UP_SPEED + off) for off in offsets]
+    agents = [AgentSpec(nest, TRAVEL_SPEED, JOB_TIME, ALTITUDE, up, DOWN_SPEED) for up in ups]
+    t0 = time.perf_counter()
+    run = run_traversal(
+        world,
+        agents,
+        "madgta",
+        seed=spec.seed,
+        start_interval=START_INTERVAL,
+        unit_length=cfg.unit_length,
+    )
+    totals, per_agent = run_metrics(run, cfg.unit_length)
+    wall = time.perf_counter() - t0
+    keep = (
+        "total_time_all",
+        "nodes_without_job_all",
+        "max_total_time",
+        "mission_end",
+        "duplicate_jobs",
+        "nodes_missed",
+        "reachable_nodes",
+    )
+    return plain(
+        {
+            "id": spec.id,
+            "config": cfg.key,
+            "rep": spec.rep,
+            "seed": spec.seed,
+            "nest": spec.nest,
+            "obstacles": obstacles,
+            "start_offsets": offsets,
+            "complete": run.complete,
+            "totals": {k: totals[k] for k in keep},
+            "agents": {m: [a[m] for a in per_agent] for m in (*PER_AGENT_METRICS, "finished_at")},
+            "wall_seconds": wall,
+        }
+    )
+
+
+# ---------------------------------------------------------------- the sweep
+def run_sweep(
+    specs: list[RunSpec],
+    store: RunStore,
+    workers: int,
+    on_result: Callable[[dict[str, Any]], None] | None = None,
+) -> int:
+    """Run every spec not yet in ``store``; returns how many were run now.
+
+    Pending runs are shuffled (deterministically): costly and cheap configurations then mix
+    evenly, so the progress rate is steady and the ETA honest. Order cannot change results
+    (each run's seed is its own).
+    """
+    pending = [s for s in specs if s.id not in store]
+    random.Random(0).shuffle(pending)
+
+    def done(rec: dict[str, Any]) -> None:
+        store.add(rec)
+        if on_result:
+            on_result(rec)
+
+    if workers <= 1:
+        for s in pending:
+            done(execute(s))
+        return len(pending)
+    window = 8 * workers
+    with ProcessPoolExecutor(max_workers=workers, mp_context=get_context("spawn")) as pool:
+        todo = iter(pending)
+        running: set[Future] = set()
+        try:
+            while True:
+                while len(running) < window:
+                    s = next(todo, None)
+                    if s is None:
+                        break
+                    running.add(pool.submit(execute, s))
+                if not running:
+                    break
+                finished, running = wait(running, return_when=FIRST_COMPLETED)
+                for fut in finished:
+                    done(fut.result())
+        except BaseException:
+            for fut in running:
+                fut.cancel()
+            raise
+    return len(pending)

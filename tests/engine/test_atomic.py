@@ -1,0 +1,97 @@
+"""The atomic writer: whole files or none, and the mode a plain open() would give."""
+
+from __future__ import annotations
+
+import json
+import os
+import stat
+from pathlib import Path
+
+import pytest
+
+from swarmex.engine.atomic import atomic_open, atomic_path, write_atomic
+from swarmex.engine.record import ResultRecord, write_record
+from swarmex.errors import InputError
+
+
+def _mode(path: Path) -> int:
+    return stat.S_IMODE(path.stat().st_mode)
+
+
+@pytest.fixture(params=[0o022, 0o027, 0o002])
+def umask(request):
+    old = os.umask(request.param)
+    try:
+        yield request.param
+    finally:
+        os.umask(old)
+
+
+def _record() -> ResultRecord:
+    return ResultRecord("foraging", "strips", {"grid": 8}, 0, {"kind": "grid"}, True, 1.0,
+                        "step", {}, [])
+
+
+def test_record_gets_the_mode_of_a_plain_open(tmp_path, umask):
+    """``--json`` records used to be 0600 whatever the umask (mkstemp's mode survived the
+    rename) while PNGs beside them were 0644."""
+    plain_file = tmp_path / "plain.txt"
+    plain_file.write_text("x")
+    rec = write_record(_record(), tmp_path / "run.json")
+    assert _mode(rec) == 0o666 & ~umask == _mode(plain_file)
+    assert json.loads(rec.read_text())["mission"] == "foraging"
+
+
+def test_every_entry_point_gets_the_same_mode(tmp_path, umask):
+    want = 0o666 & ~umask
+    assert _mode(write_atomic(tmp_path / "a.txt", "text")) == want
+    assert _mode(write_atomic(tmp_path / "b.bin", b"\x00\x01")) == want
+    with atomic_open(tmp_path / "c.json") as fh:
+        json.dump({"a": 1}, fh)
+    assert _mode(tmp_path / "c.json") == want
+    with atomic_path(tmp_path / "d.bin") as tmp:
+        tmp.write_bytes(b"data")
+    assert _mode(tmp_path / "d.bin") == want
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.txt", "b.bin", "c.json", "d.bin"]
+
+
+def test_replaces_whole_and_creates_directories(tmp_path):
+    path = tmp_path / "deep" / "er" / "out.txt"
+    write_atomic(path, "first version, longer")
+    write_atomic(path, "second", fsync=True)
+    assert path.read_text() == "second"
+
+
+def test_a_failed_write_leaves_the_old_file_and_no_temporary(tmp_path):
+    path = tmp_path / "out.json"
+    write_atomic(path, "old")
+    with pytest.raises(RuntimeError), atomic_open(path) as fh:
+        fh.write("half of the new")
+        raise RuntimeError("killed mid-write")
+    with pytest.raises(RuntimeError), atomic_path(path) as tmp:
+        tmp.write_text("half")
+        raise RuntimeError("killed mid-write")
+    assert path.read_text() == "old"
+    assert [p.name for p in tmp_path.iterdir()] == ["out.json"]
+
+
+def test_unwritable_place_is_an_input_error(tmp_path):
+    blocker = tmp_path / "file"
+    blocker.write_text("not a directory")
+    with pytest.raises(InputError, match="cannot write"):
+        write_record(_record(), blocker / "run.json")
+
+
+def test_cli_json_record_and_png_share_a_mode(tmp_path):
+    """The bug as a user met it: ``--json`` gave 0600 beside a 0644 ``--render`` PNG."""
+    from swarmex.cli import main
+
+    old = os.umask(0o022)
+    try:
+        argv = ["forage", "--grid", "16", "--agents", "4", "--algorithm", "strips",
+                "--food-units", "2", "--seed", "1"]
+        js, png = tmp_path / "run.json", tmp_path / "run.png"
+        assert main([*argv, "--json", str(js), "--render", str(png)]) == 0
+    finally:
+        os.umask(old)
+    assert _mode(js) == _mode(png) == 0o644

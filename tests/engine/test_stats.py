@@ -1,0 +1,98 @@
+"""Summary statistics and confidence intervals, checked against hand-computed values."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from swarmex.engine.stats import (
+    Z95,
+    implied_sample_size,
+    intervals_overlap,
+    normal_ci,
+    position_in_interval,
+    standard_errors_apart,
+    summarize,
+    summarize_groups,
+)
+
+
+def test_summary_of_four_values_by_hand():
+    s = summarize([4.0, 1.0, 3.0, 2.0], z=Z95)
+    assert (s.n, s.min, s.max, s.median, s.mean) == (4, 1.0, 4.0, 2.5, 2.5)
+    # sample STD: sqrt(((1.5² + 0.5²) * 2) / 3) = sqrt(5/3)
+    assert s.std == pytest.approx(math.sqrt(5 / 3))
+    half = 1.96 * math.sqrt(5 / 3) / 2  # 1.96 · STD / √4 = 1.265175
+    assert s.ci_low == pytest.approx(2.5 - half)
+    assert s.ci_high == pytest.approx(2.5 + half)
+    assert s.half_width == pytest.approx(1.265175, abs=1e-6)
+
+
+def test_population_std_and_other_z():
+    s = summarize([1.0, 2.0, 3.0, 4.0], z=2.0, ddof=0)
+    assert s.std == pytest.approx(math.sqrt(1.25))
+    assert s.ci_high - s.mean == pytest.approx(2.0 * math.sqrt(1.25) / 2)
+
+
+def test_normal_ci_reproduces_the_thesis_corner_row():
+    # Table 5.1, corner nests, totalTimeAll: mean 451.76, STD 6.94 → CI [450.45, 453.07]
+    low, high = normal_ci(451.76, 6.94, 108)
+    assert round(low, 2) == 450.45 and round(high, 2) == 453.07
+
+
+def test_implied_sample_size_inverts_the_ci():
+    assert implied_sample_size(6.94, 450.45, 453.07) == pytest.approx(107.8, abs=0.1)
+    low, high = normal_ci(10.0, 2.0, 50)
+    assert implied_sample_size(2.0, low, high) == pytest.approx(50.0)
+    assert math.isnan(implied_sample_size(1.0, 5.0, 5.0))
+
+
+def test_degenerate_samples():
+    one = summarize([7.0], z=Z95)
+    assert (one.std, one.ci_low, one.ci_high) == (0.0, 7.0, 7.0)
+    const = summarize([3.0] * 5, z=Z95)
+    assert const.ci == (3.0, 3.0)
+    assert summarize([3.0] * 5).ci == (3.0, 3.0)  # Student t too: no spread, no width
+    empty = summarize([])
+    assert empty.n == 0 and math.isnan(empty.mean) and math.isnan(empty.half_width)
+    with pytest.raises(ValueError):
+        normal_ci(0.0, 1.0, 0)
+
+
+def test_overlap_position_and_distance():
+    assert intervals_overlap((1, 2), (2, 3))  # touching counts
+    assert intervals_overlap((1, 5), (2, 3))
+    assert not intervals_overlap((1, 2), (2.01, 3))
+    assert position_in_interval(450.0, (450.45, 453.07)) == "below"
+    assert position_in_interval(451.0, (450.45, 453.07)) == "inside"
+    assert position_in_interval(454.0, (450.45, 453.07)) == "above"
+    s = summarize([1.0, 2.0, 3.0, 4.0], z=Z95)  # standard error sqrt(5/3)/2
+    assert standard_errors_apart(s, 2.0) == pytest.approx(0.5 / (math.sqrt(5 / 3) / 2))
+
+
+def test_t_interval_matches_a_hand_computation():
+    s = summarize([1.0, 2.0, 3.0, 4.0])
+    sd = math.sqrt(((1.5**2) * 2 + (0.5**2) * 2) / 3)  # sample sd of 1..4
+    t_975_3 = 3.182446305284263  # Student t quantile, 3 degrees of freedom
+    assert s.mean == 2.5 and s.n == 4
+    assert s.half_width == pytest.approx(t_975_3 * sd / 2, rel=1e-12)
+    assert math.isnan(summarize([7.0]).half_width) and summarize([7.0]).mean == 7.0
+    assert summarize([None, float("nan")]).n == 0
+
+
+def test_summarize_groups_and_skips_failures():
+    rows = [
+        {"a": 1, "seed": 0, "makespan": 10.0, "complete": True, "error": None},
+        {"a": 1, "seed": 1, "makespan": 14.0, "complete": False, "error": None},
+        {"a": 2, "seed": 0, "makespan": None, "complete": None, "error": "boom"},
+        {"a": 2, "seed": 1, "makespan": 5.0, "complete": True, "error": None},
+    ]
+    g1, g2 = summarize_groups(rows, ["a"], ["makespan", "complete"])
+    assert g1.config == {"a": 1} and (g1.runs, g1.failed) == (2, 0)
+    assert g1.stats["makespan"].mean == 12.0
+    t_975_1 = 12.706204736174698
+    sd = math.sqrt(8)  # sample sd of 10 and 14
+    assert g1.stats["makespan"].half_width == pytest.approx(t_975_1 * sd / math.sqrt(2))
+    assert g1.stats["complete"].mean == 0.5
+    assert (g2.runs, g2.failed, g2.stats["makespan"].n) == (2, 1, 1)

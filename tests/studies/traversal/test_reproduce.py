@@ -1,0 +1,112 @@
+"""``swarmex reproduce traversal --quick`` end to end, plus the pieces the report relies on."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import pytest
+
+from swarmex.cli import main
+from swarmex.experiments.runstore import RunStore
+from swarmex.studies.traversal.analysis import best_fleet, optimum_6x6
+from swarmex.studies.traversal.design import (
+    Config,
+    RunSpec,
+    build_plan,
+    diagonal_node,
+    reference_rows,
+    thesis_node,
+)
+from swarmex.studies.traversal.runs import run_sweep
+
+
+@pytest.fixture(scope="module")
+def quick_out(tmp_path_factory) -> Path:
+    out = tmp_path_factory.mktemp("traversal")
+    assert main(["reproduce", "traversal", "--quick", "--out", str(out)]) == 0
+    return out
+
+
+def test_quick_run_writes_report_figures_and_raw_runs(quick_out):
+    report = (quick_out / "traversal.md").read_text()
+    for name in (f"fig_5_{k}.png" for k in range(1, 15)):
+        png = quick_out / name
+        assert png.exists() and png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n", name
+        assert f"({name})" in report
+    data = json.loads((quick_out / "traversal.json").read_text())
+    plan = build_plan(quick=True)
+    assert set(data["runs"]) == {s.id for s in plan.run_specs()}
+    rec = next(iter(data["runs"].values()))
+    assert rec["complete"] and rec["totals"]["nodes_missed"] == 0
+    assert data["sessions"][-1]["mode"] == "quick"
+    assert not (quick_out / "traversal.journal.jsonl").exists()
+
+
+def test_report_has_every_thesis_number_beside_ours(quick_out):
+    report = (quick_out / "traversal.md").read_text()
+    assert "Headline: corner nests" in report and "[450.45, 453.07]" in report
+    for row in reference_rows():
+        assert f"[{row.ci_low:.2f}, {row.ci_high:.2f}]" in report, row
+        assert f"{row.min:.2f}–{row.max:.2f}" in report, row
+        assert f"{row.mean:.2f} ({row.std:.2f})" in report, row
+    for stated in ("4750", "4580", "4760", "2300", "1500", "450"):
+        assert f"| {stated} |" in report
+    assert "| CIs overlap |" in report
+
+
+def test_thesis_numbering():
+    # node 1 bottom-left, row-major upwards; GridWorld row 0 is the top row
+    assert thesis_node(1, 6) == 30 and thesis_node(6, 6) == 35
+    assert thesis_node(31, 6) == 0 and thesis_node(36, 6) == 5
+    assert [diagonal_node(d, 6) for d in (1, 2, 3)] == [8, 15, 22]
+
+
+def test_table_groups_are_the_six_symmetry_classes():
+    groups = build_plan(quick=False).groups
+    assert [len(g.config.nests) for g in groups] == [4, 8, 8, 4, 8, 4]
+    assert sorted(k for g in groups for k in g.config.nests) == list(range(1, 37))
+    assert all(g.reps == 108 for g in groups)
+
+
+def test_optimum_by_hand():
+    best, corner_floor = optimum_6x6(nest_degree=2)
+    assert best == pytest.approx(360 + 35 * 40 / 6 / 3)  # 437.78 s
+    assert corner_floor == pytest.approx(360 + 36 * 40 / 6 / 3)  # 440.00 s
+    assert optimum_6x6(nest_degree=3)[1] == pytest.approx(best)
+
+
+def test_best_fleet_thresholds():
+    # the thesis's own numbers: T(2) - T(3) = 2300 - 1536 = 764 s is the 2↔3 switch
+    bands = best_fleet({2: 2300.0, 3: 1536.0})
+    assert bands[0] == (3, 0.0, pytest.approx(764.0))
+    assert bands[-1][0] == 2 and math.isinf(bands[-1][2])
+    three = best_fleet({2: 2300.0, 3: 1500.0, 10: 450.0})
+    assert [n for n, _, _ in three] == [10, 3, 2]
+    assert three[0][2] == pytest.approx(150.0)  # (1500 - 450) / 7
+
+
+def test_results_do_not_depend_on_workers_and_sweeps_resume(tmp_path):
+    specs = [RunSpec(Config(6, 40.0, 3, (1, 8)), r) for r in range(3)]
+    specs.append(RunSpec(Config(6, 40.0, 3, (3,), obstacles=4), 0))
+
+    def sweep(path: Path, workers: int, subset) -> tuple[dict, int]:
+        store = RunStore(path, {})
+        n = run_sweep(subset, store, workers)
+        store.close()
+        return json.loads(path.read_text())["runs"], n
+
+    serial, n1 = sweep(tmp_path / "a.json", 1, specs)
+    parallel, n2 = sweep(tmp_path / "b.json", 2, specs)
+    assert n1 == n2 == 4
+
+    def strip(runs: dict) -> dict:
+        return {k: {f: v for f, v in r.items() if f != "wall_seconds"} for k, r in runs.items()}
+
+    assert strip(serial) == strip(parallel)
+    assert len(parallel[specs[-1].id]["obstacles"]) == 4
+    # resume: only the missing run is executed
+    _, n3 = sweep(tmp_path / "c.json", 1, specs[:2])
+    _, n4 = sweep(tmp_path / "c.json", 1, specs)
+    assert (n3, n4) == (2, 2)
