@@ -1,0 +1,8 @@
+"""PettingZoo environments over the four missions (issue 13).
+
+Each environment drives the same worlds, sensing, channel and agent cores as
+``swarmex.run``: the mission's simulator runs unchanged and the decisions its agents take are
+handed to the environment's caller (:mod:`swarmex.envs.broker`). Modules follow PettingZoo's
+convention: ``swarmex.envs.traversal_v0.env()`` / ``parallel_env()`` / ``raw_env``.
+PettingZoo itself is an optional extra: ``pip install 'swarmex[envs]'``.
+"""
