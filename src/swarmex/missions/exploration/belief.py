@@ -41,7 +41,9 @@ class ScanArchive:
         """True if some seq of ``origin`` below the highest one held is missing (an
         origin numbers its scans 0, 1, 2, …)."""
         seqs = self._seqs.get(origin)
-        return bool(seqs) and len(seqs) != seqs[-1] + 1
+        if not seqs:
+            return False
+        return len(seqs) != seqs[-1] + 1
 
     def summary(self) -> tuple[tuple[int, int, int], ...]:
         """Runs ``(origin, first, last + 1)`` of consecutive seqs held: NEED_MAP's content."""
@@ -62,8 +64,8 @@ class ScanArchive:
         runs: dict[int, list[tuple[int, int]]] = {}
         for origin, lo, hi in have:
             runs.setdefault(origin, []).append((lo, hi))
-        for r in runs.values():
-            r.sort()
+        for spans in runs.values():
+            spans.sort()
         out = []
         for key in sorted(self.scans):
             origin, seq = key

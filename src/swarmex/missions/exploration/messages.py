@@ -160,7 +160,8 @@ def from_dict(d: dict[str, Any]) -> Message:
     if cls in (ScanMsg, MapMsg):
         return cls(int(d["src"]), tuple(ScanRecord.from_dict(s) for s in d["scans"]))
     if cls is NeedMap:
-        return NeedMap(int(d["src"]), tuple(tuple(int(v) for v in r) for r in d["have"]))
+        have = tuple((int(o), int(lo), int(hi)) for o, lo, hi in d["have"])
+        return NeedMap(int(d["src"]), have)
     if cls is Goal:
         g = d["goal"]
         return Goal(int(d["src"]), None if g is None else (int(g[0]), int(g[1])),

@@ -24,9 +24,11 @@ from __future__ import annotations
 
 import math
 from functools import lru_cache
+from typing import Any
 
 import numba as nb
 import numpy as np
+from numpy.typing import NDArray
 
 _DY = np.array([-1, 1, 0, 0, -1, -1, 1, 1], dtype=np.int64)
 _DX = np.array([0, 0, -1, 1, -1, 1, -1, 1], dtype=np.int64)
@@ -45,7 +47,9 @@ def footprint_offsets(radius_cells: float) -> np.ndarray:
 
 
 @nb.njit(cache=True, nogil=True)
-def _inflate(occupied, offsets, out):  # pragma: no cover - compiled
+def _inflate(
+    occupied: NDArray[Any], offsets: NDArray[np.int64], out: NDArray[np.bool_]
+) -> None:  # pragma: no cover - compiled
     h, w = occupied.shape
     m = offsets.shape[0]
     for y in range(h):
@@ -82,7 +86,9 @@ def inflate(occupied: np.ndarray, offsets: np.ndarray) -> np.ndarray:
 
 
 @nb.njit(cache=True, nogil=True)
-def _bfs8(trav, src, stride, out):  # pragma: no cover - compiled
+def _bfs8(
+    trav: NDArray[np.bool_], src: int, stride: int, out: NDArray[np.int32]
+) -> None:  # pragma: no cover - compiled
     """BFS on a padded, flattened grid (the padding ring is never traversable)."""
     n = trav.shape[0]
     for i in range(n):
@@ -126,7 +132,10 @@ def distance_steps(traversable: np.ndarray, x: int, y: int) -> np.ndarray:
 
 
 @nb.njit(cache=True, nogil=True)
-def _descend(dist, trav, gy, gx, sy, sx, out):  # pragma: no cover - compiled
+def _descend(
+    dist: NDArray[np.integer[Any]], trav: NDArray[np.bool_], gy: int, gx: int, sy: int, sx: int,
+    out: NDArray[np.int64],
+) -> None:  # pragma: no cover - compiled
     h, w = dist.shape
     y = gy
     x = gx
@@ -152,7 +161,9 @@ def _descend(dist, trav, gy, gx, sy, sx, out):  # pragma: no cover - compiled
         x = x + _DX[best]
 
 
-def path_to(dist: np.ndarray, traversable: np.ndarray, gx: int, gy: int, sx: int, sy: int):
+def path_to(
+    dist: np.ndarray, traversable: np.ndarray, gx: int, gy: int, sx: int, sy: int
+) -> NDArray[np.int64]:
     """Cells (x, y) from the first step after (sx, sy) to the goal (gx, gy), as (n, 2) ints."""
     n = int(dist[gy, gx])
     out = np.empty((max(n, 0), 2), dtype=np.int64)
@@ -163,7 +174,9 @@ def path_to(dist: np.ndarray, traversable: np.ndarray, gx: int, gy: int, sx: int
 
 
 @nb.njit(cache=True, nogil=True)
-def footprint_clear(occupied, y, x, offsets):  # pragma: no cover - compiled
+def footprint_clear(
+    occupied: NDArray[Any], y: int, x: int, offsets: NDArray[np.int64]
+) -> bool:  # pragma: no cover - compiled
     """True if no known obstacle (or the map edge) is inside the footprint at (x, y).
 
     ``occupied`` is a bool mask or a log-odds grid (``> 0`` is an obstacle), so the motion

@@ -177,7 +177,7 @@ def hungarian(ctx: GoalContext) -> Cell | None:
     reps = -(-n_r // n_t)
     big = np.where(np.isfinite(cost), cost, 1e9)
     rows, cols = linear_sum_assignment(np.tile(big, (1, reps)))
-    col = int(cols[list(rows).index(0)]) % n_t
+    col = int(cols[rows.tolist().index(0)]) % n_t
     if not np.isfinite(cost[0, col]):
         return _nearest(ctx, np.nonzero(ctx.eligible)[0])
     return _cell(ctx, int(targets[col]))

@@ -27,7 +27,8 @@ HALF = 0.5
 
 class WMABoard:
     def __init__(self, roadmap: Roadmap, n_agents: int) -> None:
-        assert roadmap.parent is not None and roadmap.first_edge is not None
+        assert (roadmap.parent is not None and roadmap.branch is not None
+                and roadmap.first_edge is not None)
         self.rm = roadmap
         self.n = n_agents
         e_count = roadmap.n_edges

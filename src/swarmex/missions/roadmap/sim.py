@@ -193,7 +193,7 @@ def run_roadmap(
                 if mv.edge >= 0:
                     sensed[mv.edge] = True
                 raster.sense_segment(src, mv.to, t)
-                if task == "search" and board.anchor is None:
+                if task == "search" and goal_xy is not None and board.anchor is None:
                     sight = raster.sighting(src, mv.to, goal_xy)
             a.arrive(mv, t)
             length[i] += math.hypot(mv.to[0] - src[0], mv.to[1] - src[1])
@@ -206,7 +206,7 @@ def run_roadmap(
         if task == "search" and at_goal:
             all_at_goal = t
             ended = True
-        if planner != "prm" and board.all_complete():
+        if isinstance(board, WMABoard) and board.all_complete():  # WMA-RRT planners
             unreachable = task == "search" and board.anchor is None
             ended = True
             for a in agents:  # free agents at the Main Root have nothing left to help

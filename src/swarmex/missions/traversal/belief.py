@@ -18,10 +18,14 @@ A simulated team under a perfect broadcast keeps its beliefs as rows of one
 
 from __future__ import annotations
 
+from collections.abc import Iterable
+
 import numba as nb
 import numpy as np
+from numpy.typing import NDArray
 
 from swarmex.planning.fieldcache import KnownGraph
+from swarmex.worlds.nodegraph import NodeGraph
 
 DONE_BY_UNKNOWN = np.int32(2**30)
 
@@ -81,7 +85,7 @@ class TraversalBelief:
         self.job_time = job_time  # seconds per job, by id
 
     @property
-    def graph(self):
+    def graph(self) -> NodeGraph:
         return self.known.graph
 
     @property
@@ -105,11 +109,11 @@ class TraversalBelief:
         return ids[ids != self.me]
 
     # ---- updates (sensing and messages)
-    def see_obstacles(self, vertices) -> None:
-        vertices = list(vertices)
-        if vertices:
-            self.status[vertices] = -1
-            self.known.add_obstacles(vertices)
+    def see_obstacles(self, vertices: Iterable[int]) -> None:
+        vs = list(vertices)
+        if vs:
+            self.status[vs] = -1
+            self.known.add_obstacles(vs)
 
     def mark_done(self, v: int, by: int) -> None:
         if self.status[v] >= 0:
@@ -168,8 +172,10 @@ POS, JOB, NEXT, UNDONE = 1, 2, 3, 4
 
 @nb.njit(cache=True, nogil=True)
 def deliver(
-    kind, sender, node, obstacles, eta, status, reserved, loc, reservation, next_loc, free_at
-):  # pragma: no cover - compiled
+    kind: int, sender: int, node: int, obstacles: NDArray[np.int64], eta: float,
+    status: NDArray[np.int32], reserved: NDArray[np.int32], loc: NDArray[np.int64],
+    reservation: NDArray[np.int64], next_loc: NDArray[np.int64], free_at: NDArray[np.float64],
+) -> None:  # pragma: no cover - compiled
     """Apply one message to every belief of a :class:`BeliefTable` except the sender's.
 
     Row for row the same updates, in the same order, as

@@ -107,7 +107,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
-from typing import Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 import highspy
 import numpy as np
@@ -118,6 +118,13 @@ from swarmex.errors import InputError
 from swarmex.missions.traversal.agents import AgentSpec
 from swarmex.missions.traversal.sim import validate_nests
 from swarmex.planning.distance import distance_field, steps_towards
+
+if TYPE_CHECKING:
+    from swarmex.worlds.graph import GraphWorld
+    from swarmex.worlds.grid import GridWorld
+    from swarmex.worlds.nodegraph import NodeGraph
+
+    World = GridWorld | GraphWorld
 
 Objective = Literal["sum", "makespan"]
 Formulation = Literal["auto", "partition", "flow"]
@@ -313,6 +320,7 @@ def _greedy(inst: _Instance, objective: str) -> list[list[int]]:
             k = int(np.argmin(key))
             if best is None or key[k] < best[0]:
                 best = (float(key[k]), a, k)
+        assert best is not None, "no agents"
         _, a, k = best
         v = left.pop(k)
         clock[a] += inst.dist[here[a], v] * inst.tpu[a] + inst.job[a]
@@ -716,7 +724,9 @@ def _flow_layout(n: int, groups: list[list[int]], makespan: bool) -> _FlowModel:
     return _FlowModel(n, groups, arcs, y0, f_cc, f_dep0, t_col, col, n_int)
 
 
-def _flow_matrix(mod: _FlowModel, inst: _Instance, arc_cost: np.ndarray):
+def _flow_matrix(
+    mod: _FlowModel, inst: _Instance, arc_cost: np.ndarray
+) -> tuple[sparse.csc_matrix, np.ndarray, np.ndarray]:
     """Rows of the flow model (module docstring), with ``arc_cost[g, k]`` finite."""
     n, n_groups = mod.n, len(mod.groups)
     rows: list[int] = []
@@ -869,7 +879,7 @@ def _solve_flow(inst: _Instance, objective: str, deadline: float) -> _Outcome:
 
 # ------------------------------------------------------------------------------------- API
 def _prepare(
-    world, agents: list[AgentSpec], unit_length: float, max_vertices: int, objective: str
+    world: World, agents: list[AgentSpec], unit_length: float, max_vertices: int, objective: str
 ) -> tuple[_Instance, dict[int, np.ndarray]]:
     validate_nests(world, agents)
     graph = world.graph
@@ -895,7 +905,9 @@ def _prepare(
     return inst, fields
 
 
-def _walk(graph, blocked: np.ndarray, field_to_dst: np.ndarray, src: int, dst: int) -> list[int]:
+def _walk(
+    graph: NodeGraph, blocked: np.ndarray, field_to_dst: np.ndarray, src: int, dst: int
+) -> list[int]:
     """Vertices after ``src`` up to ``dst`` on a shortest path; lowest-index next hop."""
     path = []
     cur = src
@@ -907,7 +919,7 @@ def _walk(graph, blocked: np.ndarray, field_to_dst: np.ndarray, src: int, dst: i
 
 
 def solve_optimal(
-    world,
+    world: World,
     agents: list[AgentSpec],
     objective: Objective = "sum",
     unit_length: float = 1.0,
@@ -987,7 +999,9 @@ def solve_optimal(
 
 
 # ----------------------------------------------------------------------------------- record
-def plan_metrics(plan: OptimalPlan, world, unit_length: float = 1.0) -> tuple[dict, list[dict]]:
+def plan_metrics(
+    plan: OptimalPlan, world: World, unit_length: float = 1.0
+) -> tuple[dict[str, Any], list[dict[str, Any]]]:
     """The traversal record's metrics for a plan, under MADGTA's names (metrics.py).
 
     ``nodes_traveled`` counts edge moves plus one when the agent's first job is at its nest,
@@ -1037,7 +1051,7 @@ def plan_metrics(plan: OptimalPlan, world, unit_length: float = 1.0) -> tuple[di
 
 
 def optimal_record(
-    world,
+    world: World,
     agents: list[AgentSpec],
     objective: Objective,
     seed: int,

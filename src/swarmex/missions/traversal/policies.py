@@ -31,9 +31,11 @@ and every draw from the generator, are the same bit for bit.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numba as nb
 import numpy as np
+from numpy.typing import NDArray
 
 from swarmex.errors import InputError
 from swarmex.missions.traversal.belief import TraversalBelief
@@ -89,7 +91,7 @@ def _close(values: np.ndarray, best: float) -> np.ndarray:
 
 
 @nb.njit(cache=True, nogil=True)
-def _close1(v, best):  # pragma: no cover - compiled; _close for one value
+def _close1(v: float, best: float) -> bool:  # pragma: no cover - compiled; _close for one value
     if np.isinf(best):
         return v == best
     return abs(v - best) <= 1e-9 * (1.0 + abs(best))
@@ -97,8 +99,10 @@ def _close1(v, best):  # pragma: no cover - compiled; _close for one value
 
 @nb.njit(cache=True, nogil=True)
 def _util_matrix(
-    hops, me_slot, slots, cands, step, tpu_me, jt_me, tpu, jt, util
-):  # pragma: no cover - compiled
+    hops: NDArray[np.signedinteger[Any]], me_slot: int, slots: NDArray[np.int64],
+    cands: NDArray[np.int64], step: float, tpu_me: float, jt_me: float,
+    tpu: NDArray[np.float64], jt: NDArray[np.float64], util: NDArray[np.float64],
+) -> None:  # pragma: no cover - compiled
     """Fills ``util[i, j]`` exactly as Madgta.utilities computes it."""
     for j in range(cands.shape[0]):
         c = cands[j]
@@ -112,7 +116,10 @@ def _util_matrix(
 
 
 @nb.njit(cache=True, nogil=True)
-def _own_costs(hops, me_slot, cands, step, tpu_me, jt_me, out):  # pragma: no cover
+def _own_costs(
+    hops: NDArray[np.signedinteger[Any]], me_slot: int, cands: NDArray[np.int64], step: float,
+    tpu_me: float, jt_me: float, out: NDArray[np.float64],
+) -> None:  # pragma: no cover
     for j in range(cands.shape[0]):
         h = hops[me_slot, cands[j]]
         mine = (np.inf if h < 0 else h * step) * tpu_me
@@ -120,7 +127,7 @@ def _own_costs(hops, me_slot, cands, step, tpu_me, jt_me, out):  # pragma: no co
 
 
 @nb.njit(cache=True, nogil=True)
-def _top_columns(util):  # pragma: no cover - compiled
+def _top_columns(util: NDArray[np.float64]) -> NDArray[np.int64]:  # pragma: no cover - compiled
     """get_best_node's choice as column indices, or ``[-1]`` when numpy must decide.
 
     The sum tie-break is only done here when every summand is an integer small enough that
@@ -177,9 +184,11 @@ _FAR, _PICK, _NUMPY = 0, 1, 2
 
 @nb.njit(cache=True, nogil=True)
 def _near_choice(
-    hops, me_slot, slots, indptr, indices, here, status, reserved, me, step, tpu_me, jt_me,
-    tpu, jt,
-):  # pragma: no cover - compiled
+    hops: NDArray[np.signedinteger[Any]], me_slot: int, slots: NDArray[np.int64],
+    indptr: NDArray[np.int64], indices: NDArray[np.int32], here: int, status: NDArray[np.int32],
+    reserved: NDArray[np.int32], me: int, step: float, tpu_me: float, jt_me: float,
+    tpu: NDArray[np.float64], jt: NDArray[np.float64],
+) -> tuple[int, NDArray[np.int64]]:  # pragma: no cover - compiled
     """Branch 2 in one call: the vacant neighbours W of ``here`` (not in KM, sorted,
     unique), their utilities as Madgta.utilities computes them, and GetBestNode's choice.
     Returns ``(_FAR, [])`` when W is empty, ``(_PICK, tied)`` for the final draw, or
@@ -226,9 +235,13 @@ _TILE = 2048
 
 @nb.njit(cache=True, nogil=True)
 def _far_scan(
-    hops_u, me_slot, slots, klass, ctpu, cjt, status, reserved, me, step, tpu_me, jt_me,
-    far, mins, hmin, full, high,
-):  # pragma: no cover - compiled
+    hops_u: NDArray[np.unsignedinteger[Any]], me_slot: int, slots: NDArray[np.int64],
+    klass: NDArray[np.int64], ctpu: NDArray[np.float64], cjt: NDArray[np.float64],
+    status: NDArray[np.int32], reserved: NDArray[np.int32], me: int, step: float,
+    tpu_me: float, jt_me: float, far: NDArray[np.int64], mins: NDArray[np.float64],
+    hmin: NDArray[np.unsignedinteger[Any]], full: np.unsignedinteger[Any],
+    high: np.unsignedinteger[Any],
+) -> tuple[int, int]:  # pragma: no cover - compiled
     """Branch 3 in one streaming pass: W = vacant vertices I can reach, each one's min
     over rivals of util, and the vertices tied at the max-min. Returns (|W|, number tied);
     the tied vertices are left in ``far[:tied]``. ``hmin`` is (classes, _TILE) scratch.
@@ -314,7 +327,7 @@ class Madgta:
         steps = steps_towards(belief.graph, belief.known.field(f), here)
         return Decision("move", _pick(steps, rng), f, 3)
 
-    def best(self, belief: TraversalBelief, cands: np.ndarray, rng) -> int:
+    def best(self, belief: TraversalBelief, cands: np.ndarray, rng: np.random.Generator) -> int:
         return get_best_node(cands, self.utilities(belief, cands), rng)
 
     # ---- compiled path (same decisions; see _util_matrix)
@@ -333,7 +346,9 @@ class Madgta:
             return _NO_RIVALS, 0.0
         return None
 
-    def _hop_rows(self, belief: TraversalBelief, rivals: np.ndarray):
+    def _hop_rows(
+        self, belief: TraversalBelief, rivals: np.ndarray
+    ) -> tuple[int, NDArray[np.int64]]:
         sources = np.empty(rivals.size + 1, dtype=np.int64)
         sources[0] = belief.here
         sources[1:] = belief.loc[rivals]
@@ -358,7 +373,9 @@ class Madgta:
                      belief.time_per_unit[rivals], belief.job_time[rivals], util)
         return util
 
-    def _scratch(self, n: int, classes: int, unsigned: np.dtype):
+    def _scratch(
+        self, n: int, classes: int, unsigned: np.dtype[Any]
+    ) -> tuple[NDArray[np.int64], NDArray[np.float64], NDArray[Any]]:
         """Reused work arrays of the branch-3 scan (fresh ones would page-fault each time)."""
         buf = getattr(self, "_buffers", None)
         if (buf is None or buf[0].size != n or buf[2].shape[0] < classes
@@ -368,7 +385,10 @@ class Madgta:
             self._buffers = buf
         return buf
 
-    def _decide_compiled(self, belief: TraversalBelief, rng, rivals: np.ndarray, jt_me: float):
+    def _decide_compiled(
+        self, belief: TraversalBelief, rng: np.random.Generator, rivals: np.ndarray,
+        jt_me: float,
+    ) -> Decision:
         """Branches 2 and 3 from the hop rows; branch 2 in a single compiled call."""
         known = belief.known
         me = belief.me
@@ -387,8 +407,10 @@ class Madgta:
             v = get_best_node(picks, self._utility_matrix(belief, picks, rivals, jt_me), rng)
         return Decision("move", v, v, 2)
 
-    def _decide_far(self, belief: TraversalBelief, rng, rivals: np.ndarray, jt_me: float,
-                    me_slot: int, slots: np.ndarray):
+    def _decide_far(
+        self, belief: TraversalBelief, rng: np.random.Generator, rivals: np.ndarray,
+        jt_me: float, me_slot: int, slots: np.ndarray,
+    ) -> Decision:
         known = belief.known
         me = belief.me
         here = belief.here
@@ -447,10 +469,11 @@ def _sorted_unique(v: np.ndarray) -> np.ndarray:
     return np.unique(v)
 
 
-_UNSIGNED: dict = {}
+_Unsigned = tuple[np.dtype[Any], np.unsignedinteger[Any], np.unsignedinteger[Any]]
+_UNSIGNED: dict[np.dtype[Any], _Unsigned] = {}
 
 
-def _unsigned_view(dtype: np.dtype):
+def _unsigned_view(dtype: np.dtype[Any]) -> _Unsigned:
     """(unsigned twin of a signed hop type, its maximum, its high bit), cached."""
     hit = _UNSIGNED.get(dtype)
     if hit is None:
@@ -460,7 +483,9 @@ def _unsigned_view(dtype: np.dtype):
     return hit
 
 
-def _rival_classes(tpu: np.ndarray, jt: np.ndarray):
+def _rival_classes(
+    tpu: np.ndarray, jt: np.ndarray
+) -> tuple[NDArray[np.int64], np.ndarray, np.ndarray]:
     """Group rivals by (time per unit, job time): (class of each rival, class values)."""
     if tpu.size == 0:
         return _NO_RIVALS, tpu, jt
