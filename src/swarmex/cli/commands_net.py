@@ -49,7 +49,9 @@ def serve(
         _default("travel_time"), "--travel-time", help="Seconds per grid edge."
     ),
     job_time: float = typer.Option(_default("job_time"), "--job-time", help="Seconds per job."),
-    algorithm: str = typer.Option("madgta", "--algorithm", help="madgta | nearest."),
+    algorithm: str = typer.Option(
+        _default("algorithm"), "--algorithm", help="madgta | madgta+ | nearest."
+    ),
     connectivity: int = typer.Option(_default("connectivity"), "--connectivity", help="4 or 8."),
     start_interval: float = typer.Option(
         _default("start_interval"), "--start-interval", help="Seconds between agents' starts."
@@ -60,7 +62,7 @@ def serve(
     job_failure: float = typer.Option(
         _default("job_failure"), "--job-failure", help="Probability a job fails."
     ),
-    seed: int = typer.Option(0, "--seed", help="Seed of every random choice."),
+    seed: int = typer.Option(_default("seed"), "--seed", help="Seed of every random choice."),
     port: int = typer.Option(..., "--port", help="TCP port to listen on (0: a free one)."),
     host: str = typer.Option("127.0.0.1", "--host", help=HOSTS_HELP),
     time_scale: float = typer.Option(
@@ -260,13 +262,14 @@ def mesh(
     empty: str = typer.Option(None, "--empty", help="Empty walled world WxH in metres."),
     cell: float = typer.Option(None, "--cell", help="Cell size in metres."),
     robots: int = typer.Option(..., "--robots", help="Team size."),
-    laser_range: float = typer.Option(2.0, "--laser-range", help="Laser range, metres."),
-    comm_range: float = typer.Option(10.0, "--comm-range", help="Radio range, metres."),
-    strategy: str = typer.Option("greedy-exclusion", "--strategy"),
+    # the mission's options: None means the exploration mission's own default
+    laser_range: float = typer.Option(None, "--laser-range", help="Laser range, metres."),
+    comm_range: float = typer.Option(None, "--comm-range", help="Radio range, metres."),
+    strategy: str = typer.Option(None, "--strategy"),
     starts: str = typer.Option(None, "--starts", help="Start cells 'x,y;x,y;…'."),
-    seed: int = typer.Option(0, "--seed"),
-    robot_radius: float = typer.Option(0.1, "--robot-radius"),
-    beams: int = typer.Option(360, "--beams"),
+    seed: int = typer.Option(None, "--seed"),
+    robot_radius: float = typer.Option(None, "--robot-radius"),
+    beams: int = typer.Option(None, "--beams"),
     max_ticks: int = typer.Option(None, "--max-ticks"),
     time_scale: float = typer.Option(1.0, "--time-scale", help="Wall s per mission s."),
     loss: float = typer.Option(0.0, "--inject-loss", help="Share of radio frames dropped."),

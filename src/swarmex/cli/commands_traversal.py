@@ -98,27 +98,23 @@ traverse = mission_command(
     Surface(report, render, render_help="Draw the paths (.png) or animate the run (.gif, .mp4)."),
 )
 
-DEMO_AGENTS = 4
-
-
 @app.command()
 def demo(
     out: Path = typer.Option(Path("swarmex-demo.png"), "--out", help="Where to write the PNG."),
     seed: int = typer.Option(0, "--seed", help="Seed of the run's random choices."),
 ) -> None:
     """Run MADGTA on an embedded generated map, print a summary and draw the paths."""
-    from swarmex.missions.traversal.mission import TraversalWorld, resolve_nests
+    from swarmex.missions.traversal.mission import demo_world
     from swarmex.missions.traversal.params import TraversalParams
-    from swarmex.worlds import random_obstacles
 
     out = out.resolve()  # say exactly where the picture went
     check_output(out, "--out", (".png",))
-    world = random_obstacles(16, 16, 0.18, seed=7)
-    prepared = TraversalWorld(world, resolve_nests(world, None, DEMO_AGENTS))
+    prepared = demo_world()
+    world, agents = prepared.world, len(prepared.nests)
     # a generated world has neither map nor grid, so the Params are built directly
-    params = TraversalParams(agents=DEMO_AGENTS, seed=seed)
+    params = TraversalParams(agents=agents, seed=seed)
     console.print(
-        f"demo: {DEMO_AGENTS} agents from one nest on a generated {world.width}x{world.height}"
+        f"demo: {agents} agents from one nest on a generated {world.width}x{world.height}"
         f" map ({world.free_cells} free cells)"
     )
     outcome = get("traversal").execute(params, prepared)

@@ -66,6 +66,18 @@ def resolve_nests(world: Any, nests: tuple[tuple[int, int], ...] | None, agents:
     return [world.node(*nests[i % len(nests)]) for i in range(agents)]
 
 
+DEMO_AGENTS = 4
+
+
+def demo_world() -> TraversalWorld:
+    """``swarmex demo``'s embedded scenario: four agents from one nest on a generated 16x16
+    map with 18 % obstacles (generator seed 7), so the first command needs no file."""
+    from swarmex.worlds import random_obstacles
+
+    world = random_obstacles(16, 16, 0.18, seed=7)
+    return TraversalWorld(world, resolve_nests(world, None, DEMO_AGENTS))
+
+
 def record_params(p: TraversalParams, prepared: TraversalWorld) -> dict[str, Any]:
     """The record's ``params``: the map or grid, blocked cells, team and nests, then the
     remaining options in declaration order (the same for ``traverse`` and ``serve``)."""
