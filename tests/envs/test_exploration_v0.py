@@ -3,6 +3,7 @@ observations from the robot's belief, clear errors for bad actions, SuperSuit ve
 
 from __future__ import annotations
 
+import gc
 import threading
 
 import numpy as np
@@ -273,6 +274,24 @@ def test_record_before_the_end_and_closing_midway():
     env.close()
     assert not worker.is_alive()
     assert all(t is not worker for t in threading.enumerate())
+
+
+def test_a_dropped_env_closes_its_worker():
+    env = exploration_v0.parallel_env(**SMALL)
+    env.reset(seed=1)
+    worker = env._broker._thread
+    del env
+    gc.collect()
+    worker.join(10)
+    assert not worker.is_alive()
+
+
+def test_a_run_without_any_decision_ends_at_reset():
+    params = {"empty": "0.6x0.6", "cell": 0.1, "robots": 1, "robot_radius": 0.05}
+    env = exploration_v0.parallel_env(**params)
+    obs, infos = env.reset()  # the first scan sees the whole room: no frontier, no decision
+    assert obs == {} and infos == {} and env.agents == []
+    assert without_wall(env.record()) == without_wall(swarmex.run("exploration", **params))
 
 
 def test_reset_without_a_seed_moves_to_the_next_one():

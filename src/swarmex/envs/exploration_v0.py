@@ -232,6 +232,8 @@ class ExplorationEnv(ParallelEnv[str, dict[str, np.ndarray], int]):
         self._finalizer = weakref.finalize(self, self._broker.close)
         self.agents = self.possible_agents[:]
         self._arrive(self._broker.start())
+        if self._pending is None:  # finished without a decision (the first scans saw it all)
+            self.agents = []
         return self._observations(), self._infos()
 
     def step(
