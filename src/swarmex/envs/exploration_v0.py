@@ -103,7 +103,6 @@ COMPLETION_BONUS = 10.0
 INVALID_ACTION_MODES = ("raise", "project")
 RENDER_MODES = ("rgb_array",)
 Cell = tuple[int, int]
-Actions = dict[str, Any]
 
 
 @dataclass
