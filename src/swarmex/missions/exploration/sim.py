@@ -55,6 +55,7 @@ from swarmex.sensing.laser import Laser
 from swarmex.worlds.metric import MetricGrid
 
 FrameHook = Callable[[int, "ExplorationRun"], None]
+StartHook = Callable[["ExplorationRun"], None]
 
 
 @dataclass
@@ -201,7 +202,12 @@ def run_exploration(
     params: ExplorationParams,
     on_frame: FrameHook | None = None,
     frame_every: int = 0,
+    on_start: StartHook | None = None,
 ) -> ExplorationRun:
+    """Run one exploration. ``on_frame(t, run)`` is called every ``frame_every`` ticks (and
+    at the end); ``on_start(run)`` once the team is built, before tick 0 — the
+    reinforcement-learning environment (:mod:`swarmex.envs.exploration_v0`) uses it to watch
+    the robots and to hand their goal choice (the strategy in ``robot.cfg``) to its caller."""
     validate(params, grid)
     t0 = time.perf_counter()
     rng = np.random.default_rng(params.seed)
@@ -220,6 +226,8 @@ def run_exploration(
     truth = grid.free
     max_ticks = params.max_ticks or max_ticks_for(grid, params.laser_range)
 
+    if on_start is not None:
+        on_start(run)
     wire = Wire(net, robots)
 
     moved = [True] * n
