@@ -6,3 +6,7 @@ handed to the environment's caller (:mod:`swarmex.envs.broker`). Modules follow 
 convention: ``swarmex.envs.traversal_v0.env()`` / ``parallel_env()`` / ``raw_env``.
 PettingZoo itself is an optional extra: ``pip install 'swarmex[envs]'``.
 """
+
+from swarmex.errors import require
+
+require("pettingzoo", "envs", "swarmex.envs")  # one line naming the extra, not a traceback
