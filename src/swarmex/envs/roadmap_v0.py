@@ -286,9 +286,6 @@ class _Episode:
     def coverage(self) -> float:
         return float(self.raster.coverage())
 
-    def close(self) -> None:
-        _abandon(self.broker)
-
 
 def _abandon(broker: DecisionBroker) -> None:
     # RuntimeError: a collector running in the worker itself; it unwinds at its next ask
