@@ -22,9 +22,13 @@ from swarmex.missions.base import FrameCallback, Mission, Outcome
 from swarmex.missions.roadmap.params import RoadmapParams
 
 if TYPE_CHECKING:
+    from collections.abc import Callable
+
     import numpy as np
 
     from swarmex.missions.roadmap.sim import RoadmapRun
+    from swarmex.missions.roadmap.wma_policy import Move
+    from swarmex.sensing.coverage_raster import CoverageRaster
     from swarmex.worlds.polygon import PolygonWorld
 
 
@@ -100,9 +104,18 @@ def record_params(p: RoadmapParams, prepared: RoadmapWorld) -> dict[str, Any]:
 
 
 def simulate(
-    p: RoadmapParams, prepared: RoadmapWorld, on_frame: FrameCallback | None = None
+    p: RoadmapParams,
+    prepared: RoadmapWorld,
+    on_frame: FrameCallback | None = None,
+    *,
+    raster: CoverageRaster | None = None,
+    decide: Callable[[Any, int, np.random.Generator], Move | None] | None = None,
 ) -> RoadmapRun:
-    """Build the roadmap and run the team on a prepared world (no record)."""
+    """Build the roadmap and run the team on a prepared world (no record).
+
+    ``raster`` and ``decide`` go to :func:`~swarmex.missions.roadmap.sim.run_roadmap` as they
+    are: the PettingZoo environment (:mod:`swarmex.envs.roadmap_v0`) drives a run through them.
+    """
     from swarmex.missions.roadmap.sim import run_roadmap
 
     return run_roadmap(
@@ -118,6 +131,8 @@ def simulate(
         step_budget=p.step_budget,
         raster_cells=p.raster,
         on_frame=on_frame,
+        raster=raster,
+        decide=decide,
     )
 
 

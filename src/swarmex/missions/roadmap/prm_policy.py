@@ -53,14 +53,22 @@ class PRMWalker:
                 v, e = b.trail_next[self.node]
                 b.traversals[e] += 1
                 return Move(b.rm.pos[v], e, v)
-        nbrs = b.rm.adjacency[self.node]
-        if not nbrs:
+        if not b.rm.adjacency[self.node]:
             self.state = "stuck"  # an isolated node: nowhere to go
             return None
-        wg = b.w_g
+        return self.take(*self.choose(rng))
+
+    def choose(self, rng: np.random.Generator) -> tuple[int, int]:
+        """The walk's rule at a node with neighbours: (next node, edge) of least weight."""
+        nbrs = self.board.rm.adjacency[self.node]
+        wg = self.board.w_g
         low = min(wg[e] for _, e in nbrs)
         best = [ve for ve in nbrs if wg[ve[1]] == low]
-        v, e = best[int(rng.integers(len(best)))] if len(best) > 1 else best[0]
+        return best[int(rng.integers(len(best)))] if len(best) > 1 else best[0]
+
+    def take(self, v: int, e: int) -> Move:
+        """Walk edge ``e`` to node ``v`` (a neighbour of the current node)."""
+        b = self.board
         b.traverse(e)
         self.walk.append((v, e))
         return Move(b.rm.pos[v], e, v)

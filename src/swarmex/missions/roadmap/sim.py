@@ -40,7 +40,7 @@ from swarmex.missions.base import StopRun
 from swarmex.missions.roadmap.blackboard import PRMBoard, WMABoard
 from swarmex.missions.roadmap.params import PLANNERS, TASKS
 from swarmex.missions.roadmap.prm_policy import PRMWalker
-from swarmex.missions.roadmap.wma_policy import WMAAgent
+from swarmex.missions.roadmap.wma_policy import Move, WMAAgent
 from swarmex.planning.prm import build_prm
 from swarmex.planning.roadmap import Roadmap
 from swarmex.planning.rrt_wma import build_wma_rrt
@@ -130,11 +130,18 @@ def run_roadmap(
     raster_cells: int = DEFAULT_CELLS,
     roadmap: Roadmap | None = None,
     on_frame: Callable[[RoadmapFrame], Any] | None = None,
+    raster: CoverageRaster | None = None,
+    decide: Callable[[Any, int, np.random.Generator], Move | None] | None = None,
 ) -> RoadmapRun:
     """Build the roadmap (unless given) and run the behaviour; one generator from ``seed``.
 
     ``on_frame`` (optional) is called with a :class:`RoadmapFrame` at step 0 and after every
-    step; raising StopRun from it ends the run after that step.
+    step; raising StopRun from it ends the run after that step. ``raster`` (optional) is a
+    fresh :class:`CoverageRaster` to sense into instead of one made here (whoever passes it can
+    read the coverage as the run goes). ``decide`` (optional, the envs' decision hook) is
+    called as ``decide(agent, t, rng)`` in place of ``agent.decide(t, rng)``, for every agent
+    in every step, and returns that agent's move for the step (what ``agent.decide`` would
+    return, or another move open to the agent).
     """
     if task not in TASKS:
         raise InputError(f"--task must be one of {', '.join(TASKS)}, got {task!r}")
@@ -149,7 +156,8 @@ def run_roadmap(
                                                            rng)
     t1 = time.perf_counter()
     n = len(starts)
-    raster = CoverageRaster(world, sensor_range, raster_cells)
+    if raster is None:
+        raster = CoverageRaster(world, sensor_range, raster_cells)
     board: WMABoard | PRMBoard
     if planner == "prm":
         board = PRMBoard(rm)
@@ -183,7 +191,7 @@ def run_roadmap(
         moved: list[int] = []
         for i in rng.permutation(n):
             a = agents[i]
-            mv = a.decide(t, rng)
+            mv = a.decide(t, rng) if decide is None else decide(a, t, rng)
             if mv is None:
                 continue
             src = a.xy
