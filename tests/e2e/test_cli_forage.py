@@ -40,6 +40,7 @@ def test_forage_gif(tmp_path):
     assert gif.read_bytes()[:3] == b"GIF"
 
 
+STRIPS = ["--grid", "16", "--agents", "4", "--algorithm", "strips"]
 BAD = [
     (["--grid", "1", "--agents", "4", "--algorithm", "strips"], "--grid"),
     (["--grid", "16", "--agents", "0", "--algorithm", "strips"], "--agents"),
@@ -53,14 +54,11 @@ BAD = [
     (["--grid", "100000", "--agents", "4", "--algorithm", "strips"], "--grid must be at most"),
     (["--grid", "1024", "--agents", "80000000", "--algorithm", "sectors"], "--agents"),
     (["--grid", "4", "--agents", "24", "--algorithm", "sectors"], "more robots than"),
-    (["--grid", "16", "--agents", "4", "--algorithm", "strips", "--food-units", "10**9"], "units"),
-    (["--grid", "16", "--agents", "4", "--algorithm", "strips", "--food-units", "1000000000"],
-     "--food-units must be at most"),
-    (["--grid", "16", "--agents", "4", "--algorithm", "strips", "--seed", "-1"], "--seed"),
-    (["--grid", "16", "--agents", "4", "--algorithm", "strips", "--food", "1,1",
-      "--food-distance", "0-20"], "at most one"),
-    (["--grid", "16", "--agents", "4", "--algorithm", "strips", "--food-distance", "0-1"],
-     "no cell"),
+    ([*STRIPS, "--food-units", "10**9"], "units"),
+    ([*STRIPS, "--food-units", "1000000000"], "--food-units must be at most"),
+    ([*STRIPS, "--seed", "-1"], "--seed"),
+    ([*STRIPS, "--food", "1,1", "--food-distance", "0-20"], "at most one"),
+    ([*STRIPS, "--food-distance", "0-1"], "no cell"),
     (["--grid", "16", "--agents", "4", "--algorithm", "strips", "--food", "16,3"], "outside"),
     (["--grid", "16", "--agents", "4", "--algorithm", "strips", "--food", "-1,3"], "outside"),
     (["--grid", "16", "--agents", "4", "--algorithm", "strips", "--food", "8,8"], "nest"),

@@ -128,6 +128,7 @@ def to_record(run: ForageRun, seed: int, params: dict[str, Any]) -> ResultRecord
     for a in range(run.n):
         tr = o.positions[:, a]
         moves = int(np.abs(np.diff(tr, axis=0)).sum())
+        jobs: list[list[Any]] = [[t, x, y, kind] for t, x, y, kind in o.jobs[a]]
         agents.append(
             AgentRecord(
                 id=a,
@@ -141,7 +142,7 @@ def to_record(run: ForageRun, seed: int, params: dict[str, Any]) -> ResultRecord
                     "finder": a in o.finders,
                 },
                 trajectory=[[t, int(x), int(y)] for t, (x, y) in enumerate(tr)],
-                jobs=[[t, x, y, kind] for t, x, y, kind in o.jobs[a]],
+                jobs=jobs,
             )
         )
     full = {

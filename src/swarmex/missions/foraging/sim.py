@@ -155,6 +155,11 @@ class Mission:
             return seg if len(seg) else self.timed.pos[-1:, b]
         return np.asarray([self.pos[b]], dtype=np.int64)
 
+    def _t_end(self) -> int:
+        """The timetable's last round (only robots that follow one ask)."""
+        assert self.timed is not None
+        return self.timed.t_end
+
     # ------------------------------------------------------------------ phases
     def inform(self, a: int, teller: int | None) -> None:
         self.informed[a] = True
@@ -213,7 +218,7 @@ class Mission:
                 self.targets[a] = [b for b in before if not self.informed[b]]
                 if not self.targets[a]:
                     self.enter_transport(a)
-                elif self.mode[a] == FOLLOW and t - self.delay[a] >= self.timed.t_end:
+                elif self.mode[a] == FOLLOW and t - self.delay[a] >= self._t_end():
                     self.start_comm(a)
         self.transport_look()
 
@@ -229,12 +234,12 @@ class Mission:
             for b in active:
                 if self.tmode[b] != RELAY or not was[b] or self.pidx[b] < 2:
                     continue
-                a = at.get(self.path[self.pidx[b] - 1])
-                if a is None or was[a] or a in busy or b in busy:
+                c = at.get(self.path[self.pidx[b] - 1])
+                if c is None or was[c] or c in busy or b in busy:
                     continue
-                self.carrying[a], self.carrying[b] = True, False
+                self.carrying[c], self.carrying[b] = True, False
                 self.handovers[b] += 1
-                busy.update((a, b))
+                busy.update((c, b))
         for a in active:
             if self.tmode[a] not in (RELAY, E2E):
                 continue
