@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 
 import pytest
 
@@ -39,6 +40,7 @@ def test_forage_gif(tmp_path):
     assert gif.read_bytes()[:3] == b"GIF"
 
 
+STRIPS = ["--grid", "16", "--agents", "4", "--algorithm", "strips"]
 BAD = [
     (["--grid", "1", "--agents", "4", "--algorithm", "strips"], "--grid"),
     (["--grid", "16", "--agents", "0", "--algorithm", "strips"], "--agents"),
@@ -48,7 +50,15 @@ BAD = [
     (["--grid", "16", "--agents", "12", "--algorithm", "sectors"], "multiple of 8"),
     (["--grid", "16", "--agents", "6", "--algorithm", "spiral"], "power of two"),
     (["--grid", "16", "--agents", "4", "--algorithm", "modified-zigzag"], "8 only"),
-    (["--grid", "16", "--agents", "4", "--algorithm", "astar"], "unknown --algorithm"),
+    (["--grid", "16", "--agents", "4", "--algorithm", "astar"], "--algorithm must be one of"),
+    (["--grid", "100000", "--agents", "4", "--algorithm", "strips"], "--grid must be at most"),
+    (["--grid", "1024", "--agents", "80000000", "--algorithm", "sectors"], "--agents"),
+    (["--grid", "4", "--agents", "24", "--algorithm", "sectors"], "more robots than"),
+    ([*STRIPS, "--food-units", "10**9"], "units"),
+    ([*STRIPS, "--food-units", "1000000000"], "--food-units must be at most"),
+    ([*STRIPS, "--seed", "-1"], "--seed"),
+    ([*STRIPS, "--food", "1,1", "--food-distance", "0-20"], "at most one"),
+    ([*STRIPS, "--food-distance", "0-1"], "no cell"),
     (["--grid", "16", "--agents", "4", "--algorithm", "strips", "--food", "16,3"], "outside"),
     (["--grid", "16", "--agents", "4", "--algorithm", "strips", "--food", "-1,3"], "outside"),
     (["--grid", "16", "--agents", "4", "--algorithm", "strips", "--food", "8,8"], "nest"),
@@ -68,3 +78,24 @@ def test_bad_input_exits_2_with_one_line(argv, needle, capsys):
     assert len(lines) == 1, err
     assert "Traceback" not in err
     assert needle.lower() in lines[0].lower()
+
+
+def test_algorithm_names_are_the_builders(capsys):
+    """One list: what the parser accepts, its error and --help name exactly the builders."""
+    from swarmex.missions.foraging.patterns import ALGORITHMS, BUILDERS
+
+    assert sorted(ALGORITHMS) == sorted(BUILDERS)
+    assert "twin-strips" not in ALGORITHMS
+    assert main(["forage", "--grid", "16", "--agents", "4", "--algorithm", "nosuch"]) == 2
+    err = capsys.readouterr().err
+    listed = re.search(r"--algorithm must be one of (.*), got 'nosuch'", err)
+    assert listed and tuple(listed[1].split(", ")) == ALGORITHMS
+    assert main(["forage", "--help"]) == 0
+    page = capsys.readouterr().out
+    for name in ALGORITHMS:  # whole names, whatever the page's width
+        assert re.search(rf"(^|[\s|]){re.escape(name)}([\s|,]|$)", page), name
+    # every listed name is accepted by its builder (loop-strips was refused before)
+    for name in ALGORITHMS:
+        agents = "8" if name == "modified-zigzag" else "4"
+        argv = ["forage", "--grid", "16", "--agents", agents, "--algorithm", name]
+        assert main([*argv, "--food-units", "1"]) == 0, name

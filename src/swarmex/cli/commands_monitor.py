@@ -86,22 +86,21 @@ def free_cells(record: dict, base: Path | None = None):
 def foraging_world(record: dict) -> dict:
     """The g×g grid of a foraging record (every cell free) with its nest and food marked.
 
-    As ``swarmex forage`` has it: the nest is the grid's centre cell (``nest_of``), the food
-    the cell the command chose (given or drawn from the seed), which the record keeps.
+    As the mission has it (:func:`swarmex.missions.foraging.mission.world_of`): the nest is
+    the grid's centre cell, the food the cell the run used (given or drawn from the seed),
+    which the record keeps; a grid or food the mission would refuse raises InputError.
     """
-    import numpy as np
-
-    from swarmex.missions.foraging.grid import nest_of
+    from swarmex.missions.foraging.mission import world_of
     from swarmex.viz.monitor.events import world_event
 
     params = record.get("params") or {}
-    g = int(params["grid"])
-    nx, ny = nest_of(g)
-    marks: list[dict[str, Any]] = [{"kind": "nest", "x": nx, "y": ny}]
-    if params.get("food") is not None:
-        fx, fy = (int(v) for v in params["food"])
-        marks.append({"kind": "food", "x": fx, "y": fy, "units": params.get("food_units")})
-    return world_event(record, np.ones((g, g), dtype=bool), marks=marks)
+    world = world_of(params["grid"], tuple(params["food"]))
+    (nx, ny), (fx, fy) = world.nest, world.food
+    marks: list[dict[str, Any]] = [
+        {"kind": "nest", "x": nx, "y": ny},
+        {"kind": "food", "x": fx, "y": fy, "units": params.get("food_units")},
+    ]
+    return world_event(record, world.free, marks=marks)
 
 
 def exploration_world(record: dict, base: Path | None) -> dict:

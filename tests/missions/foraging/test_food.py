@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from swarmex.errors import InputError
-from swarmex.missions.foraging.food import band_cells, parse_band, parse_cell, sample_food
+from swarmex.missions.foraging.food import band_cells, parse_band, sample_food
+from swarmex.missions.foraging.params import ForagingParams
 
 
 def test_bands_of_the_released_code_for_g128():
@@ -27,10 +28,10 @@ def test_sampling_is_seeded_and_never_the_nest():
     assert a == b and (8, 8) not in a
 
 
-@pytest.mark.parametrize("text", ["1", "a,b", "99,1", "8,8"])
+@pytest.mark.parametrize("text", ["1", "a,b", "99,1", "8,8", (16, 0), (8, 8)])
 def test_bad_cells(text):
-    with pytest.raises(InputError):
-        parse_cell(text, 16)
+    with pytest.raises(InputError, match="--food"):
+        ForagingParams.from_values(grid=16, agents=4, algorithm="strips", food=text)
 
 
 @pytest.mark.parametrize("text", ["x", "40-20", "0-120"])

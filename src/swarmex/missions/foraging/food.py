@@ -1,4 +1,7 @@
-"""Where the food is: parsing ``--food`` / ``--food-distance`` and the thesis's bands.
+"""Where the food is: the thesis's bands and drawing a food cell (``--food-distance``).
+
+``--food`` and ``--food-distance`` are parsed and checked by
+:class:`~swarmex.missions.foraging.params.ForagingParams`; this module draws the cell.
 
 Separation bands (ch. 6) are percentages of the Manhattan distance from the corner ``(0, 0)``
 to the nest (``g`` for even ``g``; the released code's ``FoodLocations``): a cell qualifies when
@@ -15,18 +18,6 @@ from swarmex.errors import InputError
 from swarmex.missions.foraging.grid import Cell, nest_of
 
 BANDS = ("0-20", "20-40", "40-60", "60-80", "80-100", "random")
-
-
-def parse_cell(text: str, g: int) -> Cell:
-    try:
-        x, y = (int(v) for v in text.split(","))
-    except ValueError:
-        raise InputError(f"--food must be x,y with integers, got {text!r}") from None
-    if not (0 <= x < g and 0 <= y < g):
-        raise InputError(f"--food {x},{y} is outside the {g}×{g} grid")
-    if (x, y) == nest_of(g):
-        raise InputError(f"--food {x},{y} is the nest; the food must be elsewhere")
-    return (x, y)
 
 
 def parse_band(text: str) -> tuple[float, float]:

@@ -1,4 +1,9 @@
-"""Registry of exploration patterns: name → plan builder, cached per ``(name, g, n)``."""
+"""Registry of exploration patterns: name → plan builder, cached per ``(name, g, n)``.
+
+:data:`BUILDERS` is the one list of valid ``--algorithm`` names: :data:`ALGORITHMS` (what the
+parser, its error message and ``--help`` show) is read off it, the thesis's six patterns first
+and then ours, so a name can be offered only if a builder accepts it.
+"""
 
 from __future__ import annotations
 
@@ -29,7 +34,9 @@ BUILDERS: dict[str, Callable[[int, int], Plan]] = {
     "loop-strips": loop_strips.plan,
 }
 THESIS_ALGORITHMS = ("strips", "zigzag", "hilbert", "sectors", "spiral", "modified-zigzag")
-ALGORITHMS = (*THESIS_ALGORITHMS, "twin-strips", "rings")
+OURS = tuple(name for name in BUILDERS if name not in THESIS_ALGORITHMS)
+ALGORITHMS = (*THESIS_ALGORITHMS, *OURS)
+assert set(ALGORITHMS) == set(BUILDERS), "every thesis pattern needs a builder"
 
 
 @lru_cache(maxsize=64)

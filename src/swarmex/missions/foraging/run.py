@@ -24,12 +24,10 @@ from typing import Any
 import numpy as np
 
 from swarmex.engine.record import AgentRecord, ResultRecord
-from swarmex.errors import InputError
 from swarmex.missions.foraging.grid import Cell
-from swarmex.missions.foraging.patterns import build_plan
-from swarmex.missions.foraging.sim import Outcome, run_mission
+from swarmex.missions.foraging.params import ForagingParams
+from swarmex.missions.foraging.sim import FrameSink, Outcome, run_mission
 from swarmex.missions.foraging.timed import Timed, timed_plan
-from swarmex.missions.foraging.transport import TRANSPORTS
 
 
 @dataclass
@@ -47,18 +45,26 @@ class ForageRun:
 
 
 def check_inputs(algorithm: str, g: int, n: int, units: int, transport: str) -> None:
-    if g < 2:
-        raise InputError(f"--grid must be at least 2 (got {g})")
-    if n < 1:
-        raise InputError(f"--agents must be at least 1 (got {n})")
-    if units < 1:
-        raise InputError(f"--food-units must be at least 1 (got {units})")
-    if transport not in TRANSPORTS:
-        raise InputError(f"--transport must be one of {', '.join(TRANSPORTS)} (got {transport!r})")
-    build_plan(algorithm, g, n)  # raises InputError for an unsupported (algorithm, g, n)
+    """The checks of :class:`~.params.ForagingParams` (the only place they live) for a run
+    given as plain values; raises InputError naming the option."""
+    ForagingParams.from_values(
+        grid=g, agents=n, algorithm=algorithm, food_units=units, transport=transport
+    )
 
 
 def phase_metrics(o: Outcome, timed: Timed) -> dict[str, Any]:
+    if o.discovery is None:  # stopped (on_frame) before the food was found
+        return {
+            "exploration_time": None,
+            "communication_time": None,
+            "comm_transport_overlap": None,
+            "transport_time": None,
+            "total_time": o.makespan,
+            "food_delivered": o.delivered,
+            "deployment_time": int(timed.t_sync),
+            "all_informed": False,
+            "cells_revisited": cells_revisited(timed, o.makespan),
+        }
     done = [c for c in o.comm_done if c is not None]
     first = min(done) if done else o.makespan
     all_informed = len(done) == len(o.comm_done)
@@ -103,11 +109,14 @@ def run_forage(
     units: int = 100,
     transport: str = "relay-food",
     record: bool = True,
+    on_frame: FrameSink | None = None,
 ) -> ForageRun:
+    """Play one run (inputs checked first); ``on_frame`` gets every round's
+    :class:`~.sim.Frame` and may end the run early by raising StopRun."""
     check_inputs(algorithm, g, n, units, transport)
     t0 = time.perf_counter()
     timed = timed_plan(algorithm, g, n)
-    outcome = run_mission(timed, food, units, transport, record=record)
+    outcome = run_mission(timed, food, units, transport, record=record, on_frame=on_frame)
     metrics = phase_metrics(outcome, timed)
     wall = time.perf_counter() - t0
     return ForageRun(algorithm, g, n, food, units, transport, timed, outcome, metrics, wall)
@@ -119,6 +128,7 @@ def to_record(run: ForageRun, seed: int, params: dict[str, Any]) -> ResultRecord
     for a in range(run.n):
         tr = o.positions[:, a]
         moves = int(np.abs(np.diff(tr, axis=0)).sum())
+        jobs: list[list[Any]] = [[t, x, y, kind] for t, x, y, kind in o.jobs[a]]
         agents.append(
             AgentRecord(
                 id=a,
@@ -132,7 +142,7 @@ def to_record(run: ForageRun, seed: int, params: dict[str, Any]) -> ResultRecord
                     "finder": a in o.finders,
                 },
                 trajectory=[[t, int(x), int(y)] for t, (x, y) in enumerate(tr)],
-                jobs=[[t, x, y, kind] for t, x, y, kind in o.jobs[a]],
+                jobs=jobs,
             )
         )
     full = {

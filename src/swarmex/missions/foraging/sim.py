@@ -8,6 +8,14 @@ of round ``t + 1`` are stamped ``t`` (they are about the state at ``t``), so a u
 robot that walked into the nest in round ``t`` counts at ``t``, and the mission's makespan is the
 round at which the k-th unit arrives.
 
+Frames: given ``on_frame``, :func:`run_mission` calls it once per round ``t = 0 … makespan``
+with a :class:`Frame`, the state after that round's Look (row ``t`` of the record's
+trajectories), as the run plays it: the timetable's rounds before the discovery, then each
+round of this loop, then each round of the compiled transport tail (played one round per
+call, so its result is the very same). Raising :class:`~swarmex.missions.base.StopRun` from
+``on_frame`` ends the run at that round: the outcome holds rounds ``0 … t`` and is incomplete
+unless the k-th unit was already home.
+
 Until the food is found the run is the pattern's timetable (:mod:`.timed`); from the discovery
 round on, this loop takes over. Robots still exploring keep following the timetable (shifted by
 the rounds they were made to wait), informed robots communicate (:mod:`.comm`) and then
@@ -16,10 +24,12 @@ transport (:mod:`.transport`).
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from swarmex.missions.base import StopRun
 from swarmex.missions.foraging.comm import best_order, meet
 from swarmex.missions.foraging.grid import Cell, manhattan
 from swarmex.missions.foraging.resolve import priority, resolve, sidesteps, toward
@@ -40,12 +50,34 @@ class NoProgress(RuntimeError):
     """The round limit was hit: a livelock in the rules, never bad user input."""
 
 
+@dataclass(frozen=True)
+class Frame:
+    """One round of a run as ``on_frame`` sees it: the state after the Look of round ``t``.
+
+    ``positions[a]`` is robot ``a``'s cell ``(x, y)`` (the record's trajectory row ``t``);
+    ``carrying[a]`` whether it holds a unit, ``informed[a]`` whether it knows where the food
+    is; ``delivered`` units are in the nest and ``food_left`` still at the food. The arrays are
+    copies: a callback may keep them. This is what the ``--render`` animation draws per frame
+    (robots filled while carrying, the food square shrinking, the counts).
+    """
+
+    t: int
+    positions: np.ndarray  # (n, 2) int
+    carrying: np.ndarray  # (n,) bool
+    informed: np.ndarray  # (n,) bool
+    delivered: int
+    food_left: int
+
+
+FrameSink = Callable[[Frame], object]
+
+
 @dataclass
 class Outcome:
     positions: np.ndarray  # (makespan + 1, n, 2)
     jobs: list[list[tuple[int, int, int, str]]]  # per robot: (t, x, y, "pickup"|"drop")
     handovers: list[int]
-    discovery: int
+    discovery: int | None  # None: the run was stopped before the food was found
     finders: list[int]
     informed_at: list[int | None]
     comm_done: list[int | None]
@@ -101,6 +133,7 @@ class Mission:
         # the transport state after the last Look, to spot a frozen crowd (see step)
         self._last_key: tuple | None = None
         self._frozen = False
+        self.stopped = False  # on_frame raised StopRun
 
     # ------------------------------------------------------------------ prediction
     def on_route(self, a: int) -> bool:
@@ -121,6 +154,11 @@ class Mission:
             seg = self.timed.pos[min(i, self.timed.t_end) :, b]
             return seg if len(seg) else self.timed.pos[-1:, b]
         return np.asarray([self.pos[b]], dtype=np.int64)
+
+    def _t_end(self) -> int:
+        """The timetable's last round (only robots that follow one ask)."""
+        assert self.timed is not None
+        return self.timed.t_end
 
     # ------------------------------------------------------------------ phases
     def inform(self, a: int, teller: int | None) -> None:
@@ -180,7 +218,7 @@ class Mission:
                 self.targets[a] = [b for b in before if not self.informed[b]]
                 if not self.targets[a]:
                     self.enter_transport(a)
-                elif self.mode[a] == FOLLOW and t - self.delay[a] >= self.timed.t_end:
+                elif self.mode[a] == FOLLOW and t - self.delay[a] >= self._t_end():
                     self.start_comm(a)
         self.transport_look()
 
@@ -196,12 +234,12 @@ class Mission:
             for b in active:
                 if self.tmode[b] != RELAY or not was[b] or self.pidx[b] < 2:
                     continue
-                a = at.get(self.path[self.pidx[b] - 1])
-                if a is None or was[a] or a in busy or b in busy:
+                c = at.get(self.path[self.pidx[b] - 1])
+                if c is None or was[c] or c in busy or b in busy:
                     continue
-                self.carrying[a], self.carrying[b] = True, False
+                self.carrying[c], self.carrying[b] = True, False
                 self.handovers[b] += 1
-                busy.update((a, b))
+                busy.update((c, b))
         for a in active:
             if self.tmode[a] not in (RELAY, E2E):
                 continue
@@ -313,24 +351,51 @@ class Mission:
         self.pos = new
         self.t += 1
 
-    def run(self, record: bool = True, limit: int | None = None, fast: bool = True) -> None:
+    def frame(self) -> Frame:
+        """The current state (after this round's Look) as a :class:`Frame`."""
+        return Frame(
+            self.t,
+            np.asarray(self.pos, dtype=np.int64).reshape(self.n, 2),
+            np.asarray(self.carrying, dtype=bool),
+            np.asarray(self.informed, dtype=bool),
+            self.delivered,
+            self.units,
+        )
+
+    def run(
+        self,
+        record: bool = True,
+        limit: int | None = None,
+        fast: bool = True,
+        on_frame: FrameSink | None = None,
+    ) -> None:
         """Play rounds until all k units are home; ``fast`` hands the pure-transport tail to
-        the compiled loop of :mod:`.fastloop` (same rules, same result)."""
+        the compiled loop of :mod:`.fastloop` (same rules, same result). ``on_frame`` gets
+        each round's :class:`Frame`; if it raises StopRun the run stops there
+        (``self.stopped``)."""
         limit = limit or self.t + 200 * self.g * (self.k + self.g) + 10_000
         while True:
             if fast and all(m == TRANSPORT for m in self.mode):
-                self._tail(record, limit)
+                self._tail(record, limit, on_frame)
                 return
             self.look()
             if record:
                 self.history.append(list(self.pos))
+            if on_frame is not None:
+                try:
+                    on_frame(self.frame())
+                except StopRun:
+                    self.stopped = True
+                    return
             if self.delivered >= self.k:
                 return
             if self.t >= limit:
                 raise NoProgress(f"no completion after {self.t} rounds")
             self.step()
 
-    def _tail(self, record: bool, limit: int) -> None:
+    def _tail(self, record: bool, limit: int, on_frame: FrameSink | None = None) -> None:
+        """The pure-transport rounds in the compiled loop; with ``on_frame``, one round per
+        call (the loop's state lives in the arrays, so the rounds are the same)."""
         from swarmex.missions.foraging.fastloop import transport_memo, transport_tail
 
         n, g = self.n, self.g
@@ -348,15 +413,30 @@ class Mission:
         nest = np.asarray(self.nest, dtype=np.int64)
         food = np.asarray(self.food, dtype=np.int64)
         relay = self.transport != END_TO_END
-        chunk = np.empty((4096, n, 2), dtype=np.int64)
+        chunk = np.empty((1 if on_frame else 4096, n, 2), dtype=np.int64)
         memo = transport_memo(self._last_key, n)
+        informed = np.asarray(self.informed, dtype=bool)
         while True:
+            t = int(state[0])
             rows = transport_tail(
                 pos, carrying, tmode, pidx, join_at, state, path, path_of, nest, food, relay,
                 chunk, jobs, handovers, memo,
             )  # fmt: skip
             if record:
                 self.tail_chunks.append(chunk[:rows].astype(np.int32))
+            if on_frame is not None:
+                # the round's Look is done (carrying, counts); its Move too unless it was the last
+                frame = Frame(
+                    t, chunk[0].copy(), carrying.copy(), informed.copy(), int(state[2]),
+                    int(state[1]),
+                )  # fmt: skip
+                try:
+                    on_frame(frame)
+                except StopRun:
+                    self.stopped = True
+                    state[0] = t
+                    pos[:] = chunk[0]
+                    break
             if state[6]:
                 break
             if state[0] >= limit:
@@ -373,9 +453,16 @@ class Mission:
 
 
 def run_mission(
-    timed: Timed, food: Cell, units: int, transport: str, record: bool = True, fast: bool = True
+    timed: Timed,
+    food: Cell,
+    units: int,
+    transport: str,
+    record: bool = True,
+    fast: bool = True,
+    on_frame: FrameSink | None = None,
 ) -> Outcome:
-    """Play one foraging run of the pattern in ``timed`` with food at ``food``."""
+    """Play one foraging run of the pattern in ``timed`` with food at ``food``; ``on_frame``
+    gets every round's :class:`Frame` (module docstring)."""
     if transport not in (RELAY_FOOD, RELAY_PATH, END_TO_END):
         raise ValueError(transport)
     plan = timed.plan
@@ -385,9 +472,13 @@ def run_mission(
     if not len(rows):  # pragma: no cover - every pattern covers the grid
         raise RuntimeError(f"{plan.algorithm} never visits {food}")
     t0 = int(rows[0])
+    if on_frame is not None:
+        stopped = _timetable_frames(timed, t0, units, on_frame)
+        if stopped is not None:
+            return _stopped_before_discovery(timed, stopped, units, record)
     start = [(int(x), int(y)) for x, y in pos[t0]]
     m = Mission(plan.g, plan.nest, food, units, transport, start, t=t0, timed=timed)
-    m.run(record=record, fast=fast)
+    m.run(record=record, fast=fast, on_frame=on_frame)
     if record:
         parts = [pos[:t0]]
         if m.history:
@@ -407,4 +498,41 @@ def run_mission(
         makespan=m.t,
         delivered=m.delivered,
         complete=m.delivered >= units,
+        extra={"stopped": True} if m.stopped else {},
+    )
+
+
+def _timetable_frames(timed: Timed, t0: int, units: int, on_frame: FrameSink) -> int | None:
+    """Frames of the rounds before the discovery (the timetable); the round at which
+    ``on_frame`` raised StopRun, or None."""
+    n = timed.plan.n
+    nobody = np.zeros(n, dtype=bool)
+    for t in range(t0):
+        try:
+            on_frame(
+                Frame(t, timed.pos[t].astype(np.int64), nobody.copy(), nobody.copy(), 0, units)
+            )
+        except StopRun:
+            return t
+    return None
+
+
+def _stopped_before_discovery(timed: Timed, t: int, units: int, record: bool) -> Outcome:
+    n = timed.plan.n
+    if record:
+        positions = np.asarray(timed.pos[: t + 1], dtype=np.int32)
+    else:
+        positions = np.empty((0, n, 2), dtype=np.int32)
+    return Outcome(
+        positions=positions,
+        jobs=[[] for _ in range(n)],
+        handovers=[0] * n,
+        discovery=None,
+        finders=[],
+        informed_at=[None] * n,
+        comm_done=[None] * n,
+        makespan=t,
+        delivered=0,
+        complete=False,
+        extra={"stopped": True},
     )

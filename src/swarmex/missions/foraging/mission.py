@@ -1,0 +1,89 @@
+"""The foraging mission (seed 002) behind the Mission contract.
+
+``prepare`` places the food: the ``food`` cell if given, else a cell drawn from
+``numpy.random.default_rng(seed)`` in the ``food_distance`` band (or anywhere but the nest),
+so a seed fixes the whole run. ``execute`` plays the pattern's timetable, the communication
+phase and the transport (:func:`~swarmex.missions.foraging.run.run_forage`) and builds the
+record, whose ``params`` are the grid, team, pattern, transport, food cell, units, nest, the
+``food_distance`` as given and the seed.
+
+Frames: ``on_frame`` is called once per round ``t = 0 … makespan`` with a
+:class:`~swarmex.missions.foraging.sim.Frame` (robots' cells, who carries, who is informed,
+units home and left), the state that row ``t`` of the record shows, as the run plays it. The
+compiled transport loop then plays one round per call, so the record is the same as without
+``on_frame``. Raising :class:`~swarmex.missions.base.StopRun` ends the run at that round with
+``complete`` false (unless the k-th unit was already home).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from swarmex.missions.base import FrameCallback, Mission, Outcome, Parser
+from swarmex.missions.foraging.grid import Cell, nest_of
+from swarmex.missions.foraging.params import ForagingParams, check_food
+from swarmex.missions.foraging.sim import Frame
+
+
+@dataclass(frozen=True)
+class ForagingWorld:
+    """A prepared foraging run: the g×g grid (every cell free), its nest and the food cell."""
+
+    grid: int
+    nest: Cell
+    food: Cell
+
+    @property
+    def free(self) -> np.ndarray:
+        return np.ones((self.grid, self.grid), dtype=bool)
+
+
+def world_of(grid: Any, food: Any) -> ForagingWorld:
+    """The world of a run whose food cell is known (a record's ``grid`` and ``food``), checked
+    as ``--grid`` and ``--food`` are."""
+    options = ForagingParams.options()
+    parse_grid: Parser = options["grid"].parse
+    parse_food: Parser = options["food"].parse
+    g = int(parse_grid(grid, "--grid"))
+    return ForagingWorld(g, nest_of(g), check_food(parse_food(food, "--food"), g))
+
+
+class ForagingMission(Mission[ForagingParams, ForagingWorld]):
+    name = "foraging"
+    command = "forage"
+    summary = "Find food on a g×g grid, spread the word, carry k units home (seed 002)."
+    params_type = ForagingParams
+    time_unit = "step"
+
+    def prepare(self, params: ForagingParams) -> ForagingWorld:
+        from swarmex.missions.foraging.food import sample_food
+
+        g = params.grid
+        if params.food is not None:
+            food = params.food  # checked by ForagingParams.check
+        else:
+            rng = np.random.default_rng(params.seed)
+            food = sample_food(g, params.food_distance or "random", rng)[0]
+        return ForagingWorld(g, nest_of(g), food)
+
+    def execute(
+        self,
+        params: ForagingParams,
+        world: ForagingWorld,
+        on_frame: FrameCallback | None = None,
+    ) -> Outcome:
+        from swarmex.missions.foraging.run import run_forage, to_record
+
+        p = params
+        run = run_forage(
+            p.algorithm, p.grid, p.agents, world.food, p.food_units, p.transport,
+            on_frame=on_frame,
+        )  # fmt: skip
+        record = to_record(run, p.seed, {"food_distance": p.food_distance, "seed": p.seed})
+        return Outcome(record, run, world)
+
+
+__all__ = ["ForagingMission", "ForagingWorld", "Frame", "world_of"]
