@@ -19,9 +19,9 @@ Conventions (also in ``swarmex forage --help``):
 * Size limits, so that no input makes the command seem to hang or run out of memory:
   ``grid`` is at most :data:`MAX_GRID` (1024, about a million cells; the exploration timetable
   is played round by round and every round's positions are kept, so a 1024 grid with one robot
-  already takes seconds and half a gigabyte), ``agents`` at most :data:`MAX_AGENTS` (256;
-  planning Sectors for 256 robots on a 1024 grid takes ten seconds, and the time grows with
-  the team) and at most the grid's cells (no pattern gives a robot an empty share),
+  already takes seconds and half a gigabyte), ``agents`` at most :data:`MAX_AGENTS` (1024, the
+  largest swarm the scale benchmarks run; planning Sectors for 256 robots on a 1024 grid
+  takes ten seconds, and the time grows with the team) and at most the grid's cells (no pattern gives a robot an empty share),
   ``food_units`` at most :data:`MAX_FOOD_UNITS` (100 times the
   released simulator's k; each unit is a trip).
 """
@@ -49,7 +49,7 @@ from swarmex.missions.foraging.patterns import ALGORITHMS, OURS, THESIS_ALGORITH
 from swarmex.missions.foraging.transport import TRANSPORTS
 
 MAX_GRID = 1024
-MAX_AGENTS = 256
+MAX_AGENTS = 1024
 MAX_FOOD_UNITS = 10_000
 RANDOM = "random"
 
