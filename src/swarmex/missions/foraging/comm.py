@@ -22,6 +22,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from itertools import permutations
 
 import numpy as np
@@ -42,7 +43,9 @@ def meet(me: Cell, future: np.ndarray) -> int:
     return int(max(len(future) - 1, d[-1]))
 
 
-def best_order(me: Cell, t: int, targets: list[int], future_of) -> tuple[list[int], int]:
+def best_order(
+    me: Cell, t: int, targets: list[int], future_of: Callable[[int, int], np.ndarray]
+) -> tuple[list[int], int]:
     """Order of ``targets`` with the earliest completion; ``future_of(b, t)`` predicts ``b``."""
     best: tuple[int, list[int]] | None = None
     for perm in permutations(targets):

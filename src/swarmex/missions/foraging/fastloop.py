@@ -11,16 +11,22 @@ result is identical to the pure-Python loop; the test suite checks that on many 
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 from numba import njit
+from numpy.typing import NDArray
 
 # tmode codes (same as sim.py)
 JOIN, RELAY, E2E, IDLE = 0, 1, 2, 3
 MAXOPT = 6
 
+I64 = NDArray[np.int64]  # numba ignores these annotations (postponed); mypy checks the calls
+Bools = NDArray[np.bool_]
+
 
 @njit(cache=True)
-def _sidesteps(opts, k, x, y, g):
+def _sidesteps(opts: I64, k: int, x: int, y: int, g: int) -> int:
     for dx, dy in ((1, 0), (0, -1), (-1, 0), (0, 1)):
         nx, ny = x + dx, y + dy
         if 0 <= nx < g and 0 <= ny < g:
@@ -31,7 +37,7 @@ def _sidesteps(opts, k, x, y, g):
 
 
 @njit(cache=True)
-def _free_sides(opts, k, x, y, g):
+def _free_sides(opts: I64, k: int, x: int, y: int, g: int) -> int:
     """Append the side cells not already among ``opts[:k]`` (the frozen-crowd rule)."""
     first = k
     for dx, dy in ((1, 0), (0, -1), (-1, 0), (0, 1)):
@@ -49,7 +55,7 @@ def _free_sides(opts, k, x, y, g):
     return k
 
 
-def transport_memo(key: tuple | None, n: int) -> np.ndarray:
+def transport_memo(key: tuple[Any, ...] | None, n: int) -> I64:
     """The compiled loop's copy of ``Mission.transport_key`` (its layout: see _same_as_memo)."""
     memo = np.full(3 + 5 * n, -1, dtype=np.int64)
     if key is not None:
@@ -61,7 +67,9 @@ def transport_memo(key: tuple | None, n: int) -> np.ndarray:
 
 
 @njit(cache=True)
-def _same_as_memo(memo, pos, carrying, tmode, pidx, units, delivered):
+def _same_as_memo(
+    memo: I64, pos: I64, carrying: Bools, tmode: I64, pidx: I64, units: int, delivered: int
+) -> bool:
     """Whether the transport state equals the one stored in ``memo``; stores the new one.
 
     Layout: [valid, units, delivered, then per robot x, y, carrying, tmode, pidx].
@@ -81,7 +89,7 @@ def _same_as_memo(memo, pos, carrying, tmode, pidx, units, delivered):
 
 
 @njit(cache=True)
-def _toward(opts, k, x, y, qx, qy):
+def _toward(opts: I64, k: int, x: int, y: int, qx: int, qy: int) -> int:
     if qx != x:
         opts[k, 0] = x + (1 if qx > x else -1)
         opts[k, 1] = y
@@ -94,7 +102,9 @@ def _toward(opts, k, x, y, qx, qy):
 
 
 @njit(cache=True)
-def _resolve(cur, opts, nopt, order, nest_x, nest_y, choice):
+def _resolve(
+    cur: I64, opts: I64, nopt: I64, order: I64, nest_x: int, nest_y: int, choice: I64
+) -> None:
     n = cur.shape[0]
     for a in range(n):
         choice[a] = 0
@@ -138,7 +148,7 @@ def _resolve(cur, opts, nopt, order, nest_x, nest_y, choice):
 
 
 @njit(cache=True)
-def _order(cur, opts, out):
+def _order(cur: I64, opts: I64, out: I64) -> None:
     """Priority: swap pairs first, then larger (x, y), then smaller id (resolve.priority)."""
     n = cur.shape[0]
     swap = np.zeros(n, np.bool_)
@@ -167,9 +177,10 @@ def _order(cur, opts, out):
 
 @njit(cache=True)
 def transport_tail(
-    pos, carrying, tmode, pidx, join_at, state, path, path_of, nest, food, relay,
-    history, jobs, handovers, memo,
-):  # fmt: skip
+    pos: I64, carrying: Bools, tmode: I64, pidx: I64, join_at: I64, state: I64, path: I64,
+    path_of: I64, nest: I64, food: I64, relay: bool, history: I64, jobs: I64, handovers: I64,
+    memo: I64,
+) -> int:  # fmt: skip
     """Play rounds until done or ``history`` is full.
 
     ``state`` = [t, units, delivered, k, n_jobs, rows_written, done]; positions after each
