@@ -134,7 +134,8 @@ def plan(g: int, n: int, name: str = "sectors", order_fn: Order | None = None) -
     explore_from = [0] * n
     depart = [0] * n
     for q in range(4):
-        lower_q, upper_q = [], []
+        lower_q: list[tuple[int, Cell]] = []
+        upper_q: list[tuple[int, Cell]] = []
         for s in range(per_q):
             a = q * per_q + s
             lower = s < per_q // 2 or per_q == 1
