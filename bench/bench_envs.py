@@ -1,0 +1,148 @@
+"""Agent-steps per second of the PettingZoo environments with a random legal policy, and
+POGEMA 1.4's on its 32x32 grid with 16 agents beside swarmex foraging on a 32x32 grid with
+16 agents (issue 13, item 5).
+
+An *agent-step* is one agent's action taken by the environment: in a parallel step every
+live agent acts (foraging: every robot moves every round; exploration and roadmap: the
+agents that are not deciding get their no-op, which is still an action of the API), so a
+parallel step of n agents counts n agent-steps, as POGEMA's own figures do. The random
+policy samples uniformly among the actions its mask allows.
+
+POGEMA 1.4 pins gymnasium 0.28, which breaks PettingZoo 1.27 (it needs gymnasium >= 1.0), so
+POGEMA runs in its own virtual environment, made by this script on first use under
+``~/.cache/swarmex/bench-pogema`` (``pip install pogema==1.4.*``), in a subprocess of the
+same run. ``--no-pogema`` skips it.
+
+    python bench/bench_envs.py [--seconds 5] [--no-pogema]
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import json
+import subprocess
+import sys
+import time
+import venv
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+REPO = Path(__file__).resolve().parents[1]
+
+# (label, module, params): small and medium worlds per mission; foraging's 32x32/16 row is
+# the one compared with POGEMA's 32x32/16
+CASES: list[tuple[str, str, dict[str, Any]]] = [
+    ("foraging 32x32, 16 robots", "foraging_v0",
+     {"grid": 32, "agents": 16, "algorithm": "sectors", "food_units": 10}),
+    ("foraging 64x64, 16 robots", "foraging_v0",
+     {"grid": 64, "agents": 16, "algorithm": "sectors", "food_units": 10}),
+    ("traversal 12x12, 4 agents", "traversal_v0", {"grid": "12x12", "agents": 4}),
+    ("traversal 32x32, 8 agents", "traversal_v0", {"grid": "32x32", "agents": 8}),
+    ("exploration 3x3 m at 10 cm, 2 robots", "exploration_v0",
+     {"empty": "3x3", "cell": 0.1, "robots": 2, "laser_range": 1.0}),
+    ("exploration 10x10 m at 10 cm, 4 robots", "exploration_v0",
+     {"empty": "10x10", "cell": 0.1, "robots": 4}),
+    ("roadmap fig8, 60 nodes, 2 agents", "roadmap_v0",
+     {"env": str(REPO / "examples" / "roadmap_fig8.json"), "agents": 2, "nodes": 60,
+      "step": 40.0, "sensor_range": "inf"}),
+    ("roadmap fig8, 400 nodes, 8 agents", "roadmap_v0",
+     {"env": str(REPO / "examples" / "roadmap_fig8.json"), "agents": 8, "nodes": 400,
+      "step": 20.0, "sensor_range": "1eps"}),
+]
+
+
+def random_legal(obs: dict[str, Any], space: Any, rng: np.random.Generator) -> Any:
+    mask = obs.get("action_mask") if isinstance(obs, dict) else None
+    if mask is None:
+        return space.sample()
+    legal = np.flatnonzero(np.asarray(mask))
+    return int(rng.choice(legal)) if legal.size else 0
+
+
+def measure(module: str, params: dict[str, Any], seconds: float) -> tuple[float, int, int]:
+    """(agent-steps/s, agent-steps, episodes) of a random legal policy on the parallel env."""
+    mod = importlib.import_module(f"swarmex.envs.{module}")
+    env = mod.parallel_env(**params)
+    rng = np.random.default_rng(0)
+    agent_steps = episodes = 0
+    start = time.perf_counter()
+    seed = 0
+    while time.perf_counter() - start < seconds:
+        obs, _ = env.reset(seed=seed)
+        seed += 1
+        episodes += 1
+        while env.agents and time.perf_counter() - start < seconds:
+            actions = {a: random_legal(obs[a], env.action_space(a), rng) for a in env.agents}
+            agent_steps += len(actions)
+            obs, _, _, _, _ = env.step(actions)
+    env.close()
+    return agent_steps / (time.perf_counter() - start), agent_steps, episodes
+
+
+POGEMA_CODE = """
+import json, time, numpy as np
+from pogema import pogema_v0, GridConfig
+env = pogema_v0(grid_config=GridConfig(size=32, num_agents=16, density=0.3, seed=1,
+                                        max_episode_steps=256))
+rng = np.random.default_rng(0); steps = 0; episodes = 0
+start = time.perf_counter(); seconds = float(__import__('sys').argv[1])
+while time.perf_counter() - start < seconds:
+    obs, info = env.reset(seed=episodes); episodes += 1
+    while time.perf_counter() - start < seconds:
+        obs, r, term, trunc, info = env.step(rng.integers(0, 5, 16).tolist()); steps += 16
+        if all(term) or all(trunc):
+            break
+print(json.dumps({"rate": steps / (time.perf_counter() - start), "steps": steps,
+                  "episodes": episodes}))
+"""
+
+
+def pogema(seconds: float) -> dict[str, Any] | None:
+    home = Path.home() / ".cache" / "swarmex" / "bench-pogema"
+    python = home / "bin" / "python"
+    if not python.exists():
+        print(f"making a virtual environment for POGEMA 1.4 in {home} ...", file=sys.stderr)
+        venv.create(home, with_pip=True)
+        subprocess.run([str(python), "-m", "pip", "install", "-q", "pogema==1.4.*"], check=True)
+    out = subprocess.run([str(python), "-c", POGEMA_CODE, str(seconds)], capture_output=True,
+                         text=True, timeout=600)
+    if out.returncode:
+        print(out.stderr.strip().splitlines()[-1:], file=sys.stderr)
+        return None
+    return json.loads(out.stdout)  # type: ignore[no-any-return]
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--seconds", type=float, default=5.0, help="timing window per case")
+    ap.add_argument("--no-pogema", action="store_true")
+    ap.add_argument("--only", default="", help="run only cases whose label contains this")
+    args = ap.parse_args()
+    rows = []
+    for label, module, params in CASES:
+        if args.only and args.only not in label:
+            continue
+        try:
+            rate, steps, eps = measure(module, params, args.seconds)
+        except ModuleNotFoundError as exc:
+            print(f"{label}: skipped ({exc})", file=sys.stderr)
+            continue
+        rows.append((label, rate, steps, eps))
+    ref = None if args.no_pogema else pogema(args.seconds)
+    print(f"{'environment':44s} {'agent-steps/s':>14s} {'agent-steps':>12s} {'episodes':>9s}")
+    for label, rate, steps, eps in rows:
+        print(f"{label:44s} {rate:14,.0f} {steps:12,d} {eps:9d}")
+    if ref is not None:
+        label = "POGEMA 1.4 32x32, 16 agents (density 0.3)"
+        print(f"{label:44s} {ref['rate']:14,.0f} {ref['steps']:12,d} {ref['episodes']:9d}")
+        ours = next((r for r in rows if r[0].startswith("foraging 32x32")), None)
+        if ours is not None:
+            print(f"\nforaging 32x32/16 vs POGEMA 32x32/16: ratio {ours[1] / ref['rate']:.2f}"
+                  " (goal >= 1)")
+
+
+if __name__ == "__main__":
+    main()
