@@ -306,3 +306,22 @@ def test_supersuit_vector_envs():
         ends += int(ended.all(axis=1).sum())
     assert ends >= 4  # whole episodes ended (and were reset) in both copies
     vec.close()
+
+
+def test_the_missions_event_cap_truncates(monkeypatch):
+    import functools
+
+    from swarmex.missions import traversal as trav
+
+    monkeypatch.setattr(trav, "run_traversal", functools.partial(trav.run_traversal, max_events=12))
+    env = traversal_v0.parallel_env(**SMALL)
+    observations, infos = env.reset(seed=0)
+    policy = traversal_v0.baseline_policy(env)
+    ended = {}
+    while env.agents:
+        observations, rewards, terms, truncs, infos = env.step(policy(observations, infos))
+        ended.update({a: (terms[a], truncs[a], rewards[a]) for a in truncs if truncs[a]})
+    rec = env.unwrapped.record()
+    assert not rec.complete and ended and all(not t for t, _, _ in ended.values())
+    missed = rec.metrics["nodes_missed"]
+    assert missed > 0 and all(r <= -missed * 12.22 for _, _, r in ended.values())

@@ -377,6 +377,11 @@ class raw_env(AECEnv):  # noqa: N801 - PettingZoo's module convention
             return f"agent_{holder} has announced it as its next vertex"
         return "it is not reachable on the graph the agent knows"
 
+    @property
+    def deciding(self) -> str | None:
+        """The agent whose decision the simulator waits for (None once the run has ended)."""
+        return None if self._request is None else f"agent_{self._request.me}"
+
     def builtin_action(self, agent: str | None = None) -> int:
         """The seed algorithm's choice (``algorithm`` of the params) for the pending decision.
 
@@ -551,8 +556,8 @@ def env(**params: Any) -> AECEnv:
 
 def parallel_env(**params: Any) -> ParallelEnv:
     """The Parallel form: one agent (the one the mission waits for) acts per step; the
-    actions given for the other agents are ignored (``infos[agent]["active_agent"]`` after a
-    step, ``env.unwrapped.agent_selection`` always, names it)."""
+    actions given for the other agents are ignored (``env.unwrapped.deciding`` names the agent
+    that acts; so does ``infos[agent]["active_agent"]`` after a step)."""
     return turn_based_aec_to_parallel(env(**params))
 
 
@@ -568,9 +573,9 @@ def baseline_policy(env: Any) -> Callable[[dict[str, Any], dict[str, Any]], dict
 
     def policy(observations: dict[str, Any], infos: dict[str, Any]) -> dict[str, int]:
         actions = dict.fromkeys(observations, 0)
-        request = raw._request
-        if request is not None:
-            actions[f"agent_{request.me}"] = raw.builtin_action()
+        deciding = raw.deciding
+        if deciding is not None:
+            actions[deciding] = raw.builtin_action()
         return actions
 
     return policy
