@@ -508,7 +508,7 @@ class raw_env(AECEnv):  # noqa: N801 - PettingZoo's module convention
         return self._draw()
 
     def _draw(self) -> np.ndarray:
-        from swarmex.viz.traversal import _Canvas, _RasterLayer, _VectorLayer
+        from swarmex.viz.traversal import traversal_frame
 
         pos = self.world.graph.pos
         agents = []
@@ -519,12 +519,7 @@ class raw_env(AECEnv):  # noqa: N801 - PettingZoo's module convention
         algorithm = self._builtin.name if self._builtin is not None else self.params.algorithm
         record = {"agents": agents, "algorithm": algorithm}
         title = f"traversal_v0 · {algorithm} · t = {self._now:,.1f} s"
-        cv = _Canvas(self.world, record, 64, title)
-        cv.nests()
-        cv.legend()
-        layer = _VectorLayer(cv) if cv.small or not cv.is_grid else _RasterLayer(cv)
-        cv.fig.canvas.draw()
-        return np.ascontiguousarray(layer.draw(self._now + 1e-9), dtype=np.uint8).copy()
+        return traversal_frame(record, self.world, self._now + 1e-9, title)
 
     # ------------------------------------------------------------------ lifecycle
     def _stop_run(self) -> None:

@@ -534,6 +534,18 @@ def _write_gif(path: Path, frames: list[np.ndarray], palette: bytes, durations: 
     )
 
 
+def traversal_frame(record: dict[str, Any], world: Any, t: float, title: str,
+                    dpi: int = 64) -> np.ndarray:
+    """One RGB frame of the traversal animation: ``record``'s paths and jobs up to time ``t``
+    (the frame its GIF shows at ``t``), for a live view such as ``traversal_v0.render()``."""
+    cv = _Canvas(world, record, dpi, title)
+    cv.nests()
+    cv.legend()
+    layer = _VectorLayer(cv) if cv.small or not cv.is_grid else _RasterLayer(cv)
+    cv.fig.canvas.draw()
+    return np.ascontiguousarray(layer.draw(t), dtype=np.uint8).copy()
+
+
 def render_traversal(record_or_run: Any, world, path: str | Path) -> Path:
     """Draw (``.png``) or animate (``.gif``, ``.mp4``) a run, by the file's suffix."""
     path = Path(path)
