@@ -51,21 +51,25 @@ def reproduce(
     order = list(specs)
     random.Random(0).shuffle(order)
     t0 = time.perf_counter()
-    executed = 0
+
+    stored = already
 
     def tick(_spec: RunSpec, _rec: dict[str, Any]) -> None:
-        nonlocal executed
-        executed += 1
+        nonlocal stored
+        stored += 1
         if progress:
-            progress(already + executed, len(specs))
+            progress(stored, len(specs))
 
     try:
         run_jobs(
             order, execute, lambda s: s.id, store=store, workers=workers, label="traversal",
-            console=console, show=console is not None, on_result=tick,
+            console=console, show=console is not None, on_result=tick if progress else None,
         )
     finally:
         elapsed = time.perf_counter() - t0
+        # runs stored now and not before: also those that finished while an interrupted
+        # session was stopping, and those a killed one left in the runner's spool
+        executed = sum(1 for s in specs if s.id in store) - already
         store.header["sessions"] = [
             *sessions,
             {
