@@ -410,7 +410,8 @@ def test_a_crash_inside_a_chunk_loses_only_unfinished_runs(tmp_path):
 
 
 def test_chunk_size_follows_run_time_and_shrinks_at_the_end():
-    from swarmex.experiments.sweep import CHUNK_MAX, _chunk_size
+    from swarmex.experiments.pool import CHUNK_MAX
+    from swarmex.experiments.pool import chunk_size as _chunk_size
 
     assert _chunk_size(None, 1000, 2) == 1  # no run timed yet
     assert _chunk_size(0.001, 1000, 2) == CHUNK_MAX  # tiny runs: the biggest chunks

@@ -1,16 +1,17 @@
 """What every long experiment shares: its progress bar and its append-only journal of runs.
 
 Sweeps and the seed reproductions all run many missions, show the same Rich bar (done/total,
-runs per second, elapsed, ETA) and keep finished runs in a JSON-lines journal that an
-interrupted run may leave with a torn last line; both live here so they look and behave the
-same everywhere.
+runs per second, elapsed, ETA) and keep finished runs in a JSON-lines journal
+(:class:`Journal`: one line per run, flushed at once) that an interrupted run may leave with a
+torn last line; both live here so they look and behave the same everywhere.
 """
 
 from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import Any
+from types import TracebackType
+from typing import IO, Any
 
 from rich.console import Console
 from rich.progress import (
@@ -70,3 +71,55 @@ def read_journal(path: Path, key: str = "key") -> dict[Any, dict[str, Any]]:
             if isinstance(row, dict) and key in row:
                 done[row[key]] = row
     return done
+
+
+class Journal:
+    """An append-only JSON-lines file of finished runs, one row (a dict) per line, each named
+    by its ``key`` field.
+
+    :meth:`add` writes and flushes the line at once, so a finished run survives the crash or
+    kill of this process; reading skips a torn last line (:func:`read_journal`), whose run is
+    then simply done again. A later row for the same key replaces an earlier one.
+    """
+
+    def __init__(self, path: str | Path, key: str = "key") -> None:
+        self.path = Path(path)
+        self.key = key
+        self._rows: dict[Any, dict[str, Any]] | None = None
+        self._fh: IO[str] | None = None
+
+    def rows(self) -> dict[Any, dict[str, Any]]:
+        """Every row by key (read from the file once, then kept up to date)."""
+        if self._rows is None:
+            self._rows = read_journal(self.path, self.key)
+        return self._rows
+
+    def get(self, key: Any) -> dict[str, Any] | None:
+        return self.rows().get(key)
+
+    def __contains__(self, key: Any) -> bool:
+        return key in self.rows()
+
+    def add(self, row: dict[str, Any]) -> None:
+        """Append one row (it names its own key) and flush it."""
+        if self._fh is None:
+            self.path.parent.mkdir(parents=True, exist_ok=True)
+            self._fh = self.path.open("a", encoding="utf-8")
+        self._fh.write(json.dumps(row) + "\n")
+        self._fh.flush()
+        if self._rows is not None:
+            self._rows[row[self.key]] = row
+
+    def close(self) -> None:
+        if self._fh is not None:
+            self._fh.close()
+            self._fh = None
+
+    def __enter__(self) -> Journal:
+        return self
+
+    def __exit__(
+        self, exc_type: type[BaseException] | None, exc: BaseException | None,
+        tb: TracebackType | None,
+    ) -> None:
+        self.close()

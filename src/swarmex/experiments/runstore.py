@@ -73,6 +73,9 @@ class RunStore:
     def __contains__(self, run_id: str) -> bool:
         return run_id in self.runs
 
+    def get(self, run_id: str) -> dict[str, Any] | None:
+        return self.runs.get(run_id)
+
     def __len__(self) -> int:
         return len(self.runs)
 

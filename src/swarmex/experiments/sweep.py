@@ -19,9 +19,10 @@ Backends, all giving the same records and table for the same spec (each run is s
 own ``--seed``; nothing depends on which worker ran it or when):
 
 * ``serial`` — in this process; the reference, and a debugging aid;
-* ``local`` — a process pool over the cores, forked from the warmed-up driver while it has a
-  single thread (else from a fork server that imported swarmex once); small runs go to the
-  workers in chunks, so the driver's share of the cores stays small (see ``_local``);
+* ``local`` — the local process pool of :mod:`swarmex.experiments.pool` (shared with the
+  reproductions): forked from the warmed-up driver while it has a single thread (else from a
+  fork server that imported swarmex once); small runs go to the workers in chunks, so the
+  driver's share of the cores stays small;
 * ``ray`` — long-lived Ray actors, locally (``ray.init()``) or on a cluster by address.
 
 The driver keeps only outcomes (a few scalars per run) and a bounded window of tasks in
@@ -30,33 +31,27 @@ flight, so its memory does not grow with the records' size.
 
 from __future__ import annotations
 
-import contextlib
 import json
-import multiprocessing
 import os
-import threading
-import warnings
 from collections import deque
-from collections.abc import Callable, Iterable, Iterator
-from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
-from concurrent.futures.process import BrokenProcessPool
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from swarmex.engine.atomic import atomic_path
+from swarmex.engine.atomic import atomic_path, write_atomic
 from swarmex.errors import InputError, require
-from swarmex.experiments.progress import read_journal
+from swarmex.experiments.pool import MAX_ATTEMPTS, run_local
+from swarmex.experiments.progress import Journal, read_journal
 from swarmex.experiments.scenario import OptionShape
 from swarmex.experiments.sweep_spec import RunSpec, SweepSpec
 from swarmex.experiments.sweep_worker import (
+    InFolder,
     Outcome,
     Task,
     outcome_from_record,
-    run_chunk,
     run_task,
     warm_up,
-    write_text_atomic,
 )
 
 BACKENDS = ("local", "ray", "serial")
@@ -64,10 +59,6 @@ RESULTS = "results.parquet"
 JOURNAL = "journal.jsonl"
 METADATA_KEY = b"swarmex.sweep"
 RAY_CHUNK = 8  # runs per Ray actor call at most
-CHUNK_MAX = 16  # runs per local pool task at most
-CHUNK_SECONDS = 0.1  # what a local pool task should last, about
-MAX_BREAKS = 3  # pool breaks in a row, no run completing: the workers cannot run at all
-MAX_ATTEMPTS = 2  # a run in flight when a worker process died twice is recorded as failed
 
 OnOutcome = Callable[[Outcome], None]
 
@@ -98,7 +89,7 @@ class SweepStore:
             raise InputError(f"--out: cannot create {self.runs_dir}: {exc.strerror}") from None
         if not os.access(self.runs_dir, os.W_OK):
             raise InputError(f"--out: {self.runs_dir} is not writable")
-        self._journal = None
+        self._journal = Journal(self.dir / JOURNAL, key="run_id")
 
     def record_path(self, run_id: str) -> Path:
         return self.runs_dir / f"{run_id}.json"
@@ -131,7 +122,7 @@ class SweepStore:
         """Outcomes by run id; a line cut short by a crash is skipped (its run is re-read
         from its record, or run again)."""
         out: dict[str, Outcome] = {}
-        for run_id, row in read_journal(self.dir / JOURNAL, key="run_id").items():
+        for run_id, row in read_journal(self._journal.path, key="run_id").items():
             try:
                 out[run_id] = Outcome.from_json(row)
             except TypeError:  # a row missing fields: treat it like a torn line
@@ -149,7 +140,7 @@ class SweepStore:
     def save(self, outcome: Outcome, run: RunSpec, task: Task) -> None:
         """Make a finished run durable: its record or error file, then its journal line."""
         if outcome.record_text is not None:
-            write_text_atomic(self.record_path(run.run_id), outcome.record_text)
+            write_atomic(self.record_path(run.run_id), outcome.record_text)
             outcome.record_text = None  # the driver keeps scalars only
         if outcome.ok:
             self.error_path(run.run_id).unlink(missing_ok=True)
@@ -162,17 +153,12 @@ class SweepStore:
                 "error": outcome.error,
                 "traceback": outcome.detail,
             }
-            write_text_atomic(self.error_path(run.run_id), json.dumps(info, indent=1))
+            write_atomic(self.error_path(run.run_id), json.dumps(info, indent=1))
             outcome.detail = None
-        if self._journal is None:
-            self._journal = (self.dir / JOURNAL).open("a", encoding="utf-8")
-        self._journal.write(json.dumps(outcome.to_json()) + "\n")
-        self._journal.flush()
+        self._journal.add(outcome.to_json())
 
     def close(self) -> None:
-        if self._journal is not None:
-            self._journal.close()
-            self._journal = None
+        self._journal.close()
 
 
 # ---------------------------------------------------------------------------- the table
@@ -349,160 +335,40 @@ def _serial(tasks: Iterable[Task], runs_dir: Path, finish: OnOutcome) -> None:
         finish(outcome)
 
 
-def _pool(workers: int, mission: str) -> ProcessPoolExecutor:
-    """Workers that start with swarmex imported (and warmed, when forked from here).
-
-    When this process has one thread, the workers are forked from it: they inherit every
-    import and the warm-up of :func:`~swarmex.experiments.sweep_worker.warm_up` and start in
-    milliseconds. Otherwise (a progress bar is drawing, or the pool is rebuilt mid-sweep) a
-    fork could copy a lock another thread holds, so they come from a fork server that
-    imports what a run imports once; its start-up (about a second) is the price of safety.
-    """
-    from swarmex.experiments.sweep_worker import init_worker
-
-    if _forkable():
-        ctx = multiprocessing.get_context("fork")
-    else:
-        ctx = multiprocessing.get_context("forkserver")
-        ctx.set_forkserver_preload(
-            [
-                "swarmex.cli",
-                "swarmex.experiments.sweep_worker",
-                "swarmex.engine.record",
-                "swarmex.worlds",
-                f"swarmex.missions.{mission}",
-            ]
-        )
-    return ProcessPoolExecutor(
-        max_workers=workers, mp_context=ctx, initializer=init_worker, initargs=(os.getpid(),)
-    )
-
-
-def _forkable() -> bool:
-    """Whether forking this process is safe: no other Python thread (a progress bar, a
-    server) could hold a lock the child inherits.
-
-    The only other threads are then native ones: OpenBLAS's idle server threads (numpy's and
-    scipy's), which OpenBLAS quiesces around a fork itself. Python 3.12+ still warns about any
-    second OS thread (DeprecationWarning); :func:`_quiet_fork` silences exactly that warning
-    where we fork knowingly.
-    """
-    return "fork" in multiprocessing.get_all_start_methods() and threading.active_count() == 1
-
-
-@contextlib.contextmanager
-def _quiet_fork() -> Iterator[None]:
-    with warnings.catch_warnings():
-        warnings.filterwarnings(
-            "ignore", message=r".*multi-threaded, use of fork\(\)", category=DeprecationWarning
-        )
-        yield
-
-
-def _chunk_size(seconds_per_run: float | None, queued: int, workers: int) -> int:
-    """Runs per pool task: enough to make the hand-over cheap, few enough to stay responsive.
-
-    A small run costs a few milliseconds, about what sending it to a worker and its outcome
-    back costs the driver, which then competes with the workers for the cores; a chunk of
-    runs pays that once. Chunks last about ``CHUNK_SECONDS`` (Ctrl-C waits for the chunks in
-    flight), shrink towards the end so no worker is left with a long tail, and are single
-    runs until the first outcomes tell how long a run takes.
-    """
-    if seconds_per_run is None:
-        return 1
-    by_time = int(CHUNK_SECONDS / max(seconds_per_run, 1e-4))
-    return max(1, min(CHUNK_MAX, by_time, queued // (4 * workers)))
-
-
 def _local(
     tasks: list[Task],
     workers: int,
     mission: str,
     runs_dir: Path,
     finish: OnOutcome,
-    runner: Callable[[Task, str], Outcome] = run_task,
+    runner: Callable[[Task, str | None], Outcome] = run_task,
     ready: Callable[[], None] | None = None,
 ) -> None:
-    """A process pool with a bounded window of chunks of tasks in flight.
+    """The local pool (:func:`~swarmex.experiments.pool.run_local`) over the tasks.
 
-    If a worker process dies (a segfault, the OOM killer) the pool breaks and every task in
-    flight is lost with it (but for those whose record was written before the crash); those
-    are retried one at a time in a new pool, and a task that was in flight at
-    ``MAX_ATTEMPTS`` deaths is recorded as failed instead of retried again (once another run
-    has completed, which shows the workers themselves can run). If the pool breaks
-    ``MAX_BREAKS`` times in a row with no run completing, the workers cannot start at all:
-    the sweep stops with an error and records nothing as failed. (``runner`` is the worker
-    function; tests pass one that crashes. ``ready`` is called once the workers exist, so a
-    progress bar's thread starts after the fork.)
+    Workers write each record into ``runs_dir`` themselves, so a worker that dies loses only
+    the runs it had not finished: the records of its chunk written before the crash are read
+    back (``_keep_recorded``). A task that keeps killing its worker is recorded as failed.
+    (``runner`` is the worker function; tests pass one that crashes. ``ready`` is called once
+    the workers exist, so a progress bar's thread starts after the fork.)
     """
-    queue = deque(tasks)
-    suspects: deque[Task] = deque()
-    attempts: dict[str, int] = {}
-    dead: list[Task] = []  # gave up on, recorded once the pool is shown to work
-    breaks = 0  # pool breaks since the last completed run
-    window = 2 * workers  # chunks in flight: one running and one queued per worker
-    timed = [0.0, 0]  # seconds and count of finished runs, for the chunk size
-    if tasks and _forkable():
-        warm_up(tasks[0])
-    pool = _pool(workers, mission)
-    flying: dict[Future, list[Task]] = {}
-    try:
-        while queue or suspects or flying:
-            careful = suspects or any(t.run_id in attempts for c in flying.values() for t in c)
-            while len(flying) < (1 if careful else window) and (suspects or queue):
-                if suspects:
-                    chunk = [suspects.popleft()]
-                else:
-                    per_run = timed[0] / timed[1] if timed[1] else None
-                    size = _chunk_size(per_run, len(queue), workers)
-                    chunk = [queue.popleft() for _ in range(min(size, len(queue)))]
-                with _quiet_fork():  # the first submit forks the workers
-                    flying[pool.submit(run_chunk, runner, chunk, str(runs_dir))] = chunk
-            if ready is not None:
-                ready()  # the workers are forked by now
-                ready = None
-            done, _ = wait(list(flying), return_when=FIRST_COMPLETED)
-            lost: list[Task] = []
-            for fut in done:
-                chunk = flying.pop(fut)
-                try:
-                    outcomes = fut.result()
-                except BrokenProcessPool:
-                    lost += chunk
-                    continue
-                breaks = 0
-                for gone in dead:
-                    finish(_died(gone))
-                dead.clear()
-                for task, outcome in zip(chunk, outcomes, strict=True):
-                    attempts.pop(task.run_id, None)
-                    timed[0] += outcome.wall_seconds or 0.0
-                    timed[1] += 1
-                    finish(outcome)
-            if lost:
-                for chunk in flying.values():
-                    lost += chunk
-                flying.clear()
-                pool.shutdown(wait=False, cancel_futures=True)
-                lost = _keep_recorded(lost, runs_dir, finish)
-                breaks += 1
-                if breaks >= MAX_BREAKS:
-                    raise InputError(
-                        f"the sweep's worker processes died {breaks} times in a row before"
-                        " finishing a run (from a script, call run_sweep under"
-                        " `if __name__ == '__main__':`)"
-                    )
-                for task in lost:
-                    attempts[task.run_id] = attempts.get(task.run_id, 0) + 1
-                    if attempts[task.run_id] >= MAX_ATTEMPTS:
-                        dead.append(task)
-                    else:
-                        suspects.append(task)
-                pool = _pool(workers, mission)
-        for gone in dead:  # the last runs crashed their workers: record them now
-            finish(_died(gone))
-    finally:
-        pool.shutdown(wait=True, cancel_futures=True)
+    run_local(
+        tasks,
+        InFolder(runner, str(runs_dir)),
+        workers,
+        lambda _task, outcome: finish(outcome),
+        recover=lambda lost: _keep_recorded(lost, runs_dir, finish),
+        died=lambda task: finish(_died(task)),
+        warm=lambda: warm_up(tasks[0]),
+        preload=[
+            "swarmex.cli",
+            "swarmex.experiments.sweep_worker",
+            "swarmex.engine.record",
+            "swarmex.worlds",
+            f"swarmex.missions.{mission}",
+        ],
+        ready=ready,
+    )
 
 
 def _keep_recorded(lost: list[Task], runs_dir: Path, finish: OnOutcome) -> list[Task]:

@@ -19,17 +19,15 @@ from __future__ import annotations
 import contextlib
 import io
 import json
-import os
-import signal
-import threading
-import time
 import traceback
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
+from swarmex.engine.atomic import write_atomic
 from swarmex.errors import InputError
+from swarmex.experiments.pool import init_worker, warm_numba
 
 
 @dataclass(frozen=True)
@@ -65,31 +63,6 @@ class Outcome:
         return cls(**{k: v for k, v in d.items() if k in names})
 
 
-def init_worker(driver_pid: int | None = None) -> None:
-    """Prepare a pool process: ignore Ctrl-C (the driver stops us).
-
-    With ``driver_pid``, a watchdog thread ends this process once the driver is gone: a pool
-    worker forked by the fork server is not the driver's child, and if the driver is killed
-    (SIGKILL, OOM) nothing else would ever tell it to exit.
-    """
-    with contextlib.suppress(ValueError):  # not the main thread: nothing to do
-        signal.signal(signal.SIGINT, signal.SIG_IGN)
-        signal.signal(signal.SIGTERM, signal.SIG_DFL)  # not the CLI's handler, if forked
-    if driver_pid is not None:
-        threading.Thread(target=_watch, args=(driver_pid,), daemon=True).start()
-
-
-def _watch(driver_pid: int, interval: float = 1.0) -> None:
-    while True:
-        time.sleep(interval)
-        try:
-            os.kill(driver_pid, 0)
-        except ProcessLookupError:
-            os._exit(1)
-        except PermissionError:  # alive, owned by someone else (cannot happen for our parent)
-            pass
-
-
 def run_task(task: Task, runs_dir: str | None) -> Outcome:
     """Run one task; write its record into ``runs_dir`` (or return it when that is None).
 
@@ -112,15 +85,20 @@ def run_task(task: Task, runs_dir: str | None) -> Outcome:
     if runs_dir is None:
         outcome.record_text = text
     else:
-        write_text_atomic(Path(runs_dir) / f"{task.run_id}.json", text)
+        write_atomic(Path(runs_dir) / f"{task.run_id}.json", text)
     return outcome
 
 
-def run_chunk(
-    runner: Callable[[Task, str | None], Outcome], tasks: list[Task], runs_dir: str | None
-) -> list[Outcome]:
-    """Several tasks in one hand-over from the driver (see ``sweep._chunk_size``)."""
-    return [runner(task, runs_dir) for task in tasks]
+class InFolder:
+    """``run_task`` (or a stand-in) bound to the sweep's runs folder: the pool's job function
+    (a picklable object, since the pool hands it to its workers)."""
+
+    def __init__(self, runner: Callable[[Task, str | None], Outcome], runs_dir: str) -> None:
+        self.runner = runner
+        self.runs_dir = runs_dir
+
+    def __call__(self, task: Task) -> Outcome:
+        return self.runner(task, self.runs_dir)
 
 
 def warm_up(task: Task) -> None:
@@ -138,13 +116,7 @@ def warm_up(task: Task) -> None:
         mission = get(task.mission)
         mission.prepare(mission.params(task.values))
         import swarmex.engine.record  # noqa: F401
-    with contextlib.suppress(Exception):
-        import numpy as np
-
-        from swarmex.planning.distance import distance_field
-        from swarmex.worlds.grid import GridWorld
-
-        distance_field(GridWorld(np.ones((1, 2), dtype=bool)).graph, 0)
+    warm_numba()
 
 
 def _failed(task: Task, message: str, detail: str | None = None) -> Outcome:
@@ -179,17 +151,6 @@ def flat_scalars(metrics: dict[str, Any], prefix: str = "") -> dict[str, Any]:
         elif value is None or isinstance(value, str | int | float | bool):
             out[name] = value
     return out
-
-
-def write_text_atomic(path: Path, text: str) -> None:
-    """Temp file + rename: a reader (or a resumed sweep) never sees half a record.
-
-    No fsync: a record survives the crash of any process, which is what resuming needs; only
-    a power cut could lose the last few, and those runs are simply run again.
-    """
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    tmp.write_text(text, encoding="utf-8")
-    os.replace(tmp, path)
 
 
 class RayWorker:

@@ -3,7 +3,9 @@
 Each study is split by job, lowest first:
 
 * ``design``   which runs: the seed's fixed parameters, the plan, its reference numbers;
-* ``runs``     executing the plan (worker processes, a resumable journal or run store);
+* ``runs``     one run: the study's job function (a picklable module-level function of a
+  job), which :func:`swarmex.studies.runner.run_jobs` — the one runner of every study —
+  runs in worker processes, keeping the results in a resumable journal or run store;
 * ``analysis`` tables, means and confidence intervals (:mod:`swarmex.engine.stats`) from the
   stored runs;
 * ``figures``  the seed's figures redrawn from the analysis;
@@ -15,8 +17,8 @@ Reports and figures are rebuilt from the stored runs, so an interrupted reproduc
 and a report can be rewritten without rerunning. The seeds' reference numbers ship in
 ``studies/reference/`` (copied from ``../shared/reference/``) and are read with
 :func:`reference_file`, so reports work from an installed package. Studies sit above the
-missions and ``viz`` (they draw with it) and beside ``experiments`` (whose progress bars,
-journals and run store they use); only the CLI imports them.
+missions and ``viz`` (they draw with it) and beside ``experiments`` (whose process pool,
+progress bar, journal and run store the runner uses); only the CLI imports them.
 """
 
 from __future__ import annotations

@@ -10,6 +10,7 @@ import pytest
 
 from swarmex.cli import main
 from swarmex.experiments.runstore import RunStore
+from swarmex.studies.runner import run_jobs
 from swarmex.studies.traversal.analysis import best_fleet, optimum_6x6
 from swarmex.studies.traversal.design import (
     Config,
@@ -19,7 +20,7 @@ from swarmex.studies.traversal.design import (
     reference_rows,
     thesis_node,
 )
-from swarmex.studies.traversal.runs import run_sweep
+from swarmex.studies.traversal.runs import execute
 
 
 @pytest.fixture(scope="module")
@@ -93,7 +94,7 @@ def test_results_do_not_depend_on_workers_and_sweeps_resume(tmp_path):
 
     def sweep(path: Path, workers: int, subset) -> tuple[dict, int]:
         store = RunStore(path, {})
-        n = run_sweep(subset, store, workers)
+        n = run_jobs(subset, execute, lambda s: s.id, store=store, workers=workers, show=False).ran
         store.close()
         return json.loads(path.read_text())["runs"], n
 

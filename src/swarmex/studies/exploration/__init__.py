@@ -1,7 +1,7 @@
 """Seed 003, chapter 4: decentralized exploration with laser robots (Figs. 4.1–4.4).
 
-:mod:`.design` (the thesis's sweep, the team-size study, the strategy scenarios) →
-:mod:`.runs` (worker processes, ``runs.jsonl`` cache) → :mod:`.analysis` (the thesis's
+:mod:`.design` (the thesis's sweep, the team-size study, the strategy scenarios) → :mod:`.runs`
+(one run; the study runner keeps them in ``runs.jsonl``) → :mod:`.analysis` (the thesis's
 trends, checked) → :mod:`.figures` (Figs. 4.1–4.4, strategies) → :mod:`.report`
 (``exploration.md``). :func:`reproduce` (:mod:`.pipeline`) does all of it.
 """

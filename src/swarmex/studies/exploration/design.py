@@ -23,10 +23,11 @@ greedy-exclusion, Burgard et al.'s utility, MinPos, Hungarian assignment) on the
 and seeds. ``--quick`` shrinks everything (a 10 × 10 m world, teams 1/2/5/10, radios 5 and
 20 m, one run) to check the pipeline in a few minutes.
 
-A job is a plain dict (:func:`job_key` is its identity); :mod:`.runs` executes jobs and caches
-them one JSON line each in ``OUT/runs.jsonl``, so an interrupted reproduction resumes where it
-stopped; :mod:`.analysis` checks the trends, :mod:`.figures` redraws Figs. 4.1–4.4 and
-:mod:`.report` writes ``exploration.md``.
+A job is a plain dict (:func:`job_key` is its identity); :mod:`.runs` runs one, and the study
+runner (:mod:`swarmex.studies.runner`) executes them and keeps them one JSON line each in
+``OUT/runs.jsonl``, so an interrupted reproduction resumes where it stopped; :mod:`.analysis`
+checks the trends, :mod:`.figures` redraws Figs. 4.1–4.4 and :mod:`.report` writes
+``exploration.md``.
 """
 
 from __future__ import annotations

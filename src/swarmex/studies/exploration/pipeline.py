@@ -6,6 +6,7 @@ import time
 from collections.abc import Callable
 from pathlib import Path
 
+from swarmex.experiments.progress import Journal
 from swarmex.studies.exploration.analysis import checks, fastest_size, steps_table, team_table
 from swarmex.studies.exploration.design import (
     FULL,
@@ -22,7 +23,8 @@ from swarmex.studies.exploration.design import (
     team_jobs,
 )
 from swarmex.studies.exploration.report import write_report
-from swarmex.studies.exploration.runs import execute
+from swarmex.studies.exploration.runs import describe, run_job
+from swarmex.studies.runner import run_jobs
 
 
 def reproduce(
@@ -39,8 +41,15 @@ def reproduce(
     sweep = sweep_jobs(d)
     strat = strategy_jobs(scenarios, 1 if quick else 3)
     teams = [j for j in team_jobs(d, quick) if j["kind"] == "teamsize"]
-    results = execute(sweep + teams + strat, workers, runs_file, progress)
-    pics = execute(picture_jobs(d), workers, None, progress)
+    jobs = sweep + teams + strat
+    with Journal(runs_file) as journal:
+        done = run_jobs(jobs, run_job, job_key, store=journal, workers=workers,
+                        label="exploration", describe=describe)
+    results = {job_key(j): r for j, r in zip(jobs, done.results, strict=True)}
+    shots = picture_jobs(d)
+    drawn = run_jobs(shots, run_job, job_key, workers=workers, label="pictures",
+                     describe=describe)
+    pics = {job_key(j): r for j, r in zip(shots, drawn.results, strict=True)}
     sweep_res = {job_key(j): results[job_key(j)] for j in sweep}
     strat_rows = [results[job_key(j)] for j in strat]
     figures = []

@@ -1,15 +1,18 @@
-"""Running the jobs of ``swarmex reproduce exploration`` in worker processes, with a cache."""
+"""One run of ``swarmex reproduce exploration``: the job function of the study runner.
+
+A job is a plain dict (:mod:`.design`, :func:`~.design.job_key` is its identity). Its run is
+the exploration simulator with the study's own options (``conflict_yield``, ``plan_pause``)
+and what the figures need from inside the run (each robot's plan ticks, snapshots every few
+steps), so it calls :func:`~swarmex.missions.exploration.run_exploration` rather than the
+mission's record. :func:`swarmex.studies.runner.run_jobs` runs the jobs and keeps the summary
+lines in ``OUT/runs.jsonl``; the picture jobs (arrays, snapshots) are run without a store.
+"""
 
 from __future__ import annotations
 
-import json
 import time
-from collections.abc import Callable
-from concurrent.futures import ProcessPoolExecutor, as_completed
-from pathlib import Path
 from typing import Any
 
-from swarmex.experiments.progress import read_journal
 from swarmex.missions.exploration import ExplorationParams, run_exploration
 from swarmex.missions.exploration.record import exploration_metrics
 from swarmex.studies.exploration.design import job_key, make_world
@@ -65,32 +68,8 @@ def run_job(job: dict[str, Any]) -> dict[str, Any]:
     return out
 
 
-def execute(jobs, workers: int, store: Path | None, progress: Callable[[str], None]):
-    """Run jobs (cached ones skipped when ``store`` is given); returns results by key."""
-    done = read_journal(store) if store else {}
-    todo = [j for j in jobs if job_key(j) not in done]
-    results = {job_key(j): done[job_key(j)] for j in jobs if job_key(j) in done}
-    if not todo:
-        return results
-    t0 = time.perf_counter()
-    fh = store.open("a", encoding="utf-8") if store else None
-    try:
-        with ProcessPoolExecutor(max_workers=workers) as pool:
-            futs = {pool.submit(run_job, j): j for j in todo}
-            for k, fut in enumerate(as_completed(futs), 1):
-                res = fut.result()
-                results[res["key"]] = res
-                if fh is not None:
-                    fh.write(json.dumps(res) + "\n")
-                    fh.flush()
-                j = futs[fut]
-                progress(
-                    f"[{k}/{len(todo)}] {j['kind']} n={j['robots']} laser={j['laser']:g} "
-                    f"comm={j['comm']:g} {j['strategy']} seed={j['seed']}: "
-                    f"{res['makespan']} steps, {res['cpu_seconds']:.1f} s cpu "
-                    f"({time.perf_counter() - t0:.0f} s)"
-                )
-    finally:
-        if fh is not None:
-            fh.close()
-    return results
+def describe(job: dict[str, Any]) -> str:
+    return (
+        f"{job['kind']} n={job['robots']} laser={job['laser']:g} comm={job['comm']:g} "
+        f"{job['strategy']} seed={job['seed']}"
+    )

@@ -9,10 +9,11 @@ Hilbert: 4, 16; Modified ZigZag: 8), n = 1 added for the exploration figures; k 
 the thesis; Fig. 69 compares the three transports on the RANDOM cells at n = 16 (8 for Modified
 ZigZag). Sectors with n = 4 *is* ZigZag with n = 4, so those runs are shared.
 
-The runs are executed by :mod:`.runs` (every finished run is appended to ``DIR/runs.jsonl`` at
-once; a rerun skips what is there); :mod:`.analysis` averages them into the table written to
-``DIR/foraging_results.csv``, :mod:`.figures` draws ``DIR/fig*.png`` and :mod:`.report` writes
-``DIR/foraging.md`` with the thesis's Figs. 78–79 numbers (:func:`reference`) side by side.
+The runs are :mod:`.runs`, executed by the study runner (every finished run is appended to
+``DIR/runs.jsonl`` at once; a rerun skips what is there); :mod:`.analysis` averages them into
+the table written to ``DIR/foraging_results.csv``, :mod:`.figures` draws ``DIR/fig*.png`` and
+:mod:`.report` writes ``DIR/foraging.md`` with the thesis's Figs. 78–79 numbers
+(:func:`reference`) side by side.
 """
 
 from __future__ import annotations

@@ -5,15 +5,16 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-from swarmex.experiments.progress import read_journal
+from swarmex.experiments.progress import Journal
 from swarmex.studies.foraging.analysis import (
     aggregate,
     exact_exploration,
     single_agent_exploration,
     write_csv,
 )
-from swarmex.studies.foraging.design import food_cells, reference, run_key, tasks
-from swarmex.studies.foraging.runs import execute
+from swarmex.studies.foraging.design import food_cells, reference, tasks
+from swarmex.studies.foraging.runs import describe, run_task, task_key
+from swarmex.studies.runner import run_jobs
 
 
 def reproduce(out: Path, quick: bool = False, workers: int = 2, seed: int = 2015) -> Path:
@@ -26,10 +27,10 @@ def reproduce(out: Path, quick: bool = False, workers: int = 2, seed: int = 2015
     foods = food_cells(seed, per_band)
     todo = tasks(foods)
     workers = max(1, min(workers, os.cpu_count() or 1))
-    execute(todo, out / "runs.jsonl", workers)
-    runs = read_journal(out / "runs.jsonl")
-    keys = {run_key(t[0], t[1], t[2], t[3], t[5]) for t in todo}
-    runs = {k: v for k, v in runs.items() if k in keys}
+    with Journal(out / "runs.jsonl") as journal:
+        done = run_jobs(todo, run_task, task_key, store=journal, workers=workers,
+                        label="foraging", describe=describe)
+    runs = {task_key(t): r for t, r in zip(todo, done.results, strict=True)}
     table = aggregate(runs)
     single = single_agent_exploration(foods)
     write_csv(table, out / "foraging_results.csv")

@@ -1,23 +1,34 @@
-"""Running the plan of ``swarmex reproduce foraging``: one run per task, journaled at once."""
+"""One run of ``swarmex reproduce foraging``: the job function of the study runner.
+
+A job is a task of :func:`~.design.tasks`: ``(pattern, n, band, i, food, transport)``. Its run
+is the foraging mission's own run (:func:`~swarmex.missions.foraging.run_forage`) without the
+per-round record, which the study does not read: only its metrics are kept, one line of
+``DIR/runs.jsonl`` per run (:func:`swarmex.studies.runner.run_jobs` keeps the journal and
+resumes from it).
+"""
 
 from __future__ import annotations
 
-import json
-from concurrent.futures import ProcessPoolExecutor, as_completed
-from pathlib import Path
 from typing import Any
 
-from swarmex.experiments.progress import read_journal, runs_progress
 from swarmex.studies.foraging.design import UNITS, G, run_key
 
+Task = tuple[str, int, str, int, tuple[int, int], str]
 
-def _one(task: tuple[str, int, str, int, tuple[int, int], str]) -> dict[str, Any]:
+
+def task_key(task: Task) -> str:
+    pattern, n, band, i, _, transport = task
+    return run_key(pattern, n, band, i, transport)
+
+
+def run_task(task: Task) -> dict[str, Any]:
+    """Run one task (in a worker process): its journal line."""
     from swarmex.missions.foraging import run_forage
 
     pattern, n, band, i, food, transport = task
     run = run_forage(pattern, G, n, food, UNITS, transport, record=False)
     return {
-        "key": run_key(pattern, n, band, i, transport),
+        "key": task_key(task),
         "pattern": pattern,
         "n": n,
         "band": band,
@@ -29,25 +40,6 @@ def _one(task: tuple[str, int, str, int, tuple[int, int], str]) -> dict[str, Any
     }
 
 
-def execute(todo: list, runs_path: Path, workers: int) -> None:
-    done = read_journal(runs_path)
-    todo = [t for t in todo if run_key(t[0], t[1], t[2], t[3], t[5]) not in done]
-    if not todo:
-        return
-    with (
-        runs_path.open("a", encoding="utf-8") as fh,
-        runs_progress("foraging") as bar,
-    ):
-        job = bar.add_task("runs", total=len(todo))
-        if workers <= 1:
-            for t in todo:
-                fh.write(json.dumps(_one(t)) + "\n")
-                fh.flush()
-                bar.advance(job)
-            return
-        with ProcessPoolExecutor(max_workers=workers) as pool:
-            futures = [pool.submit(_one, t) for t in todo]
-            for fut in as_completed(futures):
-                fh.write(json.dumps(fut.result()) + "\n")
-                fh.flush()
-                bar.advance(job)
+def describe(task: Task) -> str:
+    pattern, n, band, i, _, transport = task
+    return f"{pattern} n={n} {band} #{i} {transport}"

@@ -17,7 +17,8 @@ Protocol (what the paper leaves open is fixed here and stated in the report):
   report can be rerun alone with ``swarmex roadmap … --seed i``.
 * A third planner, ``wma-rrt-takeover`` (our improvement), runs on the same rows.
 
-The jobs (:class:`Job`, :func:`plan`) are run by :mod:`.runs`: every finished run is appended
+The jobs (:class:`Job`, :func:`plan`) are run (:mod:`.runs`) by the study runner
+(:mod:`swarmex.studies.runner`): every finished run is appended
 to ``DIR/roadmap_runs.jsonl`` at once (flushed), and a rerun skips runs already there, so an
 interrupted reproduction resumes; delete the file to start over. :mod:`.readings` is the study
 of readings, :mod:`.analysis` the tables, :mod:`.figures` and :mod:`.report` the figures and

@@ -2,18 +2,23 @@
 
 from __future__ import annotations
 
+import os
 import time
 from pathlib import Path
 
 from rich.console import Console
 
 from swarmex import __version__
+from swarmex.experiments.progress import Journal
 from swarmex.studies.roadmap.design import plan
 from swarmex.studies.roadmap.readings import cached_readings_study
-from swarmex.studies.roadmap.runs import execute
+from swarmex.studies.roadmap.runs import describe, job_key, run_job
+from swarmex.studies.runner import run_jobs
 
 
-def reproduce(out: str | Path, quick: bool = False, console: Console | None = None) -> Path:
+def reproduce(
+    out: str | Path, quick: bool = False, console: Console | None = None, workers: int = 2
+) -> Path:
     from swarmex.studies.roadmap.report import write_report
 
     console = console or Console()
@@ -21,7 +26,11 @@ def reproduce(out: str | Path, quick: bool = False, console: Console | None = No
     out.mkdir(parents=True, exist_ok=True)
     jobs = plan(quick)
     t0 = time.perf_counter()
-    results, new_runs = execute(jobs, out / "roadmap_runs.jsonl", console)
+    with Journal(out / "roadmap_runs.jsonl") as journal:
+        done = run_jobs(jobs, run_job, job_key, store=journal,
+                        workers=max(1, min(workers, os.cpu_count() or 1)), label="roadmap",
+                        console=console, describe=describe)
+    results, new_runs = done.results, done.ran
     console.print("readings study (trees swept edge by edge)…")
     study = cached_readings_study(out, quick)
     report = write_report(out, results, quick=quick, seconds=time.perf_counter() - t0,

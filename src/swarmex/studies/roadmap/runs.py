@@ -1,48 +1,40 @@
-"""Running the jobs of ``swarmex reproduce roadmap``, one journal line each, resumable."""
+"""One run of ``swarmex reproduce roadmap``: the job function of the study runner.
+
+A job (:class:`~.design.Job`) is exactly a roadmap mission run, so it goes through the
+mission contract (``registry.get("roadmap")``: ``params`` then ``run``) on the study's
+embedded environment; the journal line keeps the record's metrics the tables read.
+:func:`swarmex.studies.runner.run_jobs` runs the jobs and keeps ``DIR/roadmap_runs.jsonl``.
+"""
 
 from __future__ import annotations
 
-import json
 from dataclasses import asdict
-from pathlib import Path
 from typing import Any
 
-from rich.console import Console
-
-from swarmex.experiments.progress import read_journal, runs_progress
-from swarmex.missions.roadmap.scenario import make_scenario, run_scenario
+from swarmex.missions.registry import get
 from swarmex.studies.roadmap.design import AGENTS, Job, world
+
+KEEP = ("coverage", "steps", "goal_found", "goal_unreachable", "found_step",
+        "all_at_goal_step", "edge_revisits", "components", "cycles", "path_length",
+        "tree_nodes", "budget_exhausted", "agents_off_roadmap")
 
 
 def run_job(job: Job) -> dict[str, Any]:
-    sc = make_scenario(world(job.env), agents=AGENTS, nodes=job.nodes, step=job.step,
-                       sensor_range=job.sensor_range, task=job.task, planner=job.planner,
-                       seed=job.seed)
-    _, rec = run_scenario(sc)
+    """Run one job (in a worker process): its journal line."""
+    mission = get("roadmap")
+    params = mission.params(
+        env=world(job.env), agents=AGENTS, nodes=job.nodes, step=job.step,
+        sensor_range=job.sensor_range, task=job.task, planner=job.planner, seed=job.seed,
+    )
+    rec = mission.run(params).record
     m = rec.metrics
-    keep = ("coverage", "steps", "goal_found", "goal_unreachable", "found_step",
-            "all_at_goal_step", "edge_revisits", "components", "cycles", "path_length",
-            "tree_nodes", "budget_exhausted", "agents_off_roadmap")
     return {"key": job.key, **asdict(job), "complete": rec.complete,
-            **{k: m.get(k) for k in keep}, "wall_seconds": round(rec.wall_seconds, 4)}
+            **{k: m.get(k) for k in KEEP}, "wall_seconds": round(rec.wall_seconds, 4)}
 
 
-def execute(jobs: list[Job], journal: Path, console: Console) -> tuple[list[dict[str, Any]], int]:
-    """Run the jobs not yet in ``journal``, appending each result at once (flushed).
+def job_key(job: Job) -> str:
+    return job.key
 
-    Returns every job's result in plan order and how many were run now.
-    """
-    done = read_journal(journal)
-    todo = [j for j in jobs if j.key not in done]
-    with runs_progress("roadmap", console, detail=True) as bar, \
-            journal.open("a", encoding="utf-8") as fh:
-        task = bar.add_task("", total=len(jobs), completed=len(jobs) - len(todo))
-        for job in todo:
-            bar.update(task, description=f"{job.exp} {job.planner} {job.nodes}/{job.step:g}/"
-                                         f"{job.mult} seed {job.seed}")
-            res = run_job(job)
-            done[job.key] = res
-            fh.write(json.dumps(res) + "\n")
-            fh.flush()
-            bar.advance(task)
-    return [done[j.key] for j in jobs], len(todo)
+
+def describe(job: Job) -> str:
+    return f"{job.exp} {job.planner} {job.nodes}/{job.step:g}/{job.mult} seed {job.seed}"

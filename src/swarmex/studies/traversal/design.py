@@ -13,8 +13,9 @@ processes, and a configuration shared by two figures (e.g. 20×20, 10 agents, ne
 Figs. 5.5 and 5.11) is run once and reused. The thesis's Tables 5.1–5.2 are read from the
 package (:func:`reference_rows`).
 
-Executing the plan is :mod:`.runs`; the analysis, figures and report are :mod:`.analysis`,
-:mod:`.figures` and :mod:`.report`; :func:`swarmex.studies.traversal.reproduce` runs them all.
+One run is :mod:`.runs` (executed by :mod:`swarmex.studies.runner`); the analysis, figures and
+report are :mod:`.analysis`, :mod:`.figures` and :mod:`.report`;
+:func:`swarmex.studies.traversal.reproduce` runs them all.
 """
 
 from __future__ import annotations

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import random
 import time
 from collections.abc import Callable
 from pathlib import Path
@@ -9,8 +10,9 @@ from typing import Any
 
 from swarmex import __version__
 from swarmex.experiments.runstore import RunStore
-from swarmex.studies.traversal.design import AGENT_PARAMS, build_plan
-from swarmex.studies.traversal.runs import run_sweep
+from swarmex.studies.runner import run_jobs
+from swarmex.studies.traversal.design import AGENT_PARAMS, RunSpec, build_plan
+from swarmex.studies.traversal.runs import execute
 
 
 def reproduce(
@@ -25,7 +27,6 @@ def reproduce(
 
     Returns a small summary (paths, runs executed, elapsed seconds) for the CLI to print.
     """
-    from swarmex.experiments.progress import runs_progress
     from swarmex.studies.traversal.report import write_outputs
 
     out = Path(out)
@@ -45,20 +46,30 @@ def reproduce(
     for key, cfg in plan.configs().items():
         store.add_config(key, cfg.params())
     already = sum(1 for s in specs if s.id in store)
+    # costly and cheap configurations mixed evenly (deterministically), so the progress rate
+    # is steady and the ETA honest; the order cannot change results (each run has its seed)
+    order = list(specs)
+    random.Random(0).shuffle(order)
     t0 = time.perf_counter()
-    executed = 0
+
+    stored = already
+
+    def tick(_spec: RunSpec, _rec: dict[str, Any]) -> None:
+        nonlocal stored
+        stored += 1
+        if progress:
+            progress(stored, len(specs))
+
     try:
-        with runs_progress("traversal", console, disable=console is None) as bar:
-            task = bar.add_task("runs", total=len(specs), completed=already)
-
-            def tick(_: dict[str, Any]) -> None:
-                bar.advance(task)
-                if progress:
-                    progress(int(bar.tasks[0].completed), len(specs))
-
-            executed = run_sweep(specs, store, workers, tick)
+        run_jobs(
+            order, execute, lambda s: s.id, store=store, workers=workers, label="traversal",
+            console=console, show=console is not None, on_result=tick if progress else None,
+        )
     finally:
         elapsed = time.perf_counter() - t0
+        # runs stored now and not before: also those that finished while an interrupted
+        # session was stopping, and those a killed one left in the runner's spool
+        executed = sum(1 for s in specs if s.id in store) - already
         store.header["sessions"] = [
             *sessions,
             {
@@ -67,7 +78,7 @@ def reproduce(
                 "runs_planned": len(specs),
                 "runs_executed": executed,
                 "elapsed_s": round(elapsed, 2),
-                "finished": executed == len(specs) - already,
+                "finished": all(s.id in store for s in specs),
             },
         ]
         store.close()

@@ -1,29 +1,25 @@
-"""Running the plan of ``swarmex reproduce traversal``: one run, and the resumable sweep.
+"""One run of ``swarmex reproduce traversal``: the job function of the study runner.
 
-* Every run is one call of :func:`~swarmex.missions.traversal.run_traversal` with the
-  thesis's agent parameters (:mod:`.design`); its record keeps the totals and per-agent
-  metrics the analysis needs.
-* Results go to ``traversal.json`` through :class:`~swarmex.experiments.runstore.RunStore`
-  as they complete; a rerun skips every run already stored (an interrupted sweep resumes,
-  and a ``--quick`` sweep's runs are a subset of the full one's).
-* Runs are spread over a ``ProcessPoolExecutor`` (spawned workers: the parent runs a Rich
-  progress thread, and forking a threaded process is unsafe).
+Every run is one call of :func:`~swarmex.missions.traversal.run_traversal` with the thesis's
+agent parameters (:mod:`.design`) on a world with its own random obstacle layout and uneven
+starts, which the traversal mission's parameters cannot express (so it is not a plain
+``swarmex.run``); its record keeps the totals and per-agent metrics the analysis needs. The
+pipeline hands :func:`execute` and the plan's :class:`~.design.RunSpec` list to
+:func:`swarmex.studies.runner.run_jobs`, which keeps the results in ``traversal.json``
+(a :class:`~swarmex.experiments.runstore.RunStore`): a rerun skips every run already stored
+(an interrupted sweep resumes, and a ``--quick`` sweep's runs are a subset of the full one's).
 """
 
 from __future__ import annotations
 
-import random
 import time
-from collections.abc import Callable
-from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
-from multiprocessing import get_context
 from typing import Any
 
 import numpy as np
 from scipy import ndimage
 
 from swarmex.engine.record import plain
-from swarmex.experiments.runstore import RunStore, stable_seed
+from swarmex.experiments.runstore import stable_seed
 from swarmex.studies.traversal.design import (
     ALTITUDE,
     DOWN_SPEED,
@@ -118,51 +114,3 @@ def execute(spec: RunSpec) -> dict[str, Any]:
             "wall_seconds": wall,
         }
     )
-
-
-# ---------------------------------------------------------------- the sweep
-def run_sweep(
-    specs: list[RunSpec],
-    store: RunStore,
-    workers: int,
-    on_result: Callable[[dict[str, Any]], None] | None = None,
-) -> int:
-    """Run every spec not yet in ``store``; returns how many were run now.
-
-    Pending runs are shuffled (deterministically): costly and cheap configurations then mix
-    evenly, so the progress rate is steady and the ETA honest. Order cannot change results
-    (each run's seed is its own).
-    """
-    pending = [s for s in specs if s.id not in store]
-    random.Random(0).shuffle(pending)
-
-    def done(rec: dict[str, Any]) -> None:
-        store.add(rec)
-        if on_result:
-            on_result(rec)
-
-    if workers <= 1:
-        for s in pending:
-            done(execute(s))
-        return len(pending)
-    window = 8 * workers
-    with ProcessPoolExecutor(max_workers=workers, mp_context=get_context("spawn")) as pool:
-        todo = iter(pending)
-        running: set[Future] = set()
-        try:
-            while True:
-                while len(running) < window:
-                    s = next(todo, None)
-                    if s is None:
-                        break
-                    running.add(pool.submit(execute, s))
-                if not running:
-                    break
-                finished, running = wait(running, return_when=FIRST_COMPLETED)
-                for fut in finished:
-                    done(fut.result())
-        except BaseException:
-            for fut in running:
-                fut.cancel()
-            raise
-    return len(pending)

@@ -1,0 +1,293 @@
+"""The local process pool that every long experiment runs on: sweeps and the reproductions.
+
+:func:`run_local` runs a list of jobs through a picklable function ``call`` in worker
+processes and hands each result to ``finish`` in the driver as it arrives (in completion
+order). What it takes care of, once for everybody:
+
+* **Warm workers.** While the driver has a single thread the workers are forked from it, so
+  they inherit every import and whatever ``warm`` did (a first world, numba's registries) and
+  start in milliseconds. Otherwise (a progress bar is drawing, or the pool is rebuilt after a
+  crash) a fork could copy a lock another thread holds, so they come from a fork server that
+  imported ``preload`` once; its start-up (about a second) is the price of safety. A caller
+  that shows progress starts its bar in ``ready``, which is called once the workers exist.
+* **Chunks.** A small run costs a few milliseconds, about what handing it to a worker and its
+  result back costs the driver, which then competes with the workers for the cores; jobs
+  therefore travel in chunks lasting about ``CHUNK_SECONDS`` (timed in the workers), single
+  jobs until the first ones are timed, shrinking towards the end so no worker is left with a
+  long tail. A bounded window of chunks is in flight (two per worker).
+* **Crashes.** If a worker process dies (a segfault, the OOM killer) the pool breaks and every
+  chunk in flight is lost with it. ``recover`` may finish the lost jobs whose result was made
+  durable before the crash (a sweep's record file, a study's spool line) and returns the rest;
+  those are retried one at a time in a new pool. A job in flight at ``MAX_ATTEMPTS`` deaths is
+  handed to ``died`` instead of being retried again (once another job has completed, which
+  shows the workers themselves can run). If the pool breaks ``MAX_BREAKS`` times in a row with
+  no job completing, the workers cannot run at all: :class:`WorkersDied` is raised and nothing
+  is handed to ``died``.
+* **Stopping.** Workers ignore Ctrl-C: the driver gets it, waits for the chunks in flight
+  (about ``CHUNK_SECONDS``; their results are not handed over) and re-raises. An exception
+  raised by ``call`` in a worker is re-raised in the driver the same way.
+
+Results never depend on the pool: a job's result is a function of the job alone (its seed is
+part of it), whichever worker ran it, in whatever chunk.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import multiprocessing
+import os
+import signal
+import threading
+import time
+import warnings
+from collections import Counter, deque
+from collections.abc import Callable, Iterator, Sequence
+from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from concurrent.futures.process import BrokenProcessPool
+from typing import Any, Generic, TypeVar
+
+from swarmex.errors import InputError
+
+J = TypeVar("J")
+R = TypeVar("R")
+
+CHUNK_MAX = 16  # jobs per pool task at most
+CHUNK_SECONDS = 0.1  # what a pool task should last, about
+MAX_BREAKS = 3  # pool breaks in a row, no job completing: the workers cannot run at all
+MAX_ATTEMPTS = 2  # a job in flight when a worker process died twice is given up on
+
+
+class WorkersDied(InputError):
+    """The worker processes died ``MAX_BREAKS`` times in a row before finishing any job."""
+
+
+# ---------------------------------------------------------------------------- in a worker
+
+
+def init_worker(driver_pid: int | None = None) -> None:
+    """Prepare a pool process: ignore Ctrl-C (the driver stops us).
+
+    With ``driver_pid``, a watchdog thread ends this process once the driver is gone: a pool
+    worker forked by the fork server is not the driver's child, and if the driver is killed
+    (SIGKILL, OOM) nothing else would ever tell it to exit.
+    """
+    with contextlib.suppress(ValueError):  # not the main thread: nothing to do
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+        signal.signal(signal.SIGTERM, signal.SIG_DFL)  # not the CLI's handler, if forked
+    if driver_pid is not None:
+        threading.Thread(target=_watch, args=(driver_pid,), daemon=True).start()
+
+
+def _watch(driver_pid: int, interval: float = 1.0) -> None:
+    while True:
+        time.sleep(interval)
+        try:
+            os.kill(driver_pid, 0)
+        except ProcessLookupError:
+            os._exit(1)
+        except PermissionError:  # alive, owned by someone else (cannot happen for our parent)
+            pass
+
+
+def run_chunk(call: Callable[[J], R], jobs: list[J]) -> list[tuple[R, float]]:
+    """Several jobs in one hand-over from the driver: each result with its seconds."""
+    out = []
+    for job in jobs:
+        t0 = time.perf_counter()
+        result = call(job)
+        out.append((result, time.perf_counter() - t0))
+    return out
+
+
+def warm_numba() -> None:
+    """Load numba's code generation registries (a few tenths of a second per process) by one
+    tiny cached kernel call, so that workers forked afterwards start with them. Best effort."""
+    with contextlib.suppress(Exception):
+        import numpy as np
+
+        from swarmex.planning.distance import distance_field
+        from swarmex.worlds.grid import GridWorld
+
+        distance_field(GridWorld(np.ones((1, 2), dtype=bool)).graph, 0)
+
+
+# ---------------------------------------------------------------------------- the driver
+
+
+class _Slot(Generic[J]):
+    """A job and its place in the list (its identity for the pool's bookkeeping)."""
+
+    __slots__ = ("index", "job")
+
+    def __init__(self, index: int, job: J) -> None:
+        self.index = index
+        self.job = job
+
+
+def run_local(
+    jobs: Sequence[J],
+    call: Callable[[J], R],
+    workers: int,
+    finish: Callable[[J, R], None],
+    *,
+    recover: Callable[[list[J]], list[J]] | None = None,
+    died: Callable[[J], None] | None = None,
+    warm: Callable[[], None] | None = None,
+    preload: Sequence[str] = (),
+    ready: Callable[[], None] | None = None,
+) -> None:
+    """Run ``call(job)`` for every job in worker processes; ``finish(job, result)`` each.
+
+    ``call`` must be picklable (a module-level function, or an instance of a module-level
+    class). ``recover(lost)`` finishes the lost jobs of a broken pool that it can and returns
+    the others; ``died(job)`` records a job that kept killing its worker (without it, such a
+    job raises :class:`WorkersDied`); ``warm()`` runs in the driver before the workers are
+    forked from it; ``preload`` are the modules a fork server imports; ``ready()`` is called
+    once, when the workers exist. See the module docstring for the rest.
+    """
+    queue: deque[_Slot[J]] = deque(_Slot(i, job) for i, job in enumerate(jobs))
+    suspects: deque[_Slot[J]] = deque()
+    attempts: dict[int, int] = {}
+    dead: list[_Slot[J]] = []  # gave up on, handed to died() once the pool is shown to work
+    breaks = 0  # pool breaks since the last completed job
+    window = 2 * workers  # chunks in flight: one running and one queued per worker
+    timed = [0.0, 0]  # seconds and count of finished jobs, for the chunk size
+
+    def give_up(slots: list[_Slot[J]]) -> None:
+        for slot in slots:
+            if died is None:
+                raise WorkersDied(
+                    f"job {slot.index} killed its worker process {MAX_ATTEMPTS} times:"
+                    f" {slot.job!r}"
+                )
+            died(slot.job)
+        slots.clear()
+
+    if queue and warm is not None and _forkable():
+        warm()
+    pool = _pool(workers, preload)
+    flying: dict[Future[list[tuple[R, float]]], list[_Slot[J]]] = {}
+    try:
+        while queue or suspects or flying:
+            careful = suspects or any(s.index in attempts for c in flying.values() for s in c)
+            while len(flying) < (1 if careful else window) and (suspects or queue):
+                if suspects:
+                    chunk = [suspects.popleft()]
+                else:
+                    per_job = timed[0] / timed[1] if timed[1] else None
+                    size = chunk_size(per_job, len(queue), workers)
+                    chunk = [queue.popleft() for _ in range(min(size, len(queue)))]
+                with _quiet_fork():  # the first submit forks the workers
+                    flying[pool.submit(run_chunk, call, [s.job for s in chunk])] = chunk
+            if ready is not None:
+                ready()  # the workers are forked by now
+                ready = None
+            done, _ = wait(list(flying), return_when=FIRST_COMPLETED)
+            lost: list[_Slot[J]] = []
+            for fut in done:
+                chunk = flying.pop(fut)
+                try:
+                    results = fut.result()
+                except BrokenProcessPool:
+                    lost += chunk
+                    continue
+                breaks = 0
+                give_up(dead)
+                for slot, (result, seconds) in zip(chunk, results, strict=True):
+                    attempts.pop(slot.index, None)
+                    timed[0] += seconds
+                    timed[1] += 1
+                    finish(slot.job, result)
+            if lost:
+                for chunk in flying.values():
+                    lost += chunk
+                flying.clear()
+                pool.shutdown(wait=False, cancel_futures=True)
+                if recover is not None:
+                    left = Counter(id(job) for job in recover([s.job for s in lost]))
+                    lost = [s for s in lost if _take(left, id(s.job))]
+                breaks += 1
+                if breaks >= MAX_BREAKS:
+                    raise WorkersDied(
+                        f"the worker processes died {breaks} times in a row before finishing"
+                        " a run (from a script, run it under `if __name__ == '__main__':`)"
+                    )
+                for slot in lost:
+                    attempts[slot.index] = attempts.get(slot.index, 0) + 1
+                    if attempts[slot.index] >= MAX_ATTEMPTS:
+                        dead.append(slot)
+                    else:
+                        suspects.append(slot)
+                pool = _pool(workers, preload)
+        give_up(dead)  # the last jobs crashed their workers: hand them over now
+    finally:
+        pool.shutdown(wait=True, cancel_futures=True)
+
+
+def _take(counts: Counter[int], key: int) -> bool:
+    if counts[key] > 0:
+        counts[key] -= 1
+        return True
+    return False
+
+
+def chunk_size(seconds_per_job: float | None, queued: int, workers: int) -> int:
+    """Jobs per pool task: enough to make the hand-over cheap, few enough to stay responsive.
+
+    Chunks last about ``CHUNK_SECONDS`` (Ctrl-C waits for the chunks in flight), shrink
+    towards the end (a quarter of a fair share) so no worker is left with a long tail, and
+    are single jobs until the first results tell how long a job takes.
+    """
+    if seconds_per_job is None:
+        return 1
+    by_time = int(CHUNK_SECONDS / max(seconds_per_job, 1e-4))
+    return max(1, min(CHUNK_MAX, by_time, queued // (4 * workers)))
+
+
+def _pool(workers: int, preload: Sequence[str]) -> ProcessPoolExecutor:
+    """Workers forked from this process when it has one thread, else from a fork server
+    that imported ``preload`` (see the module docstring)."""
+    ctx: Any
+    if _forkable():
+        ctx = multiprocessing.get_context("fork")
+    else:
+        ctx = multiprocessing.get_context("forkserver")
+        ctx.set_forkserver_preload(["swarmex.experiments.pool", *preload])
+    return ProcessPoolExecutor(
+        max_workers=workers, mp_context=ctx, initializer=init_worker, initargs=(os.getpid(),)
+    )
+
+
+def _forkable() -> bool:
+    """Whether forking this process is safe: no other Python thread (a progress bar, a
+    server) could hold a lock the child inherits.
+
+    The only other threads are then native ones: OpenBLAS's idle server threads (numpy's and
+    scipy's), which OpenBLAS quiesces around a fork itself. Python 3.12+ still warns about any
+    second OS thread (DeprecationWarning); :func:`_quiet_fork` silences exactly that warning
+    where we fork knowingly.
+    """
+    return "fork" in multiprocessing.get_all_start_methods() and threading.active_count() == 1
+
+
+@contextlib.contextmanager
+def _quiet_fork() -> Iterator[None]:
+    with warnings.catch_warnings():
+        warnings.filterwarnings(
+            "ignore", message=r".*multi-threaded, use of fork\(\)", category=DeprecationWarning
+        )
+        yield
+
+
+__all__ = [
+    "CHUNK_MAX",
+    "CHUNK_SECONDS",
+    "MAX_ATTEMPTS",
+    "MAX_BREAKS",
+    "WorkersDied",
+    "chunk_size",
+    "init_worker",
+    "run_chunk",
+    "run_local",
+    "warm_numba",
+]
