@@ -21,9 +21,9 @@ Conventions (also in ``swarmex forage --help``):
   is played round by round and every round's positions are kept, so a 1024 grid with one robot
   already takes seconds and half a gigabyte), ``agents`` at most :data:`MAX_AGENTS` (1024, the
   largest swarm the scale benchmarks run; planning Sectors for 256 robots on a 1024 grid
-  takes ten seconds, and the time grows with the team) and at most the grid's cells (no pattern gives a robot an empty share),
-  ``food_units`` at most :data:`MAX_FOOD_UNITS` (100 times the
-  released simulator's k; each unit is a trip).
+  takes ten seconds, and the time grows with the team) and at most the grid's cells (no
+  pattern gives a robot an empty share), ``food_units`` at most :data:`MAX_FOOD_UNITS` (100
+  times the released simulator's k; each unit is a trip).
 """
 
 from __future__ import annotations
