@@ -18,7 +18,7 @@ some exploring robot had already visited (deployment walks excluded).
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -26,7 +26,7 @@ import numpy as np
 from swarmex.engine.record import AgentRecord, ResultRecord
 from swarmex.missions.foraging.grid import Cell
 from swarmex.missions.foraging.params import ForagingParams
-from swarmex.missions.foraging.sim import FrameSink, Outcome, run_mission
+from swarmex.missions.foraging.sim import Decide, FrameSink, Outcome, run_mission
 from swarmex.missions.foraging.timed import Timed, timed_plan
 
 
@@ -110,14 +110,23 @@ def run_forage(
     transport: str = "relay-food",
     record: bool = True,
     on_frame: FrameSink | None = None,
+    decide: Decide | None = None,
 ) -> ForageRun:
     """Play one run (inputs checked first); ``on_frame`` gets every round's
-    :class:`~.sim.Frame` and may end the run early by raising StopRun."""
+    :class:`~.sim.Frame` and may end the run early by raising StopRun; ``decide`` is the
+    Compute's decision hook of :mod:`.sim` (the PettingZoo environment's)."""
     check_inputs(algorithm, g, n, units, transport)
     t0 = time.perf_counter()
     timed = timed_plan(algorithm, g, n)
-    outcome = run_mission(timed, food, units, transport, record=record, on_frame=on_frame)
-    metrics = phase_metrics(outcome, timed)
+    outcome = run_mission(
+        timed, food, units, transport, record=record, on_frame=on_frame, decide=decide
+    )
+    walked = timed
+    if decide is not None and len(outcome.positions):
+        # robots a hook moved may leave the timetable: count revisits on the cells they walked
+        # (the same rows as the timetable's while every robot follows it)
+        walked = replace(timed, pos=outcome.positions, t_end=len(outcome.positions) - 1)
+    metrics = phase_metrics(outcome, walked)
     wall = time.perf_counter() - t0
     return ForageRun(algorithm, g, n, food, units, transport, timed, outcome, metrics, wall)
 

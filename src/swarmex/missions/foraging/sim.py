@@ -20,6 +20,20 @@ Until the food is found the run is the pattern's timetable (:mod:`.timed`); from
 round on, this loop takes over. Robots still exploring keep following the timetable (shifted by
 the rounds they were made to wait), informed robots communicate (:mod:`.comm`) and then
 transport (:mod:`.transport`).
+
+Decision hook (for :mod:`swarmex.envs.foraging_v0`): given ``decide``, :func:`run_mission`
+plays every round in this loop from round 0 (the timetable's rounds too: robots on their routes
+make the timetable's moves, which resolve without conflict, so the rounds are the same) and
+never hands the tail to the compiled loop. In each round's Compute ``decide(mission, opts,
+following)`` sees every robot's options (its ordered wishes, the seed's rules) and returns the
+option lists and route-follower flags that the collision resolution uses; the seed's own lists
+give the seed's run. A robot on its route that stays when its route moves it waits, as a
+blocked robot does (its timetable shifts by a round). Three rules only a hook can reach (the
+seed's robots never do these): a robot on its route that moves anywhere but where its route
+goes has left its pattern (it is *displaced*, as a robot pushed off a finished route is); a
+displaced robot that was telling its neighbours along its route walks to them instead; a relay
+robot that steps off the relay path walks back to its nearest path cell and re-joins there
+(without a hook it would go idle).
 """
 
 from __future__ import annotations
@@ -70,6 +84,8 @@ class Frame:
 
 
 FrameSink = Callable[[Frame], object]
+# decide(mission, options, following) -> (options, following): see the module docstring
+Decide = Callable[["Mission", list[list[Cell]], list[bool]], tuple[list[list[Cell]], list[bool]]]
 
 
 @dataclass
@@ -100,6 +116,7 @@ class Mission:
         start: list[Cell],
         t: int = 0,
         timed: Timed | None = None,
+        decide: Decide | None = None,
     ) -> None:
         self.g, self.nest, self.food = g, nest, food
         self.units = units
@@ -134,6 +151,7 @@ class Mission:
         self._last_key: tuple | None = None
         self._frozen = False
         self.stopped = False  # on_frame raised StopRun
+        self.decide = decide  # the Compute's decision hook (module docstring)
 
     # ------------------------------------------------------------------ prediction
     def on_route(self, a: int) -> bool:
@@ -218,7 +236,9 @@ class Mission:
                 self.targets[a] = [b for b in before if not self.informed[b]]
                 if not self.targets[a]:
                     self.enter_transport(a)
-                elif self.mode[a] == FOLLOW and t - self.delay[a] >= self._t_end():
+                elif self.mode[a] == FOLLOW and (
+                    self.displaced[a] or t - self.delay[a] >= self._t_end()
+                ):
                     self.start_comm(a)
         self.transport_look()
 
@@ -332,22 +352,28 @@ class Mission:
             o, f = self.options(a)
             opts.append(o)
             following.append(f)
-        new = resolve(self.pos, opts, priority(self.pos, following, opts), self.nest)
+        chosen, ranked = opts, following
+        if self.decide is not None:
+            chosen, ranked = self.decide(self, opts, following)
+        new = resolve(self.pos, chosen, priority(self.pos, ranked, chosen), self.nest)
         for a in range(n):
             if self.on_route(a):
                 want = opts[a][0]
-                if new[a] != want and want != self.pos[a]:
+                if new[a] != want and want != self.pos[a] and new[a] == self.pos[a]:
                     self.delay[a] += 1
-                elif new[a] != self.pos[a] and not following[a]:
-                    self.displaced[a] = True
+                elif new[a] != self.pos[a] and (not following[a] or new[a] != want):
+                    self.displaced[a] = True  # (new != want: only a hook's move does that)
             elif self.mode[a] == TRANSPORT and self.tmode[a] == RELAY:
                 i = self.pidx[a]
                 if new[a] != self.pos[a]:
                     j = self.path_index.get(new[a])
-                    if j is None or abs(j - i) != 1:
-                        self.tmode[a] = IDLE
-                    else:
+                    if j is not None and abs(j - i) == 1:
                         self.pidx[a] = j
+                    elif self.decide is not None:  # a hook's move off the path: re-join it
+                        self.tmode[a] = JOIN
+                        self.join_at[a] = entry_cell(self.path, new[a])
+                    else:
+                        self.tmode[a] = IDLE
         self.pos = new
         self.t += 1
 
@@ -460,11 +486,14 @@ def run_mission(
     record: bool = True,
     fast: bool = True,
     on_frame: FrameSink | None = None,
+    decide: Decide | None = None,
 ) -> Outcome:
     """Play one foraging run of the pattern in ``timed`` with food at ``food``; ``on_frame``
-    gets every round's :class:`Frame` (module docstring)."""
+    gets every round's :class:`Frame`, ``decide`` every round's Compute (module docstring)."""
     if transport not in (RELAY_FOOD, RELAY_PATH, END_TO_END):
         raise ValueError(transport)
+    if decide is not None:
+        return _decided_run(timed, food, units, transport, record, on_frame, decide)
     plan = timed.plan
     pos = timed.pos
     hit = (pos[:, :, 0] == food[0]) & (pos[:, :, 1] == food[1])
@@ -492,6 +521,45 @@ def run_mission(
         jobs=m.jobs,
         handovers=m.handovers,
         discovery=t0,
+        finders=finders,
+        informed_at=m.informed_at,
+        comm_done=m.comm_done,
+        makespan=m.t,
+        delivered=m.delivered,
+        complete=m.delivered >= units,
+        extra={"stopped": True} if m.stopped else {},
+    )
+
+
+def _decided_run(
+    timed: Timed,
+    food: Cell,
+    units: int,
+    transport: str,
+    record: bool,
+    on_frame: FrameSink | None,
+    decide: Decide,
+) -> Outcome:
+    """A run whose every Compute goes through ``decide``: this loop from round 0."""
+    plan = timed.plan
+    start = [plan.nest] * plan.n
+    m = Mission(plan.g, plan.nest, food, units, transport, start, timed=timed, decide=decide)
+    m.run(record=True, fast=False, on_frame=on_frame)
+    history = np.asarray(m.history, dtype=np.int32).reshape(-1, plan.n, 2)
+    told = [t for t in m.informed_at if t is not None]
+    discovery = min(told) if told else None
+    finders = [
+        a
+        for a in range(plan.n)
+        if discovery is not None
+        and m.informed_at[a] == discovery
+        and tuple(history[discovery, a]) == food
+    ]
+    return Outcome(
+        positions=history if record else np.empty((0, plan.n, 2), dtype=np.int32),
+        jobs=m.jobs,
+        handovers=m.handovers,
+        discovery=discovery,
         finders=finders,
         informed_at=m.informed_at,
         comm_done=m.comm_done,

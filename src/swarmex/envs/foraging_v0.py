@@ -1,0 +1,604 @@
+"""Foraging (seed 002) as a PettingZoo environment: every robot chooses its move every round.
+
+The environment drives the foraging run of ``swarmex.run("foraging", ...)`` — the pattern's
+timetable, the Look phase (sensing the food, telling robots at distance ≤ 1, pick-up, drop,
+relay hand-over), the communication and transport rules and the collision resolution of
+:mod:`swarmex.missions.foraging.resolve` — in a worker thread
+(:class:`~swarmex.envs.broker.DecisionBroker`). The one thing handed to the caller is the
+Compute of each synchronous Look-Compute-Move round: **which move each robot makes**. The
+simulator's Compute hook (``decide`` in :mod:`swarmex.missions.foraging.sim`) asks once per
+round for every robot's move; the moves are then made collision-free together, by the
+mission's own resolution, and applied.
+
+Native form: **Parallel** (synchronous rounds: every robot acts every round; one ``step`` is
+one round). :func:`env` gives the AEC form through PettingZoo's ``parallel_to_aec``.
+
+=====================  ====================================================================
+Action                 ``Discrete(5)``: 0 stay, 1 North (y − 1), 2 East (x + 1), 3 South
+                       (y + 1), 4 West (x − 1); (0, 0) is the top-left cell
+Mask                   stay, and each move that stays on the g×g grid
+Observation            ``Dict`` of what the robot knows: ``position`` (x, y); ``carrying``
+                       (1,) 0/1; ``informed`` (1,) 0/1, whether it knows where the food is;
+                       ``food`` (x, y) if it knows, (−1, −1) otherwise; ``nest`` (x, y);
+                       ``round`` (1,); ``mode`` (1,) its phase (:data:`MODES`); ``to_tell``
+                       (n,) 0/1, the pattern neighbours it still has to tell;
+                       ``team_positions`` (n, 2), the cells of the robots within its sensing
+                       distance (:data:`SENSING`, Manhattan), (−1, −1) for the others and its
+                       own row; ``action_mask`` (5,) int8
+Reward                 shared by the team: ``delivery_reward`` (1) per unit that reaches the
+                       nest in the round, − ``time_cost`` (0.01) per round, + ``completion_bonus``
+                       (10) at the round the k-th unit is home
+Termination            all k units are in the nest (the record's ``complete``)
+Truncation             ``max_rounds`` (default: the mission's own round limit,
+                       ``200·g·(k + g) + 10 000``): the run is stopped there (the mission's
+                       ``StopRun``) and its record is incomplete
+=====================  ====================================================================
+
+Errors: bad params raise :class:`~swarmex.errors.InputError` as ``swarmex.run`` does. An action
+that is not an integer of the space, a missing action, or a masked-out move (off the grid)
+raises ``ValueError`` naming the agent, the action and why, and the world is left as it was
+(the same round is still pending). With ``invalid_action="project"`` (opt-in, for samplers
+that ignore the mask, such as PettingZoo's ``parallel_seed_test``) a masked-out move is
+replaced by *stay* (a robot that walks into the border stays put). Out-of-space actions raise in
+both modes.
+
+Baseline and exactness: in each round's Compute the mission computes every robot's options,
+the seed's ordered wishes (its route's next cell, a walk toward the neighbour it must tell,
+the relay or End-to-End transport move, or — for an idle robot — staying and yielding its
+cell), and the env offers the first one's direction as that robot's *built-in* action
+(:meth:`ForagingEnv.baseline_actions`); :func:`baseline_policy` returns them. A robot whose
+action equals its built-in one keeps the seed's whole decision (its fallbacks and its rank as
+a route follower in the resolution); any other action becomes the wish "that cell, else stay"
+with no route-follower rank. The mission draws no random numbers after placing the food (in
+``prepare``, before round 0), so no generator snapshot is needed: a baseline-driven episode
+plays exactly the rounds of ``swarmex.run``, and :meth:`ForagingEnv.record` equals its record
+(``wall_seconds`` aside). With a decision hook the run is played by the mission's Python round
+loop from round 0 (the timetable's rounds and the transport tail included, which
+``swarmex.run`` plays from a table and in compiled code; the module docstring of
+:mod:`swarmex.missions.foraging.sim` says why the rounds are the same).
+
+Seeding: ``reset(seed=s)`` runs the mission with ``seed=s`` (which draws the food cell when
+``food`` is not given); ``reset()`` without a seed uses the params' ``seed`` first, then the
+next integers (one new episode per reset).
+"""
+
+from __future__ import annotations
+
+import math
+import weakref
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from gymnasium import spaces
+from pettingzoo import AECEnv, ParallelEnv
+from pettingzoo.utils.conversions import parallel_to_aec
+
+from swarmex.envs.broker import Ask, DecisionBroker
+from swarmex.errors import InputError
+from swarmex.missions.foraging.sim import COMM, FOLLOW, TRANSPORT
+from swarmex.missions.registry import get as get_mission
+
+if TYPE_CHECKING:
+    from swarmex.engine.record import ResultRecord
+    from swarmex.missions.foraging.mission import ForagingWorld
+    from swarmex.missions.foraging.params import ForagingParams
+    from swarmex.missions.foraging.run import ForageRun
+    from swarmex.missions.foraging.sim import Frame, Mission
+
+__all__ = [
+    "ACTIONS",
+    "MODES",
+    "SENSING",
+    "ForagingEnv",
+    "NAME",
+    "baseline_policy",
+    "env",
+    "parallel_env",
+    "raw_env",
+]
+
+NAME = "foraging_v0"
+ACTIONS = ("stay", "north", "east", "south", "west")
+STAY = 0
+_STEPS = ((0, 0), (0, -1), (1, 0), (0, 1), (-1, 0))  # (dx, dy) of each action
+MOVES = np.array(_STEPS, dtype=np.int64)
+# direction code of a step (dx, dy), indexed by (dx + 1) + 3 (dy + 1); -1: not a step
+_CODE = np.full(9, -1, dtype=np.int64)
+for _k, (_dx, _dy) in enumerate(MOVES.tolist()):
+    _CODE[(_dx + 1) + 3 * (_dy + 1)] = _k
+# a robot's phase: the mission's modes, the transport ones split by how it transports
+MODES = ("explore", "follow", "communicate", "join", "relay", "end-to-end", "idle")
+SENSING = 2  # robots seen within this Manhattan distance (what collision avoidance looks at)
+OBS_KEYS = ("position", "carrying", "informed", "food", "nest", "round", "mode", "to_tell",
+            "team_positions", "action_mask")  # fmt: skip
+INVALID_ACTION_MODES = ("raise", "project")
+RENDER_MODES = ("rgb_array",)
+Cell = tuple[int, int]
+
+
+@dataclass
+class Round:
+    """The pending Compute: round ``t`` (the state after its Look), every robot's cell and the
+    seed's move for it (an action)."""
+
+    t: int
+    pos: np.ndarray  # (n, 2) int64
+    builtin: np.ndarray  # (n,) int64
+
+
+class _Live:
+    """What the simulator's worker shares with the environment (not the env itself, so an
+    abandoned environment can be collected and its worker closed)."""
+
+    mission: Mission | None = None
+
+
+class _Decide:
+    """The mission's Compute hook: asks the caller for every robot's move, once per round."""
+
+    def __init__(self, ask: Ask, live: _Live) -> None:
+        self.ask = ask
+        self.live = live
+
+    def __call__(
+        self, m: Mission, opts: list[list[Cell]], following: list[bool]
+    ) -> tuple[list[list[Cell]], list[bool]]:
+        self.live.mission = m
+        pos = np.asarray(m.pos, dtype=np.int64).reshape(m.n, 2)
+        first = np.asarray([o[0] for o in opts], dtype=np.int64).reshape(m.n, 2)
+        d = first - pos
+        builtin = _CODE[(d[:, 0] + 1) + 3 * (d[:, 1] + 1)]
+        actions: np.ndarray = self.ask(Round(m.t, pos, builtin))
+        differ = np.flatnonzero(actions != builtin).tolist()
+        # the seed's decisions, fallbacks and ranks; a robot that yields its cell (an idle
+        # one: stay, else a side cell) keeps its own cell as the last resort: the resolution
+        # reaches it only where, without it, it would run out of options and fail
+        opts = [o if o[-1] == p else [*o, p] for o, p in zip(opts, m.pos, strict=True)]
+        if not differ:
+            return opts, following
+        following = list(following)
+        acts = actions.tolist()
+        for a in differ:  # "that cell, else stay", without a route follower's rank
+            x, y = p = m.pos[a]
+            dx, dy = _STEPS[acts[a]]
+            opts[a] = [p] if acts[a] == STAY else [(x + dx, y + dy), p]
+            following[a] = False
+        return opts, following
+
+
+def _cap(frame: Frame, limit: int) -> None:
+    from swarmex.missions.base import StopRun
+
+    if frame.t >= limit:
+        raise StopRun
+
+
+class ForagingEnv(ParallelEnv[str, dict[str, np.ndarray], int]):
+    """The native Parallel environment (``raw_env``); see the module docstring.
+
+    Keyword arguments: the mission's parameters (the names and checks of
+    ``swarmex.run("foraging", ...)``: ``grid``, ``agents``, ``algorithm``, ``transport``,
+    ``food``, ``food_distance``, ``food_units``, ``seed``), plus ``render_mode`` (None or
+    "rgb_array"), ``invalid_action`` ("raise" or "project"), ``max_rounds`` (truncation) and
+    the reward's terms ``delivery_reward``, ``time_cost``, ``completion_bonus``.
+    """
+
+    metadata: dict[str, Any] = {  # PettingZoo reads it from the class
+        "name": NAME,
+        "render_modes": list(RENDER_MODES),
+        "is_parallelizable": True,
+        "render_fps": 10,
+    }
+
+    def __init__(
+        self,
+        render_mode: str | None = None,
+        invalid_action: str = "raise",
+        max_rounds: int | None = None,
+        delivery_reward: float = 1.0,
+        time_cost: float = 0.01,
+        completion_bonus: float = 10.0,
+        **params: Any,
+    ) -> None:
+        if render_mode is not None and render_mode not in RENDER_MODES:
+            raise InputError(
+                f"render_mode must be one of {', '.join(RENDER_MODES)} or None, "
+                f"got {render_mode!r}"
+            )
+        if invalid_action not in INVALID_ACTION_MODES:
+            raise InputError(
+                f"invalid_action must be one of {', '.join(INVALID_ACTION_MODES)}, "
+                f"got {invalid_action!r}"
+            )
+        for name, value in (
+            ("delivery_reward", delivery_reward),
+            ("time_cost", time_cost),
+            ("completion_bonus", completion_bonus),
+        ):
+            if (
+                isinstance(value, bool)
+                or not isinstance(value, int | float)
+                or not math.isfinite(value)
+            ):
+                raise InputError(f"{name} must be a finite number, got {value!r}")
+        mission = get_mission("foraging")
+        self.params: ForagingParams = mission.params(params)
+        p = self.params
+        g, n, k = p.grid, p.agents, p.food_units
+        limit = 200 * g * (k + g) + 10_000  # the mission's own round limit (sim.Mission.run)
+        if max_rounds is None:
+            max_rounds = limit
+        elif (
+            isinstance(max_rounds, bool)
+            or not isinstance(max_rounds, int | np.integer)
+            or not 1 <= max_rounds <= limit
+        ):
+            raise InputError(
+                f"max_rounds must be an integer from 1 to the mission's limit {limit:,} "
+                f"(200·g·(k + g) + 10 000), got {max_rounds!r}"
+            )
+        self.max_rounds = int(max_rounds)
+        self.render_mode = render_mode
+        self.invalid_action = invalid_action
+        self.delivery_reward = float(delivery_reward)
+        self.time_cost = float(time_cost)
+        self.completion_bonus = float(completion_bonus)
+        self.g = g
+        self.nest: Cell = p.nest
+        self.possible_agents = [f"robot_{i}" for i in range(n)]
+        self._index = {a: i for i, a in enumerate(self.possible_agents)}
+        space = self._observation_space()
+        self._obs_spaces = dict.fromkeys(self.possible_agents, space)
+        self._act_spaces = {a: spaces.Discrete(len(ACTIONS)) for a in self.possible_agents}
+        self._nest = np.asarray(self.nest, dtype=np.int64)
+        xs, ys = np.meshgrid(np.arange(g), np.arange(g), indexing="ij")  # [x, y]
+        self._cell_masks = np.stack(
+            [np.ones_like(xs, dtype=bool), ys > 0, xs < g - 1, ys < g - 1, xs > 0], axis=2
+        ).astype(np.int8)  # (g, g, 5): the action mask of a robot at cell (x, y)
+        self._eye = np.eye(n, dtype=bool)
+        self.agents: list[str] = []
+        self._next_seed = p.seed
+        self._clear()
+
+    def _clear(self) -> None:
+        self._broker: DecisionBroker | None = None
+        self._live = _Live()
+        self._pending: Round | None = None
+        self._mask: np.ndarray | None = None
+        self._finalizer: weakref.finalize[Any, Any] | None = None
+        self._seed = self._next_seed
+        self._run_params: ForagingParams | None = None
+        self._world: ForagingWorld | None = None
+        self._result: ForageRun | None = None
+        self._record: ResultRecord | None = None
+        self._delivered = 0
+
+    # ------------------------------------------------------------------ spaces
+    def _observation_space(self) -> spaces.Dict:
+        g, n = self.g, self.params.agents
+        top = np.array([g - 1, g - 1], dtype=np.int64)
+
+        def box(low: Any, high: Any, shape: tuple[int, ...], dtype: Any) -> spaces.Box:
+            return spaces.Box(low, high, shape, dtype)
+
+        return spaces.Dict(
+            {
+                "position": box(np.zeros(2, np.int64), top, (2,), np.int64),
+                "carrying": box(0, 1, (1,), np.int8),
+                "informed": box(0, 1, (1,), np.int8),
+                "food": box(np.full(2, -1, np.int64), top, (2,), np.int64),
+                "nest": box(np.zeros(2, np.int64), top, (2,), np.int64),
+                "round": box(0, self.max_rounds, (1,), np.int64),
+                "mode": box(0, len(MODES) - 1, (1,), np.int8),
+                "to_tell": box(0, 1, (n,), np.int8),
+                "team_positions": box(-1, g - 1, (n, 2), np.int64),
+                "action_mask": box(0, 1, (len(ACTIONS),), np.int8),
+            }
+        )
+
+    def observation_space(self, agent: str) -> spaces.Space[Any]:
+        return self._obs_spaces[agent]
+
+    def action_space(self, agent: str) -> spaces.Space[Any]:
+        return self._act_spaces[agent]
+
+    # ------------------------------------------------------------------ episode
+    def reset(
+        self, seed: int | None = None, options: dict[str, Any] | None = None
+    ) -> tuple[dict[str, dict[str, np.ndarray]], dict[str, dict[str, Any]]]:
+        """Start a new run (``options`` is accepted and ignored)."""
+        self.close()
+        if seed is not None:
+            self._next_seed = int(seed)
+        self._clear()
+        self._next_seed = self._seed + 1
+        mission = get_mission("foraging")
+        params: ForagingParams = replace(self.params, seed=self._seed)
+        world: ForagingWorld = mission.prepare(params)  # draws the food from the seed
+        self._run_params, self._world = params, world
+        live = self._live
+        limit = self.max_rounds
+
+        def run(ask: Ask) -> ForageRun:
+            from swarmex.missions.foraging.run import run_forage
+
+            p = params
+            return run_forage(
+                p.algorithm, p.grid, p.agents, world.food, p.food_units, p.transport,
+                on_frame=lambda frame: _cap(frame, limit), decide=_Decide(ask, live),
+            )  # fmt: skip
+
+        self._broker = DecisionBroker(run, name=f"swarmex-{NAME}")
+        self._finalizer = weakref.finalize(self, self._broker.close)
+        self.agents = self.possible_agents[:]
+        self._arrive(self._broker.start())
+        obs, infos = self._observations(), self._infos()
+        if self._pending is None:  # ended before any Compute (cannot happen: kept for safety)
+            self.agents = []
+        return obs, infos
+
+    def step(
+        self, actions: Mapping[str, Any]
+    ) -> tuple[
+        dict[str, dict[str, np.ndarray]],
+        dict[str, float],
+        dict[str, bool],
+        dict[str, bool],
+        dict[str, dict[str, Any]],
+    ]:
+        if self._pending is None or self._broker is None:
+            if not actions:
+                return {}, {}, {}, {}, {}
+            raise RuntimeError(f"{NAME}: the episode has ended; call reset()")
+        moves = self._moves_from(actions)
+        before = self._delivered
+        self._arrive(self._broker.answer(moves))
+        reward = self.delivery_reward * (self._delivered - before) - self.time_cost
+        obs, infos = self._observations(), self._infos()
+        agents = self.agents
+        if self._pending is None:  # the run has ended
+            complete = bool(self._result is not None and self._result.outcome.complete)
+            if complete:
+                reward += self.completion_bonus
+            self.agents = []
+            terms = dict.fromkeys(agents, complete)
+            truncs = dict.fromkeys(agents, not complete)
+        else:
+            terms = dict.fromkeys(agents, False)
+            truncs = dict.fromkeys(agents, False)
+        return obs, dict.fromkeys(agents, reward), terms, truncs, infos
+
+    def _arrive(self, request: Round | None) -> None:
+        """Take the simulator's next request (None: the run has ended)."""
+        m = self._live.mission
+        if m is not None:
+            self._delivered = m.delivered
+        if request is None:
+            assert self._broker is not None
+            self._result = self._broker.result
+            self._pending = None
+            return
+        self._pending = request
+        self._mask = self._masks(request.pos)
+
+    def _masks(self, pos: np.ndarray) -> np.ndarray:
+        """(n, 5) int8: stay, and the moves that stay on the grid (a fresh array)."""
+        return self._cell_masks[pos[:, 0], pos[:, 1]]
+
+    def _moves_from(self, actions: Mapping[str, Any]) -> np.ndarray:
+        """Every robot's move as an (n,) array, after checking every action."""
+        for agent in actions:
+            if agent not in self._index:
+                raise ValueError(f"{NAME}: unknown agent {agent!r} (agents: {self.agents})")
+        n = len(self.possible_agents)
+        if len(actions) < n:
+            missing = [a for a in self.possible_agents if a not in actions]
+            raise ValueError(
+                f"{NAME}: no action for {', '.join(missing)}: every robot moves every round "
+                f"(0 stay, 1 N, 2 E, 3 S, 4 W)"
+            )
+        raw = [actions[a] for a in self.possible_agents]
+        if all(type(v) is int or isinstance(v, np.integer) for v in raw):  # the usual case
+            moves = np.array(raw, dtype=np.int64)
+            if moves.min() < 0 or moves.max() >= len(ACTIONS):
+                for a, v in zip(self.possible_agents, raw, strict=True):
+                    self._as_action(a, v)  # raises for the first one out of the space
+        else:
+            moves = np.fromiter(
+                (self._as_action(a, v) for a, v in zip(self.possible_agents, raw, strict=True)),
+                np.int64,
+                n,
+            )
+        mask = self._mask
+        assert mask is not None
+        ok = mask[np.arange(n), moves].astype(bool)
+        if not ok.all():
+            if self.invalid_action == "project":
+                moves[~ok] = STAY
+            else:
+                i = int(np.flatnonzero(~ok)[0])
+                raise ValueError(f"{NAME}: {self.possible_agents[i]} {self._why(i, moves[i])}")
+        return moves
+
+    def _as_action(self, agent: str, raw: Any) -> int:
+        value = raw.item() if isinstance(raw, np.ndarray) and raw.size == 1 else raw
+        if isinstance(value, np.integer):
+            value = int(value)
+        if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value < len(ACTIONS):
+            raise ValueError(
+                f"{NAME}: {agent}'s action {raw!r} is outside the action space "
+                "(an integer 0..4: 0 stay, 1 north, 2 east, 3 south, 4 west)"
+            )
+        return value
+
+    def _why(self, i: int, a: int) -> str:
+        d = self._pending
+        assert d is not None
+        x, y = (int(v) for v in d.pos[i])
+        dx, dy = (int(v) for v in MOVES[a])
+        return (
+            f"chose action {a} ({ACTIONS[a]}) at cell ({x}, {y}) in round {d.t}: cell "
+            f"({x + dx}, {y + dy}) is off the {self.g}×{self.g} grid (see the action_mask)"
+        )
+
+    # ------------------------------------------------------------------ observations
+    def _observations(self) -> dict[str, dict[str, np.ndarray]]:
+        m = self._live.mission
+        if m is None or not self.agents:
+            return {}
+        n = m.n
+        pending = self._pending
+        if pending is not None:
+            pos, mask = pending.pos, self._mask
+        else:
+            pos = np.asarray(m.pos, dtype=np.int64).reshape(n, 2)
+            mask = self._masks(pos)
+        assert mask is not None
+        # (4, n, 1): informed, carrying, mode, transport mode; one array for the four
+        own = np.array((m.informed, m.carrying, m.mode, m.tmode), dtype=np.int8)[:, :, None]
+        informed, carrying, mode, tmode = own
+        phase = np.where(mode == TRANSPORT, 3 + tmode, mode)
+        food = np.full((n, 2), -1, dtype=np.int64)
+        food[informed[:, 0] == 1] = m.food
+        t = np.full((n, 1), m.t, dtype=np.int64)
+        to_tell = np.zeros((n, n), dtype=np.int8)
+        for a in np.flatnonzero((mode[:, 0] == COMM) | (mode[:, 0] == FOLLOW)).tolist():
+            to_tell[a, m.targets[a]] = 1
+        x, y = pos[:, 0], pos[:, 1]
+        near = np.abs(x[:, None] - x[None, :]) + np.abs(y[:, None] - y[None, :]) <= SENSING
+        near[self._eye] = False
+        team = np.where(near[:, :, None], pos[None, :, :], -1)
+        # one array per key for the whole team; each robot's entry is a row of it
+        rows = zip(
+            tuple(pos), tuple(carrying), tuple(informed), tuple(food), (self._nest,) * n,
+            tuple(t), tuple(phase), tuple(to_tell), tuple(team), tuple(mask), strict=True,
+        )  # fmt: skip
+        return {agent: dict(zip(OBS_KEYS, row, strict=True))
+                for agent, row in zip(self.possible_agents, rows, strict=True)}  # fmt: skip
+
+    def _infos(self) -> dict[str, dict[str, Any]]:
+        m = self._live.mission
+        t = m.t if m is not None else 0
+        return {a: {"round": t} for a in self.agents}
+
+    # ------------------------------------------------------------------ the run's own view
+    def baseline_actions(self) -> np.ndarray:
+        """The seed's move for every robot this round (index i: ``robot_i``), from the
+        mission's own Compute; raises when no round is pending."""
+        if self._pending is None:
+            raise RuntimeError(f"{NAME}: no round is pending (call reset(), or the run ended)")
+        return self._pending.builtin.copy()
+
+    @property
+    def round(self) -> int | None:
+        """The pending round (None when no episode is running)."""
+        return None if self._pending is None else self._pending.t
+
+    @property
+    def mission(self) -> Mission | None:
+        """The simulator's state (for renderers and tests; policies must not read it)."""
+        return self._live.mission
+
+    def record(self) -> ResultRecord:
+        """The run's ResultRecord (== ``swarmex.run``'s for baseline-driven episodes,
+        ``wall_seconds`` aside: here the run's time includes waiting for the decisions)."""
+        if self._result is None or self._run_params is None:
+            raise RuntimeError(f"{NAME}: record() is available once the episode has ended")
+        if self._record is None:
+            from swarmex.missions.foraging.run import to_record
+
+            p = self._run_params
+            self._record = to_record(
+                self._result, p.seed, {"food_distance": p.food_distance, "seed": p.seed}
+            )
+        return self._record
+
+    # ------------------------------------------------------------------ render, close
+    def render(self) -> np.ndarray | None:
+        if self.render_mode is None:
+            import gymnasium
+
+            gymnasium.logger.warn(f"{NAME}: render() without a render_mode")
+            return None
+        m = self._live.mission
+        world = self._world
+        if m is None or world is None:
+            raise RuntimeError(f"{NAME}: call reset() before render()")
+        from swarmex.viz.foraging import animation_frames
+
+        p = self.params
+        rows = m.history
+        agents = [
+            {
+                "trajectory": [[t, int(r[a][0]), int(r[a][1])] for t, r in enumerate(rows)],
+                "jobs": [list(j) for j in m.jobs[a]],
+            }
+            for a in range(m.n)
+        ]
+        record = {
+            "params": {
+                "grid": p.grid,
+                "nest": list(self.nest),
+                "food": list(world.food),
+                "food_units": p.food_units,
+            },
+            "agents": agents,
+        }
+        return animation_frames(record, max_frames=2)[-1]  # the last round drawn
+
+    def close(self) -> None:
+        """Abandon a run in progress (its worker thread ends)."""
+        if self._finalizer is not None:
+            self._finalizer()  # closes the broker once
+            self._finalizer = None
+
+    def __getstate__(self) -> dict[str, Any]:
+        """Picklable before or between episodes (SuperSuit copies envs with cloudpickle):
+        the run in progress, if any, is not part of the state."""
+        state = self.__dict__.copy()
+        for key in (
+            "_broker", "_live", "_pending", "_mask", "_finalizer", "_result", "_record",
+            "_run_params", "_world",
+        ):  # fmt: skip
+            state.pop(key, None)
+        state["agents"] = []
+        return state
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        self.__dict__.update(state)
+        self._clear()
+
+
+raw_env = ForagingEnv
+
+
+def parallel_env(**kwargs: Any) -> ForagingEnv:
+    """The native Parallel environment: ``parallel_env(grid=16, agents=4,
+    algorithm="sectors", food=(12, 3), food_units=3)``."""
+    return ForagingEnv(**kwargs)
+
+
+def env(**kwargs: Any) -> AECEnv[str, dict[str, np.ndarray], int | None]:
+    """The AEC form (PettingZoo's ``parallel_to_aec``, order-enforcing)."""
+    return parallel_to_aec(ForagingEnv(**kwargs))
+
+
+def baseline_policy(
+    environment: ParallelEnv[str, Any, Any] | AECEnv[str, Any, Any],
+) -> Callable[[Mapping[str, Any], Mapping[str, Any]], dict[str, int]]:
+    """The params' ``algorithm`` and ``transport`` as a policy ``(observations, infos) ->
+    actions`` for the parallel env: each robot makes the move the seed's rules make this
+    round (its pattern's timetable while exploring, its communication or transport move
+    afterwards; :meth:`ForagingEnv.baseline_actions`)."""
+    base = environment.unwrapped
+    if not isinstance(base, ForagingEnv):
+        raise TypeError(f"baseline_policy needs a {NAME} environment, got {base!r}")
+    index = {a: i for i, a in enumerate(base.possible_agents)}
+
+    def policy(observations: Mapping[str, Any], infos: Mapping[str, Any]) -> dict[str, int]:
+        moves = base.baseline_actions()
+        return {a: int(moves[index[a]]) for a in observations}
+
+    return policy
