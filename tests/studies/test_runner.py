@@ -22,7 +22,7 @@ LOG = "SWARMEX_TEST_RUNNER_LOG"  # a file every run appends its key to (one writ
 
 def square(job: dict) -> dict:
     """A tiny deterministic job; logs that it ran."""
-    log = os.environ.get(LOG)
+    log = job.get("log") or os.environ.get(LOG)
     if log:
         with open(log, "a", encoding="utf-8") as fh:
             fh.write(f"{job['k']}\n")
@@ -40,8 +40,13 @@ def key(job: dict) -> str:
     return job["k"]
 
 
+_LOG: list[str] = []  # the current test's log file, carried in each job (a pool worker from
+# a fork server started by an earlier test does not see a later test's environment)
+
+
 def jobs(n: int, **extra) -> list[dict]:
-    return [{"k": f"j{i}", "x": i, **extra} for i in range(n)]
+    carry = {"log": _LOG[-1]} if _LOG else {}
+    return [{"k": f"j{i}", "x": i, **carry, **extra} for i in range(n)]
 
 
 def ran(log: Path) -> list[str]:
@@ -52,7 +57,9 @@ def ran(log: Path) -> list[str]:
 def log(tmp_path, monkeypatch) -> Path:
     path = tmp_path / "ran.log"
     monkeypatch.setenv(LOG, str(path))
-    return path
+    _LOG.append(str(path))
+    yield path
+    _LOG.pop()
 
 
 def test_results_come_in_job_order_and_equal_the_serial_ones(tmp_path, log):
