@@ -12,6 +12,9 @@ Conventions (also in ``swarmex traverse --help``):
   error (a nest nobody uses is a typo). Without ``nests`` every agent starts at the first
   free cell in row-major order (smallest y, then smallest x).
 * Obstacles listed twice are harmless; ``obstacles`` may add walls to a ``map`` too.
+* Fleets (``fleet``, or ``agents`` given as a list of tables): per-agent nest, altitude,
+  speeds and job time by id (:mod:`swarmex.missions.traversal.fleet`); a row's missing field
+  takes the option of the same name, so the timing options are the fleet's defaults.
 
 Defaults of the timing options are the thesis's base agent (§5.1: 6.67 m edges flown at
 3 m/s, 10 s jobs, climb 1.5 m/s, descent 0.3 m/s) without the 5 m takeoff, so
@@ -22,13 +25,13 @@ from __future__ import annotations
 
 import numbers
 import re
-from dataclasses import dataclass
+from collections.abc import Mapping
+from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Any
+from typing import Any, Self
 
 from swarmex.errors import InputError
 from swarmex.missions.base import (
-    REQUIRED,
     Cell,
     Params,
     cells,
@@ -40,6 +43,7 @@ from swarmex.missions.base import (
     real,
     text,
 )
+from swarmex.missions.traversal.fleet import FleetRow, fleet, is_table_list
 
 ALGORITHMS = ("madgta", "madgta+", "nearest", "optimal")
 OBJECTIVES = ("sum", "makespan")
@@ -101,7 +105,11 @@ class TraversalParams(Params):
     obstacles: tuple[Cell, ...] = option(
         (), help='Blocked cells "x,y;x,y;…" (x column, y row).', parse=cells()
     )
-    agents: int = option(REQUIRED, help="Number of agents (>= 1).", parse=integer(lo=1))
+    agents: int | None = option(
+        None,
+        help="Number of agents (>= 1); with --fleet, its number of rows.",
+        parse=optional(integer(lo=1)),
+    )
     nests: tuple[Cell, ...] | None = option(
         None,
         help='Start cells "x,y;…", shared round-robin when fewer than agents. '
@@ -140,15 +148,60 @@ class TraversalParams(Params):
         0.0, help="Probability a job fails and must be redone.", parse=real(lo=0, below=1)
     )
     seed: int = option(0, help="Seed of every random choice.", parse=integer())
+    fleet: tuple[FleetRow, ...] | None = option(
+        None,
+        help="Per-agent values by id: a TOML file of [[agents]] tables or a CSV with columns "
+        "id, nest, altitude, travel_speed (m/s) or travel_time, job_time, up_speed, "
+        "down_speed; a missing value takes the option of the same name.",
+        parse=optional(fleet()),
+        metavar="FILE",
+    )
+    edge_length: float | None = option(
+        None,
+        help="Metres per grid edge of --map/--grid, so that fleet speeds in m/s apply "
+        "(default: none; a GPS grid has its own).",
+        parse=optional(real(above=0)),
+    )
+
+    @classmethod
+    def from_values(cls, values: Mapping[str, Any] | None = None, **kw: Any) -> Self:
+        """:meth:`Params.from_values`, where ``agents`` may also be the fleet's table list
+        (a scenario's ``[[agents]]`` tables): it then means ``fleet``, and ``agents`` is
+        the number of its rows."""
+        raw = {**(values or {}), **kw}
+        if is_table_list(raw.get("agents")):
+            if raw.get("fleet") is not None:
+                raise InputError("give the fleet as [[agents]] tables or as --fleet, not both")
+            raw["fleet"] = raw.pop("agents")
+        params = super().from_values(raw)
+        if params.fleet is not None and params.agents is None:
+            params = replace(params, agents=len(params.fleet))
+        return params
+
+    @property
+    def team(self) -> int:
+        """The number of agents (``agents``, or the fleet's rows)."""
+        if self.agents is not None:
+            return self.agents
+        if self.fleet is not None:
+            return len(self.fleet)
+        raise InputError("traversal: --agents is required (or give --fleet)")
 
     def check(self) -> None:
         if (self.map is None) == (self.grid is None):
             raise InputError("give exactly one of --map FILE or --grid WxH")
+        if self.agents is None and self.fleet is None:
+            raise InputError("traversal: --agents is required (or give --fleet)")
+        if self.fleet is not None and self.agents is not None and self.agents != len(self.fleet):
+            raise InputError(
+                f"--agents {self.agents} but the fleet lists {len(self.fleet)} agents"
+            )
+        team = self.team
         if self.nests is not None:
             if not self.nests:
                 raise InputError("--nests: no cell given")
-            if len(self.nests) > self.agents:
-                raise InputError(f"--nests: {len(self.nests)} nests for only {self.agents} agents")
+            if len(self.nests) > team:
+                raise InputError(f"--nests: {len(self.nests)} nests for only {team} agents")
 
 
 __all__ = ["ALGORITHMS", "OBJECTIVES", "TraversalParams"]
