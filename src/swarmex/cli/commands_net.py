@@ -71,6 +71,13 @@ def serve(
     edge_length: float | None = typer.Option(
         None, "--edge-length", help="Metres per grid edge (for fleet speeds in m/s)."
     ),
+    center: str | None = typer.Option(
+        None, "--center", metavar="LAT,LON", help="GPS grid centre (or --map / --grid)."
+    ),
+    radius: float | None = typer.Option(None, "--radius", help="GPS grid: half its side, m."),
+    nodes_on_edge: int | None = typer.Option(
+        None, "--nodes-on-edge", help="GPS grid: K nodes on an edge."
+    ),
     port: int = typer.Option(..., "--port", help="TCP port to listen on (0: a free one)."),
     host: str = typer.Option("127.0.0.1", "--host", help=HOSTS_HELP),
     time_scale: float = typer.Option(
@@ -127,7 +134,8 @@ def serve(
             "algorithm": algorithm, "connectivity": connectivity,
             "start_interval": start_interval, "altitude": altitude, "up_speed": up_speed,
             "down_speed": down_speed, "job_failure": job_failure, "seed": seed,
-            "fleet": fleet, "edge_length": edge_length,
+            "fleet": fleet, "edge_length": edge_length, "center": center, "radius": radius,
+            "nodes_on_edge": nodes_on_edge,
         }
     )
     if tparams.algorithm not in ("madgta", "madgta+", "nearest"):

@@ -96,6 +96,7 @@ from swarmex.net.wire import (
 from swarmex.planning.distance import distance_field
 from swarmex.planning.fieldcache import KnownGraph
 from swarmex.worlds import GridWorld
+from swarmex.worlds.geo import GeoGrid
 
 RNG_MODES = ("shared", "own")
 #: commands that end an agent's step: they announce its next event (or that there is none)
@@ -150,14 +151,22 @@ class Mission:
 
     def to_wire(self) -> dict:
         w = self.world
+        world: dict[str, Any] = {
+            "width": w.width,
+            "height": w.height,
+            "free": np.packbits(w.free.ravel()).tobytes(),
+            "connectivity": w.connectivity,
+            "source": w.source,
+        }
+        if isinstance(w, GeoGrid):  # the GPS table (seed 000's graph table) and edge lengths
+            world["geo"] = {
+                "center": list(w.center),
+                "radius": w.radius,
+                "latlon": w.latlon_array.astype("<f8").tobytes(),
+                "lengths": w.lengths().astype("<f8").tobytes(),
+            }
         return {
-            "world": {
-                "width": w.width,
-                "height": w.height,
-                "free": np.packbits(w.free.ravel()).tobytes(),
-                "connectivity": w.connectivity,
-                "source": w.source,
-            },
+            "world": world,
             "agents": [s.to_dict() for s in self.specs],
             "algorithm": self.algorithm,
             "seed": self.seed,
@@ -185,9 +194,7 @@ class Mission:
             if bits.size != (width * height + 7) // 8:
                 raise ValueError("free-cell bits do not fit the grid size")
             free = np.unpackbits(bits, count=width * height).astype(bool)
-            world = GridWorld(
-                free.reshape(height, width), int(wd["connectivity"]), str(wd["source"])
-            )
+            world = _world_of(wd, free.reshape(height, width))
             specs = [
                 AgentSpec(
                     int(a["nest"]), float(a["travel_speed"]), float(a["job_time"]),
@@ -214,6 +221,11 @@ class Mission:
         except (KeyError, TypeError, ValueError, InputError, AttributeError) as exc:
             raise EncodingError(f"mission data: {exc}") from None
 
+    def latlon(self, node: int) -> tuple[float, float] | None:
+        """Where ``node`` is on the Earth (a GPS grid), else None."""
+        w = self.world
+        return w.latlon(node) if isinstance(w, GeoGrid) else None
+
     def time_per_unit(self) -> np.ndarray:
         """Seconds per length unit by id (slot 0 unused), computed as the simulator does."""
         tpu = np.zeros(self.n_agents + 1)
@@ -226,6 +238,29 @@ class Mission:
         for i, s in enumerate(self.specs, start=1):
             jt[i] = s.job_time
         return jt
+
+
+def _world_of(wd: Any, free: np.ndarray) -> GridWorld:
+    """The grid of a MIS reply: plain, or a GPS grid with its positions and edge lengths
+    (ValueError / InputError when they do not fit)."""
+    connectivity, source = int(wd["connectivity"]), str(wd["source"])
+    geo = wd.get("geo")
+    if geo is None:
+        return GridWorld(free, connectivity, source)
+    n = free.size
+    latlon = np.frombuffer(geo["latlon"], dtype="<f8")
+    lengths = np.frombuffer(geo["lengths"], dtype="<f8")
+    if latlon.size != 2 * n or not np.all(np.isfinite(latlon)):
+        raise ValueError("GPS table does not fit the grid")
+    if not (np.all(np.isfinite(lengths)) and np.all(lengths > 0)):
+        raise ValueError("bad edge lengths")
+    lat, lon = (float(v) for v in geo["center"])
+    world = GeoGrid(free, connectivity, latlon.reshape(n, 2).astype(float), (lat, lon),
+                    float(geo["radius"]), source, lengths.astype(float))
+    u, _, _ = world.edge_arrays()
+    if u.size != lengths.size:
+        raise ValueError("edge lengths do not fit the grid")
+    return world
 
 
 # ---------------------------------------------------------------------------- shared view

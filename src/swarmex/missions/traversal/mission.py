@@ -43,9 +43,21 @@ class TraversalWorld:
 
 
 def build_world(p: TraversalParams) -> Any:
-    """The GridWorld of ``map`` or ``grid``, with the ``obstacles`` cells blocked."""
+    """The GridWorld of ``map``, ``grid`` or the GPS grid of ``center``, with the
+    ``obstacles`` cells blocked."""
     from swarmex.worlds import GridWorld, load_movingai
 
+    if p.center is not None:
+        from swarmex.worlds.geo import gps_grid
+
+        assert p.radius is not None and p.nodes_on_edge is not None
+        geo = gps_grid(p.center, p.radius, p.nodes_on_edge, p.connectivity)
+        if not p.obstacles:
+            return geo
+        free = geo.free.copy()
+        for x, y in _in_bounds(geo, p.obstacles, "--obstacles"):
+            free[y, x] = False
+        return geo.with_free(free)
     if p.map is not None:
         base = load_movingai(p.map, connectivity=p.connectivity)
     else:
@@ -117,17 +129,19 @@ def record_params(p: TraversalParams, prepared: TraversalWorld) -> dict[str, Any
         "map": None if p.map is None else str(p.map),
         "grid": None if p.grid is None else f"{p.grid[0]}x{p.grid[1]}",
     }
-    if p.map is None and p.grid is None:  # a generated world (swarmex demo)
+    if p.map is None and p.grid is None and p.center is None:  # generated (swarmex demo)
         out["generated"] = world.source
     out["obstacles"] = [list(c) for c in p.obstacles]
     out["agents"] = len(prepared.nests)
     out["nests"] = [list(world.xy(n)) for n in prepared.nests]
     # options that records made before them do not have appear only when given
-    late = {"fleet", "edge_length"}
-    skip = {"map", "grid", "obstacles", "agents", "nests", "seed"} | late
+    late = ("edge_length", "center", "radius", "nodes_on_edge")
+    skip = {"map", "grid", "obstacles", "agents", "nests", "seed", "fleet", *late}
     out.update({k: v for k, v in p.values().items() if k not in skip})
-    if p.edge_length is not None:
-        out["edge_length"] = p.edge_length
+    for key in late:
+        value = getattr(p, key)
+        if value is not None:
+            out[key] = list(value) if key == "center" else value
     if p.fleet is not None:
         out["fleet"] = fleet_record(p, prepared)
     out["seed"] = p.seed
@@ -207,8 +221,11 @@ class TraversalMission(Mission[TraversalParams, TraversalWorld]):
     def prepare(self, params: TraversalParams) -> TraversalWorld:
         world = build_world(params)
         nests = resolve_nests(world, params.nests, params.team, params.fleet)
-        unit = 1.0 if params.edge_length is None else params.edge_length
-        prepared = TraversalWorld(world, nests, unit, params.edge_length)
+        if params.center is not None:  # edges are metres already
+            prepared = TraversalWorld(world, nests, 1.0, world.edge_m)
+        else:
+            unit = 1.0 if params.edge_length is None else params.edge_length
+            prepared = TraversalWorld(world, nests, unit, params.edge_length)
         agent_specs(params, prepared)  # a fleet row that cannot apply fails here, before work
         return prepared
 

@@ -12,6 +12,10 @@ Conventions (also in ``swarmex traverse --help``):
   error (a nest nobody uses is a typo). Without ``nests`` every agent starts at the first
   free cell in row-major order (smallest y, then smallest x).
 * Obstacles listed twice are harmless; ``obstacles`` may add walls to a ``map`` too.
+* GPS grids (``center``, ``radius``, ``nodes_on_edge``, instead of ``map`` or ``grid``): seed
+  000's K x K grid spanning 2R metres around a latitude and longitude, node positions and
+  edge lengths geodesic (:mod:`swarmex.worlds.geo`); ``travel_time`` is then seconds per
+  nominal edge of 2R / (K - 1) metres, and fleet speeds are metres per second.
 * Fleets (``fleet``, or ``agents`` given as a list of tables): per-agent nest, altitude,
   speeds and job time by id (:mod:`swarmex.missions.traversal.fleet`); a row's missing field
   takes the option of the same name, so the timing options are the fleet's defaults.
@@ -44,6 +48,7 @@ from swarmex.missions.base import (
     text,
 )
 from swarmex.missions.traversal.fleet import FleetRow, fleet, is_table_list
+from swarmex.worlds.geo import MAX_NODES_ON_EDGE, MAX_RADIUS, check_center
 
 ALGORITHMS = ("madgta", "madgta+", "nearest", "optimal")
 OBJECTIVES = ("sum", "makespan")
@@ -74,6 +79,26 @@ def grid_size() -> Any:
         if w * h > MAX_GRID_CELLS:
             raise InputError(f"{flag}: {w}x{h} has more than {MAX_GRID_CELLS:,} cells")
         return w, h
+
+    parse.kind = str  # type: ignore[attr-defined]
+    return parse
+
+
+def lat_lon() -> Any:
+    """``"43.268304,-79.911135"`` or ``(43.268304, -79.911135)`` -> (lat, lon) in degrees."""
+
+    def parse(value: Any, flag: str) -> tuple[float, float]:
+        parts = value.split(",") if isinstance(value, str) else plain_sequence(value)
+        if isinstance(parts, list | tuple) and len(parts) == 2:
+            try:
+                lat, lon = (float(v) for v in parts if not isinstance(v, bool))
+            except (TypeError, ValueError):
+                pass
+            else:
+                check_center(lat, lon, flag)
+                return lat, lon
+        raise InputError(f"{flag}: expected LAT,LON in degrees such as 43.268304,-79.911135,"
+                         f" got {value!r}")
 
     parse.kind = str  # type: ignore[attr-defined]
     return parse
@@ -162,6 +187,23 @@ class TraversalParams(Params):
         "(default: none; a GPS grid has its own).",
         parse=optional(real(above=0)),
     )
+    center: tuple[float, float] | None = option(
+        None,
+        help="GPS grid (instead of --map/--grid): its centre LAT,LON in degrees (WGS84); "
+        "with --radius and --nodes-on-edge.",
+        parse=optional(lat_lon()),
+        metavar="LAT,LON",
+    )
+    radius: float | None = option(
+        None,
+        help="GPS grid: half its side, metres (the grid spans 2R).",
+        parse=optional(real(above=0, hi=MAX_RADIUS)),
+    )
+    nodes_on_edge: int | None = option(
+        None,
+        help="GPS grid: K nodes on an edge (K x K nodes).",
+        parse=optional(integer(lo=2, hi=MAX_NODES_ON_EDGE)),
+    )
 
     @classmethod
     def from_values(cls, values: Mapping[str, Any] | None = None, **kw: Any) -> Self:
@@ -188,8 +230,20 @@ class TraversalParams(Params):
         raise InputError("traversal: --agents is required (or give --fleet)")
 
     def check(self) -> None:
-        if (self.map is None) == (self.grid is None):
-            raise InputError("give exactly one of --map FILE or --grid WxH")
+        worlds = sum(v is not None for v in (self.map, self.grid, self.center))
+        if worlds != 1:
+            raise InputError("give exactly one of --map FILE, --grid WxH or --center LAT,LON")
+        gps = {"--radius": self.radius, "--nodes-on-edge": self.nodes_on_edge}
+        if self.center is not None:
+            for flag, value in gps.items():
+                if value is None:
+                    raise InputError(f"--center needs {flag} too (the GPS grid's size)")
+            if self.edge_length is not None:
+                raise InputError("--edge-length: a GPS grid's edges are its geodesic lengths")
+        else:
+            for flag, value in gps.items():
+                if value is not None:
+                    raise InputError(f"{flag} belongs to a GPS grid: give --center LAT,LON")
         if self.agents is None and self.fleet is None:
             raise InputError("traversal: --agents is required (or give --fleet)")
         if self.fleet is not None and self.agents is not None and self.agents != len(self.fleet):
