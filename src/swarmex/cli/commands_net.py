@@ -92,6 +92,10 @@ def serve(
     done_lists: bool = typer.Option(
         True, "--done-lists/--no-done-lists", help="Carry Fig. 4.17's done-nodes list."
     ),
+    inject_loss: float = typer.Option(
+        0.0, "--inject-loss",
+        help="Fault injection: probability that an agent's radio loses a relayed broadcast.",
+    ),
     heartbeat: float = typer.Option(0.25, "--heartbeat", help="Wall seconds between beats."),
     dead_after: float = typer.Option(
         2.0, "--dead-after", help="Wall seconds of silence before an agent is declared gone."
@@ -117,6 +121,8 @@ def serve(
                           (timeout, "--timeout")):
         _positive(value, option)
     _positive(spare_wait, "--spare-wait", zero_ok=True)
+    if not 0.0 <= inject_loss < 1.0:
+        raise InputError(f"--inject-loss must be in [0, 1), got {inject_loss}")
     if dead_after <= heartbeat:
         raise InputError("--dead-after must be longer than --heartbeat")
     if monitor_url is not None and not monitor_url.startswith(("ws://", "wss://")):
@@ -151,13 +157,15 @@ def serve(
         "network": {"time_scale": time_scale, "rng": rng, "done_lists": done_lists,
                     "heartbeat": heartbeat, "dead_after": dead_after},
     }
+    if inject_loss > 0:
+        params["network"]["inject_loss"] = inject_loss
     mission = Mission(world, specs, algorithm, seed, start_interval, prepared.unit_length,
                       job_failure, time_scale, rng, done_lists, heartbeat, params)
     bind = f"tcp://{host}:{port}" if port else f"tcp://{host}:*"
     try:
         server = TraversalServer(mission, bind, json_path, timeout, dead_after,
                                  spare_wait=spare_wait, monitor_url=monitor_url,
-                                 say=_say)
+                                 say=_say, loss=inject_loss)
     except Exception as exc:  # zmq.ZMQError: address in use, bad interface
         raise InputError(f"cannot listen on {bind}: {exc}") from None
     code = server.run()
