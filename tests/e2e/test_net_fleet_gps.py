@@ -48,3 +48,16 @@ def test_serve_flies_the_fleet_on_the_gps_grid_as_traverse_does(tmp_path: Path) 
     assert speeds == [3.0, 2.0, pytest.approx(10.0 / 2.22)]  # edges of 2R / (K - 1) = 10 m
     for x, y in zip(net["agents"], sim["agents"], strict=True):
         assert x["trajectory"] == y["trajectory"] and x["metrics"] == y["metrics"]
+
+
+def test_serve_refuses_a_bad_fleet_row_in_one_line(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from swarmex.cli import main
+
+    fleet = tmp_path / "fleet.toml"
+    fleet.write_text('[[agents]]\nid = 1\n[[agents]]\nid = 2\nup_speed = "fast"\n')
+    assert main(["serve", "--grid", "5x5", "--fleet", str(fleet), "--port", "0"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1
+    assert "--fleet" in err and "agent 2: up_speed: expected a number, got 'fast'" in err
