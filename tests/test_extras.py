@@ -17,6 +17,10 @@ from swarmex.cli import main
          "video"),
         ("starlette", ["monitor", "--scenario", "{tmp}/s.toml"], "monitor"),
         ("ray", ["sweep", "{tmp}/s.toml", "--backend", "ray", "--out", "{tmp}/o"], "ray"),
+        ("pyproj",
+         ["traverse", "--center", "43.2,-79.9", "--radius", "50", "--nodes-on-edge", "3",
+          "--agents", "1"],
+         "geo"),
     ],
 )
 def test_missing_extra_is_one_line(module, argv, extra, tmp_path, capsys, monkeypatch):

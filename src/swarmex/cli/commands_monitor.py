@@ -75,6 +75,9 @@ def free_cells(record: dict, base: Path | None = None):
                 grid=params.get("grid"),
                 obstacles=params.get("obstacles") or (),
                 connectivity=params.get("connectivity", 4),
+                center=params.get("center"),
+                radius=params.get("radius"),
+                nodes_on_edge=params.get("nodes_on_edge"),
                 agents=1,
             )
         )

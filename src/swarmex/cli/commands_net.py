@@ -43,7 +43,9 @@ def serve(
     map_file: Path | None = typer.Option(None, "--map", help="MovingAI .map file (or --grid)."),
     grid: str | None = typer.Option(None, "--grid", help="Empty WxH grid (or --map)."),
     obstacles: str | None = typer.Option(None, "--obstacles", help='Blocked cells "x,y;…".'),
-    agents: int = typer.Option(..., "--agents", help="Number of agent ids (>= 1)."),
+    agents: int | None = typer.Option(
+        None, "--agents", help="Number of agent ids (>= 1); with --fleet, its rows."
+    ),
     nests: str | None = typer.Option(None, "--nests", help='Start cells "x,y;…" (round-robin).'),
     travel_time: float = typer.Option(
         _default("travel_time"), "--travel-time", help="Seconds per grid edge."
@@ -63,6 +65,19 @@ def serve(
         _default("job_failure"), "--job-failure", help="Probability a job fails."
     ),
     seed: int = typer.Option(_default("seed"), "--seed", help="Seed of every random choice."),
+    fleet: Path | None = typer.Option(
+        None, "--fleet", metavar="FILE", help="Per-agent values by id (as swarmex traverse)."
+    ),
+    edge_length: float | None = typer.Option(
+        None, "--edge-length", help="Metres per grid edge (for fleet speeds in m/s)."
+    ),
+    center: str | None = typer.Option(
+        None, "--center", metavar="LAT,LON", help="GPS grid centre (or --map / --grid)."
+    ),
+    radius: float | None = typer.Option(None, "--radius", help="GPS grid: half its side, m."),
+    nodes_on_edge: int | None = typer.Option(
+        None, "--nodes-on-edge", help="GPS grid: K nodes on an edge."
+    ),
     port: int = typer.Option(..., "--port", help="TCP port to listen on (0: a free one)."),
     host: str = typer.Option("127.0.0.1", "--host", help=HOSTS_HELP),
     time_scale: float = typer.Option(
@@ -76,6 +91,10 @@ def serve(
     ),
     done_lists: bool = typer.Option(
         True, "--done-lists/--no-done-lists", help="Carry Fig. 4.17's done-nodes list."
+    ),
+    inject_loss: float = typer.Option(
+        0.0, "--inject-loss",
+        help="Fault injection: probability that an agent's radio loses a relayed broadcast.",
     ),
     heartbeat: float = typer.Option(0.25, "--heartbeat", help="Wall seconds between beats."),
     dead_after: float = typer.Option(
@@ -102,6 +121,8 @@ def serve(
                           (timeout, "--timeout")):
         _positive(value, option)
     _positive(spare_wait, "--spare-wait", zero_ok=True)
+    if not 0.0 <= inject_loss < 1.0:
+        raise InputError(f"--inject-loss must be in [0, 1), got {inject_loss}")
     if dead_after <= heartbeat:
         raise InputError("--dead-after must be longer than --heartbeat")
     if monitor_url is not None and not monitor_url.startswith(("ws://", "wss://")):
@@ -119,13 +140,15 @@ def serve(
             "algorithm": algorithm, "connectivity": connectivity,
             "start_interval": start_interval, "altitude": altitude, "up_speed": up_speed,
             "down_speed": down_speed, "job_failure": job_failure, "seed": seed,
+            "fleet": fleet, "edge_length": edge_length, "center": center, "radius": radius,
+            "nodes_on_edge": nodes_on_edge,
         }
     )
     if tparams.algorithm not in ("madgta", "madgta+", "nearest"):
         raise InputError(f"--algorithm must be madgta, madgta+ or nearest, got {algorithm!r}")
     prepared = traversal.prepare(tparams)
-    world, nest_nodes = prepared.world, prepared.nests
-    specs = agent_specs(tparams, nest_nodes)
+    world = prepared.world
+    specs = agent_specs(tparams, prepared)
     from swarmex.missions.traversal.sim import validate_nests
 
     validate_nests(world, specs)
@@ -134,13 +157,15 @@ def serve(
         "network": {"time_scale": time_scale, "rng": rng, "done_lists": done_lists,
                     "heartbeat": heartbeat, "dead_after": dead_after},
     }
-    mission = Mission(world, specs, algorithm, seed, start_interval, 1.0, job_failure,
-                      time_scale, rng, done_lists, heartbeat, params)
+    if inject_loss > 0:
+        params["network"]["inject_loss"] = inject_loss
+    mission = Mission(world, specs, algorithm, seed, start_interval, prepared.unit_length,
+                      job_failure, time_scale, rng, done_lists, heartbeat, params)
     bind = f"tcp://{host}:{port}" if port else f"tcp://{host}:*"
     try:
         server = TraversalServer(mission, bind, json_path, timeout, dead_after,
                                  spare_wait=spare_wait, monitor_url=monitor_url,
-                                 say=_say)
+                                 say=_say, loss=inject_loss)
     except Exception as exc:  # zmq.ZMQError: address in use, bad interface
         raise InputError(f"cannot listen on {bind}: {exc}") from None
     code = server.run()

@@ -243,11 +243,12 @@ class raw_env(AECEnv):  # noqa: N801 - PettingZoo's module convention
         comm = math.inf if p.comm_range is None else p.comm_range
         return run_traversal(
             self.world,
-            agent_specs(p, self.prepared.nests),
+            agent_specs(p, self.prepared),
             stub,  # type: ignore[arg-type]  # duck-typed Madgta: name + decide(belief, rng)
             p.seed,
             Channel(p.loss, p.delay, comm),
             start_interval=p.start_interval,
+            unit_length=self.prepared.unit_length,
             job_failure=p.job_failure,
             on_frame=self._on_frame,
         )
@@ -497,7 +498,9 @@ class raw_env(AECEnv):  # noqa: N801 - PettingZoo's module convention
 
         if self._run is None:
             raise RuntimeError("traversal_v0: the episode has not ended; no record yet")
-        return traversal_record(self._run, record_params(self._run_params, self.prepared))
+        return traversal_record(
+            self._run, record_params(self._run_params, self.prepared), self.prepared.unit_length
+        )
 
     def render(self) -> np.ndarray | None:
         """``rgb_array``: the run so far, drawn by :mod:`swarmex.viz.traversal` (the frame

@@ -9,6 +9,10 @@ the command's options::
     nests = ["0,9", "9,0"]       # or "0,9;9,0", or [[0, 9], [9, 0]]
     travel-time = 2.22           # travel_time works too
 
+    [[agents]]                   # a fleet: per-agent values by id (traversal; the
+    id = 1                       # tables come after the plain keys, as TOML requires)
+    job_time = 12.0
+
 Every key but ``mission`` becomes ``--key value`` of the mission's command (``traverse``,
 ``forage``, ``explore``, ``roadmap``); the command itself validates the values, so a
 scenario accepts exactly what the command line accepts. Value rules:
@@ -102,6 +106,8 @@ def _check_value(path: Path, name: str, value: Any) -> None:
     scalar = (str, int, float, bool)
     if isinstance(value, scalar):
         return
+    if isinstance(value, list) and value and all(isinstance(v, dict) for v in value):
+        return  # an array of tables ([[agents]]: a traversal fleet); the mission parses it
     if isinstance(value, list) and all(
         isinstance(v, scalar)
         or (isinstance(v, list) and all(isinstance(c, int | float) for c in v))

@@ -189,6 +189,13 @@ class AgentClient:
             self.replica.on_join(a, float(msg[2]), int(msg[3]))
             if a == self.id and self.state == "ready":
                 self.state = "mission"
+        elif cmd == "LOST" and self.mission is not None and self.replica is not None:
+            b = wire.decode_broadcast(msg[1])  # what my radio lost: its timing only
+            check_broadcast(b, self.mission)
+            if b.id == self.id:
+                self._on_broadcast(b)
+            else:
+                self.replica.on_broadcast(b)
         elif cmd == "END":
             if self.state == "done":
                 self._done(EXIT_OK)

@@ -33,7 +33,15 @@ from swarmex.missions.traversal.metrics import agent_metrics, traversal_record
 from swarmex.missions.traversal.sim import TraversalRun
 from swarmex.net import events as ev
 from swarmex.net import wire
-from swarmex.net.traversal import Mission, Recorder, Replica, check_broadcast, check_stats
+from swarmex.net.traversal import (
+    LOSSY,
+    Loss,
+    Mission,
+    Recorder,
+    Replica,
+    check_broadcast,
+    check_stats,
+)
 
 LIVE = ("init", "ready", "mission", "rtl")
 EXIT_OK, EXIT_INCOMPLETE, EXIT_TIMEOUT = 0, 1, 3
@@ -87,8 +95,10 @@ class TraversalServer:
         spare_wait: float = 0.0,
         monitor_url: str | None = None,
         say: Callable[[str], object] = print,
+        loss: float = 0.0,
     ) -> None:
         self.mission = mission
+        self.loss = Loss(mission.n_agents, loss, mission.seed)
         self.bind = bind
         self.json_path = json_path
         self.timeout = timeout
@@ -151,6 +161,25 @@ class TraversalServer:
         for p in list(self.peers.values()):
             if p.has_mission and p.id and self.holder.get(p.id) == p.ident:
                 self._send(p, frame)
+
+    def _relay(self, frame: bytes, b: wire.Broadcast) -> None:
+        """:meth:`_to_agents` for a broadcast, where ``--inject-loss`` may lose it for some
+        receivers: they get it wrapped in ``LOST`` (their schedule moves, their belief does
+        not; see :class:`~swarmex.net.traversal.Loss`). The log for late joiners keeps it."""
+        if self.loss.p <= 0 or b.cmd not in LOSSY:
+            self._to_agents(frame)
+            return
+        if self.started:
+            self.log.append(frame)
+        lost = self.loss.draw(b.id)
+        wrapped: bytes | None = None
+        for p in list(self.peers.values()):
+            if p.has_mission and p.id and self.holder.get(p.id) == p.ident:
+                if lost[p.id - 1]:
+                    wrapped = wrapped or wire.pack(["LOST", frame])
+                    self._send(p, wrapped)
+                else:
+                    self._send(p, frame)
 
     def _emit(self, *events: ev.Event) -> None:
         self.pending_events.extend(events)
@@ -378,7 +407,7 @@ class TraversalServer:
             self.counters.dropped_content += 1
             return
         self.counters.relayed += 1
-        self._to_agents(frame)
+        self._relay(frame, b)
         prev = self.recorder.incarnation(a).log.trajectory
         arrival = b.cmd == "C04" or (b.cmd == "C07" and (not prev or prev[-1][1] != b.node))
         self.replica.on_broadcast(b)
@@ -545,6 +574,8 @@ class TraversalServer:
             "frames_out": c.frames_out,
             "bytes_out": c.bytes_out,
             "broadcasts_relayed": c.relayed,
+            "inject_loss": self.loss.p,
+            "lost_deliveries": self.loss.lost,
             "dropped_checksum": c.dropped_checksum,
             "dropped_encoding": c.dropped_encoding,
             "dropped_content": c.dropped_content,

@@ -48,13 +48,24 @@ far (the server keeps it) to rebuild the same belief and key table, and the serv
 ``JOIN`` with its start time (no earlier than any event still to run, plus its takeoff), so
 the order stays consistent.
 
-Done-nodes lists (Fig. 4.17) are carried (``--no-done-lists`` drops them) and merged by
-every receiver exactly as in the simulator. On the reliable, ordered relay a list never tells
-a receiver anything new in a fault-free run (each sender has applied everything before its
-step, and receivers have too), so it cannot move a run off the simulated one. After a
-departure, a list sent before its sender heard ``LEFT`` still counts the departed agent's
-unfinished node as done; the core never lets a list re-mark a node it reverted that way
-(only a C07 for it does).
+Done-nodes lists (Fig. 4.17) are carried (``--no-done-lists`` drops them) with the sender's
+known obstacles (the ``walls`` field: the list is the thesis's KM, as the simulator's agents
+send it over an imperfect channel) and merged by every receiver exactly as in the simulator
+(:func:`~swarmex.missions.traversal.agent.merge_done_list`). On the reliable, ordered relay a
+list never tells a receiver anything new in a fault-free run (each sender has applied
+everything before its step, and receivers have too), so it cannot move a run off the
+simulated one. After a departure, a list sent before its sender heard ``LEFT`` still counts
+the departed agent's unfinished node as done; the core never lets a list re-mark a node it
+reverted that way (only a C07 for it does).
+
+Lost messages (``serve --inject-loss P``, :class:`Loss`): the server draws, for every relayed
+broadcast and every other agent, whether that agent's radio lost it, and then sends that
+agent a ``LOST`` wrapper instead of the frame. A ``LOST`` frame still moves the receiver's
+:class:`Replica` (the event keys, the shared generator: the harness's clock, as the
+simulator's event queue runs whatever the radio loses) but never its belief, which is what
+the simulator's lossy :class:`~swarmex.comm.channel.Channel` does to a receiver. That is
+where the done-nodes lists earn their bytes: a receiver that missed a C07 learns the node is
+done from the next list it hears instead of doing it again.
 """
 
 from __future__ import annotations
@@ -96,8 +107,12 @@ from swarmex.net.wire import (
 from swarmex.planning.distance import distance_field
 from swarmex.planning.fieldcache import KnownGraph
 from swarmex.worlds import GridWorld
+from swarmex.worlds.geo import GeoGrid
 
 RNG_MODES = ("shared", "own")
+#: the broadcasts of an agent's step, which change beliefs: the ones a lossy radio can lose
+#: (``serve --inject-loss``); C06, C10 and C11 carry nothing a receiver applies
+LOSSY = ("C04", "C05", "C07", "C08", "C09")
 #: commands that end an agent's step: they announce its next event (or that there is none)
 STEP_END = ("C05", "C07", "C09")
 
@@ -150,14 +165,22 @@ class Mission:
 
     def to_wire(self) -> dict:
         w = self.world
+        world: dict[str, Any] = {
+            "width": w.width,
+            "height": w.height,
+            "free": np.packbits(w.free.ravel()).tobytes(),
+            "connectivity": w.connectivity,
+            "source": w.source,
+        }
+        if isinstance(w, GeoGrid):  # the GPS table (seed 000's graph table) and edge lengths
+            world["geo"] = {
+                "center": list(w.center),
+                "radius": w.radius,
+                "latlon": w.latlon_array.astype("<f8").tobytes(),
+                "lengths": w.lengths().astype("<f8").tobytes(),
+            }
         return {
-            "world": {
-                "width": w.width,
-                "height": w.height,
-                "free": np.packbits(w.free.ravel()).tobytes(),
-                "connectivity": w.connectivity,
-                "source": w.source,
-            },
+            "world": world,
             "agents": [s.to_dict() for s in self.specs],
             "algorithm": self.algorithm,
             "seed": self.seed,
@@ -185,9 +208,7 @@ class Mission:
             if bits.size != (width * height + 7) // 8:
                 raise ValueError("free-cell bits do not fit the grid size")
             free = np.unpackbits(bits, count=width * height).astype(bool)
-            world = GridWorld(
-                free.reshape(height, width), int(wd["connectivity"]), str(wd["source"])
-            )
+            world = _world_of(wd, free.reshape(height, width))
             specs = [
                 AgentSpec(
                     int(a["nest"]), float(a["travel_speed"]), float(a["job_time"]),
@@ -214,6 +235,11 @@ class Mission:
         except (KeyError, TypeError, ValueError, InputError, AttributeError) as exc:
             raise EncodingError(f"mission data: {exc}") from None
 
+    def latlon(self, node: int) -> tuple[float, float] | None:
+        """Where ``node`` is on the Earth (a GPS grid), else None."""
+        w = self.world
+        return w.latlon(node) if isinstance(w, GeoGrid) else None
+
     def time_per_unit(self) -> np.ndarray:
         """Seconds per length unit by id (slot 0 unused), computed as the simulator does."""
         tpu = np.zeros(self.n_agents + 1)
@@ -226,6 +252,29 @@ class Mission:
         for i, s in enumerate(self.specs, start=1):
             jt[i] = s.job_time
         return jt
+
+
+def _world_of(wd: Any, free: np.ndarray) -> GridWorld:
+    """The grid of a MIS reply: plain, or a GPS grid with its positions and edge lengths
+    (ValueError / InputError when they do not fit)."""
+    connectivity, source = int(wd["connectivity"]), str(wd["source"])
+    geo = wd.get("geo")
+    if geo is None:
+        return GridWorld(free, connectivity, source)
+    n = free.size
+    latlon = np.frombuffer(geo["latlon"], dtype="<f8")
+    lengths = np.frombuffer(geo["lengths"], dtype="<f8")
+    if latlon.size != 2 * n or not np.all(np.isfinite(latlon)):
+        raise ValueError("GPS table does not fit the grid")
+    if not (np.all(np.isfinite(lengths)) and np.all(lengths > 0)):
+        raise ValueError("bad edge lengths")
+    lat, lon = (float(v) for v in geo["center"])
+    world = GeoGrid(free, connectivity, latlon.reshape(n, 2).astype(float), (lat, lon),
+                    float(geo["radius"]), source, lengths.astype(float))
+    u, _, _ = world.edge_arrays()
+    if u.size != lengths.size:
+        raise ValueError("edge lengths do not fit the grid")
+    return world
 
 
 # ---------------------------------------------------------------------------- shared view
@@ -295,6 +344,8 @@ def check_broadcast(b: Broadcast, mission: Mission) -> None:
             raise EncodingError("listed node outside the map")
     if b.obstacles and max(b.obstacles) >= n:
         raise EncodingError("obstacle outside the map")
+    if b.walls is not None and b.walls.size and b.walls.max() >= n:
+        raise EncodingError("known obstacle outside the map")
     if b.done_bit and b.doers is not None and b.doers.size:
         ok = ((b.doers >= 1) & (b.doers <= mission.n_agents)) | (b.doers == DONE_BY_UNKNOWN)
         if not ok.all():  # receivers merge the list: a doer is an agent id
@@ -316,7 +367,10 @@ def message_of(b: Broadcast) -> Message:
     done_list: DoneList | None = None
     if b.nodes is not None and (b.nodes.size or not b.done_bit):
         doers = b.doers if b.doers is not None else np.zeros(0, dtype=np.int64)
-        done_list = (b.done_bit, b.nodes, doers)
+        if b.walls is not None:
+            done_list = (b.done_bit, b.nodes, doers, b.walls)
+        else:
+            done_list = (b.done_bit, b.nodes, doers)
     return Message(kind, b.id, b.node, b.obstacles, b.eta, b.t, done_list)
 
 
@@ -328,14 +382,45 @@ _CMD_OF = {
 
 
 def broadcast_of(m: Message) -> Broadcast:
-    """An agent core's message as the Fig. 4.17 broadcast (:func:`message_of` inverted). The
-    done list goes without its fourth field, the sender's known obstacles: the wire has
-    none, and needs none on a reliable relay, where every receiver has had each wall in the
-    obstacles of the broadcast of the agent that first saw it."""
+    """An agent core's message as the Fig. 4.17 broadcast (:func:`message_of` inverted): a
+    done list with its fourth field, the sender's known obstacles, goes as ``walls``."""
     cmd, job = _CMD_OF[m.kind]
-    bit, nodes, doers = (1, None, None) if m.done_list is None else m.done_list[:3]
+    bit, nodes, doers, walls = _km_fields(m.done_list)
     return Broadcast(cmd, m.sender, m.node, job, bit, nodes, doers, m.obstacles, float(m.t),
-                     float(m.eta))
+                     float(m.eta), walls=walls)
+
+
+def _km_fields(
+    done_list: DoneList | None,
+) -> tuple[int, np.ndarray | None, np.ndarray | None, np.ndarray | None]:
+    if done_list is None:
+        return 1, None, None, None
+    bit, nodes, doers, *walls = done_list
+    return bit, nodes, doers, (walls[0] if walls else None)
+
+
+class Loss:
+    """Fault injection: which agents' radios lose a relayed broadcast (``serve
+    --inject-loss``). One draw per other agent and broadcast, in id order, from a generator
+    of its own seeded by the mission seed, so the same stream loses the same messages."""
+
+    def __init__(self, n_agents: int, p: float, seed: int) -> None:
+        if not 0.0 <= p < 1.0:
+            raise InputError(f"--inject-loss must be in [0, 1), got {p}")
+        self.n = n_agents
+        self.p = p
+        self.rng = np.random.default_rng([seed, 0x1055])
+        self.lost = 0  # deliveries lost so far
+
+    def draw(self, sender: int) -> np.ndarray:
+        """Lost-or-not for every id (index id - 1); never for the sender, whose relayed
+        copy is its acknowledgement."""
+        if self.p <= 0:
+            return np.zeros(self.n, dtype=bool)
+        out = self.rng.random(self.n) < self.p
+        out[sender - 1] = False
+        self.lost += int(out.sum())
+        return out
 
 
 def apply_to_belief(b: TraversalBelief, msg: Broadcast) -> None:
@@ -447,11 +532,11 @@ class AgentCore:
         world = self.mission.world
         log.rtl_length = float(distance_field(world.graph, self.spec.nest, world.blocked)[log.node])
         self.finished = True
-        bit, nodes, doers = 1, None, None
+        bit, nodes, doers, walls = 1, None, None, None
         if self.mission.done_lists:
-            bit, nodes, doers = self.agent.encode_done_list()[:3]
+            bit, nodes, doers, walls = _km_fields(self.agent.encode_done_list())
         return Broadcast("C09", self.me, log.node, 0, bit, nodes, doers, (), float(t),
-                         float(t + self.rtl_time()))
+                         float(t + self.rtl_time()), walls=walls)
 
     def rtl_time(self) -> float:
         """Mission seconds of the flight home (C09 → C10)."""
@@ -476,15 +561,19 @@ class AgentCore:
         }
 
 
-def run_inprocess(mission: Mission) -> tuple[dict[int, AgentCore], Recorder]:
+def run_inprocess(
+    mission: Mission, loss: float = 0.0
+) -> tuple[dict[int, AgentCore], Recorder]:
     """The protocol without sockets: every agent's core, replica and the server's recorder
     fed one stream, in the order the server would relay it. Equals the simulator's run
-    (tests check it); the networked runtime adds only transport and wall-clock pacing."""
+    (tests check it); the networked runtime adds only transport and wall-clock pacing.
+    ``loss`` is ``serve --inject-loss``: the same draws, so the same messages are lost."""
     m = mission.n_agents
     cores = {i: AgentCore(mission, i) for i in range(1, m + 1)}
     replica = Replica(mission)
     recorder = Recorder(mission)
-    while (a := replica.next_agent()) is not None:
+    lossy = Loss(m, loss, mission.seed)
+    while (a := replica.next_agent()) is not None:  # (every step broadcast is in LOSSY)
         key = replica.pending[a]
         assert key is not None
         for b in cores[a].step(key[0], replica.rng):
@@ -492,8 +581,10 @@ def run_inprocess(mission: Mission) -> tuple[dict[int, AgentCore], Recorder]:
             b = decode_broadcast(frame)
             replica.on_broadcast(b)
             recorder.on_broadcast(b, len(frame))
-            for core in cores.values():
-                core.receive(b)
+            lost = lossy.draw(b.id)
+            for i, core in cores.items():
+                if not lost[i - 1]:
+                    core.receive(b)
     return cores, recorder
 
 
@@ -631,7 +722,9 @@ def check_stats(stats: Any, log: AgentLog) -> bool:
 
 
 __all__ = [
+    "LOSSY",
     "AgentCore",
+    "Loss",
     "Mission",
     "Recorder",
     "Replica",

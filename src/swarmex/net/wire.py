@@ -33,18 +33,24 @@ command     direction                  fields after the command
 ``LEFT``    server → all               id, mission time: the agent is gone
 ``JOIN``    server → all               id, start time, event number: a spare's start
 ``END``     server → all               the mission is over
+``LOST``    server → agent             a relayed broadcast frame whose content this agent's
+                                       radio lost (fault injection, ``serve --inject-loss``):
+                                       only its timing fields apply
 ``MON``     viewer → server            (subscribe to the monitor events)
 ``EV``      server → viewer            JSON text of a batch of monitor events
 ==========  =========================  ============================================
 
 The broadcast of Fig. 4.17 (``ID | Current Node | Job Bit | Done Nodes Bit | Done/Not Done
 Nodes List | Obstacles | Checksum``) is the array ``[cmd, id, node, job, done_bit, nodes,
-doers, obstacles, t, eta, rng]``: node lists are little-endian ``uint32`` byte strings (the
-thesis compresses the list "according to a specific encoding protocol" it does not give; a
-packed array is 4 bytes a node and decodes with one ``numpy.frombuffer``). ``t`` is the
-mission time of the event, ``eta`` the time of the sender's next event (C05: arrival, C07:
-end of the job), ``rng`` the state of the run's random generator after the sender's step
-(see :mod:`swarmex.net.traversal` for why these three ride along).
+doers, obstacles, t, eta, rng, walls]``: node lists are little-endian ``uint32`` byte strings
+(the thesis compresses the list "according to a specific encoding protocol" it does not
+give; a packed array is 4 bytes a node and decodes with one ``numpy.frombuffer``). ``t`` is
+the mission time of the event, ``eta`` the time of the sender's next event (C05: arrival,
+C07: end of the job), ``rng`` the state of the run's random generator after the sender's
+step (see :mod:`swarmex.net.traversal` for why these three ride along). ``walls``, present
+with a done-nodes list, completes it into the thesis's KM: every obstacle the sender knows
+(§4.1's list is KM, done nodes *and* obstacles; the done / not-done form alone cannot tell a
+receiver which unlisted nodes are walls). A broadcast without a list has 11 fields.
 """
 
 from __future__ import annotations
@@ -65,7 +71,7 @@ CRC_BYTES = 4
 BROADCAST_COMMANDS = ("C04", "C05", "C06", "C07", "C08", "C09", "C10", "C11")
 CONTROL_COMMANDS = (
     "C00", "C22", "C01", "C02", "C03", "HB", "ST", "ID", "MIS", "ACK", "REF", "ERR",
-    "GO", "LEFT", "JOIN", "END", "MON", "EV",
+    "GO", "LEFT", "JOIN", "END", "MON", "EV", "LOST",
 )
 RNG_BYTES = 37  # PCG64: 128-bit state, 128-bit increment, has_uint32 flag, uint32
 
@@ -185,10 +191,11 @@ class Broadcast:
     t: float = 0.0
     eta: float = 0.0
     rng: bytes | None = None
+    walls: np.ndarray | None = None  # the sender's known obstacles (with a done-nodes list)
 
     def to_wire(self) -> list[Any]:
         empty = b""
-        return [
+        out = [
             self.cmd,
             self.id,
             self.node,
@@ -201,13 +208,18 @@ class Broadcast:
             self.eta,
             self.rng,
         ]
+        if self.walls is not None:
+            out.append(pack_nodes(self.walls))
+        return out
 
     def frame(self) -> bytes:
         return pack(self.to_wire())
 
     @classmethod
     def from_wire(cls, obj: Any) -> Broadcast:
-        m = arity(message(obj, BROADCAST_COMMANDS), 11)
+        m = message(obj, BROADCAST_COMMANDS)
+        if len(m) != 12:
+            arity(m, 11)
         rng = m[10]
         if rng is not None:
             check_rng(rng)
@@ -227,6 +239,7 @@ class Broadcast:
             _float(m[8], "t"),
             _float(m[9], "eta"),
             rng,
+            _nodes(m[11], "walls") if len(m) == 12 else None,
         )
 
 
@@ -246,7 +259,7 @@ def decode_message(frame: bytes) -> list[Any]:
 _CONTROL_ARITY = {
     "C00": 2, "C22": 2, "C01": 3, "C02": 2, "C03": 2, "ST": 3, "ID": 2, "MIS": 3,
     "ACK": 3, "REF": 2, "ERR": 2, "GO": 2, "LEFT": 3, "JOIN": 4, "END": 1, "MON": 1,
-    "EV": 2,
+    "EV": 2, "LOST": 2,
 }
 
 
@@ -290,6 +303,8 @@ def check_control(msg: list[Any]) -> list[Any]:
         _int(msg[3], "JOIN event", 0, 2**62)
     elif cmd == "EV":
         _str(msg[1], "EV events", MAX_FRAME)
+    elif cmd == "LOST" and not isinstance(msg[1], bytes):
+        raise EncodingError("LOST: expected a broadcast frame")
     return msg
 
 

@@ -76,6 +76,20 @@ class GridWorld:
 
     @cached_property
     def graph(self) -> NodeGraph:
+        u, v, lengths = self.edge_arrays()
+        h, w = self.free.shape
+        ys, xs = np.divmod(np.arange(h * w), w)
+        pos = np.stack([xs, ys], axis=1).astype(np.float64)
+        return NodeGraph.from_edges(h * w, u, v, self.edge_lengths(u, v, lengths), pos)
+
+    def edge_lengths(self, u: np.ndarray, v: np.ndarray, unit: np.ndarray) -> np.ndarray:
+        """The length of each edge ``u[i]``–``v[i]``: here its length in cells (``unit``: 1,
+        or √2 for a diagonal); a world with real distances (a GPS grid) overrides it."""
+        return unit
+
+    def edge_arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Every edge once, as (u, v, length in cells), in a fixed order: rows' horizontal
+        edges, columns' vertical ones, then the diagonals of connectivity 8."""
         h, w = self.free.shape
         idx = np.arange(h * w, dtype=np.int64).reshape(h, w)
         us = [idx[:, :-1].ravel(), idx[:-1, :].ravel()]
@@ -89,11 +103,7 @@ class GridWorld:
             us += [idx[:-1, :-1][ok_dr], idx[:-1, 1:][ok_dl]]
             vs += [idx[1:, 1:][ok_dr], idx[1:, :-1][ok_dl]]
             ws += [np.full(int(ok_dr.sum()), np.sqrt(2.0)), np.full(int(ok_dl.sum()), np.sqrt(2.0))]
-        ys, xs = np.divmod(np.arange(h * w), w)
-        pos = np.stack([xs, ys], axis=1).astype(np.float64)
-        return NodeGraph.from_edges(
-            h * w, np.concatenate(us), np.concatenate(vs), np.concatenate(ws), pos
-        )
+        return np.concatenate(us), np.concatenate(vs), np.concatenate(ws)
 
     def describe(self) -> dict[str, Any]:
         return {

@@ -4,6 +4,11 @@
 resolves one nest per agent (every check that needs the map happens here, before the run);
 ``execute`` runs MADGTA, a baseline or the exact MILP and builds the record, whose
 ``params`` are the run's parameters as the user gave them (cells as ``[x, y]`` lists).
+
+Lengths: a grid edge is one length unit of the world. ``unit_length`` is metres per unit
+when the run has a metric scale (``edge_length``), else 1 (speeds are then edges per
+second). A fleet's ``travel_speed`` is metres per second and needs that scale; its
+``travel_time`` (and the ``travel_time`` option) is seconds per grid edge.
 """
 
 from __future__ import annotations
@@ -16,21 +21,43 @@ import numpy as np
 
 from swarmex.errors import InputError
 from swarmex.missions.base import FrameCallback, Mission, Outcome
+from swarmex.missions.traversal.fleet import FleetRow
 from swarmex.missions.traversal.params import TraversalParams
 
 
 @dataclass
 class TraversalWorld:
-    """A prepared traversal: the grid world and each agent's start vertex."""
+    """A prepared traversal: the grid world, each agent's start vertex, and the length
+    scale: ``unit_length`` metres per length unit of the world, ``edge_m`` metres per grid
+    edge (None without a metric scale: speeds are then in edges per second)."""
 
     world: Any  # GridWorld
     nests: list[int]
+    unit_length: float = 1.0
+    edge_m: float | None = None
+
+    @property
+    def per_edge(self) -> float:
+        """Length of one grid edge in the speeds' unit (metres, or 1 edge)."""
+        return self.unit_length if self.edge_m is None else self.edge_m
 
 
 def build_world(p: TraversalParams) -> Any:
-    """The GridWorld of ``map`` or ``grid``, with the ``obstacles`` cells blocked."""
+    """The GridWorld of ``map``, ``grid`` or the GPS grid of ``center``, with the
+    ``obstacles`` cells blocked."""
     from swarmex.worlds import GridWorld, load_movingai
 
+    if p.center is not None:
+        from swarmex.worlds.geo import gps_grid
+
+        assert p.radius is not None and p.nodes_on_edge is not None
+        geo = gps_grid(p.center, p.radius, p.nodes_on_edge, p.connectivity)
+        if not p.obstacles:
+            return geo
+        free = geo.free.copy()
+        for x, y in _in_bounds(geo, p.obstacles, "--obstacles"):
+            free[y, x] = False
+        return geo.with_free(free)
     if p.map is not None:
         base = load_movingai(p.map, connectivity=p.connectivity)
     else:
@@ -54,16 +81,32 @@ def _in_bounds(world: Any, cells: tuple[tuple[int, int], ...], option: str) -> t
     return cells
 
 
-def resolve_nests(world: Any, nests: tuple[tuple[int, int], ...] | None, agents: int) -> list[int]:
-    """One start vertex per agent (round-robin over the given nests; see params' docstring)."""
+def resolve_nests(
+    world: Any,
+    nests: tuple[tuple[int, int], ...] | None,
+    agents: int,
+    fleet: tuple[FleetRow, ...] | None = None,
+) -> list[int]:
+    """One start vertex per agent (round-robin over the given nests; see params' docstring);
+    a fleet row's own nest wins for its agent."""
     if agents > world.free_cells:
         raise InputError(f"{agents} agents but the map has only {world.free_cells} free cells")
     if nests is None:
-        return [int(np.flatnonzero(world.free.ravel())[0])] * agents
-    for x, y in _in_bounds(world, nests, "--nests"):
+        out = [int(np.flatnonzero(world.free.ravel())[0])] * agents
+    else:
+        for x, y in _in_bounds(world, nests, "--nests"):
+            if not world.free[y, x]:
+                raise InputError(f"--nests: cell ({x},{y}) is an obstacle")
+        out = [world.node(*nests[i % len(nests)]) for i in range(agents)]
+    for row in fleet or ():
+        if row.nest is None:
+            continue
+        where = f"--fleet: agent {row.id}: nest"
+        x, y = _in_bounds(world, (row.nest,), where)[0]
         if not world.free[y, x]:
-            raise InputError(f"--nests: cell ({x},{y}) is an obstacle")
-    return [world.node(*nests[i % len(nests)]) for i in range(agents)]
+            raise InputError(f"{where} ({x},{y}) is an obstacle")
+        out[row.id - 1] = world.node(x, y)
+    return out
 
 
 DEMO_AGENTS = 4
@@ -86,23 +129,86 @@ def record_params(p: TraversalParams, prepared: TraversalWorld) -> dict[str, Any
         "map": None if p.map is None else str(p.map),
         "grid": None if p.grid is None else f"{p.grid[0]}x{p.grid[1]}",
     }
-    if p.map is None and p.grid is None:  # a generated world (swarmex demo)
+    if p.map is None and p.grid is None and p.center is None:  # generated (swarmex demo)
         out["generated"] = world.source
     out["obstacles"] = [list(c) for c in p.obstacles]
     out["agents"] = len(prepared.nests)
     out["nests"] = [list(world.xy(n)) for n in prepared.nests]
-    skip = {"map", "grid", "obstacles", "agents", "nests", "seed"}
+    # options that records made before them do not have appear only when given
+    late = ("edge_length", "center", "radius", "nodes_on_edge")
+    skip = {"map", "grid", "obstacles", "agents", "nests", "seed", "fleet", *late}
     out.update({k: v for k, v in p.values().items() if k not in skip})
+    for key in late:
+        value = getattr(p, key)
+        if value is not None:
+            out[key] = list(value) if key == "center" else value
+    if p.fleet is not None:
+        out["fleet"] = fleet_record(p, prepared)
     out["seed"] = p.seed
     return out
 
 
-def agent_specs(p: TraversalParams, nests: list[int]) -> list[Any]:
-    from swarmex.missions.traversal.agents import uniform_agents
+def fleet_record(p: TraversalParams, prepared: TraversalWorld) -> list[dict[str, Any]]:
+    """Each agent's parameters by id, missing values filled in from the options: what the
+    record's ``params.fleet`` shows. ``travel_time`` is seconds per grid edge,
+    ``travel_speed`` metres per second (None without a metric scale)."""
+    specs = agent_specs(p, prepared)
+    world = prepared.world
+    metric = prepared.edge_m is not None
+    rows = []
+    for i, (spec, nest) in enumerate(zip(specs, prepared.nests, strict=True), start=1):
+        row = p.fleet[i - 1] if p.fleet is not None else None
+        if row is not None and row.travel_time is not None:
+            per_edge = row.travel_time
+        elif row is not None and row.travel_speed is not None:
+            per_edge = prepared.per_edge / row.travel_speed
+        else:
+            per_edge = p.travel_time
+        rows.append({
+            "id": i,
+            "nest": list(world.xy(nest)),
+            "altitude": spec.altitude,
+            "travel_time": per_edge,
+            "travel_speed": spec.travel_speed if metric else None,
+            "job_time": spec.job_time,
+            "up_speed": spec.up_speed,
+            "down_speed": spec.down_speed,
+        })
+    return rows
 
-    return uniform_agents(
-        nests, p.travel_time, p.job_time, 1.0, p.altitude, p.up_speed, p.down_speed
-    )
+
+def agent_specs(p: TraversalParams, prepared: TraversalWorld) -> list[Any]:
+    """One AgentSpec per agent: the options' values, or each fleet row's own."""
+    from swarmex.missions.traversal.agents import AgentSpec, uniform_agents
+
+    nests = prepared.nests
+    if p.fleet is None:
+        return uniform_agents(
+            nests, p.travel_time, p.job_time, prepared.per_edge, p.altitude, p.up_speed,
+            p.down_speed,
+        )
+    metric = prepared.edge_m is not None
+    specs = []
+    for row, nest in zip(p.fleet, nests, strict=True):
+        if row.travel_speed is not None:
+            if not metric:
+                raise InputError(
+                    f"--fleet: agent {row.id}: travel_speed (m/s) needs a length scale: "
+                    "give --edge-length (metres per grid edge), travel_time, or a GPS grid"
+                )
+            speed = row.travel_speed
+        else:
+            t = p.travel_time if row.travel_time is None else row.travel_time
+            speed = prepared.per_edge / t
+        specs.append(AgentSpec(
+            nest,
+            speed,
+            p.job_time if row.job_time is None else row.job_time,
+            p.altitude if row.altitude is None else row.altitude,
+            p.up_speed if row.up_speed is None else row.up_speed,
+            p.down_speed if row.down_speed is None else row.down_speed,
+        ))
+    return specs
 
 
 class TraversalMission(Mission[TraversalParams, TraversalWorld]):
@@ -114,7 +220,14 @@ class TraversalMission(Mission[TraversalParams, TraversalWorld]):
 
     def prepare(self, params: TraversalParams) -> TraversalWorld:
         world = build_world(params)
-        return TraversalWorld(world, resolve_nests(world, params.nests, params.agents))
+        nests = resolve_nests(world, params.nests, params.team, params.fleet)
+        if params.center is not None:  # edges are metres already
+            prepared = TraversalWorld(world, nests, 1.0, world.edge_m)
+        else:
+            unit = 1.0 if params.edge_length is None else params.edge_length
+            prepared = TraversalWorld(world, nests, unit, params.edge_length)
+        agent_specs(params, prepared)  # a fleet row that cannot apply fails here, before work
+        return prepared
 
     def execute(
         self,
@@ -126,10 +239,11 @@ class TraversalMission(Mission[TraversalParams, TraversalWorld]):
         from swarmex.missions.traversal import run_traversal, traversal_record
 
         p = params
-        specs = agent_specs(p, world.nests)
+        specs = agent_specs(p, world)
         rparams = record_params(p, world)
+        unit = world.unit_length
         if p.algorithm == "optimal":
-            return Outcome(_optimal(world.world, specs, p, rparams), None, world.world)
+            return Outcome(_optimal(world.world, specs, p, rparams, unit), None, world.world)
         comm = math.inf if p.comm_range is None else p.comm_range
         run = run_traversal(
             world.world,
@@ -138,13 +252,16 @@ class TraversalMission(Mission[TraversalParams, TraversalWorld]):
             p.seed,
             Channel(p.loss, p.delay, comm),
             start_interval=p.start_interval,
+            unit_length=unit,
             job_failure=p.job_failure,
             on_frame=on_frame,
         )
-        return Outcome(traversal_record(run, rparams), run, world.world)
+        return Outcome(traversal_record(run, rparams, unit), run, world.world)
 
 
-def _optimal(world: Any, specs: list[Any], p: TraversalParams, rparams: dict[str, Any]) -> Any:
+def _optimal(
+    world: Any, specs: list[Any], p: TraversalParams, rparams: dict[str, Any], unit: float
+) -> Any:
     """``algorithm="optimal"``: the exact MILP (imported lazily: it pulls in the solver)."""
     try:
         from swarmex.missions.traversal.optimal import optimal_record
@@ -153,4 +270,4 @@ def _optimal(world: Any, specs: list[Any], p: TraversalParams, rparams: dict[str
             raise
         raise InputError("--algorithm optimal is not available in this installation") from None
     objective: Literal["sum", "makespan"] = "makespan" if p.objective == "makespan" else "sum"
-    return optimal_record(world, specs, objective, p.seed, rparams, 1.0)
+    return optimal_record(world, specs, objective, p.seed, rparams, unit)

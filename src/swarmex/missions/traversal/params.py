@@ -12,6 +12,13 @@ Conventions (also in ``swarmex traverse --help``):
   error (a nest nobody uses is a typo). Without ``nests`` every agent starts at the first
   free cell in row-major order (smallest y, then smallest x).
 * Obstacles listed twice are harmless; ``obstacles`` may add walls to a ``map`` too.
+* GPS grids (``center``, ``radius``, ``nodes_on_edge``, instead of ``map`` or ``grid``): seed
+  000's K x K grid spanning 2R metres around a latitude and longitude, node positions and
+  edge lengths geodesic (:mod:`swarmex.worlds.geo`); ``travel_time`` is then seconds per
+  nominal edge of 2R / (K - 1) metres, and fleet speeds are metres per second.
+* Fleets (``fleet``, or ``agents`` given as a list of tables): per-agent nest, altitude,
+  speeds and job time by id (:mod:`swarmex.missions.traversal.fleet`); a row's missing field
+  takes the option of the same name, so the timing options are the fleet's defaults.
 
 Defaults of the timing options are the thesis's base agent (§5.1: 6.67 m edges flown at
 3 m/s, 10 s jobs, climb 1.5 m/s, descent 0.3 m/s) without the 5 m takeoff, so
@@ -22,13 +29,13 @@ from __future__ import annotations
 
 import numbers
 import re
-from dataclasses import dataclass
+from collections.abc import Mapping
+from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Any
+from typing import Any, Self
 
 from swarmex.errors import InputError
 from swarmex.missions.base import (
-    REQUIRED,
     Cell,
     Params,
     cells,
@@ -40,6 +47,8 @@ from swarmex.missions.base import (
     real,
     text,
 )
+from swarmex.missions.traversal.fleet import FleetRow, fleet, is_table_list
+from swarmex.worlds.geo import MAX_NODES_ON_EDGE, MAX_RADIUS, check_center
 
 ALGORITHMS = ("madgta", "madgta+", "nearest", "optimal")
 OBJECTIVES = ("sum", "makespan")
@@ -75,6 +84,26 @@ def grid_size() -> Any:
     return parse
 
 
+def lat_lon() -> Any:
+    """``"43.268304,-79.911135"`` or ``(43.268304, -79.911135)`` -> (lat, lon) in degrees."""
+
+    def parse(value: Any, flag: str) -> tuple[float, float]:
+        parts = value.split(",") if isinstance(value, str) else plain_sequence(value)
+        if isinstance(parts, list | tuple) and len(parts) == 2:
+            try:
+                lat, lon = (float(v) for v in parts if not isinstance(v, bool))
+            except (TypeError, ValueError):
+                pass
+            else:
+                check_center(lat, lon, flag)
+                return lat, lon
+        raise InputError(f"{flag}: expected LAT,LON in degrees such as 43.268304,-79.911135,"
+                         f" got {value!r}")
+
+    parse.kind = str  # type: ignore[attr-defined]
+    return parse
+
+
 def connectivity() -> Any:
     inner = integer()
 
@@ -101,7 +130,11 @@ class TraversalParams(Params):
     obstacles: tuple[Cell, ...] = option(
         (), help='Blocked cells "x,y;x,y;…" (x column, y row).', parse=cells()
     )
-    agents: int = option(REQUIRED, help="Number of agents (>= 1).", parse=integer(lo=1))
+    agents: int | None = option(
+        None,
+        help="Number of agents (>= 1); with --fleet, its number of rows.",
+        parse=optional(integer(lo=1)),
+    )
     nests: tuple[Cell, ...] | None = option(
         None,
         help='Start cells "x,y;…", shared round-robin when fewer than agents. '
@@ -140,15 +173,89 @@ class TraversalParams(Params):
         0.0, help="Probability a job fails and must be redone.", parse=real(lo=0, below=1)
     )
     seed: int = option(0, help="Seed of every random choice.", parse=integer())
+    fleet: tuple[FleetRow, ...] | None = option(
+        None,
+        help="Per-agent values by id: a TOML file of [[agents]] tables or a CSV with columns "
+        "id, nest, altitude, travel_speed (m/s) or travel_time, job_time, up_speed, "
+        "down_speed; a missing value takes the option of the same name.",
+        parse=optional(fleet()),
+        metavar="FILE",
+    )
+    edge_length: float | None = option(
+        None,
+        help="Metres per grid edge of --map/--grid, so that fleet speeds in m/s apply "
+        "(default: none; a GPS grid has its own).",
+        parse=optional(real(above=0)),
+    )
+    center: tuple[float, float] | None = option(
+        None,
+        help="GPS grid (instead of --map/--grid): its centre LAT,LON in degrees (WGS84); "
+        "with --radius and --nodes-on-edge.",
+        parse=optional(lat_lon()),
+        metavar="LAT,LON",
+    )
+    radius: float | None = option(
+        None,
+        help="GPS grid: half its side, metres (the grid spans 2R).",
+        parse=optional(real(above=0, hi=MAX_RADIUS)),
+    )
+    nodes_on_edge: int | None = option(
+        None,
+        help="GPS grid: K nodes on an edge (K x K nodes).",
+        parse=optional(integer(lo=2, hi=MAX_NODES_ON_EDGE)),
+    )
+
+    @classmethod
+    def from_values(cls, values: Mapping[str, Any] | None = None, **kw: Any) -> Self:
+        """:meth:`Params.from_values`, where ``agents`` may also be the fleet's table list
+        (a scenario's ``[[agents]]`` tables): it then means ``fleet``, and ``agents`` is
+        the number of its rows."""
+        raw = {**(values or {}), **kw}
+        if is_table_list(raw.get("agents")):
+            if raw.get("fleet") is not None:
+                raise InputError("give the fleet as [[agents]] tables or as --fleet, not both")
+            raw["fleet"] = raw.pop("agents")
+        params = super().from_values(raw)
+        if params.fleet is not None and params.agents is None:
+            params = replace(params, agents=len(params.fleet))
+        return params
+
+    @property
+    def team(self) -> int:
+        """The number of agents (``agents``, or the fleet's rows)."""
+        if self.agents is not None:
+            return self.agents
+        if self.fleet is not None:
+            return len(self.fleet)
+        raise InputError("traversal: --agents is required (or give --fleet)")
 
     def check(self) -> None:
-        if (self.map is None) == (self.grid is None):
-            raise InputError("give exactly one of --map FILE or --grid WxH")
+        worlds = sum(v is not None for v in (self.map, self.grid, self.center))
+        if worlds != 1:
+            raise InputError("give exactly one of --map FILE, --grid WxH or --center LAT,LON")
+        gps = {"--radius": self.radius, "--nodes-on-edge": self.nodes_on_edge}
+        if self.center is not None:
+            for flag, value in gps.items():
+                if value is None:
+                    raise InputError(f"--center needs {flag} too (the GPS grid's size)")
+            if self.edge_length is not None:
+                raise InputError("--edge-length: a GPS grid's edges are its geodesic lengths")
+        else:
+            for flag, value in gps.items():
+                if value is not None:
+                    raise InputError(f"{flag} belongs to a GPS grid: give --center LAT,LON")
+        if self.agents is None and self.fleet is None:
+            raise InputError("traversal: --agents is required (or give --fleet)")
+        if self.fleet is not None and self.agents is not None and self.agents != len(self.fleet):
+            raise InputError(
+                f"--agents {self.agents} but the fleet lists {len(self.fleet)} agents"
+            )
+        team = self.team
         if self.nests is not None:
             if not self.nests:
                 raise InputError("--nests: no cell given")
-            if len(self.nests) > self.agents:
-                raise InputError(f"--nests: {len(self.nests)} nests for only {self.agents} agents")
+            if len(self.nests) > team:
+                raise InputError(f"--nests: {len(self.nests)} nests for only {team} agents")
 
 
 __all__ = ["ALGORITHMS", "OBJECTIVES", "TraversalParams"]
