@@ -38,7 +38,7 @@ Observations are the agent's belief: the shared roadmap (its geometry and the se
 channel, the board: global edge weights, Sync and Weight per branch, the improved planner's
 counters, the goal flag with the anchor and the goal the finder wrote) and its own memory
 (its node, position, state, branch, dedicated weights). Never the world, the coverage or the
-other agents' positions. See docs/envs-roadmap.md for the table.
+other agents' positions. See docs/envs.md for the table.
 
 Rewards (the same to every agent, the team's): ``coverage_reward`` × the fraction of free
 space first seen since the previous decision − ``time_cost`` × the simulation steps elapsed,
