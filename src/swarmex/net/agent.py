@@ -26,8 +26,8 @@ below ``--min-battery`` make the agent hand its id back to the server (``RET``; 
 Every receive has a timeout. Exit status: 0 landed and statistics acknowledged (or the
 mission ended), 1 the mission ended before this agent finished, 3 the server went silent,
 4 refused (unknown id, or no vacant id before ``--connect-timeout``), 5 the server declared
-this agent gone, 6 the agent handed its id back (its vehicle failed a check, ran low or was
-lost).
+this agent gone, 6 its vehicle failed (no heartbeat, a failed check, a low battery, a lost
+link; an id it held was handed back).
 """
 
 from __future__ import annotations
@@ -493,6 +493,25 @@ class AgentClient:
         self.vehicle.close()
 
 
+def wait_for_vehicle(vehicle: Vehicle, timeout: float,
+                     say: Callable[[str], object] = print) -> bool:
+    """Before asking for an id: the vehicle's first heartbeat (no vehicle, no agent)."""
+    deadline = time.monotonic() + timeout
+    link = vehicle.describe().get("link", vehicle.kind)
+    while not vehicle.heard():
+        now = time.monotonic()
+        if now > deadline:
+            say(f"swarmex agent: no heartbeat from the vehicle at {link} within {timeout:g} s")
+            vehicle.close()
+            return False
+        vehicle.update(now)
+        time.sleep(0.02)
+    info = vehicle.describe()
+    say(f"swarmex agent: vehicle at {link}: " + ", ".join(
+        f"{k} {v}" for k, v in info.items() if k not in ("kind", "link")))
+    return True
+
+
 def run_agents(
     address: str,
     count: int = 1,
@@ -522,6 +541,9 @@ def run_agents(
         raise ValueError("a vehicle is flown by one agent: count 1, no spares")
     numba.set_num_threads(1)
     warm_up()
+    if vehicle is not None and not wait_for_vehicle(vehicle, (safety or Safety()).task_timeout,
+                                                    say):
+        return EXIT_HANDED_BACK
     ctx: zmq.Context[zmq.Socket[bytes]] = zmq.Context.instance()
     agents = [
         AgentClient(ctx, address, want_id if count == 1 or want_id < 0 else 0, server_timeout,

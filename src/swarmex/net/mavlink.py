@@ -133,6 +133,9 @@ class MavlinkVehicle(Vehicle):
         except (AttributeError, OSError, ValueError):
             return None
 
+    def heard(self) -> bool:
+        return self.autopilot is not None
+
     def update(self, now: float) -> None:
         self._pump(now)
         if now >= self.next_hb:
@@ -385,6 +388,8 @@ class MavlinkVehicle(Vehicle):
             self.mav_type = int(msg.type)
             self.armed = bool(msg.base_mode & ARMED)
             self.mode = int(msg.custom_mode)
+        elif kind == "STATUSTEXT" and not self.target_system:
+            pass  # the autopilot's first words (a PreArm: report) may come before its heartbeat
         elif not self.target_system or src != self.target_system:
             return
         self.last_rx = now

@@ -313,6 +313,7 @@ class Emulator:
         self.failsafe = False
         self.received = 0
         self.sent_texts: list[str] = []
+        self.prearm_said: float | None = None
 
     @property
     def address(self) -> str:
@@ -348,6 +349,7 @@ class Emulator:
                 self.copter.step((now - last) * cfg.speedup)
                 last = now
                 self._faults(now)
+                self._report_prearm()
                 if now >= next_hb or self.copter.changed:
                     # 1 Hz on the emulated clock (as SITL's scheduler), and on every change
                     next_hb = now + max(period, 1.0 / cfg.speedup)
@@ -361,6 +363,18 @@ class Emulator:
                     self._telemetry()
         finally:
             self.sock.close()
+
+    def _report_prearm(self) -> None:
+        """As ArduPilot does while disarmed: the failing pre-arm check, every 30 s (and as
+        soon as a ground station is there)."""
+        c = self.copter
+        if c.armed or self.out.addr is None or not self.link_up:
+            return
+        problem = c.prearm_problem()
+        if problem is None or (self.prearm_said is not None and c.t - self.prearm_said < 30.0):
+            return
+        self.prearm_said = c.t
+        self._statustext(mavlink.MAV_SEVERITY_CRITICAL, problem)
 
     def _idle_done(self, now: float) -> bool:
         c = self.copter

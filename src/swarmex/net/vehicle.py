@@ -206,6 +206,10 @@ class Vehicle(ABC):
         """A file descriptor to wake the agent's poll loop on telemetry (None: none)."""
         return None
 
+    def heard(self) -> bool:
+        """Whether the vehicle has answered at all (its first heartbeat)."""
+        return True
+
     @abstractmethod
     def update(self, now: float) -> None:
         """Read telemetry and advance the current command (``now``: ``time.monotonic()``)."""
@@ -327,7 +331,7 @@ def parse_link(link: str) -> tuple[str, int]:
         if int(port) == 0 and prefix != "udpin:":
             break
         return device + rest, 115200
-    forms = "; ".join(f[2] for f in LINK_FORMS)
+    forms = ", ".join(f[2].split(" ")[0] for f in LINK_FORMS)
     raise InputError(f"--vehicle: expected one of {forms}; got {link!r}")
 
 
