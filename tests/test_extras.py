@@ -17,6 +17,10 @@ from swarmex.cli import main
          "video"),
         ("starlette", ["monitor", "--scenario", "{tmp}/s.toml"], "monitor"),
         ("ray", ["sweep", "{tmp}/s.toml", "--backend", "ray", "--out", "{tmp}/o"], "ray"),
+        ("pymavlink", ["uav-emulator", "--listen", "udp:127.0.0.1:0"], "uav"),
+        ("pymavlink",
+         ["agent", "--connect", "tcp://127.0.0.1:9", "--vehicle", "udp:127.0.0.1:14550"],
+         "uav"),
     ],
 )
 def test_missing_extra_is_one_line(module, argv, extra, tmp_path, capsys, monkeypatch):
