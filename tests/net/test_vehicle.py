@@ -15,6 +15,7 @@ import pytest
 
 from swarmex.errors import InputError
 from swarmex.missions.traversal import uniform_agents
+from swarmex.net.agent import open_vehicle
 from swarmex.net.traversal import Mission
 from swarmex.net.vehicle import (
     FlightPlan,
@@ -23,7 +24,6 @@ from swarmex.net.vehicle import (
     SimulatedVehicle,
     Task,
     Vehicle,
-    open_vehicle,
     parse_link,
 )
 from swarmex.worlds import GridWorld

@@ -11,12 +11,14 @@ import typer
 from swarmex.cli.app import app
 from swarmex.cli.shared import _say
 from swarmex.errors import InputError, require
-from swarmex.net.vehicle import Safety, Vehicle, open_vehicle
+from swarmex.net.vehicle import Safety, Vehicle
 
 
 def open_agent_vehicle(link: str, **limits: float) -> tuple[Vehicle, Safety]:
     """``--vehicle`` and the safety options → the vehicle to fly and its limits (InputError
     for bad values; the ``uav`` extra named when pymavlink is missing)."""
+    from swarmex.net.agent import open_vehicle
+
     safety = Safety(**limits)  # type: ignore[arg-type]
     return open_vehicle(link, safety), safety
 

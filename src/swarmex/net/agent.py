@@ -51,7 +51,14 @@ from swarmex.net.traversal import (
     ends_step,
     warm_up,
 )
-from swarmex.net.vehicle import FlightPlan, Safety, SimulatedVehicle, Task, Vehicle
+from swarmex.net.vehicle import (
+    FlightPlan,
+    Safety,
+    SimulatedVehicle,
+    Task,
+    Vehicle,
+    parse_link,
+)
 
 EXIT_OK, EXIT_UNFINISHED, EXIT_SERVER_GONE, EXIT_REFUSED, EXIT_DECLARED_GONE = 0, 1, 3, 4, 5
 EXIT_HANDED_BACK = 6
@@ -491,6 +498,20 @@ class AgentClient:
     def close(self) -> None:
         self.sock.close(1000 if self.exit_code in (EXIT_OK, EXIT_HANDED_BACK) else 0)
         self.vehicle.close()
+
+
+def open_vehicle(link: str | None, safety: Safety | None = None) -> Vehicle:
+    """The vehicle ``--vehicle`` names (None: the simulated one). A MAVLink link needs the
+    ``uav`` extra (one line naming it when pymavlink is missing)."""
+    if link is None:
+        return SimulatedVehicle()
+    parse_link(link)
+    from swarmex.errors import require
+
+    require("pymavlink", "uav", "--vehicle")
+    from swarmex.net.mavlink import MavlinkVehicle
+
+    return MavlinkVehicle(link, safety or Safety())
 
 
 def wait_for_vehicle(vehicle: Vehicle, timeout: float,

@@ -335,19 +335,6 @@ def parse_link(link: str) -> tuple[str, int]:
     raise InputError(f"--vehicle: expected one of {forms}; got {link!r}")
 
 
-def open_vehicle(link: str | None, safety: Safety | None = None) -> Vehicle:
-    """The vehicle ``--vehicle`` names (None: the simulated one). Needs the ``uav`` extra."""
-    if link is None:
-        return SimulatedVehicle()
-    parse_link(link)
-    from swarmex.errors import require
-
-    require("pymavlink", "uav", "--vehicle")
-    from swarmex.net.mavlink import MavlinkVehicle
-
-    return MavlinkVehicle(link, safety or Safety())
-
-
 __all__ = [
     "DONE",
     "FAILED",
@@ -359,6 +346,5 @@ __all__ = [
     "SimulatedVehicle",
     "Task",
     "Vehicle",
-    "open_vehicle",
     "parse_link",
 ]
