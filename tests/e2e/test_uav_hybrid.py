@@ -54,7 +54,7 @@ def test_hybrid_mission_one_emulated_copter_two_simulated_agents(tmp_path):
         emu, server, address, link = _start(procs, rec_path)
         viewer = Viewer(address)
         copter = procs.start("mavlink", "agent", "--connect", address, "--id", 3,
-                             "--vehicle", link, "--link-timeout", 2)
+                             "--vehicle", link)
         sims = procs.start("simulated", "agent", "--connect", address, "--count", 2)
         assert server.wait(90) == 0, server.output
         assert copter.wait(15) == 0, copter.output
@@ -101,10 +101,21 @@ def test_failed_prearm_hands_the_id_to_a_spare(tmp_path):
     assert "handing id 3 back: pre-arm checks failed" in copter.output
 
 
-def test_lost_link_mid_mission_hands_the_id_to_a_spare(tmp_path):
-    rec_path = tmp_path / "droplink.json"
+@pytest.mark.parametrize(
+    ("fault", "reason", "landing"),
+    [
+        (["--drop-link-after", 40], "link lost", "vehicle lost"),
+        (["--battery", 70, "--drain", 60], "low battery", "vehicle landed"),
+    ],
+    ids=["lost-link", "low-battery"],
+)
+def test_a_copter_lost_mid_mission_hands_its_id_to_a_spare(tmp_path, fault, reason, landing):
+    """The copter's link drops 40 s after take-off (it flies its failsafe RTL unheard), or
+    its battery runs below 25 % (its agent brings it home): either way the agent hands id 3
+    back mid-mission and a spare finishes its work."""
+    rec_path = tmp_path / "lost.json"
     with Procs() as procs:
-        emu, server, address, link = _start(procs, rec_path, "--drop-link-after", 40)
+        emu, server, address, link = _start(procs, rec_path, *fault)
         viewer = Viewer(address)
         copter = procs.start("mavlink", "agent", "--connect", address, "--id", 3,
                              "--vehicle", link, "--link-timeout", 1)
@@ -113,21 +124,22 @@ def test_lost_link_mid_mission_hands_the_id_to_a_spare(tmp_path):
         assert server.wait(90) == 0, server.output
         assert copter.wait(15) == 6, copter.output
         assert sims.wait(15) == 0, sims.output
-        assert emu.wait(15) == 0, emu.output  # it flew its failsafe RTL, landed, left
+        assert emu.wait(15) == 0, emu.output  # landed, then left alone: it exits
         viewer.stop = True
     net = json.loads(rec_path.read_text())
     assert net["complete"]
     n = net["network"]
-    assert [d["id"] for d in n["left"]] == [3] and "link lost" in n["left"][0]["reason"]
+    assert [d["id"] for d in n["left"]] == [3] and reason in n["left"][0]["reason"]
     assert [d["id"] for d in n["joined"]] == [3]
     assert [d["id"] for d in n["handed_back"]] == [3]
     (gone,) = net["departed_agents"]
     assert gone["vehicle"]["kind"] == "mavlink" and len(gone["jobs"]) >= 1
     assert [v["kind"] for v in net["vehicles"]] == ["simulated"] * 3
     replay({**net, "agents": net["agents"] + net["departed_agents"]}, free_mask(6, 6, OBSTACLES))
-    assert "link dropped" in emu.output and "Land complete" in emu.output
+    assert "Land complete" in emu.output and landing in copter.output
+    assert ("link dropped" in emu.output) == (reason == "link lost")
     events = viewer.events
     join = [e for e in events if e.get("kind") == "join"]
     left = [e for e in events if e.get("kind") == "left"]
     assert join and join[0]["vehicle"] == "simulated"
-    assert left and "link lost" in left[0]["reason"]
+    assert left and reason in left[0]["reason"]

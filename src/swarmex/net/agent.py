@@ -328,6 +328,9 @@ class AgentClient:
     def _watch_vehicle(self, now: float) -> None:
         """A lost vehicle, or a low battery during the mission: hand the id back."""
         why = self.vehicle.fault()
+        task = self.task
+        if why is None and self.state == "mission" and task is not None and task.failed:
+            why = f"{task.name} failed: {task.reason}"  # noticed before this agent's turn
         if why is None and self.state == "mission":
             level = self.vehicle.battery()
             if level is not None and level < self.safety.min_battery:
