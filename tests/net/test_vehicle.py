@@ -130,6 +130,11 @@ def emulated():
         e.close()
 
 
+def test_a_link_that_cannot_be_opened_is_one_clear_error():
+    with pytest.raises(InputError, match="--vehicle: cannot open serial:/dev/nonexistent"):
+        open_vehicle("serial:/dev/nonexistent-swarmex-port")
+
+
 def test_a_full_flight_over_mavlink(emulated):
     e = emulated()
     v, plan = e.vehicle, e.plan

@@ -38,6 +38,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
+from swarmex.errors import InputError
 from swarmex.net.vehicle import FlightPlan, Info, Position, Safety, Task, Vehicle, parse_link
 
 os.environ.setdefault("MAVLINK20", "1")  # ArduPilot speaks MAVLink 2; pymavlink reads this
@@ -85,9 +86,15 @@ class MavlinkVehicle(Vehicle):
         self.link = link
         self.safety = safety
         device, baud = parse_link(link)
-        self.conn = mavutil.mavlink_connection(
-            device, baud=baud, source_system=255, source_component=190, autoreconnect=False
-        ) if connect else None
+        self.conn: Any = None
+        if connect:
+            try:
+                self.conn = mavutil.mavlink_connection(
+                    device, baud=baud, source_system=255, source_component=190,
+                    autoreconnect=False,
+                )
+            except (OSError, ImportError) as exc:  # no such port, refused, no pyserial
+                raise InputError(f"--vehicle: cannot open {link}: {exc}") from None
         self.opened = time.monotonic()
         self.target_system = 0
         self.target_component = 0
