@@ -75,6 +75,7 @@ class _Step:
     resend: float = 1.0
     command: int | None = None  # a COMMAND_ACK refusing this command fails the step
     guard: Callable[[], str | None] | None = None  # a reason to give up, checked each update
+    explain: Callable[[], str] | None = None  # what is missing, said on a timeout
     started: float | None = None
     sent: float = -1e18
 
@@ -181,7 +182,8 @@ class MavlinkVehicle(Vehicle):
         t = self.safety.task_timeout
         return self._start("preflight", [
             _Step("heartbeat", lambda: self.autopilot is not None, self._request_streams, t),
-            _Step("telemetry", self._have_telemetry, self._request_streams, t, resend=2.0),
+            _Step("telemetry", self._have_telemetry, self._request_streams, t, resend=2.0,
+                  explain=self._missing_telemetry),
             _Step("checks", lambda: self._checks(plan), None, t),
         ])
 
@@ -275,7 +277,9 @@ class MavlinkVehicle(Vehicle):
                 task.fail(str(exc))
                 return
             if now - st.started > st.timeout:
-                task.fail(f"{st.name}: not done within {st.timeout:.0f} s" + self._recent_text(now))
+                more = f" ({st.explain()})" if st.explain is not None else ""
+                task.fail(f"{st.name}: not done within {st.timeout:.0f} s{more}"
+                          + self._recent_text(now))
                 return
             if st.send is not None and now - st.sent >= st.resend:
                 st.sent = now
@@ -329,6 +333,12 @@ class MavlinkVehicle(Vehicle):
     def _have_telemetry(self) -> bool:
         return (self.sensors is not None and self.gps is not None and self.local is not None
                 and self.relative_alt is not None)
+
+    def _missing_telemetry(self) -> str:
+        have = {"SYS_STATUS": self.sensors, "GPS_RAW_INT": self.gps,
+                "LOCAL_POSITION_NED (no EKF origin yet?)": self.local,
+                "GLOBAL_POSITION_INT": self.relative_alt}
+        return "no " + ", ".join(k for k, v in have.items() if v is None)
 
     def _checks(self, plan: FlightPlan) -> bool:
         s = self.safety
