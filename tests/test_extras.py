@@ -21,6 +21,10 @@ from swarmex.cli import main
          ["traverse", "--center", "43.2,-79.9", "--radius", "50", "--nodes-on-edge", "3",
           "--agents", "1"],
          "geo"),
+        ("pymavlink", ["uav-emulator", "--listen", "udp:127.0.0.1:0"], "uav"),
+        ("pymavlink",
+         ["agent", "--connect", "tcp://127.0.0.1:9", "--vehicle", "udp:127.0.0.1:14550"],
+         "uav"),
     ],
 )
 def test_missing_extra_is_one_line(module, argv, extra, tmp_path, capsys, monkeypatch):

@@ -96,3 +96,16 @@ def test_corrupt_makes_frames_the_receiver_rejects():
     for _ in range(200):
         with pytest.raises(wire.WireError):
             wire.decode_broadcast(wire.corrupt(frame, rng))
+
+
+def test_c01_may_describe_the_vehicle_and_ret_hands_an_id_back():
+    ok = ["C01", 3, 7, {"kind": "mavlink", "link": "udp:127.0.0.1:14550", "sysid": 1}]
+    assert wire.decode_message(wire.pack(ok)) == ok
+    assert wire.decode_message(wire.pack(["C01", 3, 7]))[0] == "C01"  # without: simulated
+    assert wire.decode_message(wire.pack(["RET", 3, "low battery"])) == ["RET", 3, "low battery"]
+    for bad in (["C01", 3, 7, {"link": "x"}], ["C01", 3, 7, {"kind": 1}],
+                ["C01", 3, 7, {"kind": "x", "nested": [1]}], ["C01", 3, 7, "mavlink"],
+                ["C01", 3, 7, {"kind": "x" * 201}], ["RET", 0, "x"], ["RET", 3],
+                ["RET", 3, 5]):
+        with pytest.raises(wire.EncodingError):
+            wire.decode_message(wire.pack(bad))

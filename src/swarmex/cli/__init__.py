@@ -22,6 +22,7 @@ from swarmex.cli import (  # noqa: F401
     commands_run,
     commands_sweep,
     commands_traversal,
+    commands_uav,
 )
 from swarmex.cli.app import app
 from swarmex.errors import InputError

@@ -4,7 +4,8 @@
 map, grid, nests or obstacles mean the same thing) plus the network's: ``--port``,
 ``--time-scale`` (wall seconds per mission second), ``--rng``, heartbeats and timeouts. It
 writes the same result record as ``traverse`` (plus ``network`` and ``departed_agents``).
-``agent --connect tcp://HOST:PORT`` runs one UAV (or ``--count K`` of them in one process).
+``agent --connect tcp://HOST:PORT`` runs one UAV (or ``--count K`` of them in one process);
+``--vehicle LINK`` flies a MAVLink copter instead of the simulated one (docs/uav.md).
 ``watch --connect tcp://HOST:PORT`` prints the live mission in the terminal, or forwards it
 to the web monitor's ingest WebSocket with ``--forward``. The protocol is described in
 :mod:`swarmex.net.traversal` and docs/net.md.
@@ -22,8 +23,10 @@ from swarmex.cli.outputs import check_output
 from swarmex.cli.shared import _positive, _say, run_mesh
 from swarmex.errors import InputError, require
 from swarmex.missions.traversal.params import TraversalParams
+from swarmex.net.vehicle import Safety
 
 _TRAVERSAL = TraversalParams.options()
+_SAFETY = Safety()  # the vehicle limits' defaults (swarmex.net.vehicle)
 
 
 def _default(name: str):  # the traversal mission owns every default (missions/traversal)
@@ -197,6 +200,44 @@ def agent(
         None, "--inject-die-after", help="Fault injection: exit abruptly after K events."
     ),
     fault_seed: int = typer.Option(0, "--fault-seed", help="Seed of the fault injection."),
+    vehicle: str | None = typer.Option(
+        None, "--vehicle",
+        help="Fly a MAVLink copter: udp:HOST:PORT (it listens; swarmex uav-emulator),"
+        " udpin:HOST:PORT, tcp:HOST:PORT, serial:DEVICE[:BAUD]. Default: simulated.",
+    ),
+    edge_length: float = typer.Option(
+        _SAFETY.edge_length, "--edge-length", help="Vehicle: metres between grid neighbours."
+    ),
+    min_altitude: float = typer.Option(
+        _SAFETY.min_altitude, "--min-altitude", help="Vehicle: fly at least this high, m."
+    ),
+    max_altitude: float = typer.Option(
+        _SAFETY.max_altitude, "--max-altitude", help="Vehicle: refuse missions above, m."
+    ),
+    max_speed: float = typer.Option(
+        _SAFETY.max_speed, "--max-speed", help="Vehicle: ground speed cap, m/s."
+    ),
+    max_distance: float = typer.Option(
+        _SAFETY.max_distance, "--max-distance",
+        help="Vehicle: refuse missions with a node farther from home, m.",
+    ),
+    min_satellites: int = typer.Option(
+        _SAFETY.min_satellites, "--min-satellites", help="Vehicle pre-arm: GPS satellites."
+    ),
+    max_hdop: float = typer.Option(
+        _SAFETY.max_hdop, "--max-hdop", help="Vehicle pre-arm: GPS horizontal DOP."
+    ),
+    arm_battery: float = typer.Option(
+        _SAFETY.arm_battery, "--arm-battery", help="Vehicle pre-arm: battery percent."
+    ),
+    min_battery: float = typer.Option(
+        _SAFETY.min_battery, "--min-battery",
+        help="Vehicle: below this percent in flight, hand the id back and land.",
+    ),
+    link_timeout: float = typer.Option(
+        _SAFETY.link_timeout, "--link-timeout",
+        help="Vehicle: seconds without telemetry before the link counts as lost.",
+    ),
 ) -> None:
     """One traversal UAV as a client of ``swarmex serve`` (seed 000's client.py)."""
     from swarmex.net.agent import Faults, run_agents
@@ -219,8 +260,21 @@ def agent(
         _positive(value, option)
     faults = Faults(corrupt, die_after, fault_seed)
     want = -1 if spare else agent_id
+    flown = None
+    safety = None
+    if vehicle is not None:
+        from swarmex.cli.commands_uav import open_agent_vehicle
+
+        if count != 1 or spares:
+            raise InputError("--vehicle flies one agent: not with --count or --spares")
+        flown, safety = open_agent_vehicle(
+            vehicle, edge_length=edge_length, min_altitude=min_altitude,
+            max_altitude=max_altitude, max_speed=max_speed, max_distance=max_distance,
+            min_satellites=min_satellites, max_hdop=max_hdop, arm_battery=arm_battery,
+            min_battery=min_battery, link_timeout=link_timeout,
+        )
     code = run_agents(address, count, want, server_timeout, connect_timeout, timeout, faults,
-                      _say, spares)
+                      _say, spares, flown, safety)
     raise typer.Exit(code)
 
 

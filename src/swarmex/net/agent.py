@@ -12,10 +12,22 @@ Several agents can share one process (``--count``): each keeps its own socket an
 they share a poller, which saves the interpreter start-up of a process per UAV in tests and
 benchmarks; the protocol cannot tell.
 
+What the agent flies is a :class:`~swarmex.net.vehicle.Vehicle`: the simulated one (every
+command done at once: the computed mission times are its flight, exactly as before vehicles
+existed) or a MAVLink copter (``--vehicle``). The agent drives it through the seed's stages:
+pre-arm checks before C02, arming before C03, take-off before its start event (C04), a flight
+to each node before the arrival event runs (C07), the job before the job's end (C08), return
+to launch and landing before C10 and C11. An event runs when the protocol says it may *and*
+the vehicle is there: mission times stay the computed ones, a slow vehicle only adds lag. A
+failed pre-arm check or arming, a failed flight command, a lost vehicle link or a battery
+below ``--min-battery`` make the agent hand its id back to the server (``RET``; seed 000
+§4.3: the id returns to the vacant list and a spare can take it) and bring the vehicle down.
+
 Every receive has a timeout. Exit status: 0 landed and statistics acknowledged (or the
 mission ended), 1 the mission ended before this agent finished, 3 the server went silent,
 4 refused (unknown id, or no vacant id before ``--connect-timeout``), 5 the server declared
-this agent gone.
+this agent gone, 6 its vehicle failed (no heartbeat, a failed check, a low battery, a lost
+link; an id it held was handed back).
 """
 
 from __future__ import annotations
@@ -39,8 +51,19 @@ from swarmex.net.traversal import (
     ends_step,
     warm_up,
 )
+from swarmex.net.vehicle import (
+    FlightPlan,
+    Safety,
+    SimulatedVehicle,
+    Task,
+    Vehicle,
+    parse_link,
+)
 
 EXIT_OK, EXIT_UNFINISHED, EXIT_SERVER_GONE, EXIT_REFUSED, EXIT_DECLARED_GONE = 0, 1, 3, 4, 5
+EXIT_HANDED_BACK = 6
+#: states in which the vehicle is being readied or flown (its faults count)
+VEHICLE_STATES = ("prearm", "c02", "arming", "c03", "ready", "mission", "rtl", "landing")
 
 
 @dataclass
@@ -66,8 +89,15 @@ class AgentClient:
         connect_timeout: float = 30.0,
         faults: Faults | None = None,
         say: Callable[[str], object] = print,
+        vehicle: Vehicle | None = None,
+        safety: Safety | None = None,
     ) -> None:
         self.address = address
+        self.vehicle: Vehicle = vehicle or SimulatedVehicle()
+        self.safety = safety or Safety()
+        self.plan: FlightPlan | None = None
+        self.task: Task | None = None  # the vehicle's command the next event waits for
+        self.handed_back: str | None = None
         self.want_id = want_id
         self.server_timeout = server_timeout
         self.connect_timeout = connect_timeout
@@ -128,6 +158,8 @@ class AgentClient:
     # ------------------------------------------------------------------ receiving
     def on_frame(self, frame: bytes, now: float) -> None:
         self.last_server = now
+        if self.state == "grounding":
+            return  # the id is handed back: the mission is no longer this agent's
         try:
             msg = wire.message(wire.unpack(frame))
             if msg[0] in wire.BROADCAST_COMMANDS:
@@ -172,10 +204,10 @@ class AgentClient:
         elif cmd == "MIS" and self.state == "mission-data":
             self._on_mission(msg[1], msg[2], now)
         elif cmd == "ACK":
-            self._on_ack(str(msg[1]))
+            self._on_ack(str(msg[1]), now)
         elif cmd == "GO" and self.state == "ready":
             self._anchor(float(msg[1]), now)
-            self.state = "mission"
+            self._launch()
         elif cmd == "LEFT" and self.replica is not None:
             a = int(msg[1])
             if a == self.id:
@@ -188,7 +220,7 @@ class AgentClient:
             a = int(msg[1])
             self.replica.on_join(a, float(msg[2]), int(msg[3]))
             if a == self.id and self.state == "ready":
-                self.state = "mission"
+                self._launch()
         elif cmd == "LOST" and self.mission is not None and self.replica is not None:
             b = wire.decode_broadcast(msg[1])  # what my radio lost: its timing only
             check_broadcast(b, self.mission)
@@ -219,8 +251,14 @@ class AgentClient:
             self._replay(frame)
         if data.get("started"):
             self._anchor(float(data.get("clock") or 0.0), time.monotonic())
+        self.plan = FlightPlan(mission, self.id, self.safety)
+        self.vehicle.time_scale = mission.time_scale or 1.0
+        if not isinstance(self.vehicle, SimulatedVehicle):
+            for note in self.plan.notes():
+                self.say(f"swarmex agent {self.id}: {note}")
         self.state = "c01"
-        self._send(["C01", self.id, int(mission.specs[self.id - 1].nest)])
+        self._send(["C01", self.id, int(mission.specs[self.id - 1].nest),
+                    self.vehicle.describe()])
 
     def _replay(self, frame: bytes) -> None:
         assert self.core is not None and self.replica is not None
@@ -231,18 +269,112 @@ class AgentClient:
             return
         catch_up(self.core.belief, self.replica, msg)
 
-    def _on_ack(self, what: str) -> None:
+    def _on_ack(self, what: str, now: float) -> None:
         if what == "C01" and self.state == "c01":
-            self.state = "c02"
-            self._send(["C02", self.id])  # pre-arm checks: a virtual UAV always passes
+            assert self.plan is not None
+            self.state = "prearm"  # C02 only once the pre-arm checks pass (§4.2)
+            self.task = self.vehicle.preflight(self.plan)
+            self._init_step(now)
         elif what == "C02" and self.state == "c02":
-            self.state = "c03"
-            self._send(["C03", self.id])
+            self.state = "arming"  # C03 once armed
+            self.task = self.vehicle.arm()
+            self._init_step(now)
         elif what == "C03" and self.state == "c03":
             self.state = "ready"
         elif what == "ST" and self.state == "stats":
             self.state = "done"
             self._done(EXIT_OK)
+
+    # ------------------------------------------------------------------ the vehicle
+    def _init_step(self, now: float) -> None:
+        """Pre-arm checks, then arming: C02 and C03 go out when the vehicle's task is done
+        (at once for the simulated vehicle: "a virtual UAV always passes")."""
+        task = self.task
+        if task is None or self.state not in ("prearm", "arming"):
+            return
+        self.vehicle.update(now)
+        if task.failed:
+            what = "pre-arm checks failed" if self.state == "prearm" else "arming failed"
+            self._hand_back(f"{what}: {task.reason}", now)
+        elif task.done:
+            if self.state == "prearm":
+                self.state = "c02"
+                self._send(["C02", self.id])
+            else:
+                self.state = "c03"
+                self._send(["C03", self.id])
+
+    def _launch(self) -> None:
+        """The mission starts for this agent: take off (its start event waits for it)."""
+        assert self.plan is not None
+        self.state = "mission"
+        self.task = self.vehicle.takeoff(self.plan.altitude)
+
+    def _vehicle_ready(self, now: float) -> bool:
+        """Whether the vehicle has done what the next event needs (there, job done, home)."""
+        task = self.task
+        if task is None or task.done:
+            return True
+        self.vehicle.update(now)
+        if task.failed:
+            self._hand_back(f"{task.name} failed: {task.reason}", now)
+            return False
+        return task.done
+
+    def _command_vehicle(self) -> None:
+        """After a step: fly to the announced node, do the job here, or go home."""
+        core, plan = self.core, self.plan
+        assert core is not None and plan is not None
+        if core.finished:
+            self.task = self.vehicle.return_and_land()
+        elif core.next_kind == "arrive":
+            self.task = self.vehicle.goto(plan.position(core.next_node), plan.speed)
+        elif core.next_kind == "job_end":
+            self.task = self.vehicle.job(core.spec.job_time)
+
+    def _watch_vehicle(self, now: float) -> None:
+        """A lost vehicle, or a low battery during the mission: hand the id back."""
+        why = self.vehicle.fault()
+        task = self.task
+        if why is None and self.state == "mission" and task is not None and task.failed:
+            why = f"{task.name} failed: {task.reason}"  # noticed before this agent's turn
+        if why is None and self.state == "mission":
+            level = self.vehicle.battery()
+            if level is not None and level < self.safety.min_battery:
+                why = (f"low battery: {level:.0f} % (--min-battery "
+                       f"{self.safety.min_battery:g} %)")
+        if why is not None:
+            self._hand_back(why, now)
+
+    def _hand_back(self, reason: str, now: float) -> None:
+        """Seed 000 §4.3: an agent that stops its work early (an error, a low battery) has
+        its id entered back to the vacant list, so a spare can continue its work. The
+        vehicle returns to launch and lands (the seed's later fix: RTL on errors)."""
+        if self.handed_back is not None:
+            return
+        self.handed_back = reason
+        self.say(f"swarmex agent {self.id or '?'}: handing id {self.id} back: {reason}")
+        if self.id and self.mission is not None:
+            self._send(["RET", self.id, reason])
+        self.state = "grounding"
+        if self.vehicle.airborne() and self.vehicle.fault() is None:
+            self.say(f"swarmex agent {self.id}: returning to launch")
+            self.task = self.vehicle.return_and_land()
+        else:
+            self.task = None
+
+    def _grounding_tick(self, now: float) -> float:
+        task, fault = self.task, self.vehicle.fault()
+        if task is not None and task.running and fault is None:
+            return 0.05
+        if task is None:
+            how = "on the ground" if fault is None else f"lost: {fault}"
+        elif task.done:
+            how = "landed"
+        else:
+            how = f"not confirmed landed: {task.reason or fault}"
+        self._done(EXIT_HANDED_BACK, f"id handed back ({self.handed_back}); vehicle {how}")
+        return 1.0
 
     # ------------------------------------------------------------------ acting
     def wall_of(self, t: float) -> float:
@@ -253,6 +385,15 @@ class AgentClient:
         """Do whatever is due; returns the seconds until something may be due again."""
         if self.exit_code is not None:
             return 1.0
+        self.vehicle.update(now)
+        if self.state == "grounding":
+            return self._grounding_tick(now)
+        if self.state in VEHICLE_STATES:
+            self._watch_vehicle(now)
+            if self.state == "grounding":
+                return 0.0
+        if self.state in ("prearm", "arming"):
+            self._init_step(now)
         if self.state == "hello":  # §4.3: keep trying to connect for a while
             if now - self.started_at > self.connect_timeout:
                 self._done(EXIT_SERVER_GONE if not self.waiting else EXIT_REFUSED,
@@ -274,6 +415,8 @@ class AgentClient:
             wait = min(wait, self._mission_tick(now))
         elif self.state in ("rtl", "landing"):
             wait = min(wait, self._termination_tick(now))
+        if not isinstance(self.vehicle, SimulatedVehicle):
+            wait = min(wait, 0.05)  # telemetry to read, link and battery to watch
         return wait
 
     def _mission_tick(self, now: float) -> float:
@@ -293,6 +436,8 @@ class AgentClient:
         due = self.wall_of(t)
         if now < due:
             return due - now
+        if not self._vehicle_ready(now):
+            return 0.0 if self.state == "grounding" else 0.02
         if self.halfway_due is not None:
             self._halfway()
         scale = self.mission.time_scale if self.mission else 0.0
@@ -307,6 +452,7 @@ class AgentClient:
             eta = out[-1].eta
             self.halfway_due = self.wall_of(t + (eta - t) / 2)
             self.halfway_node = core.next_node
+        self._command_vehicle()
         if core.finished:
             self.finish_t = t
             self.state = "rtl"
@@ -327,10 +473,16 @@ class AgentClient:
         core = self.core
         assert core is not None and self.mission is not None
         spec = core.spec
+        task = self.task
+        if task is not None and task.failed:
+            self._hand_back(f"{task.name} failed: {task.reason}", now)
+            return 0.0
         if self.state == "rtl":
             assert self.rtl_due is not None
             if now < self.rtl_due:
                 return self.rtl_due - now
+            if task is not None and task.running and task.phase == "returning":
+                return 0.02  # C10 once above home
             t = self.finish_t + core.rtl_time()
             self._send_frame(wire.Broadcast("C10", self.id, spec.nest, t=t).frame())
             self.state = "landing"
@@ -338,6 +490,8 @@ class AgentClient:
         assert self.land_due is not None
         if now < self.land_due:
             return self.land_due - now
+        if task is not None and task.running:
+            return 0.02  # C11 once landed and disarmed
         t = self.finish_t + core.rtl_time() + spec.landing_time
         self._send_frame(wire.Broadcast("C11", self.id, spec.nest, t=t).frame())
         stats = core.stats()
@@ -345,12 +499,48 @@ class AgentClient:
         stats["dropped"] = self.dropped
         stats["frames_out"] = self.frames_out
         stats["bytes_out"] = self.bytes_out
+        stats["vehicle"] = self.vehicle.describe()
+        stats["battery"] = self.vehicle.battery()
         self.state = "stats"
         self._send(["ST", self.id, stats])
         return 0.05
 
     def close(self) -> None:
-        self.sock.close(1000 if self.exit_code == EXIT_OK else 0)
+        self.sock.close(1000 if self.exit_code in (EXIT_OK, EXIT_HANDED_BACK) else 0)
+        self.vehicle.close()
+
+
+def open_vehicle(link: str | None, safety: Safety | None = None) -> Vehicle:
+    """The vehicle ``--vehicle`` names (None: the simulated one). A MAVLink link needs the
+    ``uav`` extra (one line naming it when pymavlink is missing)."""
+    if link is None:
+        return SimulatedVehicle()
+    parse_link(link)
+    from swarmex.errors import require
+
+    require("pymavlink", "uav", "--vehicle")
+    from swarmex.net.mavlink import MavlinkVehicle
+
+    return MavlinkVehicle(link, safety or Safety())
+
+
+def wait_for_vehicle(vehicle: Vehicle, timeout: float,
+                     say: Callable[[str], object] = print) -> bool:
+    """Before asking for an id: the vehicle's first heartbeat (no vehicle, no agent)."""
+    deadline = time.monotonic() + timeout
+    link = vehicle.describe().get("link", vehicle.kind)
+    while not vehicle.heard():
+        now = time.monotonic()
+        if now > deadline:
+            say(f"swarmex agent: no heartbeat from the vehicle at {link} within {timeout:g} s")
+            vehicle.close()
+            return False
+        vehicle.update(now)
+        time.sleep(0.02)
+    info = vehicle.describe()
+    say(f"swarmex agent: vehicle at {link}: " + ", ".join(
+        f"{k} {v}" for k, v in info.items() if k not in ("kind", "link")))
+    return True
 
 
 def run_agents(
@@ -363,9 +553,13 @@ def run_agents(
     faults: Faults | None = None,
     say: Callable[[str], object] = print,
     spares: int = 0,
+    vehicle: Vehicle | None = None,
+    safety: Safety | None = None,
 ) -> int:
     """Run ``count`` agents (each its own connection) until all are done; the worst status.
-    ``spares`` more wait for an id vacated mid-mission (as ``--spare`` does).
+    ``spares`` more wait for an id vacated mid-mission (as ``--spare`` does). ``vehicle``
+    (with ``count`` 1 and no spares: one agent flies one vehicle) replaces the simulated
+    one; ``safety`` holds its limits.
 
     Compiled kernels run on one thread here: each agent stands for one UAV's computer, and
     several agent processes share the machine, where numba's parallel regions (the field
@@ -374,12 +568,17 @@ def run_agents(
     """
     import numba
 
+    if vehicle is not None and (count != 1 or spares):
+        raise ValueError("a vehicle is flown by one agent: count 1, no spares")
     numba.set_num_threads(1)
     warm_up()
+    if vehicle is not None and not wait_for_vehicle(vehicle, (safety or Safety()).task_timeout,
+                                                    say):
+        return EXIT_HANDED_BACK
     ctx: zmq.Context[zmq.Socket[bytes]] = zmq.Context.instance()
     agents = [
         AgentClient(ctx, address, want_id if count == 1 or want_id < 0 else 0, server_timeout,
-                    connect_timeout, faults, say)
+                    connect_timeout, faults, say, vehicle, safety)
         for _ in range(count)
     ] + [
         AgentClient(ctx, address, -1, server_timeout, connect_timeout, faults, say)
@@ -388,6 +587,9 @@ def run_agents(
     poller = zmq.Poller()
     for a in agents:
         poller.register(a.sock, zmq.POLLIN)
+    fd = vehicle.fileno() if vehicle is not None else None
+    if fd is not None:  # wake on telemetry too (the agent's tick reads it)
+        poller.register(fd, zmq.POLLIN)
     by_sock = {a.sock: a for a in agents}
     deadline = time.monotonic() + timeout
     try:
@@ -400,6 +602,8 @@ def run_agents(
             wait = min(a.tick(now) for a in agents if a.exit_code is None)
             ready = dict(poller.poll(int(max(0.0, min(wait, 0.5)) * 1000)))
             for sock in ready:
+                if sock not in by_sock:
+                    continue  # the vehicle's link: read by the next tick
                 agent = by_sock[sock]
                 for _ in range(100_000):
                     try:

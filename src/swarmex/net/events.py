@@ -33,8 +33,11 @@ Event = dict[str, Any]
 
 
 def hello(mission: str, algorithm: str, agents: list[int], title: str,
-          speed: float | None, time_unit: str = "s") -> Event:
-    return {
+          speed: float | None, time_unit: str = "s",
+          vehicles: list[dict[str, Any]] | None = None) -> Event:
+    """``vehicles`` (optional): ``[{"id", "kind", …}]``, what each agent flies ("simulated",
+    "mavlink"): a hybrid mission's viewer tells them apart."""
+    out: Event = {
         "type": "hello",
         "schema": SCHEMA,
         "mission": mission,
@@ -45,6 +48,9 @@ def hello(mission: str, algorithm: str, agents: list[int], title: str,
         "speed": speed,
         "title": title,
     }
+    if vehicles is not None:
+        out["vehicles"] = vehicles
+    return out
 
 
 def world(free: np.ndarray | None, width: int, height: int, source: str,
@@ -66,8 +72,14 @@ def job(t: float, agent: int, x: float, y: float) -> Event:
 
 
 def message(t: float, agent: int, kind: str, x: float | None = None,
-            y: float | None = None, to: int | None = None) -> Event:
-    return {"type": "message", "t": t, "agent": agent, "to": to, "kind": kind, "x": x, "y": y}
+            y: float | None = None, to: int | None = None,
+            extra: dict[str, Any] | None = None) -> Event:
+    """``extra``: optional fields (a ``join`` says the spare's ``vehicle``, a ``left`` its
+    ``reason``)."""
+    ev = {"type": "message", "t": t, "agent": agent, "to": to, "kind": kind, "x": x, "y": y}
+    if extra:
+        ev.update(extra)
+    return ev
 
 
 def end(record: dict[str, Any], after: list[Event] | None = None) -> Event:

@@ -59,6 +59,7 @@ class Peer:
     frames_out: int = 0
     bytes_out: int = 0
     joined_at: float = 0.0
+    vehicle: dict | None = None  # C01's description of what this agent flies
 
 
 @dataclass
@@ -76,6 +77,7 @@ class Counters:
     errors: int = 0
     left: list[dict] = field(default_factory=list)
     joined: list[dict] = field(default_factory=list)
+    handed_back: list[dict] = field(default_factory=list)
     stats_mismatch: int = 0
     stats_received: int = 0
     lag: list[float] = field(default_factory=list)
@@ -111,6 +113,7 @@ class TraversalServer:
         n = mission.n_agents
         self.state: dict[int, str] = dict.fromkeys(range(1, n + 1), "vacant")
         self.holder: dict[int, bytes] = {}  # id -> ident of the process holding it
+        self.vehicles: dict[int, dict] = {}  # id -> what its current holder flies (C01)
         self.peers: dict[bytes, Peer] = {}
         self.log: list[bytes] = []  # every frame relayed since GO, for late joiners
         self.events: list[ev.Event] = []
@@ -299,6 +302,8 @@ class TraversalServer:
             if int(msg[1]) != a:
                 self.counters.dropped_sender += 1
                 return
+            peer.vehicle = dict(msg[3]) if len(msg) > 3 else {"kind": "simulated"}
+            self.vehicles[a] = peer.vehicle
             self._reply(peer, ["ACK", "C01", a])
             self._to_agents(wire.pack(msg), keep=False)
         elif cmd == "C02":
@@ -308,6 +313,12 @@ class TraversalServer:
             self._on_armed(a)
         elif cmd == "ST":
             self._on_stats(peer, msg[2])
+        elif cmd == "RET":
+            if int(msg[1]) != a:
+                self.counters.dropped_sender += 1
+                return
+            self._reply(peer, ["ACK", "RET", a])
+            self._on_handback(peer, a, str(msg[2]))
         else:
             self.counters.errors += 1
             self._reply(peer, ["ERR", f"unexpected {cmd}"])
@@ -369,26 +380,34 @@ class TraversalServer:
         seq = self.replica.counter
         self.replica.on_join(agent, t, seq)
         self.recorder.on_join(agent)
+        self.recorder.incarnation(agent).vehicle = self.vehicles.get(agent)
         self.state[agent] = "mission"
         self.counters.joined.append({"id": agent, "t": t})
         self._to_agents(wire.pack(["JOIN", agent, float(t), seq]))
-        self._emit(ev.message(self.replica.last_t, agent, "join", *self._xy(spec.nest)))
-        self.say(f"swarmex serve: a spare took id {agent}, starting at t={t:.2f}")
+        kind = (self.vehicles.get(agent) or {}).get("kind", "simulated")
+        self._emit(ev.message(self.replica.last_t, agent, "join", *self._xy(spec.nest),
+                              extra={"vehicle": kind}))
+        self.say(f"swarmex serve: a spare took id {agent} ({kind}), starting at t={t:.2f}")
 
     def _go(self) -> None:
         self.started = True
         self.t0w = time.monotonic()
         for a in self.state:
             self.state[a] = "mission"
+            self.recorder.incarnation(a).vehicle = self.vehicles.get(a)
         m = self.mission
         w = m.world
+        kinds = [(self.vehicles.get(a) or {}).get("kind", "simulated") for a in self.state]
+        mix = ", ".join(f"{kinds.count(k)} {k}" for k in sorted(set(kinds)))
         self._emit(  # live: no replay speed (the monitor's schema says null)
             ev.hello("traversal", m.algorithm, list(self.state), f"traversal · {m.algorithm} · "
-                     f"{w.source} · network", None),
+                     f"{w.source} · network · {mix}", None,
+                     vehicles=[{"id": a, **(self.vehicles.get(a) or {"kind": "simulated"})}
+                               for a in self.state]),
             ev.world(w.free, w.width, w.height, w.source),
         )
         self._to_agents(wire.pack(["GO", 0.0]))
-        self.say("swarmex serve: all agents armed, mission started")
+        self.say(f"swarmex serve: all agents armed ({mix}), mission started")
 
     def _xy(self, node: int) -> tuple[float, float]:
         x, y = self.mission.world.graph.pos[node]
@@ -463,7 +482,28 @@ class TraversalServer:
             if peer is None or now - peer.last_seen > limit:
                 self._declare_left(a, peer)
 
-    def _declare_left(self, agent: int, peer: Peer | None) -> None:
+    def _on_handback(self, peer: Peer, agent: int, reason: str) -> None:
+        """The agent hands its id back (seed 000 §4.3: "if an agent stops its work
+        preliminary, because of some error, including a low battery level, its ID is entered
+        back to a list of vacant IDs"): before the start, the id is open to a spare (and to
+        any new agent) and the mission waits for one; during it, as a departure."""
+        self.counters.handed_back.append({
+            "id": agent, "t": self.clock(), "state": self.state[agent], "reason": reason,
+            "vehicle": peer.vehicle,
+        })
+        if self.started:
+            self._declare_left(agent, peer, f"handed its id back ({reason})", reason)
+            return
+        self.state[agent] = "left"
+        self.holder.pop(agent, None)
+        self.vehicles.pop(agent, None)
+        peer.id = 0
+        peer.has_mission = False
+        self.say(f"swarmex serve: agent {agent} handed its id back before the start ({reason});"
+                 f" waiting for a spare to take id {agent}")
+
+    def _declare_left(self, agent: int, peer: Peer | None, why: str = "fell silent",
+                      reason: str = "silent") -> None:
         was = self.state[agent]
         self.state[agent] = "left" if self.started else "vacant"
         self.holder.pop(agent, None)
@@ -476,10 +516,10 @@ class TraversalServer:
         node = self.replica.on_left(agent)
         self.recorder.on_left(agent, self.clock(), node)
         self.counters.left.append({"id": agent, "t": self.clock(), "state": was,
-                                   "open_job": node})
+                                   "open_job": node, "reason": reason})
         self._to_agents(wire.pack(["LEFT", agent, float(self.clock())]))
-        self._emit(ev.message(t, agent, "left"))
-        self.say(f"swarmex serve: agent {agent} fell silent ({was}); id {agent} is vacant"
+        self._emit(ev.message(t, agent, "left", extra={"reason": reason}))
+        self.say(f"swarmex serve: agent {agent} {why} ({was}); id {agent} is vacant"
                  + (f", node {self.mission.world.label(node)} is not done again" if node >= 0
                     else ""))
 
@@ -545,11 +585,17 @@ class TraversalServer:
             met["abandoned_jobs"] = len(inc.abandoned_jobs)
             departed.append({
                 "id": inc.log.id,
+                "vehicle": inc.vehicle or {"kind": "simulated"},
                 "metrics": met,
                 "trajectory": [[t, *pos[v].tolist()] for t, v in inc.log.trajectory],
                 "jobs": [[t, *pos[v].tolist()] for t, v in inc.log.jobs],
             })
         record.extra["departed_agents"] = departed
+        # what each id's last holder flew: a hybrid mission's record tells them apart
+        record.extra["vehicles"] = [
+            {"id": a, **(rec.current[a].vehicle or self.vehicles.get(a) or {"kind": "simulated"})}
+            for a in ids
+        ]
         record.extra["network"] = self.network_metrics(run.wall_seconds)
         self._record_obj = record
         return record.to_dict()
@@ -561,7 +607,8 @@ class TraversalServer:
         for p in self.peers.values():
             if p.id:
                 per_agent.append({"id": p.id, "frames_in": p.frames_in, "bytes_in": p.bytes_in,
-                                  "frames_out": p.frames_out, "bytes_out": p.bytes_out})
+                                  "frames_out": p.frames_out, "bytes_out": p.bytes_out,
+                                  "vehicle": (p.vehicle or {}).get("kind")})
         lag = np.asarray(c.lag) if c.lag else np.zeros(0)
         return {
             "transport": "zeromq",
@@ -584,6 +631,7 @@ class TraversalServer:
             "errors": c.errors,
             "left": c.left,
             "joined": c.joined,
+            "handed_back": c.handed_back,
             "stats_received": c.stats_received,
             "stats_mismatch": c.stats_mismatch,
             "lag_max": float(lag.max()) if lag.size else None,

@@ -611,6 +611,7 @@ class Incarnation:
     left_at: float | None = None
     abandoned_jobs: list[tuple[float, int]] = field(default_factory=list)
     stats: dict | None = None
+    vehicle: dict | None = None  # what it flew (C01's description): hybrid missions
 
 
 class Recorder:

@@ -36,7 +36,8 @@ class TerminalView:
         self._last_line = 0.0
 
     def _agent(self, aid: int) -> dict[str, Any]:
-        return self.agents.setdefault(aid, {"pos": "", "jobs": 0, "last": "", "state": ""})
+        return self.agents.setdefault(aid, {"pos": "", "jobs": 0, "last": "", "state": "",
+                                            "vehicle": ""})
 
     def update(self, batch: list[dict]) -> None:
         for e in batch:
@@ -50,6 +51,9 @@ class TerminalView:
                 self.agents.clear()
                 for aid in e.get("agents") or []:
                     self._agent(int(aid))
+                for v in e.get("vehicles") or []:  # a hybrid mission: who flies what
+                    if isinstance(v, dict) and isinstance(v.get("id"), int):
+                        self._agent(v["id"])["vehicle"] = str(v.get("kind", ""))
             elif kind == "world":
                 cells = e.get("cells")
                 if isinstance(cells, list):
@@ -65,6 +69,8 @@ class TerminalView:
                 a["last"] = str(e.get("kind"))
                 if e.get("kind") in ("left", "finish", "join"):
                     a["state"] = {"left": "gone", "finish": "home", "join": "spare"}[e["kind"]]
+                if e.get("kind") == "join" and isinstance(e.get("vehicle"), str):
+                    a["vehicle"] = e["vehicle"]
             elif kind == "end":
                 self.ended = True
                 self.end = e
@@ -74,11 +80,12 @@ class TerminalView:
         share = f"{self.jobs}/{self.cells}" if self.cells else str(self.jobs)
         table = Table(title=f"{self.title} · t = {self.t:.1f} s · jobs {share}"
                       f" · {self.messages} messages", title_justify="left")
-        for col in ("agent", "at", "jobs", "last message", "state"):
+        for col in ("agent", "vehicle", "at", "jobs", "last message", "state"):
             table.add_column(col)
         for aid in sorted(self.agents)[:40]:
             a = self.agents[aid]
-            table.add_row(str(aid), a["pos"], str(a["jobs"]), a["last"], a["state"])
+            table.add_row(str(aid), a["vehicle"], a["pos"], str(a["jobs"]), a["last"],
+                          a["state"])
         return table
 
     def _draw(self) -> None:

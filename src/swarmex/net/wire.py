@@ -17,11 +17,16 @@ command     direction                  fields after the command
 ``C00``     agent → server             wanted id (0 = "D00": any vacant id; -1: a spare,
                                        only an id vacated mid-mission)
 ``C22``     agent → server             id (asks for the mission data)
-``C01``     agent → server, relayed    id, nest node ("a new rival")
+``C01``     agent → server, relayed    id, nest node ("a new rival"), optionally the
+                                       vehicle: a map with ``kind`` ("simulated" |
+                                       "mavlink") and short strings or numbers
 ``C02``     agent → server             id (pre-arm checks passed)
 ``C03``     agent → server             id (armed)
 ``HB``      both ways                  id (agent) / mission clock (server)
 ``ST``      agent → server             id, statistics map (after ``C11``)
+``RET``     agent → server             id, reason: the agent hands its id back (a failed
+                                       pre-arm check, low battery, a lost vehicle; seed
+                                       000 §4.3: a spare may take it)
 ``C04``…    agent → server, relayed    a :class:`Broadcast` (Fig. 4.17)
 ``C11``
 ``ID``      server → agent             the id given for ``C00``
@@ -70,7 +75,7 @@ CRC_BYTES = 4
 #: the broadcast commands of §4.2 (the mission and termination stages)
 BROADCAST_COMMANDS = ("C04", "C05", "C06", "C07", "C08", "C09", "C10", "C11")
 CONTROL_COMMANDS = (
-    "C00", "C22", "C01", "C02", "C03", "HB", "ST", "ID", "MIS", "ACK", "REF", "ERR",
+    "C00", "C22", "C01", "C02", "C03", "HB", "ST", "RET", "ID", "MIS", "ACK", "REF", "ERR",
     "GO", "LEFT", "JOIN", "END", "MON", "EV", "LOST",
 )
 RNG_BYTES = 37  # PCG64: 128-bit state, 128-bit increment, has_uint32 flag, uint32
@@ -257,7 +262,7 @@ def decode_message(frame: bytes) -> list[Any]:
 
 
 _CONTROL_ARITY = {
-    "C00": 2, "C22": 2, "C01": 3, "C02": 2, "C03": 2, "ST": 3, "ID": 2, "MIS": 3,
+    "C00": 2, "C22": 2, "C01": 3, "C02": 2, "C03": 2, "ST": 3, "RET": 3, "ID": 2, "MIS": 3,
     "ACK": 3, "REF": 2, "ERR": 2, "GO": 2, "LEFT": 3, "JOIN": 4, "END": 1, "MON": 1,
     "EV": 2, "LOST": 2,
 }
@@ -270,7 +275,10 @@ def check_control(msg: list[Any]) -> list[Any]:
         arity(msg, 2)
         _float(msg[1], "HB")
         return msg
-    arity(msg, _CONTROL_ARITY[cmd])
+    if cmd == "C01" and len(msg) == 4:  # with the vehicle's description
+        check_vehicle(msg[3])
+    else:
+        arity(msg, _CONTROL_ARITY[cmd])
     if cmd == "C00":
         _int(msg[1], "C00 id", -1, 2**31)
     elif cmd in ("C22", "C02", "C03", "ID"):
@@ -278,6 +286,9 @@ def check_control(msg: list[Any]) -> list[Any]:
     elif cmd == "C01":
         _int(msg[1], "C01 id", 1, 2**31)
         _int(msg[2], "C01 node", 0, 2**32)
+    elif cmd == "RET":
+        _int(msg[1], "RET id", 1, 2**31)
+        _str(msg[2], "RET reason")
     elif cmd == "ST":
         _int(msg[1], "ST id", 1, 2**31)
         if not isinstance(msg[2], dict):
@@ -306,6 +317,21 @@ def check_control(msg: list[Any]) -> list[Any]:
     elif cmd == "LOST" and not isinstance(msg[1], bytes):
         raise EncodingError("LOST: expected a broadcast frame")
     return msg
+
+
+def check_vehicle(v: Any) -> dict[str, Any]:
+    """A vehicle description (C01's optional field): a map of at most 16 short string keys to
+    short strings, numbers or booleans, with a string ``kind``."""
+    if not isinstance(v, dict) or len(v) > 16 or not isinstance(v.get("kind"), str):
+        raise EncodingError("C01 vehicle: expected a map with a kind")
+    for k, x in v.items():
+        if not isinstance(k, str) or len(k) > 32:
+            raise EncodingError("C01 vehicle: keys are short strings")
+        if isinstance(x, str):
+            _str(x, f"C01 vehicle {k}", 200)
+        elif not isinstance(x, bool):
+            _float(x, f"C01 vehicle {k}")
+    return v
 
 
 # ---------------------------------------------------------------------------- rng state

@@ -15,7 +15,9 @@ hello      ``schema`` ("swarmex.monitor/1"), ``mission``, ``algorithm``, ``sourc
            ``title``. Starts a mission: a viewer clears its state. Optional ``messages``:
            "events" (every message sent comes as a ``message`` event), "totals" (no
            per-message times: only the end's totals are known, so a rate is n/a) or "none"
-           (the mission sends no messages); absent means "events".
+           (the mission sends no messages); absent means "events". Optional ``vehicles``
+           (``[{"id", "kind", …}]``: what each agent flies, "simulated" | "mavlink", in a
+           networked traversal; a hybrid mission mixes them).
 world      ``kind`` ("grid" | "graph" | "polygons"), ``width``, ``height``, ``source``,
            ``cells``: rows of ``.`` (free) and ``@`` (blocked), row 0 first, or null when
            the layout is unknown or not a grid (the viewer then draws the bounds only).
@@ -30,7 +32,8 @@ move       ``t``, ``agent``, ``x``, ``y``: the agent is at (x, y) (a cell, x = c
 job        ``t``, ``agent``, ``x``, ``y``: the agent starts a job / picks food / … there;
            ``kind`` when the record names it (foraging: "pickup", "drop").
 message    ``t``, ``agent`` (sender), ``to`` (receiver id, null for a broadcast), ``kind``,
-           ``x``, ``y`` (the vertex it is about, if any).
+           ``x``, ``y`` (the vertex it is about, if any). Optional: ``vehicle`` on a ``join``
+           (what the spare flies), ``reason`` on a ``left`` (why the agent went).
 clock      ``t``: time passes with nothing else to say (lets the clock tick).
 end        ``t``, ``complete``, ``makespan``, ``time_unit``, ``metrics`` (the record's
            totals), ``agents`` (``[{"id", "metrics"}]``): the mission is over. Optional

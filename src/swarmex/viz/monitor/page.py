@@ -111,7 +111,7 @@ MONITOR_JS = r""""use strict";
   function agent(id) {
     let a = state.agents.get(id);
     if (!a) {
-      a = { id, x: null, y: null, path: [], moves: 0, jobs: 0, sent: 0 };
+      a = { id, x: null, y: null, path: [], moves: 0, jobs: 0, sent: 0, vehicle: null };
       state.agents.set(id, a);
       if (!state.order.includes(id)) state.order.push(id);
     }
@@ -136,6 +136,8 @@ MONITOR_JS = r""""use strict";
         reset();
         state.hello = ev;
         for (const id of ev.agents || []) agent(id);
+        // a hybrid mission says what each agent flies ("simulated", "mavlink")
+        for (const v of ev.vehicles || []) agent(v.id).vehicle = v.kind;
         break;
       case "world":
         state.world = ev;
@@ -159,6 +161,9 @@ MONITOR_JS = r""""use strict";
       }
       case "message": {
         agent(ev.agent).sent += 1;
+        if (ev.kind === "join" && typeof ev.vehicle === "string") {
+          agent(ev.agent).vehicle = ev.vehicle;  // a spare: what it flies
+        }
         state.messages += 1;
         state.msgTimes.push(ev.t);
         break;
@@ -422,12 +427,13 @@ MONITOR_JS = r""""use strict";
       for (const id of state.order) {
         const tr = body.insertRow();
         tr.innerHTML = `<td><span class="swatch" style="background:${color(id)}"></span>${id}`
-          + "</td><td></td><td></td><td></td><td></td>";
+          + "<small></small></td><td></td><td></td><td></td><td></td>";
       }
     }
     state.order.forEach((id, i) => {
       const a = state.agents.get(id);
       const cells = body.rows[i].cells;
+      cells[0].querySelector("small").textContent = a.vehicle ? ` · ${a.vehicle}` : "";
       cells[1].textContent = a.x === null ? "–" : `${fmt(a.x)}, ${fmt(a.y)}`;
       cells[2].textContent = a.moves;
       cells[3].textContent = a.jobs;
@@ -522,7 +528,7 @@ MONITOR_JS = r""""use strict";
     agents: state.order.map((id) => {
       const a = state.agents.get(id);
       return { id, x: a.x, y: a.y, moves: a.moves, jobs: a.jobs, sent: a.sent,
-               path: a.path.length };
+               path: a.path.length, vehicle: a.vehicle };
     }),
   });
 })();

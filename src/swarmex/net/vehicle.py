@@ -1,0 +1,350 @@
+"""Vehicles: what a networked traversal agent flies (seed 000 §4.3).
+
+Seed 000's ``client.py`` flew the same MADGTA code on a virtual UAV or on a real multicopter
+(Pixhawk through DroneKit), "switched ... with a change of a value of one variable", through
+a handful of functions: ``uavPreARMcheck()``, ``uavARM()``, ``uavTakeOff(altitude)``,
+``uavGoToCell`` / ``uavGoToPoint``, ``uavDoJob()``, ``uavRTL()``, ``uavLAND()``,
+``uavDISARM()``. :class:`Vehicle` is that interface:
+
+================================  =========================================================
+``preflight(plan)``               the safety pre-arm checks (seed: ``C02`` only if they pass)
+``arm()``                         arm the motors (seed: ``C03`` once armed)
+``takeoff(altitude)``             take off to the working altitude above home
+``goto(position, speed)``         fly to a position (metres north / east of home, altitude)
+``job(seconds)``                  do the job where it is (the seed's field pattern: a 2 m
+                                  altitude change, held for the job's time)
+``return_and_land()``             return to launch, land, disarm (phases ``returning``,
+                                  ``landing``; the agent sends C10 and C11 on them)
+``position()``, ``battery()``     where it is (a :class:`Position`), percent of charge left
+``fault()``                       a reason it can no longer be flown (lost link), or None
+================================  =========================================================
+
+Every command returns at once with a :class:`Task` that :meth:`Vehicle.update` advances: the
+agent's loop is a poll loop serving a server socket (and, with ``--count``, many agents),
+so nothing here blocks. A new command replaces the one before (the seed's flight is one
+step at a time).
+
+Two vehicles: :class:`SimulatedVehicle`, the virtual UAV of ``swarmex agent`` without
+``--vehicle`` — every command is done at once and pre-arm checks always pass (the thesis:
+"with virtual agents, we assume that every such a stage goes successfully"), so mission
+times stay the computed ones and a simulated agent behaves exactly as before this module
+existed; and :class:`~swarmex.net.mavlink.MavlinkVehicle` (pymavlink, extra ``uav``), which
+flies an ArduPilot copter, real or emulated (``swarmex uav-emulator``).
+
+Where the nodes are: :class:`FlightPlan` puts the mission's grid in local metres around the
+vehicle's home, which is its nest: node (x, y) is ``(x - x_nest) * edge`` metres east and
+``(y_nest - y) * edge`` metres north of home (rows grow southwards, as a map is drawn with
+north up), ``edge`` = ``--edge-length`` (default 6.67 m: the thesis's 2.22 s edge at 3 m/s).
+So any grid mission can be flown or emulated, each vehicle placed on its nest's spot.
+"""
+
+from __future__ import annotations
+
+import math
+from abc import ABC, abstractmethod
+from dataclasses import dataclass, fields
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from swarmex.errors import InputError
+
+if TYPE_CHECKING:
+    from swarmex.net.traversal import Mission
+
+RUNNING, DONE, FAILED = "running", "done", "failed"
+
+#: what a vehicle's description may hold (sent to the server in C01: it is on the wire)
+Info = dict[str, str | int | float | bool]
+
+
+@dataclass
+class Task:
+    """One vehicle command in progress: ``running`` until ``done`` or ``failed``
+    (``reason`` says why); ``phase`` names the part under way (``returning``, ``landing``)."""
+
+    name: str
+    state: str = RUNNING
+    phase: str = ""
+    reason: str = ""
+
+    @property
+    def done(self) -> bool:
+        return self.state == DONE
+
+    @property
+    def failed(self) -> bool:
+        return self.state == FAILED
+
+    @property
+    def running(self) -> bool:
+        return self.state == RUNNING
+
+    def finish(self) -> Task:
+        if self.state == RUNNING:
+            self.state = DONE
+        return self
+
+    def fail(self, reason: str) -> Task:
+        if self.state == RUNNING:
+            self.state, self.reason = FAILED, reason
+        return self
+
+
+@dataclass(frozen=True)
+class Position:
+    """Metres north and east of home, and metres above it."""
+
+    north: float
+    east: float
+    altitude: float
+
+    def horizontal_distance(self, other: Position) -> float:
+        return math.hypot(self.north - other.north, self.east - other.east)
+
+
+@dataclass(frozen=True)
+class Safety:
+    """The limits the agent flies a real vehicle by (``swarmex agent`` options; docs/uav.md)."""
+
+    edge_length: float = 6.67  # metres between grid neighbours (the thesis's 2.22 s at 3 m/s)
+    min_altitude: float = 5.0  # a mission altitude below this flies at this
+    max_altitude: float = 120.0  # refuse a mission above this (the usual legal ceiling)
+    max_speed: float = 10.0  # cap on the commanded ground speed, m/s
+    max_distance: float = 500.0  # refuse a mission with a node farther from home than this
+    min_satellites: int = 6  # pre-arm: the seed's "5-6 satellites" gave a bad fix
+    max_hdop: float = 2.0  # pre-arm: horizontal dilution of precision
+    arm_battery: float = 60.0  # pre-arm: percent of charge needed to take off
+    min_battery: float = 25.0  # in flight: below this the agent hands its id back and lands
+    link_timeout: float = 3.0  # wall seconds without telemetry: the link is lost
+    task_timeout: float = 30.0  # wall seconds a command may take beyond its expected time
+    arrive_radius: float = 1.0  # metres: at a position when this close (and as close in height)
+    job_climb: float = 2.0  # metres: the job's altitude change (seed §5.2.2)
+
+    def __post_init__(self) -> None:
+        for f in fields(self):
+            v = getattr(self, f.name)
+            if not (isinstance(v, int | float) and math.isfinite(v) and v >= 0):
+                raise InputError(f"--{f.name.replace('_', '-')} must be a number >= 0, got {v}")
+        for name in ("edge_length", "max_speed", "link_timeout", "task_timeout",
+                     "arrive_radius", "max_altitude"):
+            if not getattr(self, name) > 0:
+                raise InputError(f"--{name.replace('_', '-')} must be > 0")
+        if self.min_battery > 100 or self.arm_battery > 100:
+            raise InputError("--min-battery and --arm-battery are percentages (0..100)")
+        if self.min_battery >= self.arm_battery:
+            raise InputError(
+                f"--min-battery ({self.min_battery:g}) must be below --arm-battery "
+                f"({self.arm_battery:g})"
+            )
+
+
+class FlightPlan:
+    """One agent's mission in its vehicle's frame: node positions around home, altitude,
+    ground speed, and the checks a mission must pass before a real vehicle flies it."""
+
+    def __init__(self, mission: Mission, me: int, safety: Safety) -> None:
+        spec = mission.specs[me - 1]
+        self.safety = safety
+        self.home_node = spec.nest
+        self.pos = mission.world.graph.pos
+        self.free = ~mission.world.blocked
+        self.edge = safety.edge_length
+        self.altitude = max(spec.altitude, safety.min_altitude)
+        self.mission_altitude = spec.altitude
+        # mission speeds are length units per second; a unit is one grid edge here
+        self.wanted_speed = spec.travel_speed / mission.unit_length * self.edge
+        self.speed = min(self.wanted_speed, safety.max_speed)
+
+    def position(self, node: int) -> Position:
+        hx, hy = self.pos[self.home_node]
+        x, y = self.pos[node]
+        return Position(float((hy - y) * self.edge), float((x - hx) * self.edge), self.altitude)
+
+    def farthest(self) -> float:
+        """Metres from home to the farthest free node."""
+        d = (self.pos[self.free] - self.pos[self.home_node]) * self.edge
+        return float(np.hypot(d[:, 0], d[:, 1]).max()) if d.size else 0.0
+
+    def problems(self) -> list[str]:
+        s = self.safety
+        out = []
+        if self.altitude > s.max_altitude:
+            out.append(f"mission altitude {self.altitude:g} m is above the "
+                       f"{s.max_altitude:g} m limit")
+        far = self.farthest()
+        if far > s.max_distance:
+            out.append(f"a node is {far:.0f} m from home, beyond the {s.max_distance:g} m limit "
+                       f"(--edge-length {self.edge:g} m)")
+        return out
+
+    def notes(self) -> list[str]:
+        """What the agent tells its operator about the plan before flying it."""
+        out = [f"grid edge {self.edge:g} m, altitude {self.altitude:g} m, ground speed "
+               f"{self.speed:.2f} m/s, farthest node {self.farthest():.0f} m from home"]
+        if self.altitude != self.mission_altitude:
+            out.append(f"the mission's altitude {self.mission_altitude:g} m is below "
+                       f"--min-altitude: flying at {self.altitude:g} m")
+        if self.speed < self.wanted_speed:
+            out.append(f"the mission's speed {self.wanted_speed:.2f} m/s is capped at "
+                       f"--max-speed {self.safety.max_speed:g} m/s (the mission will lag)")
+        return out
+
+
+class Vehicle(ABC):
+    """What an agent flies; see the module docstring. ``time_scale`` is wall seconds per
+    vehicle second (the agent sets the mission's), used for how long a command may take."""
+
+    kind = "vehicle"
+    time_scale = 1.0
+
+    @abstractmethod
+    def describe(self) -> Info:
+        """``kind`` plus whatever identifies the vehicle (link, autopilot, type)."""
+
+    def fileno(self) -> int | None:
+        """A file descriptor to wake the agent's poll loop on telemetry (None: none)."""
+        return None
+
+    def heard(self) -> bool:
+        """Whether the vehicle has answered at all (its first heartbeat)."""
+        return True
+
+    @abstractmethod
+    def update(self, now: float) -> None:
+        """Read telemetry and advance the current command (``now``: ``time.monotonic()``)."""
+
+    @abstractmethod
+    def preflight(self, plan: FlightPlan) -> Task: ...
+
+    @abstractmethod
+    def arm(self) -> Task: ...
+
+    @abstractmethod
+    def takeoff(self, altitude: float) -> Task: ...
+
+    @abstractmethod
+    def goto(self, target: Position, speed: float) -> Task: ...
+
+    @abstractmethod
+    def job(self, seconds: float) -> Task: ...
+
+    @abstractmethod
+    def return_and_land(self) -> Task: ...
+
+    @abstractmethod
+    def position(self) -> Position | None: ...
+
+    @abstractmethod
+    def battery(self) -> float | None: ...
+
+    def fault(self) -> str | None:
+        return None
+
+    @abstractmethod
+    def airborne(self) -> bool: ...
+
+    def close(self) -> None:
+        return None
+
+
+class SimulatedVehicle(Vehicle):
+    """The virtual UAV: every command is done at once (the mission's computed times are its
+    flight), pre-arm checks always pass, the battery never drains (the thesis's assumption:
+    "an agent has no battery limit")."""
+
+    kind = "simulated"
+
+    def __init__(self) -> None:
+        self._pos = Position(0.0, 0.0, 0.0)
+        self._altitude = 0.0
+        self._flying = False
+
+    def describe(self) -> Info:
+        return {"kind": self.kind}
+
+    def update(self, now: float) -> None:
+        return None
+
+    def preflight(self, plan: FlightPlan) -> Task:
+        return Task("preflight").finish()
+
+    def arm(self) -> Task:
+        return Task("arm").finish()
+
+    def takeoff(self, altitude: float) -> Task:
+        self._flying = True
+        self._altitude = altitude
+        self._pos = Position(self._pos.north, self._pos.east, altitude)
+        return Task("takeoff").finish()
+
+    def goto(self, target: Position, speed: float) -> Task:
+        self._pos = target
+        return Task("goto").finish()
+
+    def job(self, seconds: float) -> Task:
+        return Task("job").finish()
+
+    def return_and_land(self) -> Task:
+        self._pos = Position(0.0, 0.0, 0.0)
+        self._flying = False
+        return Task("return_and_land", phase="landed").finish()
+
+    def position(self) -> Position:
+        return self._pos
+
+    def battery(self) -> float:
+        return 100.0
+
+    def airborne(self) -> bool:
+        return self._flying
+
+
+#: how ``--vehicle`` names a link, and what pymavlink calls it
+LINK_FORMS = (
+    ("udp:", "udpout:", "udp:HOST:PORT — the vehicle listens there (swarmex uav-emulator, "
+     "mavlink-router, MAVProxy --out udpin:...)"),
+    ("udpin:", "udpin:", "udpin:HOST:PORT — listen here; the vehicle sends to it "
+     "(MAVProxy --out udp:HOST:PORT)"),
+    ("tcp:", "tcp:", "tcp:HOST:PORT — a TCP MAVLink server (ArduPilot SITL's 5760)"),
+    ("serial:", "", "serial:DEVICE[:BAUD] — the flight controller's port (/dev/serial0:921600)"),
+)
+
+
+def parse_link(link: str) -> tuple[str, int]:
+    """``--vehicle``'s value as (pymavlink device, baud); :class:`InputError` if malformed."""
+    text = link.strip()
+    if text.startswith("/dev/"):
+        text = "serial:" + text
+    for prefix, device, _ in LINK_FORMS:
+        if not text.startswith(prefix):
+            continue
+        rest = text[len(prefix):]
+        if prefix == "serial:":
+            dev, _sep, baud = rest.partition(":")
+            if not dev or (baud and not baud.isdigit()):
+                break
+            return dev, int(baud) if baud else 921600
+        host, sep, port = rest.rpartition(":")
+        if not sep or not host or not port.isdigit() or not 0 <= int(port) <= 65535:
+            break
+        if int(port) == 0 and prefix != "udpin:":
+            break
+        return device + rest, 115200
+    forms = ", ".join(f[2].split(" ")[0] for f in LINK_FORMS)
+    raise InputError(f"--vehicle: expected one of {forms}; got {link!r}")
+
+
+__all__ = [
+    "DONE",
+    "FAILED",
+    "RUNNING",
+    "FlightPlan",
+    "Info",
+    "Position",
+    "Safety",
+    "SimulatedVehicle",
+    "Task",
+    "Vehicle",
+    "parse_link",
+]

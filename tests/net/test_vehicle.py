@@ -1,0 +1,197 @@
+"""Vehicles: the simulated one, the flight plan, and the MAVLink vehicle against the emulator.
+
+The emulator (``swarmex uav-emulator``'s :class:`Emulator`) runs on a thread in this process,
+bound to 127.0.0.1 on a free UDP port, with a bounded ``timeout`` and an emulated clock 50x
+the wall's; every wait below is bounded.
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+
+import numpy as np
+import pytest
+
+from swarmex.errors import InputError
+from swarmex.missions.traversal import uniform_agents
+from swarmex.net.agent import open_vehicle
+from swarmex.net.traversal import Mission
+from swarmex.net.vehicle import (
+    FlightPlan,
+    Position,
+    Safety,
+    SimulatedVehicle,
+    Task,
+    Vehicle,
+    parse_link,
+)
+from swarmex.worlds import GridWorld
+
+pytestmark = pytest.mark.timeout(60)
+
+SPEEDUP = 50.0
+
+
+def _mission(altitude: float = 0.0) -> Mission:
+    free = np.ones((3, 4), dtype=bool)  # 4 columns (x), 3 rows (y)
+    specs = uniform_agents([5, 0], 2.22, 10.0, altitude=altitude)  # agent 1's nest: (1, 1)
+    return Mission(GridWorld(free), specs, time_scale=1 / SPEEDUP)
+
+
+def test_simulated_vehicle_does_everything_at_once():
+    v = SimulatedVehicle()
+    plan = FlightPlan(_mission(), 1, Safety())
+    for task in (v.preflight(plan), v.arm(), v.takeoff(5.0), v.goto(plan.position(0), 3.0),
+                 v.job(10.0), v.return_and_land()):
+        assert isinstance(task, Task) and task.done and not task.failed
+    assert v.battery() == 100.0 and v.fault() is None and not v.airborne()
+    assert v.describe() == {"kind": "simulated"}
+    assert isinstance(open_vehicle(None), SimulatedVehicle)
+
+
+def test_flight_plan_puts_the_grid_around_home_north_up():
+    plan = FlightPlan(_mission(), 1, Safety(edge_length=10.0))
+    assert plan.position(5) == Position(0.0, 0.0, 5.0)  # home: the nest, min altitude 5 m
+    assert plan.position(6) == Position(0.0, 10.0, 5.0)  # one column right: east
+    assert plan.position(1) == Position(10.0, 0.0, 5.0)  # one row up: north
+    assert plan.position(11).north == -10.0 and plan.position(11).east == 20.0
+    assert plan.speed == pytest.approx(10.0 / 2.22)  # an edge per travel time
+    assert plan.farthest() == pytest.approx(np.hypot(10.0, 20.0))
+    assert plan.problems() == []
+    assert FlightPlan(_mission(altitude=12.0), 1, Safety()).altitude == 12.0
+    far = FlightPlan(_mission(altitude=150.0), 1, Safety(edge_length=400.0))
+    problems = far.problems()
+    assert any("above the 120 m limit" in p for p in problems)
+    assert any("beyond the 500 m limit" in p for p in problems)
+    capped = FlightPlan(_mission(), 1, Safety(edge_length=100.0))
+    assert capped.speed == 10.0 and any("capped" in n for n in capped.notes())
+
+
+def test_links_and_limits_are_checked():
+    assert parse_link("udp:127.0.0.1:14550") == ("udpout:127.0.0.1:14550", 115200)
+    assert parse_link("udpin:0.0.0.0:14550")[0] == "udpin:0.0.0.0:14550"
+    assert parse_link("tcp:127.0.0.1:5760")[0] == "tcp:127.0.0.1:5760"
+    assert parse_link("serial:/dev/serial0:57600") == ("/dev/serial0", 57600)
+    assert parse_link("/dev/ttyACM0") == ("/dev/ttyACM0", 921600)
+    for bad in ("udp:127.0.0.1", "udp:127.0.0.1:0", "com3", "tcp::5760", "serial:"):
+        with pytest.raises(InputError, match="--vehicle"):
+            parse_link(bad)
+    with pytest.raises(InputError, match="--min-battery"):
+        Safety(min_battery=70.0, arm_battery=60.0)
+    with pytest.raises(InputError, match="--edge-length"):
+        Safety(edge_length=0.0)
+
+
+# ---------------------------------------------------------------- MAVLink, against the emulator
+
+mavlink = pytest.importorskip("swarmex.net.mavlink")
+emulator = pytest.importorskip("swarmex.net.uav_emulator")
+
+
+class Emulated:
+    """An emulator on a thread and a MAVLink vehicle talking to it."""
+
+    def __init__(self, safety: Safety | None = None, **cfg: object) -> None:
+        config = emulator.EmulatorConfig(speedup=SPEEDUP, timeout=40.0, **cfg)
+        self.emu = emulator.Emulator("127.0.0.1", 0, config, say=lambda s: None)
+        self.thread = threading.Thread(target=self.emu.run, daemon=True)
+        self.thread.start()
+        self.safety = safety or Safety(link_timeout=1.0)
+        self.vehicle: Vehicle = open_vehicle(f"udp:127.0.0.1:{self.emu.port}", self.safety)
+        self.vehicle.time_scale = 1 / SPEEDUP
+        self.plan = FlightPlan(_mission(), 1, self.safety)
+
+    def run(self, task: Task, limit: float = 15.0) -> Task:
+        end = time.monotonic() + limit
+        while task.running:
+            assert time.monotonic() < end, f"{task.name} still running ({task.phase})"
+            self.vehicle.update(time.monotonic())
+            time.sleep(0.005)
+        return task
+
+    def close(self) -> None:
+        self.vehicle.close()
+        self.emu.cfg.timeout = 0.0  # the emulator's loop ends at its next turn
+        self.thread.join(5)
+
+
+@pytest.fixture
+def emulated():
+    made: list[Emulated] = []
+
+    def make(**kw: object) -> Emulated:
+        e = Emulated(**kw)  # type: ignore[arg-type]
+        made.append(e)
+        return e
+
+    yield make
+    for e in made:
+        e.close()
+
+
+def test_a_link_that_cannot_be_opened_is_one_clear_error():
+    with pytest.raises(InputError, match="--vehicle: cannot open serial:/dev/nonexistent"):
+        open_vehicle("serial:/dev/nonexistent-swarmex-port")
+
+
+def test_a_full_flight_over_mavlink(emulated):
+    e = emulated()
+    v, plan = e.vehicle, e.plan
+    assert e.run(v.preflight(plan)).done, v.preflight(plan).reason
+    info = v.describe()
+    assert info["kind"] == "mavlink" and info["autopilot"] == "ARDUPILOTMEGA"
+    assert info["type"] == "QUADROTOR" and v.battery() == 100.0
+    assert e.run(v.arm()).done and not v.airborne()
+    assert e.run(v.takeoff(plan.altitude)).done and v.airborne()
+    target = plan.position(11)  # two columns east, one row south: 22 m away
+    assert e.run(v.goto(target, plan.speed)).done
+    here = v.position()
+    assert here is not None and here.horizontal_distance(target) <= e.safety.arrive_radius
+    copter = e.emu.copter
+    t0 = copter.t
+    assert e.run(v.job(10.0)).done
+    assert copter.t - t0 >= 10.0  # the job's time runs on the vehicle's clock
+    task = v.return_and_land()
+    phases = []
+    end = time.monotonic() + 15.0
+    while task.running:
+        assert time.monotonic() < end, f"no landing ({task.phase})"
+        v.update(time.monotonic())
+        if not phases or phases[-1] != task.phase:
+            phases.append(task.phase)
+        time.sleep(0.005)
+    assert task.done and phases[-2:] == ["returning", "landing"], (phases, task.reason)
+    assert not copter.armed and copter.landed and abs(copter.n) < 1 and abs(copter.e) < 1
+    assert v.battery() < 100.0  # it flew: the battery drained
+
+
+def test_failed_prearm_checks_name_the_problem(emulated):
+    e = emulated(fail_prearm="Compass not calibrated")
+    task = e.run(e.vehicle.preflight(e.plan))
+    assert task.failed and "PreArm: Compass not calibrated" in task.reason
+    e2 = emulated(satellites=4)
+    task = e2.run(e2.vehicle.preflight(e2.plan))
+    assert task.failed and "GPS: no 3-D fix" in task.reason and "4 satellites" in task.reason
+    e3 = emulated(battery=40.0)
+    task = e3.run(e3.vehicle.preflight(e3.plan))
+    assert task.failed and "battery 40 %" in task.reason
+
+
+def test_a_lost_link_is_a_fault_and_a_taken_over_vehicle_is_left_alone(emulated):
+    e = emulated(drop_link_after=5.0)
+    v = e.vehicle
+    e.run(v.preflight(e.plan))
+    e.run(v.takeoff(e.plan.altitude))
+    task = e.run(v.goto(e.plan.position(11), 1.0), 20.0)  # slow: the link drops on the way
+    assert task.failed and "link lost" in task.reason and v.fault() is not None
+    assert e.emu.copter.mode == emulator.RTL  # the emulated autopilot's failsafe
+    e2 = emulated()
+    v2 = e2.vehicle
+    e2.run(v2.preflight(e2.plan))
+    e2.run(v2.takeoff(e2.plan.altitude))
+    task = v2.goto(e2.plan.position(11), 1.0)
+    e2.emu.copter.set_mode(emulator.LOITER)  # a pilot flips the mode switch
+    e2.run(task)
+    assert task.failed and "left GUIDED mode (now LOITER)" in task.reason
+    assert v2.fault() is None
