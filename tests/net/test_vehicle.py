@@ -195,3 +195,26 @@ def test_a_lost_link_is_a_fault_and_a_taken_over_vehicle_is_left_alone(emulated)
     e2.run(task)
     assert task.failed and "left GUIDED mode (now LOITER)" in task.reason
     assert v2.fault() is None
+
+
+def test_a_gps_grid_plan_flies_geodesic_offsets_from_the_nest():
+    """On a GPS grid (serve --center) nodes sit at their own latitude and longitude: a
+    neighbour is 2R/(K-1) metres away along the geodesic, north up, at the mission's speed."""
+    pytest.importorskip("pyproj", reason="GPS grids need the geo extra")
+    from swarmex.missions.registry import get
+    from swarmex.missions.traversal.mission import agent_specs
+    from swarmex.net.traversal import Mission
+
+    m = get("traversal")
+    p = m.params(agents=1, nests="4,4", center="43.268304,-79.911135", radius=50,
+                 nodes_on_edge=9, travel_time=2.5)
+    prep = m.prepare(p)
+    mission = Mission(prep.world, agent_specs(p, prep), "madgta", 0, 0.5, prep.unit_length,
+                      0.0, 0.01, "shared", True, 0.25, {})
+    plan = FlightPlan(mission, 1, Safety())
+    east = plan.position(prep.world.node(5, 4))
+    north = plan.position(prep.world.node(4, 3))
+    assert east.east == pytest.approx(12.5, abs=0.01) and abs(east.north) < 0.01
+    assert north.north == pytest.approx(12.5, abs=0.01) and abs(north.east) < 0.01
+    assert plan.speed == pytest.approx(12.5 / 2.5, rel=1e-3)  # 2.5 s per 12.5 m edge
+    assert plan.farthest() == pytest.approx(50 * 2**0.5, abs=0.05)  # the grid's corners

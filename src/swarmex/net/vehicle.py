@@ -155,14 +155,38 @@ class FlightPlan:
         # mission speeds are length units per second; a unit is one grid edge here
         self.wanted_speed = spec.travel_speed / mission.unit_length * self.edge
         self.speed = min(self.wanted_speed, safety.max_speed)
+        # a GPS grid (serve --center): nodes sit at their own latitude and longitude, and the
+        # plan's metres are geodesic offsets from the nest's (the vehicle's home must be at
+        # its nest); otherwise nodes sit in local metres around home, one edge apart
+        self.latlon = mission.latlon
+        self.geo = mission.latlon(self.home_node) is not None
+        if self.geo:  # mission speeds are metres per second on a GPS grid
+            self.wanted_speed = spec.travel_speed
+            self.speed = min(self.wanted_speed, safety.max_speed)
 
     def position(self, node: int) -> Position:
+        if self.geo:
+            north, east = self._geodesic_offset(node)
+            return Position(north, east, self.altitude)
         hx, hy = self.pos[self.home_node]
         x, y = self.pos[node]
         return Position(float((hy - y) * self.edge), float((x - hx) * self.edge), self.altitude)
 
+    def _geodesic_offset(self, node: int) -> tuple[float, float]:
+        """Metres north and east of the nest along the WGS84 geodesic (pyproj)."""
+        from pyproj import Geod
+
+        home, there = self.latlon(self.home_node), self.latlon(node)
+        assert home is not None and there is not None
+        azimuth, _, dist = Geod(ellps="WGS84").inv(home[1], home[0], there[1], there[0])
+        a = math.radians(azimuth)
+        return float(dist * math.cos(a)), float(dist * math.sin(a))
+
     def farthest(self) -> float:
         """Metres from home to the farthest free node."""
+        if self.geo:
+            nodes = np.flatnonzero(self.free)
+            return max((math.hypot(*self._geodesic_offset(int(v))) for v in nodes), default=0.0)
         d = (self.pos[self.free] - self.pos[self.home_node]) * self.edge
         return float(np.hypot(d[:, 0], d[:, 1]).max()) if d.size else 0.0
 
