@@ -391,3 +391,45 @@ def test_browser_draws_a_roadmap_world_and_says_messages_are_na(tmp_path):
     assert final["map"]["yUp"] is True
     assert 0.02 < painted < 0.2  # the square, not nothing and not the whole canvas
     assert final["messageMode"] == "none" and rate == "n/a"
+
+
+def test_browser_says_which_agents_fly_what_in_a_hybrid_mission():
+    """Issue 15: a hybrid mission's hello names each agent's vehicle, and a spare's join
+    names its own; the page shows them beside the agents."""
+    sync_api = pytest.importorskip(
+        "playwright.sync_api", reason="playwright is not installed (pip install playwright)"
+    )
+    if CHROMIUM is None:
+        pytest.skip("chromium is not installed (apt-get install chromium; .ci/run does it)")
+    hello = {"type": "hello", "schema": SCHEMA, "mission": "traversal", "source": "network",
+             "agents": [1, 2, 3], "time_unit": "s", "speed": None,
+             "vehicles": [{"id": 1, "kind": "mavlink"}, {"id": 2, "kind": "simulated"},
+                          {"id": 3, "kind": "simulated"}]}
+    feed = [hello, {"type": "move", "t": 0.0, "agent": 1, "x": 0, "y": 0},
+            {"type": "message", "t": 1.0, "agent": 2, "to": None, "kind": "left"},
+            {"type": "message", "t": 2.0, "agent": 2, "to": None, "kind": "join",
+             "vehicle": "mavlink"}]  # a MAVLink spare took id 2
+    with ServerThread(None, linger=5.0) as server, sync_api.sync_playwright() as pw:
+        browser = pw.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
+        try:
+            page = browser.new_page(viewport={"width": 1000, "height": 600})
+            errors: list[str] = []
+            page.on("pageerror", lambda e: errors.append(str(e)))
+            page.goto(f"http://127.0.0.1:{server.port}/", timeout=15000)
+            with connect(f"ws://127.0.0.1:{server.port}/ingest") as src:
+                src.send(json.dumps(feed))
+                page.wait_for_function(
+                    "() => monitorSnapshot().agents.length === 3"
+                    " && monitorSnapshot().agents[1].vehicle === 'mavlink'",
+                    timeout=15000,
+                )
+                page.wait_for_function(  # the agents' table is redrawn on the next frame
+                    "() => document.body.innerText.includes('mavlink')", timeout=15000
+                )
+            snap = page.evaluate("monitorSnapshot()")
+            text = page.inner_text("body")
+        finally:
+            browser.close()
+    assert not errors
+    assert [a["vehicle"] for a in snap["agents"]] == ["mavlink", "mavlink", "simulated"]
+    assert "mavlink" in text and "simulated" in text
