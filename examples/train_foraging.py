@@ -19,7 +19,8 @@ mask is still part of the observation. sb3-contrib's MaskablePPO is not used.
 Outputs in ``--out``: ``train_foraging.png`` (learning curve, baselines and random as
 horizontal bands) and ``train_foraging.json`` (the numbers).
 
-    PYTHONPATH=src python examples/train_foraging.py --timesteps 300000 --out runs/forage
+    PYTHONPATH=src python examples/train_foraging.py --out docs/img   # defaults: ~8 min, 1 core
+    PYTHONPATH=src python examples/train_foraging.py --timesteps 200000 --out /tmp/quick
 
 Needs the ``rl`` extra: ``pip install 'swarmex[rl]'``.
 """
