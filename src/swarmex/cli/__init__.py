@@ -30,7 +30,7 @@ from swarmex.errors import InputError
 try:  # recent Typer vendors Click as typer._click; older releases use Click itself
     from typer._click import exceptions as _cx
 except ImportError:  # pragma: no cover - depends on the installed Typer
-    from click import exceptions as _cx
+    from click import exceptions as _cx  # type: ignore[no-redef]
 
 _NO_ARGS = getattr(_cx, "NoArgsIsHelpError", getattr(_cx, "NoArgsIsHelp", ()))
 

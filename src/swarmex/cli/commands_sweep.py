@@ -15,6 +15,7 @@ from typing import Any
 import typer
 from rich.console import Console
 from rich.measure import Measurement
+from rich.progress import TaskID
 from rich.table import Table
 
 from swarmex.cli.app import app, console, err_console
@@ -70,7 +71,8 @@ def sweep(
     shapes = mission_shapes(spec.mission, spec_file)
     out_dir = out if out is not None else Path(f"{spec_file.stem}-sweep")
     progress = runs_progress("sweep", err_console, detail=True)
-    state = {"task": None, "failed": 0}
+    task: TaskID | None = None  # the bar, added once the sweep knows its total
+    failed = 0
 
     def on_start(total: int, finished: int) -> None:
         todo = total - finished
@@ -78,14 +80,17 @@ def sweep(
             f"sweep: {total} runs of swarmex {spec.command} ({finished} finished before,"
             f" {todo} to run) → {out_dir}"
         )
-        state["task"] = progress.add_task("", total=total, completed=finished)
+        nonlocal task
+        task = progress.add_task("", total=total, completed=finished)
         progress.start()  # its drawing thread starts only now, after the workers are forked
 
     def on_outcome(outcome: Any) -> None:
+        nonlocal failed
+        assert task is not None  # run_sweep calls on_start before any outcome
         if not outcome.ok:
-            state["failed"] += 1
-            progress.update(state["task"], description=f"({state['failed']} failed)")
-        progress.advance(state["task"])
+            failed += 1
+            progress.update(task, description=f"({failed} failed)")
+        progress.advance(task)
 
     # SIGTERM (a scheduler, `kill`) stops the sweep as cleanly as Ctrl-C: table written
     try:
@@ -106,7 +111,7 @@ def sweep(
                 on_outcome=on_outcome,
             )
         finally:
-            if state["task"] is not None:  # a bar never started would print a blank line
+            if task is not None:  # a bar never started would print a blank line
                 progress.stop()
     except KeyboardInterrupt:
         err_console.print(

@@ -80,7 +80,7 @@ class SweepSpec:
     def runs(self) -> list[RunSpec]:
         """Every run: the product of the axes in file order, seeds innermost."""
         names = list(self.axes)
-        out = []
+        out: list[RunSpec] = []
         for values in itertools.product(*self.axes.values()):
             params = dict(zip(names, values, strict=True)) | self.fixed
             for seed in self.seeds:

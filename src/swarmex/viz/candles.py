@@ -83,7 +83,7 @@ def candle_chart(
     shift = 0.2 if paired else 0.0
     width = 0.36 if paired else 0.5
     draw_candles(ax, ours, [x - shift for x in xs], width=width, label="swarmex (95 % CI)")
-    if paired:
+    if paired and theirs is not None:  # paired implies theirs is given
         pairs = [(x + shift, t) for x, t in zip(xs, theirs, strict=True) if t is not None]
         draw_candles(
             ax,

@@ -9,12 +9,14 @@ have ``y_down`` and are drawn with y pointing down, as the map looks.
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any, cast
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+from matplotlib.backends.backend_agg import FigureCanvasAgg  # noqa: E402
 from matplotlib.collections import LineCollection  # noqa: E402
 from matplotlib.colors import ListedColormap  # noqa: E402
 from matplotlib.patches import Polygon as MplPolygon  # noqa: E402
@@ -22,7 +24,11 @@ from matplotlib.patches import Polygon as MplPolygon  # noqa: E402
 from swarmex.missions.roadmap.sim import RoadmapRun  # noqa: E402
 from swarmex.viz.animation import check_suffix, write_animation  # noqa: E402
 
-PALETTE = plt.get_cmap("tab10").colors
+# tab10 is a ListedColormap whose colors are a tuple of ten RGB tuples
+PALETTE = cast(
+    "tuple[tuple[float, float, float], ...]",
+    cast(ListedColormap, plt.get_cmap("tab10")).colors,
+)
 
 
 def _edge_colors(run: RoadmapRun) -> list:
@@ -54,9 +60,9 @@ def _first_use(run: RoadmapRun) -> np.ndarray:
     for tr in run.trajectories:
         nodes = [pos_key.get(tuple(np.round(p[1:], 6)), -1) for p in tr]
         for j in range(1, len(tr)):
-            e = key.get((nodes[j - 1], nodes[j]))
-            if e is not None:
-                first[e] = min(first[e], int(tr[j][0]))
+            edge = key.get((nodes[j - 1], nodes[j]))
+            if edge is not None:
+                first[edge] = min(first[edge], int(tr[j][0]))
     return first
 
 
@@ -197,7 +203,7 @@ def animation_frames(run: RoadmapRun, frames: int = 60) -> list[np.ndarray]:
     n = run.roadmap.n_nodes
     sizes = np.unique(np.linspace(1, n, min(BUILD_FRAMES, n)).round().astype(int))
     times = np.unique(np.linspace(0, run.steps, min(frames, run.steps + 1)).round().astype(int))
-    panels = [
+    panels: list[dict[str, Any]] = [
         {"built": int(k), "title": f"{run.planner}: building the roadmap, {k}/{n} nodes"}
         for k in sizes
     ]
@@ -210,8 +216,9 @@ def animation_frames(run: RoadmapRun, frames: int = 60) -> list[np.ndarray]:
         for panel in panels:
             _clear(ax)
             draw(ax, run, **panel)
-            fig.canvas.draw()
-            images.append(np.asarray(fig.canvas.buffer_rgba())[..., :3].copy())
+            canvas = cast(FigureCanvasAgg, fig.canvas)  # the Agg backend, chosen above
+            canvas.draw()
+            images.append(np.asarray(canvas.buffer_rgba())[..., :3].copy())
     finally:
         plt.close(fig)
     return images

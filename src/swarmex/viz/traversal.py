@@ -24,8 +24,9 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from matplotlib.artist import Artist
 from matplotlib.backends.backend_agg import FigureCanvasAgg
-from matplotlib.collections import LineCollection
+from matplotlib.collections import LineCollection, PathCollection
 from matplotlib.colors import to_rgba
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
@@ -105,7 +106,7 @@ class _Canvas:
         side = 6.5
         size = side * span / span.max()
         self.fig = Figure(figsize=(max(size[0], 3.5) + 2.2, max(size[1], 3.5) + 0.6), dpi=dpi)
-        FigureCanvasAgg(self.fig)
+        self.canvas = FigureCanvasAgg(self.fig)  # also becomes self.fig.canvas
         self.ax = self.fig.add_axes((0.03, 0.04, 0.68, 0.88))
         self.ax.set_xlim(lo[0], hi[0])
         self.ax.set_ylim(hi[1], lo[1]) if self.is_grid else self.ax.set_ylim(lo[1], hi[1])
@@ -145,16 +146,24 @@ class _Canvas:
                 extent=(-0.5, world.width - 0.5, world.height - 0.5, -0.5),
             )
         elif blocked.any():
-            ax.scatter(
-                *g.pos[blocked].T, marker="s", s=(0.5 * self.unit_pts) ** 2, c="black", zorder=1
-            )
+            bx, by = g.pos[blocked].T
+            ax.scatter(bx, by, marker="s", s=(0.5 * self.unit_pts) ** 2, c="black", zorder=1)
         if self.small or not self.is_grid:
             src = np.repeat(np.arange(g.n_nodes), np.diff(g.indptr))
             keep = (src < g.indices) & ~blocked[src] & ~blocked[g.indices]
             segs = np.stack([g.pos[src[keep]], g.pos[g.indices[keep]]], axis=1)
-            ax.add_collection(LineCollection(segs, colors="0.82", linewidths=0.6, zorder=1))
+            # an (N, 2, 2) array of segments works; the stub asks for a Sequence
+            lines = LineCollection(
+                segs,  # type: ignore[arg-type]
+                colors="0.82",
+                linewidths=0.6,
+                zorder=1,
+            )
+            ax.add_collection(lines)
+            fx, fy = g.pos[~blocked].T
             ax.scatter(
-                *g.pos[~blocked].T,
+                fx,
+                fy,
                 s=float(np.clip((0.1 * self.unit_pts) ** 2, 1.0, 25.0)),
                 c="0.55",
                 linewidths=0,
@@ -177,7 +186,7 @@ class _Canvas:
         return float(max(4.0, (0.55 * self.unit_pts) ** 2))
 
     def legend(self) -> None:
-        handles = []
+        handles: list[Artist] = []
         for i, a in enumerate(self.agents):
             handles.append(
                 Line2D([], [], color=a.color, lw=2, label=f"agent {i + 1} ({len(a.jobs)} jobs)")
@@ -226,8 +235,10 @@ class _Canvas:
                 owners.setdefault((a.traj[0, 1], a.traj[0, 2]), []).append(a.color)
         if owners:
             colors = [c[0] if len(c) == 1 else "white" for c in owners.values()]
+            nx, ny = np.array(list(owners)).T
             self.ax.scatter(
-                *np.array(list(owners)).T,
+                nx,
+                ny,
                 marker="*",
                 c=colors,
                 s=float(np.clip(self.job_size(), 60.0, 500.0)),
@@ -363,7 +374,7 @@ def traversal_gif(
     # only the clock changes between frames: few glyphs to rasterise per frame
     clock = cv.fig.text(0.73, 0.05, "", fontsize=10, family="monospace", animated=True)
     layer = _VectorLayer(cv) if cv.small or not cv.is_grid else _RasterLayer(cv)
-    canvas = cv.fig.canvas
+    canvas = cv.canvas
     canvas.draw()
     background = canvas.copy_from_bbox(cv.fig.bbox)
 
@@ -390,7 +401,9 @@ class _VectorLayer:
 
     def __init__(self, cv: _Canvas) -> None:
         self.cv = cv
-        self.lines, self.heads, self.rings = [], [], []
+        self.lines: list[tuple[Line2D, float]] = []
+        self.heads: list[PathCollection] = []
+        self.rings: list[PathCollection] = []
         for a, off in zip(cv.agents, cv.offsets(), strict=True):
             (line,) = cv.ax.plot([], [], color=a.color, lw=cv.line_width(), zorder=4)
             self.lines.append((line, off))
@@ -416,7 +429,7 @@ class _VectorLayer:
                     zorder=7,
                 )
             )
-        self.artists = [ln for ln, _ in self.lines] + self.rings + self.heads
+        self.artists: list[Artist] = [*(ln for ln, _ in self.lines), *self.rings, *self.heads]
         for artist in self.artists:
             artist.set_animated(True)
 
@@ -429,7 +442,7 @@ class _VectorLayer:
             self.rings[i].set_offsets(a.jobs[a.jobs[:, 0] <= t, 1:])
         for artist in self.artists:
             self.cv.ax.draw_artist(artist)
-        return np.asarray(self.cv.fig.canvas.buffer_rgba())[..., :3]
+        return np.asarray(self.cv.canvas.buffer_rgba())[..., :3]
 
 
 class _RasterLayer:
@@ -466,7 +479,7 @@ class _RasterLayer:
         if self.geometry is None:
             self.geometry = self._layout()
         (r0, r1, c0, c1), when, color, to_px, height, half = self.geometry
-        frame = np.asarray(self.cv.fig.canvas.buffer_rgba())[..., :3].copy()
+        frame = np.asarray(self.cv.canvas.buffer_rgba())[..., :3].copy()
         region = frame[r0:r1, c0:c1]
         done = when <= t
         blend = region[done] * (1 - self.ALPHA) + color[done] * self.ALPHA
@@ -494,7 +507,9 @@ def _palette(rgb: np.ndarray) -> tuple[bytes, np.ndarray]:
     pal_img = Image.fromarray(np.ascontiguousarray(rgb)).quantize(
         colors=256, dither=Image.Dither.NONE
     )
-    pal = np.array(pal_img.getpalette()[: 3 * 256], dtype=np.int32).reshape(-1, 3)
+    palette = pal_img.getpalette()
+    assert palette is not None  # quantize() returns a "P" image, which has a palette
+    pal = np.array(palette[: 3 * 256], dtype=np.int32).reshape(-1, 3)
     cube = (np.indices((32, 32, 32)).reshape(3, -1).T * 8 + 4).astype(np.int32)
     lut = np.empty(cube.shape[0], dtype=np.uint8)
     for lo in range(0, cube.shape[0], 2048):  # chunks keep the distance matrix small

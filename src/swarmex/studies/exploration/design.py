@@ -185,7 +185,7 @@ def strategy_jobs(scenarios, runs: int) -> list[dict[str, Any]]:
 
 def picture_jobs(d: Design) -> list[dict[str, Any]]:
     world = {"empty": d.world_m, "cell": d.cell}
-    jobs = [
+    jobs: list[dict[str, Any]] = [
         {
             "kind": "fig4_2",
             "world": world,

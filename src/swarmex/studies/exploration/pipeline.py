@@ -86,7 +86,7 @@ def reproduce(
     wanted = sorted({min(THESIS_SNAPSHOT_STEPS[0], round(0.15 * end)), round(0.45 * end),
                      round(0.85 * end), end})
     snaps = [
-        min(p["snaps"] + [p["final"]], key=lambda s, w=w: (abs(s.t - w), -s.t)) for w in wanted
+        min(p["snaps"] + [p["final"]], key=lambda s: (abs(s.t - w), -s.t)) for w in wanted
     ]
     caps = [f"step {s.t}" for s in snaps[:-1]] + [f"finished, step {end}"]
     figures.append(

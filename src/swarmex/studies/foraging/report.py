@@ -155,9 +155,9 @@ def winners(table, ref, col: str) -> list[str]:
             if not t or not o:
                 continue
             lines.append(
-                f"| {LABEL[band]} | {n} | {min(t, key=t.get)} {min(t.values()):.0f} | "
-                f"{min(o, key=o.get)} {min(o.values()):.0f} | "
-                f"{min(o2, key=o2.get)} {min(o2.values()):.0f} |"
+                f"| {LABEL[band]} | {n} | {min(t, key=t.__getitem__)} {min(t.values()):.0f} | "
+                f"{min(o, key=o.__getitem__)} {min(o.values()):.0f} | "
+                f"{min(o2, key=o2.__getitem__)} {min(o2.values()):.0f} |"
             )
     return lines
 
@@ -180,7 +180,7 @@ def ours_section(table, name: str) -> list[str]:
                 for p in THESIS_PATTERNS
                 if (band, p, n, RF) in table
             }
-            best = min(others, key=others.get)
+            best = min(others, key=others.__getitem__)
             gain = 100 * (others[best] - r["total"]) / others[best]
             rows += 1
             wins += gain > 0
@@ -249,7 +249,7 @@ def findings(table, ref) -> list[str]:
                     for p in THESIS_PATTERNS
                     if v(band, p, n, "communication", src) is not None
                 }
-                ok &= min(vals, key=vals.get) == "strips"
+                ok &= min(vals, key=vals.__getitem__) == "strips"
         return ok
 
     claims = [

@@ -29,8 +29,9 @@ def table1(results: list[dict[str, Any]], ref: list[dict[str, str]],
            exp: str = "t1") -> list[dict[str, Any]]:
     rows = []
     for row in ref:
-        key = {"exp": exp, "nodes": int(row["nodes"]), "step": float(row["step"]),
-               "mult": row["sensor_range"]}
+        key: dict[str, Any] = {"exp": exp, "nodes": int(row["nodes"]),
+                               "step": float(row["step"]),
+                               "mult": row["sensor_range"]}
         cell = {}
         for planner in ("wma-rrt", "prm"):
             runs = pick(results, planner=planner, **key)
@@ -52,8 +53,9 @@ def table2(results: list[dict[str, Any]], ref: list[dict[str, str]],
            exp: str = "t2") -> list[dict[str, Any]]:
     rows = []
     for row in ref:
-        key = {"exp": exp, "nodes": int(row["nodes"]), "step": float(row["step"]),
-               "mult": row["sensor_range"]}
+        key: dict[str, Any] = {"exp": exp, "nodes": int(row["nodes"]),
+                               "step": float(row["step"]),
+                               "mult": row["sensor_range"]}
         out: dict[str, Any] = {"nodes": key["nodes"], "step": int(key["step"]),
                                "sensor": row["sensor_range"],
                                "paper_wma": float(row["wma_rrt_success_pct"]),
@@ -91,7 +93,8 @@ def gain_summary(rows: list[dict[str, Any]]) -> dict[str, float]:
 
 
 def improvement(results: list[dict[str, Any]]) -> tuple[list[dict[str, Any]], list[dict]]:
-    cov, srch = [], []
+    cov: list[dict[str, Any]] = []
+    srch: list[dict[str, Any]] = []
     for exp, target in (("t1", cov), ("t2", srch)):
         configs = sorted({(r["nodes"], r["step"]) for r in results if r["exp"] == exp},
                          key=lambda c: (c[1], c[0]))

@@ -131,7 +131,7 @@ def plan(quick: bool) -> list[Job]:
         for row in reference(table):
             nodes, step, runs = int(row["nodes"]), float(row["step"]), int(row["runs"])
             runs = 1 if quick else runs
-            planners = PLANNERS
+            planners: tuple[str, ...] = PLANNERS
             if quick and row["sensor_range"] != "r":
                 planners = PLANNERS[:2]  # the improvement is compared on the r rows only
             for planner in planners:

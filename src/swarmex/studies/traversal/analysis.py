@@ -117,9 +117,9 @@ def analyse_groups(groups: Sequence[Group], runs: dict[str, dict]) -> list[Group
 
 
 def analyse_figures(plan: Plan, runs: dict[str, dict]) -> list[FigureResult]:
-    out = []
+    out: list[FigureResult] = []
     for f in plan.figures:
-        bars = []
+        bars: list[BarResult] = []
         for b in f.bars:
             rs = runs_for(runs, b.config.key, b.reps)
             s = summarize([per_run(r, f.metric) for r in rs], z=Z95) if rs else None
@@ -128,8 +128,8 @@ def analyse_figures(plan: Plan, runs: dict[str, dict]) -> list[FigureResult]:
         labels = [b.label for b in bars]
         for st in f.stated:
             if st.bar is None:
-                for b in bars:
-                    fr.stated_rows.append((st.text, b.label, st.value, b.summary))
+                for br in bars:
+                    fr.stated_rows.append((st.text, br.label, st.value, br.summary))
             elif st.bar in labels:
                 summary = bars[labels.index(st.bar)].summary
                 fr.stated_rows.append((st.text, st.bar, st.value, summary))

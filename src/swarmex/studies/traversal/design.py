@@ -238,7 +238,11 @@ def reference_rows() -> list[ReferenceRow]:
             ReferenceRow(
                 r["nest_nodes"],
                 r["metric"],
-                *(float(r[c]) for c in ("min", "max", "median", "mean", "std")),
+                float(r["min"]),
+                float(r["max"]),
+                float(r["median"]),
+                float(r["mean"]),
+                float(r["std"]),
                 float(r["ci_low"]),
                 float(r["ci_high"]),
             )

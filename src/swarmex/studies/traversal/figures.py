@@ -108,10 +108,11 @@ def draw_figures(groups: list[GroupResult], figs: list[FigureResult], out: Path)
     group_fig("5.2", [("8", 8), ("15 = 22", 15)], "6×6, 40×40 m, 3 agents, nest in the middle")
     for fr in figs:
         f = fr.spec
-        present = [b for b in fr.bars if b.summary]
+        present = [(b.label, b.summary) for b in fr.bars if b.summary]
         if not present:
             continue
-        labels = [b.label for b in present]
+        labels = [label for label, _ in present]
+        summaries = [summary for _, summary in present]
         refs = []
         for st in f.stated:
             if st.bar is None:
@@ -123,12 +124,12 @@ def draw_figures(groups: list[GroupResult], figs: list[FigureResult], out: Path)
             candle_chart(
                 out / f"fig_{f.number.replace('.', '_')}.png",
                 labels,
-                [b.summary for b in present],
+                summaries,
                 f"Fig. {f.number}: {f.title}",
                 f.xlabel,
                 ylabel,
                 references=refs,
-                note=_n_note([b.summary.n for b in present]),
+                note=_n_note([s.n for s in summaries]),
             )
         )
     t_max = fleet_t_max(figs)

@@ -176,10 +176,10 @@ def render_report(
         ]
         L += _group_table(g)
         for name in THESIS_METRIC:
-            t, o = g.thesis.get(name), g.ours.get(name)
-            if t and o:
+            t_row, o_sum = g.thesis.get(name), g.ours.get(name)
+            if t_row and o_sum:
                 total_rows += 1
-                overlap_count += intervals_overlap((t.ci_low, t.ci_high), o.ci)
+                overlap_count += intervals_overlap((t_row.ci_low, t_row.ci_high), o_sum.ci)
         L.append("")
     L += [
         f"Overall, {overlap_count} of {total_rows} rows have overlapping 95 % intervals.",
@@ -227,11 +227,11 @@ def render_report(
         if not g.runs:
             continue
         n = len(g.runs)
-        t = g.thesis
+        th = g.thesis
         L.append(
             f"| {g.group.name} | {n} | {g.optimal_hits} ({100 * g.optimal_hits / n:.1f} %) "
             f"| {g.madgta_floor_hits} ({100 * g.madgta_floor_hits / n:.1f} %) "
-            f"| {t['totalTimeAll'].min:.2f} / {t['numNodesWoJAll'].min:.0f} |"
+            f"| {th['totalTimeAll'].min:.2f} / {th['numNodesWoJAll'].min:.0f} |"
         )
     hits = sum(g.optimal_hits for g in groups)
     floor = sum(g.madgta_floor_hits for g in groups)
@@ -256,11 +256,11 @@ def render_report(
     for number, nodes in (("5.1", (1, 2, 3)), ("5.2", (8, 15))):
         rows = []
         for k in nodes:
-            g = next((g for cfg, g in names.items() if k in cfg), None)
-            if g and g.ours:
-                t, o = g.thesis["totalTimeAll"], g.ours["totalTimeAll"]
+            grp = next((g for cfg, g in names.items() if k in cfg), None)
+            if grp and grp.ours:
+                t, o = grp.thesis["totalTimeAll"], grp.ours["totalTimeAll"]
                 rows.append(
-                    f"| {k} ({g.group.name}) | {_ci(t.ci_low, t.ci_high)} | "
+                    f"| {k} ({grp.group.name}) | {_ci(t.ci_low, t.ci_high)} | "
                     f"{_ci(o.ci_low, o.ci_high)} | {t.min:.2f}–{t.max:.2f} | "
                     f"{o.min:.2f}–{o.max:.2f} |"
                 )
@@ -321,7 +321,7 @@ def _sessions_text(sessions: list[dict[str, Any]]) -> str:
         return ""
     executed = sum(int(x.get("runs_executed", 0)) for x in sessions)
     elapsed = sum(float(x.get("elapsed_s", 0.0)) for x in sessions)
-    workers = sorted({x.get("workers") for x in sessions if x.get("workers")})
+    workers = sorted({x["workers"] for x in sessions if x.get("workers")})
     return (
         f"The runs were executed in {len(sessions)} session(s), {executed} runs in "
         f"{elapsed:.0f} s of wall time on {'/'.join(map(str, workers))} worker(s) "

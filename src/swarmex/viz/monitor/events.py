@@ -217,7 +217,9 @@ def foraging_messages(record: dict) -> list[dict[str, Any]]:
             step = found[-1]
         return int(step[1]), int(step[2])
 
-    informed = {a["id"]: (a.get("metrics") or {}).get("informed_at") for a in agents}
+    informed: dict[Any, Any] = {
+        a["id"]: (a.get("metrics") or {}).get("informed_at") for a in agents
+    }
     out = []
     for a in sorted(
         agents, key=lambda a: informed[a["id"]] if informed[a["id"]] is not None else 0

@@ -158,11 +158,11 @@ class MonitorServer:
             ws_ping_interval=None,
         )
         self._server = uvicorn.Server(config)
-        tasks: list[asyncio.Task] = [asyncio.create_task(self._close_on_exit())]
+        tasks: list[asyncio.Task] = [asyncio.create_task(self._close_on_exit(self.hub))]
         if producer is not None:
             tasks.append(asyncio.create_task(_guard(producer(self.hub))))
         if linger is not None:
-            tasks.append(asyncio.create_task(self._stop_after_end(linger)))
+            tasks.append(asyncio.create_task(self._stop_after_end(self.hub, linger)))
         if on_ready is not None:
             tasks.append(asyncio.create_task(self._ready(on_ready)))
         try:
@@ -177,17 +177,17 @@ class MonitorServer:
             await asyncio.sleep(0.01)
         callback(self)
 
-    async def _close_on_exit(self) -> None:
+    async def _close_on_exit(self, hub: EventHub) -> None:
         """When uvicorn is asked to stop (Ctrl-C, SIGTERM), end the viewers' streams too.
 
         Otherwise their handlers wait for events forever and shutdown hangs until its timeout.
         """
         while not self._server.should_exit:
             await asyncio.sleep(0.1)
-        self.hub.close()
+        hub.close()
 
-    async def _stop_after_end(self, linger: float) -> None:
-        await self.hub.ended.wait()
+    async def _stop_after_end(self, hub: EventHub, linger: float) -> None:
+        await hub.ended.wait()
         await asyncio.sleep(linger)
         self.stop_now()
 
