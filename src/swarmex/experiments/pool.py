@@ -171,17 +171,36 @@ def run_local(
         while queue or suspects or flying:
             careful = suspects or any(s.index in attempts for c in flying.values() for s in c)
             while len(flying) < (1 if careful else window) and (suspects or queue):
-                if suspects:
+                from_suspects = bool(suspects)
+                if from_suspects:
                     chunk = [suspects.popleft()]
                 else:
                     per_job = timed[0] / timed[1] if timed[1] else None
                     size = chunk_size(per_job, len(queue), workers)
                     chunk = [queue.popleft() for _ in range(min(size, len(queue)))]
-                with _quiet_fork():  # the first submit forks the workers
-                    flying[pool.submit(run_chunk, call, [s.job for s in chunk])] = chunk
+                try:
+                    with _quiet_fork():  # the first submit forks the workers
+                        flying[pool.submit(run_chunk, call, [s.job for s in chunk])] = chunk
+                except BrokenProcessPool:
+                    # a worker died while we were handing out work: the chunk was never
+                    # sent, so it goes back where it came from; the futures in flight
+                    # report the break below (or, with none in flight, a new pool starts)
+                    (suspects if from_suspects else queue).extendleft(reversed(chunk))
+                    if not flying:
+                        breaks += 1
+                        if breaks >= MAX_BREAKS:
+                            raise WorkersDied(
+                                f"the worker processes died {breaks} times in a row before"
+                                " a run was handed to them"
+                            ) from None
+                        pool.shutdown(wait=False, cancel_futures=True)
+                        pool = _pool(workers, preload)
+                    break
             if ready is not None:
                 ready()  # the workers are forked by now
                 ready = None
+            if not flying:
+                continue
             done, _ = wait(list(flying), return_when=FIRST_COMPLETED)
             lost: list[_Slot[J]] = []
             for fut in done:
