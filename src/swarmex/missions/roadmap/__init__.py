@@ -7,10 +7,10 @@ Modules: :mod:`.blackboard` (the shared roadmap arrays), :mod:`.wma_policy` and
 :mod:`.mission` (the mission behind the contract: ``swarmex.run("roadmap", ...)``).
 """
 
-# Exports load on first use (PEP 562), so that importing one module of this package (its
-# Params, for the command line's options) does not import the simulator and its kernels.
-from importlib import import_module as _import_module
+# exports load on first use (swarmex._lazy: the Params import without the simulator)
 from typing import Any as _Any
+
+from swarmex._lazy import lazy_attribute as _lazy_attribute
 
 _EXPORTS = {
     "COMPLETE": "blackboard",
@@ -28,6 +28,4 @@ __all__ = sorted(_EXPORTS)
 
 
 def __getattr__(name: str) -> _Any:
-    if name in _EXPORTS:
-        return getattr(_import_module(f"{__name__}.{_EXPORTS[name]}"), name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    return _lazy_attribute(__name__, _EXPORTS, name)
