@@ -57,12 +57,15 @@ def reproduce_foraging(
         False, "--quick", help="One food cell per band: a smoke test, well under a minute."
     ),
     workers: int = typer.Option(2, "--workers", help="Worker processes."),
-    seed: int = typer.Option(2015, "--seed", help="Seed of the food positions."),
+    seed: int | None = typer.Option(
+        None, "--seed", help="Seed of the food positions (default: the study's, 2015)."
+    ),
 ) -> None:
     """Regenerate Figs. 56–79 of seed 002 (128×128 grid) beside the thesis's numbers."""
     from swarmex.studies.foraging import reproduce
 
     if workers < 1:
         raise InputError(f"--workers must be at least 1 (got {workers})")
-    report = reproduce(out, quick=quick, workers=workers, seed=seed)
+    chosen = {} if seed is None else {"seed": seed}  # the study owns its default seed
+    report = reproduce(out, quick=quick, workers=workers, **chosen)
     console.print(f"report → {report}")
