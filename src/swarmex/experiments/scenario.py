@@ -132,6 +132,14 @@ def _text(value: Any) -> str:
     return str(value)
 
 
+def _unknown_option(scenario: Scenario, name: str, shapes: dict[str, OptionShape]) -> InputError:
+    """The error for a scenario key its mission command does not have (lists the known ones)."""
+    known = ", ".join(sorted(shapes))
+    return InputError(
+        f"{scenario.path}: swarmex {scenario.command} has no option --{name} (it has: {known})"
+    )
+
+
 def scenario_argv(scenario: Scenario, shapes: dict[str, OptionShape]) -> list[str]:
     """The argv (without the command name) that runs ``scenario``'s mission command.
 
@@ -142,11 +150,7 @@ def scenario_argv(scenario: Scenario, shapes: dict[str, OptionShape]) -> list[st
     for name, value in scenario.options.items():
         shape = shapes.get(name)
         if shape is None:
-            known = ", ".join(sorted(shapes))
-            raise InputError(
-                f"{scenario.path}: swarmex {scenario.command} has no option --{name}"
-                f" (it has: {known})"
-            )
+            raise _unknown_option(scenario, name, shapes)
         if shape.is_flag:
             if not isinstance(value, bool):
                 raise InputError(f"{scenario.path}: {name} must be true or false")
@@ -190,11 +194,7 @@ def scenario_values(scenario: Scenario, shapes: dict[str, OptionShape]) -> dict[
     for name, value in scenario.options.items():
         shape = shapes.get(name)
         if shape is None:
-            known = ", ".join(sorted(shapes))
-            raise InputError(
-                f"{scenario.path}: swarmex {scenario.command} has no option --{name}"
-                f" (it has: {known})"
-            )
+            raise _unknown_option(scenario, name, shapes)
         if shape.is_path and isinstance(value, str):
             value = resolve_path(scenario.path.parent, value)
         values[name.replace("-", "_")] = value

@@ -516,11 +516,18 @@ def run_mission(
     else:
         positions = np.empty((0, plan.n, 2), dtype=np.int32)
     finders = [a for a in range(plan.n) if m.informed_at[a] == t0 and start[a] == food]
+    return _outcome(m, positions, t0, finders, units)
+
+
+def _outcome(
+    m: Mission, positions: np.ndarray, discovery: int | None, finders: list[int], units: int
+) -> Outcome:
+    """The Outcome of a finished Mission ``m`` (positions, discovery and finders given)."""
     return Outcome(
         positions=positions,
         jobs=m.jobs,
         handovers=m.handovers,
-        discovery=t0,
+        discovery=discovery,
         finders=finders,
         informed_at=m.informed_at,
         comm_done=m.comm_done,
@@ -555,19 +562,8 @@ def _decided_run(
         and m.informed_at[a] == discovery
         and tuple(history[discovery, a]) == food
     ]
-    return Outcome(
-        positions=history if record else np.empty((0, plan.n, 2), dtype=np.int32),
-        jobs=m.jobs,
-        handovers=m.handovers,
-        discovery=discovery,
-        finders=finders,
-        informed_at=m.informed_at,
-        comm_done=m.comm_done,
-        makespan=m.t,
-        delivered=m.delivered,
-        complete=m.delivered >= units,
-        extra={"stopped": True} if m.stopped else {},
-    )
+    positions = history if record else np.empty((0, plan.n, 2), dtype=np.int32)
+    return _outcome(m, positions, discovery, finders, units)
 
 
 def _timetable_frames(timed: Timed, t0: int, units: int, on_frame: FrameSink) -> int | None:
