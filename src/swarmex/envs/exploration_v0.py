@@ -77,7 +77,7 @@ from pettingzoo import AECEnv, ParallelEnv
 from pettingzoo.utils.conversions import parallel_to_aec
 
 from swarmex.envs.broker import DecisionBroker
-from swarmex.errors import InputError
+from swarmex.envs.common import BrokerEpisodeMixin, check_modes, plain_int
 from swarmex.missions.exploration.params import TICK_SECONDS, ExplorationParams
 from swarmex.missions.registry import get as get_mission
 
@@ -122,7 +122,7 @@ class _Live:
     run: ExplorationRun | None = None
 
 
-class ExplorationEnv(ParallelEnv[str, dict[str, np.ndarray], int]):
+class ExplorationEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray], int]):
     """The native Parallel environment (``raw_env``); see the module docstring."""
 
     metadata: dict[str, Any] = {  # PettingZoo reads it from the class
@@ -132,22 +132,15 @@ class ExplorationEnv(ParallelEnv[str, dict[str, np.ndarray], int]):
         "render_fps": 10,
     }
 
+    _TRANSIENT = ("_broker", "_live", "_pending", "_finalizer", "_result")
+
     def __init__(
         self,
         render_mode: str | None = None,
         invalid_action: str = "raise",
         **params: Any,
     ) -> None:
-        if render_mode is not None and render_mode not in RENDER_MODES:
-            raise InputError(
-                f"render_mode must be one of {', '.join(RENDER_MODES)} or None, "
-                f"got {render_mode!r}"
-            )
-        if invalid_action not in INVALID_ACTION_MODES:
-            raise InputError(
-                f"invalid_action must be one of {', '.join(INVALID_ACTION_MODES)}, "
-                f"got {invalid_action!r}"
-            )
+        check_modes(render_mode, invalid_action, RENDER_MODES, INVALID_ACTION_MODES)
         mission = get_mission("exploration")
         self.params: ExplorationParams = mission.params(params)
         self.world: ExplorationWorld = mission.prepare(self.params)
@@ -193,22 +186,12 @@ class ExplorationEnv(ParallelEnv[str, dict[str, np.ndarray], int]):
             }
         )
 
-    def observation_space(self, agent: str) -> spaces.Space[Any]:
-        return self._obs_spaces[agent]
-
-    def action_space(self, agent: str) -> spaces.Space[Any]:
-        return self._act_spaces[agent]
-
     # ------------------------------------------------------------------ episode
     def reset(
         self, seed: int | None = None, options: dict[str, Any] | None = None
     ) -> tuple[dict[str, dict[str, np.ndarray]], dict[str, dict[str, Any]]]:
         """Start a new run (``options`` is accepted and ignored)."""
-        self.close()
-        if seed is not None:
-            self._next_seed = int(seed)
-        self._clear()
-        self._next_seed = self._seed + 1
+        self._begin_reset(seed)
         params = replace(self.params, starts=self.world.starts, seed=self._seed)
         grid = self.world.grid
         live = self._live
@@ -318,9 +301,7 @@ class ExplorationEnv(ParallelEnv[str, dict[str, np.ndarray], int]):
         return chosen % w, chosen // w
 
     def _as_action(self, agent: str, raw: Any) -> int:
-        value = raw.item() if isinstance(raw, np.ndarray) and raw.size == 1 else raw
-        if isinstance(value, np.integer):
-            value = int(value)
+        value = plain_int(raw)
         if isinstance(value, bool) or not isinstance(value, int) or not (
             0 <= value <= self.noop
         ):
@@ -439,24 +420,6 @@ class ExplorationEnv(ParallelEnv[str, dict[str, np.ndarray], int]):
         scale = max(1, 240 // max(h, w))
         return rgb_frame(snapshot(self._t, run), run.trajectories, run.grid.free, scale)
 
-    def close(self) -> None:
-        """Abandon a run in progress (its worker thread ends)."""
-        if self._finalizer is not None:
-            self._finalizer()  # closes the broker once
-            self._finalizer = None
-
-    def __getstate__(self) -> dict[str, Any]:
-        """Picklable before or between episodes (SuperSuit copies envs with cloudpickle):
-        the run in progress, if any, is not part of the state."""
-        state = self.__dict__.copy()
-        for key in ("_broker", "_live", "_pending", "_finalizer", "_result"):
-            state.pop(key, None)
-        state["agents"] = []
-        return state
-
-    def __setstate__(self, state: dict[str, Any]) -> None:
-        self.__dict__.update(state)
-        self._clear()
 
 
 raw_env = ExplorationEnv

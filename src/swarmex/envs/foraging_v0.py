@@ -64,7 +64,6 @@ next integers (one new episode per reset).
 
 from __future__ import annotations
 
-import math
 import weakref
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, replace
@@ -76,6 +75,7 @@ from pettingzoo import AECEnv, ParallelEnv
 from pettingzoo.utils.conversions import parallel_to_aec
 
 from swarmex.envs.broker import Ask, DecisionBroker
+from swarmex.envs.common import BrokerEpisodeMixin, check_finite, check_modes, plain_int
 from swarmex.errors import InputError
 from swarmex.missions.foraging.sim import COMM, FOLLOW, TRANSPORT
 from swarmex.missions.registry import get as get_mission
@@ -175,7 +175,7 @@ def _cap(frame: Frame, limit: int) -> None:
         raise StopRun
 
 
-class ForagingEnv(ParallelEnv[str, dict[str, np.ndarray], int]):
+class ForagingEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray], int]):
     """The native Parallel environment (``raw_env``); see the module docstring.
 
     Keyword arguments: the mission's parameters (the names and checks of
@@ -192,6 +192,11 @@ class ForagingEnv(ParallelEnv[str, dict[str, np.ndarray], int]):
         "render_fps": 10,
     }
 
+    _TRANSIENT = (
+        "_broker", "_live", "_pending", "_mask", "_finalizer", "_result", "_record",
+        "_run_params", "_world",
+    )  # fmt: skip
+
     def __init__(
         self,
         render_mode: str | None = None,
@@ -202,27 +207,12 @@ class ForagingEnv(ParallelEnv[str, dict[str, np.ndarray], int]):
         completion_bonus: float = 10.0,
         **params: Any,
     ) -> None:
-        if render_mode is not None and render_mode not in RENDER_MODES:
-            raise InputError(
-                f"render_mode must be one of {', '.join(RENDER_MODES)} or None, "
-                f"got {render_mode!r}"
-            )
-        if invalid_action not in INVALID_ACTION_MODES:
-            raise InputError(
-                f"invalid_action must be one of {', '.join(INVALID_ACTION_MODES)}, "
-                f"got {invalid_action!r}"
-            )
-        for name, value in (
+        check_modes(render_mode, invalid_action, RENDER_MODES, INVALID_ACTION_MODES)
+        check_finite(
             ("delivery_reward", delivery_reward),
             ("time_cost", time_cost),
             ("completion_bonus", completion_bonus),
-        ):
-            if (
-                isinstance(value, bool)
-                or not isinstance(value, int | float)
-                or not math.isfinite(value)
-            ):
-                raise InputError(f"{name} must be a finite number, got {value!r}")
+        )
         mission = get_mission("foraging")
         self.params: ForagingParams = mission.params(params)
         p = self.params
@@ -298,22 +288,12 @@ class ForagingEnv(ParallelEnv[str, dict[str, np.ndarray], int]):
             }
         )
 
-    def observation_space(self, agent: str) -> spaces.Space[Any]:
-        return self._obs_spaces[agent]
-
-    def action_space(self, agent: str) -> spaces.Space[Any]:
-        return self._act_spaces[agent]
-
     # ------------------------------------------------------------------ episode
     def reset(
         self, seed: int | None = None, options: dict[str, Any] | None = None
     ) -> tuple[dict[str, dict[str, np.ndarray]], dict[str, dict[str, Any]]]:
         """Start a new run (``options`` is accepted and ignored)."""
-        self.close()
-        if seed is not None:
-            self._next_seed = int(seed)
-        self._clear()
-        self._next_seed = self._seed + 1
+        self._begin_reset(seed)
         mission = get_mission("foraging")
         params: ForagingParams = replace(self.params, seed=self._seed)
         world: ForagingWorld = mission.prepare(params)  # draws the food from the seed
@@ -423,9 +403,7 @@ class ForagingEnv(ParallelEnv[str, dict[str, np.ndarray], int]):
         return moves
 
     def _as_action(self, agent: str, raw: Any) -> int:
-        value = raw.item() if isinstance(raw, np.ndarray) and raw.size == 1 else raw
-        if isinstance(value, np.integer):
-            value = int(value)
+        value = plain_int(raw)
         if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value < len(ACTIONS):
             raise ValueError(
                 f"{NAME}: {agent}'s action {raw!r} is outside the action space "
@@ -548,27 +526,6 @@ class ForagingEnv(ParallelEnv[str, dict[str, np.ndarray], int]):
         }
         return animation_frames(record, max_frames=2)[-1]  # the last round drawn
 
-    def close(self) -> None:
-        """Abandon a run in progress (its worker thread ends)."""
-        if self._finalizer is not None:
-            self._finalizer()  # closes the broker once
-            self._finalizer = None
-
-    def __getstate__(self) -> dict[str, Any]:
-        """Picklable before or between episodes (SuperSuit copies envs with cloudpickle):
-        the run in progress, if any, is not part of the state."""
-        state = self.__dict__.copy()
-        for key in (
-            "_broker", "_live", "_pending", "_mask", "_finalizer", "_result", "_record",
-            "_run_params", "_world",
-        ):  # fmt: skip
-            state.pop(key, None)
-        state["agents"] = []
-        return state
-
-    def __setstate__(self, state: dict[str, Any]) -> None:
-        self.__dict__.update(state)
-        self._clear()
 
 
 raw_env = ForagingEnv

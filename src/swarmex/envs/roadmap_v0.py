@@ -62,7 +62,6 @@ from __future__ import annotations
 
 import contextlib
 import dataclasses
-import math
 import operator
 import time
 import weakref
@@ -82,6 +81,7 @@ from pettingzoo.utils.wrappers import (
 )
 
 from swarmex.envs.broker import Ask, DecisionBroker
+from swarmex.envs.common import check_finite
 from swarmex.errors import InputError
 from swarmex.missions.registry import get
 
@@ -333,17 +333,11 @@ class raw_env(AECEnv[str, dict[str, np.ndarray], int]):  # noqa: N801 - PettingZ
                 f"got {render_mode!r}"
             )
         self.render_mode = render_mode
-        for name, value in (
+        check_finite(
             ("coverage_reward", coverage_reward),
             ("time_cost", time_cost),
             ("completion_bonus", completion_bonus),
-        ):
-            if (
-                isinstance(value, bool)
-                or not isinstance(value, int | float)
-                or not math.isfinite(value)
-            ):
-                raise InputError(f"{name} must be a finite number, got {value!r}")
+        )
         self.coverage_reward = float(coverage_reward)
         self.time_cost = float(time_cost)
         self.completion_bonus = float(completion_bonus)

@@ -1,0 +1,100 @@
+"""Pieces the broker-driven environments share: argument checks and the episode plumbing
+(space accessors, the reset preamble, close and pickling) of a run driven by a
+:class:`~swarmex.envs.broker.DecisionBroker`."""
+
+from __future__ import annotations
+
+import math
+import weakref
+from typing import Any, ClassVar
+
+import numpy as np
+from gymnasium import spaces
+
+from swarmex.errors import InputError
+
+
+def check_modes(
+    render_mode: str | None,
+    invalid_action: str,
+    render_modes: tuple[str, ...],
+    invalid_action_modes: tuple[str, ...],
+) -> None:
+    """Raise :class:`InputError` for an unknown ``render_mode`` or ``invalid_action``."""
+    if render_mode is not None and render_mode not in render_modes:
+        raise InputError(
+            f"render_mode must be one of {', '.join(render_modes)} or None, "
+            f"got {render_mode!r}"
+        )
+    if invalid_action not in invalid_action_modes:
+        raise InputError(
+            f"invalid_action must be one of {', '.join(invalid_action_modes)}, "
+            f"got {invalid_action!r}"
+        )
+
+
+def check_finite(*named: tuple[str, Any]) -> None:
+    """Raise :class:`InputError` for the first ``(name, value)`` that is not a finite number."""
+    for name, value in named:
+        if (
+            isinstance(value, bool)
+            or not isinstance(value, int | float)
+            or not math.isfinite(value)
+        ):
+            raise InputError(f"{name} must be a finite number, got {value!r}")
+
+
+def plain_int(raw: Any) -> Any:
+    """``raw`` with a one-element array or a NumPy integer turned into a Python value."""
+    value = raw.item() if isinstance(raw, np.ndarray) and raw.size == 1 else raw
+    if isinstance(value, np.integer):
+        value = int(value)
+    return value
+
+
+class BrokerEpisodeMixin:
+    """Space accessors, reset preamble, ``close`` and pickling of a parallel environment whose
+    run lives behind a broker; ``_TRANSIENT`` names the attributes of a run in progress."""
+
+    _TRANSIENT: ClassVar[tuple[str, ...]] = ()
+    _obs_spaces: dict[str, spaces.Space[Any]]
+    _act_spaces: dict[str, spaces.Space[Any]]
+    _finalizer: weakref.finalize[Any, Any] | None
+    _next_seed: int
+    _seed: int
+
+    def _clear(self) -> None:
+        raise NotImplementedError
+
+    def observation_space(self, agent: str) -> spaces.Space[Any]:
+        return self._obs_spaces[agent]
+
+    def action_space(self, agent: str) -> spaces.Space[Any]:
+        return self._act_spaces[agent]
+
+    def _begin_reset(self, seed: int | None) -> None:
+        """End any run, take ``seed`` (if given), and clear the episode state."""
+        self.close()
+        if seed is not None:
+            self._next_seed = int(seed)
+        self._clear()
+        self._next_seed = self._seed + 1
+
+    def close(self) -> None:
+        """Abandon a run in progress (its worker thread ends)."""
+        if self._finalizer is not None:
+            self._finalizer()  # closes the broker once
+            self._finalizer = None
+
+    def __getstate__(self) -> dict[str, Any]:
+        """Picklable before or between episodes (SuperSuit copies envs with cloudpickle):
+        the run in progress, if any, is not part of the state."""
+        state = self.__dict__.copy()
+        for key in self._TRANSIENT:
+            state.pop(key, None)
+        state["agents"] = []
+        return state
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        self.__dict__.update(state)
+        self._clear()
