@@ -45,6 +45,7 @@ def run(
     *,
     seed: int = 0,
     on_frame: Callable[[Any], Any] | None = None,
+    trace: bool = True,
     **params: Any,
 ) -> ResultRecord:
     """Run one mission and return its result record.
@@ -55,7 +56,9 @@ def run(
     before any work starts. ``on_frame(frame)`` is called with the run's frames as they
     happen; raising :class:`StopRun` from it ends the run early (the record is then
     incomplete). ``record.to_dict()`` equals the JSON that ``swarmex COMMAND ... --json``
-    writes for the same options and seed, ``wall_seconds`` aside.
+    writes for the same options and seed, ``wall_seconds`` aside. ``trace=False`` leaves the
+    per-step trace (agents' trajectories and jobs) out of the record, for studies of many runs
+    that read only metrics; every team metric is the same.
     """
     from swarmex.missions.registry import get
 
@@ -63,7 +66,7 @@ def run(
     if "seed" in params:
         raise InputError("give the seed once, as seed=")
     p = m.params({**params, "seed": seed})
-    return m.run(p, on_frame=on_frame).record
+    return m.run(p, on_frame=on_frame, trace=trace).record
 
 
 def __getattr__(name: str) -> Any:

@@ -103,6 +103,26 @@ def test_same_seed_same_record(mission):
     assert _strip(a) == _strip(b)
 
 
+# per-agent metrics that only the per-step trace gives (None without it)
+TRACE_DERIVED = {"foraging": {"moves"}}
+
+
+def test_record_without_trace_keeps_every_metric(mission):
+    """``trace=False`` (studies of many runs): same run and metrics, no per-step trace."""
+    values, _ = SAMPLES[mission]
+    full = swarmex.run(mission, seed=2, **values).to_dict()
+    lean = swarmex.run(mission, seed=2, trace=False, **values).to_dict()
+    assert any(a["trajectory"] for a in full["agents"])  # the sample has a trace to drop
+    assert all(a["trajectory"] == [] and a["jobs"] == [] for a in lean["agents"])
+    derived = TRACE_DERIVED.get(mission, set())
+    for a_full, a_lean in zip(full["agents"], lean["agents"], strict=True):
+        assert all(a_lean["metrics"][k] is None for k in derived)
+        kept = {k: v for k, v in a_full["metrics"].items() if k not in derived}
+        assert {k: a_lean["metrics"][k] for k in kept} == kept
+    strip = lambda r: {k: v for k, v in _strip(r).items() if k != "agents"}  # noqa: E731
+    assert strip(lean) == strip(full)
+
+
 def test_unknown_keyword_names_the_nearest(mission):
     values, _ = SAMPLES[mission]
     first = next(iter(values))

@@ -30,7 +30,9 @@ class PatrolMission(Mission[PatrolParams, int]):
     def prepare(self, params: PatrolParams) -> int:
         return 4
 
-    def execute(self, params: PatrolParams, world: int, on_frame: Any = None) -> Outcome:
+    def execute(
+        self, params: PatrolParams, world: int, on_frame: Any = None, *, trace: bool = True
+    ) -> Outcome:
         steps = world * params.laps
         rec = ResultRecord("patrol", "walk", {"laps": params.laps}, params.seed, {"kind": "grid"},
                            True, float(steps), "step", {"steps": steps}, [AgentRecord(1)])

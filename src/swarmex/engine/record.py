@@ -71,6 +71,19 @@ class ResultRecord:
         return plain(out)
 
 
+def without_trace(record: ResultRecord, derived: tuple[str, ...] = ()) -> ResultRecord:
+    """The record with its per-step trace left out (``trace=False`` of the Mission contract):
+    each agent's ``trajectory`` and ``jobs`` emptied, and the per-agent metrics named in
+    ``derived`` (those only the trace gives) set to None. Team metrics are untouched."""
+    for agent in record.agents:
+        agent.trajectory = []
+        agent.jobs = []
+        for key in derived:
+            if key in agent.metrics:
+                agent.metrics[key] = None
+    return record
+
+
 def write_json_atomic(data: Any, path: str | Path) -> Path:
     """Write JSON atomically (:mod:`swarmex.engine.atomic`: temp file beside ``path``, fsync,
     rename), with the mode a plain ``open`` would give it.

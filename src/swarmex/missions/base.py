@@ -436,6 +436,12 @@ class Mission(ABC, Generic[P, W]):
     * :meth:`execute` runs and records; ``on_frame`` (if given) is called with the run's
       frames as they happen, the objects that ``--render`` and the monitor draw; raising
       :class:`StopRun` from it ends the run early.
+
+    ``trace=False`` asks for a record without the per-step trace: every team metric is the
+    same, but each agent's ``trajectory`` and ``jobs`` are empty and a per-agent metric that
+    only the trace gives is None (:func:`~swarmex.engine.record.without_trace`). Studies of
+    thousands of runs read only metrics, and a mission may then skip the trace's work and
+    memory (foraging does not keep its per-round positions).
     """
 
     name: ClassVar[str]  # "traversal"
@@ -452,8 +458,18 @@ class Mission(ABC, Generic[P, W]):
         """The world the run happens in, with every world-dependent check done."""
 
     @abstractmethod
-    def execute(self, params: P, world: W, on_frame: FrameCallback | None = None) -> Outcome:
-        """Run the mission on a prepared world and build its record."""
+    def execute(
+        self,
+        params: P,
+        world: W,
+        on_frame: FrameCallback | None = None,
+        *,
+        trace: bool = True,
+    ) -> Outcome:
+        """Run the mission on a prepared world and build its record (without the per-step
+        trace when ``trace`` is false)."""
 
-    def run(self, params: P, on_frame: FrameCallback | None = None) -> Outcome:
-        return self.execute(params, self.prepare(params), on_frame)
+    def run(
+        self, params: P, on_frame: FrameCallback | None = None, *, trace: bool = True
+    ) -> Outcome:
+        return self.execute(params, self.prepare(params), on_frame, trace=trace)

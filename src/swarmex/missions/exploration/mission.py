@@ -64,7 +64,10 @@ class ExplorationMission(Mission[ExplorationParams, ExplorationWorld]):
         params: ExplorationParams,
         world: ExplorationWorld,
         on_frame: FrameCallback | None = None,
+        *,
+        trace: bool = True,
     ) -> Outcome:
+        from swarmex.engine.record import without_trace
         from swarmex.missions.exploration.record import exploration_record
         from swarmex.missions.exploration.sim import run_exploration
 
@@ -77,7 +80,8 @@ class ExplorationMission(Mission[ExplorationParams, ExplorationWorld]):
             on_frame=hook,
             frame_every=0 if hook is None else 1,
         )
-        return Outcome(exploration_record(run), run, world.grid)
+        record = exploration_record(run)
+        return Outcome(record if trace else without_trace(record), run, world.grid)
 
 
 def _frame_hook(on_frame: FrameCallback) -> Any:

@@ -74,15 +74,20 @@ class ForagingMission(Mission[ForagingParams, ForagingWorld]):
         params: ForagingParams,
         world: ForagingWorld,
         on_frame: FrameCallback | None = None,
+        *,
+        trace: bool = True,
     ) -> Outcome:
+        from swarmex.engine.record import without_trace
         from swarmex.missions.foraging.run import run_forage, to_record
 
         p = params
         run = run_forage(
             p.algorithm, p.grid, p.agents, world.food, p.food_units, p.transport,
-            on_frame=on_frame,
+            record=trace, on_frame=on_frame,
         )  # fmt: skip
         record = to_record(run, p.seed, {"food_distance": p.food_distance, "seed": p.seed})
+        if not trace:  # the run kept no per-round positions: a robot's moves are unknown
+            record = without_trace(record, derived=("moves",))
         return Outcome(record, run, world)
 
 

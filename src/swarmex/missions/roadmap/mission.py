@@ -158,14 +158,17 @@ class RoadmapMission(Mission[RoadmapParams, RoadmapWorld]):
         params: RoadmapParams,
         world: RoadmapWorld,
         on_frame: FrameCallback | None = None,
+        *,
+        trace: bool = True,
     ) -> Outcome:
+        from swarmex.engine.record import without_trace
         from swarmex.missions.roadmap.record import build_record
 
         t0 = time.perf_counter()
         run = simulate(params, world, on_frame)
         wall = time.perf_counter() - t0
         record = build_record(run, record_params(params, world), params.seed, wall)
-        return Outcome(record, run, world.world)
+        return Outcome(record if trace else without_trace(record), run, world.world)
 
 
 __all__ = [

@@ -234,8 +234,11 @@ class TraversalMission(Mission[TraversalParams, TraversalWorld]):
         params: TraversalParams,
         world: TraversalWorld,
         on_frame: FrameCallback | None = None,
+        *,
+        trace: bool = True,
     ) -> Outcome:
         from swarmex.comm.channel import Channel
+        from swarmex.engine.record import without_trace
         from swarmex.missions.traversal import run_traversal, traversal_record
 
         p = params
@@ -243,7 +246,8 @@ class TraversalMission(Mission[TraversalParams, TraversalWorld]):
         rparams = record_params(p, world)
         unit = world.unit_length
         if p.algorithm == "optimal":
-            return Outcome(_optimal(world.world, specs, p, rparams, unit), None, world.world)
+            record = _optimal(world.world, specs, p, rparams, unit)
+            return Outcome(record if trace else without_trace(record), None, world.world)
         comm = math.inf if p.comm_range is None else p.comm_range
         run = run_traversal(
             world.world,
@@ -256,7 +260,8 @@ class TraversalMission(Mission[TraversalParams, TraversalWorld]):
             job_failure=p.job_failure,
             on_frame=on_frame,
         )
-        return Outcome(traversal_record(run, rparams, unit), run, world.world)
+        record = traversal_record(run, rparams, unit)
+        return Outcome(record if trace else without_trace(record), run, world.world)
 
 
 def _optimal(

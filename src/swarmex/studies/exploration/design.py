@@ -38,8 +38,6 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from swarmex.worlds.metric import MetricGrid, empty_metric, load_metric
-
 THESIS_SNAPSHOT_STEPS = (80, 580, 800)
 STRATEGY_ORDER = ("greedy", "greedy-exclusion", "utility", "minpos", "hungarian")
 
@@ -108,11 +106,12 @@ def maps_dir() -> Path:
     return Path("../shared/maps")
 
 
-def make_world(spec: dict[str, Any]) -> MetricGrid:
+def world_options(spec: dict[str, Any]) -> dict[str, Any]:
+    """A job's world as the exploration mission's options (``empty`` or ``map``, ``cell``)."""
     if "empty" in spec:
         side = float(spec["empty"])
-        return empty_metric(side, side, float(spec.get("cell", 0.05)))
-    return load_metric(maps_dir() / spec["map"], float(spec["cell"]))
+        return {"empty": (side, side), "cell": float(spec.get("cell", 0.05))}
+    return {"map": maps_dir() / spec["map"], "cell": float(spec["cell"])}
 
 
 def job_key(job: dict[str, Any]) -> str:

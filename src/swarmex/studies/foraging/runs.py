@@ -1,8 +1,9 @@
 """One run of ``swarmex reproduce foraging``: the job function of the study runner.
 
 A job is a task of :func:`~.design.tasks`: ``(pattern, n, band, i, food, transport)``. Its run
-is the foraging mission's own run (:func:`~swarmex.missions.foraging.run_forage`) without the
-per-round record, which the study does not read: only its metrics are kept, one line of
+goes through the mission contract (``registry.get("foraging")``: ``params`` then ``run``) with
+``trace=False``: the study reads only the record's metrics, and a run without its per-round
+positions costs less memory and time over the study's thousands of runs. One line of
 ``DIR/runs.jsonl`` per run (:func:`swarmex.studies.runner.run_jobs` keeps the journal and
 resumes from it).
 """
@@ -23,10 +24,14 @@ def task_key(task: Task) -> str:
 
 def run_task(task: Task) -> dict[str, Any]:
     """Run one task (in a worker process): its journal line."""
-    from swarmex.missions.foraging import run_forage
+    from swarmex.missions.registry import get
 
     pattern, n, band, i, food, transport = task
-    run = run_forage(pattern, G, n, food, UNITS, transport, record=False)
+    mission = get("foraging")
+    params = mission.params(
+        algorithm=pattern, grid=G, agents=n, food=food, food_units=UNITS, transport=transport
+    )
+    record = mission.run(params, trace=False).record
     return {
         "key": task_key(task),
         "pattern": pattern,
@@ -35,8 +40,8 @@ def run_task(task: Task) -> dict[str, Any]:
         "i": i,
         "food": list(food),
         "transport": transport,
-        **{k: v for k, v in run.metrics.items()},
-        "wall": round(run.wall_seconds, 4),
+        **record.metrics,
+        "wall": round(record.wall_seconds, 4),
     }
 
 

@@ -1,10 +1,12 @@
 """One run of ``swarmex reproduce traversal``: the job function of the study runner.
 
-Every run is one call of :func:`~swarmex.missions.traversal.run_traversal` with the thesis's
-agent parameters (:mod:`.design`) on a world with its own random obstacle layout and uneven
-starts, which the traversal mission's parameters cannot express (so it is not a plain
-``swarmex.run``); its record keeps the totals and per-agent metrics the analysis needs. The
-pipeline hands :func:`execute` and the plan's :class:`~.design.RunSpec` list to
+Every run goes through the traversal mission's contract (``registry.get("traversal")``:
+``params``, ``run``) with the thesis's agent parameters (:mod:`.design`) as a fleet, one row
+per agent with the thesis's speeds in m/s on grid edges of ``unit_length`` metres
+(``edge_length``), its own random obstacle layout as ``obstacles`` cells, and uneven starts as
+slower climbs (``up_speed`` per row); the record keeps the totals and per-agent metrics the
+analysis needs, so the run is asked for without its trace. The pipeline hands
+:func:`execute` and the plan's :class:`~.design.RunSpec` list to
 :func:`swarmex.studies.runner.run_jobs`, which keeps the results in ``traversal.json``
 (a :class:`~swarmex.experiments.runstore.RunStore`): a rerun skips every run already stored
 (an interrupted sweep resumes, and a ``--quick`` sweep's runs are a subset of the full one's).
@@ -12,7 +14,6 @@ pipeline hands :func:`execute` and the plan's :class:`~.design.RunSpec` list to
 
 from __future__ import annotations
 
-import time
 from typing import Any
 
 import numpy as np
@@ -54,22 +55,21 @@ def obstacle_layout(size: int, count: int, keep_free: int, seed: int) -> list[in
     raise RuntimeError(f"no connected layout with {count} obstacles on {size}x{size}")
 
 
+def _cell(node: int, size: int) -> tuple[int, int]:
+    """The ``(x, y)`` cell of thesis node id ``node`` on the ``size`` x ``size`` grid."""
+    v = thesis_node(node, size)
+    return v % size, v // size
+
+
 def execute(spec: RunSpec) -> dict[str, Any]:
     """Run one configuration repetition and return its JSON-ready record (worker entry)."""
-    from swarmex.missions.traversal import AgentSpec, run_metrics, run_traversal
-    from swarmex.worlds import GridWorld
+    from swarmex.missions.registry import get
 
     cfg = spec.config
     n = cfg.size
     obstacles = obstacle_layout(
         n, cfg.obstacles, spec.nest, stable_seed("traversal-obstacles", cfg.key, spec.rep)
     )
-    free = np.ones((n, n), dtype=bool)
-    for k in obstacles:
-        v = thesis_node(k, n)
-        free[v // n, v % n] = False
-    world = GridWorld(free, source=f"thesis {n}x{n}")
-    nest = thesis_node(spec.nest, n)
     # Uneven starts (sensitivity series): the simulator starts client i at 0.5·i s plus its
     # takeoff time, so a slower climb is how a late start is expressed; it changes only
     # additionalTime_i (takeoff), which the sensitivity analysis does not use.
@@ -78,18 +78,25 @@ def execute(spec: RunSpec) -> dict[str, Any]:
         rng = np.random.default_rng(stable_seed("traversal-jitter", cfg.key, spec.rep))
         offsets = [float(x) for x in rng.uniform(0.0, cfg.jitter, cfg.agents)]
     ups = [UP_SPEED if off == 0 else ALTITUDE / (ALTITUDE / UP_SPEED + off) for off in offsets]
-    agents = [AgentSpec(nest, TRAVEL_SPEED, JOB_TIME, ALTITUDE, up, DOWN_SPEED) for up in ups]
-    t0 = time.perf_counter()
-    run = run_traversal(
-        world,
-        agents,
-        "madgta",
-        seed=spec.seed,
+    fleet = [
+        {"id": i + 1, "travel_speed": TRAVEL_SPEED, "job_time": JOB_TIME,
+         "altitude": ALTITUDE, "up_speed": up, "down_speed": DOWN_SPEED}
+        for i, up in enumerate(ups)
+    ]  # fmt: skip
+    mission = get("traversal")
+    params = mission.params(
+        grid=(n, n),
+        obstacles=[_cell(k, n) for k in obstacles],
+        nests=[_cell(spec.nest, n)],
+        fleet=fleet,
+        edge_length=cfg.unit_length,
+        algorithm="madgta",
         start_interval=START_INTERVAL,
-        unit_length=cfg.unit_length,
+        seed=spec.seed,
     )
-    totals, per_agent = run_metrics(run, cfg.unit_length)
-    wall = time.perf_counter() - t0
+    record = mission.run(params, trace=False).record
+    totals = record.metrics
+    per_agent = [a.metrics for a in record.agents]
     keep = (
         "total_time_all",
         "nodes_without_job_all",
@@ -108,9 +115,9 @@ def execute(spec: RunSpec) -> dict[str, Any]:
             "nest": spec.nest,
             "obstacles": obstacles,
             "start_offsets": offsets,
-            "complete": run.complete,
+            "complete": record.complete,
             "totals": {k: totals[k] for k in keep},
             "agents": {m: [a[m] for a in per_agent] for m in (*PER_AGENT_METRICS, "finished_at")},
-            "wall_seconds": wall,
+            "wall_seconds": record.wall_seconds,
         }
     )
