@@ -31,7 +31,7 @@ def base(env: Path, *extra: str) -> list[str]:
             "--sensor-range", "20", *extra]
 
 
-@pytest.mark.parametrize("planner", ["wma-rrt", "prm", "wma-rrt-takeover"])
+@pytest.mark.parametrize("planner", ["wma-rrt", "prm", "wma-rrt-takeover", "wma-rrt-fairshare"])
 @pytest.mark.parametrize("task", ["coverage", "search"])
 def test_run_writes_a_replayable_record(env, tmp_path, capsys, planner, task):
     out = tmp_path / "run.json"

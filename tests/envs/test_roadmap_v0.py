@@ -103,6 +103,9 @@ def test_render_rgb_array():
         dict(SMALL, planner="wma-rrt"),
         dict(SMALL, planner="prm"),
         dict(SMALL, planner="wma-rrt-takeover", agents=3, nodes=80),
+        dict(SMALL, planner="wma-rrt-fairshare", agents=3, nodes=80),
+        dict(env=FIG8, task="search", goal=(500, 300), planner="wma-rrt-fairshare", agents=2,
+             nodes=60, step=40, sensor_range="inf", seed=1),
         dict(env=FIG8, task="search", goal=(500, 300), planner="wma-rrt", agents=2, nodes=60,
              step=40, sensor_range="inf", seed=1),
         dict(env=FIG8, task="search", goal=(500, 300), planner="prm", agents=2, nodes=60,
@@ -110,7 +113,8 @@ def test_render_rgb_array():
         dict(env=FIG14, task="search", planner="wma-rrt", agents=2, nodes=60, step=40,
              sensor_range="inf", seed=0),
     ],
-    ids=["wma-cover", "prm-cover", "takeover-cover", "wma-search", "prm-search",
+    ids=["wma-cover", "prm-cover", "takeover-cover", "fairshare-cover", "fairshare-search",
+         "wma-search", "prm-search",
          "wma-unreachable"],
 )
 def test_baseline_episode_is_swarmex_run(params):
@@ -215,7 +219,7 @@ def test_observations_are_beliefs_and_the_shared_board():
     assert mine["node"][0] == run_agents[i].node
 
 
-@pytest.mark.parametrize("planner", ["wma-rrt", "wma-rrt-takeover"])
+@pytest.mark.parametrize("planner", ["wma-rrt", "wma-rrt-takeover", "wma-rrt-fairshare"])
 def test_random_policies_keep_the_wma_guarantee(planner):
     """Whatever the open actions chosen, a complete WMA-RRT coverage travelled every edge, and
     the record passes the independent replay."""

@@ -12,7 +12,7 @@ from swarmex.missions.roadmap import COMPLETE, build_record, replay_problems, ru
 from .conftest import cluster
 
 
-@pytest.mark.parametrize("planner", ["wma-rrt", "wma-rrt-takeover"])
+@pytest.mark.parametrize("planner", ["wma-rrt", "wma-rrt-takeover", "wma-rrt-fairshare"])
 @pytest.mark.parametrize(("n", "seed"), [(1, 0), (2, 1), (3, 2), (5, 3)])
 def test_coverage_completes(clutter, planner, n, seed):
     run = run_roadmap(clutter, cluster(n), planner=planner, nodes=150, step=10,
@@ -38,16 +38,45 @@ def test_single_agent_is_a_dfs(clutter):
     assert run.path_length[0] == pytest.approx(entry + 2 * run.roadmap.edge_length.sum())
 
 
-def test_helpers_join_and_finish_faster_with_takeover(clutter):
-    base, take = [], []
+def test_helpers_join_and_finish_faster_with_takeover_and_fairshare(clutter):
+    steps: dict[str, list[int]] = {"wma-rrt": [], "wma-rrt-takeover": [], "wma-rrt-fairshare": []}
     for seed in range(4):
-        for planner, out in (("wma-rrt", base), ("wma-rrt-takeover", take)):
+        for planner, out in steps.items():
             run = run_roadmap(clutter, cluster(3), planner=planner, nodes=300, step=10,
                               sensor_range=15, seed=seed)
             out.append(run.steps)
             if planner == "wma-rrt":
                 assert max(a.branches_entered for a in run.agents) >= 2  # someone helped
-    assert np.mean(take) < np.mean(base)
+    assert np.mean(steps["wma-rrt-takeover"]) < np.mean(steps["wma-rrt"])
+    assert np.mean(steps["wma-rrt-fairshare"]) < np.mean(steps["wma-rrt"])
+
+
+def test_fairshare_takes_an_unexplored_child_first(clutter):
+    """Fair-share differs from takeover exactly where an unexplored child edge is at hand: it
+    takes it (the paper's first preference) even when a larger sub-branch is open."""
+    from swarmex.missions.roadmap.blackboard import WMABoard
+    from swarmex.missions.roadmap.sim import build_roadmap
+    from swarmex.missions.roadmap.wma_policy import WMAAgent
+
+    rng = np.random.default_rng(0)
+    rm = build_roadmap(clutter, "wma-rrt", cluster(1), 150, 10, rng)
+    board = WMABoard(rm, 1)
+    fair = WMAAgent(0, cluster(1)[0], board, "fairshare")
+    take = WMAAgent(0, cluster(1)[0], board, "takeover")
+    # a node with two or more children whose sub-branches differ in size
+    node = next(v for v in range(1, rm.n_nodes) if len(board.children[v]) >= 2
+                and len({int(board.rem_sub[e]) for e in board.children[v]}) > 1)
+    kids = list(board.children[node])
+    big = max(kids, key=lambda e: board.rem_sub[e])
+    small = min(kids, key=lambda e: board.rem_sub[e])
+    board.w_g[big] = 1  # the large sub-branch has been entered by someone, the small one not
+    for a in (fair, take):
+        a.node = node
+    fair_pick = fair._choose_edge(np.random.default_rng(1))
+    take_pick = take._choose_edge(np.random.default_rng(1))
+    assert board.w_g[fair_pick] == 0
+    assert take_pick == big and fair_pick != big
+    assert small in kids
 
 
 def test_coverage_grows_with_range(clutter):

@@ -64,10 +64,17 @@ CASES = [
         {"planner": "prm", "agents": "2", "nodes": "50", "step": "15", "sensor_range": 25.0,
          "step_budget": 40, "raster": 64, "seed": 3},
     ),
+    (
+        ["--task", "search", "--planner", "wma-rrt-fairshare", "--agents", "3", "--nodes",
+         "80", "--step", "10", "--sensor-range", "20", "--goal", "150,120", "--seed", "4"],
+        {"task": "search", "planner": "wma-rrt-fairshare", "agents": 3, "nodes": 80,
+         "step": 10, "sensor_range": 20, "goal": "150,120", "seed": 4},
+    ),
 ]
 
 
-@pytest.mark.parametrize(("argv", "values"), CASES, ids=["strings-eps", "search-python", "prm"])
+@pytest.mark.parametrize(("argv", "values"), CASES,
+                         ids=["strings-eps", "search-python", "prm", "fairshare"])
 def test_python_run_is_the_cli_run(env: Path, tmp_path: Path, argv: list[str],
                                    values: dict[str, Any]) -> None:
     cli = cli_record(tmp_path, ["--env", str(env), *argv])

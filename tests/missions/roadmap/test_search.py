@@ -116,3 +116,24 @@ def test_goal_in_sight_from_the_start(enclosed):
     run = run_roadmap(enclosed, starts, task="search", nodes=150, step=8, sensor_range=200,
                       goal=np.array(enclosed.goal), seed=0)
     assert run.goal_found and run.complete and run.board.found_step == 1
+
+
+def test_fairshare_finds_the_fig11_goal_sooner_than_the_paper_rule():
+    """Issue 17 item 4 on a slice of bench/compare_roadmap_rules.py (Fig. 11, 200 nodes,
+    ε = 20, r = 25): over the same seeds — hence the same trees — fair-share's first sighting
+    comes earlier than the paper's rule's on average, and takeover's does not beat it."""
+    from pathlib import Path
+
+    import swarmex
+
+    env = Path(__file__).resolve().parents[3] / "examples" / "roadmap_fig11.json"
+    found: dict[str, list[int]] = {}
+    for planner in ("wma-rrt", "wma-rrt-takeover", "wma-rrt-fairshare"):
+        for seed in range(8):
+            m = swarmex.run("roadmap", env=str(env), task="search", planner=planner, agents=3,
+                            nodes=200, step=20, sensor_range=25, seed=seed, trace=False).metrics
+            found.setdefault(planner, []).append(m["found_step"] if m["goal_found"]
+                                                 else m["steps"])
+    fair, base = np.array(found["wma-rrt-fairshare"]), np.array(found["wma-rrt"])
+    assert fair.mean() < 0.85 * base.mean()
+    assert fair.mean() < np.mean(found["wma-rrt-takeover"])

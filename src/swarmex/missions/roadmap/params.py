@@ -44,7 +44,7 @@ from swarmex.missions.base import (
 if TYPE_CHECKING:
     from swarmex.worlds.polygon import PolygonWorld
 
-PLANNERS = ("wma-rrt", "prm", "wma-rrt-takeover")
+PLANNERS = ("wma-rrt", "prm", "wma-rrt-takeover", "wma-rrt-fairshare")
 TASKS = ("coverage", "search")
 # the coverage raster's cells on the long side; equal to sensing.coverage_raster.DEFAULT_CELLS
 # (a test checks it), not imported from there because that module pulls in numba
@@ -144,7 +144,7 @@ class RoadmapParams(Params):
     task: str = option("coverage", help="coverage | search", parse=text(TASKS))
     planner: str = option(
         "wma-rrt",
-        help="wma-rrt | prm | wma-rrt-takeover (improved helpers)",
+        help="wma-rrt | prm | wma-rrt-takeover | wma-rrt-fairshare (improved helpers)",
         parse=text(PLANNERS),
     )
     agents: int = option(REQUIRED, help="Number of agents (= branches).", parse=integer(lo=1))

@@ -40,7 +40,7 @@ from swarmex.missions.base import StopRun
 from swarmex.missions.roadmap.blackboard import PRMBoard, WMABoard
 from swarmex.missions.roadmap.params import PLANNERS, TASKS
 from swarmex.missions.roadmap.prm_policy import PRMWalker
-from swarmex.missions.roadmap.wma_policy import Move, WMAAgent
+from swarmex.missions.roadmap.wma_policy import RULES, Move, WMAAgent
 from swarmex.planning.prm import build_prm
 from swarmex.planning.roadmap import Roadmap
 from swarmex.planning.rrt_wma import build_wma_rrt
@@ -165,7 +165,7 @@ def run_roadmap(
         budget = 2 * max(nodes, rm.n_nodes) if step_budget is None else int(step_budget)
     else:
         board = WMABoard(rm, n)
-        agents = [WMAAgent(i, starts[i], board, planner == "wma-rrt-takeover")
+        agents = [WMAAgent(i, starts[i], board, RULES[planner])
                   for i in range(n)]
         # a safety net only: a tree DFS needs at most 2E moves per entry, n entries per agent
         budget = (2 * rm.n_edges + 4) * (n + 1) + 10 if step_budget is None else step_budget

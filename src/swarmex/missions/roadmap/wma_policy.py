@@ -23,7 +23,7 @@ Edge choice at a node (how the paper's rule is resolved, spec ambiguities 7–10
   unfinished branch of least Weight (uniform among ties), not the one it just left unless that
   is all that remains — in which case it waits at the Main Root for it to complete.
 
-Improved variant (``takeover=True``, planner ``wma-rrt-takeover``): two more counters on the
+Improved variant (``rule="takeover"``, planner ``wma-rrt-takeover``): two more counters on the
 roadmap guide every choice — ``rem_sub[e]``, edges at or below e never traversed, and
 ``busy[e]``, agents beneath e. Candidates are child edges not yet used with ``rem_sub > 0``;
 the one with the largest fair share ``rem_sub / (busy + 1)`` wins, so a helper walks straight
@@ -31,6 +31,17 @@ to the largest unexplored sub-branch nobody (or fewest) is working in, instead o
 the owner's frontier, and agents meeting at a fork split it. A free agent picks the branch of
 largest share the same way, and waits at the Main Root when no branch has unexplored edges
 left (the rest is agents walking home). Returning is the same dedicated-copy rule.
+
+Fair-share variant (``rule="fairshare"``, planner ``wma-rrt-fairshare``, issue 17 item 4):
+the takeover rule spends its first steps on the *largest* sub-branch even when an edge nobody
+has walked is one step away, which is why it finds goals later than the paper (a goal is most
+often seen from the frontier the owner is pushing). Fair-share keeps the paper's first
+preference — an unexplored child edge (global weight 0), uniform among ties — and uses the
+fair share ``rem_sub / (busy + 1)`` only where the paper would trail another agent's frontier
+(no unexplored child): then the child with the largest share among those with
+``rem_sub > 0``, else the way back. A free agent picks its branch by largest share, as
+takeover does. Over 30 seeds of the study's rows it needs 0.70–0.74x WMA-RRT's coverage
+steps and 0.52–0.88x its first-sighting step (docs/roadmap.md has the paired intervals).
 
 Goal search (§3.2): at every node the agent checks Weight for ½. Then it stops exploring and
 follows: at the anchor it takes the straight leg to the goal; if an edge of weight ½ leads away
@@ -57,12 +68,19 @@ class Move:
     node: int = -1  # node reached (-1: not a node, e.g. on a goal leg)
 
 
+#: Edge-choice rules by planner name: the paper's, and the two that use the board's counters.
+RULES = {"wma-rrt": "paper", "wma-rrt-takeover": "takeover", "wma-rrt-fairshare": "fairshare"}
+
+
 class WMAAgent:
-    def __init__(self, ident: int, start: np.ndarray, board: WMABoard, takeover: bool = False):
+    def __init__(self, ident: int, start: np.ndarray, board: WMABoard, rule: str = "paper"):
+        if rule not in RULES.values():
+            raise ValueError(f"unknown WMA-RRT rule {rule!r}; choose one of "
+                             f"{', '.join(RULES.values())}")
         self.id = ident
         self.xy = np.asarray(start, dtype=np.float64)
         self.board = board
-        self.takeover = takeover
+        self.rule = rule
         self.branch = ident
         self.node = -1  # -1 until the entry leg reaches the Main Root
         self.w_d = np.zeros(board.rm.n_edges)
@@ -91,7 +109,7 @@ class WMAAgent:
     def _pick_branch(self, rng: np.random.Generator) -> int:
         b = self.board
         open_ = np.flatnonzero(b.weight != COMPLETE)
-        if self.takeover:
+        if self.rule != "paper":
             fe = b.first_edge[open_]
             share = b.rem_sub[fe] / (b.busy[fe] + 1.0)
             if not len(open_) or share.max() <= 0:
@@ -111,16 +129,17 @@ class WMAAgent:
         if self.node == 0:
             return int(b.first_edge[self.branch])
         kids = [e for e in b.children[self.node] if self.w_d[e] == 0]
-        if self.takeover:
+        if self.rule != "takeover":
+            zero = [e for e in kids if b.w_g[e] == 0]
+            if zero:
+                return zero[rng.integers(len(zero))] if len(zero) > 1 else zero[0]
+        if self.rule != "paper":
             cand = [e for e in kids if b.rem_sub[e] > 0]
             if cand:
                 share = np.array([b.rem_sub[e] / (b.busy[e] + 1.0) for e in cand])
                 best = [c for c, r in zip(cand, share, strict=True) if r == share.max()]
                 return best[rng.integers(len(best))] if len(best) > 1 else best[0]
         else:
-            zero = [e for e in kids if b.w_g[e] == 0]
-            if zero:
-                return zero[rng.integers(len(zero))] if len(zero) > 1 else zero[0]
             odd = [e for e in kids if int(b.w_g[e]) % 2 == 1]
             if odd:
                 w = np.array([b.w_g[e] for e in odd])
