@@ -26,7 +26,8 @@ from swarmex.missions.exploration.strategies import get_strategy  # noqa: E402
 # a 30×30-cell room with a short laser: tens of decisions, goal conflicts included
 SMALL = {"empty": "3x3", "cell": 0.1, "robots": 2, "laser_range": 0.6}
 CAPPED = {**SMALL, "max_ticks": 300}  # random goals: a bounded episode
-STRATEGIES = ["greedy", "greedy-exclusion", "utility", "minpos", "hungarian"]
+STRATEGIES = ["greedy", "greedy-exclusion", "utility", "minpos", "hungarian",
+              "hungarian-exclusion"]
 
 pytestmark = pytest.mark.filterwarnings(
     # PettingZoo's api_test recommends Box/Discrete observations; ours is a Dict with a mask
@@ -96,11 +97,13 @@ def test_render_is_the_exploration_renderer():
 
 @pytest.mark.parametrize("strategy", STRATEGIES)
 def test_baseline_episode_is_the_run_record(strategy):
-    env = exploration_v0.parallel_env(strategy=strategy, seed=4, **SMALL)
+    # hungarian-exclusion assigns only with two rivals in view: three robots
+    kw = {**SMALL, "robots": 3} if strategy == "hungarian-exclusion" else SMALL
+    env = exploration_v0.parallel_env(strategy=strategy, seed=4, **kw)
     steps, rewards, terms, truncs = play(env, exploration_v0.baseline_policy(env))
     record = env.record()
     assert without_wall(record) == without_wall(
-        swarmex.run("exploration", strategy=strategy, seed=4, **SMALL)
+        swarmex.run("exploration", strategy=strategy, seed=4, **kw)
     )
     assert record.complete and all(terms.values()) and not any(truncs.values())
     assert steps >= 10  # many decisions, not a trivial run

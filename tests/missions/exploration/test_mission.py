@@ -56,8 +56,14 @@ def without_wall(record: dict[str, Any]) -> dict[str, Any]:
              "--max-ticks", "12", "--robot-radius", "0.1", "--strategy", "hungarian",
              "--seed", "2"],
         ),
+        (  # the strategy beyond the seed (issue 17 item 2)
+            {"empty": "3x3", "robots": 3, "laser_range": 0.8, "comm_range": 3,
+             "strategy": "hungarian-exclusion", "seed": 4},
+            ["--empty", "3x3", "--robots", "3", "--laser-range", "0.8", "--comm-range", "3",
+             "--strategy", "hungarian-exclusion", "--seed", "4"],
+        ),
     ],
-    ids=["empty-minpos", "python-values", "map-max-ticks"],
+    ids=["empty-minpos", "python-values", "map-max-ticks", "hungarian-exclusion"],
 )
 def test_run_equals_the_cli_record(
     tmp_path: Path, kwargs: dict[str, Any], argv: list[str]

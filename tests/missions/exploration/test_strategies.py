@@ -11,6 +11,7 @@ from swarmex.missions.exploration.strategies import (
     greedy,
     greedy_exclusion,
     hungarian,
+    hungarian_exclusion,
     minpos,
     utility,
 )
@@ -50,6 +51,35 @@ def test_assignment_strategies_alone_act_like_greedy():
     for f in (minpos, hungarian, utility):
         assert f(context(CELLS, [40, 30, 60])) == (30, 0)
         assert f(context(CELLS, [-1, -1, -1])) is None
+
+
+def _rival_fields(steps_by_rival):
+    """Distance fields (1 × 100 cells) in which each rival is ``steps`` from CELLS."""
+    fields = {}
+    for pos, steps in steps_by_rival.items():
+        f = np.full((1, 100), 99)
+        for (x, _), d in zip(CELLS, steps, strict=True):
+            f[0, x] = d
+        fields[pos] = f
+    return fields
+
+
+def test_hungarian_exclusion_assigns_with_two_rivals_in_view():
+    # rival 1 stands by (5,0), rival 2 by (60,0): the minimum-sum assignment sends this robot
+    # to (30,0) (30 + 1 + 2 steps) where greedy-exclusion would take the nearest, (5,0)
+    fields = _rival_fields({(6, 0): [1, 40, 70], (58, 0): [50, 25, 2]})
+    two = {1: (6, 0), 2: (58, 0)}
+    ctx = context(CELLS, [5, 30, 60], team_pos=two, field_from=lambda c: fields[c])
+    assert greedy_exclusion(ctx) == (5, 0)
+    assert hungarian_exclusion(ctx) == (30, 0)
+    # one rival in view: nothing to balance, the thesis's rule
+    one = context(CELLS, [5, 30, 60], team_pos={1: (6, 0)}, field_from=lambda c: fields[c])
+    assert hungarian_exclusion(one) == (5, 0)
+    # an announced goal's zone covers (30,0): the assignment runs over the free targets only
+    zoned = context(CELLS, [5, 30, 60], team_pos=two, team_goals={7: (31, 0)},
+                    field_from=lambda c: fields[c])
+    assert hungarian_exclusion(zoned) == (5, 0)
+    assert get_strategy("hungarian-exclusion").exclusion  # it announces goals (GOAL messages)
 
 
 def test_unknown_strategy_is_an_input_error():

@@ -23,6 +23,16 @@ and distances, and what it has heard from neighbours) and returns a goal cell or
 * ``hungarian`` — an optimal assignment of the known robots to targets minimising the sum of
   path lengths (``scipy.optimize.linear_sum_assignment``); targets are repeated when robots
   outnumber them.
+* ``hungarian-exclusion`` — ours (issue 17 item 2): the thesis's goal messages, exclusion
+  zones and priorities, with the assignment deciding *where* inside the free zone when the
+  robot has at least two rivals in view. Why: the assignment strategies coordinate on
+  neighbours' positions only, so robots with different maps or neighbours pick the same
+  place, while greedy-exclusion coordinates on the announced goals but picks myopically.
+  Here the Hungarian assignment runs over the targets outside every announced goal's zone
+  (all targets when none is outside), and the robot heads for the nearest frontier cell
+  within laser range of its assigned target (the target is a region's representative, the
+  nearest cell of it is where the robot starts seeing it). With fewer than two rivals in view
+  the assignment has nothing to balance and the choice is greedy-exclusion's.
 
 The assignment-style strategies work on *targets*: one representative cell per piece of a
 frontier region (:func:`swarmex.sensing.frontiers.chunk_targets`), so that a long frontier
@@ -183,6 +193,40 @@ def hungarian(ctx: GoalContext) -> Cell | None:
     return _cell(ctx, int(targets[col]))
 
 
+def _assignment(ctx: GoalContext) -> Cell | None:
+    """The target the minimum-sum assignment gives this robot (row 0), over the targets
+    outside the neighbours' goal zones when this robot can reach one of them."""
+    from scipy.optimize import linear_sum_assignment
+
+    targets, cost = _rivals_and_costs(ctx)
+    if targets.size == 0 or not np.isfinite(cost[0]).any():
+        return None
+    free = ~excluded(ctx, targets)
+    if free.any() and np.isfinite(cost[0, free]).any():
+        targets, cost = targets[free], cost[:, free]
+    n_r, n_t = cost.shape
+    reps = -(-n_r // n_t)
+    big = np.where(np.isfinite(cost), cost, 1e9)
+    rows, cols = linear_sum_assignment(np.tile(big, (1, reps)))
+    col = int(cols[rows.tolist().index(0)]) % n_t
+    return _cell(ctx, int(targets[col])) if np.isfinite(cost[0, col]) else None
+
+
+#: rivals in view from which ``hungarian-exclusion`` assigns (below: greedy-exclusion)
+ASSIGN_MIN_RIVALS = 2
+
+
+def hungarian_exclusion(ctx: GoalContext) -> Cell | None:
+    if len(ctx.team_pos) < ASSIGN_MIN_RIVALS:
+        return greedy_exclusion(ctx)
+    target = _assignment(ctx)
+    if target is None:
+        return greedy_exclusion(ctx)
+    idx = np.nonzero(ctx.eligible)[0]
+    near = idx[_within(ctx, idx, {0: target})]
+    return _nearest(ctx, near) if near.size else target
+
+
 @dataclass(frozen=True)
 class Strategy:
     name: str
@@ -200,6 +244,10 @@ STRATEGIES: dict[str, Strategy] = {
     "utility": Strategy("utility", utility, needs_rivals=True),
     "minpos": Strategy("minpos", minpos, needs_rivals=True),
     "hungarian": Strategy("hungarian", hungarian, needs_rivals=True),
+    "hungarian-exclusion": Strategy(
+        "hungarian-exclusion", hungarian_exclusion, exclusion=True, priorities=True,
+        needs_rivals=True,
+    ),
 }
 
 

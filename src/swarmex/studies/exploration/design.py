@@ -39,7 +39,9 @@ from pathlib import Path
 from typing import Any
 
 THESIS_SNAPSHOT_STEPS = (80, 580, 800)
-STRATEGY_ORDER = ("greedy", "greedy-exclusion", "utility", "minpos", "hungarian")
+STRATEGY_ORDER = (
+    "greedy", "greedy-exclusion", "utility", "minpos", "hungarian", "hungarian-exclusion",
+)
 
 
 @dataclass(frozen=True)
@@ -79,6 +81,13 @@ SCENARIOS = [
     (
         "warehouse-10-20-10-2-1 (40x16 m), 8 robots, comm 10 m",
         {"map": "warehouse-10-20-10-2-1.map", "cell": 0.25},
+        8,
+        2.0,
+        10.0,
+    ),
+    (
+        "ost003d (48x48 m), 8 robots, comm 10 m",
+        {"map": "ost003d.map", "cell": 0.25},
         8,
         2.0,
         10.0,
