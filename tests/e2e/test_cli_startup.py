@@ -177,3 +177,18 @@ def test_fallback_rules(tmp_path):
 @pytest.mark.parametrize("argv", [["--help"], []])
 def test_help_and_no_arguments_exit_0(argv, capsys):
     assert main(argv) == 0
+
+
+def test_console_entry_leaves_with_its_output_and_status(tmp_path):
+    """`python -m swarmex` ends through cli.leave (no interpreter finalisation): everything
+    printed arrives, files are complete, the exit status is the command's."""
+    env = {**os.environ, "PYTHONPATH": str(SRC)}
+    out = tmp_path / "d.png"
+    proc = subprocess.run([sys.executable, "-m", "swarmex", "demo", "--out", str(out)],
+                          capture_output=True, text=True, env=env, timeout=240, cwd=tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.rstrip().endswith(f"wrote {out}")
+    assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and out.stat().st_size > 1000
+    bad = subprocess.run([sys.executable, "-m", "swarmex", "traverse", "--grid", "0x3"],
+                         capture_output=True, text=True, env=env, timeout=120, cwd=tmp_path)
+    assert bad.returncode == 2 and bad.stderr.count("\n") == 1 and "--grid" in bad.stderr
