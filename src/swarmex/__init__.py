@@ -19,7 +19,10 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 import swarmex.missions as _missions_package  # noqa: F401  (before the function below)
+from swarmex._jitcache import ensure_cache_dir as _ensure_cache_dir
 from swarmex.errors import InputError
+
+_ensure_cache_dir()  # before any kernel module imports numba: cache=True must not fail
 
 if TYPE_CHECKING:
     from swarmex.engine.record import ResultRecord

@@ -148,12 +148,10 @@ def test_bad_value_is_refused_before_work_naming_the_parameter(mission, monkeypa
 
 
 def test_cli_options_are_the_params_options(mission):
-    import typer
-
-    from swarmex.cli import app
+    from swarmex.cli.app import load
 
     m = get(mission)
-    command = typer.main.get_command(app).commands[m.command]
+    command = load(m.command)
     flags = {o: p for p in command.params for o in getattr(p, "opts", ()) if o.startswith("--")}
     for info in m.params_type.options().values():
         assert info.flag in flags, f"{m.command} lacks {info.flag}"

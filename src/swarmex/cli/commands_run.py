@@ -62,10 +62,12 @@ def run_scenario(
     scenario: Path = typer.Argument(..., help="TOML file: mission = ... plus the options."),
 ) -> Any:
     """Run any mission from a scenario file (options after the file override it)."""
+    from swarmex.cli.app import load
     from swarmex.cli.missions import COMMANDS, invoke
     from swarmex.experiments.scenario import resolve_path
 
     scn = load_scenario(scenario)
+    load(scn.command)  # command modules are imported on first use (cli/app.py)
     if scn.mission not in COMMANDS:
         raise InputError(
             f"{scenario}: mission {scn.mission!r} needs the 'swarmex {scn.command}' command,"

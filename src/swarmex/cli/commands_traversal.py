@@ -12,7 +12,8 @@ from typing import Any
 import typer
 from rich.table import Table
 
-from swarmex.cli.app import app, console
+from swarmex.cli.app import app, console, err_console
+from swarmex.cli.compiling import compile_notice
 from swarmex.cli.missions import Surface, mission_command
 from swarmex.cli.outputs import check_output
 from swarmex.missions.base import Outcome
@@ -109,15 +110,16 @@ def demo(
 
     out = out.resolve()  # say exactly where the picture went
     check_output(out, "--out", (".png",))
-    prepared = demo_world()
-    world, agents = prepared.world, len(prepared.nests)
-    # a generated world has neither map nor grid, so the Params are built directly
-    params = TraversalParams(agents=agents, seed=seed)
-    console.print(
-        f"demo: {agents} agents from one nest on a generated {world.width}x{world.height}"
-        f" map ({world.free_cells} free cells)"
-    )
-    outcome = get("traversal").execute(params, prepared)
+    with compile_notice(err_console):
+        prepared = demo_world()
+        world, agents = prepared.world, len(prepared.nests)
+        # a generated world has neither map nor grid, so the Params are built directly
+        params = TraversalParams(agents=agents, seed=seed)
+        console.print(
+            f"demo: {agents} agents from one nest on a generated {world.width}x{world.height}"
+            f" map ({world.free_cells} free cells)"
+        )
+        outcome = get("traversal").execute(params, prepared)
     report(outcome, params)
     render(outcome, out, [])
     console.print(f"wrote {out}")

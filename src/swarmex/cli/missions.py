@@ -20,7 +20,8 @@ from typing import Any
 
 import typer
 
-from swarmex.cli.app import app, console
+from swarmex.cli.app import app, console, err_console
+from swarmex.cli.compiling import compile_notice
 from swarmex.cli.outputs import RENDER_SUFFIXES, check_output
 from swarmex.errors import InputError
 from swarmex.missions.base import FrameCallback, Mission, OptionInfo, Outcome
@@ -97,9 +98,10 @@ def mission_command(mission: Mission[Any, Any], surface: Surface) -> Callable[..
             mission, params, {**extra_values, "render": render}, json_path
         ):
             return None
-        world = mission.prepare(params)
-        on_frame = surface.recorder(render) if surface.recorder and render else None
-        outcome = mission.execute(params, world, on_frame)
+        with compile_notice(err_console):
+            world = mission.prepare(params)
+            on_frame = surface.recorder(render) if surface.recorder and render else None
+            outcome = mission.execute(params, world, on_frame)
         surface.report(outcome, params)
         if json_path is not None:
             from swarmex.engine.record import write_record
