@@ -182,7 +182,7 @@ def test_help_and_no_arguments_exit_0(argv, capsys):
 def test_console_entry_leaves_with_its_output_and_status(tmp_path):
     """`python -m swarmex` ends through cli.leave (no interpreter finalisation): everything
     printed arrives, files are complete, the exit status is the command's."""
-    env = {**os.environ, "PYTHONPATH": str(SRC)}
+    env = {**os.environ, "PYTHONPATH": str(SRC), "COLUMNS": "400"}  # no wrapped paths
     out = tmp_path / "d.png"
     proc = subprocess.run([sys.executable, "-m", "swarmex", "demo", "--out", str(out)],
                           capture_output=True, text=True, env=env, timeout=240, cwd=tmp_path)
