@@ -16,7 +16,7 @@ from rich.table import Table
 from swarmex.cli.app import console, reproduce_app
 from swarmex.cli.missions import Surface, mission_command
 from swarmex.errors import InputError
-from swarmex.missions.base import Outcome
+from swarmex.missions.base import FrameList, Outcome
 from swarmex.missions.registry import get
 
 
@@ -42,12 +42,17 @@ def report(outcome: Outcome, params: Any) -> None:
 
 
 def render(outcome: Outcome, path: Path, frames: list[Any]) -> None:
+    """Draw the run from its frames (the objects ``on_frame`` got)."""
     from swarmex.viz.foraging import render_run
 
-    render_run(outcome.record.to_dict(), path)
+    render_run(outcome.record.to_dict(), path, frames)
 
 
-forage = mission_command(get("foraging"), Surface(report, render))
+def recorder(path: Path) -> FrameList:
+    return FrameList()
+
+
+forage = mission_command(get("foraging"), Surface(report, render, recorder=recorder))
 
 
 @reproduce_app.command("foraging")

@@ -13,7 +13,7 @@ import typer
 
 from swarmex.cli.app import console, reproduce_app
 from swarmex.cli.missions import Surface, mission_command
-from swarmex.missions.base import Outcome
+from swarmex.missions.base import FrameList, Outcome
 from swarmex.missions.registry import get
 
 
@@ -37,13 +37,21 @@ def report(outcome: Outcome, params: Any) -> None:
 
 
 def render(outcome: Outcome, path: Path, frames: list[Any]) -> None:
+    """Draw the run from its frames (the objects ``on_frame`` got)."""
     from swarmex.viz.roadmap_plot import render as draw
+    from swarmex.viz.roadmap_plot import run_from_frames
 
-    draw(outcome.run, path)
+    draw(run_from_frames(outcome.run, frames), path)
+
+
+def recorder(path: Path) -> FrameList:
+    return FrameList()
 
 
 roadmap = mission_command(
-    get("roadmap"), Surface(report, render, render_help="Write a .png, .gif or .mp4 of the run.")
+    get("roadmap"),
+    Surface(report, render, recorder=recorder,
+            render_help="Write a .png, .gif or .mp4 of the run."),
 )
 
 

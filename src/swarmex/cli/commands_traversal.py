@@ -16,7 +16,7 @@ from swarmex.cli.app import app, console, err_console
 from swarmex.cli.compiling import compile_notice
 from swarmex.cli.missions import Surface, mission_command
 from swarmex.cli.outputs import check_output
-from swarmex.missions.base import Outcome
+from swarmex.missions.base import FrameList, Outcome
 from swarmex.missions.registry import get
 
 # ---------------------------------------------------------------------------- output
@@ -89,14 +89,20 @@ def report(outcome: Outcome, params: Any) -> None:
 
 
 def render(outcome: Outcome, path: Path, frames: list[Any]) -> None:
+    """Draw the run from its frames (the objects ``on_frame`` got)."""
     from swarmex.viz.traversal import render_traversal
 
-    render_traversal(outcome.record.to_dict(), outcome.world, path)
+    render_traversal(outcome.record.to_dict(), outcome.world, path, frames)
+
+
+def recorder(path: Path) -> FrameList:
+    return FrameList()
 
 
 traverse = mission_command(
     get("traversal"),
-    Surface(report, render, render_help="Draw the paths (.png) or animate the run (.gif, .mp4)."),
+    Surface(report, render, recorder=recorder,
+            render_help="Draw the paths (.png) or animate the run (.gif, .mp4)."),
 )
 
 @app.command()
@@ -119,7 +125,8 @@ def demo(
             f"demo: {agents} agents from one nest on a generated {world.width}x{world.height}"
             f" map ({world.free_cells} free cells)"
         )
-        outcome = get("traversal").execute(params, prepared)
+        frames = FrameList()
+        outcome = get("traversal").execute(params, prepared, frames)
     report(outcome, params)
-    render(outcome, out, [])
+    render(outcome, out, frames)
     console.print(f"wrote {out}")

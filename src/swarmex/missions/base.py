@@ -423,6 +423,18 @@ class Outcome:
 
 
 FrameCallback = Callable[[Any], Any]
+
+
+class FrameList(list[Any]):
+    """An ``on_frame`` callback that keeps every frame, in order: what ``--render`` draws
+    (the same objects ``swarmex.run(..., on_frame=...)`` hands a notebook)."""
+
+    def __call__(self, frame: Any) -> None:
+        self.append(frame)
+
+    @property
+    def frames(self) -> list[Any]:
+        return self
 W = TypeVar("W")
 
 

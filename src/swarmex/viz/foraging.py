@@ -1,4 +1,4 @@
-"""Pictures of a foraging run from its result record: a still (PNG), an animation (GIF/MP4).
+"""Pictures of a foraging run, from its frames or its record: a still (PNG), an animation.
 
 The still shows what the thesis's pattern figures show (Figs. 14–48): each robot's walk in its
 own colour over the g×g grid, the nest as a star and the food as a square; the exploration part
@@ -10,6 +10,7 @@ Only matplotlib's object API with the Agg canvas is used (headless, no global st
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -34,6 +35,18 @@ def _positions(record: dict[str, Any]) -> np.ndarray:
     return np.asarray([[r[1:] for r in a["trajectory"]] for a in record["agents"]], dtype=float)
 
 
+def frames_state(frames: Sequence[Any]) -> tuple[np.ndarray, ...]:
+    """The run as the drawings need it, from its :class:`~swarmex.missions.foraging.sim.Frame`
+    list (what ``on_frame`` got, one per round): positions ``(n, T, 2)``, who carries
+    ``(n, T)``, units delivered ``(T,)`` and left at the food ``(T,)`` — exact, relay
+    hand-overs included, where the record alone only allows :func:`carried_units`."""
+    pos = np.stack([f.positions for f in frames], axis=1).astype(float)
+    carrying = np.stack([f.carrying for f in frames], axis=1).astype(bool)
+    delivered = np.array([f.delivered for f in frames], dtype=np.int64)
+    left = np.array([f.food_left for f in frames], dtype=np.int64)
+    return pos, carrying, delivered, left
+
+
 def _axes(fig: Figure, g: int):
     ax = fig.add_subplot(111)
     ax.set_xlim(-0.5, g - 0.5)
@@ -44,11 +57,11 @@ def _axes(fig: Figure, g: int):
     return ax
 
 
-def render_png(record: dict[str, Any], path: Path) -> None:
+def render_png(record: dict[str, Any], path: Path, frames: Sequence[Any] = ()) -> None:
     g = int(record["params"]["grid"])
     nest, food = record["params"]["nest"], record["params"]["food"]
     disc = int(record["metrics"]["exploration_time"])
-    pos = _positions(record)
+    pos = frames_state(frames)[0] if frames else _positions(record)
     fig = Figure(figsize=(7, 7), dpi=110)
     FigureCanvasAgg(fig)
     ax = _axes(fig, g)
@@ -107,18 +120,25 @@ def carried_units(record: dict[str, Any], T: int) -> tuple[np.ndarray, np.ndarra
     return carrying, delivered, k - picked
 
 
-def animation_frames(record: dict[str, Any], max_frames: int = MAX_FRAMES) -> list[np.ndarray]:
+def animation_frames(record: dict[str, Any], max_frames: int = MAX_FRAMES,
+                     frames: Sequence[Any] = ()) -> list[np.ndarray]:
     """RGB frames of the run: paths so far, robots (filled while carrying), food and nest.
 
     The food square shrinks as units are picked up and the title counts units left at the
-    food, in transit and delivered, so the transport phase reads at a glance.
+    food, in transit and delivered, so the transport phase reads at a glance. With the run's
+    ``frames`` everything moving is drawn from them; without (a record read back from JSON)
+    from the record.
     """
     g = int(record["params"]["grid"])
     nest, food = record["params"]["nest"], record["params"]["food"]
     k = int(record["params"]["food_units"])
-    pos = _positions(record)
-    T = pos.shape[1]
-    carrying, delivered, left = carried_units(record, T)
+    if frames:
+        pos, carrying, delivered, left = frames_state(frames)
+        T = pos.shape[1]
+    else:
+        pos = _positions(record)
+        T = pos.shape[1]
+        carrying, delivered, left = carried_units(record, T)
     frames_t = np.unique(np.linspace(0, T - 1, min(max_frames, T)).astype(int))
     cols = _colours(len(pos))
     fig = Figure(figsize=(5, 5), dpi=80)
@@ -147,10 +167,11 @@ def animation_frames(record: dict[str, Any], max_frames: int = MAX_FRAMES) -> li
     return images
 
 
-def render_run(record: dict[str, Any], path: str | Path) -> Path:
-    """Draw (``.png``) or animate (``.gif``, ``.mp4``) a run, by the file's suffix."""
+def render_run(record: dict[str, Any], path: str | Path, frames: Sequence[Any] = ()) -> Path:
+    """Draw (``.png``) or animate (``.gif``, ``.mp4``) a run, by the file's suffix, from its
+    ``frames`` when given."""
     path = Path(path)
     if check_suffix(path) == ".png":
-        render_png(record, path)
+        render_png(record, path, frames)
         return path
-    return write_animation(path, animation_frames(record), fps=12)
+    return write_animation(path, animation_frames(record, frames=frames), fps=12)

@@ -8,6 +8,8 @@ have ``y_down`` and are drawn with y pointing down, as the map looks.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+from dataclasses import replace
 from pathlib import Path
 from typing import Any, cast
 
@@ -47,6 +49,24 @@ def _positions_at(run: RoadmapRun, t: int) -> np.ndarray:
         k = int(np.searchsorted(arr[:, 0], t, side="right")) - 1
         out.append(arr[max(k, 0), 1:])
     return np.asarray(out)
+
+
+def run_from_frames(run: RoadmapRun, frames: Sequence[Any]) -> RoadmapRun:
+    """``run`` with the agents' paths and its length rebuilt from the run's
+    :class:`~swarmex.missions.roadmap.sim.RoadmapFrame` list (what ``on_frame`` got).
+
+    Frame 0 holds the starts and every later frame the positions after its step, ``moved``
+    naming who moved: exactly the run's trajectories when every frame is there, and what a
+    live view or a stopped run has drawn so far otherwise. The world, roadmap and raster
+    (whose cells remember the step they were first seen) are the run's static part.
+    """
+    if not frames:
+        return run
+    traj = [[[0.0, float(p[0]), float(p[1])]] for p in frames[0].positions]
+    for f in frames[1:]:
+        for i in f.moved:
+            traj[i].append([float(f.step), float(f.positions[i][0]), float(f.positions[i][1])])
+    return replace(run, trajectories=traj, steps=int(frames[-1].step))
 
 
 def _first_use(run: RoadmapRun) -> np.ndarray:

@@ -19,6 +19,7 @@ no figure registry to leak, and it works on a headless machine.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -561,9 +562,37 @@ def traversal_frame(record: dict[str, Any], world: Any, t: float, title: str,
     return np.ascontiguousarray(layer.draw(t), dtype=np.uint8).copy()
 
 
-def render_traversal(record_or_run: Any, world, path: str | Path) -> Path:
-    """Draw (``.png``) or animate (``.gif``, ``.mp4``) a run, by the file's suffix."""
+def record_from_frames(record: dict, frames: Sequence[Any]) -> dict:
+    """``record`` with each agent's trajectory and jobs rebuilt from the run's
+    :class:`~swarmex.missions.traversal.sim.TraversalFrame` list (what ``on_frame`` got).
+
+    Every start and arrival is a frame whose ``positions`` hold the agent's new vertex, and
+    every job begins right after a frame of its agent (``job``), so the rebuilt lists are
+    the record's own for a run with the full trace, and the only source for a run without it
+    (``trace=False``) or one still going (a live view)."""
+    ids = [int(a.get("id", i + 1)) for i, a in enumerate(record.get("agents", []))]
+    traj: dict[int, list[list[float]]] = {i: [] for i in ids}
+    jobs: dict[int, list[list[float]]] = {i: [] for i in ids}
+    for f in frames:
+        xy = next(([x, y] for a, x, y in f.positions if a == f.agent), None)
+        if xy is None or f.agent not in traj:
+            continue
+        if f.event in ("start", "arrive"):
+            traj[f.agent].append([f.t, *xy])
+        if f.job:
+            jobs[f.agent].append([f.t, *xy])
+    agents = [dict(a, trajectory=traj[i], jobs=jobs[i])
+              for a, i in zip(record.get("agents", []), ids, strict=True)]
+    return dict(record, agents=agents)
+
+
+def render_traversal(record_or_run: Any, world, path: str | Path,
+                     frames: Sequence[Any] | None = None) -> Path:
+    """Draw (``.png``) or animate (``.gif``, ``.mp4``) a run, by the file's suffix; with the
+    run's ``frames`` the agents' moves and jobs are drawn from them."""
     path = Path(path)
+    if frames:
+        record_or_run = record_from_frames(as_record(record_or_run), frames)
     suffix = path.suffix.lower()
     if suffix not in RENDER_SUFFIXES:
         raise InputError(f"render file {path} must end in {', '.join(RENDER_SUFFIXES)}")

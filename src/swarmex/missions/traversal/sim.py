@@ -128,6 +128,7 @@ class TraversalFrame:
     agent: int  # the agent the event happened to
     positions: tuple[tuple[int, float, float], ...]  # (agent id, x, y)
     jobs_done: int  # vertices with at least one job started
+    job: bool = False  # ``agent`` began a job at its vertex at ``t`` (right after the event)
 
 
 @dataclass
@@ -298,6 +299,7 @@ class _Sim:
             handled += 1
             if handled > max_events:
                 return False
+            jobs_before = len(self.agents[a - 1].log.jobs) if on_frame is not None else 0
             if kind == "arrive":
                 self.pos_xy[a] = pos[data]
                 self.follow(a, self.agent(a).arrive(data, t))
@@ -310,13 +312,14 @@ class _Sim:
                 self.agent(a).receive(data)
                 continue
             if on_frame is not None:
+                job = len(self.agents[a - 1].log.jobs) > jobs_before
                 try:
-                    on_frame(self.frame(t, kind, a))
+                    on_frame(self.frame(t, kind, a, job))
                 except StopRun:
                     return False
         return True
 
-    def frame(self, t: float, kind: str, agent: int) -> TraversalFrame:
+    def frame(self, t: float, kind: str, agent: int, job: bool = False) -> TraversalFrame:
         """What the run looks like at ``t``: each started agent's vertex and the jobs done."""
         pos = self.graph.pos
         where = tuple(
@@ -324,7 +327,8 @@ class _Sim:
             for log in (r.log for r in self.agents)
             if log.trajectory
         )
-        return TraversalFrame(float(t), kind, int(agent), where, int((self.job_count > 0).sum()))
+        return TraversalFrame(float(t), kind, int(agent), where, int((self.job_count > 0).sum()),
+                              job)
 
 
 def validate_nests(world: Any, specs: list[AgentSpec], shared_nests: bool = True) -> None:
