@@ -1,8 +1,9 @@
 """``swarmex monitor``: serve the live page for a simulated mission, a record, or a live feed.
 
-* ``--scenario FILE.toml`` runs the scenario's mission (through its own command, as
-  ``swarmex run`` does), then streams the run's events paced in scaled time (``--speed``
-  mission seconds per wall second), starting when the first viewer connects;
+* ``--scenario FILE.toml`` runs the scenario's mission (through the Mission contract, as
+  ``swarmex run`` does) and streams its frames *while it runs*, paced in scaled time
+  (``--speed`` mission seconds per wall second), starting when the first viewer connects
+  (:mod:`swarmex.viz.monitor.live`);
 * ``--record FILE.json`` replays a finished run's record the same way;
 * ``--connect tcp://HOST:P`` shows a networked mission live (the producer of
   :func:`swarmex.net.events.network_producer` reads the mission server's event stream);
@@ -30,9 +31,9 @@ from swarmex.cli.app import app, console
 from swarmex.errors import InputError, require
 
 
-def run_scenario_record(scenario: Path) -> dict:
-    """Run a scenario file's mission in this process (through the Mission contract) and
-    return its result record; the file's output keys (json, render) are ignored here."""
+def scenario_mission(scenario: Path) -> tuple[Any, Any]:
+    """A scenario file's mission and checked params (the file's output keys, json and render,
+    are ignored here)."""
     from swarmex.experiments.scenario import load_scenario, mission_shapes, scenario_values
     from swarmex.missions.registry import get
 
@@ -41,10 +42,16 @@ def run_scenario_record(scenario: Path) -> dict:
     scn = type(scn)(scn.path, scn.mission, options)
     try:
         mission = get(scn.mission)
-        params = mission.params(scenario_values(scn, mission_shapes(scn.mission)))
-        return mission.run(params).record.to_dict()
+        return mission, mission.params(scenario_values(scn, mission_shapes(scn.mission)))
     except InputError as exc:
         raise InputError(f"{scenario}: {exc}") from None
+
+
+def run_scenario_record(scenario: Path) -> dict:
+    """Run a scenario file's mission in this process (through the Mission contract) and
+    return its result record."""
+    mission, params = scenario_mission(scenario)
+    return mission.run(params).record.to_dict()
 
 
 def _path(text: str, base: Path | None) -> Path:
@@ -250,8 +257,18 @@ def monitor(
     if port < 0 or port > 65535:
         raise InputError(f"--port must be in 0..65535, got {port}")
     record: dict | None = None
+    live: tuple[Any, Any, dict] | None = None
     if scenario is not None:
-        record = run_scenario_record(scenario)
+        from swarmex.viz.monitor.live import skeleton_record
+
+        mission, params = scenario_mission(scenario)
+        live = (mission, params, skeleton_record(mission, params))
+        skeleton = live[2]
+        console.print(
+            f"{skeleton.get('mission')} · {skeleton.get('algorithm')} · "
+            f"{len(skeleton['agents'])} agents · live (streamed while it runs)",
+            highlight=False,
+        )
     elif record_file is not None:
         record = read_record(record_file)
         if not isinstance(record, dict) or "agents" not in record:
@@ -269,6 +286,20 @@ def monitor(
         )
     server = MonitorServer(port, record)
     producer: Any = None
+    if live is not None:
+        from swarmex.viz.monitor.live import stream_run
+
+        mission, params, skeleton = live
+
+        def keep(final: dict) -> None:
+            server.record = final  # what /record serves from now on
+            if json_path is not None:
+                write_json_atomic(final, json_path)
+
+        def producer(hub):
+            return stream_run(hub, mission, params, skeleton, record_world(skeleton), speed,
+                              wait, on_record=keep)
+
     if record is not None:
         base = record_file.resolve().parent if record_file is not None else None
         events = record_events(record, speed=speed, world=record_world(record, base))
@@ -284,7 +315,8 @@ def monitor(
         producer = network_producer(connect)
 
     def ready(srv: MonitorServer) -> None:
-        what = "waiting for the first viewer" if wait and record is not None else "streaming"
+        what = ("waiting for the first viewer" if wait and (record or live) is not None
+                else "streaming")
         if connect is not None:
             what = f"showing the mission at {connect}"
         elif record is None:

@@ -129,6 +129,8 @@ class TraversalFrame:
     positions: tuple[tuple[int, float, float], ...]  # (agent id, x, y)
     jobs_done: int  # vertices with at least one job started
     job: bool = False  # ``agent`` began a job at its vertex at ``t`` (right after the event)
+    # where ``agent`` announced it moves next (C05), if it set off at ``t``: (x, y)
+    heading: tuple[float, float] | None = None
 
 
 @dataclass
@@ -219,6 +221,7 @@ class _Sim:
         self._home_fields: dict[int, np.ndarray] = {}  # nest -> true distances (for RTL)
         self.messages = 0
         self.message_bytes = 0
+        self.heading = np.full(m + 1, -1, dtype=np.int64)  # node each agent set off to (frames)
 
     def agent(self, a: int) -> TraversalAgent:
         return self.agents[a - 1]
@@ -261,6 +264,7 @@ class _Sim:
             self.queue.schedule(nxt.time, "job_end", a, node)
         elif nxt.kind == "arrive":
             self.queue.schedule(nxt.time, "arrive", a, nxt.node)
+            self.heading[a] = nxt.node
         else:
             self.finish(a)
 
@@ -300,6 +304,7 @@ class _Sim:
             if handled > max_events:
                 return False
             jobs_before = len(self.agents[a - 1].log.jobs) if on_frame is not None else 0
+            self.heading[a] = -1
             if kind == "arrive":
                 self.pos_xy[a] = pos[data]
                 self.follow(a, self.agent(a).arrive(data, t))
@@ -314,21 +319,23 @@ class _Sim:
             if on_frame is not None:
                 job = len(self.agents[a - 1].log.jobs) > jobs_before
                 try:
-                    on_frame(self.frame(t, kind, a, job))
+                    on_frame(self.frame(t, kind, a, job, int(self.heading[a])))
                 except StopRun:
                     return False
         return True
 
-    def frame(self, t: float, kind: str, agent: int, job: bool = False) -> TraversalFrame:
+    def frame(self, t: float, kind: str, agent: int, job: bool = False,
+              heading: int = -1) -> TraversalFrame:
         """What the run looks like at ``t``: each started agent's vertex and the jobs done."""
         pos = self.graph.pos
+        to = (float(pos[heading][0]), float(pos[heading][1])) if heading >= 0 else None
         where = tuple(
             (log.id, float(pos[log.trajectory[-1][1]][0]), float(pos[log.trajectory[-1][1]][1]))
             for log in (r.log for r in self.agents)
             if log.trajectory
         )
         return TraversalFrame(float(t), kind, int(agent), where, int((self.job_count > 0).sum()),
-                              job)
+                              job, to)
 
 
 def validate_nests(world: Any, specs: list[AgentSpec], shared_nests: bool = True) -> None:

@@ -16,7 +16,7 @@ import contextlib
 import json
 import math
 import socket
-from collections.abc import Coroutine
+from collections.abc import Callable, Coroutine
 from typing import Any
 
 from starlette.applications import Starlette
@@ -50,7 +50,10 @@ def _finite(value: Any) -> Any:
     return value
 
 
-def create_app(hub: EventHub, record: dict | None = None) -> Starlette:
+def create_app(hub: EventHub, record: dict | Callable[[], dict | None] | None = None
+               ) -> Starlette:
+    """The page, its script, the schema, ``/record`` (a record, or a function giving the
+    current one: a live run has its record only once it ends) and the WebSockets."""
     async def index(_request: Any) -> Response:
         return HTMLResponse(INDEX_HTML)
 
@@ -64,9 +67,10 @@ def create_app(hub: EventHub, record: dict | None = None) -> Starlette:
         return PlainTextResponse(schema.__doc__ or "")
 
     async def record_json(_request: Any) -> Response:
-        if record is None:
+        current = record() if callable(record) else record
+        if current is None:
             return JSONResponse({"error": "no record: a live mission"}, status_code=404)
-        return JSONResponse(record)
+        return JSONResponse(current)
 
     async def viewer(ws: WebSocket) -> None:
         await ws.accept()
@@ -151,7 +155,7 @@ class MonitorServer:
         self._loop = asyncio.get_running_loop()
         self.hub = EventHub()
         config = uvicorn.Config(
-            create_app(self.hub, self.record),
+            create_app(self.hub, lambda: self.record),
             log_level="warning",
             lifespan="off",
             timeout_graceful_shutdown=2,
