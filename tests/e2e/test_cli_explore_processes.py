@@ -25,4 +25,16 @@ def test_processes_run_completes(tmp_path):
     code = main(["explore", "--empty", "3x3", "--robots", "2", "--processes", "--json", str(out)])
     assert code == 0 and out.exists()
     record = json.loads(out.read_text())
-    assert record["params"]["aodv"] is False  # the processes send one-hop unicasts only
+    assert record["params"]["aodv"] is True  # the processes route unicasts with AODV
+    assert record["metrics"]["unicasts"]["sent"] > 0  # the first NEED_MAPs at least
+
+
+def test_processes_without_aodv_send_one_hop_unicasts(tmp_path):
+    out = tmp_path / "mesh.json"
+    code = main(["explore", "--empty", "3x3", "--robots", "2", "--processes", "--no-aodv",
+                 "--json", str(out)])
+    assert code == 0
+    record = json.loads(out.read_text())
+    m = record["metrics"]
+    assert record["params"]["aodv"] is False and m["unicasts"]["sent"] == 0
+    assert m["aodv_messages"] == 0 and not m["multihop_in_by_kind"]

@@ -115,3 +115,42 @@ def test_scans_cross_the_mesh_by_multi_hop_relay():
     # the radio really was range-limited: heartbeats between the ends were not heard
     assert record["agents"][0]["metrics"]["traffic"]["out_of_range"] > 0
     assert record["agents"][2]["metrics"]["traffic"]["out_of_range"] > 0
+
+
+def test_unicasts_cross_a_line_of_robots_by_aodv():
+    """Four closed rooms in a row, one robot in each, a radio (1.5 m) that reaches only the
+    next room (1.05 m) — the line is 3.15 m long. NEED_MAP / MAP between robots that never
+    hear each other must be routed by AODV through the robots in between (a tenth of the
+    radio frames is lost, so archives have holes to ask for). Checked two ways: the robots'
+    AODV statistics, and what the receivers saw arrive in routed envelopes."""
+    from swarmex.worlds import GridWorld
+    from swarmex.worlds.metric import MetricGrid
+
+    n = 4
+    free = np.zeros((22, 1 + 21 * n), dtype=bool)
+    starts = []
+    for i in range(n):  # 20 x 20 rooms (1 m), one wall cell between them
+        free[1:21, 1 + 21 * i:21 + 21 * i] = True
+        starts.append((11 + 21 * i, 11))
+    grid = MetricGrid(GridWorld(free, source="rooms in a row"), 0.05)
+    params = ExplorationParams(robots=n, laser_range=0.3, comm_range=1.5, seed=3,
+                               starts=tuple(starts))
+    assert (starts[2][0] - starts[0][0]) * grid.cell > params.comm_range  # two hops at least
+    record = run_processes(grid, params, MeshOptions(time_scale=0.1, loss=0.1, timeout=60),
+                           say=lambda _s: None)
+    m = record["metrics"]
+    assert record["params"]["aodv"] is True
+    assert record["complete"] and m["explored_fraction"] >= 0.99
+    assert all(a["metrics"]["reported"] for a in record["agents"])
+    u = m["unicasts"]
+    assert u["delivered_multihop"] > 0 and u["discoveries"] > 0 and u["gap_requests"] > 0
+    assert m["aodv_messages"] > 0 and m["aodv_bytes"] > 0
+    assert set(m["multihop_in_by_kind"]) <= {"NEED_MAP", "MAP", "CHANGE_GOAL"}
+    assert m["multihop_in_by_kind"].get("NEED_MAP", 0) + m["multihop_in_by_kind"].get("MAP", 0) > 0
+    # the wire's count of routed arrivals is AODV's count of multi-hop deliveries
+    assert sum(m["multihop_in_by_kind"].values()) == (
+        u["delivered_multihop"] + m["display_unicasts"]["delivered_multihop"])
+    # the ends never heard each other: everything between them was relayed or routed
+    assert record["agents"][0]["metrics"]["traffic"]["out_of_range"] > 0
+    by = {a["id"]: a["metrics"]["scans_by_origin"] for a in record["agents"]}
+    assert by[0].get(str(n - 1), 0) > 0 and by[n - 1].get("0", 0) > 0

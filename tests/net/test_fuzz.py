@@ -165,6 +165,7 @@ def test_server_events_need_a_place():
 
 
 def _radio_frames() -> list[bytes]:
+    from swarmex.comm.aodv import Rerr, Routed, Rreq
     from swarmex.missions.exploration.messages import (
         ChangeGoal,
         Goal,
@@ -185,6 +186,9 @@ def _radio_frames() -> list[bytes]:
         encode_radio(1, (2, 3), NeedMap(1, ((0, 0, 4),))),
         encode_radio(2, (1, 1), Goal(2, (4, 4), 6.0, 1, 1)),
         encode_radio(2, (1, 1), ChangeGoal(2, (4, 4), 6.0)),
+        encode_radio(1, (2, 3), Rreq(1, 0, 3, 7, 4, -1, 1)),
+        encode_radio(2, (1, 1), Rerr(2, ((4, 6),))),
+        encode_radio(1, (2, 3), Routed(1, 0, 4, 130, NeedMap(0, ((0, 0, 9),)), 2), link=3),
     ]
 
 
@@ -203,7 +207,8 @@ def test_mesh_frames_decode():
     from swarmex.net.mesh import decode_radio
 
     kinds = [decode_radio(f, (12, 12))[2].kind for f in RADIO]
-    assert kinds == ["SCAN", "HEARTBEAT", "NEED_MAP", "GOAL", "CHANGE_GOAL"]
+    assert kinds == ["SCAN", "HEARTBEAT", "NEED_MAP", "GOAL", "CHANGE_GOAL", "RREQ", "RERR",
+                     "NEED_MAP"]  # a routed envelope's kind is its payload's
 
 
 @settings(max_examples=300, deadline=None)
@@ -216,9 +221,12 @@ def test_mesh_truncated_and_flipped_frames(frame, cut, bit):
 
 
 @settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(st.sampled_from(["SCAN", "MAP", "HEARTBEAT", "NEED_MAP", "GOAL", "CHANGE_GOAL", "X"]),
+@given(st.sampled_from(["SCAN", "MAP", "HEARTBEAT", "NEED_MAP", "GOAL", "CHANGE_GOAL", "X",
+                        "RREQ", "RREP", "RERR", "DATA"]),
        st.dictionaries(st.sampled_from(["src", "x", "y", "goal", "priority", "have", "scans",
-                                        "box", "o", "s", "free", "occ"]),
+                                        "box", "o", "s", "free", "occ", "orig", "dest",
+                                        "oseq", "dseq", "id", "hops", "life", "dests", "exp",
+                                        "payload"]),
                        msgpack_values | st.lists(st.dictionaries(
                            st.sampled_from(["o", "s", "x", "y", "box", "free", "occ"]),
                            msgpack_values, max_size=7), max_size=2), max_size=8),
@@ -237,3 +245,19 @@ def test_mesh_checksummed_nonsense(kind, body, x, y):
 def test_mesh_random_bytes(data):
     _mesh_decoders(data)
     _mesh_decoders(data + wire.pack(0)[-4:])
+
+
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.sampled_from(["NEED_MAP", "MAP", "CHANGE_GOAL", "SCAN", "RREQ", "DATA"]),
+       st.dictionaries(st.sampled_from(["src", "goal", "priority", "have", "scans", "orig",
+                                        "payload"]), msgpack_values, max_size=5),
+       st.integers(-3, 3), st.floats(allow_nan=True))
+def test_mesh_routed_payload_nonsense(kind, body, src, exp):
+    """A well-formed DATA envelope around a nonsense payload: a WireError or a message."""
+    env = {"type": "DATA", "src": 1, "orig": 0, "dest": 2, "exp": exp, "hops": 2,
+           "payload": {"type": kind, "src": src, **body}}
+    try:
+        frame = wire.pack(["R", 1, 3, 3, env])
+    except (OverflowError, ValueError, TypeError):
+        return
+    _mesh_decoders(frame)

@@ -5,7 +5,7 @@ not contain the route to the necessary destination, the thread starts the route 
 by AODV routing protocol. The message is stored in the queue until it finds a route to the
 destination or the message lifetime expires." :class:`AodvNode` is that protocol state for
 one node, payload-agnostic and clock-agnostic (times in any unit, here 100 ms ticks), so the
-simulator drives it now and a networked runtime could later:
+simulator and the process mesh (:mod:`swarmex.net.routing`) drive the same code:
 
 * **route table** — one :class:`Route` per destination with the seed's fields: destination
   sequence number (``-1`` = unknown), state (valid/invalid), hop count, next hop, precursors
@@ -43,6 +43,11 @@ Readings of what the seed leaves open (recorded in ``docs/exploration.md`` too):
   itself answers (it is then one hop from the last relay anyway).
 * No expanding-ring search and no RREQ jitter: delivery in the simulator is instantaneous,
   so a discovery takes no simulated time and the result is deterministic.
+* On the wire (the process mesh, :mod:`swarmex.net.mesh`) every message is its ``to_dict()``
+  and :func:`from_dict` rebuilds it; a :class:`Routed` envelope's ``expires`` is then
+  compared with the clock of each process it crosses. Those clocks all start at the same GO
+  and tick at the same period, so they differ by a few ticks — small against the 10 s
+  lifetime of a unicast.
 * Constants (spec §6.9; the seed gives none): an active route lives 3 s (RFC 3561's
   ACTIVE_ROUTE_TIMEOUT), refreshed by use; the destination's own RREP grants 6 s (RFC's
   MY_ROUTE_TIMEOUT); a reverse route 3 s (slightly more than RFC's 2.8 s NET_TRAVERSAL_TIME,
@@ -163,6 +168,33 @@ class Routed:
 
 
 CONTROL_KINDS = ("RREQ", "RREP", "RERR")  # routing control, counted apart by DiscNetwork
+DATA_KIND = "DATA"  # the wire type of a :class:`Routed` envelope
+
+
+def _number(v: Any) -> float:
+    """A time as sent: an int stays an int, so the rebuilt message packs to the same bytes
+    (and ``nbytes``, which the traffic counters add up, is the sender's)."""
+    return v if isinstance(v, int) and not isinstance(v, bool) else float(v)
+
+
+def from_dict(d: dict[str, Any], payload: Callable[[dict[str, Any]], Any]) -> AodvMessage | Routed:
+    """Rebuild an AODV message (or a routed envelope, its payload by ``payload``) from its
+    ``to_dict()`` form; KeyError / TypeError / ValueError on a malformed one (the caller,
+    a wire decoder, has checked the field types already)."""
+    kind = d["type"]
+    src = int(d["src"])
+    if kind == "RREQ":
+        return Rreq(src, int(d["orig"]), int(d["oseq"]), int(d["id"]), int(d["dest"]),
+                    int(d["dseq"]), int(d["hops"]))
+    if kind == "RREP":
+        return Rrep(src, int(d["orig"]), int(d["dest"]), int(d["dseq"]), int(d["hops"]),
+                    _number(d["life"]))
+    if kind == "RERR":
+        return Rerr(src, tuple((int(a), int(b)) for a, b in d["dests"]))
+    if kind == DATA_KIND:
+        return Routed(src, int(d["orig"]), int(d["dest"]), _number(d["exp"]),
+                      payload(d["payload"]), int(d["hops"]))
+    raise ValueError(f"not an AODV message type: {kind!r:.20}")
 MAX_HOPS = 64  # a routed payload is dropped after this many hops (RFC 3561's IP TTL role)
 
 
@@ -206,6 +238,19 @@ class AodvTiming:
     reverse_route: float = 30.0  # 3 s > NET_TRAVERSAL_TIME
     hello_route: float = 30.0  # the neighbour timeout
     retry: float = 10.0  # first RREQ retry: one heartbeat period; then doubling
+
+    @classmethod
+    def for_mesh(cls, heartbeat_period: float, neighbour_timeout: float) -> AodvTiming:
+        """The constants tied to the mesh's heartbeats (every member of a mesh uses these):
+        routes live one neighbour timeout, the destination's own RREP grants two, and a
+        failed discovery is first retried after one heartbeat period."""
+        return cls(
+            active_route=neighbour_timeout,
+            my_route=2 * neighbour_timeout,
+            reverse_route=neighbour_timeout,
+            hello_route=neighbour_timeout,
+            retry=heartbeat_period,
+        )
 
 
 class AodvNode:

@@ -19,19 +19,23 @@ is split the way the real system splits it:
   of the simulator, from true positions), or with the injected loss probability. Heartbeats
   (1 s) go to every node in the *air* — the run directory where each node publishes its
   PULL endpoint — so discovery works as the thesis's UDP heartbeats do: whoever is in range
-  hears them; everything else goes to neighbour-table entries only, and multi-hop delivery
-  is the robots' own ``SCAN`` flooding with de-duplication;
+  hears them; everything else goes to neighbour-table entries only. Multi-hop delivery is
+  the robots' own ``SCAN`` flooding with de-duplication and, for the unicasts (``NEED_MAP``,
+  ``MAP``, ``CHANGE_GOAL``), the simulator's AODV (:mod:`swarmex.net.routing`: its frames,
+  and the ``NACK`` by which a receiver out of range refuses a unicast, the link-layer
+  feedback the simulator gives at once);
 * **the clock**: each robot ticks every ``0.1 × time_scale`` wall seconds (the thesis's
   100 ms movement period, scaled) on its own, asynchronously, as the thesis's processes did.
 
 The display process (thesis §3.2: "the router, but it does not carry out the exploration")
-joins the mesh: it heartbeats, relays floods, asks new neighbours for their maps and keeps
-its own map of every scan it hears. Beside the radio there is a **control link** that is not
-part of the robots' world — the experiment's harness: robots say HELLO to the display, the
-display starts them together (GO), robots send STATUS telemetry (position, moves, finished)
-and, after STOP, their REPORT (statistics and final map). The display ends the run when
-every live robot has reported *finished* for a settling time, writes the result record
-(the schema of ``swarmex explore``) and serves live monitor events.
+joins the mesh: it heartbeats, relays floods, routes AODV unicasts, asks new neighbours for
+their maps and keeps its own map of every scan it hears. Beside the radio there is a
+**control link** that is not part of the robots' world — the experiment's harness: robots
+say HELLO to the display, the display starts them together (GO), robots send STATUS
+telemetry (position, moves, finished) and, after STOP, their REPORT (statistics and final
+map). The display ends the run when every live robot has reported *finished* for a settling
+time, writes the result record (the schema of ``swarmex explore``) and serves live monitor
+events.
 
 Faults: a robot that stops sending STATUS for ``dead_after`` seconds is dead to the display
 (the others' neighbour tables time it out by themselves); ``inject_kill`` makes a robot exit
@@ -41,7 +45,6 @@ abruptly at a given tick; ``loss`` drops that share of radio frames at the recei
 from __future__ import annotations
 
 import contextlib
-import dataclasses
 import math
 import os
 import shutil
@@ -56,16 +59,25 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import zmq
 
+from swarmex.comm.aodv import CONTROL_KINDS, AodvMessage, Routed
 from swarmex.comm.message import PackedMessage
 from swarmex.net import events as ev
 from swarmex.net import wire
+from swarmex.net.routing import (
+    AODV_WIRE_KINDS,
+    ROUTED_PAYLOADS,
+    LinkFeedback,
+    check_aodv,
+    unicast_counts,
+    wants_feedback,
+)
 
 if TYPE_CHECKING:  # imported where used: each process loads only what it needs
     from swarmex.missions.exploration.messages import Message
     from swarmex.missions.exploration.params import ExplorationParams
     from swarmex.worlds.metric import MetricGrid
 
-CONTROL = ("HELLO", "GO", "BEAT", "STATUS", "STOP", "REPORT")
+CONTROL = ("HELLO", "GO", "BEAT", "STATUS", "STOP", "REPORT", "NACK")
 RADIO_KIND = "R"
 STATUS_EVERY = 5  # ticks between STATUS frames (at most; and at least every STATUS_WALL s)
 STATUS_WALL = 0.25  # wall seconds: liveness must not depend on the time scale
@@ -155,8 +167,19 @@ def read_scenario(
 # ---------------------------------------------------------------------------- radio frames
 
 
-def encode_radio(src: int, pos: tuple[int, int], msg: PackedMessage) -> bytes:
-    return wire.pack([RADIO_KIND, src, int(pos[0]), int(pos[1]), msg.to_dict()])
+def encode_radio(src: int, pos: tuple[int, int], msg: PackedMessage | Routed,
+                 link: int | None = None) -> bytes:
+    """A radio frame ``[R, src, x, y, body]``, plus the link sequence number of a unicast
+    whose refusal the sender wants to hear of (:mod:`swarmex.net.routing`)."""
+    frame = [RADIO_KIND, src, int(pos[0]), int(pos[1]), msg.to_dict()]
+    if link is not None:
+        frame.append(int(link))
+    return wire.pack(frame)
+
+
+def radio_link(obj: list[Any]) -> int | None:
+    """The link sequence number of a checked radio frame (None: no feedback wanted)."""
+    return int(obj[5]) if len(obj) == 6 else None
 
 
 def _cell(v: Any, shape: tuple[int, int], what: str) -> tuple[int, int]:
@@ -191,26 +214,48 @@ def _check_scans(scans: Any, shape: tuple[int, int]) -> None:
                 raise wire.EncodingError(f"scan {key}: expected {nbytes} bytes")
 
 
-def decode_radio(frame: bytes, shape: tuple[int, int]) -> tuple[int, tuple[int, int], Message]:
-    """``(src, (x, y), message)`` of a radio frame, fully checked against the map's shape;
+def decode_radio(
+    frame: bytes, shape: tuple[int, int]
+) -> tuple[int, tuple[int, int], Message | AodvMessage | Routed]:
+    """``(src, (x, y), message)`` of a radio frame (an exploration message, or AODV's when
+    routing is on), fully checked against the map's shape;
     :class:`~swarmex.net.wire.WireError` for anything malformed."""
     return radio_message(wire.unpack(frame), shape)
 
 
-def radio_message(obj: Any, shape: tuple[int, int]) -> tuple[int, tuple[int, int], Message]:
+def radio_message(
+    obj: Any, shape: tuple[int, int]
+) -> tuple[int, tuple[int, int], Message | AodvMessage | Routed]:
     """:func:`decode_radio` after the unpacking."""
+    from swarmex.comm import aodv
     from swarmex.missions.exploration.messages import from_dict
 
-    if not isinstance(obj, list) or len(obj) != 5 or obj[0] != RADIO_KIND:
+    if not isinstance(obj, list) or len(obj) not in (5, 6) or obj[0] != RADIO_KIND:
         raise wire.EncodingError("not a radio frame")
     src = wire._int(obj[1], "radio src", 0, DISPLAY)
     pos = _cell([obj[2], obj[3]], shape, "sender cell")
+    if len(obj) == 6:
+        wire._int(obj[5], "link seq", 1)
     d = obj[4]
     if not isinstance(d, dict) or not isinstance(d.get("type"), str):
         raise wire.EncodingError("radio body: expected a typed map")
     kind = d["type"]
     if wire._int(d.get("src"), "message src", 0, DISPLAY) != src:
         raise wire.EncodingError("message src differs from the frame's sender")
+    try:
+        if kind in AODV_WIRE_KINDS:
+            check_aodv(d, DISPLAY, lambda k, p: _check_body(k, p, shape))
+            return src, pos, aodv.from_dict(d, from_dict)
+        _check_body(kind, d, shape)
+        return src, pos, from_dict(d)
+    except wire.WireError:
+        raise
+    except (KeyError, TypeError, ValueError, IndexError, OverflowError) as exc:
+        raise wire.EncodingError(f"radio body: {type(exc).__name__}") from None
+
+
+def _check_body(kind: str, d: dict[str, Any], shape: tuple[int, int]) -> None:
+    """Check an exploration message's fields against the map's shape."""
     if kind in ("SCAN", "MAP"):
         _check_scans(d.get("scans"), shape)
     elif kind == "HEARTBEAT":
@@ -234,10 +279,6 @@ def radio_message(obj: Any, shape: tuple[int, int]) -> tuple[int, tuple[int, int
         wire._float(d.get("priority"), "priority")
     else:
         raise wire.EncodingError(f"unknown radio message {kind!r:.20}")
-    try:
-        return src, pos, from_dict(d)
-    except (KeyError, TypeError, ValueError, IndexError, OverflowError) as exc:
-        raise wire.EncodingError(f"radio body: {type(exc).__name__}") from None
 
 
 def decode_control(frame: bytes) -> list[Any]:
@@ -250,13 +291,17 @@ def control_message(obj: Any) -> list[Any]:
     if not isinstance(obj, list) or not obj or obj[0] not in CONTROL:
         raise wire.EncodingError("not a control frame")
     cmd = obj[0]
-    arity = {"HELLO": 3, "GO": 1, "BEAT": 1, "STATUS": 3, "STOP": 1, "REPORT": 3}[cmd]
+    arity = {"HELLO": 3, "GO": 1, "BEAT": 1, "STATUS": 3, "STOP": 1, "REPORT": 3,
+             "NACK": 3}[cmd]
     if len(obj) != arity:
         raise wire.EncodingError(f"{cmd}: expected {arity - 1} fields")
     if cmd in ("HELLO", "STATUS", "REPORT"):
         wire._int(obj[1], f"{cmd} id", 0, DISPLAY - 1)
     if cmd == "HELLO":
         wire._str(obj[2], "HELLO endpoint", 200)
+    if cmd == "NACK":  # [NACK, refusing node, link seq]
+        wire._int(obj[1], "NACK id", 0, DISPLAY)
+        wire._int(obj[2], "NACK seq", 1)
     if cmd in ("STATUS", "REPORT") and not isinstance(obj[2], dict):
         raise wire.EncodingError(f"{cmd}: expected a map")
     return obj
@@ -319,6 +364,8 @@ class Node:
         self.air: dict[int, str] = {}
         self.traffic = Traffic()
         self.loss_rng = np.random.default_rng([seed, node_id, 7])
+        self.link = LinkFeedback()
+        self.multihop_in: dict[str, int] = {}  # routed payloads delivered here, by kind
         self._publish()
 
     def _publish(self) -> None:
@@ -386,6 +433,27 @@ class Node:
     def lost(self) -> bool:
         return self.options.loss > 0 and self.loss_rng.random() < self.options.loss
 
+    def unicast_frame(self, dst: int, msg: PackedMessage | Routed, pos: tuple[int, int],
+                      t: int) -> bool:
+        """Send a unicast that AODV wants feedback on (stamped with a link sequence
+        number); False if the send itself failed (the peer is gone: the send timeout)."""
+        seq = self.link.stamp(dst, msg, t)
+        if self.send_frame(dst, encode_radio(self.id, pos, msg, seq), msg.kind):
+            return True
+        self.link.sent.pop(seq, None)
+        return False
+
+    def refuse(self, obj: list[Any], src: int) -> None:
+        """An out-of-range frame was dropped: if its sender asked for feedback, NACK it."""
+        seq = radio_link(obj)
+        if seq is not None:
+            self.send_frame(src, wire.pack(["NACK", self.id, seq]), "NACK")
+
+    def arrived(self, msg: Any) -> None:
+        """Count a routed payload that ends here (the wire's own view of multi-hop delivery)."""
+        if isinstance(msg, Routed) and msg.dest == self.id:
+            self.multihop_in[msg.kind] = self.multihop_in.get(msg.kind, 0) + 1
+
     def close(self) -> None:
         for s in self.push.values():
             s.close()  # each socket's own linger (0, or longer for a last report)
@@ -404,7 +472,7 @@ class RobotProcess(Node):
         self.grid = grid
         self.params = params
         rng = np.random.default_rng(params.seed)  # the simulator's phases, robot by robot
-        robots, starts, laser = build_robots(grid, params, rng)
+        robots, starts, laser = build_robots(grid, params, rng, routing=params.aodv)
         self.robot = robots[rid]
         self.laser: Laser = laser
         self.legal_step = legal_step
@@ -423,10 +491,18 @@ class RobotProcess(Node):
     def pos(self) -> tuple[int, int]:
         return self.robot.pos
 
-    def send_out(self, out: Iterable[tuple[int, PackedMessage]]) -> None:
+    def send_out(self, out: Iterable[tuple[int, PackedMessage | Routed]]) -> None:
+        """Put the robot's messages on the air. With AODV, a unicast (application unicast,
+        routed hop, RREP) that cannot be sent is a broken link: the robot re-queues it and
+        rediscovers (:meth:`ExplorerRobot.link_failed`), as in the simulator."""
         from swarmex.missions.exploration.robot import RADIO
 
+        routed = self.robot.aodv is not None
         for dst, msg in out:
+            if routed and dst != RADIO and wants_feedback(msg):
+                if not self.unicast_frame(dst, msg, self.pos(), self.t):
+                    self.send_out(self.robot.link_failed(dst, msg, self.t))
+                continue
             frame = encode_radio(self.id, self.pos(), msg)
             if dst == RADIO:  # heartbeat: to everyone in the air; range decides who hears
                 for nid in sorted(self.scan_air()):
@@ -447,6 +523,9 @@ class RobotProcess(Node):
                 src, where, msg = radio_message(obj, self.grid.shape)
             else:
                 cmd = control_message(obj)
+                if cmd[0] == "NACK":  # a unicast of ours was out of the receiver's range
+                    self._refused(int(cmd[1]), int(cmd[2]))
+                    return
                 self.last_control = time.monotonic()
                 if cmd[0] == "STOP":
                     self.stop = True
@@ -460,14 +539,23 @@ class RobotProcess(Node):
             return
         if not self.in_range(self.pos(), where, self.grid.cell, self.params.comm_range):
             self.traffic.out_of_range += 1
+            self.refuse(obj, src)
             return
         if self.lost():
             self.traffic.lost_injected += 1
             return
         if src == DISPLAY and isinstance(msg, Heartbeat):
             self.robot.mesh.hear(DISPLAY, self.t)  # the display is a router, not a teammate
+            if self.robot.aodv is not None:  # ... and one AODV may route through
+                self.send_out(self.robot.aodv.hello(DISPLAY, self.t))
             return
-        self.send_out(self.robot.on_message(src, msg, self.t))
+        self.arrived(msg)
+        self.send_out(self.robot.on_message(src, msg, self.t))  # type: ignore[arg-type]
+
+    def _refused(self, by: int, seq: int) -> None:
+        msg = self.link.refused(by, seq)
+        if msg is not None:
+            self.send_out(self.robot.link_failed(by, msg, self.t))
 
     def tick(self) -> None:
         r = self.robot
@@ -486,6 +574,7 @@ class RobotProcess(Node):
             self.send_out(r.observe(self.laser.cast(self.truth, *r.pos), t))
         self.send_out(r.housekeeping(t))
         self.send_out(r.maybe_plan(t))
+        self.link.prune(t)
         if t % STATUS_EVERY == 0:
             self.status()
 
@@ -517,6 +606,9 @@ class RobotProcess(Node):
             "trajectory": self.trajectory,
             "free": np.packbits(free.ravel()).tobytes(),
             "traffic": self.traffic.to_dict(),
+            "unicasts": unicast_counts(r.aodv, s.gap_requests),
+            "multihop_in": dict(sorted(self.multihop_in.items())),
+            "link_refusals": self.link.refusals,
         }
 
     def warm_up(self) -> None:
@@ -526,7 +618,8 @@ class RobotProcess(Node):
         from swarmex.missions.exploration.sim import build_robots
 
         robots, _, laser = build_robots(self.grid, self.params,
-                                        np.random.default_rng(self.params.seed))
+                                        np.random.default_rng(self.params.seed),
+                                        routing=self.params.aodv)
         r = robots[self.id]
         r.observe(laser.cast(self.truth, *r.pos), 0)
         r.housekeeping(0)
@@ -587,8 +680,10 @@ class DisplayProcess(Node):
 
     def __init__(self, run_dir: Path, view_bind: str = "tcp://127.0.0.1:*",
                  monitor_url: str | None = None) -> None:
+        from swarmex.comm.aodv import AodvNode, AodvTiming
         from swarmex.comm.mesh import MeshNode
         from swarmex.missions.exploration.belief import ExplorationBelief
+        from swarmex.missions.exploration.robot import RobotConfig
         from swarmex.missions.exploration.sim import reachable_free
 
         grid, params, options, json_path = read_scenario(run_dir)
@@ -601,6 +696,12 @@ class DisplayProcess(Node):
         self.cell = options.display_cell or self.starts[0]
         self.belief = ExplorationBelief(grid.shape, self.cell)
         self.mesh = MeshNode(DISPLAY, params.heartbeat_period, params.neighbour_timeout)
+        # the thesis's display is "the router": with AODV on, it routes unicasts too
+        self.aodv = AodvNode(
+            DISPLAY, self.mesh.relay_targets,
+            AodvTiming.for_mesh(params.heartbeat_period, params.neighbour_timeout),
+        ) if params.aodv else None
+        self.lifetime = RobotConfig.unicast_lifetime  # what a robot's NEED_MAP / MAP gets
         self.reachable = reachable_free(grid.free, self.starts)
         self.robots: dict[int, dict[str, Any]] = {}
         self.reports: dict[int, dict] = {}
@@ -618,7 +719,7 @@ class DisplayProcess(Node):
 
     # ---- radio
     def on_radio(self, obj: list[Any]) -> None:
-        from swarmex.missions.exploration.messages import Goal, Heartbeat, MapMsg, NeedMap, ScanMsg
+        from swarmex.missions.exploration.messages import Heartbeat, NeedMap
 
         try:
             src, where, msg = radio_message(obj, self.grid.shape)
@@ -627,32 +728,74 @@ class DisplayProcess(Node):
             return
         if not self.in_range(self.cell, where, self.grid.cell, self.params.comm_range):
             self.traffic.out_of_range += 1
+            self.refuse(obj, src)
             return
         if self.lost():
             self.traffic.lost_injected += 1
             return
+        aodv = self.aodv
         if isinstance(msg, Heartbeat):
-            if self.mesh.hear(src, self.t):
-                self.radio(src, NeedMap(DISPLAY, self.belief.archive.summary()))
+            new = self.mesh.hear(src, self.t)
+            if aodv is not None:
+                self.send_out(aodv.hello(src, self.t))
+            if new:
+                self.unicast(src, NeedMap(DISPLAY, self.belief.archive.summary()))
             return
-        self.mesh.hear(src, self.t)
+        if self.mesh.hear(src, self.t) and aodv is not None:  # the reverse connection
+            self.send_out(aodv.hello(src, self.t))
+        if aodv is not None and isinstance(msg, (AodvMessage, Routed)):
+            self.arrived(msg)
+            sent, delivered = aodv.receive(src, msg, self.t)
+            self.send_out(sent)
+            for orig, payload in delivered:  # a multi-hop unicast for the display
+                self._application(orig, None, payload)
+            return
+        if aodv is not None and msg.kind in ROUTED_PAYLOADS:
+            aodv.delivered_direct()
+        self._application(src, src, msg)  # type: ignore[arg-type]
+
+    def _application(self, sender: int, via: int | None, msg: Message) -> None:
+        """An exploration message from ``sender`` (through neighbour ``via``; None: over
+        several hops), handled as a router that keeps a map and explores nothing."""
+        from swarmex.missions.exploration.messages import Goal, MapMsg, NeedMap, ScanMsg
+
         if isinstance(msg, ScanMsg):  # SCAN and MAP: integrate, relay as a router does
             new = tuple(r for r in msg.scans if self.mesh.first_time(r.key))
             for r in new:
                 self.belief.integrate(r)
             if new:
                 fwd = ScanMsg(DISPLAY, new)
-                for n in self.mesh.relay_targets(src):
+                for n in self.mesh.relay_targets(via):
                     self.radio(n, fwd)
         elif isinstance(msg, NeedMap):
             missing = self.belief.archive.missing_for(msg.have)
             if missing:
-                self.radio(src, MapMsg(DISPLAY, tuple(missing)))
-        elif isinstance(msg, Goal) and src in self.robots:
-            self.robots[src]["goal"] = msg.goal
+                self.unicast(sender, MapMsg(DISPLAY, tuple(missing)))
+        elif isinstance(msg, Goal) and sender in self.robots:
+            self.robots[sender]["goal"] = msg.goal
 
     def radio(self, dst: int, msg: PackedMessage) -> None:
         self.send_frame(dst, encode_radio(DISPLAY, self.cell, msg), msg.kind)
+
+    def unicast(self, dst: int, msg: Message) -> None:
+        """The display's own unicast (``NEED_MAP``, ``MAP``): by AODV when routing is on."""
+        if self.aodv is None:
+            self.radio(dst, msg)
+        else:
+            self.send_out(self.aodv.send(dst, msg, self.t, self.lifetime))
+
+    def send_out(self, out: Iterable[tuple[int, Any]]) -> None:
+        """AODV's transmissions; a unicast that cannot be sent breaks the link (as a robot's)."""
+        assert self.aodv is not None
+        for dst, msg in out:
+            if not wants_feedback(msg):
+                self.radio(dst, msg)
+            elif not self.unicast_frame(dst, msg, self.cell, self.t):
+                self._failed(dst, msg)
+
+    def _failed(self, dst: int, msg: Any) -> None:
+        assert self.aodv is not None
+        self.send_out(self.aodv.send_failed(dst, msg, self.t, self.lifetime))
 
     def heartbeat(self) -> None:
         from swarmex.missions.exploration.messages import Heartbeat
@@ -660,7 +803,15 @@ class DisplayProcess(Node):
         frame = encode_radio(DISPLAY, self.cell, Heartbeat(DISPLAY, *self.cell))
         for nid in sorted(self.scan_air()):
             self.send_frame(nid, frame, "HEARTBEAT")
-        self.mesh.expire(self.t)
+        for gone in self.mesh.expire(self.t):
+            if self.aodv is not None:
+                self.send_out(self.aodv.link_broken(gone, self.t))
+
+    def route_tick(self) -> None:
+        """AODV's queue (expiries, discovery retries) and the link feedback's memory."""
+        if self.aodv is not None:
+            self.send_out(self.aodv.tick(self.t))
+        self.link.prune(self.t)
 
     # ---- control
     def on_control(self, obj: list[Any], now: float) -> None:
@@ -771,6 +922,7 @@ class DisplayProcess(Node):
             if now >= next_tick:
                 if self.mesh.heartbeat_due(self.t):
                     self.heartbeat()
+                self.route_tick()
                 self.t += 1
                 next_tick += tick_wall
                 if next_tick < now - 1.0:
@@ -825,7 +977,11 @@ class DisplayProcess(Node):
                 except wire.WireError:
                     self.traffic.bad_frames += 1
                     continue
-                if obj[0] in ("HELLO", "STATUS", "REPORT"):
+                if obj[0] == "NACK":  # a unicast of ours was out of the receiver's range
+                    msg = self.link.refused(int(obj[1]), int(obj[2]))
+                    if msg is not None and self.aodv is not None:
+                        self._failed(int(obj[1]), msg)
+                elif obj[0] in ("HELLO", "STATUS", "REPORT"):
                     self.on_control(obj, now)
 
     def build_record(self, wall: float, ended: bool) -> dict[str, Any]:
@@ -843,6 +999,8 @@ class DisplayProcess(Node):
                                   "change_goals_sent": 0, "blacklisted_regions": 0}
         reasons: dict[str, int] = {}
         by_kind: dict[str, list[int]] = {}
+        unicasts = unicast_counts(None, 0)
+        multihop_in = dict(self.multihop_in)
         sent = sent_bytes = lost = 0
         steps = []
         plan_series = []
@@ -867,6 +1025,13 @@ class DisplayProcess(Node):
                     metrics["bytes_sent"] = tr["bytes_out"]
                     metrics["explored_fraction_own"] = float((free & reach).sum()) / n_reach
                     metrics["traffic"] = tr
+                    metrics["unicasts"] = rep["unicasts"]
+                    metrics["multihop_in"] = rep["multihop_in"]
+                    metrics["link_refusals"] = int(rep["link_refusals"])
+                    for k, v in rep["unicasts"].items():
+                        unicasts[k] += int(v)
+                    for k, v in rep["multihop_in"].items():
+                        multihop_in[k] = multihop_in.get(k, 0) + int(v)
                     traj = rep["trajectory"]
                     steps.append(int(rep["steps"]))
                     plan_series.append(metrics["plan_intervals"])
@@ -917,6 +1082,13 @@ class DisplayProcess(Node):
                 "messages_lost": lost,
                 "messages_by_kind": {k: {"messages": m, "bytes": b}
                                      for k, (m, b) in sorted(by_kind.items())},
+                "aodv_messages": sum(by_kind[k][0] for k in CONTROL_KINDS if k in by_kind),
+                "aodv_bytes": sum(by_kind[k][1] for k in CONTROL_KINDS if k in by_kind),
+                # the robots' AODV statistics, summed (as the simulator's record), and what
+                # the receivers saw arrive in routed envelopes (robots and display, by kind)
+                "unicasts": unicasts,
+                "multihop_in_by_kind": dict(sorted(multihop_in.items())),
+                "display_unicasts": unicast_counts(self.aodv, 0),
                 "plan_intervals_avg": average_robot(plan_series),
                 "finished_robots": int(sum(1 for i in live if i["finished"])),
                 "robots_lost": int(sum(1 for i in self.robots.values() if not i["alive"])),
@@ -984,9 +1156,6 @@ def run_processes(grid: MetricGrid, params: ExplorationParams, options: MeshOpti
     from swarmex.missions.exploration.params import validate
 
     validate(params, grid)
-    # the processes send one-hop unicasts only (their frames have no AODV control types):
-    # say so in the record rather than the simulator's default
-    params = dataclasses.replace(params, aodv=False)
     mp = multiprocessing.get_context("forkserver")
     mp.set_forkserver_preload(PRELOAD)
     run_dir = Path(tempfile.mkdtemp(prefix="swarmex-mesh-"))

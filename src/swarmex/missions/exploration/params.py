@@ -132,10 +132,10 @@ class ExplorationParams(Params):
     plan_period: int = 20  # ticks (2 s)
     heartbeat_period: int = 10  # ticks (1 s)
     neighbour_timeout: int = 30  # ticks (3 s)
-    # route unicasts (NEED_MAP, MAP, CHANGE_GOAL) with AODV (simulator)
+    # route unicasts (NEED_MAP, MAP, CHANGE_GOAL) with AODV (simulator and --processes)
     aodv: bool = option(
         True,
-        help="Route multi-hop unicasts with AODV (simulator).",
+        help="Route multi-hop unicasts with AODV.",
         parse=boolean(),
         negation="--no-aodv",
     )

@@ -50,9 +50,9 @@ Reactions and the choices behind them (spec §6.3–6.7, 6.13):
   may reveal a way round. A finished robot stays in the mesh (relays, answers ``NEED_MAP``),
   re-checks its map on the timer, and resumes if new frontiers appear.
 
-Unicasts and AODV (spec §2.8, seed §3.3.5; ``RobotConfig.aodv``, on in the simulator). The
-messages addressed to one robot — ``NEED_MAP``, ``MAP``, ``CHANGE_GOAL`` — go through the
-thesis's unicast queue, :meth:`ExplorerRobot.unicast`: AODV
+Unicasts and AODV (spec §2.8, seed §3.3.5; ``RobotConfig.aodv``, on in the simulator and in
+the process mesh). The messages addressed to one robot — ``NEED_MAP``, ``MAP``,
+``CHANGE_GOAL`` — go through the thesis's unicast queue, :meth:`ExplorerRobot.unicast`: AODV
 (:class:`~swarmex.comm.aodv.AodvNode`) sends them at once along a valid route or keeps them
 while it discovers one, until their lifetime ends (``CHANGE_GOAL`` one planning period, after
 which it is stale; the others ``unicast_lifetime``, 10 s). Heartbeats are AODV's hellos, a
@@ -124,7 +124,7 @@ class RobotConfig:
     heartbeat_period: int = 10  # 1 s
     neighbour_timeout: int = 30  # 3 s
     goal_ttl: int = 40  # two planning periods
-    aodv: bool = False  # route unicasts with AODV (the simulator turns it on)
+    aodv: bool = False  # route unicasts with AODV (the simulator and the process mesh do)
     unicast_lifetime: int = 100  # 10 s: a queued NEED_MAP / MAP waits this long for a route
     conflict_yield: bool = False  # a conflict's loser leaves the winner's zone (see plan)
     plan_pause: int = 0  # ticks the robot stands still after a plan generation
@@ -177,13 +177,7 @@ class ExplorerRobot:
             self.aodv = AodvNode(
                 rid,
                 self.mesh.relay_targets,
-                AodvTiming(
-                    active_route=config.neighbour_timeout,
-                    my_route=2 * config.neighbour_timeout,
-                    reverse_route=config.neighbour_timeout,
-                    hello_route=config.neighbour_timeout,
-                    retry=config.heartbeat_period,
-                ),
+                AodvTiming.for_mesh(config.heartbeat_period, config.neighbour_timeout),
             )
         self.asked: dict[int, int] = {}  # origin -> tick of the last gap NEED_MAP to it
         self.beaten_by: set[int] = set()  # robots that won a conflict since the last plan

@@ -167,9 +167,8 @@ def build_robots(
     rng: np.random.Generator,
     routing: bool = False,
 ) -> tuple[list[ExplorerRobot], tuple[Cell, ...], Laser]:
-    """The team. ``routing`` turns AODV on (the simulator passes ``params.aodv``); it is off
-    by default because the networked runtime's frame decoder knows only the application
-    messages, so its robots keep sending every unicast to a direct neighbour."""
+    """The team. ``routing`` turns AODV on (the simulator and the process mesh pass
+    ``params.aodv``); off, every unicast goes to a direct neighbour."""
     laser = Laser(params.laser_range, params.beams, grid.cell)
     starts = params.starts or default_starts(grid, params.robots, params.robot_radius)
     radius_cells = params.robot_radius / grid.cell
