@@ -38,7 +38,14 @@ import numpy as np
 from numpy.typing import NDArray
 
 from swarmex.errors import InputError
+from swarmex.missions.traversal import lattice
 from swarmex.missions.traversal.belief import TraversalBelief
+from swarmex.missions.traversal.selection import FAR as _FAR
+from swarmex.missions.traversal.selection import NUMPY as _NUMPY
+from swarmex.missions.traversal.selection import PICK as _PICK
+from swarmex.missions.traversal.selection import close1 as _close1
+from swarmex.missions.traversal.selection import top_columns as _top_columns
+from swarmex.missions.traversal.selection import vacant_neighbours
 from swarmex.planning.distance import on_path_neighbors, steps_towards
 
 
@@ -91,13 +98,6 @@ def _close(values: np.ndarray, best: float) -> np.ndarray:
 
 
 @nb.njit(cache=True, nogil=True)
-def _close1(v: float, best: float) -> bool:  # pragma: no cover - compiled; _close for one value
-    if np.isinf(best):
-        return v == best
-    return abs(v - best) <= 1e-9 * (1.0 + abs(best))
-
-
-@nb.njit(cache=True, nogil=True)
 def _util_matrix(
     hops: NDArray[np.signedinteger[Any]], me_slot: int, slots: NDArray[np.int64],
     cands: NDArray[np.int64], step: float, tpu_me: float, jt_me: float,
@@ -127,62 +127,6 @@ def _own_costs(
 
 
 @nb.njit(cache=True, nogil=True)
-def _top_columns(util: NDArray[np.float64]) -> NDArray[np.int64]:  # pragma: no cover - compiled
-    """get_best_node's choice as column indices, or ``[-1]`` when numpy must decide.
-
-    The sum tie-break is only done here when every summand is an integer small enough that
-    any summation order is exact; numpy sums a column selection pairwise, so for other
-    values the caller falls back to :func:`get_best_node` itself.
-    """
-    r, c = util.shape
-    mins = np.empty(c)
-    for j in range(c):
-        m = util[0, j]
-        for i in range(1, r):
-            v = util[i, j]
-            if v < m:
-                m = v
-        if np.isnan(m):
-            return np.full(1, -1, dtype=np.int64)
-        for i in range(r):
-            if np.isnan(util[i, j]):
-                return np.full(1, -1, dtype=np.int64)
-        mins[j] = m
-    best = mins.max()
-    tied = np.empty(c, dtype=np.int64)
-    nt = 0
-    for j in range(c):
-        if _close1(mins[j], best):
-            tied[nt] = j
-            nt += 1
-    if nt == 1:
-        return tied[:1]
-    sums = np.empty(nt)
-    for t in range(nt):
-        j = tied[t]
-        s = 0.0
-        for i in range(r):
-            v = util[i, j]
-            if not (abs(v) <= 2.0**40 and v == np.floor(v)):
-                return np.full(1, -1, dtype=np.int64)
-            s += v
-        sums[t] = s
-    smax = sums.max()
-    top = np.empty(nt, dtype=np.int64)
-    k = 0
-    for t in range(nt):
-        if _close1(sums[t], smax):
-            top[k] = tied[t]
-            k += 1
-    return top[:k]
-
-
-#: _near_choice outcomes: no vacant neighbour (branch 3), candidates to draw from, or
-#: candidates whose utilities numpy must rank (non-integer sums)
-_FAR, _PICK, _NUMPY = 0, 1, 2
-
-
-@nb.njit(cache=True, nogil=True)
 def _near_choice(
     hops: NDArray[np.signedinteger[Any]], me_slot: int, slots: NDArray[np.int64],
     indptr: NDArray[np.int64], indices: NDArray[np.int32], here: int, status: NDArray[np.int32],
@@ -193,27 +137,10 @@ def _near_choice(
     unique), their utilities as Madgta.utilities computes them, and GetBestNode's choice.
     Returns ``(_FAR, [])`` when W is empty, ``(_PICK, tied)`` for the final draw, or
     ``(_NUMPY, W)`` when the sum tie-break must be left to numpy (see _top_columns)."""
-    lo = indptr[here]
-    hi = indptr[here + 1]
-    cands = np.empty(hi - lo, dtype=np.int64)
-    c = 0
-    for k in range(lo, hi):
-        v = indices[k]
-        owner = reserved[v]
-        if status[v] != 0 or (owner != 0 and owner != me):
-            continue
-        j = c  # insertion sort, dropping duplicates
-        while j > 0 and cands[j - 1] > v:
-            j -= 1
-        if j > 0 and cands[j - 1] == v:
-            continue
-        for t in range(c, j, -1):
-            cands[t] = cands[t - 1]
-        cands[j] = v
-        c += 1
+    cands = vacant_neighbours(indptr, indices, here, status, reserved, me)
+    c = cands.shape[0]
     if c == 0:
-        return _FAR, cands[:0]
-    cands = cands[:c]
+        return _FAR, cands
     r = slots.shape[0]
     util = np.empty((max(r, 1), c))
     if r == 0:  # no rival: minus the own cost (the generic code's -mine[None, :])
@@ -306,6 +233,8 @@ class Madgta:
     """Algorithm 1's COMPUTE with Algorithm 2's GetBestNode."""
 
     name = "madgta"
+    #: vertices the compiled branch-3 searches looked at (an operation count: bench/tests)
+    scanned = 0
 
     def decide(self, belief: TraversalBelief, rng: np.random.Generator) -> Decision:
         here = belief.here
@@ -391,6 +320,8 @@ class Madgta:
     ) -> Decision:
         """Branches 2 and 3 from the hop rows; branch 2 in a single compiled call."""
         known = belief.known
+        if known.open_lattice:  # no wall known yet: distances in closed form, no fields
+            return self._decide_lattice(belief, rng, rivals, jt_me)
         me = belief.me
         me_slot, slots = self._hop_rows(belief, rivals)
         g = belief.graph
@@ -432,6 +363,59 @@ class Madgta:
         nbrs = belief.graph.neighbors(here)
         d = known.distances(f, np.concatenate(([here], nbrs)))
         steps = on_path_neighbors(belief.graph, here, d[0], d[1:])
+        return Decision("move", _pick(steps, rng), f, 3)
+
+    def _decide_lattice(
+        self, belief: TraversalBelief, rng: np.random.Generator, rivals: np.ndarray,
+        jt_me: float,
+    ) -> Decision:
+        """:meth:`_decide_compiled` on an open lattice (:mod:`.lattice`): the same
+        utilities from lattice distances, branch 3 by bounded blocks."""
+        known = belief.known
+        width = known.open_lattice
+        me, here, g = belief.me, belief.here, belief.graph
+        src = np.empty(rivals.size + 1, dtype=np.int64)
+        src[0] = here
+        src[1:] = belief.loc[rivals]
+        sy, sx = np.divmod(src, width)
+        tpu, jt = belief.time_per_unit, belief.job_time
+        tpu_r, jt_r = tpu[rivals], jt[rivals]
+        step, tpu_me = known.step, float(tpu[me])
+        code, picks = lattice.near_choice(
+            width, sx, sy, g.indptr, g.indices, here, belief.status, belief.reserved, me,
+            step, tpu_me, jt_me, tpu_r, jt_r,
+        )
+        if code == _PICK:
+            v = _pick(picks, rng)
+            return Decision("move", v, v, 2)
+        if code == _NUMPY:
+            util = lattice.util_matrix(width, sx, sy, picks, step, tpu_me, jt_me, tpu_r, jt_r)
+            v = get_best_node(picks, util, rng)
+            return Decision("move", v, v, 2)
+        klass, ctpu, cjt = _rival_classes(tpu_r, jt_r)
+        n = belief.status.size
+        far, mins, _ = self._scratch(n, 1, np.dtype(np.uint16))
+        found, nt, scanned = lattice.far_choice(
+            width, n // width, sx, sy, klass, ctpu, cjt, belief.status, belief.reserved, me,
+            step, tpu_me, jt_me, lattice.BLOCK, far, mins,
+        )
+        self.scanned += scanned
+        if not found:
+            return Decision("finish")
+        if nt == 1:
+            f = int(far[0])
+        else:
+            tied = far[:nt].copy()
+            top = lattice.top_candidates(width, sx, sy, tied, step, tpu_me, jt_me, tpu_r, jt_r)
+            if top[0] >= 0:
+                f = _pick(tied[top], rng)
+            else:
+                util = lattice.util_matrix(width, sx, sy, tied, step, tpu_me, jt_me, tpu_r,
+                                           jt_r)
+                f = get_best_node(tied, util, rng)
+        nbrs = g.neighbors(here)
+        d = lattice.distances(width, f, np.concatenate(([here], nbrs)), step)
+        steps = on_path_neighbors(g, here, d[0], d[1:])
         return Decision("move", _pick(steps, rng), f, 3)
 
     def utilities(self, belief: TraversalBelief, cands: np.ndarray) -> np.ndarray:
