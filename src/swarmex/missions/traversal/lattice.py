@@ -29,6 +29,7 @@ from numpy.typing import NDArray
 
 from swarmex.missions.traversal.selection import (
     FAR,
+    JOB,
     NUMPY,
     PICK,
     close1,
@@ -117,6 +118,44 @@ def near_choice(
 
 
 @nb.njit(cache=True, nogil=True)
+def decide_near(
+    width: int, loc: I64, me: int, indptr: I64, indices: NDArray[np.int32],
+    status: NDArray[np.int32], reserved: NDArray[np.int32], step: float, tpu: F64, jt: F64,
+    with_rivals: bool,
+) -> tuple[int, I64, I64, I64, I64]:  # pragma: no cover - compiled
+    """Branches 1 and 2 of a decision in one call, from the belief's arrays: ``(JOB, ...)``
+    when my own vertex is not in KM, else :func:`near_choice`'s ``(code, picks)``; plus the
+    rivals (ids of the other agents whose position is known; none for ``with_rivals``
+    False, the nearest-vertex baseline) and ``sx, sy`` (my cell, then theirs)."""
+    here = loc[me]
+    owner = reserved[here]
+    none = np.empty(0, dtype=np.int64)
+    if status[here] == 0 and (owner == 0 or owner == me):
+        return JOB, none, none, none, none
+    r = 0
+    rivals = np.empty(loc.shape[0], dtype=np.int64)
+    if with_rivals:
+        for a in range(loc.shape[0]):
+            if loc[a] >= 0 and a != me:
+                rivals[r] = a
+                r += 1
+    rivals = rivals[:r]
+    sx = np.empty(r + 1, dtype=np.int64)
+    sy = np.empty(r + 1, dtype=np.int64)
+    sy[0], sx[0] = divmod(here, width)
+    tpu_r = np.empty(r)
+    jt_r = np.empty(r)
+    for i in range(r):
+        sy[i + 1], sx[i + 1] = divmod(loc[rivals[i]], width)
+        tpu_r[i] = tpu[rivals[i]]
+        jt_r[i] = jt[rivals[i]]
+    jt_me = jt[me] if with_rivals else 0.0
+    code, picks = near_choice(width, sx, sy, indptr, indices, here, status, reserved, me,
+                              step, tpu[me], jt_me, tpu_r, jt_r)
+    return code, picks, rivals, sx, sy
+
+
+@nb.njit(cache=True, nogil=True)
 def distances(width: int, source: int, vertices: I64, step: float) -> F64:  # pragma: no cover
     """``KnownGraph.distances(source, vertices)`` on the open lattice."""
     sy, sx = divmod(source, width)
@@ -152,7 +191,7 @@ def _axis_gap(lo: int, hi: int, x: int) -> int:  # pragma: no cover - compiled
 def far_choice(
     width: int, height: int, sx: I64, sy: I64, klass: I64, ctpu: F64, cjt: F64,
     status: NDArray[np.int32], reserved: NDArray[np.int32], me: int, step: float,
-    tpu_me: float, jt_me: float, block: int, far: I64, mins: F64,
+    tpu_me: float, jt_me: float, block: int, far: I64, mins: F64, dead: NDArray[np.uint8],
 ) -> tuple[int, int, int]:  # pragma: no cover - compiled
     """Branch 3 (``policies._far_scan`` on the open lattice) by bounded blocks.
 
@@ -160,6 +199,8 @@ def far_choice(
     many vertices are tied at the max-min (left in ascending order in ``far[:tied]``) and how
     many vertices were looked at. ``klass[i]`` is rival ``i``'s (speed, job time) class,
     ``ctpu, cjt`` the classes' values; ``sx, sy`` hold my cell first, then the rivals'.
+    ``dead[q]`` marks blocks with every vertex done (this belief's flags, reset when a job
+    is undone): they are skipped.
     """
     r = sx.shape[0] - 1
     nk = ctpu.shape[0]
@@ -178,6 +219,9 @@ def far_choice(
     margin = 1e-9 * (1.0 + amax * (width + height) + cmax)
     ub = np.empty(nb_)
     for q in range(nb_):
+        if dead[q]:
+            ub[q] = -np.inf
+            continue
         by, bx = divmod(q, nbx)
         x0, y0 = bx * block, by * block
         x1, y1 = min(width, x0 + block) - 1, min(height, y0 + block) - 1
@@ -204,6 +248,8 @@ def far_choice(
     hk = np.empty(max(nk, 1), dtype=np.int64)
     for t in range(nb_):
         q = order[t]
+        if dead[q]:
+            break  # (dead blocks sort last)
         if found and ub[q] < best - 1e-9 * (1.0 + abs(best)):
             break
         by, bx = divmod(q, nbx)
@@ -223,12 +269,14 @@ def far_choice(
             if _axis_gap(x0, x1, sx[i + 1]) + _axis_gap(y0, y1, sy[i + 1]) <= cut[klass[i]]:
                 near[nn] = i
                 nn += 1
+        live = False
         for y in range(y0, y1 + 1):
             for x in range(x0, x1 + 1):
                 v = y * width + x
                 scanned += 1
                 if status[v] != 0:
                     continue
+                live = True
                 owner = reserved[v]
                 if owner != 0 and owner != me:
                     continue
@@ -258,6 +306,8 @@ def far_choice(
                     far[nf] = v
                     mins[nf] = m
                     nf += 1
+        if not live:
+            dead[q] = 1
     if not found:
         return 0, 0, scanned
     nt = 0

@@ -41,6 +41,7 @@ from swarmex.errors import InputError
 from swarmex.missions.traversal import lattice
 from swarmex.missions.traversal.belief import TraversalBelief
 from swarmex.missions.traversal.selection import FAR as _FAR
+from swarmex.missions.traversal.selection import JOB as _JOB
 from swarmex.missions.traversal.selection import NUMPY as _NUMPY
 from swarmex.missions.traversal.selection import PICK as _PICK
 from swarmex.missions.traversal.selection import close1 as _close1
@@ -156,8 +157,9 @@ def _near_choice(
     return _PICK, cands[top]
 
 
-#: vertices per tile of the branch-3 scan: the per-class minima of a tile stay in L1 cache
-_TILE = 2048
+#: vertices per tile of the branch-3 scan: the per-class minima of a tile stay in L1 cache,
+#: and a tile with nothing left to do is skipped from then on (``dead``)
+_TILE = 256
 
 
 @nb.njit(cache=True, nogil=True)
@@ -167,11 +169,12 @@ def _far_scan(
     status: NDArray[np.int32], reserved: NDArray[np.int32], me: int, step: float,
     tpu_me: float, jt_me: float, far: NDArray[np.int64], mins: NDArray[np.float64],
     hmin: NDArray[np.unsignedinteger[Any]], full: np.unsignedinteger[Any],
-    high: np.unsignedinteger[Any],
-) -> tuple[int, int]:  # pragma: no cover - compiled
+    high: np.unsignedinteger[Any], dead: NDArray[np.uint8],
+) -> tuple[int, int, int]:  # pragma: no cover - compiled
     """Branch 3 in one streaming pass: W = vacant vertices I can reach, each one's min
-    over rivals of util, and the vertices tied at the max-min. Returns (|W|, number tied);
-    the tied vertices are left in ``far[:tied]``. ``hmin`` is (classes, _TILE) scratch.
+    over rivals of util, and the vertices tied at the max-min. Returns (|W|, number tied,
+    vertices scanned); the tied vertices are left in ``far[:tied]``. ``hmin`` is
+    (classes, _TILE) scratch.
 
     Rivals with the same speed and job time form a class, and within a class the cost is a
     non-decreasing function of the hop count, so the min over the class is the cost of the
@@ -180,13 +183,31 @@ def _far_scan(
     Rounding is monotone too, so min over rivals of ``cost - mine`` equals that of the
     per-class minima: the floats match the generic code.
     The rows are read tile by tile, so the minima never leave the cache.
+
+    ``dead[t]`` (this belief's, see :meth:`TraversalBelief.scan_flags`) marks tiles with no
+    vertex that is not done and that I can reach: that stays so (done vertices stay done
+    unless a revert resets the flags; the known graph only loses edges, so what I cannot
+    reach I never will), so they are skipped without reading them.
     """
     n = status.shape[0]
     nk = ctpu.shape[0]
     mine_row = hops_u[me_slot]
     nf = 0
-    for lo in range(0, n, _TILE):
+    scanned = 0
+    for t in range(dead.shape[0]):
+        if dead[t]:
+            continue
+        lo = t * _TILE
         hi = min(n, lo + _TILE)
+        live = False
+        for v in range(lo, hi):
+            if status[v] == 0 and mine_row[v] < high:
+                live = True
+                break
+        if not live:
+            dead[t] = 1
+            continue
+        scanned += hi - lo
         for k in range(nk):
             hmin[k, : hi - lo] = full
         for i in range(slots.shape[0]):
@@ -219,14 +240,14 @@ def _far_scan(
             mins[nf] = m
             nf += 1
     if nf == 0:
-        return 0, 0
+        return 0, 0, scanned
     best = mins[:nf].max()
     nt = 0
     for k in range(nf):
         if _close1(mins[k], best):
             far[nt] = far[k]
             nt += 1
-    return nf, nt
+    return nf, nt, scanned
 
 
 class Madgta:
@@ -237,6 +258,11 @@ class Madgta:
     scanned = 0
 
     def decide(self, belief: TraversalBelief, rng: np.random.Generator) -> Decision:
+        known = belief.known
+        if known.open_lattice:
+            kind = self._compiled_kind()
+            if kind:  # no wall known yet: distances in closed form, no fields
+                return self._decide_lattice(belief, rng, kind == "madgta")
         here = belief.here
         if not belief.in_km(here):
             return Decision("job", here, here, 1)
@@ -260,18 +286,26 @@ class Madgta:
         return get_best_node(cands, self.utilities(belief, cands), rng)
 
     # ---- compiled path (same decisions; see _util_matrix)
-    def _fast_rivals(self, belief: TraversalBelief) -> tuple[np.ndarray, float] | None:
-        """(rivals, own job time in the utility) when the compiled path applies, else None.
-
-        It applies on uniform graphs to the utilities defined here; a subclass that
-        overrides ``utilities`` or ``best`` gets the generic path, so variants stay correct.
-        """
+    def _compiled_kind(self) -> str:
+        """Which utilities the compiled kernels may stand in for: ``"madgta"``,
+        ``"nearest"``, or ``""`` for a subclass that overrides ``utilities`` or ``best``
+        (it gets the generic path, so variants stay correct)."""
         cls = type(self)
-        if not belief.known.uniform or cls.best is not Madgta.best:
-            return None
+        if cls.best is not Madgta.best:
+            return ""
         if cls.utilities is Madgta.utilities:
-            return belief.rivals(), float(belief.job_time[belief.me])
+            return "madgta"
         if cls.utilities is Nearest.utilities:
+            return "nearest"
+        return ""
+
+    def _fast_rivals(self, belief: TraversalBelief) -> tuple[np.ndarray, float] | None:
+        """(rivals, own job time in the utility) when the compiled path applies (uniform
+        graphs, the utilities defined here), else None."""
+        kind = self._compiled_kind() if belief.known.uniform else ""
+        if kind == "madgta":
+            return belief.rivals(), float(belief.job_time[belief.me])
+        if kind == "nearest":
             return _NO_RIVALS, 0.0
         return None
 
@@ -320,8 +354,6 @@ class Madgta:
     ) -> Decision:
         """Branches 2 and 3 from the hop rows; branch 2 in a single compiled call."""
         known = belief.known
-        if known.open_lattice:  # no wall known yet: distances in closed form, no fields
-            return self._decide_lattice(belief, rng, rivals, jt_me)
         me = belief.me
         me_slot, slots = self._hop_rows(belief, rivals)
         g = belief.graph
@@ -348,11 +380,14 @@ class Madgta:
         klass, ctpu, cjt = _rival_classes(belief.time_per_unit[rivals], belief.job_time[rivals])
         unsigned, full, high = _unsigned_view(known.hops.dtype)
         far, mins, hmin = self._scratch(belief.status.size, ctpu.size, unsigned)
-        nf, nt = _far_scan(
+        n = belief.status.size
+        dead = belief.scan_flags("tiles", (n + _TILE - 1) // _TILE)
+        nf, nt, scanned = _far_scan(
             known.hops.view(unsigned), me_slot, slots, klass, ctpu, cjt,
             belief.status, belief.reserved, me, known.step, belief.time_per_unit[me], jt_me,
-            far, mins, hmin, full, high,
+            far, mins, hmin, full, high, dead,
         )
+        self.scanned += scanned
         if nf == 0:
             return Decision("finish")
         if nt == 1:
@@ -366,28 +401,28 @@ class Madgta:
         return Decision("move", _pick(steps, rng), f, 3)
 
     def _decide_lattice(
-        self, belief: TraversalBelief, rng: np.random.Generator, rivals: np.ndarray,
-        jt_me: float,
+        self, belief: TraversalBelief, rng: np.random.Generator, with_rivals: bool
     ) -> Decision:
-        """:meth:`_decide_compiled` on an open lattice (:mod:`.lattice`): the same
-        utilities from lattice distances, branch 3 by bounded blocks."""
+        """The decision on an open lattice (:mod:`.lattice`): the same utilities from
+        lattice distances, branches 1-2 in one compiled call, branch 3 by bounded blocks."""
         known = belief.known
         width = known.open_lattice
-        me, here, g = belief.me, belief.here, belief.graph
-        src = np.empty(rivals.size + 1, dtype=np.int64)
-        src[0] = here
-        src[1:] = belief.loc[rivals]
-        sy, sx = np.divmod(src, width)
+        me, g = belief.me, belief.graph
         tpu, jt = belief.time_per_unit, belief.job_time
-        tpu_r, jt_r = tpu[rivals], jt[rivals]
-        step, tpu_me = known.step, float(tpu[me])
-        code, picks = lattice.near_choice(
-            width, sx, sy, g.indptr, g.indices, here, belief.status, belief.reserved, me,
-            step, tpu_me, jt_me, tpu_r, jt_r,
+        step = known.step
+        code, picks, rivals, sx, sy = lattice.decide_near(
+            width, belief.loc, me, g.indptr, g.indices, belief.status, belief.reserved, step,
+            tpu, jt, with_rivals,
         )
         if code == _PICK:
             v = _pick(picks, rng)
             return Decision("move", v, v, 2)
+        here = int(belief.loc[me])
+        if code == _JOB:
+            return Decision("job", here, here, 1)
+        tpu_me = float(tpu[me])
+        jt_me = float(jt[me]) if with_rivals else 0.0
+        tpu_r, jt_r = tpu[rivals], jt[rivals]
         if code == _NUMPY:
             util = lattice.util_matrix(width, sx, sy, picks, step, tpu_me, jt_me, tpu_r, jt_r)
             v = get_best_node(picks, util, rng)
@@ -395,9 +430,11 @@ class Madgta:
         klass, ctpu, cjt = _rival_classes(tpu_r, jt_r)
         n = belief.status.size
         far, mins, _ = self._scratch(n, 1, np.dtype(np.uint16))
+        height = n // width
+        blocks = -(-width // lattice.BLOCK) * -(-height // lattice.BLOCK)
         found, nt, scanned = lattice.far_choice(
-            width, n // width, sx, sy, klass, ctpu, cjt, belief.status, belief.reserved, me,
-            step, tpu_me, jt_me, lattice.BLOCK, far, mins,
+            width, height, sx, sy, klass, ctpu, cjt, belief.status, belief.reserved, me,
+            step, tpu_me, jt_me, lattice.BLOCK, far, mins, belief.scan_flags("blocks", blocks),
         )
         self.scanned += scanned
         if not found:

@@ -14,8 +14,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 #: outcomes of branch 2's compiled choice: no vacant neighbour (branch 3), candidates to draw
-#: from, or candidates whose utilities numpy must rank (non-integer sums)
-FAR, PICK, NUMPY = 0, 1, 2
+#: from, or candidates whose utilities numpy must rank (sums too close to call); and JOB:
+#: branch 1 (my own vertex is vacant)
+FAR, PICK, NUMPY, JOB = 0, 1, 2, 3
 
 
 @nb.njit(cache=True, nogil=True)
