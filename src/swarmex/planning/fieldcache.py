@@ -253,6 +253,13 @@ class KnownGraph:
     def version(self) -> int:
         return len(self._log)
 
+    @property
+    def open_lattice(self) -> int:
+        """The lattice's width while the graph is a full 4-connected lattice with no
+        obstacle known (every distance is then the lattice distance ``|dx| + |dy|`` hops,
+        no field needed), else 0."""
+        return self._width if self.uniform and not self._log else 0
+
     def add_obstacles(self, vertices: Iterable[int] | np.ndarray) -> bool:
         """Mark vertices as known obstacles; returns True if any was new."""
         new = False

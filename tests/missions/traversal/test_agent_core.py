@@ -47,7 +47,7 @@ from swarmex.planning.fieldcache import KnownGraph
 from swarmex.worlds import GridWorld, random_obstacles
 
 TRAVEL, JOB_TIME = 2.0, 9.0
-BELIEF_ARRAYS = ("status", "reserved", "loc", "reservation", "next_loc", "free_at")
+BELIEF_ARRAYS = ("status", "reserved", "loc", "reservation", "next_loc", "free_at", "revived")
 
 
 def _scenario(seed: int = 3, size: int = 8, k: int = 3) -> tuple[GridWorld, list[int]]:
@@ -195,7 +195,7 @@ def test_the_perfect_broadcast_kernel_is_the_receive_rule_batched() -> None:
         shared.add_obstacles(obstacles)
         deliver(codes[kind], sender, node, np.asarray(obstacles, dtype=np.int64), msg.eta,
                 table.status, table.reserved, table.loc, table.reservation, table.next_loc,
-                table.free_at)
+                table.free_at, table.revived)
         for b in one_by_one:
             if b.me != sender:
                 apply_message(b, msg)

@@ -46,6 +46,7 @@ class BeliefTable:
         self.reservation = np.full((rows, rows), -1, dtype=np.int64)
         self.next_loc = np.full((rows, rows), -1, dtype=np.int64)
         self.free_at = np.zeros((rows, rows), dtype=np.float64)
+        self.revived = np.zeros(rows, dtype=np.int64)  # jobs undone, per belief
 
 
 class TraversalBelief:
@@ -69,6 +70,7 @@ class TraversalBelief:
             # when each agent will next be free, and where (C05/C07 timing): madgta+ uses it
             self.next_loc = np.full(n_agents + 1, -1, dtype=np.int64)
             self.free_at = np.zeros(n_agents + 1, dtype=np.float64)
+            self.revived = np.zeros(1, dtype=np.int64)
         else:  # this agent's rows of the team table (views: the table sees every write)
             self.status = table.status[me]
             self.reserved = table.reserved[me]
@@ -76,6 +78,10 @@ class TraversalBelief:
             self.reservation = table.reservation[me]
             self.next_loc = table.next_loc[me]
             self.free_at = table.free_at[me]
+            self.revived = table.revived[me : me + 1]
+        # how many times a done vertex of this belief went back to not done (mark_not_done,
+        # deliver): the policy's cached "nothing left here" flags are stale after one
+        self._flags: dict[str, tuple[np.ndarray, int]] = {}
         self.now = 0.0
         self.intent = -1  # the vertex this agent announced it will do the job at (C05)
         # vertices reverted to not done because the rival doing their job left the mission:
@@ -103,6 +109,16 @@ class TraversalBelief:
     def in_km(self, v: int) -> bool:
         return bool(self.status[v] != 0 or (self.reserved[v] not in (0, self.me)))
 
+    def scan_flags(self, name: str, size: int) -> np.ndarray:
+        """Per-region flags a policy keeps in this belief (uint8, ``size`` of them): set
+        for a region that has nothing left to scan. They can only become stale when a done
+        vertex returns to not done, so they are cleared then."""
+        hit = self._flags.get(name)
+        revived = int(self.revived[0])
+        if hit is None or hit[0].size != size or hit[1] != revived:
+            hit = self._flags[name] = (np.zeros(size, dtype=np.uint8), revived)
+        return hit[0]
+
     def rivals(self) -> np.ndarray:
         """Ids of the other agents whose position is known."""
         ids = np.nonzero(self.loc >= 0)[0]
@@ -126,6 +142,7 @@ class TraversalBelief:
     def mark_not_done(self, v: int) -> None:
         if self.status[v] > 0:
             self.status[v] = 0
+            self.revived[0] += 1
 
     def announce_move(self, v: int) -> bool:
         """Record this agent's own C05 for ``v``; True when it intends to do ``v``'s job.
@@ -175,6 +192,7 @@ def deliver(
     kind: int, sender: int, node: int, obstacles: NDArray[np.int64], eta: float,
     status: NDArray[np.int32], reserved: NDArray[np.int32], loc: NDArray[np.int64],
     reservation: NDArray[np.int64], next_loc: NDArray[np.int64], free_at: NDArray[np.float64],
+    revived: NDArray[np.int64],
 ) -> None:  # pragma: no cover - compiled
     """Apply one message to every belief of a :class:`BeliefTable` except the sender's.
 
@@ -205,6 +223,7 @@ def deliver(
         elif kind == UNDONE:
             if st[node] > 0:  # mark_not_done(node)
                 st[node] = 0
+                revived[r] += 1
         elif kind != 0:  # POS or NEXT: both release the sender's reservation first
             if kind == POS:
                 loc[r, sender] = node

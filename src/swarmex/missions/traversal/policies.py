@@ -38,7 +38,15 @@ import numpy as np
 from numpy.typing import NDArray
 
 from swarmex.errors import InputError
+from swarmex.missions.traversal import lattice
 from swarmex.missions.traversal.belief import TraversalBelief
+from swarmex.missions.traversal.selection import FAR as _FAR
+from swarmex.missions.traversal.selection import JOB as _JOB
+from swarmex.missions.traversal.selection import NUMPY as _NUMPY
+from swarmex.missions.traversal.selection import PICK as _PICK
+from swarmex.missions.traversal.selection import close1 as _close1
+from swarmex.missions.traversal.selection import top_columns as _top_columns
+from swarmex.missions.traversal.selection import vacant_neighbours
 from swarmex.planning.distance import on_path_neighbors, steps_towards
 
 
@@ -91,13 +99,6 @@ def _close(values: np.ndarray, best: float) -> np.ndarray:
 
 
 @nb.njit(cache=True, nogil=True)
-def _close1(v: float, best: float) -> bool:  # pragma: no cover - compiled; _close for one value
-    if np.isinf(best):
-        return v == best
-    return abs(v - best) <= 1e-9 * (1.0 + abs(best))
-
-
-@nb.njit(cache=True, nogil=True)
 def _util_matrix(
     hops: NDArray[np.signedinteger[Any]], me_slot: int, slots: NDArray[np.int64],
     cands: NDArray[np.int64], step: float, tpu_me: float, jt_me: float,
@@ -127,62 +128,6 @@ def _own_costs(
 
 
 @nb.njit(cache=True, nogil=True)
-def _top_columns(util: NDArray[np.float64]) -> NDArray[np.int64]:  # pragma: no cover - compiled
-    """get_best_node's choice as column indices, or ``[-1]`` when numpy must decide.
-
-    The sum tie-break is only done here when every summand is an integer small enough that
-    any summation order is exact; numpy sums a column selection pairwise, so for other
-    values the caller falls back to :func:`get_best_node` itself.
-    """
-    r, c = util.shape
-    mins = np.empty(c)
-    for j in range(c):
-        m = util[0, j]
-        for i in range(1, r):
-            v = util[i, j]
-            if v < m:
-                m = v
-        if np.isnan(m):
-            return np.full(1, -1, dtype=np.int64)
-        for i in range(r):
-            if np.isnan(util[i, j]):
-                return np.full(1, -1, dtype=np.int64)
-        mins[j] = m
-    best = mins.max()
-    tied = np.empty(c, dtype=np.int64)
-    nt = 0
-    for j in range(c):
-        if _close1(mins[j], best):
-            tied[nt] = j
-            nt += 1
-    if nt == 1:
-        return tied[:1]
-    sums = np.empty(nt)
-    for t in range(nt):
-        j = tied[t]
-        s = 0.0
-        for i in range(r):
-            v = util[i, j]
-            if not (abs(v) <= 2.0**40 and v == np.floor(v)):
-                return np.full(1, -1, dtype=np.int64)
-            s += v
-        sums[t] = s
-    smax = sums.max()
-    top = np.empty(nt, dtype=np.int64)
-    k = 0
-    for t in range(nt):
-        if _close1(sums[t], smax):
-            top[k] = tied[t]
-            k += 1
-    return top[:k]
-
-
-#: _near_choice outcomes: no vacant neighbour (branch 3), candidates to draw from, or
-#: candidates whose utilities numpy must rank (non-integer sums)
-_FAR, _PICK, _NUMPY = 0, 1, 2
-
-
-@nb.njit(cache=True, nogil=True)
 def _near_choice(
     hops: NDArray[np.signedinteger[Any]], me_slot: int, slots: NDArray[np.int64],
     indptr: NDArray[np.int64], indices: NDArray[np.int32], here: int, status: NDArray[np.int32],
@@ -193,27 +138,10 @@ def _near_choice(
     unique), their utilities as Madgta.utilities computes them, and GetBestNode's choice.
     Returns ``(_FAR, [])`` when W is empty, ``(_PICK, tied)`` for the final draw, or
     ``(_NUMPY, W)`` when the sum tie-break must be left to numpy (see _top_columns)."""
-    lo = indptr[here]
-    hi = indptr[here + 1]
-    cands = np.empty(hi - lo, dtype=np.int64)
-    c = 0
-    for k in range(lo, hi):
-        v = indices[k]
-        owner = reserved[v]
-        if status[v] != 0 or (owner != 0 and owner != me):
-            continue
-        j = c  # insertion sort, dropping duplicates
-        while j > 0 and cands[j - 1] > v:
-            j -= 1
-        if j > 0 and cands[j - 1] == v:
-            continue
-        for t in range(c, j, -1):
-            cands[t] = cands[t - 1]
-        cands[j] = v
-        c += 1
+    cands = vacant_neighbours(indptr, indices, here, status, reserved, me)
+    c = cands.shape[0]
     if c == 0:
-        return _FAR, cands[:0]
-    cands = cands[:c]
+        return _FAR, cands
     r = slots.shape[0]
     util = np.empty((max(r, 1), c))
     if r == 0:  # no rival: minus the own cost (the generic code's -mine[None, :])
@@ -229,8 +157,9 @@ def _near_choice(
     return _PICK, cands[top]
 
 
-#: vertices per tile of the branch-3 scan: the per-class minima of a tile stay in L1 cache
-_TILE = 2048
+#: vertices per tile of the branch-3 scan: the per-class minima of a tile stay in L1 cache,
+#: and a tile with nothing left to do is skipped from then on (``dead``)
+_TILE = 256
 
 
 @nb.njit(cache=True, nogil=True)
@@ -240,11 +169,12 @@ def _far_scan(
     status: NDArray[np.int32], reserved: NDArray[np.int32], me: int, step: float,
     tpu_me: float, jt_me: float, far: NDArray[np.int64], mins: NDArray[np.float64],
     hmin: NDArray[np.unsignedinteger[Any]], full: np.unsignedinteger[Any],
-    high: np.unsignedinteger[Any],
-) -> tuple[int, int]:  # pragma: no cover - compiled
+    high: np.unsignedinteger[Any], dead: NDArray[np.uint8],
+) -> tuple[int, int, int]:  # pragma: no cover - compiled
     """Branch 3 in one streaming pass: W = vacant vertices I can reach, each one's min
-    over rivals of util, and the vertices tied at the max-min. Returns (|W|, number tied);
-    the tied vertices are left in ``far[:tied]``. ``hmin`` is (classes, _TILE) scratch.
+    over rivals of util, and the vertices tied at the max-min. Returns (|W|, number tied,
+    vertices scanned); the tied vertices are left in ``far[:tied]``. ``hmin`` is
+    (classes, _TILE) scratch.
 
     Rivals with the same speed and job time form a class, and within a class the cost is a
     non-decreasing function of the hop count, so the min over the class is the cost of the
@@ -253,13 +183,31 @@ def _far_scan(
     Rounding is monotone too, so min over rivals of ``cost - mine`` equals that of the
     per-class minima: the floats match the generic code.
     The rows are read tile by tile, so the minima never leave the cache.
+
+    ``dead[t]`` (this belief's, see :meth:`TraversalBelief.scan_flags`) marks tiles with no
+    vertex that is not done and that I can reach: that stays so (done vertices stay done
+    unless a revert resets the flags; the known graph only loses edges, so what I cannot
+    reach I never will), so they are skipped without reading them.
     """
     n = status.shape[0]
     nk = ctpu.shape[0]
     mine_row = hops_u[me_slot]
     nf = 0
-    for lo in range(0, n, _TILE):
+    scanned = 0
+    for t in range(dead.shape[0]):
+        if dead[t]:
+            continue
+        lo = t * _TILE
         hi = min(n, lo + _TILE)
+        live = False
+        for v in range(lo, hi):
+            if status[v] == 0 and mine_row[v] < high:
+                live = True
+                break
+        if not live:
+            dead[t] = 1
+            continue
+        scanned += hi - lo
         for k in range(nk):
             hmin[k, : hi - lo] = full
         for i in range(slots.shape[0]):
@@ -292,22 +240,29 @@ def _far_scan(
             mins[nf] = m
             nf += 1
     if nf == 0:
-        return 0, 0
+        return 0, 0, scanned
     best = mins[:nf].max()
     nt = 0
     for k in range(nf):
         if _close1(mins[k], best):
             far[nt] = far[k]
             nt += 1
-    return nf, nt
+    return nf, nt, scanned
 
 
 class Madgta:
     """Algorithm 1's COMPUTE with Algorithm 2's GetBestNode."""
 
     name = "madgta"
+    #: vertices the compiled branch-3 searches looked at (an operation count: bench/tests)
+    scanned = 0
 
     def decide(self, belief: TraversalBelief, rng: np.random.Generator) -> Decision:
+        known = belief.known
+        if known.open_lattice:
+            kind = self._compiled_kind()
+            if kind:  # no wall known yet: distances in closed form, no fields
+                return self._decide_lattice(belief, rng, kind == "madgta")
         here = belief.here
         if not belief.in_km(here):
             return Decision("job", here, here, 1)
@@ -331,18 +286,26 @@ class Madgta:
         return get_best_node(cands, self.utilities(belief, cands), rng)
 
     # ---- compiled path (same decisions; see _util_matrix)
-    def _fast_rivals(self, belief: TraversalBelief) -> tuple[np.ndarray, float] | None:
-        """(rivals, own job time in the utility) when the compiled path applies, else None.
-
-        It applies on uniform graphs to the utilities defined here; a subclass that
-        overrides ``utilities`` or ``best`` gets the generic path, so variants stay correct.
-        """
+    def _compiled_kind(self) -> str:
+        """Which utilities the compiled kernels may stand in for: ``"madgta"``,
+        ``"nearest"``, or ``""`` for a subclass that overrides ``utilities`` or ``best``
+        (it gets the generic path, so variants stay correct)."""
         cls = type(self)
-        if not belief.known.uniform or cls.best is not Madgta.best:
-            return None
+        if cls.best is not Madgta.best:
+            return ""
         if cls.utilities is Madgta.utilities:
-            return belief.rivals(), float(belief.job_time[belief.me])
+            return "madgta"
         if cls.utilities is Nearest.utilities:
+            return "nearest"
+        return ""
+
+    def _fast_rivals(self, belief: TraversalBelief) -> tuple[np.ndarray, float] | None:
+        """(rivals, own job time in the utility) when the compiled path applies (uniform
+        graphs, the utilities defined here), else None."""
+        kind = self._compiled_kind() if belief.known.uniform else ""
+        if kind == "madgta":
+            return belief.rivals(), float(belief.job_time[belief.me])
+        if kind == "nearest":
             return _NO_RIVALS, 0.0
         return None
 
@@ -417,11 +380,14 @@ class Madgta:
         klass, ctpu, cjt = _rival_classes(belief.time_per_unit[rivals], belief.job_time[rivals])
         unsigned, full, high = _unsigned_view(known.hops.dtype)
         far, mins, hmin = self._scratch(belief.status.size, ctpu.size, unsigned)
-        nf, nt = _far_scan(
+        n = belief.status.size
+        dead = belief.scan_flags("tiles", (n + _TILE - 1) // _TILE)
+        nf, nt, scanned = _far_scan(
             known.hops.view(unsigned), me_slot, slots, klass, ctpu, cjt,
             belief.status, belief.reserved, me, known.step, belief.time_per_unit[me], jt_me,
-            far, mins, hmin, full, high,
+            far, mins, hmin, full, high, dead,
         )
+        self.scanned += scanned
         if nf == 0:
             return Decision("finish")
         if nt == 1:
@@ -432,6 +398,61 @@ class Madgta:
         nbrs = belief.graph.neighbors(here)
         d = known.distances(f, np.concatenate(([here], nbrs)))
         steps = on_path_neighbors(belief.graph, here, d[0], d[1:])
+        return Decision("move", _pick(steps, rng), f, 3)
+
+    def _decide_lattice(
+        self, belief: TraversalBelief, rng: np.random.Generator, with_rivals: bool
+    ) -> Decision:
+        """The decision on an open lattice (:mod:`.lattice`): the same utilities from
+        lattice distances, branches 1-2 in one compiled call, branch 3 by bounded blocks."""
+        known = belief.known
+        width = known.open_lattice
+        me, g = belief.me, belief.graph
+        tpu, jt = belief.time_per_unit, belief.job_time
+        step = known.step
+        code, picks, rivals, sx, sy = lattice.decide_near(
+            width, belief.loc, me, g.indptr, g.indices, belief.status, belief.reserved, step,
+            tpu, jt, with_rivals,
+        )
+        if code == _PICK:
+            v = _pick(picks, rng)
+            return Decision("move", v, v, 2)
+        here = int(belief.loc[me])
+        if code == _JOB:
+            return Decision("job", here, here, 1)
+        tpu_me = float(tpu[me])
+        jt_me = float(jt[me]) if with_rivals else 0.0
+        tpu_r, jt_r = tpu[rivals], jt[rivals]
+        if code == _NUMPY:
+            util = lattice.util_matrix(width, sx, sy, picks, step, tpu_me, jt_me, tpu_r, jt_r)
+            v = get_best_node(picks, util, rng)
+            return Decision("move", v, v, 2)
+        klass, ctpu, cjt = _rival_classes(tpu_r, jt_r)
+        n = belief.status.size
+        far, mins, _ = self._scratch(n, 1, np.dtype(np.uint16))
+        height = n // width
+        blocks = -(-width // lattice.BLOCK) * -(-height // lattice.BLOCK)
+        found, nt, scanned = lattice.far_choice(
+            width, height, sx, sy, klass, ctpu, cjt, belief.status, belief.reserved, me,
+            step, tpu_me, jt_me, lattice.BLOCK, far, mins, belief.scan_flags("blocks", blocks),
+        )
+        self.scanned += scanned
+        if not found:
+            return Decision("finish")
+        if nt == 1:
+            f = int(far[0])
+        else:
+            tied = far[:nt].copy()
+            top = lattice.top_candidates(width, sx, sy, tied, step, tpu_me, jt_me, tpu_r, jt_r)
+            if top[0] >= 0:
+                f = _pick(tied[top], rng)
+            else:
+                util = lattice.util_matrix(width, sx, sy, tied, step, tpu_me, jt_me, tpu_r,
+                                           jt_r)
+                f = get_best_node(tied, util, rng)
+        nbrs = g.neighbors(here)
+        d = lattice.distances(width, f, np.concatenate(([here], nbrs)), step)
+        steps = on_path_neighbors(g, here, d[0], d[1:])
         return Decision("move", _pick(steps, rng), f, 3)
 
     def utilities(self, belief: TraversalBelief, cands: np.ndarray) -> np.ndarray:

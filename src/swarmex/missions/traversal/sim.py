@@ -244,7 +244,7 @@ class _Sim:
                 t = self.table
                 deliver(code, sender, msg.node, np.asarray(obstacles, dtype=np.int64),
                         msg.eta, t.status, t.reserved, t.loc, t.reservation, t.next_loc,
-                        t.free_at)
+                        t.free_at, t.revived)
             return
         receivers = self.channel.receivers(sender - 1, self.pos_xy[1:], self.rng)
         for r in receivers + 1:

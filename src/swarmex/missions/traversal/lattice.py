@@ -1,0 +1,319 @@
+"""MADGTA's decisions while the known graph is an open lattice: distances in closed form.
+
+On a 4-connected grid world's lattice (:func:`~swarmex.planning.distance.lattice_structure`)
+with no obstacle known yet, the shortest path between two cells is their lattice (L1)
+distance ``|dx| + |dy|`` hops: that is exactly the hop count a breadth-first search gives, so
+every utility below is the same float, computed by the same operations in the same order,
+as the hop-row kernels of :mod:`swarmex.missions.traversal.policies` compute it (and those
+match the numpy code of ``Madgta.utilities``). Nothing here needs a distance field, so a
+decision costs no field per agent (the field route pays one shift of the whole map for every
+move of every agent, which is what made large open maps quadratic).
+
+Branch 3 (no vacant neighbour: the best of all vacant vertices) is searched block by block
+instead of vertex by vertex. Each ``block x block`` square of the grid gets an upper bound
+of the max-min utility of its vertices, from the same separable form: a rival's advantage
+``a·L1(r, v) - b·L1(me, v)`` splits into an x part and a y part, each piecewise linear with
+its kinks at the two agents' coordinates, so its maximum over a square is found among at
+most four points per axis. Blocks are then scanned in order of decreasing bound, and the
+scan stops at the first block whose bound (plus a safety margin for rounding) is below the
+best value found minus the tie tolerance of Algorithm 2: every vertex that could be tied at
+the max-min is still found, in the same vertex order, so the policy's tie-breaks and its
+draw from the generator are the same.
+"""
+
+from __future__ import annotations
+
+import numba as nb
+import numpy as np
+from numpy.typing import NDArray
+
+from swarmex.missions.traversal.selection import (
+    FAR,
+    JOB,
+    NUMPY,
+    PICK,
+    close1,
+    column_stats,
+    select_top,
+    vacant_neighbours,
+)
+
+I64 = NDArray[np.int64]
+F64 = NDArray[np.float64]
+
+#: side of the squares the branch-3 search bounds and scans (cells)
+BLOCK = 32
+
+
+@nb.njit(cache=True, nogil=True)
+def _l1(width: int, v: int, x: int, y: int) -> int:  # pragma: no cover - compiled
+    vy, vx = divmod(v, width)
+    return abs(vx - x) + abs(vy - y)
+
+
+@nb.njit(cache=True, nogil=True)
+def util_matrix(
+    width: int, sx: I64, sy: I64, cands: I64, step: float, tpu_me: float, jt_me: float,
+    tpu: F64, jt: F64,
+) -> F64:  # pragma: no cover - compiled
+    """``util[rival, candidate]`` as ``Madgta.utilities`` computes it; ``sx, sy`` hold my
+    cell first, then the rivals'. With no rival: one row, minus my own cost."""
+    r = sx.shape[0] - 1
+    c = cands.shape[0]
+    util = np.empty((max(r, 1), c))
+    for j in range(c):
+        mine = (_l1(width, cands[j], sx[0], sy[0]) * step) * tpu_me
+        mine = mine + jt_me
+        if r == 0:
+            util[0, j] = -mine
+            continue
+        for i in range(r):
+            theirs = (_l1(width, cands[j], sx[i + 1], sy[i + 1]) * step) * tpu[i]
+            util[i, j] = theirs + jt[i] - mine
+    return util
+
+
+@nb.njit(cache=True, nogil=True)
+def top_candidates(
+    width: int, sx: I64, sy: I64, cands: I64, step: float, tpu_me: float, jt_me: float,
+    tpu: F64, jt: F64,
+) -> I64:  # pragma: no cover - compiled
+    """``top_columns(util_matrix(...))`` without the matrix: one column at a time (a
+    branch-3 tie can hold most of the map)."""
+    r = sx.shape[0] - 1
+    c = cands.shape[0]
+    mins = np.empty(c)
+    sums = np.empty(c)
+    errs = np.empty(c)
+    col = np.empty(max(r, 1))
+    for j in range(c):
+        mine = (_l1(width, cands[j], sx[0], sy[0]) * step) * tpu_me
+        mine = mine + jt_me
+        if r == 0:
+            col[0] = -mine
+        for i in range(r):
+            theirs = (_l1(width, cands[j], sx[i + 1], sy[i + 1]) * step) * tpu[i]
+            col[i] = theirs + jt[i] - mine
+        if not column_stats(col, j, mins, sums, errs):
+            return np.full(1, -1, dtype=np.int64)
+    return select_top(mins, sums, errs)
+
+
+@nb.njit(cache=True, nogil=True)
+def near_choice(
+    width: int, sx: I64, sy: I64, indptr: I64, indices: NDArray[np.int32], here: int,
+    status: NDArray[np.int32], reserved: NDArray[np.int32], me: int, step: float,
+    tpu_me: float, jt_me: float, tpu: F64, jt: F64,
+) -> tuple[int, I64]:  # pragma: no cover - compiled
+    """Branch 2 in one call, as ``policies._near_choice`` does it from hop rows: ``(FAR,
+    [])`` with no vacant neighbour, ``(PICK, tied)`` for the final draw, ``(NUMPY, W)``
+    when numpy must add the sums."""
+    cands = vacant_neighbours(indptr, indices, here, status, reserved, me)
+    if cands.shape[0] == 0:
+        return FAR, cands
+    top = top_candidates(width, sx, sy, cands, step, tpu_me, jt_me, tpu, jt)
+    if top[0] < 0:
+        return NUMPY, cands
+    return PICK, cands[top]
+
+
+@nb.njit(cache=True, nogil=True)
+def decide_near(
+    width: int, loc: I64, me: int, indptr: I64, indices: NDArray[np.int32],
+    status: NDArray[np.int32], reserved: NDArray[np.int32], step: float, tpu: F64, jt: F64,
+    with_rivals: bool,
+) -> tuple[int, I64, I64, I64, I64]:  # pragma: no cover - compiled
+    """Branches 1 and 2 of a decision in one call, from the belief's arrays: ``(JOB, ...)``
+    when my own vertex is not in KM, else :func:`near_choice`'s ``(code, picks)``; plus the
+    rivals (ids of the other agents whose position is known; none for ``with_rivals``
+    False, the nearest-vertex baseline) and ``sx, sy`` (my cell, then theirs)."""
+    here = loc[me]
+    owner = reserved[here]
+    none = np.empty(0, dtype=np.int64)
+    if status[here] == 0 and (owner == 0 or owner == me):
+        return JOB, none, none, none, none
+    r = 0
+    rivals = np.empty(loc.shape[0], dtype=np.int64)
+    if with_rivals:
+        for a in range(loc.shape[0]):
+            if loc[a] >= 0 and a != me:
+                rivals[r] = a
+                r += 1
+    rivals = rivals[:r]
+    sx = np.empty(r + 1, dtype=np.int64)
+    sy = np.empty(r + 1, dtype=np.int64)
+    sy[0], sx[0] = divmod(here, width)
+    tpu_r = np.empty(r)
+    jt_r = np.empty(r)
+    for i in range(r):
+        sy[i + 1], sx[i + 1] = divmod(loc[rivals[i]], width)
+        tpu_r[i] = tpu[rivals[i]]
+        jt_r[i] = jt[rivals[i]]
+    jt_me = jt[me] if with_rivals else 0.0
+    code, picks = near_choice(width, sx, sy, indptr, indices, here, status, reserved, me,
+                              step, tpu[me], jt_me, tpu_r, jt_r)
+    return code, picks, rivals, sx, sy
+
+
+@nb.njit(cache=True, nogil=True)
+def distances(width: int, source: int, vertices: I64, step: float) -> F64:  # pragma: no cover
+    """``KnownGraph.distances(source, vertices)`` on the open lattice."""
+    sy, sx = divmod(source, width)
+    out = np.empty(vertices.shape[0])
+    for i in range(vertices.shape[0]):
+        out[i] = _l1(width, vertices[i], sx, sy) * step
+    return out
+
+
+@nb.njit(cache=True, nogil=True)
+def _axis_max(lo: int, hi: int, r: int, m: int, a: float, b: float) -> float:  # pragma: no cover
+    """Max over integers ``x`` in ``[lo, hi]`` of ``a|x - r| - b|x - m|``: piecewise linear
+    with kinks at ``r`` and ``m``, so the max is at an end or at a kink."""
+    best = a * abs(lo - r) - b * abs(lo - m)
+    for x in (hi, min(max(r, lo), hi), min(max(m, lo), hi)):
+        v = a * abs(x - r) - b * abs(x - m)
+        if v > best:
+            best = v
+    return best
+
+
+@nb.njit(cache=True, nogil=True)
+def _axis_gap(lo: int, hi: int, x: int) -> int:  # pragma: no cover - compiled
+    """Distance from ``x`` to the interval ``[lo, hi]``."""
+    if x < lo:
+        return lo - x
+    if x > hi:
+        return x - hi
+    return 0
+
+
+@nb.njit(cache=True, nogil=True)
+def far_choice(
+    width: int, height: int, sx: I64, sy: I64, klass: I64, ctpu: F64, cjt: F64,
+    status: NDArray[np.int32], reserved: NDArray[np.int32], me: int, step: float,
+    tpu_me: float, jt_me: float, block: int, far: I64, mins: F64, dead: NDArray[np.uint8],
+) -> tuple[int, int, int]:  # pragma: no cover - compiled
+    """Branch 3 (``policies._far_scan`` on the open lattice) by bounded blocks.
+
+    Returns ``(found, tied, scanned)``: whether any vacant vertex exists (0 or more), how
+    many vertices are tied at the max-min (left in ascending order in ``far[:tied]``) and how
+    many vertices were looked at. ``klass[i]`` is rival ``i``'s (speed, job time) class,
+    ``ctpu, cjt`` the classes' values; ``sx, sy`` hold my cell first, then the rivals'.
+    ``dead[q]`` marks blocks with every vertex done (this belief's flags, reset when a job
+    is undone): they are skipped.
+    """
+    r = sx.shape[0] - 1
+    nk = ctpu.shape[0]
+    xm, ym = sx[0], sy[0]
+    b = step * tpu_me
+    nbx = (width + block - 1) // block
+    nby = (height + block - 1) // block
+    nb_ = nbx * nby
+    # rounding between the real-valued bound and the floats of a vertex's utility is a few
+    # ulps of the largest term; the margin is far above that and far below one hop
+    amax = b
+    cmax = abs(jt_me)
+    for k in range(nk):
+        amax = max(amax, step * ctpu[k])
+        cmax = max(cmax, abs(cjt[k]))
+    margin = 1e-9 * (1.0 + amax * (width + height) + cmax)
+    ub = np.empty(nb_)
+    for q in range(nb_):
+        if dead[q]:
+            ub[q] = -np.inf
+            continue
+        by, bx = divmod(q, nbx)
+        x0, y0 = bx * block, by * block
+        x1, y1 = min(width, x0 + block) - 1, min(height, y0 + block) - 1
+        if r == 0 or nk == 0:
+            d = _axis_gap(x0, x1, xm) + _axis_gap(y0, y1, ym)
+            ub[q] = -((d * step) * tpu_me + jt_me) + margin
+            continue
+        u = np.inf
+        for i in range(r):
+            k = klass[i]
+            a = step * ctpu[k]
+            v = (_axis_max(x0, x1, sx[i + 1], xm, a, b) + _axis_max(y0, y1, sy[i + 1], ym, a, b)
+                 + cjt[k] - jt_me)
+            if v < u:
+                u = v
+        ub[q] = u + margin
+    order = np.argsort(-ub, kind="mergesort")
+    best = -np.inf
+    found = 0
+    nf = 0
+    scanned = 0
+    near = np.empty(r, dtype=np.int64)  # the rivals that can be nearest in a block
+    cut = np.empty(max(nk, 1), dtype=np.int64)
+    hk = np.empty(max(nk, 1), dtype=np.int64)
+    for t in range(nb_):
+        q = order[t]
+        if dead[q]:
+            break  # (dead blocks sort last)
+        if found and ub[q] < best - 1e-9 * (1.0 + abs(best)):
+            break
+        by, bx = divmod(q, nbx)
+        x0, y0 = bx * block, by * block
+        x1, y1 = min(width, x0 + block) - 1, min(height, y0 + block) - 1
+        # a rival farther from every cell of the block than some rival of its class is
+        # from the block's farthest cell is never the nearest of its class there
+        for k in range(nk):
+            cut[k] = 1 << 62
+        for i in range(r):
+            far_d = max(abs(x0 - sx[i + 1]), abs(x1 - sx[i + 1])) + max(
+                abs(y0 - sy[i + 1]), abs(y1 - sy[i + 1]))
+            if far_d < cut[klass[i]]:
+                cut[klass[i]] = far_d
+        nn = 0
+        for i in range(r):
+            if _axis_gap(x0, x1, sx[i + 1]) + _axis_gap(y0, y1, sy[i + 1]) <= cut[klass[i]]:
+                near[nn] = i
+                nn += 1
+        live = False
+        for y in range(y0, y1 + 1):
+            for x in range(x0, x1 + 1):
+                v = y * width + x
+                scanned += 1
+                if status[v] != 0:
+                    continue
+                live = True
+                owner = reserved[v]
+                if owner != 0 and owner != me:
+                    continue
+                found = 1
+                hm = abs(x - xm) + abs(y - ym)
+                mine = (hm * step) * tpu_me
+                mine = mine + jt_me
+                if nk == 0:
+                    m = -mine
+                else:
+                    for k in range(nk):
+                        hk[k] = 1 << 62
+                    for j in range(nn):
+                        i = near[j]
+                        d = abs(x - sx[i + 1]) + abs(y - sy[i + 1])
+                        if d < hk[klass[i]]:
+                            hk[klass[i]] = d
+                    m = np.inf
+                    for k in range(nk):
+                        theirs = (hk[k] * step) * ctpu[k]
+                        u = theirs + cjt[k] - mine
+                        if u < m:
+                            m = u
+                if m > best:
+                    best = m
+                if m >= best - 1e-9 * (1.0 + abs(best)):
+                    far[nf] = v
+                    mins[nf] = m
+                    nf += 1
+        if not live:
+            dead[q] = 1
+    if not found:
+        return 0, 0, scanned
+    nt = 0
+    for j in range(nf):
+        if close1(mins[j], best):
+            far[nt] = far[j]
+            nt += 1
+    far[:nt].sort()
+    return found, nt, scanned
