@@ -4,17 +4,21 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 
 from swarmex.engine.stats import (
     Z95,
     implied_sample_size,
     intervals_overlap,
+    mean_difference_ci,
     normal_ci,
     position_in_interval,
+    proportion_difference_ci,
     standard_errors_apart,
     summarize,
     summarize_groups,
+    wilson_ci,
 )
 
 
@@ -96,3 +100,35 @@ def test_summarize_groups_and_skips_failures():
     assert g1.stats["makespan"].half_width == pytest.approx(t_975_1 * sd / math.sqrt(2))
     assert g1.stats["complete"].mean == 0.5
     assert (g2.runs, g2.failed, g2.stats["makespan"].n) == (2, 1, 1)
+
+
+@pytest.mark.parametrize(("k", "n"), [(0, 30), (7, 30), (15, 30), (30, 30), (1, 3)])
+def test_wilson_bounds_solve_the_score_equation(k, n):
+    """Wilson's bounds are the p with |k/n − p| = z·√(p(1−p)/n) (and 0 / 1 at the ends)."""
+    low, high = wilson_ci(k, n)
+    ph = k / n
+    for p in (low, high):
+        if 0 < p < 1:
+            assert abs(ph - p) == pytest.approx(Z95 * math.sqrt(p * (1 - p) / n), rel=1e-9)
+    assert 0 <= low <= ph <= high <= 1 and (k > 0 or low == 0) and (k < n or high == 1)
+    assert all(math.isnan(v) for v in wilson_ci(0, 0))
+
+
+def test_newcombe_interval_matches_the_published_examples():
+    # Newcombe (1998), Statistics in Medicine 17:873, method 10, examples (a) and (c)
+    d, lo, hi = proportion_difference_ci(56, 70, 48, 80)
+    assert d == pytest.approx(0.2) and (lo, hi) == pytest.approx((0.0524, 0.3339), abs=5e-5)
+    _, lo, hi = proportion_difference_ci(9, 10, 3, 10)
+    assert (lo, hi) == pytest.approx((0.1705, 0.8090), abs=5e-5)
+
+
+def test_welch_interval_matches_scipy():
+    from scipy import stats
+
+    a, b = [76.1, 74.0, 79.2, 75.5, 77.7], [70.2, 73.9, 69.0, 72.4, 71.1, 68.8]
+    d, lo, hi = mean_difference_ci(a, b)
+    want = stats.ttest_ind(a, b, equal_var=False).confidence_interval()
+    assert d == pytest.approx(np.mean(a) - np.mean(b))
+    assert (lo, hi) == pytest.approx((want.low, want.high), rel=1e-9)
+    assert mean_difference_ci([1.0, 1.0], [1.0, 1.0]) == (0.0, 0.0, 0.0)
+    assert math.isnan(mean_difference_ci([1.0], [2.0, 3.0])[1])

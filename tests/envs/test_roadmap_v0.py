@@ -284,3 +284,19 @@ def test_supersuit_vector_env():
         ended += int(terms.any() or truncs.any())
     assert ended >= 1  # an episode ended and the vector env started the next
     vec.close()
+
+
+def test_ompl_prm_baseline_episode_is_swarmex_run():
+    """OMPL's PRM in the environment: its roadmap fits the default edge capacity (10 K) and
+    the seed algorithm's episode is the mission's run."""
+    pytest.importorskip("ompl.base")
+    params = dict(SMALL, planner="ompl-prm")
+    par = roadmap_v0.parallel_env(**params)
+    policy = roadmap_v0.baseline_policy(par)
+    obs, infos = par.reset(seed=params["seed"])
+    while par.agents:
+        obs, _, _, _, infos = par.step(policy(obs, infos))
+    record = par.unwrapped.record()
+    assert record.to_dict()["roadmap"]["kind"] == "ompl-prm"
+    assert without_wall(record) == without_wall(swarmex.run("roadmap", **params))
+    par.close()

@@ -120,6 +120,58 @@ def summarize(
     )
 
 
+def wilson_ci(k: int, n: int, z: float = Z95) -> tuple[float, float]:
+    """Wilson's score interval of a proportion ``k / n`` (NaN for n = 0).
+
+    For success rates over a few dozen runs: unlike ``p ± z·√(p(1-p)/n)`` it stays inside
+    [0, 1] and does not collapse to a point at 0 or n successes.
+    """
+    if n < 1:
+        return (math.nan, math.nan)
+    p = k / n
+    den = 1.0 + z * z / n
+    mid = (p + z * z / (2 * n)) / den
+    half = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / den
+    return (max(0.0, mid - half), min(1.0, mid + half))
+
+
+def proportion_difference_ci(k1: int, n1: int, k2: int, n2: int,
+                             z: float = Z95) -> tuple[float, float, float]:
+    """``(p1 − p2, low, high)``: Newcombe's hybrid score interval (1998, method 10), built
+    from the two Wilson intervals — the difference of two success rates over runs."""
+    if n1 < 1 or n2 < 1:
+        return (math.nan, math.nan, math.nan)
+    p1, p2 = k1 / n1, k2 / n2
+    l1, u1 = wilson_ci(k1, n1, z)
+    l2, u2 = wilson_ci(k2, n2, z)
+    d = p1 - p2
+    return (d, d - math.sqrt((p1 - l1) ** 2 + (u2 - p2) ** 2),
+            d + math.sqrt((u1 - p1) ** 2 + (p2 - l2) ** 2))
+
+
+def mean_difference_ci(a: Sequence[float], b: Sequence[float],
+                       confidence: float = CONFIDENCE) -> tuple[float, float, float]:
+    """``(mean(a) − mean(b), low, high)``: Welch's interval (unequal variances,
+    Welch–Satterthwaite degrees of freedom); NaN bounds when either sample has fewer than
+    two values. Equal samples of zero spread give a zero-width interval at the difference."""
+    x = np.asarray(a, dtype=float)
+    y = np.asarray(b, dtype=float)
+    if len(x) == 0 or len(y) == 0:
+        return (math.nan, math.nan, math.nan)
+    d = float(x.mean() - y.mean())
+    if len(x) < 2 or len(y) < 2:
+        return (d, math.nan, math.nan)
+    vx, vy = x.var(ddof=1) / len(x), y.var(ddof=1) / len(y)
+    se2 = vx + vy
+    if se2 == 0:
+        return (d, d, d)
+    df = se2 * se2 / (vx * vx / (len(x) - 1) + vy * vy / (len(y) - 1))
+    from scipy.special import stdtrit
+
+    half = float(stdtrit(df, 0.5 + confidence / 2) * math.sqrt(se2))
+    return (d, d - half, d + half)
+
+
 @dataclass
 class ConfigSummary:
     """One configuration of a sweep (the parameters other than the seed) and its runs."""

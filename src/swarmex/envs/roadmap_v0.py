@@ -26,8 +26,9 @@ the goal is flagged):
 * **PRM**: any edge at the walker's node (the baseline takes one of least weight).
 
 Actions: ``Discrete(E + 1)`` where ``E`` is the roadmap's edge capacity (``nodes`` for the
-WMA-RRT planners, whose trees have exactly K edges; ``8 * nodes`` for PRM unless
-``max_edges`` says otherwise; a PRM with more edges is an error naming ``max_edges``):
+WMA-RRT planners, whose trees have exactly K edges; ``8 * nodes`` for PRM and ``10 * nodes``
+for OMPL's PRM, whose milestones join at most their 10 nearest, unless ``max_edges`` says
+otherwise; a PRM with more edges is an error naming ``max_edges``):
 action ``e < E`` follows edge ``e`` (its global id, the same index as the observation's edge
 arrays), action ``E`` is ``stay``. ``observation["action_mask"]`` marks the open ones; any
 other action raises :class:`~swarmex.errors.InputError` (a ValueError) naming the agent, the
@@ -84,6 +85,7 @@ from swarmex.envs.broker import Ask, DecisionBroker
 from swarmex.envs.common import check_finite
 from swarmex.errors import InputError
 from swarmex.missions.registry import get
+from swarmex.missions.roadmap.params import GRAPH_PLANNERS
 
 if TYPE_CHECKING:
     from swarmex.engine.record import ResultRecord
@@ -100,6 +102,7 @@ __all__ = ["STATES", "baseline_policy", "env", "parallel_env", "raw_env"]
 STATES = ("entry", "explore", "free", "wait", "follow", "leg", "done", "at-goal", "walk", "stuck")
 COUNT_HIGH = 1e9  # bound of counters (weights, steps) in the observation space
 PRM_EDGES_PER_NODE = 8  # default edge capacity of a PRM: 8 K (measured: 3 K to 5 K)
+OMPL_EDGES_PER_NODE = 10  # OMPL's PRM: each milestone joins at most its 10 nearest
 
 
 @dataclass(frozen=True)
@@ -343,7 +346,8 @@ class raw_env(AECEnv[str, dict[str, np.ndarray], int]):  # noqa: N801 - PettingZ
         self.completion_bonus = float(completion_bonus)
         k = self.params.nodes
         if max_edges is None:
-            max_edges = PRM_EDGES_PER_NODE * k if self.params.planner == "prm" else k
+            per_node = {"prm": PRM_EDGES_PER_NODE, "ompl-prm": OMPL_EDGES_PER_NODE}
+            max_edges = per_node.get(self.params.planner, 1) * k
         elif (
             isinstance(max_edges, bool)
             or not isinstance(max_edges, int | np.integer)
@@ -544,7 +548,8 @@ class raw_env(AECEnv[str, dict[str, np.ndarray], int]):  # noqa: N801 - PettingZ
             obs["node"] = np.array([-1], dtype=np.int64)
             obs["position"] = self.prepared.starts[i].astype(np.float32)
             state[STATES.index("entry")] = 1
-            obs["branch"] = np.array([i if self.params.planner != "prm" else -1], np.int64)
+            graph = self.params.planner in GRAPH_PLANNERS
+            obs["branch"] = np.array([-1 if graph else i], np.int64)
         else:
             obs["node"] = np.array([a.node], dtype=np.int64)
             obs["position"] = np.asarray(a.xy, dtype=np.float32)

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from swarmex.errors import InputError
+from swarmex.errors import InputError, require
 from swarmex.missions.base import (
     REQUIRED,
     Params,
@@ -44,7 +44,10 @@ from swarmex.missions.base import (
 if TYPE_CHECKING:
     from swarmex.worlds.polygon import PolygonWorld
 
-PLANNERS = ("wma-rrt", "prm", "wma-rrt-takeover", "wma-rrt-fairshare")
+PLANNERS = ("wma-rrt", "prm", "wma-rrt-takeover", "wma-rrt-fairshare", "ompl-prm")
+# the planners whose roadmap is a graph walked by PRM walkers (no branches, no COMPLETE):
+# the project's PRM and OMPL's (extra `ompl`)
+GRAPH_PLANNERS = ("prm", "ompl-prm")
 TASKS = ("coverage", "search")
 # the coverage raster's cells on the long side; equal to sensing.coverage_raster.DEFAULT_CELLS
 # (a test checks it), not imported from there because that module pulls in numba
@@ -144,7 +147,8 @@ class RoadmapParams(Params):
     task: str = option("coverage", help="coverage | search", parse=text(TASKS))
     planner: str = option(
         "wma-rrt",
-        help="wma-rrt | prm | wma-rrt-takeover | wma-rrt-fairshare (improved helpers)",
+        help="wma-rrt | prm | wma-rrt-takeover | wma-rrt-fairshare (improved helpers) | "
+        "ompl-prm (OMPL's PRM)",
         parse=text(PLANNERS),
     )
     agents: int = option(REQUIRED, help="Number of agents (= branches).", parse=integer(lo=1))
@@ -170,6 +174,8 @@ class RoadmapParams(Params):
     )
 
     def check(self) -> None:
+        if self.planner == "ompl-prm":  # one line naming the extra, before any work
+            require("ompl.base", "ompl", "--planner ompl-prm")
         if self.nodes < self.agents:
             raise InputError(
                 f"--nodes {self.nodes} is fewer than --agents {self.agents} (one root each)"
@@ -186,6 +192,7 @@ class RoadmapParams(Params):
 
 
 __all__ = [
+    "GRAPH_PLANNERS",
     "PLANNERS",
     "RASTER_CELLS",
     "TASKS",

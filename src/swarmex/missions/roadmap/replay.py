@@ -14,6 +14,7 @@ from typing import Any
 
 import numpy as np
 
+from swarmex.missions.roadmap.params import GRAPH_PLANNERS
 from swarmex.worlds.polygon import PolygonWorld
 
 TOL = 1e-6
@@ -63,7 +64,7 @@ def replay_problems(record: dict[str, Any], world: PolygonWorld) -> list[str]:
     goal = record.get("goal")
     finals = [np.asarray(ag["trajectory"][-1][1:]) for ag in record["agents"]]
     at_goal = [goal is not None and np.hypot(*(f - goal)) <= TOL for f in finals]
-    if record["complete"] and task == "coverage" and record["algorithm"] != "prm":
+    if record["complete"] and task == "coverage" and record["algorithm"] not in GRAPH_PLANNERS:
         missing = int((counts == 0).sum())
         if missing:
             problems.append(f"complete coverage claimed but {missing} edges never traversed")

@@ -38,7 +38,7 @@ import numpy as np
 from swarmex.errors import InputError
 from swarmex.missions.base import StopRun
 from swarmex.missions.roadmap.blackboard import PRMBoard, WMABoard
-from swarmex.missions.roadmap.params import PLANNERS, TASKS
+from swarmex.missions.roadmap.params import GRAPH_PLANNERS, PLANNERS, TASKS
 from swarmex.missions.roadmap.prm_policy import PRMWalker
 from swarmex.missions.roadmap.wma_policy import RULES, Move, WMAAgent
 from swarmex.planning.prm import build_prm
@@ -112,6 +112,10 @@ def build_roadmap(world: PolygonWorld, planner: str, starts: np.ndarray, nodes: 
                   step: float, rng: np.random.Generator) -> Roadmap:
     if planner == "prm":
         return build_prm(world, starts, nodes, step, rng)
+    if planner == "ompl-prm":  # the same node budget; OMPL's PRM has no step
+        from swarmex.planning.ompl import build_ompl_prm
+
+        return build_ompl_prm(world, starts, nodes, rng)
     return build_wma_rrt(world, starts, nodes, step, rng)
 
 
@@ -159,7 +163,7 @@ def run_roadmap(
     if raster is None:
         raster = CoverageRaster(world, sensor_range, raster_cells)
     board: WMABoard | PRMBoard
-    if planner == "prm":
+    if planner in GRAPH_PLANNERS:  # the same walkers on the project's PRM and on OMPL's
         board = PRMBoard(rm)
         agents: list[Any] = [PRMWalker(i, starts[i], rm.entry_node[i], board) for i in range(n)]
         budget = 2 * max(nodes, rm.n_nodes) if step_budget is None else int(step_budget)
@@ -227,7 +231,7 @@ def run_roadmap(
                 stopped = True
     t2 = time.perf_counter()
     goal_found = task == "search" and board.anchor is not None
-    complete = all_at_goal >= 0 if planner == "prm" else ended
+    complete = all_at_goal >= 0 if planner in GRAPH_PLANNERS else ended
     return RoadmapRun(
         world=world, roadmap=rm, task=task, planner=planner, sensor_range=sensor_range,
         goal=goal_xy, raster=raster, board=board, agents=agents, trajectories=traj,

@@ -7,12 +7,18 @@ improvement, and the unreachable-goal runs of Figs. 14–17.
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+import functools
+from collections.abc import Callable, Iterable
 from typing import Any
 
 import numpy as np
 
-from swarmex.engine.stats import summarize
+from swarmex.engine.stats import (
+    mean_difference_ci,
+    proportion_difference_ci,
+    summarize,
+    wilson_ci,
+)
 
 
 def pick(results: Iterable[dict[str, Any]], **want: Any) -> list[dict[str, Any]]:
@@ -120,7 +126,7 @@ def improvement(results: list[dict[str, Any]]) -> tuple[list[dict[str, Any]], li
 def unreachable(results: list[dict[str, Any]]) -> list[dict[str, Any]]:
     rows = []
     for env in ("fig14", "fig17"):
-        for planner in ("wma-rrt", "wma-rrt-takeover", "prm"):
+        for planner in ("wma-rrt", "wma-rrt-takeover", "prm", "ompl-prm"):
             runs = pick(results, exp="unreach", env=env, planner=planner)
             if not runs:
                 continue
@@ -137,4 +143,85 @@ def unreachable(results: list[dict[str, Any]]) -> list[dict[str, Any]]:
                 "off": sum(int(r.get("agents_off_roadmap") or 0) > 0 for r in runs),
                 "coverage": mean_sd([100 * r["coverage"] for r in runs])[0],
             })
+    return rows
+
+
+VERSUS = ("wma-rrt", "prm", "ompl-prm")  # the planners the per-row comparison puts side by side
+EQUAL = "ompl-prm@wma-travel"  # OMPL's PRM stopped where WMA-RRT's team had walked as far
+
+
+def at_travel(effort: list[list[float]], walked: float) -> float:
+    """Coverage of a run when its team had walked ``walked`` units (its ``effort`` curve of
+    ``[path, coverage]``, linearly interpolated; its final coverage if it never walked as
+    far)."""
+    e = np.asarray(effort, dtype=np.float64).reshape(-1, 2)
+    return float(np.interp(walked, e[:, 0], e[:, 1]))
+
+
+def _winner(cells: dict[str, dict[str, Any]],
+            diff: Callable[[str, str], tuple[float, float, float]]) -> str:
+    """The planner whose mean is highest, if its lead over the runner-up is significant (the
+    95 % interval of the difference excludes 0); else ``"tie: a ≈ b"``."""
+    ranked = sorted((p for p in cells if cells[p]["n"]), key=lambda p: -cells[p]["mean"])
+    if len(ranked) < 2:
+        return ranked[0] if ranked else "–"
+    best, second = ranked[0], ranked[1]
+    _, low, _ = diff(best, second)
+    return best if low > 0 else f"tie: {best} ≈ {second}"
+
+
+def _difference(cells: dict[str, dict[str, Any]], values: dict[str, list[float]] | None,
+                a: str, b: str) -> tuple[float, float, float]:
+    """Planner ``a`` − planner ``b`` with its 95 % interval, in points: coverage values
+    (Welch) when ``values`` are given, else goal-found rates (Newcombe)."""
+    if values is not None:
+        return mean_difference_ci(values[a], values[b])
+    d = proportion_difference_ci(cells[a]["k"], cells[a]["n"], cells[b]["k"], cells[b]["n"])
+    return (100.0 * d[0], 100.0 * d[1], 100.0 * d[2])
+
+
+def versus(results: list[dict[str, Any]], ref: list[dict[str, str]],
+           exp: str) -> list[dict[str, Any]]:
+    """Per table row: each planner of :data:`VERSUS` with its 95 % interval over the seeds
+    (coverage: Student's t on the mean; goal found: Wilson on the rate), the winner (a lead
+    whose difference interval — Welch / Newcombe — excludes 0) and WMA-RRT − OMPL PRM with
+    its interval (the paper's claim: WMA-RRT at least as good as PRM)."""
+    coverage = exp.startswith("t1")
+    rows = []
+    for row in ref:
+        key: dict[str, Any] = {"exp": exp, "nodes": int(row["nodes"]),
+                               "step": float(row["step"]), "mult": row["sensor_range"]}
+        runs = {p: pick(results, planner=p, **key) for p in VERSUS}
+        cells: dict[str, dict[str, Any]] = {}
+        values: dict[str, list[float]] = {}
+        for p, rs in runs.items():
+            if coverage:
+                values[p] = [100.0 * r["coverage"] for r in rs]
+                s = summarize(values[p])
+                cells[p] = {"n": s.n, "mean": s.mean, "low": s.ci_low, "high": s.ci_high}
+            else:
+                k = sum(bool(r["goal_found"]) for r in rs)
+                lo, hi = wilson_ci(k, len(rs))
+                cells[p] = {"n": len(rs), "k": k,
+                            "mean": 100.0 * k / len(rs) if rs else float("nan"),
+                            "low": 100.0 * lo, "high": 100.0 * hi}
+            cells[p]["path"] = mean_sd([r["path_length"] for r in rs])[0]
+        if coverage and cells["wma-rrt"]["n"] and runs["ompl-prm"]:
+            # OMPL's walkers step farther: its coverage when its team had walked as far as
+            # WMA-RRT's team did in all (mean over this row's WMA-RRT runs)
+            walked = cells["wma-rrt"]["path"]
+            values[EQUAL] = [100.0 * at_travel(r["effort"], walked)
+                             for r in runs["ompl-prm"] if r.get("effort")]
+            s = summarize(values[EQUAL])
+            cells[EQUAL] = {"n": s.n, "mean": s.mean, "low": s.ci_low, "high": s.ci_high,
+                            "path": walked}
+        diff = functools.partial(_difference, cells, values if coverage else None)
+        out: dict[str, Any] = {"nodes": key["nodes"], "step": int(key["step"]),
+                               "sensor": row["sensor_range"], "cells": cells,
+                               "winner": _winner({p: cells[p] for p in VERSUS}, diff)}
+        if cells["wma-rrt"]["n"] and cells["ompl-prm"]["n"]:
+            out["wma_minus_ompl"] = diff("wma-rrt", "ompl-prm")
+        if cells.get(EQUAL, {}).get("n"):
+            out["wma_minus_ompl_equal"] = diff("wma-rrt", EQUAL)
+        rows.append(out)
     return rows

@@ -16,6 +16,9 @@ Protocol (what the paper leaves open is fixed here and stated in the report):
 * "Number of iterations" = independent runs; run i uses ``--seed i``, so every row of the
   report can be rerun alone with ``swarmex roadmap … --seed i``.
 * A third planner, ``wma-rrt-takeover`` (our improvement), runs on the same rows.
+* A standard PRM, OMPL's (``ompl-prm``, extra ``ompl``), runs on the rows of both tables
+  and on the unreachable-goal runs, beside the project's own PRM; without the extra it is
+  left out of the plan and the report says so.
 
 The jobs (:class:`Job`, :func:`plan`) are run (:mod:`.runs`) by the study runner
 (:mod:`swarmex.studies.runner`): every finished run is appended
@@ -28,6 +31,7 @@ of readings, :mod:`.analysis` the tables, :mod:`.figures` and :mod:`.report` the
 from __future__ import annotations
 
 import csv
+import importlib.util
 import json
 import math
 from dataclasses import dataclass
@@ -41,6 +45,7 @@ C_EPS = 1.0  # r = C_EPS · ε in the t1eps / t2eps rows (the best c of the stud
 AGENTS = 3
 MULTS = {"r": 1.0, "2r": 2.0, "4r": 4.0, "inf": math.inf}
 PLANNERS = ("wma-rrt", "prm", "wma-rrt-takeover")
+OMPL_PRM = "ompl-prm"  # the standard PRM, run where the ompl extra is installed
 UNREACH_NODES, UNREACH_STEP = 400, 20
 
 ENVIRONMENTS: dict[str, dict[str, Any]] = {
@@ -124,7 +129,15 @@ class Job:
         return base * MULTS[self.mult]
 
 
-def plan(quick: bool) -> list[Job]:
+def ompl_available() -> bool:
+    """Whether OMPL's Python bindings are installed (extra ``ompl``)."""
+    return importlib.util.find_spec("ompl") is not None
+
+
+def plan(quick: bool, ompl: bool | None = None) -> list[Job]:
+    """The study's runs; ``ompl`` (default: whether it is installed) adds OMPL's PRM."""
+    ompl = ompl_available() if ompl is None else ompl
+    extra: tuple[str, ...] = (OMPL_PRM,) if ompl else ()
     jobs: list[Job] = []
     for exp, env, task, table in (("t1", "fig8", "coverage", "roadmap_table1.csv"),
                                   ("t2", "fig11", "search", "roadmap_table2.csv")):
@@ -134,7 +147,7 @@ def plan(quick: bool) -> list[Job]:
             planners: tuple[str, ...] = PLANNERS
             if quick and row["sensor_range"] != "r":
                 planners = PLANNERS[:2]  # the improvement is compared on the r rows only
-            for planner in planners:
+            for planner in planners + extra:
                 for seed in range(runs):
                     jobs.append(Job(exp, env, task, planner, nodes, step, row["sensor_range"],
                                     seed))
@@ -146,12 +159,12 @@ def plan(quick: bool) -> list[Job]:
                                     row["sensor_range"], seed))
     runs = 2 if quick else 10
     for env in ("fig14", "fig17"):
-        for planner in PLANNERS:
+        for planner in PLANNERS + extra:
             for seed in range(runs):
                 jobs.append(Job("unreach", env, "search", planner, UNREACH_NODES, UNREACH_STEP,
                                 "r", seed))
     return jobs
 
 
-__all__ = ["AGENTS", "C_EPS", "ENVIRONMENTS", "MULTS", "PLANNERS", "R_BASE", "Job", "plan",
-           "reference", "world"]
+__all__ = ["AGENTS", "C_EPS", "ENVIRONMENTS", "MULTS", "OMPL_PRM", "PLANNERS", "R_BASE", "Job",
+           "ompl_available", "plan", "reference", "world"]

@@ -10,6 +10,7 @@ from rich.console import Console
 
 from swarmex import __version__
 from swarmex.experiments.progress import Journal
+from swarmex.studies.roadmap.buildtime import cached_build_times
 from swarmex.studies.roadmap.design import plan
 from swarmex.studies.roadmap.readings import cached_readings_study
 from swarmex.studies.roadmap.runs import describe, job_key, run_job
@@ -33,7 +34,9 @@ def reproduce(
     results, new_runs = done.results, done.ran
     console.print("readings study (trees swept edge by edge)…")
     study = cached_readings_study(out, quick)
+    console.print("build times (CPU, in this process)…")
+    builds = cached_build_times(out, quick)
     report = write_report(out, results, quick=quick, seconds=time.perf_counter() - t0,
-                          version=__version__, new_runs=new_runs, study=study)
+                          version=__version__, new_runs=new_runs, study=study, builds=builds)
     console.print(f"report: {report}")
     return report

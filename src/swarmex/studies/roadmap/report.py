@@ -15,14 +15,17 @@ from typing import Any
 import numpy as np
 
 from swarmex.studies.roadmap.analysis import (
+    EQUAL,
+    VERSUS,
     gain_summary,
     improvement,
     mae,
     table1,
     table2,
     unreachable,
+    versus,
 )
-from swarmex.studies.roadmap.design import R_BASE, reference
+from swarmex.studies.roadmap.design import OMPL_PRM, R_BASE, reference
 from swarmex.studies.roadmap.figures import bars, draw_examples, fig6
 
 SENSOR_ORDER = ("r", "2r", "4r", "inf")
@@ -48,7 +51,8 @@ def _write_csv(path: Path, rows: list[dict[str, Any]]) -> None:
 
 def write_report(out: Path, results: list[dict[str, Any]], quick: bool, seconds: float,
                  version: str, new_runs: int | None = None,
-                 study: dict[str, Any] | None = None) -> Path:
+                 study: dict[str, Any] | None = None,
+                 builds: dict[str, Any] | None = None) -> Path:
     ref1, ref2 = reference("roadmap_table1.csv"), reference("roadmap_table2.csv")
     t1, t2 = table1(results, ref1), table2(results, ref2)
     _write_csv(out / "table1.csv", t1)
@@ -88,9 +92,30 @@ def write_report(out: Path, results: list[dict[str, Any]], quick: bool, seconds:
         _write_csv(out / "table2_r_eps.csv", t2e)
     at = lines.index("## Figures")
     lines[at:at] = readings_section(t1, t2, t1e, t2e, study)
+    v1, v2 = versus(results, ref1, "t1"), versus(results, ref2, "t2")
+    ompl = any(r["planner"] == OMPL_PRM for r in results)
+    if ompl:
+        _write_csv(out / "versus_ompl_prm.csv", [_flat(r, "t1") for r in v1] +
+                   [_flat(r, "t2") for r in v2])
+    at = lines.index("## Figs. 12–13: components")
+    lines[at:at] = standard_prm_section(v1, v2, builds, ompl)
     path = out / "roadmap.md"
     path.write_text("\n".join(lines) + "\n", encoding="utf-8")
     return path
+
+
+def _flat(r: dict[str, Any], table: str) -> dict[str, Any]:
+    """A row of :func:`versus` as CSV columns."""
+    out: dict[str, Any] = {"table": table, "nodes": r["nodes"], "step": r["step"],
+                           "sensor": r["sensor"]}
+    for p in VERSUS:
+        c = r["cells"][p]
+        out.update({f"{p}_mean": c["mean"], f"{p}_low": c["low"], f"{p}_high": c["high"],
+                    f"{p}_runs": c["n"], f"{p}_path": c["path"]})
+    d = r.get("wma_minus_ompl", (float("nan"),) * 3)
+    out.update({"winner": r["winner"], "wma_minus_ompl": d[0], "wma_minus_ompl_low": d[1],
+                "wma_minus_ompl_high": d[2]})
+    return out
 
 
 def _row_key(r: dict[str, Any]) -> tuple[int, int, str]:
@@ -239,7 +264,7 @@ def _markdown(t1, t2, g1, g2, cov_imp, srch_imp, un, figs, quick, seconds, versi
               prm_all, multi, results, new_runs) -> list[str]:
     n1 = t1[0]["runs"] if t1 else 0
     n2 = t2[0]["runs"] if t2 else 0
-    wma_all = [r for r in results if r["planner"] != "prm"]
+    wma_all = [r for r in results if r["planner"].startswith("wma-rrt")]
     out = [
         "# Seed 004 reproduction: WMA-RRT coverage and goal search against PRM",
         "",
@@ -443,3 +468,136 @@ UNREACH_DESC = (
     "and two walls; the goal is outside. 400 nodes, ε = 20, range r. Fig. 17: the same walls, "
     "the start moved outside."
 )
+
+
+NAMES = {"wma-rrt": "WMA-RRT", "prm": "PRM (ours)", "ompl-prm": "OMPL PRM",
+         "ompl-rrt": "OMPL RRT"}
+
+
+def _ci_cell(c: dict[str, Any], digits: int = 1) -> str:
+    if not c["n"]:
+        return "–"
+    if np.isnan(c["low"]):
+        return f"{c['mean']:.{digits}f}"
+    return f"{c['mean']:.{digits}f} [{c['low']:.{digits}f}, {c['high']:.{digits}f}]"
+
+
+def _diff_cell(d: tuple[float, float, float] | None, digits: int) -> str:
+    if d is None:
+        return "–"
+    if np.isnan(d[1]):
+        return f"{d[0]:+.{digits}f}"
+    return f"{d[0]:+.{digits}f} [{d[1]:+.{digits}f}, {d[2]:+.{digits}f}]"
+
+
+def _winner_label(w: str) -> str:
+    if w.startswith("tie: "):
+        a, b = w[5:].split(" ≈ ")
+        return f"tie ({NAMES.get(a, a)} ≈ {NAMES.get(b, b)})"
+    return f"**{NAMES.get(w, w)}**"
+
+
+def _claim_counts(rows: list[dict[str, Any]],
+                  key: str = "wma_minus_ompl") -> tuple[int, int, int, int]:
+    """Rows with the WMA-RRT − OMPL PRM difference ``key``: (rows, WMA-RRT significantly
+    better, not significantly different, OMPL PRM significantly better)."""
+    diffs = [r[key] for r in rows if key in r]
+    better = sum(1 for _, lo, _hi in diffs if lo > 0)
+    worse = sum(1 for _, _lo, hi in diffs if hi < 0)
+    return len(diffs), better, len(diffs) - better - worse, worse
+
+
+def standard_prm_section(v1: list[dict[str, Any]], v2: list[dict[str, Any]],
+                         builds: dict[str, Any] | None, ompl: bool) -> list[str]:
+    """OMPL's PRM beside the project's: per-row winners with intervals, and build times."""
+    out = ["## A standard PRM: OMPL's (`--planner ompl-prm`)", ""]
+    if not ompl:
+        out += ["OMPL's PRM was not run: its Python bindings are not installed "
+                "(`pip install 'swarmex[ompl]'`).", ""]
+    else:
+        out += [
+            "The PRM the paper compares with is only described; ours (above) is built the way "
+            "it describes multiple-query planners. Here the textbook planner runs beside it, "
+            "as OMPL implements it (`ompl.geometric.PRM`: a free milestone at a time, joined "
+            "to its 10 nearest milestones by free segments): the same environments, the same "
+            "node budget K (milestones), the same team, sensor and walkers (the minimum-"
+            "weight walk and the step budget 2K of our PRM), the run's seed drawing the "
+            "milestones. OMPL's PRM has no step: its edges are as long as the nearest-"
+            "neighbour connections make them, so a walker's step can cover several ε (the "
+            "path columns show how much farther its team walks).",
+            "",
+            "Cells: mean [95 % interval] over the seeds (coverage: Student's t; goal found: "
+            "Wilson). Winner: the highest mean when the 95 % interval of its difference to "
+            "the runner-up excludes 0 (Welch for coverage, Newcombe for rates), else a tie. "
+            "Then: WMA-RRT − OMPL PRM with its interval, and the team's path of OMPL PRM "
+            "over WMA-RRT's. Since OMPL's walkers step farther, Table 1 also stops each "
+            "OMPL PRM run where its team had walked as far as the WMA-RRT team of the row did "
+            "in all (its coverage at equal travel, from the run's coverage-against-path "
+            "curve) and compares again.",
+            "",
+        ]
+        for title, rows, digits in (
+                ("Table 1 rows: coverage (%), Fig. 8 environment", v1, 1),
+                ("Table 2 rows: goal found (% of runs), Fig. 11 environment", v2, 0)):
+            equal = digits == 1
+            out += [f"**{title}**", "",
+                    "| nodes | step | sensor | WMA-RRT | PRM (ours) | OMPL PRM | winner | "
+                    "WMA-RRT − OMPL PRM | path OMPL / WMA |"
+                    + (" OMPL PRM at WMA-RRT's travel | WMA-RRT − it |" if equal else ""),
+                    "|---:|---:|:---:|---:|---:|---:|:---|---:|---:|"
+                    + ("---:|---:|" if equal else "")]
+            for r in rows:
+                c = r["cells"]
+                d = r.get("wma_minus_ompl")
+                dcell = _diff_cell(d, digits)
+                pw, po = c["wma-rrt"]["path"], c["ompl-prm"]["path"]
+                ratio = f"{po / pw:.1f}×" if pw and not np.isnan(pw) and not np.isnan(po) \
+                    else "–"
+                tail = ""
+                if equal:
+                    e = r.get("wma_minus_ompl_equal")
+                    tail = (f" {_ci_cell(c[EQUAL])} | " if EQUAL in c else " – | ") + \
+                        _diff_cell(e, 1) + " |"
+                out.append(f"| {r['nodes']} | {r['step']} | {_label(r['sensor'])} | "
+                           f"{_ci_cell(c['wma-rrt'], digits)} | {_ci_cell(c['prm'], digits)} | "
+                           f"{_ci_cell(c['ompl-prm'], digits)} | {_winner_label(r['winner'])} | "
+                           f"{dcell} | {ratio} |" + tail)
+            n, better, same, worse = _claim_counts(rows)
+            wins: dict[str, int] = {}
+            for r in rows:
+                key = "tie" if r["winner"].startswith("tie") else r["winner"]
+                wins[key] = wins.get(key, 0) + 1
+            tally = ", ".join(f"{NAMES.get(k, k)} {v}" for k, v in sorted(wins.items()))
+            out += ["", f"- Winners over the {len(rows)} rows: {tally}.",
+                    f"- The paper's claim against OMPL's PRM: WMA-RRT significantly better in "
+                    f"{better}/{n} rows, no significant difference in {same}, OMPL PRM "
+                    f"significantly better in {worse}."]
+            if equal:
+                n, better, same, worse = _claim_counts(rows, "wma_minus_ompl_equal")
+                out += [f"- At equal travel: WMA-RRT significantly better in {better}/{n} "
+                        f"rows, no significant difference in {same}, OMPL PRM significantly "
+                        f"better in {worse}."]
+            out.append("")
+    if builds and builds.get("rows"):
+        names = builds["builders"]
+        out += [f"**Build (pre-processing) time**, CPU milliseconds per roadmap (mean of "
+                f"{builds['seeds']} seeds; Fig. 8 environment, the reproduction's team; "
+                "`time.process_time` in one process, after a warm-up build of each; × = "
+                "ratio to WMA-RRT measured in the same process). OMPL's planners call our "
+                "sampler and our exact segment test from C++, once per sample and per motion "
+                "check.", "",
+                "| nodes | step | " + " | ".join(NAMES[b] for b in names) + " | edges: "
+                + " / ".join(NAMES[b] for b in names) + " |",
+                "|---:|---:|" + "---:|" * len(names) + "---:|"]
+        for r in builds["rows"]:
+            base = r["wma-rrt"]["ms"]
+            cells = [f"{r[b]['ms']:.1f}" + ("" if b == "wma-rrt" else
+                                             f" ({r[b]['ms'] / base:.1f}×)") for b in names]
+            edges = " / ".join(f"{r[b]['edges']:.0f}" for b in names)
+            out.append(f"| {r['nodes']} | {r['step']:g} | " + " | ".join(cells) +
+                       f" | {edges} |")
+        ratios = {b: float(np.mean([r[b]["ms"] / r["wma-rrt"]["ms"] for r in builds["rows"]]))
+                  for b in names if b != "wma-rrt"}
+        out += ["", "- Mean ratio to WMA-RRT over these configurations: "
+                + ", ".join(f"{NAMES[b]} {v:.2f}×" for b, v in ratios.items()) + ".", ""]
+    return out
