@@ -22,6 +22,10 @@ from swarmex.cli import main
           "--agents", "1"],
          "geo"),
         ("pymavlink", ["uav-emulator", "--listen", "udp:127.0.0.1:0"], "uav"),
+        ("ompl.base",
+         ["roadmap", "--env", "{tmp}/env.json", "--agents", "1", "--nodes", "10", "--step",
+          "10", "--sensor-range", "20", "--planner", "ompl-prm"],
+         "ompl"),
         ("pymavlink",
          ["agent", "--connect", "tcp://127.0.0.1:9", "--vehicle", "udp:127.0.0.1:14550"],
          "uav"),
@@ -29,6 +33,7 @@ from swarmex.cli import main
 )
 def test_missing_extra_is_one_line(module, argv, extra, tmp_path, capsys, monkeypatch):
     (tmp_path / "s.toml").write_text('mission = "traversal"\ngrid = "3x3"\nagents = 1\n')
+    (tmp_path / "env.json").write_text('{"bounds": [0, 0, 100, 100], "obstacles": []}')
     monkeypatch.setitem(sys.modules, module, None)  # import of it now raises ImportError
     code = main([a.format(tmp=tmp_path) for a in argv])
     err = capsys.readouterr().err
