@@ -56,6 +56,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import zmq
 
+from swarmex.comm.mesh import Fanout
 from swarmex.comm.message import PackedMessage
 from swarmex.net import events as ev
 from swarmex.net import wire
@@ -423,12 +424,15 @@ class RobotProcess(Node):
     def pos(self) -> tuple[int, int]:
         return self.robot.pos
 
-    def send_out(self, out: Iterable[tuple[int, PackedMessage]]) -> None:
+    def send_out(self, out: Iterable[tuple[int | Fanout, PackedMessage]]) -> None:
         from swarmex.missions.exploration.robot import RADIO
 
         for dst, msg in out:
             frame = encode_radio(self.id, self.pos(), msg)
-            if dst == RADIO:  # heartbeat: to everyone in the air; range decides who hears
+            if isinstance(dst, Fanout):  # one message to several neighbours: a frame each
+                for nid in dst:
+                    self.send_frame(nid, frame, msg.kind)
+            elif dst == RADIO:  # heartbeat: to everyone in the air; range decides who hears
                 for nid in sorted(self.scan_air()):
                     self.send_frame(nid, frame, msg.kind)
             else:

@@ -19,6 +19,14 @@ Scans become local maps here, once, by the robot that took them (:func:`rasteris
 what is archived and flooded (the thesis calls scans "local maps" too). Merging is then
 adding the local map's log-odds patch into the receiver's grid: received and own scans go
 through the same update, as in the thesis.
+
+Cost at scale (issue 14): in a team of n every robot merges every scan, n² merges per tick.
+A local map is therefore kept, once and shared by every grid that merges it, as *row runs*
+(row, first column, end column, hit?) — a few hundred short contiguous spans instead of one
+index per cell, which the update kernel walks at memory speed — and a grid only queues the
+local maps it is given: they are added, in arrival order, when the grid is next read
+(:attr:`OccupancyGrid.logodds`), all of them in one compiled call. The arithmetic, cell by
+cell and scan by scan, is the same as adding them one at a time.
 """
 
 from __future__ import annotations
@@ -100,14 +108,44 @@ def _rasterise(
 
 
 @nb.njit(cache=True, nogil=True)
-def _add_clipped(
-    flat: NDArray[np.float32], index: NDArray[np.int64], delta: NDArray[np.float32],
+def _row_runs(
+    x0: int, y0: int, free: NDArray[np.bool_], occ: NDArray[np.bool_]
+) -> NDArray[np.int32]:  # pragma: no cover - compiled
+    """Maximal horizontal runs of passed cells, then of hit cells: (row, x, x_end, hit)."""
+    h, w = free.shape
+    out = np.empty((h * w, 4), dtype=np.int32)
+    n = 0
+    for hit in range(2):
+        m = occ if hit else free
+        for y in range(h):
+            x = 0
+            while x < w:
+                if not m[y, x]:
+                    x += 1
+                    continue
+                a = x
+                while x < w and m[y, x]:
+                    x += 1
+                out[n, 0] = y0 + y
+                out[n, 1] = x0 + a
+                out[n, 2] = x0 + x
+                out[n, 3] = hit
+                n += 1
+    return out[:n].copy()
+
+
+@nb.njit(cache=True, nogil=True)
+def _add_runs(
+    grid: NDArray[np.float32], runs: NDArray[np.int32], miss: np.float32, hit: np.float32,
     lo: np.float32, hi: np.float32,
 ) -> None:  # pragma: no cover - compiled
-    for k in range(index.shape[0]):
-        i = index[k]
-        v = flat[i] + delta[k]
-        flat[i] = lo if v < lo else (hi if v > hi else v)
+    """Add ``hit`` or ``miss`` to every cell of every run, in order, clamped to [lo, hi]."""
+    for k in range(runs.shape[0]):
+        row = grid[runs[k, 0]]
+        d = hit if runs[k, 3] else miss
+        for x in range(runs[k, 1], runs[k, 2]):
+            v = row[x] + d
+            row[x] = lo if v < lo else (hi if v > hi else v)
 
 
 @dataclass(eq=False)
@@ -118,20 +156,17 @@ class LocalMap:
     y0: int  # row of the box's first cell
     free: np.ndarray  # bool (rows, cols)
     occ: np.ndarray  # bool (rows, cols), disjoint from ``free``
-    _sparse: dict[int, tuple[np.ndarray, np.ndarray]] | None = field(default=None, repr=False)
+    _runs: np.ndarray | None = field(default=None, repr=False)
 
-    def sparse(self, width: int) -> tuple[np.ndarray, np.ndarray]:
-        """(flat cell indices in a grid ``width`` wide, log-odds increments); cached."""
-        if self._sparse is None:
-            self._sparse = {}
-        got = self._sparse.get(width)
-        if got is None:
-            seen = self.free | self.occ
-            ys, xs = np.nonzero(seen)
-            index = (ys + self.y0) * width + (xs + self.x0)
-            delta = np.where(self.occ[ys, xs], L_HIT, L_MISS).astype(np.float32)
-            got = self._sparse[width] = (index.astype(np.int64), delta)
-        return got
+    def runs(self) -> np.ndarray:
+        """Row runs in grid coordinates, int32 (k, 4): row, first column, end column, and 1
+        for hit cells (0 for passed ones); computed once, shared by every grid."""
+        if self._runs is None:
+            self._runs = _row_runs(
+                int(self.x0), int(self.y0), np.ascontiguousarray(self.free, dtype=np.bool_),
+                np.ascontiguousarray(self.occ, dtype=np.bool_),
+            )
+        return self._runs
 
     def to_wire(self) -> dict[str, Any]:
         """msgpack-friendly form: box plus two bit-packed masks."""
@@ -178,21 +213,41 @@ def rasterise(
 
 
 class OccupancyGrid:
-    """One robot's map: log-odds per cell, 0 = unknown (p = 0.5)."""
+    """One robot's map: log-odds per cell, 0 = unknown (p = 0.5).
+
+    :meth:`apply` queues a local map; reading :attr:`logodds` first adds whatever is queued.
+    """
 
     def __init__(self, shape: tuple[int, int]) -> None:
-        self.logodds = np.zeros(shape, dtype=np.float32)
+        self._logodds = np.zeros(shape, dtype=np.float32)
+        self._pending: list[np.ndarray] = []
         self.updates = 0
 
     @property
+    def logodds(self) -> np.ndarray:
+        if self._pending:
+            self._flush()
+        return self._logodds
+
+    @property
+    def pending(self) -> int:
+        """Local maps given but not added yet."""
+        return len(self._pending)
+
+    @property
     def shape(self) -> tuple[int, int]:
-        return self.logodds.shape
+        return self._logodds.shape
 
     def apply(self, local: LocalMap) -> None:
         """Bayesian update with one local map (own or received: the same function)."""
-        index, delta = local.sparse(self.logodds.shape[1])
-        _add_clipped(self.logodds.reshape(-1), index, delta, L_MIN, L_MAX)
+        self._pending.append(local.runs())
         self.updates += 1
+
+    def _flush(self) -> None:
+        p = self._pending
+        runs = p[0] if len(p) == 1 else np.concatenate(p)
+        p.clear()
+        _add_runs(self._logodds, runs, L_MISS, L_HIT, L_MIN, L_MAX)
 
     def free(self) -> np.ndarray:
         return self.logodds < 0

@@ -82,7 +82,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from swarmex.comm.aodv import AodvMessage, AodvNode, AodvTiming, Routed
-from swarmex.comm.mesh import MeshNode
+from swarmex.comm.mesh import Fanout, MeshNode
 from swarmex.missions.exploration.belief import Cell, ExplorationBelief
 from swarmex.missions.exploration.messages import (
     ChangeGoal,
@@ -106,7 +106,9 @@ from swarmex.sensing.frontiers import frontiers_of_logodds
 from swarmex.sensing.occupancy import rasterise
 
 RADIO = -1  # destination of a radio broadcast (heartbeats)
-Out = list[tuple[int, Message]]
+# (destination, message): a robot id, RADIO, or a Fanout (the same message to several
+# neighbours, in id order: a flood relay or a GOAL; one entry whatever their number)
+Out = list[tuple[int | Fanout, Message]]
 UNICASTS = (NeedMap, MapMsg, ChangeGoal)  # the messages addressed to one robot
 
 
@@ -202,8 +204,10 @@ class ExplorerRobot:
     def remaining(self) -> int:
         return int(self.path.shape[0] - self.path_i)
 
-    def _neighbours(self, but: int | None = None) -> list[int]:
-        return self.mesh.relay_targets(but)
+    def _to_neighbours(self, msg: Message, but: int | None = None) -> Out:
+        """``msg`` to every neighbour (but ``but``), as one entry; nothing if there are none."""
+        fan = self.mesh.fanout(but)
+        return [(fan, msg)] if len(fan) else []
 
     def _lifetime(self, msg: object) -> int:
         """How long a unicast may wait for a route: a ``CHANGE_GOAL`` one planning period
@@ -240,8 +244,7 @@ class ExplorerRobot:
         self.stats.scans += 1
         self.mesh.first_time(rec.key)
         self.belief.integrate(rec)
-        msg = ScanMsg(self.id, (rec,))
-        return [(n, msg) for n in self._neighbours()]
+        return self._to_neighbours(ScanMsg(self.id, (rec,)))
 
     # -------------------------------------------------------------- messaging
     def housekeeping(self, t: int) -> Out:
@@ -292,8 +295,7 @@ class ExplorerRobot:
             for r in new:
                 self.belief.integrate(r)
             if new:
-                fwd = ScanMsg(self.id, new)
-                out.extend((n, fwd) for n in self._neighbours(but=via))
+                out.extend(self._to_neighbours(ScanMsg(self.id, new), but=via))
                 if self.aodv is not None:
                     out.extend(self._ask_for_gaps(new, t))
         elif isinstance(msg, NeedMap):
@@ -439,11 +441,9 @@ class ExplorerRobot:
             if not was_finished:
                 self.stats.finished_at = t
                 self._record_plan(t, reason)
-            out: Out = []
             if had_goal and cfg.strategy.exclusion:
-                msg = Goal(self.id, None, 0.0, x, y)
-                out = [(n, msg) for n in self._neighbours()]
-            return out
+                return self._to_neighbours(Goal(self.id, None, 0.0, x, y))
+            return []
         self.stats.finished_at = None
         self.path = path_to(dist, trav, goal[0], goal[1], x, y)
         self.path_i = 0
@@ -451,8 +451,7 @@ class ExplorerRobot:
         self.hold = cfg.plan_pause
         if not cfg.strategy.exclusion:
             return []
-        msg = Goal(self.id, goal, float(self.remaining), x, y)
-        return [(n, msg) for n in self._neighbours()]
+        return self._to_neighbours(Goal(self.id, goal, float(self.remaining), x, y))
 
     def _winners(self, t: int) -> dict[int, Cell]:
         """Goals of the robots that beat this one since its last plan, when it yields.

@@ -37,7 +37,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from swarmex.comm.aodv import Routed, Rrep
-from swarmex.comm.mesh import DiscNetwork
+from swarmex.comm.mesh import Batch, DiscNetwork, Fanout, FloodLedger, bits
 from swarmex.missions.base import StopRun
 from swarmex.missions.exploration.messages import ScanMsg
 from swarmex.missions.exploration.params import (
@@ -115,12 +115,23 @@ class Wire:
     A robot that routes with AODV learns when a unicast (an application unicast, a routed
     hop or an RREP) cannot reach its next hop — the thesis's nanomsg send timeout — and
     reacts at once (:meth:`ExplorerRobot.link_failed`); floods and RERRs are fire-and-forget.
+    A :class:`~swarmex.comm.mesh.Fanout` destination (a relay or a ``GOAL`` to every
+    neighbour) travels as one batch.
     """
 
     def __init__(self, net: DiscNetwork, robots: list[ExplorerRobot]) -> None:
         self.net = net
         self.robots = robots
         self.t = 0
+        self.ledger = FloodLedger()
+        for r in robots:
+            r.mesh.ledger = self.ledger
+            for n in r.mesh.neighbours:  # robots built with neighbours already
+                lst = self.ledger.listeners
+                lst[n] = lst.get(n, 0) | (1 << r.id)
+            for key in r.mesh.seen:
+                self.ledger.holders[key] = self.ledger.holders.get(key, 0) | (1 << r.id)
+        self.delivered = 0  # copies handed to a robot (the rest were dropped unseen)
 
     def send(self, src: int, out: Out, t: int | None = None) -> None:
         if t is not None:
@@ -129,6 +140,10 @@ class Wire:
         i = 0
         while i < len(out):  # consecutive sends of one message go out together
             dst, msg = out[i]
+            if type(dst) is Fanout:
+                self.net.unicast_many(src, dst, msg)
+                i += 1
+                continue
             j = i + 1
             while j < len(out) and out[j][1] is msg:
                 j += 1
@@ -147,17 +162,31 @@ class Wire:
 
         A flooded copy whose every scan the receiver has already seen, from a sender it
         already knows, would be dropped by the receiver without effect; it is counted as
-        sent but not handed over (the flood's main cost in Python calls).
+        sent but not handed over (the flood's main cost in Python calls). For a batch the
+        ledger finds those receivers with a few bit operations: handing a copy to one
+        receiver changes only that receiver, so the batch's mask, computed once, stays right
+        for the receivers after it.
         """
         robots = self.robots
+        ledger = self.ledger
         self.t = t
-        for src, dst, msg in self.net.drain():
+        for src, dst, msg in self.net.drain_batches():
+            if type(dst) is Batch:
+                mask = dst.mask
+                if type(msg) is ScanMsg:
+                    mask &= ~(ledger.have_all(s.key for s in msg.scans)
+                              & ledger.listeners.get(src, 0))
+                for d in bits(mask):
+                    self.delivered += 1
+                    self.send(d, robots[d].on_message(src, msg, t))
+                continue
             r = robots[dst]
             if type(msg) is ScanMsg and src in r.mesh.neighbours:
                 seen = r.mesh.seen
                 scans = msg.scans
                 if (scans[0].key in seen) if len(scans) == 1 else all(s.key in seen for s in scans):
                     continue
+            self.delivered += 1
             self.send(dst, r.on_message(src, msg, t))
 
 
