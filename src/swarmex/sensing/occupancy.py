@@ -27,11 +27,21 @@ index per cell, which the update kernel walks at memory speed — and a grid onl
 local maps it is given: they are added, in arrival order, when the grid is next read
 (:attr:`OccupancyGrid.logodds`), all of them in one compiled call. The arithmetic, cell by
 cell and scan by scan, is the same as adding them one at a time.
+
+Copy elision (:class:`GridPool`, the simulator's): with the noise-free laser every scan of one
+truth *passes* only free cells and *hits* only walls, so a cell only ever receives one kind of
+increment, and adding k equal increments with clamping gives the same float whatever their
+order. A grid is then a function of the *set* of local maps merged into it: grids of a team
+that merged the same set are the same array (copied on write), and what is derived from a
+grid (traversable cells, frontiers) is computed once per state for all of them. A team whose
+flood reached everyone merges each scan once, not once per robot.
 """
 
 from __future__ import annotations
 
+import itertools
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -136,16 +146,34 @@ def _row_runs(
 
 @nb.njit(cache=True, nogil=True)
 def _add_runs(
-    grid: NDArray[np.float32], runs: NDArray[np.int32], miss: np.float32, hit: np.float32,
-    lo: np.float32, hi: np.float32,
+    flat: NDArray[np.float32], width: int, runs: NDArray[np.int32], miss: np.float32,
+    hit: np.float32, lo: np.float32, hi: np.float32,
 ) -> None:  # pragma: no cover - compiled
     """Add ``hit`` or ``miss`` to every cell of every run, in order, clamped to [lo, hi]."""
     for k in range(runs.shape[0]):
-        row = grid[runs[k, 0]]
+        base = runs[k, 0] * width
         d = hit if runs[k, 3] else miss
-        for x in range(runs[k, 1], runs[k, 2]):
-            v = row[x] + d
-            row[x] = lo if v < lo else (hi if v > hi else v)
+        for i in range(base + runs[k, 1], base + runs[k, 2]):
+            v = flat[i] + d
+            v = lo if v < lo else v
+            flat[i] = hi if v > hi else v
+
+
+_TAGS = itertools.count(1)
+_M64 = (1 << 64) - 1
+_M128 = (1 << 128) - 1
+
+
+def _mix64(z: int) -> int:
+    """splitmix64's finaliser: spreads a counter over 64 bits."""
+    z = (z + 0x9E3779B97F4A7C15) & _M64
+    z = ((z ^ (z >> 30)) * 0xBF58476D1CE4E5B9) & _M64
+    z = ((z ^ (z >> 27)) * 0x94D049BB133111EB) & _M64
+    return z ^ (z >> 31)
+
+
+def _tag(i: int) -> int:
+    return (_mix64(2 * i) << 64) | _mix64(2 * i + 1)
 
 
 @dataclass(eq=False)
@@ -157,6 +185,8 @@ class LocalMap:
     free: np.ndarray  # bool (rows, cols)
     occ: np.ndarray  # bool (rows, cols), disjoint from ``free``
     _runs: np.ndarray | None = field(default=None, repr=False)
+    # a 128-bit tag, unique per local map: a grid's state is the sum of its maps' tags
+    tag: int = field(default_factory=lambda: _tag(next(_TAGS)), repr=False, compare=False)
 
     def runs(self) -> np.ndarray:
         """Row runs in grid coordinates, int32 (k, 4): row, first column, end column, and 1
@@ -212,16 +242,66 @@ def rasterise(
     return LocalMap(bx, by, free_p, occ_p)
 
 
+class _State:
+    """One grid array shared by the grids in the same state, and what is derived from it."""
+
+    __slots__ = ("arr", "derived", "key", "users")
+
+    def __init__(self, arr: np.ndarray, key: int) -> None:
+        self.arr = arr
+        self.key = key
+        self.users = 1
+        self.derived: dict[Any, Any] = {}
+
+
+class GridPool:
+    """Grids of one simulated team that merged the same set of local maps share one array.
+
+    Valid when every local map comes from one truth through the noise-free laser (see the
+    module docstring); the simulator makes one per run. Counts what it saves.
+    """
+
+    def __init__(self) -> None:
+        self.states: dict[int, _State] = {}
+        self.merged = 0  # local maps added to an array
+        self.shared = 0  # flushes answered by an existing state (no merge)
+        self.copies = 0  # arrays copied because another grid still used them
+
+
 class OccupancyGrid:
     """One robot's map: log-odds per cell, 0 = unknown (p = 0.5).
 
     :meth:`apply` queues a local map; reading :attr:`logodds` first adds whatever is queued.
+    With a :class:`GridPool` the array may be shared with other grids in the same state:
+    treat it as read-only (every update goes through :meth:`apply`).
     """
 
-    def __init__(self, shape: tuple[int, int]) -> None:
+    def __init__(self, shape: tuple[int, int], pool: GridPool | None = None) -> None:
         self._logodds = np.zeros(shape, dtype=np.float32)
-        self._pending: list[np.ndarray] = []
+        self._pending: list[LocalMap] = []
         self.updates = 0
+        self.key = 0  # sum of the tags of the local maps given (mod 2**128): the state
+        self._derived: dict[Any, Any] = {}
+        self.pool = pool
+        self._state: _State | None = None
+        if pool is not None:
+            self._attach(pool)
+
+    def _attach(self, pool: GridPool) -> None:
+        st = pool.states.get(self.key)
+        if st is None:
+            st = pool.states[self.key] = _State(self._logodds, self.key)
+        else:
+            st.users += 1
+            self._logodds = st.arr
+        self._state = st
+
+    def share(self, pool: GridPool) -> None:
+        """Join ``pool`` (before anything was merged)."""
+        if self.pool is not None or self.updates:
+            raise ValueError("a grid joins a pool once, before any update")
+        self.pool = pool
+        self._attach(pool)
 
     @property
     def logodds(self) -> np.ndarray:
@@ -240,14 +320,63 @@ class OccupancyGrid:
 
     def apply(self, local: LocalMap) -> None:
         """Bayesian update with one local map (own or received: the same function)."""
-        self._pending.append(local.runs())
+        self._pending.append(local)
+        self.key = (self.key + local.tag) & _M128
         self.updates += 1
 
+    def derived(self, name: Any, make: Callable[[np.ndarray], Any]) -> Any:
+        """``make(logodds)``, computed once per grid state (and shared within a pool).
+        The result must not be modified."""
+        lo = self.logodds
+        cache = self._state.derived if self._state is not None else self._derived
+        got = cache.get(name)
+        if got is None:
+            got = cache[name] = make(lo)
+        return got
+
     def _flush(self) -> None:
-        p = self._pending
-        runs = p[0] if len(p) == 1 else np.concatenate(p)
-        p.clear()
-        _add_runs(self._logodds, runs, L_MISS, L_HIT, L_MIN, L_MAX)
+        pending = self._pending
+        pool = self.pool
+        st = self._state
+        if pool is None or st is None:
+            self._derived = {}
+            self._merge(self._logodds, pending)
+            return
+        target = pool.states.get(self.key)
+        if target is not None:  # another grid reached this state: share its array
+            pending.clear()
+            pool.shared += 1
+            self._leave(pool, st)
+            target.users += 1
+            self._state = target
+            self._logodds = target.arr
+            return
+        if st.users > 1:  # copy on write
+            arr = st.arr.copy()
+            pool.copies += 1
+            self._leave(pool, st)
+        else:
+            arr = st.arr
+            if pool.states.get(st.key) is st:
+                del pool.states[st.key]
+        pool.merged += len(pending)
+        self._merge(arr, pending)
+        new = pool.states[self.key] = _State(arr, self.key)
+        self._state = new
+        self._logodds = arr
+
+    @staticmethod
+    def _leave(pool: GridPool, st: _State) -> None:
+        st.users -= 1
+        if st.users == 0 and pool.states.get(st.key) is st:
+            del pool.states[st.key]
+
+    @staticmethod
+    def _merge(arr: np.ndarray, pending: list[LocalMap]) -> None:
+        runs = pending[0].runs() if len(pending) == 1 else np.concatenate(
+            [m.runs() for m in pending])
+        pending.clear()
+        _add_runs(arr.reshape(-1), arr.shape[1], runs, L_MISS, L_HIT, L_MIN, L_MAX)
 
     def free(self) -> np.ndarray:
         return self.logodds < 0

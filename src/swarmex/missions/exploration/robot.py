@@ -102,7 +102,7 @@ from swarmex.missions.exploration.paths import (
     path_to,
 )
 from swarmex.missions.exploration.strategies import GoalContext, Strategy
-from swarmex.sensing.frontiers import frontiers_of_logodds
+from swarmex.sensing.frontiers import Frontiers, frontiers_of_logodds
 from swarmex.sensing.occupancy import rasterise
 
 RADIO = -1  # destination of a radio broadcast (heartbeats)
@@ -395,12 +395,11 @@ class ExplorerRobot:
     def plan(self, t: int, reason: str | None = None) -> Out:
         """Choose a goal and a path on the current map; announce it to the neighbours."""
         cfg = self.cfg
-        lo = self.belief.grid.logodds
-        trav = lo < 0
-        trav &= ~inflate(lo, cfg.offsets)
+        grid = self.belief.grid
+        trav = grid.derived(("traversable", cfg.radius_cells), self._traversable)
         x, y = self.pos
         dist = distance_steps(trav, x, y)
-        fr = frontiers_of_logodds(lo, cfg.min_region)
+        fr = grid.derived(("frontiers", cfg.min_region), self._frontiers)
         d = dist[fr.ys, fr.xs]
         eligible = (d > 0) & trav[fr.ys, fr.xs]
         reach = np.zeros(fr.n_regions, dtype=bool)
@@ -452,6 +451,15 @@ class ExplorerRobot:
         if not cfg.strategy.exclusion:
             return []
         return self._to_neighbours(Goal(self.id, goal, float(self.remaining), x, y))
+
+    def _traversable(self, lo: np.ndarray) -> np.ndarray:
+        """Known-free cells whose footprint touches no known obstacle nor the map's edge."""
+        trav = lo < 0
+        trav &= ~inflate(lo, self.cfg.offsets)
+        return trav
+
+    def _frontiers(self, lo: np.ndarray) -> Frontiers:
+        return frontiers_of_logodds(lo, self.cfg.min_region)
 
     def _winners(self, t: int) -> dict[int, Cell]:
         """Goals of the robots that beat this one since its last plan, when it yields.

@@ -52,6 +52,7 @@ from swarmex.missions.exploration.paths import distance_steps
 from swarmex.missions.exploration.robot import RADIO, UNICASTS, ExplorerRobot, Out, RobotConfig
 from swarmex.missions.exploration.strategies import get_strategy
 from swarmex.sensing.laser import Laser
+from swarmex.sensing.occupancy import GridPool
 from swarmex.worlds.metric import MetricGrid
 
 FrameHook = Callable[[int, "ExplorationRun"], None]
@@ -241,6 +242,9 @@ def run_exploration(
     t0 = time.perf_counter()
     rng = np.random.default_rng(params.seed)
     robots, starts, laser = build_robots(grid, params, rng, routing=params.aodv)
+    pool = GridPool()  # every scan comes from this one truth: grids in one state are one
+    for r in robots:
+        r.belief.grid.share(pool)
     n = len(robots)
     net = DiscNetwork(n, params.comm_range)
     run = ExplorationRun(
