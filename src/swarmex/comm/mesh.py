@@ -19,6 +19,15 @@ to its direct neighbours. Two pieces, kept apart so the networked runtime can re
   send timeout drops them). Delivery is instantaneous, so a flood crosses the whole
   connected component within one 100 ms tick, as it would over a LAN.
 
+Scale (issue 14): a relay to every neighbour is one :class:`Fanout` entry, not one per
+neighbour; the radio queues it as one batch (a bitmask of receivers) and counts its copies
+arithmetically, and :class:`FloodLedger` — a simulator-side index of which node has seen which
+flood key and which nodes know which sender — lets the simulator drop, a batch at a time, the
+copies a receiver would drop itself without effect. A flood therefore costs the simulator
+O(nodes) per scan rather than O(nodes × neighbours), with every copy still counted. Links are
+found through a k-d tree (:class:`scipy.spatial.cKDTree`) once the team is large, the exact
+distance test deciding as before.
+
 Unicasts to robots beyond direct range are routed by AODV (:mod:`swarmex.comm.aodv`), whose
 hellos are these heartbeats; :meth:`DiscNetwork.totals` counts its control messages
 (RREQ, RREP, RERR) separately as ``aodv_messages`` / ``aodv_bytes``.
@@ -30,9 +39,9 @@ Timing constants the thesis leaves open (spec §6.9) are parameters: heartbeat p
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
-from typing import Any, Protocol
+from typing import Any, Protocol, overload
 
 import numpy as np
 
@@ -50,6 +59,86 @@ class Sized(Protocol):
     def nbytes(self) -> int: ...
 
 
+def bits(mask: int) -> Iterator[int]:
+    """The set bits of ``mask``, lowest first (node ids of a bitmask, in id order)."""
+    while mask:
+        low = mask & -mask
+        yield low.bit_length() - 1
+        mask ^= low
+
+
+class Fanout(Sequence[int]):
+    """One message to several neighbours (a flood relay, a ``GOAL``): the ids in order.
+
+    A plain sequence to the networked runtime (it sends one frame per id); to the simulated
+    radio, a bitmask (:attr:`mask`) it queues and counts as one batch. Built by
+    :meth:`MeshNode.fanout` from the node's cached neighbour list, so making one costs
+    O(1) whatever the number of neighbours.
+    """
+
+    __slots__ = ("_but", "_ids", "_mask", "_n")
+
+    def __init__(self, ids: tuple[int, ...], mask: int = -1, but: int | None = None) -> None:
+        self._ids = ids
+        self._but = but if but is not None and but in ids else None
+        self._mask = mask  # -1: not known yet
+        self._n = len(ids) - (self._but is not None)
+
+    def __len__(self) -> int:
+        return self._n
+
+    @overload
+    def __getitem__(self, i: int) -> int: ...
+
+    @overload
+    def __getitem__(self, i: slice) -> Sequence[int]: ...
+
+    def __getitem__(self, i: int | slice) -> int | Sequence[int]:
+        return self.ids()[i]
+
+    def __iter__(self) -> Iterator[int]:
+        but = self._but
+        return iter(self._ids) if but is None else (i for i in self._ids if i != but)
+
+    def ids(self) -> tuple[int, ...]:
+        if self._but is None:
+            return self._ids
+        return tuple(i for i in self._ids if i != self._but)
+
+    @property
+    def mask(self) -> int:
+        """The receivers as a bitmask (bit i = node i; ids must be non-negative)."""
+        if self._mask < 0:
+            self._mask = sum(1 << i for i in self._ids)
+        return self._mask & ~(1 << self._but) if self._but is not None else self._mask
+
+    def __repr__(self) -> str:
+        return f"Fanout({list(self)})"
+
+
+@dataclass
+class FloodLedger:
+    """Who has seen which flood key, and who knows which sender: one simulator's index.
+
+    Every :class:`MeshNode` of a simulated team reports to it (``MeshNode.ledger``); nodes
+    never read it. The simulator uses it to skip, for a whole batch of copies at once, the
+    copies a receiver would drop without effect (all keys seen, sender already a neighbour).
+    """
+
+    holders: dict[tuple[int, int], int] = field(default_factory=dict)  # key -> node bitmask
+    listeners: dict[int, int] = field(default_factory=dict)  # src -> nodes that list it
+
+    def have_all(self, keys: Iterator[tuple[int, int]]) -> int:
+        """Bitmask of the nodes that have seen every one of ``keys``."""
+        out = -1
+        get = self.holders.get
+        for k in keys:
+            out &= get(k, 0)
+            if not out:
+                return 0
+        return out if out >= 0 else 0
+
+
 @dataclass
 class MeshNode:
     """One robot's mesh protocol state (time in any unit, used consistently)."""
@@ -60,7 +149,9 @@ class MeshNode:
     phase: float = 0.0  # first heartbeat time
     neighbours: dict[int, float] = field(default_factory=dict)  # id -> last heard
     seen: set[tuple[int, int]] = field(default_factory=set)
-    _sorted: list[int] | None = field(default=None, repr=False)
+    ledger: FloodLedger | None = field(default=None, repr=False, compare=False)
+    _sorted: tuple[int, ...] | None = field(default=None, repr=False)
+    _mask: int = field(default=-1, repr=False)
 
     def __post_init__(self) -> None:
         if self.heartbeat_period <= 0 or self.timeout <= 0:
@@ -77,16 +168,25 @@ class MeshNode:
         new = src not in self.neighbours
         self.neighbours[src] = t
         if new:
-            self._sorted = None
+            self._changed()
+            if self.ledger is not None:
+                lst = self.ledger.listeners
+                lst[src] = lst.get(src, 0) | (1 << self.id)
         return new
+
+    def _changed(self) -> None:
+        self._sorted = None
+        self._mask = -1
 
     def expire(self, t: float) -> list[int]:
         """Drop neighbours silent for longer than the timeout; returns the dropped ids."""
         gone = [n for n, last in self.neighbours.items() if t - last > self.timeout]
         for n in gone:
             del self.neighbours[n]
+            if self.ledger is not None:
+                self.ledger.listeners[n] &= ~(1 << self.id)
         if gone:
-            self._sorted = None
+            self._changed()
         return gone
 
     def first_time(self, key: tuple[int, int]) -> bool:
@@ -94,15 +194,29 @@ class MeshNode:
         if key in self.seen:
             return False
         self.seen.add(key)
+        if self.ledger is not None:
+            h = self.ledger.holders
+            h[key] = h.get(key, 0) | (1 << self.id)
         return True
+
+    def _ids(self) -> tuple[int, ...]:
+        if self._sorted is None:
+            self._sorted = tuple(sorted(self.neighbours))
+        return self._sorted
 
     def relay_targets(self, came_from: int | None = None) -> list[int]:
         """Neighbours a flooded message is passed on to, in id order."""
-        if self._sorted is None:
-            self._sorted = sorted(self.neighbours)
+        ids = self._ids()
         if came_from is None or came_from not in self.neighbours:
-            return list(self._sorted)
-        return [n for n in self._sorted if n != came_from]
+            return list(ids)
+        return [n for n in ids if n != came_from]
+
+    def fanout(self, came_from: int | None = None) -> Fanout:
+        """:meth:`relay_targets` as one :class:`Fanout` (no per-neighbour work)."""
+        ids = self._ids()
+        if self._mask < 0 and self.ledger is not None:  # only a simulator needs the mask
+            self._mask = sum(1 << i for i in ids)
+        return Fanout(ids, self._mask, came_from)
 
 
 @dataclass
@@ -124,6 +238,18 @@ class Counters:
         row[1] += size
 
 
+class Batch:
+    """Copies of one message queued together: the receivers as a bitmask (id order)."""
+
+    __slots__ = ("mask",)
+
+    def __init__(self, mask: int) -> None:
+        self.mask = mask
+
+
+KDTREE_FROM = 256  # team size from which links are found with a k-d tree
+
+
 class DiscNetwork:
     """Simulated radio: who is in range now, a FIFO of deliveries, and traffic counters."""
 
@@ -133,16 +259,43 @@ class DiscNetwork:
         self.n = n
         self.range_m = float(range_m)
         self.in_range = np.zeros((n, n), dtype=bool)
-        self.queue: list[tuple[int, int, Any]] = []
+        self.queue: list[tuple[int, Any, Any]] = []  # (src, dst id or Batch, message)
         self._head = 0
         self.sent = [Counters() for _ in range(n)]
+        self._rows: list[int | None] = [0] * n  # in_range rows as bitmasks, None: stale
 
     def move(self, positions_m: np.ndarray) -> None:
-        """Recompute the disc links from positions (metres, shape (n, 2))."""
+        """Recompute the disc links from positions (metres, shape (n, 2)).
+
+        A pair is linked when its squared distance is at most the squared range, computed
+        the same way whichever route finds the candidates: all pairs for a small team, the
+        pairs a k-d tree returns within a hair more than the range for a large one.
+        """
         p = np.asarray(positions_m, dtype=np.float64)
-        d2 = ((p[:, None, :] - p[None, :, :]) ** 2).sum(axis=2)
-        self.in_range = d2 <= self.range_m**2
-        np.fill_diagonal(self.in_range, False)
+        n = p.shape[0]
+        if n < KDTREE_FROM:
+            d2 = ((p[:, None, :] - p[None, :, :]) ** 2).sum(axis=2)
+            self.in_range = d2 <= self.range_m**2
+            np.fill_diagonal(self.in_range, False)
+        else:
+            from scipy.spatial import cKDTree  # only large teams pay for the import
+
+            pairs = cKDTree(p).query_pairs(self.range_m * (1 + 1e-9), output_type="ndarray")
+            i, j = pairs[:, 0], pairs[:, 1]
+            ok = ((p[i] - p[j]) ** 2).sum(axis=1) <= self.range_m**2
+            links = np.zeros((n, n), dtype=bool)
+            links[i[ok], j[ok]] = True
+            links[j[ok], i[ok]] = True
+            self.in_range = links
+        self._rows = [None] * n
+
+    def row_mask(self, src: int) -> int:
+        """The nodes in range of ``src`` as a bitmask."""
+        m = self._rows[src]
+        if m is None:
+            row = np.packbits(self.in_range[src], bitorder="little").tobytes()
+            m = self._rows[src] = int.from_bytes(row, "little")
+        return m
 
     def broadcast(self, src: int, msg: Sized) -> None:
         """A UDP-style broadcast: one transmission, heard by everyone in range."""
@@ -158,15 +311,24 @@ class DiscNetwork:
             self.queue.append((src, dst, msg))
         return ok
 
-    def unicast_many(self, src: int, dsts: list[int], msg: Sized) -> None:
-        """The same message to several neighbours (one send each, as over PUSH sockets)."""
-        row = self.in_range[src]
-        ok = [d for d in dsts if row[d]]
-        self.sent[src].count(msg, len(dsts), len(ok))
-        self.queue.extend((src, d, msg) for d in ok)
+    def unicast_many(self, src: int, dsts: Sequence[int], msg: Sized) -> None:
+        """The same message to several neighbours (one send each, as over PUSH sockets).
 
-    def drain(self) -> Iterator[tuple[int, int, Any]]:
-        """Deliveries in FIFO order, including those queued while draining (relays)."""
+        A :class:`Fanout` is queued as one :class:`Batch` and counted with bit operations."""
+        if isinstance(dsts, Fanout):
+            ok = dsts.mask & self.row_mask(src)
+            self.sent[src].count(msg, len(dsts), ok.bit_count())
+            if ok:
+                self.queue.append((src, Batch(ok), msg))
+            return
+        row = self.in_range[src]
+        good = [d for d in dsts if row[d]]
+        self.sent[src].count(msg, len(dsts), len(good))
+        self.queue.extend((src, d, msg) for d in good)
+
+    def drain_batches(self) -> Iterator[tuple[int, Any, Any]]:
+        """Queue entries in FIFO order, including those queued while draining (relays):
+        ``(src, dst, msg)`` with ``dst`` a node id or a :class:`Batch` of them."""
         q = self.queue
         while self._head < len(q):
             item = q[self._head]
@@ -174,6 +336,15 @@ class DiscNetwork:
             yield item
         q.clear()
         self._head = 0
+
+    def drain(self) -> Iterator[tuple[int, int, Any]]:
+        """Deliveries in FIFO order, one per copy (batches expanded in id order)."""
+        for src, dst, msg in self.drain_batches():
+            if type(dst) is Batch:
+                for d in bits(dst.mask):
+                    yield src, d, msg
+            else:
+                yield src, dst, msg
 
     def totals(self) -> dict[str, Any]:
         """Traffic of the run; ``aodv_*`` is the routing control (RREQ, RREP, RERR), which

@@ -60,6 +60,7 @@ import numpy as np
 import zmq
 
 from swarmex.comm.aodv import CONTROL_KINDS, AodvMessage, Routed
+from swarmex.comm.mesh import Fanout
 from swarmex.comm.message import PackedMessage
 from swarmex.net import events as ev
 from swarmex.net import wire
@@ -491,20 +492,25 @@ class RobotProcess(Node):
     def pos(self) -> tuple[int, int]:
         return self.robot.pos
 
-    def send_out(self, out: Iterable[tuple[int, PackedMessage | Routed]]) -> None:
+    def send_out(self, out: Iterable[tuple[int | Fanout, PackedMessage | Routed]]) -> None:
         """Put the robot's messages on the air. With AODV, a unicast (application unicast,
         routed hop, RREP) that cannot be sent is a broken link: the robot re-queues it and
-        rediscovers (:meth:`ExplorerRobot.link_failed`), as in the simulator."""
+        rediscovers (:meth:`ExplorerRobot.link_failed`), as in the simulator. A
+        :class:`Fanout` (one message to several neighbours) goes out as a frame each."""
         from swarmex.missions.exploration.robot import RADIO
 
         routed = self.robot.aodv is not None
         for dst, msg in out:
             if routed and dst != RADIO and wants_feedback(msg):
-                if not self.unicast_frame(dst, msg, self.pos(), self.t):
-                    self.send_out(self.robot.link_failed(dst, msg, self.t))
+                for nid in dst if isinstance(dst, Fanout) else (dst,):  # a unicast each
+                    if not self.unicast_frame(nid, msg, self.pos(), self.t):
+                        self.send_out(self.robot.link_failed(nid, msg, self.t))
                 continue
             frame = encode_radio(self.id, self.pos(), msg)
-            if dst == RADIO:  # heartbeat: to everyone in the air; range decides who hears
+            if isinstance(dst, Fanout):  # one message to several neighbours: a frame each
+                for nid in dst:
+                    self.send_frame(nid, frame, msg.kind)
+            elif dst == RADIO:  # heartbeat: to everyone in the air; range decides who hears
                 for nid in sorted(self.scan_air()):
                     self.send_frame(nid, frame, msg.kind)
             else:

@@ -19,11 +19,29 @@ Scans become local maps here, once, by the robot that took them (:func:`rasteris
 what is archived and flooded (the thesis calls scans "local maps" too). Merging is then
 adding the local map's log-odds patch into the receiver's grid: received and own scans go
 through the same update, as in the thesis.
+
+Cost at scale (issue 14): in a team of n every robot merges every scan, n² merges per tick.
+A local map is therefore kept, once and shared by every grid that merges it, as *row runs*
+(row, first column, end column, hit?) — a few hundred short contiguous spans instead of one
+index per cell, which the update kernel walks at memory speed — and a grid only queues the
+local maps it is given: they are added, in arrival order, when the grid is next read
+(:attr:`OccupancyGrid.logodds`), all of them in one compiled call. The arithmetic, cell by
+cell and scan by scan, is the same as adding them one at a time.
+
+Copy elision (:class:`GridPool`, the simulator's): with the noise-free laser every scan of one
+truth *passes* only free cells and *hits* only walls, so a cell only ever receives one kind of
+increment, and adding k equal increments with clamping gives the same float whatever their
+order. A grid is then a function of the *set* of local maps merged into it: grids of a team
+that merged the same set are the same array (copied on write), and what is derived from a
+grid (traversable cells, frontiers) is computed once per state for all of them. A team whose
+flood reached everyone merges each scan once, not once per robot.
 """
 
 from __future__ import annotations
 
+import itertools
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -100,14 +118,62 @@ def _rasterise(
 
 
 @nb.njit(cache=True, nogil=True)
-def _add_clipped(
-    flat: NDArray[np.float32], index: NDArray[np.int64], delta: NDArray[np.float32],
-    lo: np.float32, hi: np.float32,
+def _row_runs(
+    x0: int, y0: int, free: NDArray[np.bool_], occ: NDArray[np.bool_]
+) -> NDArray[np.int32]:  # pragma: no cover - compiled
+    """Maximal horizontal runs of passed cells, then of hit cells: (row, x, x_end, hit)."""
+    h, w = free.shape
+    out = np.empty((h * w, 4), dtype=np.int32)
+    n = 0
+    for hit in range(2):
+        m = occ if hit else free
+        for y in range(h):
+            x = 0
+            while x < w:
+                if not m[y, x]:
+                    x += 1
+                    continue
+                a = x
+                while x < w and m[y, x]:
+                    x += 1
+                out[n, 0] = y0 + y
+                out[n, 1] = x0 + a
+                out[n, 2] = x0 + x
+                out[n, 3] = hit
+                n += 1
+    return out[:n].copy()
+
+
+@nb.njit(cache=True, nogil=True)
+def _add_runs(
+    flat: NDArray[np.float32], width: int, runs: NDArray[np.int32], miss: np.float32,
+    hit: np.float32, lo: np.float32, hi: np.float32,
 ) -> None:  # pragma: no cover - compiled
-    for k in range(index.shape[0]):
-        i = index[k]
-        v = flat[i] + delta[k]
-        flat[i] = lo if v < lo else (hi if v > hi else v)
+    """Add ``hit`` or ``miss`` to every cell of every run, in order, clamped to [lo, hi]."""
+    for k in range(runs.shape[0]):
+        base = runs[k, 0] * width
+        d = hit if runs[k, 3] else miss
+        for i in range(base + runs[k, 1], base + runs[k, 2]):
+            v = flat[i] + d
+            v = lo if v < lo else v
+            flat[i] = hi if v > hi else v
+
+
+_TAGS = itertools.count(1)
+_M64 = (1 << 64) - 1
+_M128 = (1 << 128) - 1
+
+
+def _mix64(z: int) -> int:
+    """splitmix64's finaliser: spreads a counter over 64 bits."""
+    z = (z + 0x9E3779B97F4A7C15) & _M64
+    z = ((z ^ (z >> 30)) * 0xBF58476D1CE4E5B9) & _M64
+    z = ((z ^ (z >> 27)) * 0x94D049BB133111EB) & _M64
+    return z ^ (z >> 31)
+
+
+def _tag(i: int) -> int:
+    return (_mix64(2 * i) << 64) | _mix64(2 * i + 1)
 
 
 @dataclass(eq=False)
@@ -118,20 +184,19 @@ class LocalMap:
     y0: int  # row of the box's first cell
     free: np.ndarray  # bool (rows, cols)
     occ: np.ndarray  # bool (rows, cols), disjoint from ``free``
-    _sparse: dict[int, tuple[np.ndarray, np.ndarray]] | None = field(default=None, repr=False)
+    _runs: np.ndarray | None = field(default=None, repr=False)
+    # a 128-bit tag, unique per local map: a grid's state is the sum of its maps' tags
+    tag: int = field(default_factory=lambda: _tag(next(_TAGS)), repr=False, compare=False)
 
-    def sparse(self, width: int) -> tuple[np.ndarray, np.ndarray]:
-        """(flat cell indices in a grid ``width`` wide, log-odds increments); cached."""
-        if self._sparse is None:
-            self._sparse = {}
-        got = self._sparse.get(width)
-        if got is None:
-            seen = self.free | self.occ
-            ys, xs = np.nonzero(seen)
-            index = (ys + self.y0) * width + (xs + self.x0)
-            delta = np.where(self.occ[ys, xs], L_HIT, L_MISS).astype(np.float32)
-            got = self._sparse[width] = (index.astype(np.int64), delta)
-        return got
+    def runs(self) -> np.ndarray:
+        """Row runs in grid coordinates, int32 (k, 4): row, first column, end column, and 1
+        for hit cells (0 for passed ones); computed once, shared by every grid."""
+        if self._runs is None:
+            self._runs = _row_runs(
+                int(self.x0), int(self.y0), np.ascontiguousarray(self.free, dtype=np.bool_),
+                np.ascontiguousarray(self.occ, dtype=np.bool_),
+            )
+        return self._runs
 
     def to_wire(self) -> dict[str, Any]:
         """msgpack-friendly form: box plus two bit-packed masks."""
@@ -177,22 +242,141 @@ def rasterise(
     return LocalMap(bx, by, free_p, occ_p)
 
 
-class OccupancyGrid:
-    """One robot's map: log-odds per cell, 0 = unknown (p = 0.5)."""
+class _State:
+    """One grid array shared by the grids in the same state, and what is derived from it."""
 
-    def __init__(self, shape: tuple[int, int]) -> None:
-        self.logodds = np.zeros(shape, dtype=np.float32)
+    __slots__ = ("arr", "derived", "key", "users")
+
+    def __init__(self, arr: np.ndarray, key: int) -> None:
+        self.arr = arr
+        self.key = key
+        self.users = 1
+        self.derived: dict[Any, Any] = {}
+
+
+class GridPool:
+    """Grids of one simulated team that merged the same set of local maps share one array.
+
+    Valid when every local map comes from one truth through the noise-free laser (see the
+    module docstring); the simulator makes one per run. Counts what it saves.
+    """
+
+    def __init__(self) -> None:
+        self.states: dict[int, _State] = {}
+        self.merged = 0  # local maps added to an array
+        self.shared = 0  # flushes answered by an existing state (no merge)
+        self.copies = 0  # arrays copied because another grid still used them
+
+
+class OccupancyGrid:
+    """One robot's map: log-odds per cell, 0 = unknown (p = 0.5).
+
+    :meth:`apply` queues a local map; reading :attr:`logodds` first adds whatever is queued.
+    With a :class:`GridPool` the array may be shared with other grids in the same state:
+    treat it as read-only (every update goes through :meth:`apply`).
+    """
+
+    def __init__(self, shape: tuple[int, int], pool: GridPool | None = None) -> None:
+        self._logodds = np.zeros(shape, dtype=np.float32)
+        self._pending: list[LocalMap] = []
         self.updates = 0
+        self.key = 0  # sum of the tags of the local maps given (mod 2**128): the state
+        self._derived: dict[Any, Any] = {}
+        self.pool = pool
+        self._state: _State | None = None
+        if pool is not None:
+            self._attach(pool)
+
+    def _attach(self, pool: GridPool) -> None:
+        st = pool.states.get(self.key)
+        if st is None:
+            st = pool.states[self.key] = _State(self._logodds, self.key)
+        else:
+            st.users += 1
+            self._logodds = st.arr
+        self._state = st
+
+    def share(self, pool: GridPool) -> None:
+        """Join ``pool`` (before anything was merged)."""
+        if self.pool is not None or self.updates:
+            raise ValueError("a grid joins a pool once, before any update")
+        self.pool = pool
+        self._attach(pool)
+
+    @property
+    def logodds(self) -> np.ndarray:
+        if self._pending:
+            self._flush()
+        return self._logodds
+
+    @property
+    def pending(self) -> int:
+        """Local maps given but not added yet."""
+        return len(self._pending)
 
     @property
     def shape(self) -> tuple[int, int]:
-        return self.logodds.shape
+        return self._logodds.shape
 
     def apply(self, local: LocalMap) -> None:
         """Bayesian update with one local map (own or received: the same function)."""
-        index, delta = local.sparse(self.logodds.shape[1])
-        _add_clipped(self.logodds.reshape(-1), index, delta, L_MIN, L_MAX)
+        self._pending.append(local)
+        self.key = (self.key + local.tag) & _M128
         self.updates += 1
+
+    def derived(self, name: Any, make: Callable[[np.ndarray], Any]) -> Any:
+        """``make(logodds)``, computed once per grid state (and shared within a pool).
+        The result must not be modified."""
+        lo = self.logodds
+        cache = self._state.derived if self._state is not None else self._derived
+        got = cache.get(name)
+        if got is None:
+            got = cache[name] = make(lo)
+        return got
+
+    def _flush(self) -> None:
+        pending = self._pending
+        pool = self.pool
+        st = self._state
+        if pool is None or st is None:
+            self._derived = {}
+            self._merge(self._logodds, pending)
+            return
+        target = pool.states.get(self.key)
+        if target is not None:  # another grid reached this state: share its array
+            pending.clear()
+            pool.shared += 1
+            self._leave(pool, st)
+            target.users += 1
+            self._state = target
+            self._logodds = target.arr
+            return
+        if st.users > 1:  # copy on write
+            arr = st.arr.copy()
+            pool.copies += 1
+            self._leave(pool, st)
+        else:
+            arr = st.arr
+            if pool.states.get(st.key) is st:
+                del pool.states[st.key]
+        pool.merged += len(pending)
+        self._merge(arr, pending)
+        new = pool.states[self.key] = _State(arr, self.key)
+        self._state = new
+        self._logodds = arr
+
+    @staticmethod
+    def _leave(pool: GridPool, st: _State) -> None:
+        st.users -= 1
+        if st.users == 0 and pool.states.get(st.key) is st:
+            del pool.states[st.key]
+
+    @staticmethod
+    def _merge(arr: np.ndarray, pending: list[LocalMap]) -> None:
+        runs = pending[0].runs() if len(pending) == 1 else np.concatenate(
+            [m.runs() for m in pending])
+        pending.clear()
+        _add_runs(arr.reshape(-1), arr.shape[1], runs, L_MISS, L_HIT, L_MIN, L_MAX)
 
     def free(self) -> np.ndarray:
         return self.logodds < 0

@@ -105,7 +105,10 @@ class ScanMsg(Message):
     @cached_property
     def nbytes(self) -> int:
         # the scans' encodings are cached, so a relay's size costs no re-packing
-        return _head_size(self.kind, self.src) + _scans_size(self.scans)
+        scans = self.scans
+        if len(scans) == 1:  # a flooded scan: no array header beyond the empty list's
+            return _head_size(self.kind, self.src) + scans[0].nbytes
+        return _head_size(self.kind, self.src) + _scans_size(scans)
 
 
 @dataclass(eq=False)

@@ -78,11 +78,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import cast
 
 import numpy as np
 
 from swarmex.comm.aodv import AodvMessage, AodvNode, AodvTiming, Routed
-from swarmex.comm.mesh import MeshNode
+from swarmex.comm.mesh import Fanout, MeshNode
 from swarmex.missions.exploration.belief import Cell, ExplorationBelief
 from swarmex.missions.exploration.messages import (
     ChangeGoal,
@@ -102,11 +103,13 @@ from swarmex.missions.exploration.paths import (
     path_to,
 )
 from swarmex.missions.exploration.strategies import GoalContext, Strategy
-from swarmex.sensing.frontiers import frontiers_of_logodds
+from swarmex.sensing.frontiers import Frontiers, frontiers_of_logodds
 from swarmex.sensing.occupancy import rasterise
 
 RADIO = -1  # destination of a radio broadcast (heartbeats)
-Out = list[tuple[int, Message]]
+# (destination, message): a robot id, RADIO, or a Fanout (the same message to several
+# neighbours, in id order: a flood relay or a GOAL; one entry whatever their number)
+Out = list[tuple[int | Fanout, Message]]
 UNICASTS = (NeedMap, MapMsg, ChangeGoal)  # the messages addressed to one robot
 
 
@@ -196,8 +199,10 @@ class ExplorerRobot:
     def remaining(self) -> int:
         return int(self.path.shape[0] - self.path_i)
 
-    def _neighbours(self, but: int | None = None) -> list[int]:
-        return self.mesh.relay_targets(but)
+    def _to_neighbours(self, msg: Message, but: int | None = None) -> Out:
+        """``msg`` to every neighbour (but ``but``), as one entry; nothing if there are none."""
+        fan = self.mesh.fanout(but)
+        return [(fan, msg)] if len(fan) else []
 
     def _lifetime(self, msg: object) -> int:
         """How long a unicast may wait for a route: a ``CHANGE_GOAL`` one planning period
@@ -211,14 +216,14 @@ class ExplorerRobot:
         """The thesis's unicast queue: by AODV when routing is on, else to a neighbour."""
         if self.aodv is None:
             return [(dst, msg)]
-        return self.aodv.send(dst, msg, t, self._lifetime(msg))
+        return cast(Out, self.aodv.send(dst, msg, t, self._lifetime(msg)))
 
     def link_failed(self, dst: int, msg: object, t: int) -> Out:
         """The radio could not deliver a unicast to ``dst`` (it left the range): AODV
         breaks the link, re-queues the payload and rediscovers a route."""
         if self.aodv is None:
             return []
-        return self.aodv.send_failed(dst, msg, t, self._lifetime(msg))
+        return cast(Out, self.aodv.send_failed(dst, msg, t, self._lifetime(msg)))
 
     def _request(self, reason: str) -> None:
         if self.request is None:
@@ -234,8 +239,7 @@ class ExplorerRobot:
         self.stats.scans += 1
         self.mesh.first_time(rec.key)
         self.belief.integrate(rec)
-        msg = ScanMsg(self.id, (rec,))
-        return [(n, msg) for n in self._neighbours()]
+        return self._to_neighbours(ScanMsg(self.id, (rec,)))
 
     # -------------------------------------------------------------- messaging
     def housekeeping(self, t: int) -> Out:
@@ -286,8 +290,7 @@ class ExplorerRobot:
             for r in new:
                 self.belief.integrate(r)
             if new:
-                fwd = ScanMsg(self.id, new)
-                out.extend((n, fwd) for n in self._neighbours(but=via))
+                out.extend(self._to_neighbours(ScanMsg(self.id, new), but=via))
                 if self.aodv is not None:
                     out.extend(self._ask_for_gaps(new, t))
         elif isinstance(msg, NeedMap):
@@ -387,12 +390,11 @@ class ExplorerRobot:
     def plan(self, t: int, reason: str | None = None) -> Out:
         """Choose a goal and a path on the current map; announce it to the neighbours."""
         cfg = self.cfg
-        lo = self.belief.grid.logodds
-        trav = lo < 0
-        trav &= ~inflate(lo, cfg.offsets)
+        grid = self.belief.grid
+        trav = grid.derived(("traversable", cfg.radius_cells), self._traversable)
         x, y = self.pos
         dist = distance_steps(trav, x, y)
-        fr = frontiers_of_logodds(lo, cfg.min_region)
+        fr = grid.derived(("frontiers", cfg.min_region), self._frontiers)
         d = dist[fr.ys, fr.xs]
         eligible = (d > 0) & trav[fr.ys, fr.xs]
         reach = np.zeros(fr.n_regions, dtype=bool)
@@ -433,11 +435,9 @@ class ExplorerRobot:
             if not was_finished:
                 self.stats.finished_at = t
                 self._record_plan(t, reason)
-            out: Out = []
             if had_goal and cfg.strategy.exclusion:
-                msg = Goal(self.id, None, 0.0, x, y)
-                out = [(n, msg) for n in self._neighbours()]
-            return out
+                return self._to_neighbours(Goal(self.id, None, 0.0, x, y))
+            return []
         self.stats.finished_at = None
         self.path = path_to(dist, trav, goal[0], goal[1], x, y)
         self.path_i = 0
@@ -445,8 +445,16 @@ class ExplorerRobot:
         self.hold = cfg.plan_pause
         if not cfg.strategy.exclusion:
             return []
-        msg = Goal(self.id, goal, float(self.remaining), x, y)
-        return [(n, msg) for n in self._neighbours()]
+        return self._to_neighbours(Goal(self.id, goal, float(self.remaining), x, y))
+
+    def _traversable(self, lo: np.ndarray) -> np.ndarray:
+        """Known-free cells whose footprint touches no known obstacle nor the map's edge."""
+        trav = lo < 0
+        trav &= ~inflate(lo, self.cfg.offsets)
+        return trav
+
+    def _frontiers(self, lo: np.ndarray) -> Frontiers:
+        return frontiers_of_logodds(lo, self.cfg.min_region)
 
     def _winners(self, t: int) -> dict[int, Cell]:
         """Goals of the robots that beat this one since its last plan, when it yields.

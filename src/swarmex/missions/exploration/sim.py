@@ -33,11 +33,12 @@ import contextlib
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import cast
 
 import numpy as np
 
 from swarmex.comm.aodv import Routed, Rrep
-from swarmex.comm.mesh import DiscNetwork
+from swarmex.comm.mesh import Batch, DiscNetwork, Fanout, FloodLedger, bits
 from swarmex.missions.base import StopRun
 from swarmex.missions.exploration.messages import ScanMsg
 from swarmex.missions.exploration.params import (
@@ -52,6 +53,7 @@ from swarmex.missions.exploration.paths import distance_steps
 from swarmex.missions.exploration.robot import RADIO, UNICASTS, ExplorerRobot, Out, RobotConfig
 from swarmex.missions.exploration.strategies import get_strategy
 from swarmex.sensing.laser import Laser
+from swarmex.sensing.occupancy import GridPool
 from swarmex.worlds.metric import MetricGrid
 
 FrameHook = Callable[[int, "ExplorationRun"], None]
@@ -115,12 +117,23 @@ class Wire:
     A robot that routes with AODV learns when a unicast (an application unicast, a routed
     hop or an RREP) cannot reach its next hop — the thesis's nanomsg send timeout — and
     reacts at once (:meth:`ExplorerRobot.link_failed`); floods and RERRs are fire-and-forget.
+    A :class:`~swarmex.comm.mesh.Fanout` destination (a relay or a ``GOAL`` to every
+    neighbour) travels as one batch.
     """
 
     def __init__(self, net: DiscNetwork, robots: list[ExplorerRobot]) -> None:
         self.net = net
         self.robots = robots
         self.t = 0
+        self.ledger = FloodLedger()
+        for r in robots:
+            r.mesh.ledger = self.ledger
+            for n in r.mesh.neighbours:  # robots built with neighbours already
+                lst = self.ledger.listeners
+                lst[n] = lst.get(n, 0) | (1 << r.id)
+            for key in r.mesh.seen:
+                self.ledger.holders[key] = self.ledger.holders.get(key, 0) | (1 << r.id)
+        self.delivered = 0  # copies handed to a robot (the rest were dropped unseen)
 
     def send(self, src: int, out: Out, t: int | None = None) -> None:
         if t is not None:
@@ -129,17 +142,21 @@ class Wire:
         i = 0
         while i < len(out):  # consecutive sends of one message go out together
             dst, msg = out[i]
+            if type(dst) is Fanout:
+                self.net.unicast_many(src, dst, msg)
+                i += 1
+                continue
             j = i + 1
             while j < len(out) and out[j][1] is msg:
                 j += 1
             if dst == RADIO:
                 self.net.broadcast(src, msg)
             elif routed and type(msg) in _UNICAST:
-                for d, m in out[i:j]:
-                    if not self.net.unicast(src, d, m):
-                        self.send(src, self.robots[src].link_failed(d, m, self.t))
+                for d, m in out[i:j]:  # plain ids: a Fanout is handled above
+                    if not self.net.unicast(src, cast(int, d), m):
+                        self.send(src, self.robots[src].link_failed(cast(int, d), m, self.t))
             else:
-                self.net.unicast_many(src, [d for d, _ in out[i:j]], msg)
+                self.net.unicast_many(src, [cast(int, d) for d, _ in out[i:j]], msg)
             i = j
 
     def settle(self, t: int) -> None:
@@ -147,17 +164,31 @@ class Wire:
 
         A flooded copy whose every scan the receiver has already seen, from a sender it
         already knows, would be dropped by the receiver without effect; it is counted as
-        sent but not handed over (the flood's main cost in Python calls).
+        sent but not handed over (the flood's main cost in Python calls). For a batch the
+        ledger finds those receivers with a few bit operations: handing a copy to one
+        receiver changes only that receiver, so the batch's mask, computed once, stays right
+        for the receivers after it.
         """
         robots = self.robots
+        ledger = self.ledger
         self.t = t
-        for src, dst, msg in self.net.drain():
+        for src, dst, msg in self.net.drain_batches():
+            if type(dst) is Batch:
+                mask = dst.mask
+                if type(msg) is ScanMsg:
+                    mask &= ~(ledger.have_all(s.key for s in msg.scans)
+                              & ledger.listeners.get(src, 0))
+                for d in bits(mask):
+                    self.delivered += 1
+                    self.send(d, robots[d].on_message(src, msg, t))
+                continue
             r = robots[dst]
             if type(msg) is ScanMsg and src in r.mesh.neighbours:
                 seen = r.mesh.seen
                 scans = msg.scans
                 if (scans[0].key in seen) if len(scans) == 1 else all(s.key in seen for s in scans):
                     continue
+            self.delivered += 1
             self.send(dst, r.on_message(src, msg, t))
 
 
@@ -211,6 +242,9 @@ def run_exploration(
     t0 = time.perf_counter()
     rng = np.random.default_rng(params.seed)
     robots, starts, laser = build_robots(grid, params, rng, routing=params.aodv)
+    pool = GridPool()  # every scan comes from this one truth: grids in one state are one
+    for r in robots:
+        r.belief.grid.share(pool)
     n = len(robots)
     net = DiscNetwork(n, params.comm_range)
     run = ExplorationRun(
