@@ -65,28 +65,45 @@ def priority(
 
 
 def resolve(cur: list[Cell], opts: list[list[Cell]], order: list[int], nest: Cell) -> list[Cell]:
-    """Choose one option per robot so that no non-nest cell holds two robots."""
+    """Choose one option per robot so that no non-nest cell holds two robots.
+
+    The rule is a pass over the robots in ``order`` that, at the first cell claimed twice,
+    moves one robot to its next option and starts the pass again. A restarted pass repeats
+    every claim made before the bumped robot's place unchanged, so instead of starting from
+    the top the pass rolls back to that place (same result, without the O(n) restart per
+    bump that made a round quadratic in a large swarm).
+    """
     ch = [0] * len(cur)
-    while True:
-        owner: dict[Cell, int] = {}
-        bumped = -1
-        for a in order:
-            c = opts[a][ch[a]]
-            if c == nest:
-                continue
-            b = owner.get(c)
-            if b is None:
-                owner[c] = a
-                continue
-            stayer = a if c == cur[a] else b if c == cur[b] else -1
-            if stayer >= 0:
-                other = b if stayer == a else a
-                bumped = stayer if ch[stayer] + 1 < len(opts[stayer]) else other
-            else:
-                bumped = a  # both move in: the later (lower-priority) one yields
-            break
-        if bumped < 0:
-            return [opts[a][ch[a]] for a in range(len(cur))]
+    place = {a: i for i, a in enumerate(order)}
+    claimed: list[Cell | None] = [None] * len(order)  # the cell the i-th robot claimed
+    owner: dict[Cell, int] = {}
+    i = 0
+    while i < len(order):
+        a = order[i]
+        c = opts[a][ch[a]]
+        if c == nest:
+            i += 1
+            continue
+        b = owner.get(c)
+        if b is None:
+            owner[c] = a
+            claimed[i] = c
+            i += 1
+            continue
+        stayer = a if c == cur[a] else b if c == cur[b] else -1
+        if stayer >= 0:
+            other = b if stayer == a else a
+            bumped = stayer if ch[stayer] + 1 < len(opts[stayer]) else other
+        else:
+            bumped = a  # both move in: the later (lower-priority) one yields
         if ch[bumped] + 1 >= len(opts[bumped]):  # pragma: no cover - defensive
             raise RuntimeError("collision resolution ran out of options")
         ch[bumped] += 1
+        back = place[bumped]
+        for k in range(back, i):  # undo the claims from the bumped robot's place on
+            cell = claimed[k]
+            if cell is not None:
+                del owner[cell]
+                claimed[k] = None
+        i = back
+    return [opts[a][ch[a]] for a in range(len(cur))]

@@ -219,15 +219,23 @@ class Mission:
         for a in range(n):
             if not self.informed[a] and self.pos[a] == self.food:
                 self.inform(a, None)
-        known = [a for a in range(n) if self.informed[a]]
+        # who tells an uninformed robot: the lowest-id informed robot at distance <= 1, found
+        # through the cells (its own and the 4 neighbours) rather than by scanning every
+        # informed robot, which cost O(n^2) per round with a large swarm
+        at: dict[Cell, int] = {}
+        for b in range(n):
+            if self.informed[b]:
+                at.setdefault(self.pos[b], b)  # ascending ids: the lowest one per cell
         new: list[tuple[int, int]] = []
-        for a in range(n):
-            if self.informed[a]:
-                continue
-            for b in known:
-                if manhattan(self.pos[a], self.pos[b]) <= 1:
-                    new.append((a, b))
-                    break
+        if at:
+            for a in range(n):
+                if self.informed[a]:
+                    continue
+                x, y = self.pos[a]
+                tellers = [b for c in ((x, y), (x - 1, y), (x + 1, y), (x, y - 1), (x, y + 1))
+                           if (b := at.get(c)) is not None]
+                if tellers:
+                    new.append((a, min(tellers)))
         for a, b in new:
             self.inform(a, b)
         for a in range(n):

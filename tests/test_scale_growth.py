@@ -1,0 +1,74 @@
+"""Growth guards (issue 14 item 5): the test-sized version of bench/bench_scale.py.
+
+A regression to a faster-growing cost shows here as a failing fitted exponent, measured on
+sizes that run in seconds. Traversal is checked on operation counts (distance fields
+computed per job, and none at all on an open grid, where the distances are in closed form);
+the others on the CPU time per agent-step, whose fitted exponent against size must stay well
+below the one a per-step scan over every agent or every cell would give (≥ 1): the bounds are
+loose on purpose, so load on the machine does not make them flaky.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from pathlib import Path
+
+import numpy as np
+
+import swarmex
+from swarmex.missions.traversal import run_traversal, uniform_agents
+from swarmex.worlds.generators import empty_grid, random_obstacles
+
+
+def _exponent(xs: list[float], ys: list[float]) -> float:
+    return float(np.polyfit(np.log(xs), np.log(ys), 1)[0])
+
+
+def _cpu_per_step(mission: str, steps, **kw) -> float:
+    t = time.process_time()
+    rec = swarmex.run(mission, trace=False, **kw)
+    return (time.process_time() - t) / max(steps(rec), 1)
+
+
+def test_traversal_fields_per_job_do_not_grow_with_the_map():
+    fields_per_job, cells = [], []
+    for side in (16, 32, 64):
+        world = random_obstacles(side, side, 0.15, seed=1)
+        nest = int(np.flatnonzero(world.free.ravel())[0])
+        run = run_traversal(world, uniform_agents([nest] * 8, 2.0, 9.0), seed=0)
+        jobs = sum(len(a.jobs) for a in run.agents)
+        fields_per_job.append(run.field_cache["recomputed"] / jobs)
+        cells.append(float(world.free.sum()))
+    assert _exponent(cells, fields_per_job) < 0.2, fields_per_job
+    for side in (16, 64):  # open grids: lattice distances, no field at all
+        run = run_traversal(empty_grid(side, side), uniform_agents([0] * 8, 2.0, 9.0), seed=0)
+        assert sum(run.field_cache.values()) == 0
+
+
+def test_exploration_cost_per_robot_step_grows_slowly_with_the_team():
+    swarmex.run("exploration", empty="3x3", robots=2, laser_range=0.8)  # warm-up
+    robots = [2, 4, 8]
+    cost = [_cpu_per_step("exploration", lambda r: sum(r.metrics["steps"]), empty="6x6",
+                          cell=0.05, robots=n, laser_range=1.0, comm_range=3.0, seed=1)
+            for n in robots]
+    assert _exponent(robots, cost) < 0.9, cost
+
+
+def test_foraging_cost_per_robot_round_grows_slowly():
+    swarmex.run("foraging", grid=16, agents=4, algorithm="strips")  # warm-up
+    sizes = [(64, 4), (128, 16), (256, 64)]
+    cost = [_cpu_per_step("foraging", lambda r: len(r.agents) * r.makespan, grid=g,
+                          agents=n, algorithm="strips") for g, n in sizes]
+    assert _exponent([n for _, n in sizes], cost) < 0.8, cost
+
+
+def test_roadmap_cost_per_agent_step_is_flat_in_the_node_count(tmp_path: Path):
+    env = tmp_path / "open.json"
+    env.write_text(json.dumps({"bounds": [0, 0, 600, 600], "obstacles": [
+        [[300, 300], [350, 300], [350, 350], [300, 350]]]}))
+    swarmex.run("roadmap", env=str(env), agents=4, nodes=50, step=10, sensor_range=15)
+    nodes = [500, 1000, 2000]
+    cost = [_cpu_per_step("roadmap", lambda r: len(r.agents) * r.makespan, env=str(env),
+                          agents=8, nodes=k, step=10, sensor_range=15) for k in nodes]
+    assert _exponent(nodes, cost) < 0.5, cost
