@@ -232,8 +232,8 @@ class Mission:
                 if self.informed[a]:
                     continue
                 x, y = self.pos[a]
-                tellers = [b for c in ((x, y), (x - 1, y), (x + 1, y), (x, y - 1), (x, y + 1))
-                           if (b := at.get(c)) is not None]
+                tellers = [w for c in ((x, y), (x - 1, y), (x + 1, y), (x, y - 1), (x, y + 1))
+                           if (w := at.get(c)) is not None]
                 if tellers:
                     new.append((a, min(tellers)))
         for a, b in new:
