@@ -433,3 +433,64 @@ def test_browser_says_which_agents_fly_what_in_a_hybrid_mission():
     assert not errors
     assert [a["vehicle"] for a in snap["agents"]] == ["mavlink", "mavlink", "simulated"]
     assert "mavlink" in text and "simulated" in text
+
+
+COLOUR_PIXELS = """([r, g, b]) => {
+  const c = document.getElementById("map");
+  const d = c.getContext("2d").getImageData(0, 0, c.width, c.height).data;
+  let n = 0;
+  for (let i = 0; i < d.length; i += 4) {
+    if (d[i] === r && d[i + 1] === g && d[i + 2] === b) n += 1;
+  }
+  return n;
+}"""
+FRONTIER_RGB, UNKNOWN_RGB = [255, 152, 0], [176, 190, 197]
+
+EXPLORATION_SCENARIO = """
+mission = "exploration"
+empty = "3x3"
+cell = 0.1
+robots = 2
+laser_range = 0.8
+starts = "5,5;25,25"
+seed = 1
+"""
+
+
+def test_browser_draws_the_exploration_map_as_it_grows(tmp_path):
+    """Issue 16 item 4: the live exploration view veils unknown cells and lights the frontier
+    as the merged map grows; checked by pixel counts against the streamed state (cells times
+    pixels per cell), mid-run and at the end, and the --snapshot-every PNGs are written."""
+    scenario = tmp_path / "explore.toml"
+    scenario.write_text(EXPLORATION_SCENARIO)
+    shots = tmp_path / "shots"
+    args = ["--scenario", str(scenario), "--speed", "10", "--linger", "20",
+            "--snapshot-every", "0.5", str(shots)]
+    with monitor_page(args) as (page, errors):
+        page.wait_for_function(
+            "() => { const s = monitorSnapshot(); return s.known && s.known.frontier > 10"
+            " && !s.ended; }", timeout=60000)
+        page.wait_for_timeout(250)  # a drawn frame of that state
+        mid = page.evaluate("monitorSnapshot()")
+        mid_orange = page.evaluate(COLOUR_PIXELS, FRONTIER_RGB)
+        mid_veil = page.evaluate(COLOUR_PIXELS, UNKNOWN_RGB)
+        page.wait_for_function("monitorSnapshot().ended", timeout=60000)
+        page.wait_for_timeout(700)
+        final = page.evaluate("monitorSnapshot()")
+        end_orange = page.evaluate(COLOUR_PIXELS, FRONTIER_RGB)
+        end_veil = page.evaluate(COLOUR_PIXELS, UNKNOWN_RGB)
+        jobs_shown = page.is_visible("#jobs-row")
+    assert not errors
+    cell = mid["cellPixels"] ** 2
+    cells = 30 * 30
+    unknown_mid = cells - mid["known"]["free"] - mid["known"]["occupied"]
+    # frontier cells are lit (robots and goal crosses hide a few), unknown ones veiled
+    frontier_px = mid["known"]["frontier"] * cell
+    assert 0.5 * frontier_px < mid_orange < 1.2 * frontier_px
+    assert 0.6 * unknown_mid * cell < mid_veil < 1.2 * unknown_mid * cell
+    assert final["complete"] and final["known"]["frontier"] == 0 and end_orange == 0
+    unknown_end = cells - final["known"]["free"] - final["known"]["occupied"]
+    assert end_veil <= 1.2 * unknown_end * cell + 1
+    assert not jobs_shown  # no meaningless jobs column in exploration
+    pngs = sorted(shots.glob("snapshot-*.png"))
+    assert pngs and all(p.read_bytes()[:4] == b"\x89PNG" for p in pngs)

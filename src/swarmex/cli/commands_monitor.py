@@ -237,6 +237,13 @@ def monitor(
     json_path: Path | None = typer.Option(
         None, "--json", help="Also write the streamed run's record here.", show_default=False
     ),
+    snapshot_every: tuple[float, Path] | None = typer.Option(
+        None,
+        "--snapshot-every",
+        help="Save the page's view as a PNG every S seconds into DIR (needs a viewer open).",
+        metavar="S DIR",
+        show_default=False,
+    ),
 ) -> None:
     """Serve the live monitor page of a simulated (or networked) mission on 127.0.0.1."""
     import asyncio
@@ -256,6 +263,17 @@ def monitor(
         raise InputError(f"--linger must be >= 0, got {linger}")
     if port < 0 or port > 65535:
         raise InputError(f"--port must be in 0..65535, got {port}")
+    snapshots = None
+    if snapshot_every is not None:
+        every, folder = snapshot_every
+        if not every > 0 or math.isinf(every):
+            raise InputError(f"--snapshot-every: S must be a positive number of seconds, "
+                             f"got {every}")
+        if folder.exists() and not folder.is_dir():
+            raise InputError(f"--snapshot-every: {folder} is not a folder")
+        from swarmex.viz.monitor.server import SnapshotDir
+
+        snapshots = SnapshotDir(every, folder)
     record: dict | None = None
     live: tuple[Any, Any, dict] | None = None
     if scenario is not None:
@@ -284,7 +302,7 @@ def monitor(
             + (f" · {messages} messages" if messages is not None else ""),
             highlight=False,
         )
-    server = MonitorServer(port, record)
+    server = MonitorServer(port, record, snapshots)
     producer: Any = None
     if live is not None:
         from swarmex.viz.monitor.live import stream_run

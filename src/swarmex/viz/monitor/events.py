@@ -34,6 +34,13 @@ job        ``t``, ``agent``, ``x``, ``y``: the agent starts a job / picks food /
 message    ``t``, ``agent`` (sender), ``to`` (receiver id, null for a broadcast), ``kind``,
            ``x``, ``y`` (the vertex it is about, if any). Optional: ``vehicle`` on a ``join``
            (what the spare flies), ``reason`` on a ``left`` (why the agent went).
+status     ``t``, ``agent``, ``carrying``, ``informed`` (booleans): a foraging robot started or
+           stopped carrying a unit, or learned where the food is (live runs).
+known      ``t``, ``cols``, ``free``, ``occupied``, ``frontier``, ``not_frontier``: flat
+           row-major cell indices of the exploration team's merged map that became free or
+           occupied, and that became or stopped being frontier cells (live runs).
+goals      ``t``, ``goals``: per robot ``[id, x, y]`` or null: the exploration robots'
+           current goals (live runs).
 clock      ``t``: time passes with nothing else to say (lets the clock tick).
 end        ``t``, ``complete``, ``makespan``, ``time_unit``, ``metrics`` (the record's
            totals), ``agents`` (``[{"id", "metrics"}]``): the mission is over. Optional

@@ -21,13 +21,16 @@ Per mission, what a frame becomes (the frame types are the missions' own):
   when the agent sets off (the frame's ``heading``);
 * foraging (:class:`~swarmex.missions.foraging.sim.Frame`, one per round): a ``move`` for
   every robot whose cell changed, a ``pickup`` job when a robot starts carrying on the food
-  cell and a ``drop`` when it stops in the nest, and a ``food`` message to every robot newly
+  cell and a ``drop`` when it stops in the nest, a ``status`` event when a robot starts or
+  stops carrying or learns where the food is, and a ``food`` message to every robot newly
   informed away from the food, from the lowest-id robot that knew before and stands at
   distance ≤ 1;
 * roadmap (:class:`~swarmex.missions.roadmap.sim.RoadmapFrame`, one per step): a ``move``
   for every agent that moved in the step (all of them at step 0);
 * exploration (:class:`~swarmex.missions.exploration.frames.Snapshot`, one per tick): a
-  ``move`` for every robot whose cell changed.
+  ``move`` for every robot whose cell changed; a ``known`` event with the cells of the team's
+  merged map that became free or occupied and the frontier cells gained and lost (known-free
+  cells next to unknown ones); a ``goals`` event when a robot's goal changes.
 """
 
 from __future__ import annotations
@@ -127,6 +130,11 @@ class ForagingEvents:
         for i in range(len(pos)):
             if last is None or not np.array_equal(pos[i], last.positions[i]):
                 out.append(_move(t, self.ids[i], int(pos[i][0]), int(pos[i][1])))
+        for i in range(len(pos)):  # who carries a unit, who knows where the food is
+            if (last is None or f.carrying[i] != last.carrying[i]
+                    or f.informed[i] != last.informed[i]):
+                out.append({"type": "status", "t": t, "agent": self.ids[i],
+                            "carrying": bool(f.carrying[i]), "informed": bool(f.informed[i])})
         if last is not None:
             for i in range(len(pos)):
                 here = (int(pos[i][0]), int(pos[i][1]))
@@ -150,6 +158,56 @@ class ForagingEvents:
         return out
 
 
+def frontier_of(known: np.ndarray) -> np.ndarray:
+    """Known-free cells with an unknown 4-neighbour (what the robots head for)."""
+    unknown = known == 0
+    near = np.zeros_like(unknown)
+    near[1:, :] |= unknown[:-1, :]
+    near[:-1, :] |= unknown[1:, :]
+    near[:, 1:] |= unknown[:, :-1]
+    near[:, :-1] |= unknown[:, 1:]
+    return (known == 1) & near
+
+
+class ExplorationEvents(IndexedEvents):
+    """Moves, plus the team's merged map as it grows: a ``known`` event with the cells that
+    changed (flat indices, row-major) into free, occupied and frontier, and the cells that
+    stopped being frontier; and the robots' current goals."""
+
+    def __init__(self, ids: list[Any]) -> None:
+        super().__init__(ids)
+        self.known: np.ndarray | None = None
+        self.frontier: np.ndarray | None = None
+        self.goals: list[Any] = []
+
+    def __call__(self, f: Any) -> list[Event]:
+        out = super().__call__(f)
+        t = float(f.t)
+        known = np.asarray(f.known, dtype=np.uint8)
+        front = frontier_of(known)
+        if self.known is None or self.frontier is None:
+            self.known = np.zeros_like(known)
+            self.frontier = np.zeros_like(front)
+        changed = known != self.known
+        flat = known.ravel()
+        idx = np.flatnonzero(changed.ravel())
+        gained = np.flatnonzero((front & ~self.frontier).ravel())
+        lost = np.flatnonzero((~front & self.frontier).ravel())
+        if idx.size or gained.size or lost.size:
+            out.append({"type": "known", "t": t, "cols": int(known.shape[1]),
+                        "free": idx[flat[idx] == 1].tolist(),
+                        "occupied": idx[flat[idx] == 2].tolist(),
+                        "frontier": gained.tolist(), "not_frontier": lost.tolist()})
+        self.known, self.frontier = known, front
+        goals = [None if g is None else [int(g[0]), int(g[1])] for g in f.goals]
+        if goals != self.goals:
+            out.append({"type": "goals", "t": t,
+                        "goals": [None if g is None else [self.ids[i], *g]
+                                  for i, g in enumerate(goals)]})
+            self.goals = goals
+        return out
+
+
 def frame_converter(record: dict) -> Callable[[Any], list[Event]]:
     """The frame → events function of the record's mission."""
     ids = [a["id"] for a in record.get("agents", [])]
@@ -158,6 +216,8 @@ def frame_converter(record: dict) -> Callable[[Any], list[Event]]:
         return TraversalEvents()
     if mission == "foraging":
         return ForagingEvents(ids, record)
+    if mission == "exploration":
+        return ExplorationEvents(ids)
     return IndexedEvents(ids)
 
 

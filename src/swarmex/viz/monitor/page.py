@@ -23,7 +23,8 @@ INDEX_HTML = r"""<!doctype html>
   header { padding: 8px 12px; background: #20242b; color: #eee; display: flex; gap: 12px;
            align-items: center; }
   header .title { opacity: 0.8; }
-  .badge { margin-left: auto; padding: 2px 8px; border-radius: 10px; background: #555; }
+  #png { margin-left: auto; font: inherit; padding: 1px 8px; cursor: pointer; }
+  .badge { padding: 2px 8px; border-radius: 10px; background: #555; }
   .badge.live { background: #2e7d32; } .badge.ended { background: #1565c0; }
   .badge.disconnected { background: #b71c1c; }
   main { flex: 1; display: flex; min-height: 0; }
@@ -42,6 +43,8 @@ INDEX_HTML = r"""<!doctype html>
             margin-right: 5px; vertical-align: -1px; border: 1px solid #0006; }
   h3 { margin: 14px 0 4px; font-size: 13px; }
   #final.hidden { display: none; }
+  .nojobs #jobs-row, .nojobs #agents td:nth-child(4), .nojobs #agents th:nth-child(4) {
+    display: none; }
   .note { color: #666; font-size: 12px; }
   .note:empty { display: none; }
 </style>
@@ -50,6 +53,7 @@ INDEX_HTML = r"""<!doctype html>
 <header>
   <strong>swarmex monitor</strong>
   <span class="title" id="title">waiting for a mission…</span>
+  <button id="png" title="Save the current view as a PNG">save PNG</button>
   <span class="badge" id="status">connecting</span>
 </header>
 <main>
@@ -61,7 +65,7 @@ INDEX_HTML = r"""<!doctype html>
       <b id="rate">0.0</b></div>
     <div class="kv"><span id="messages-label">messages</span><b id="messages">0</b></div>
     <div class="note" id="messages-note"></div>
-    <div class="kv"><span>jobs</span><b id="jobs">0</b></div>
+    <div class="kv" id="jobs-row"><span>jobs</span><b id="jobs">0</b></div>
     <div class="kv"><span>events received</span><b id="events">0</b></div>
     <table id="agents">
       <thead><tr><th>agent</th><th>x, y</th><th>moves</th><th>jobs</th><th>msgs</th></tr></thead>
@@ -93,6 +97,8 @@ MONITOR_JS = r""""use strict";
     Object.assign(state, {
       hello: null, world: null, agents: new Map(), order: [], t: 0, ended: false,
       end: null, messages: 0, jobs: 0, msgTimes: [], msgHead: 0, jobCells: [], bounds: null,
+      known: null, knownCols: 0, knownImg: null, knownCells: { free: 0, occupied: 0,
+      frontier: 0 }, goals: [],
     });
     layersDirty = true;
     pendingJobs = [];
@@ -111,7 +117,8 @@ MONITOR_JS = r""""use strict";
   function agent(id) {
     let a = state.agents.get(id);
     if (!a) {
-      a = { id, x: null, y: null, path: [], moves: 0, jobs: 0, sent: 0, vehicle: null };
+      a = { id, x: null, y: null, path: [], moves: 0, jobs: 0, sent: 0, vehicle: null,
+            carrying: false, informed: false };
       state.agents.set(id, a);
       if (!state.order.includes(id)) state.order.push(id);
     }
@@ -168,6 +175,17 @@ MONITOR_JS = r""""use strict";
         state.msgTimes.push(ev.t);
         break;
       }
+      case "status": {
+        const a = agent(ev.agent);
+        a.carrying = !!ev.carrying; a.informed = !!ev.informed;
+        break;
+      }
+      case "known":
+        applyKnown(ev);
+        break;
+      case "goals":
+        state.goals = (ev.goals || []).filter((g) => Array.isArray(g));
+        break;
       case "end":
         state.ended = true;
         state.end = ev;
@@ -176,6 +194,39 @@ MONITOR_JS = r""""use strict";
       default:
         break;  // clock and unknown types only move the clock
     }
+  }
+
+  // the exploration team's merged map: 0 unknown, 1 free, 2 occupied, 3 frontier (free)
+  const KNOWN_RGBA = [[176, 190, 197, 255], [0, 0, 0, 0], [40, 40, 40, 255],
+                      [255, 152, 0, 255]];
+
+  function applyKnown(ev) {
+    const cols = ev.cols;
+    const rows = state.world && state.world.height ? state.world.height
+      : (state.world && state.world.cells ? state.world.cells.length : 0);
+    if (!cols || !rows) return;
+    if (!state.known || state.knownCols !== cols) {
+      state.known = new Uint8Array(cols * rows);
+      state.knownCols = cols;
+      state.knownImg = new ImageData(cols, rows);
+      for (let k = 0; k < cols * rows; k++) paintKnown(k, 0);
+    }
+    const K = state.known;
+    for (const k of ev.free || []) { K[k] = 1; paintKnown(k, 1); }
+    for (const k of ev.occupied || []) { K[k] = 2; paintKnown(k, 2); }
+    for (const k of ev.not_frontier || []) if (K[k] === 3) { K[k] = 1; paintKnown(k, 1); }
+    for (const k of ev.frontier || []) if (K[k] === 1) { K[k] = 3; paintKnown(k, 3); }
+    let free = 0, occupied = 0, frontier = 0;
+    for (let k = 0; k < K.length; k++) {
+      const v = K[k];
+      if (v === 1) free++; else if (v === 2) occupied++; else if (v === 3) frontier++;
+    }
+    state.knownCells = { free: free + frontier, occupied, frontier };
+  }
+
+  function paintKnown(k, v) {
+    const d = state.knownImg.data, c = KNOWN_RGBA[v], i = 4 * k;
+    d[i] = c[0]; d[i + 1] = c[1]; d[i + 2] = c[2]; d[i + 3] = c[3];
   }
 
   function rate() {
@@ -347,6 +398,13 @@ MONITOR_JS = r""""use strict";
     ctx.drawImage(background, 0, 0);
     ctx.drawImage(jobLayer, 0, 0);
     const s = view.scale;
+    if (state.known) {  // the team's merged map over the truth: unknown veiled, frontier lit
+      const small = document.createElement("canvas");
+      small.width = state.knownCols; small.height = state.known.length / state.knownCols;
+      small.getContext("2d").putImageData(state.knownImg, 0, 0);
+      ctx.imageSmoothingEnabled = false;
+      ctx.drawImage(small, px(-0.5), py(-0.5), small.width * s, small.height * s);
+    }
     ctx.lineJoin = "round"; ctx.lineCap = "round";
     ctx.lineWidth = Math.max(1.5, s * 0.08);
     // agents sharing cells would hide each other's paths: shift each by a fraction of a cell
@@ -365,6 +423,14 @@ MONITOR_JS = r""""use strict";
       ctx.stroke();
     });
     const r = Math.max(4, s * 0.32);
+    for (const [id, gx, gy] of state.goals) {  // exploration goals: a cross in the robot's colour
+      const d = Math.max(4, s * 0.6);
+      ctx.strokeStyle = color(id); ctx.lineWidth = Math.max(2, s * 0.15);
+      ctx.beginPath();
+      ctx.moveTo(px(gx) - d, py(gy) - d); ctx.lineTo(px(gx) + d, py(gy) + d);
+      ctx.moveTo(px(gx) - d, py(gy) + d); ctx.lineTo(px(gx) + d, py(gy) - d);
+      ctx.stroke();
+    }
     ctx.font = `${Math.round(r * 1.1)}px system-ui, sans-serif`;
     ctx.textAlign = "center"; ctx.textBaseline = "middle";
     for (const id of state.order) {
@@ -374,6 +440,14 @@ MONITOR_JS = r""""use strict";
       ctx.strokeStyle = "#000";
       ctx.lineWidth = Math.max(1, r * 0.15);
       ctx.beginPath(); ctx.arc(px(a.x), py(a.y), r, 0, 2 * Math.PI); ctx.fill(); ctx.stroke();
+      if (a.informed) {  // foraging: knows where the food is
+        ctx.strokeStyle = "#ffc107"; ctx.lineWidth = Math.max(2, r * 0.3);
+        ctx.beginPath(); ctx.arc(px(a.x), py(a.y), r * 1.45, 0, 2 * Math.PI); ctx.stroke();
+      }
+      if (a.carrying) {  // foraging: carries a unit
+        ctx.fillStyle = "#2e7d32";
+        ctx.fillRect(px(a.x) - r * 0.5, py(a.y) - r * 0.5, r, r);
+      }
       if (r >= 7) { ctx.fillStyle = "#fff"; ctx.fillText(String(id), px(a.x), py(a.y)); }
     }
     draws += 1;
@@ -381,8 +455,22 @@ MONITOR_JS = r""""use strict";
 
   // ------------------------------------------------------------------ panel
   const $ = (id) => document.getElementById(id);
-  const fmt = (v) => typeof v === "number" ? (Number.isInteger(v) ? String(v) : v.toFixed(2))
-                                           : String(v);
+  // numbers with sensible digits; nested totals (per kind, per reason) as "key value" lists;
+  // long per-agent lists shortened: what a person reads, never "[object Object]"
+  function fmt(v) {
+    if (typeof v === "number") return Number.isInteger(v) ? v.toLocaleString("en") : v.toFixed(2);
+    if (v === null || v === undefined) return "–";
+    if (Array.isArray(v)) {
+      const head = v.slice(0, 8).map(fmt).join(", ");
+      return v.length > 8 ? `${head}, … (${v.length})` : head;
+    }
+    if (typeof v === "object") {
+      const parts = Object.entries(v).map(([k, x]) => `${k.replace(/_/g, " ")} ${fmt(x)}`);
+      return parts.length ? parts.join(" · ") : "none";
+    }
+    if (typeof v === "boolean") return v ? "yes" : "no";
+    return String(v);
+  }
 
   function setStatus(s) {
     state.status = s;
@@ -420,6 +508,9 @@ MONITOR_JS = r""""use strict";
         : "the record keeps message totals only, shown at the end";
     }
     $("jobs").textContent = state.jobs;
+    // jobs mean something in traversal and foraging only
+    const m = state.hello && state.hello.mission;
+    document.body.classList.toggle("nojobs", m === "exploration" || m === "roadmap");
     $("events").textContent = state.events;
     const body = document.querySelector("#agents tbody");
     if (body.rows.length !== state.order.length) {
@@ -450,7 +541,7 @@ MONITOR_JS = r""""use strict";
           const row = document.createElement("div");
           row.className = "kv";
           row.innerHTML = `<span></span><b></b>`;
-          row.children[0].textContent = k;
+          row.children[0].textContent = k.replace(/_/g, " ");
           row.children[1].textContent = fmt(v);
           totals.appendChild(row);
         }
@@ -475,6 +566,41 @@ MONITOR_JS = r""""use strict";
     const v = a && a.metrics ? (a.metrics.messages_sent ?? a.metrics.messages) : undefined;
     return typeof v === "number" ? v : "–";
   }
+
+  // ------------------------------------------------------------------ snapshots
+  function pngName() {
+    const m = (state.hello && state.hello.mission) || "mission";
+    return `swarmex-${m}-t${state.t.toFixed(1)}.png`;
+  }
+
+  $("png").addEventListener("click", () => {
+    draw();
+    canvas.toBlob((blob) => {
+      const a = document.createElement("a");
+      a.href = URL.createObjectURL(blob);
+      a.download = pngName();
+      a.click();
+      setTimeout(() => URL.revokeObjectURL(a.href), 1000);
+    }, "image/png");
+  });
+
+  // `swarmex monitor --snapshot-every S DIR`: the server asks the page (GET /config) to send
+  // the view every S wall seconds; it writes each PNG into DIR
+  async function snapshots() {
+    let every = null;
+    try { every = (await (await fetch("/config")).json()).snapshot_every; } catch (e) { return; }
+    if (!(every > 0)) return;
+    let lastEnded = false;
+    setInterval(() => {
+      if (!state.hello || (lastEnded && state.ended)) return;
+      lastEnded = state.ended;
+      draw();
+      canvas.toBlob((blob) => {
+        fetch(`/snapshot?t=${state.t.toFixed(2)}`, { method: "POST", body: blob });
+      }, "image/png");
+    }, every * 1000);
+  }
+  snapshots();
 
   // ------------------------------------------------------------------ wiring
   function connect() {
@@ -524,11 +650,15 @@ MONITOR_JS = r""""use strict";
       yUp: !!state.world.y_up,
     } : null,
     messageMode: messageMode(),
+    known: state.known ? { cols: state.knownCols, ...state.knownCells } : null,
+    goals: state.goals.length,
+    cellPixels: view ? view.scale : null,  // canvas pixels per map unit (a cell on grids)
     messageTotal: state.end && typeof state.end.messages === "number" ? state.end.messages : null,
     agents: state.order.map((id) => {
       const a = state.agents.get(id);
       return { id, x: a.x, y: a.y, moves: a.moves, jobs: a.jobs, sent: a.sent,
-               path: a.path.length, vehicle: a.vehicle };
+               path: a.path.length, vehicle: a.vehicle, carrying: a.carrying,
+               informed: a.informed };
     }),
   });
 })();

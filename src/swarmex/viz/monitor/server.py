@@ -17,6 +17,7 @@ import json
 import math
 import socket
 from collections.abc import Callable, Coroutine
+from pathlib import Path
 from typing import Any
 
 from starlette.applications import Starlette
@@ -50,10 +51,32 @@ def _finite(value: Any) -> Any:
     return value
 
 
-def create_app(hub: EventHub, record: dict | Callable[[], dict | None] | None = None
-               ) -> Starlette:
+class SnapshotDir:
+    """Where ``--snapshot-every S DIR`` puts the page's PNGs: ``snapshot-NNNN-tT.png``, numbered
+    in arrival order (T = the mission time the view showed)."""
+
+    def __init__(self, every: float, folder: Path) -> None:
+        self.every = float(every)
+        self.folder = Path(folder)
+        self.folder.mkdir(parents=True, exist_ok=True)
+        self.count = 0
+
+    def write(self, png: bytes, t: str | None) -> Path:
+        self.count += 1
+        try:
+            stamp = f"-t{float(t):.1f}" if t is not None else ""
+        except ValueError:
+            stamp = ""
+        path = self.folder / f"snapshot-{self.count:04d}{stamp}.png"
+        path.write_bytes(png)
+        return path
+
+
+def create_app(hub: EventHub, record: dict | Callable[[], dict | None] | None = None,
+               snapshots: SnapshotDir | None = None) -> Starlette:
     """The page, its script, the schema, ``/record`` (a record, or a function giving the
-    current one: a live run has its record only once it ends) and the WebSockets."""
+    current one: a live run has its record only once it ends), the WebSockets, and
+    ``/config`` + ``/snapshot`` (the page's PNGs of its view, written into ``snapshots``)."""
     async def index(_request: Any) -> Response:
         return HTMLResponse(INDEX_HTML)
 
@@ -71,6 +94,18 @@ def create_app(hub: EventHub, record: dict | Callable[[], dict | None] | None = 
         if current is None:
             return JSONResponse({"error": "no record: a live mission"}, status_code=404)
         return JSONResponse(current)
+
+    async def config(_request: Any) -> Response:
+        return JSONResponse({"snapshot_every": snapshots.every if snapshots else None})
+
+    async def snapshot(request: Any) -> Response:
+        if snapshots is None:
+            return JSONResponse({"error": "no --snapshot-every"}, status_code=404)
+        body = await request.body()
+        if not body.startswith(b"\x89PNG"):
+            return JSONResponse({"error": "not a PNG"}, status_code=400)
+        path = snapshots.write(body, request.query_params.get("t"))
+        return JSONResponse({"wrote": path.name})
 
     async def viewer(ws: WebSocket) -> None:
         await ws.accept()
@@ -105,6 +140,8 @@ def create_app(hub: EventHub, record: dict | Callable[[], dict | None] | None = 
             Route("/schema", schema_doc),
             Route("/favicon.ico", favicon),
             Route("/record", record_json),
+            Route("/config", config),
+            Route("/snapshot", snapshot, methods=["POST"]),
             WebSocketRoute("/ws", viewer),
             WebSocketRoute("/ingest", ingest),
         ]
@@ -128,10 +165,12 @@ def bind(port: int = 0) -> socket.socket:
 class MonitorServer:
     """One monitor: a hub, its app, a bound socket; :meth:`run` serves until stopped."""
 
-    def __init__(self, port: int = 0, record: dict | None = None) -> None:
+    def __init__(self, port: int = 0, record: dict | None = None,
+                 snapshots: SnapshotDir | None = None) -> None:
         self.sock = bind(port)
         self.port = int(self.sock.getsockname()[1])
         self.record = record
+        self.snapshots = snapshots
         self.hub: EventHub | None = None
         self._server: Any = None
         self._loop: asyncio.AbstractEventLoop | None = None
@@ -155,7 +194,7 @@ class MonitorServer:
         self._loop = asyncio.get_running_loop()
         self.hub = EventHub()
         config = uvicorn.Config(
-            create_app(self.hub, lambda: self.record),
+            create_app(self.hub, lambda: self.record, self.snapshots),
             log_level="warning",
             lifespan="off",
             timeout_graceful_shutdown=2,
