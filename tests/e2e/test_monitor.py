@@ -445,7 +445,6 @@ COLOUR_PIXELS = """([r, g, b]) => {
   return n;
 }"""
 FRONTIER_RGB, UNKNOWN_RGB = [255, 152, 0], [176, 190, 197]
-
 EXPLORATION_SCENARIO = """
 mission = "exploration"
 empty = "3x3"
@@ -494,3 +493,27 @@ def test_browser_draws_the_exploration_map_as_it_grows(tmp_path):
     assert not jobs_shown  # no meaningless jobs column in exploration
     pngs = sorted(shots.glob("snapshot-*.png"))
     assert pngs and all(p.read_bytes()[:4] == b"\x89PNG" for p in pngs)
+
+
+def test_browser_draws_the_roadmap_weights_live(tmp_path):
+    """A live roadmap run: the travelled edges arrive as weights and are drawn in blue."""
+    env = tmp_path / "env.json"
+    env.write_text(json.dumps({"bounds": [0, 0, 200, 150],
+                               "obstacles": [[[40, 30], [100, 30], [100, 90], [40, 90]]]}))
+    scenario = tmp_path / "roadmap.toml"
+    scenario.write_text(f'mission = "roadmap"\nenv = "{env}"\nagents = 2\nnodes = 40\n'
+                        'step = 10\nsensor_range = 20\nseed = 1\n')
+    rec = tmp_path / "rec.json"
+    args = ["--scenario", str(scenario), "--speed", "inf", "--linger", "15", "--json", str(rec)]
+    with monitor_page(args) as (page, errors):
+        page.wait_for_function("monitorSnapshot().ended", timeout=30000)
+        page.wait_for_timeout(300)
+        final = page.evaluate("monitorSnapshot()")
+        weight_px = sum(page.evaluate(COLOUR_PIXELS, rgb)  # the three weight colours, exact
+                        for rgb in ([100, 181, 246], [25, 118, 210], [13, 71, 161]))
+    assert not errors
+    record = read_record(rec)
+    assert final["travelledEdges"] == record["metrics"]["edges_traversed"] > 0
+    # travelled edges are drawn in the weight colours (antialiased lines: their exact colour
+    # shows inside the stroke, beside the agents' thinner paths drawn over them)
+    assert weight_px > 2 * final["travelledEdges"]

@@ -129,3 +129,36 @@ def test_stopping_the_server_stops_the_run():
         if t.name == "swarmex-live-run":
             t.join(timeout=5)
             assert not t.is_alive()
+
+
+def test_live_map_and_weights_rebuild_the_runs_own_state():
+    """The exploration ``known`` deltas rebuild the team's final merged map, frontier
+    included; the roadmap ``weights`` give the edges the run travelled."""
+    import numpy as np
+
+    from swarmex.missions.base import FrameList
+    from swarmex.viz.monitor.live import frontier_of
+
+    events, record = stream("exploration")
+    frames = FrameList()
+    get("exploration").run(get("exploration").params(**CASES["exploration"]), frames)
+    last = frames[-1].known
+    rebuilt = np.zeros(last.size, dtype=np.uint8)
+    front = np.zeros(last.size, dtype=bool)
+    for e in events:
+        if e["type"] == "known":
+            rebuilt[e["free"]] = 1
+            rebuilt[e["occupied"]] = 2
+            front[e["frontier"]] = True
+            front[e["not_frontier"]] = False
+    assert np.array_equal(rebuilt.reshape(last.shape), last)
+    assert np.array_equal(front.reshape(last.shape), frontier_of(last))
+    assert any(e["type"] == "goals" for e in events)
+
+    events, record = stream("roadmap")
+    weights: dict[int, int] = {}
+    for e in events:
+        if e["type"] == "weights":
+            weights.update({i: n for i, n in e["edges"]})
+    travelled = sum(n > 0 for n in weights.values())
+    assert travelled == record["metrics"]["edges_traversed"] > 0

@@ -41,6 +41,8 @@ known      ``t``, ``cols``, ``free``, ``occupied``, ``frontier``, ``not_frontier
            occupied, and that became or stopped being frontier cells (live runs).
 goals      ``t``, ``goals``: per robot ``[id, x, y]`` or null: the exploration robots'
            current goals (live runs).
+weights    ``t``, ``edges``: ``[[i, n], …]``: roadmap edge i (index into the world's ``edges``)
+           has now been traversed n times (live runs).
 clock      ``t``: time passes with nothing else to say (lets the clock tick).
 end        ``t``, ``complete``, ``makespan``, ``time_unit``, ``metrics`` (the record's
            totals), ``agents`` (``[{"id", "metrics"}]``): the mission is over. Optional

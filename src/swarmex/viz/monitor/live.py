@@ -26,7 +26,8 @@ Per mission, what a frame becomes (the frame types are the missions' own):
   informed away from the food, from the lowest-id robot that knew before and stands at
   distance ≤ 1;
 * roadmap (:class:`~swarmex.missions.roadmap.sim.RoadmapFrame`, one per step): a ``move``
-  for every agent that moved in the step (all of them at step 0);
+  for every agent that moved in the step (all of them at step 0), and a ``weights`` event
+  with the edges whose traversal count changed;
 * exploration (:class:`~swarmex.missions.exploration.frames.Snapshot`, one per tick): a
   ``move`` for every robot whose cell changed; a ``known`` event with the cells of the team's
   merged map that became free or occupied and the frontier cells gained and lost (known-free
@@ -208,6 +209,27 @@ class ExplorationEvents(IndexedEvents):
         return out
 
 
+class RoadmapEvents(IndexedEvents):
+    """Moves, plus the roadmap's edge weights as they change: a ``weights`` event with
+    ``[edge, traversals]`` pairs (edge = its index in the world event's ``edges``, whose
+    first entries are the roadmap's edges in order)."""
+
+    def __init__(self, ids: list[Any]) -> None:
+        super().__init__(ids)
+        self.weights: np.ndarray | None = None
+
+    def __call__(self, f: Any) -> list[Event]:
+        out = super().__call__(f)
+        w = np.asarray(f.edge_traversals)
+        before = self.weights if self.weights is not None else np.zeros_like(w)
+        changed = np.flatnonzero(w != before)
+        if changed.size:
+            out.append({"type": "weights", "t": float(f.step),
+                        "edges": [[int(e), int(w[e])] for e in changed]})
+        self.weights = w
+        return out
+
+
 def frame_converter(record: dict) -> Callable[[Any], list[Event]]:
     """The frame → events function of the record's mission."""
     ids = [a["id"] for a in record.get("agents", [])]
@@ -218,6 +240,8 @@ def frame_converter(record: dict) -> Callable[[Any], list[Event]]:
         return ForagingEvents(ids, record)
     if mission == "exploration":
         return ExplorationEvents(ids)
+    if mission == "roadmap":
+        return RoadmapEvents(ids)
     return IndexedEvents(ids)
 
 

@@ -97,8 +97,8 @@ MONITOR_JS = r""""use strict";
     Object.assign(state, {
       hello: null, world: null, agents: new Map(), order: [], t: 0, ended: false,
       end: null, messages: 0, jobs: 0, msgTimes: [], msgHead: 0, jobCells: [], bounds: null,
-      known: null, knownCols: 0, knownImg: null, knownCells: { free: 0, occupied: 0,
-      frontier: 0 }, goals: [],
+      weights: new Map(), known: null, knownCols: 0, knownImg: null,
+      knownCells: { free: 0, occupied: 0, frontier: 0 }, goals: [],
     });
     layersDirty = true;
     pendingJobs = [];
@@ -182,6 +182,9 @@ MONITOR_JS = r""""use strict";
       }
       case "known":
         applyKnown(ev);
+        break;
+      case "weights":
+        for (const [i, n] of ev.edges || []) state.weights.set(i, n);
         break;
       case "goals":
         state.goals = (ev.goals || []).filter((g) => Array.isArray(g));
@@ -398,6 +401,18 @@ MONITOR_JS = r""""use strict";
     ctx.drawImage(background, 0, 0);
     ctx.drawImage(jobLayer, 0, 0);
     const s = view.scale;
+    const edges = state.world && state.world.edges;
+    if (edges && state.weights.size) {  // roadmap weights: travelled edges, by their count
+      const dpr = window.devicePixelRatio || 1;
+      for (const [i, n] of state.weights) {
+        const e = edges[i];
+        if (!e || n <= 0) continue;
+        ctx.strokeStyle = n >= 3 ? "#0d47a1" : n === 2 ? "#1976d2" : "#64b5f6";
+        ctx.lineWidth = dpr * Math.min(1 + n, 5);
+        ctx.beginPath(); ctx.moveTo(px(e[0]), py(e[1])); ctx.lineTo(px(e[2]), py(e[3]));
+        ctx.stroke();
+      }
+    }
     if (state.known) {  // the team's merged map over the truth: unknown veiled, frontier lit
       const small = document.createElement("canvas");
       small.width = state.knownCols; small.height = state.known.length / state.knownCols;
@@ -652,6 +667,7 @@ MONITOR_JS = r""""use strict";
     messageMode: messageMode(),
     known: state.known ? { cols: state.knownCols, ...state.knownCells } : null,
     goals: state.goals.length,
+    travelledEdges: [...state.weights.values()].filter((n) => n > 0).length,
     cellPixels: view ? view.scale : null,  // canvas pixels per map unit (a cell on grids)
     messageTotal: state.end && typeof state.end.messages === "number" ? state.end.messages : null,
     agents: state.order.map((id) => {
