@@ -517,3 +517,32 @@ def test_browser_draws_the_roadmap_weights_live(tmp_path):
     # travelled edges are drawn in the weight colours (antialiased lines: their exact colour
     # shows inside the stroke, beside the agents' thinner paths drawn over them)
     assert weight_px > 2 * final["travelledEdges"]
+
+
+def test_browser_draws_informed_and_carrying_foragers(tmp_path):
+    """Live foraging: robots that know where the food is are ringed in gold and carriers
+    marked in green while they carry; pixel counts follow the streamed state."""
+    scenario = tmp_path / "forage.toml"
+    scenario.write_text('mission = "foraging"\ngrid = 8\nagents = 4\nalgorithm = "spiral"\n'
+                        'food = "1,1"\nfood_units = 6\nseed = 0\n')
+    gold, green = [255, 193, 7], [0, 200, 83]
+    with monitor_page(["--scenario", str(scenario), "--speed", "10", "--linger", "15"]) as (
+        page, errors,
+    ):
+        page.wait_for_function(
+            "() => monitorSnapshot().agents.some(a => a.carrying)", timeout=60000)
+        page.wait_for_timeout(250)
+        mid = page.evaluate("monitorSnapshot()")
+        mid_gold = page.evaluate(COLOUR_PIXELS, gold)
+        mid_green = page.evaluate(COLOUR_PIXELS, green)
+        page.wait_for_function("monitorSnapshot().ended", timeout=60000)
+        page.wait_for_timeout(400)
+        final = page.evaluate("monitorSnapshot()")
+        end_green = page.evaluate(COLOUR_PIXELS, green)
+    assert not errors
+    informed = sum(a["informed"] for a in mid["agents"])
+    carrying = sum(a["carrying"] for a in mid["agents"])
+    assert informed >= 1 and carrying >= 1
+    assert mid_gold > 20 * informed and mid_green > 10 * carrying
+    assert all(a["informed"] for a in final["agents"])
+    assert not any(a["carrying"] for a in final["agents"]) and end_green == 0

@@ -460,7 +460,7 @@ MONITOR_JS = r""""use strict";
         ctx.beginPath(); ctx.arc(px(a.x), py(a.y), r * 1.45, 0, 2 * Math.PI); ctx.stroke();
       }
       if (a.carrying) {  // foraging: carries a unit
-        ctx.fillStyle = "#2e7d32";
+        ctx.fillStyle = "#00c853";
         ctx.fillRect(px(a.x) - r * 0.5, py(a.y) - r * 0.5, r, r);
       }
       if (r >= 7) { ctx.fillStyle = "#fff"; ctx.fillText(String(id), px(a.x), py(a.y)); }
