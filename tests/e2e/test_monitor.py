@@ -339,8 +339,11 @@ def test_browser_shows_agents_moving_and_the_final_state(tmp_path):
         )
         page.wait_for_function("monitorSnapshot().ended", timeout=30000)
         final = page.evaluate("monitorSnapshot()")
+        dark = page.evaluate(COLOUR_PIXELS, [40, 40, 40])
         shot = page.screenshot(path=str(tmp_path / "monitor.png"))
     assert not errors
+    # the 4 obstacle cells are painted (grid lines cross them: a little under 4 full cells)
+    assert 0.6 * 4 * final["cellPixels"] ** 2 < dark <= 4 * final["cellPixels"] ** 2 + 1
     record = read_record(rec_path)
     assert final["status"] == "ended" and final["draws"] > 0
     assert (final["complete"], final["makespan"]) == (record["complete"], record["makespan"])
