@@ -24,6 +24,7 @@ log-log plot into bench/scale.png.
 
     .venv/bin/python bench/bench_scale.py            # the full table
     .venv/bin/python bench/bench_scale.py --quick --missions traversal,roadmap
+    .venv/bin/python bench/bench_scale.py --missions foraging --sizes 256x64,1024x1024
     .venv/bin/python bench/bench_scale.py --write
 """
 
@@ -129,6 +130,23 @@ def run_case(mission: str, size: Any, tmp: Path, timeout: float) -> dict[str, An
     return json.loads(proc.stdout.strip().splitlines()[-1])
 
 
+def parse_sizes(mission: str, text: str) -> list[Any]:
+    """``--sizes`` as the case sizes of ``mission``: integers, or ``GxN`` pairs for foraging
+    (whose size is a grid side and a robot count)."""
+    out: list[Any] = []
+    for part in (p.strip() for p in text.split(",") if p.strip()):
+        if mission == "foraging":
+            g, sep, n = part.partition("x")
+            if not sep:
+                raise ValueError(f"foraging sizes are GRIDxROBOTS, got {part!r}")
+            out.append((int(g), int(n)))
+        else:
+            out.append(int(part))
+    if not out or any(v <= 0 for s in out for v in (s if isinstance(s, tuple) else (s,))):
+        raise ValueError("give positive sizes, e.g. 64,128")
+    return out
+
+
 def exponent(xs: list[float], ys: list[float]) -> float:
     """Slope of log(y) against log(x): the power of the growth."""
     if len(xs) < 2:
@@ -195,17 +213,30 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--missions", default=",".join(MISSIONS))
     ap.add_argument("--timeout", type=float, default=900.0, help="seconds per case")
     ap.add_argument("--write", action="store_true", help="update bench/README.md and scale.png")
+    ap.add_argument("--sizes", help="sizes of the one mission of --missions, e.g. 64,128 "
+                    "(traversal side, robots, nodes) or 256x64,512x256 (foraging grid x robots)")
     ap.add_argument("--child", nargs=3, help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.child:
         child(*args.child)
         return 0
+    missions = args.missions.split(",")
+    if unknown := [m for m in missions if m not in SIZES]:
+        ap.error(f"unknown mission(s) {', '.join(unknown)}; choose from {', '.join(MISSIONS)}")
+    sizes = {m: SIZES[m][: 3 if args.quick else None] for m in missions}
+    if args.sizes:
+        if len(missions) != 1:
+            ap.error("--sizes needs exactly one mission in --missions")
+        try:
+            sizes[missions[0]] = parse_sizes(missions[0], args.sizes)
+        except ValueError as e:
+            ap.error(f"--sizes: {e}")
     import tempfile
 
     rows: list[dict[str, Any]] = []
     with tempfile.TemporaryDirectory() as tmp:
-        for mission in args.missions.split(","):
-            for size in SIZES[mission][: 3 if args.quick else None]:
+        for mission in missions:
+            for size in sizes[mission]:
                 r = run_case(mission, size, Path(tmp), args.timeout)
                 if r is not None:
                     rows.append(r)
