@@ -193,6 +193,7 @@ class ForagingEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray], in
             [np.ones_like(xs, dtype=bool), ys > 0, xs < g - 1, ys < g - 1, xs > 0], axis=2
         ).astype(np.int8)  # (g, g, 5): the action mask of a robot at cell (x, y)
         self._eye = np.eye(n, dtype=bool)
+        self._robots = np.arange(n)
         self._shared_arrays()
         self.agents: list[str] = []
         self._next_seed = p.seed
@@ -337,7 +338,7 @@ class ForagingEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray], in
         raw = [actions[a] for a in self.possible_agents]
         if all(type(v) is int or isinstance(v, np.integer) for v in raw):  # the usual case
             moves = np.array(raw, dtype=np.int64)
-            if moves.min() < 0 or moves.max() >= len(ACTIONS):
+            if min(raw) < 0 or max(raw) >= len(ACTIONS):  # Python's min/max: cheaper for n ints
                 for a, v in zip(self.possible_agents, raw, strict=True):
                     self._as_action(a, v)  # raises for the first one out of the space
         else:
@@ -348,7 +349,7 @@ class ForagingEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray], in
             )
         mask = self._mask
         assert mask is not None
-        ok = mask[np.arange(n), moves].astype(bool)
+        ok = mask[self._robots, moves].astype(bool)
         if not ok.all():
             if self.invalid_action == "project":
                 moves[~ok] = STAY
