@@ -157,13 +157,11 @@ def test_baseline_through_the_aec_form():
 def test_the_hook_answering_the_seed_plays_the_same_run(algorithm, transport):
     """The decision hook (run_forage(decide=)) with the seed's answers is the run without it
     (the Python loop from round 0 == the timetable, this loop and the compiled tail)."""
-    from swarmex.envs.foraging_v0 import _Decide, _Live
-
     n = 8 if algorithm == "modified-zigzag" else 4
     for food in [(12, 3), (1, 14), (9, 8)]:
         args = (algorithm, 16, n, food, 5, transport)
         plain = to_record(run_forage(*args), 0, {}).to_dict()
-        hooked = run_forage(*args, decide=_Decide(lambda q: q.builtin, _Live()))
+        hooked = run_forage(*args, decide=lambda compute: compute.builtin)
         decided = to_record(hooked, 0, {}).to_dict()
         plain.pop("wall_seconds")
         decided.pop("wall_seconds")
@@ -384,7 +382,7 @@ def test_a_robot_pulled_off_its_route_or_the_relay_path_is_handled_by_the_seed_r
     assert rec.complete and replay(rec.to_dict()) == []
 
 
-# ---------------------------------------------------------------- episodes and threads
+# ---------------------------------------------------------------- episodes
 
 
 def test_record_before_the_end_and_closing_midway():
@@ -393,22 +391,24 @@ def test_record_before_the_end_and_closing_midway():
         env.record()
     with pytest.raises(RuntimeError, match="no round is pending"):
         env.unwrapped.baseline_actions()
+    threads = threading.active_count()
     env.reset(seed=1)
-    worker = env.unwrapped._broker._thread
-    assert worker.is_alive()
+    assert threading.active_count() == threads  # the run is stepped in the caller's thread
+    rounds = env.unwrapped._rounds
+    assert rounds.gi_frame is not None  # suspended at round 0's Compute
     env.close()
-    assert not worker.is_alive()
-    assert all(t is not worker for t in threading.enumerate())
+    assert rounds.gi_frame is None  # closed: the run is abandoned
+    with pytest.raises(RuntimeError, match="ended"):
+        env.step({a: 0 for a in env.possible_agents})
 
 
-def test_a_dropped_env_closes_its_worker():
+def test_a_dropped_env_closes_its_run():
     env = foraging_v0.parallel_env(**TINY)
     env.reset(seed=1)
-    worker = env._broker._thread
+    rounds = env._rounds
     del env
     gc.collect()
-    worker.join(10)
-    assert not worker.is_alive()
+    assert rounds.gi_frame is None
 
 
 def test_reset_without_a_seed_moves_to_the_next_one():

@@ -3,12 +3,12 @@
 The environment drives the foraging run of ``swarmex.run("foraging", ...)`` — the pattern's
 timetable, the Look phase (sensing the food, telling robots at distance ≤ 1, pick-up, drop,
 relay hand-over), the communication and transport rules and the collision resolution of
-:mod:`swarmex.missions.foraging.resolve` — in a worker thread
-(:class:`~swarmex.envs.broker.DecisionBroker`). The one thing handed to the caller is the
-Compute of each synchronous Look-Compute-Move round: **which move each robot makes**. The
-simulator's Compute hook (``decide`` in :mod:`swarmex.missions.foraging.sim`) asks once per
-round for every robot's move; the moves are then made collision-free together, by the
-mission's own resolution, and applied.
+:mod:`swarmex.missions.foraging.resolve`. The one thing handed to the caller is the Compute of
+each synchronous Look-Compute-Move round: **which move each robot makes**. The run is the
+mission's *hooked* run (:mod:`swarmex.missions.foraging.hook`), a generator that stops at every
+round's Compute with every robot's seed move and resumes with the moves the caller chose; the
+moves are then made collision-free together, by the mission's own resolution, and applied.
+``step`` resumes it for one round in the caller's own thread (no worker thread).
 
 Native form: **Parallel** (synchronous rounds: every robot acts every round; one ``step`` is
 one round). :func:`env` gives the AEC form through PettingZoo's ``parallel_to_aec``.
@@ -24,7 +24,8 @@ Observation            ``Dict`` of what the robot knows: ``position`` (x, y); ``
                        (n,) 0/1, the pattern neighbours it still has to tell;
                        ``team_positions`` (n, 2), the cells of the robots within its sensing
                        distance (:data:`SENSING`, Manhattan), (−1, −1) for the others and its
-                       own row; ``action_mask`` (5,) int8
+                       own row; ``action_mask`` (5,) int8. The arrays are read-only
+                       (several are shared between robots and rounds): copy one to change it
 Reward                 shared by the team: ``delivery_reward`` (1) per unit that reaches the
                        nest in the round, − ``time_cost`` (0.01) per round, + ``completion_bonus``
                        (10) at the round the k-th unit is home
@@ -49,11 +50,12 @@ cell), and the env offers the first one's direction as that robot's *built-in* a
 (:meth:`ForagingEnv.baseline_actions`); :func:`baseline_policy` returns them. A robot whose
 action equals its built-in one keeps the seed's whole decision (its fallbacks and its rank as
 a route follower in the resolution); any other action becomes the wish "that cell, else stay"
-with no route-follower rank. The mission draws no random numbers after placing the food (in
-``prepare``, before round 0), so no generator snapshot is needed: a baseline-driven episode
+with no route-follower rank (:mod:`swarmex.missions.foraging.hook`). The mission draws no
+random numbers after placing the food (in ``prepare``, before round 0), so no generator
+snapshot is needed: a baseline-driven episode
 plays exactly the rounds of ``swarmex.run``, and :meth:`ForagingEnv.record` equals its record
 (``wall_seconds`` aside). With a decision hook the run is played by the mission's Python round
-loop from round 0 (the timetable's rounds and the transport tail included, which
+loop from round 0 to the end (the timetable's rounds and the transport tail included, which
 ``swarmex.run`` plays from a table and in compiled code; the module docstring of
 :mod:`swarmex.missions.foraging.sim` says why the rounds are the same).
 
@@ -65,8 +67,8 @@ next integers (one new episode per reset).
 from __future__ import annotations
 
 import weakref
-from collections.abc import Callable, Mapping
-from dataclasses import dataclass, replace
+from collections.abc import Callable, Generator, Mapping
+from dataclasses import replace
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -74,10 +76,10 @@ from gymnasium import spaces
 from pettingzoo import AECEnv, ParallelEnv
 from pettingzoo.utils.conversions import parallel_to_aec
 
-from swarmex.envs.broker import Ask, DecisionBroker
 from swarmex.envs.common import BrokerEpisodeMixin, check_finite, check_modes, plain_int
 from swarmex.errors import InputError
-from swarmex.missions.foraging.sim import COMM, FOLLOW, TRANSPORT
+from swarmex.missions.foraging.hook import STAY, STEPS
+from swarmex.missions.foraging.sim import COMM, FOLLOW, TRANSPORT, Compute
 from swarmex.missions.registry import get as get_mission
 
 if TYPE_CHECKING:
@@ -86,6 +88,8 @@ if TYPE_CHECKING:
     from swarmex.missions.foraging.params import ForagingParams
     from swarmex.missions.foraging.run import ForageRun
     from swarmex.missions.foraging.sim import Frame, Mission
+
+    Rounds = Generator[Compute, np.ndarray, ForageRun]
 
 __all__ = [
     "ACTIONS",
@@ -101,71 +105,13 @@ __all__ = [
 
 NAME = "foraging_v0"
 ACTIONS = ("stay", "north", "east", "south", "west")
-STAY = 0
-_STEPS = ((0, 0), (0, -1), (1, 0), (0, 1), (-1, 0))  # (dx, dy) of each action
-MOVES = np.array(_STEPS, dtype=np.int64)
-# direction code of a step (dx, dy), indexed by (dx + 1) + 3 (dy + 1); -1: not a step
-_CODE = np.full(9, -1, dtype=np.int64)
-for _k, (_dx, _dy) in enumerate(MOVES.tolist()):
-    _CODE[(_dx + 1) + 3 * (_dy + 1)] = _k
+MOVES = np.array(STEPS, dtype=np.int64)  # (dx, dy) of each action (the mission's move codes)
 # a robot's phase: the mission's modes, the transport ones split by how it transports
 MODES = ("explore", "follow", "communicate", "join", "relay", "end-to-end", "idle")
 SENSING = 2  # robots seen within this Manhattan distance (what collision avoidance looks at)
-OBS_KEYS = ("position", "carrying", "informed", "food", "nest", "round", "mode", "to_tell",
-            "team_positions", "action_mask")  # fmt: skip
 INVALID_ACTION_MODES = ("raise", "project")
 RENDER_MODES = ("rgb_array",)
 Cell = tuple[int, int]
-
-
-@dataclass
-class Round:
-    """The pending Compute: round ``t`` (the state after its Look), every robot's cell and the
-    seed's move for it (an action)."""
-
-    t: int
-    pos: np.ndarray  # (n, 2) int64
-    builtin: np.ndarray  # (n,) int64
-
-
-class _Live:
-    """What the simulator's worker shares with the environment (not the env itself, so an
-    abandoned environment can be collected and its worker closed)."""
-
-    mission: Mission | None = None
-
-
-class _Decide:
-    """The mission's Compute hook: asks the caller for every robot's move, once per round."""
-
-    def __init__(self, ask: Ask, live: _Live) -> None:
-        self.ask = ask
-        self.live = live
-
-    def __call__(
-        self, m: Mission, opts: list[list[Cell]], following: list[bool]
-    ) -> tuple[list[list[Cell]], list[bool]]:
-        self.live.mission = m
-        pos = np.asarray(m.pos, dtype=np.int64).reshape(m.n, 2)
-        first = np.asarray([o[0] for o in opts], dtype=np.int64).reshape(m.n, 2)
-        d = first - pos
-        builtin = _CODE[(d[:, 0] + 1) + 3 * (d[:, 1] + 1)]
-        actions: np.ndarray = self.ask(Round(m.t, pos, builtin))
-        differ = np.flatnonzero(actions != builtin).tolist()
-        # the seed's decisions, fallbacks and ranks; a robot that yields its cell (an idle
-        # one: stay, else a side cell) keeps its own cell as the last resort: the resolution
-        # reaches it only where, without it, it would run out of options and fail
-        opts = [o if o[-1] == p else [*o, p] for o, p in zip(opts, m.pos, strict=True)]
-        if not differ:
-            return opts, following
-        following = list(following)
-        acts = actions.tolist()
-        for a in differ:  # "that cell, else stay", without a route follower's rank
-            x, y = p = m.pos[a]
-            dx, dy = _STEPS[acts[a]]
-            opts[a] = [p] if acts[a] == STAY else [(x + dx, y + dy), p]
-            following[a] = False
-        return opts, following
 
 
 def _cap(frame: Frame, limit: int) -> None:
@@ -193,8 +139,8 @@ class ForagingEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray], in
     }
 
     _TRANSIENT = (
-        "_broker", "_live", "_pending", "_mask", "_finalizer", "_result", "_record",
-        "_run_params", "_world",
+        "_rounds", "_mission", "_pending", "_pos", "_cells", "_mask", "_finalizer", "_result",
+        "_record", "_run_params", "_world",
     )  # fmt: skip
 
     def __init__(
@@ -242,20 +188,23 @@ class ForagingEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray], in
         space = self._observation_space()
         self._obs_spaces = dict.fromkeys(self.possible_agents, space)
         self._act_spaces = {a: spaces.Discrete(len(ACTIONS)) for a in self.possible_agents}
-        self._nest = np.asarray(self.nest, dtype=np.int64)
         xs, ys = np.meshgrid(np.arange(g), np.arange(g), indexing="ij")  # [x, y]
         self._cell_masks = np.stack(
             [np.ones_like(xs, dtype=bool), ys > 0, xs < g - 1, ys < g - 1, xs > 0], axis=2
         ).astype(np.int8)  # (g, g, 5): the action mask of a robot at cell (x, y)
         self._eye = np.eye(n, dtype=bool)
+        self._robots = np.arange(n)
+        self._shared_arrays()
         self.agents: list[str] = []
         self._next_seed = p.seed
         self._clear()
 
     def _clear(self) -> None:
-        self._broker: DecisionBroker | None = None
-        self._live = _Live()
-        self._pending: Round | None = None
+        self._rounds: Rounds | None = None
+        self._mission: Mission | None = None
+        self._pending: Compute | None = None
+        self._pos: np.ndarray | None = None  # (n, 2) int64: the cells, after the last Look
+        self._cells: list[int] = []  # the same cells as x·g + y
         self._mask: np.ndarray | None = None
         self._finalizer: weakref.finalize[Any, Any] | None = None
         self._seed = self._next_seed
@@ -298,22 +247,18 @@ class ForagingEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray], in
         params: ForagingParams = replace(self.params, seed=self._seed)
         world: ForagingWorld = mission.prepare(params)  # draws the food from the seed
         self._run_params, self._world = params, world
-        live = self._live
         limit = self.max_rounds
+        from swarmex.missions.foraging.run import forage_rounds
 
-        def run(ask: Ask) -> ForageRun:
-            from swarmex.missions.foraging.run import run_forage
-
-            p = params
-            return run_forage(
-                p.algorithm, p.grid, p.agents, world.food, p.food_units, p.transport,
-                on_frame=lambda frame: _cap(frame, limit), decide=_Decide(ask, live),
-            )  # fmt: skip
-
-        self._broker = DecisionBroker(run, name=f"swarmex-{NAME}")
-        self._finalizer = weakref.finalize(self, self._broker.close)
+        p = params
+        rounds = forage_rounds(
+            p.algorithm, p.grid, p.agents, world.food, p.food_units, p.transport,
+            on_frame=lambda frame: _cap(frame, limit),
+        )  # fmt: skip
+        self._rounds = rounds
+        self._finalizer = weakref.finalize(self, rounds.close)
         self.agents = self.possible_agents[:]
-        self._arrive(self._broker.start())
+        self._advance(None)
         obs, infos = self._observations(), self._infos()
         if self._pending is None:  # ended before any Compute (cannot happen: kept for safety)
             self.agents = []
@@ -328,13 +273,13 @@ class ForagingEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray], in
         dict[str, bool],
         dict[str, dict[str, Any]],
     ]:
-        if self._pending is None or self._broker is None:
+        if self._pending is None or self._rounds is None:
             if not actions:
                 return {}, {}, {}, {}, {}
             raise RuntimeError(f"{NAME}: the episode has ended; call reset()")
         moves = self._moves_from(actions)
         before = self._delivered
-        self._arrive(self._broker.answer(moves))
+        self._advance(moves)
         reward = self.delivery_reward * (self._delivered - before) - self.time_cost
         obs, infos = self._observations(), self._infos()
         agents = self.agents
@@ -350,22 +295,33 @@ class ForagingEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray], in
             truncs = dict.fromkeys(agents, False)
         return obs, dict.fromkeys(agents, reward), terms, truncs, infos
 
-    def _arrive(self, request: Round | None) -> None:
-        """Take the simulator's next request (None: the run has ended)."""
-        m = self._live.mission
-        if m is not None:
-            self._delivered = m.delivered
-        if request is None:
-            assert self._broker is not None
-            self._result = self._broker.result
+    def _advance(self, moves: np.ndarray | None) -> None:
+        """Resume the run with ``moves`` (None: start it) up to its next Compute or its end."""
+        assert self._rounds is not None
+        try:
+            request = self._rounds.send(moves)  # type: ignore[arg-type]
+        except StopIteration as stop:
+            self._result = stop.value
             self._pending = None
+            if self._finalizer is not None:
+                self._finalizer.detach()
+                self._finalizer = None
+            m = self._mission
+            if m is not None:
+                self._delivered = m.delivered
+                self._locate(m.pos)
             return
+        m = self._mission = request.mission
+        self._delivered = m.delivered
         self._pending = request
-        self._mask = self._masks(request.pos)
+        self._locate(m.pos)
 
-    def _masks(self, pos: np.ndarray) -> np.ndarray:
-        """(n, 5) int8: stay, and the moves that stay on the grid (a fresh array)."""
-        return self._cell_masks[pos[:, 0], pos[:, 1]]
+    def _locate(self, cells: list[Cell]) -> None:
+        """Take the robots' cells (the state after the last Look)."""
+        g = self.g
+        self._cells = [x * g + y for x, y in cells]
+        pos = self._pos = np.array(cells, dtype=np.int64)
+        self._mask = self._cell_masks[pos[:, 0], pos[:, 1]]
 
     def _moves_from(self, actions: Mapping[str, Any]) -> np.ndarray:
         """Every robot's move as an (n,) array, after checking every action."""
@@ -382,7 +338,7 @@ class ForagingEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray], in
         raw = [actions[a] for a in self.possible_agents]
         if all(type(v) is int or isinstance(v, np.integer) for v in raw):  # the usual case
             moves = np.array(raw, dtype=np.int64)
-            if moves.min() < 0 or moves.max() >= len(ACTIONS):
+            if min(raw) < 0 or max(raw) >= len(ACTIONS):  # Python's min/max: cheaper for n ints
                 for a, v in zip(self.possible_agents, raw, strict=True):
                     self._as_action(a, v)  # raises for the first one out of the space
         else:
@@ -393,7 +349,7 @@ class ForagingEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray], in
             )
         mask = self._mask
         assert mask is not None
-        ok = mask[np.arange(n), moves].astype(bool)
+        ok = mask[self._robots, moves].astype(bool)
         if not ok.all():
             if self.invalid_action == "project":
                 moves[~ok] = STAY
@@ -412,9 +368,9 @@ class ForagingEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray], in
         return value
 
     def _why(self, i: int, a: int) -> str:
-        d = self._pending
-        assert d is not None
-        x, y = (int(v) for v in d.pos[i])
+        d, pos = self._pending, self._pos
+        assert d is not None and pos is not None
+        x, y = (int(v) for v in pos[i])
         dx, dy = (int(v) for v in MOVES[a])
         return (
             f"chose action {a} ({ACTIONS[a]}) at cell ({x}, {y}) in round {d.t}: cell "
@@ -422,42 +378,70 @@ class ForagingEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray], in
         )
 
     # ------------------------------------------------------------------ observations
+    def _shared_arrays(self) -> None:
+        """The observation arrays that take few values, made once, read-only and shared by
+        every robot and round that shows that value (a step then allocates only the team's
+        positions, the round and the lists of robots still to tell)."""
+        g, n = self.g, self.params.agents
+
+        def frozen(values: Any, dtype: Any) -> np.ndarray:
+            a = np.array(values, dtype=dtype)
+            a.flags.writeable = False
+            return a
+
+        self._cell_pos = [frozen((x, y), np.int64) for x in range(g) for y in range(g)]
+        self._cell_mask = [frozen(self._cell_masks[x, y], np.int8)
+                           for x in range(g) for y in range(g)]  # fmt: skip
+        self._flag = (frozen((0,), np.int8), frozen((1,), np.int8))
+        self._phase = [frozen((k,), np.int8) for k in range(len(MODES))]
+        self._nest_obs = frozen(self.nest, np.int64)
+        self._unknown_food = frozen((-1, -1), np.int64)
+        self._nobody = frozen(np.zeros(n), np.int8)
+
     def _observations(self) -> dict[str, dict[str, np.ndarray]]:
-        m = self._live.mission
-        if m is None or not self.agents:
+        m = self._mission
+        pos = self._pos
+        if m is None or pos is None or not self.agents:
             return {}
-        n = m.n
-        pending = self._pending
-        if pending is not None:
-            pos, mask = pending.pos, self._mask
-        else:
-            pos = np.asarray(m.pos, dtype=np.int64).reshape(n, 2)
-            mask = self._masks(pos)
-        assert mask is not None
-        # (4, n, 1): informed, carrying, mode, transport mode; one array for the four
-        own = np.array((m.informed, m.carrying, m.mode, m.tmode), dtype=np.int8)[:, :, None]
-        informed, carrying, mode, tmode = own
-        phase = np.where(mode == TRANSPORT, 3 + tmode, mode)
-        food = np.full((n, 2), -1, dtype=np.int64)
-        food[informed[:, 0] == 1] = m.food
-        t = np.full((n, 1), m.t, dtype=np.int64)
-        to_tell = np.zeros((n, n), dtype=np.int8)
-        for a in np.flatnonzero((mode[:, 0] == COMM) | (mode[:, 0] == FOLLOW)).tolist():
-            to_tell[a, m.targets[a]] = 1
+        # the team's positions as each robot sees them: one (n, n, 2) array, a row per robot
         x, y = pos[:, 0], pos[:, 1]
         near = np.abs(x[:, None] - x[None, :]) + np.abs(y[:, None] - y[None, :]) <= SENSING
         near[self._eye] = False
         team = np.where(near[:, :, None], pos[None, :, :], -1)
-        # one array per key for the whole team; each robot's entry is a row of it
-        rows = zip(
-            tuple(pos), tuple(carrying), tuple(informed), tuple(food), (self._nest,) * n,
-            tuple(t), tuple(phase), tuple(to_tell), tuple(team), tuple(mask), strict=True,
-        )  # fmt: skip
-        return {agent: dict(zip(OBS_KEYS, row, strict=True))
-                for agent, row in zip(self.possible_agents, rows, strict=True)}  # fmt: skip
+        team.flags.writeable = False
+        t = np.array((m.t,), dtype=np.int64)
+        t.flags.writeable = False
+        food = np.array(m.food, dtype=np.int64)
+        food.flags.writeable = False
+        cell_pos, cell_mask, flag, phase = self._cell_pos, self._cell_mask, self._flag, self._phase
+        nest, unknown, nobody = self._nest_obs, self._unknown_food, self._nobody
+        out: dict[str, dict[str, np.ndarray]] = {}
+        for i, (agent, c, row, informed, carrying, mode, tmode) in enumerate(zip(
+            self.possible_agents, self._cells, team, m.informed, m.carrying, m.mode, m.tmode,
+            strict=True,
+        )):  # fmt: skip
+            if mode in (COMM, FOLLOW):
+                to_tell = np.zeros(len(self._cells), dtype=np.int8)
+                to_tell[m.targets[i]] = 1
+                to_tell.flags.writeable = False
+            else:
+                to_tell = nobody
+            out[agent] = {
+                "position": cell_pos[c],
+                "carrying": flag[carrying],
+                "informed": flag[informed],
+                "food": food if informed else unknown,
+                "nest": nest,
+                "round": t,
+                "mode": phase[3 + tmode if mode == TRANSPORT else mode],
+                "to_tell": to_tell,
+                "team_positions": row,
+                "action_mask": cell_mask[c],
+            }
+        return out
 
     def _infos(self) -> dict[str, dict[str, Any]]:
-        m = self._live.mission
+        m = self._mission
         t = m.t if m is not None else 0
         return {a: {"round": t} for a in self.agents}
 
@@ -477,7 +461,7 @@ class ForagingEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray], in
     @property
     def mission(self) -> Mission | None:
         """The simulator's state (for renderers and tests; policies must not read it)."""
-        return self._live.mission
+        return self._mission
 
     def record(self) -> ResultRecord:
         """The run's ResultRecord (== ``swarmex.run``'s for baseline-driven episodes,
@@ -494,13 +478,19 @@ class ForagingEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray], in
         return self._record
 
     # ------------------------------------------------------------------ render, close
+    def close(self) -> None:
+        """Abandon a run in progress (its generator is closed; the episode has ended)."""
+        super().close()
+        self._pending = None
+        self.agents = []
+
     def render(self) -> np.ndarray | None:
         if self.render_mode is None:
             import gymnasium
 
             gymnasium.logger.warn(f"{NAME}: render() without a render_mode")
             return None
-        m = self._live.mission
+        m = self._mission
         world = self._world
         if m is None or world is None:
             raise RuntimeError(f"{NAME}: call reset() before render()")

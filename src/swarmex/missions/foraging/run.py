@@ -18,6 +18,7 @@ some exploring robot had already visited (deployment walks excluded).
 from __future__ import annotations
 
 import time
+from collections.abc import Generator
 from dataclasses import dataclass, replace
 from typing import Any
 
@@ -25,8 +26,16 @@ import numpy as np
 
 from swarmex.engine.record import AgentRecord, ResultRecord
 from swarmex.missions.foraging.grid import Cell
+from swarmex.missions.foraging.hook import drive
 from swarmex.missions.foraging.params import ForagingParams
-from swarmex.missions.foraging.sim import Decide, FrameSink, Outcome, run_mission
+from swarmex.missions.foraging.sim import (
+    Compute,
+    Decide,
+    FrameSink,
+    Outcome,
+    decided_rounds,
+    run_mission,
+)
 from swarmex.missions.foraging.timed import Timed, timed_plan
 
 
@@ -113,16 +122,53 @@ def run_forage(
     decide: Decide | None = None,
 ) -> ForageRun:
     """Play one run (inputs checked first); ``on_frame`` gets every round's
-    :class:`~.sim.Frame` and may end the run early by raising StopRun; ``decide`` is the
-    Compute's decision hook of :mod:`.sim` (the PettingZoo environment's)."""
+    :class:`~.sim.Frame` and may end the run early by raising StopRun; ``decide`` answers
+    every Compute of a hooked run (:func:`forage_rounds`)."""
+    if decide is not None:
+        rounds = forage_rounds(algorithm, g, n, food, units, transport, record, on_frame)
+        return drive(rounds, decide)
     check_inputs(algorithm, g, n, units, transport)
     t0 = time.perf_counter()
     timed = timed_plan(algorithm, g, n)
-    outcome = run_mission(
-        timed, food, units, transport, record=record, on_frame=on_frame, decide=decide
-    )
+    outcome = run_mission(timed, food, units, transport, record=record, on_frame=on_frame)
+    return _finish(algorithm, g, n, food, units, transport, timed, outcome, t0, False)
+
+
+def forage_rounds(
+    algorithm: str,
+    g: int,
+    n: int,
+    food: Cell,
+    units: int = 100,
+    transport: str = "relay-food",
+    record: bool = True,
+    on_frame: FrameSink | None = None,
+) -> Generator[Compute, np.ndarray, ForageRun]:
+    """:func:`run_forage` as a hooked run that the caller steps (the PettingZoo
+    environment): yields each round's :class:`~.sim.Compute`, takes every robot's move
+    (``send``) and returns the ForageRun (:mod:`.hook`)."""
+    check_inputs(algorithm, g, n, units, transport)
+    t0 = time.perf_counter()
+    timed = timed_plan(algorithm, g, n)
+    outcome = yield from decided_rounds(timed, food, units, transport, record, on_frame)
+    return _finish(algorithm, g, n, food, units, transport, timed, outcome, t0, True)
+
+
+def _finish(
+    algorithm: str,
+    g: int,
+    n: int,
+    food: Cell,
+    units: int,
+    transport: str,
+    timed: Timed,
+    outcome: Outcome,
+    t0: float,
+    hooked: bool,
+) -> ForageRun:
+    """The ForageRun of a played run (metrics; ``t0`` its start on the perf clock)."""
     walked = timed
-    if decide is not None and len(outcome.positions):
+    if hooked and len(outcome.positions):
         # robots a hook moved may leave the timetable: count revisits on the cells they walked
         # (the same rows as the timetable's while every robot follows it)
         walked = replace(timed, pos=outcome.positions, t_end=len(outcome.positions) - 1)

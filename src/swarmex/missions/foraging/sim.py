@@ -21,14 +21,14 @@ round on, this loop takes over. Robots still exploring keep following the timeta
 the rounds they were made to wait), informed robots communicate (:mod:`.comm`) and then
 transport (:mod:`.transport`).
 
-Decision hook (for :mod:`swarmex.envs.foraging_v0`): given ``decide``, :func:`run_mission`
-plays every round in this loop from round 0 (the timetable's rounds too: robots on their routes
-make the timetable's moves, which resolve without conflict, so the rounds are the same) and
-never hands the tail to the compiled loop. In each round's Compute ``decide(mission, opts,
-following)`` sees every robot's options (its ordered wishes, the seed's rules) and returns the
-option lists and route-follower flags that the collision resolution uses; the seed's own lists
-give the seed's run. A robot on its route that stays when its route moves it waits, as a
-blocked robot does (its timetable shifts by a round). Three rules only a hook can reach (the
+Decision hook (for :mod:`swarmex.envs.foraging_v0`): a *hooked* run (:func:`decided_rounds`,
+or :func:`run_mission` given ``decide``) plays every round in this loop from round 0 (the
+timetable's rounds too: robots on their routes make the timetable's moves, which resolve
+without conflict, so the rounds are the same) and never hands the tail to the compiled loop.
+Each round's Compute is handed out (:mod:`.hook`): the run yields a :class:`Compute` with every
+robot's seed move and takes every robot's move back; the seed's moves give the seed's run. A
+robot on its route that stays when its route moves it waits, as a blocked robot does (its
+timetable shifts by a round). Three rules only a hook can reach (the
 seed's robots never do these): a robot on its route that moves anywhere but where its route
 goes has left its pattern (it is *displaced*, as a robot pushed off a finished route is); a
 displaced robot that was telling its neighbours along its route walks to them instead; a relay
@@ -38,7 +38,7 @@ robot that steps off the relay path walks back to its nearest path cell and re-j
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Generator
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -46,6 +46,7 @@ import numpy as np
 from swarmex.missions.base import StopRun
 from swarmex.missions.foraging.comm import best_order, meet
 from swarmex.missions.foraging.grid import Cell, manhattan
+from swarmex.missions.foraging.hook import drive, hooked_options, seed_moves
 from swarmex.missions.foraging.resolve import priority, resolve, sidesteps, toward
 from swarmex.missions.foraging.timed import Timed
 from swarmex.missions.foraging.transport import (
@@ -84,8 +85,21 @@ class Frame:
 
 
 FrameSink = Callable[[Frame], object]
-# decide(mission, options, following) -> (options, following): see the module docstring
-Decide = Callable[["Mission", list[list[Cell]], list[bool]], tuple[list[list[Cell]], list[bool]]]
+
+
+@dataclass(frozen=True)
+class Compute:
+    """A hooked run's request, at the Compute of round ``t`` (the state after its Look):
+    ``builtin[a]`` is robot ``a``'s seed move (a :mod:`.hook` move code); the answer is an
+    (n,) array of every robot's move. ``mission`` is the run's state (read-only)."""
+
+    mission: Mission
+    t: int
+    builtin: np.ndarray  # (n,) int64
+
+
+Decide = Callable[[Compute], np.ndarray]  # decide(request) -> every robot's move
+Rounds = Generator[Compute, np.ndarray, None]  # a hooked run's rounds (module docstring)
 
 
 @dataclass
@@ -116,7 +130,7 @@ class Mission:
         start: list[Cell],
         t: int = 0,
         timed: Timed | None = None,
-        decide: Decide | None = None,
+        hooked: bool = False,
     ) -> None:
         self.g, self.nest, self.food = g, nest, food
         self.units = units
@@ -151,7 +165,7 @@ class Mission:
         self._last_key: tuple | None = None
         self._frozen = False
         self.stopped = False  # on_frame raised StopRun
-        self.decide = decide  # the Compute's decision hook (module docstring)
+        self.hooked = hooked  # every Compute is handed out (module docstring)
 
     # ------------------------------------------------------------------ prediction
     def on_route(self, a: int) -> bool:
@@ -342,7 +356,8 @@ class Mission:
         )
 
     def step(self) -> None:
-        """One round's Compute and Move (after ``look``).
+        """One round's Compute and Move (after ``look``), the seed's decisions (a hooked
+        run's rounds go through :meth:`hooked_step` instead).
 
         A crowd can freeze: End-to-End robots near the food that each want the next one's
         cell while a fourth takes one of those cells first all wait, and since a transport
@@ -351,6 +366,20 @@ class Mission:
         step to a free side cell for this round. Runs that never freeze (every run that
         completes without this rule) are unchanged.
         """
+        opts, following = self._compute()
+        self._move(opts, following, opts, following)
+
+    def hooked_step(self) -> Rounds:
+        """:meth:`step` with the Compute handed out: yields a :class:`Compute` and takes every
+        robot's move back (:mod:`.hook`)."""
+        opts, following = self._compute()
+        builtin = seed_moves(self.pos, opts)
+        moves = yield Compute(self, self.t, builtin)
+        chosen, ranked = hooked_options(self.pos, opts, following, builtin, moves, self.g)
+        self._move(opts, following, chosen, ranked)
+
+    def _compute(self) -> tuple[list[list[Cell]], list[bool]]:
+        """Every robot's ordered wishes and route-follower flag (the seed's Compute)."""
         key = self.transport_key()
         self._frozen = key is not None and key == self._last_key
         self._last_key = key
@@ -360,9 +389,18 @@ class Mission:
             o, f = self.options(a)
             opts.append(o)
             following.append(f)
-        chosen, ranked = opts, following
-        if self.decide is not None:
-            chosen, ranked = self.decide(self, opts, following)
+        return opts, following
+
+    def _move(
+        self,
+        opts: list[list[Cell]],
+        following: list[bool],
+        chosen: list[list[Cell]],
+        ranked: list[bool],
+    ) -> None:
+        """Resolve the ``chosen`` wishes (``ranked``: route-follower ranks) collision-free and
+        move; ``opts``/``following`` are the seed's, to tell waiting from leaving a route."""
+        n = self.n
         new = resolve(self.pos, chosen, priority(self.pos, ranked, chosen), self.nest)
         for a in range(n):
             if self.on_route(a):
@@ -377,7 +415,7 @@ class Mission:
                     j = self.path_index.get(new[a])
                     if j is not None and abs(j - i) == 1:
                         self.pidx[a] = j
-                    elif self.decide is not None:  # a hook's move off the path: re-join it
+                    elif self.hooked:  # a hook's move off the path: re-join it
                         self.tmode[a] = JOIN
                         self.join_at[a] = entry_cell(self.path, new[a])
                     else:
@@ -402,11 +440,24 @@ class Mission:
         limit: int | None = None,
         fast: bool = True,
         on_frame: FrameSink | None = None,
+        decide: Decide | None = None,
     ) -> None:
+        """Play rounds until all k units are home (:meth:`rounds`), answering a hooked run's
+        Computes with ``decide``."""
+        drive(self.rounds(record, limit, fast, on_frame), decide)
+
+    def rounds(
+        self,
+        record: bool = True,
+        limit: int | None = None,
+        fast: bool = True,
+        on_frame: FrameSink | None = None,
+    ) -> Rounds:
         """Play rounds until all k units are home; ``fast`` hands the pure-transport tail to
         the compiled loop of :mod:`.fastloop` (same rules, same result). ``on_frame`` gets
         each round's :class:`Frame`; if it raises StopRun the run stops there
-        (``self.stopped``)."""
+        (``self.stopped``). A generator: a hooked run yields each Compute (module
+        docstring); any other never yields."""
         limit = limit or self.t + 200 * self.g * (self.k + self.g) + 10_000
         while True:
             if fast and all(m == TRANSPORT for m in self.mode):
@@ -425,7 +476,10 @@ class Mission:
                 return
             if self.t >= limit:
                 raise NoProgress(f"no completion after {self.t} rounds")
-            self.step()
+            if self.hooked:
+                yield from self.hooked_step()
+            else:
+                self.step()
 
     def _tail(self, record: bool, limit: int, on_frame: FrameSink | None = None) -> None:
         """The pure-transport rounds in the compiled loop; with ``on_frame``, one round per
@@ -501,7 +555,7 @@ def run_mission(
     if transport not in (RELAY_FOOD, RELAY_PATH, END_TO_END):
         raise ValueError(transport)
     if decide is not None:
-        return _decided_run(timed, food, units, transport, record, on_frame, decide)
+        return drive(decided_rounds(timed, food, units, transport, record, on_frame), decide)
     plan = timed.plan
     pos = timed.pos
     hit = (pos[:, :, 0] == food[0]) & (pos[:, :, 1] == food[1])
@@ -546,20 +600,22 @@ def _outcome(
     )
 
 
-def _decided_run(
+def decided_rounds(
     timed: Timed,
     food: Cell,
     units: int,
     transport: str,
-    record: bool,
-    on_frame: FrameSink | None,
-    decide: Decide,
-) -> Outcome:
-    """A run whose every Compute goes through ``decide``: this loop from round 0."""
+    record: bool = True,
+    on_frame: FrameSink | None = None,
+) -> Generator[Compute, np.ndarray, Outcome]:
+    """A hooked run (module docstring): this loop from round 0, every Compute yielded; the
+    generator's value is the Outcome."""
+    if transport not in (RELAY_FOOD, RELAY_PATH, END_TO_END):
+        raise ValueError(transport)
     plan = timed.plan
     start = [plan.nest] * plan.n
-    m = Mission(plan.g, plan.nest, food, units, transport, start, timed=timed, decide=decide)
-    m.run(record=True, fast=False, on_frame=on_frame)
+    m = Mission(plan.g, plan.nest, food, units, transport, start, timed=timed, hooked=True)
+    yield from m.rounds(record=True, fast=False, on_frame=on_frame)
     history = np.asarray(m.history, dtype=np.int32).reshape(-1, plan.n, 2)
     told = [t for t in m.informed_at if t is not None]
     discovery = min(told) if told else None
