@@ -97,6 +97,9 @@ def run_fingerprint(run: TraversalRun) -> str:
     rec = traversal_record(run, params={}).to_dict()
     rec.pop("wall_seconds", None)
     rec.pop("swarmex_version", None)
+    world = rec.get("world") or {}
+    if isinstance(world.get("source"), str):  # where the map file lies is not behaviour
+        world["source"] = world["source"].replace("\\", "/").rsplit("/", 1)[-1]
     rec["_paths"] = run.path_strings()
     rec["_branches"] = [a.decisions_by_branch for a in run.agents]
     rec["_done_by"] = run.done_by.tolist()
