@@ -103,79 +103,76 @@ def _toward(opts: I64, k: int, x: int, y: int, qx: int, qy: int) -> int:
 
 @njit(cache=True)
 def _resolve(
-    cur: I64, opts: I64, nopt: I64, order: I64, nest_x: int, nest_y: int, choice: I64,
-    own: I64,
-) -> None:  # fmt: skip
-    """resolve.resolve on arrays: ``own`` is a grid of -1 (the owner of each claimed cell,
-    given back all -1). A bump rolls the pass back to the bumped robot's place, as there:
-    the claims before it would be repeated unchanged, so a round stays linear in the swarm."""
+    cur: I64, opts: I64, nopt: I64, order: I64, nest_x: int, nest_y: int, choice: I64
+) -> None:
     n = cur.shape[0]
     for a in range(n):
         choice[a] = 0
-    place = np.empty(n, np.int64)
-    for i in range(n):
-        place[order[i]] = i
-    claimed = np.zeros(n, np.bool_)  # the cell the i-th robot of ``order`` claimed
-    cl_x = np.empty(n, np.int64)
-    cl_y = np.empty(n, np.int64)
-    i = 0
-    while i < n:
-        a = order[i]
-        cx = opts[a, choice[a], 0]
-        cy = opts[a, choice[a], 1]
-        if cx == nest_x and cy == nest_y:
-            i += 1
-            continue
-        b = own[cx, cy]
-        if b < 0:
-            own[cx, cy] = a
-            claimed[i] = True
-            cl_x[i] = cx
-            cl_y[i] = cy
-            i += 1
-            continue
-        stayer = -1
-        if cx == cur[a, 0] and cy == cur[a, 1]:
-            stayer = a
-        elif cx == cur[b, 0] and cy == cur[b, 1]:
-            stayer = b
-        if stayer >= 0:
-            other = b if stayer == a else a
-            bumped = stayer if choice[stayer] + 1 < nopt[stayer] else other
-        else:
-            bumped = a
+    owner_x = np.empty(n, np.int64)
+    owner_y = np.empty(n, np.int64)
+    owner_a = np.empty(n, np.int64)
+    while True:
+        m = 0
+        bumped = -1
+        for r in range(n):
+            a = order[r]
+            cx = opts[a, choice[a], 0]
+            cy = opts[a, choice[a], 1]
+            if cx == nest_x and cy == nest_y:
+                continue
+            b = -1
+            for j in range(m):
+                if owner_x[j] == cx and owner_y[j] == cy:
+                    b = owner_a[j]
+                    break
+            if b < 0:
+                owner_x[m] = cx
+                owner_y[m] = cy
+                owner_a[m] = a
+                m += 1
+                continue
+            stayer = -1
+            if cx == cur[a, 0] and cy == cur[a, 1]:
+                stayer = a
+            elif cx == cur[b, 0] and cy == cur[b, 1]:
+                stayer = b
+            if stayer >= 0:
+                other = b if stayer == a else a
+                bumped = stayer if choice[stayer] + 1 < nopt[stayer] else other
+            else:
+                bumped = a
+            break
+        if bumped < 0:
+            return
         choice[bumped] += 1
-        back = place[bumped]
-        for k in range(back, i):  # undo the claims from the bumped robot's place on
-            if claimed[k]:
-                own[cl_x[k], cl_y[k]] = -1
-                claimed[k] = False
-        i = back
-    for k in range(n):
-        if claimed[k]:
-            own[cl_x[k], cl_y[k]] = -1
 
 
 @njit(cache=True)
-def _order(cur: I64, opts: I64, out: I64, at: I64) -> None:
-    """Priority: swap pairs first, then larger (x, y), then smaller id (resolve.priority).
-
-    ``at`` is a grid of -1 (given back so): it maps a cell to the last robot standing there
-    (a dict's overwrite), so finding swap pairs is linear. The keys are unique (the id is
-    last), so any sort gives resolve.priority's order.
-    """
+def _order(cur: I64, opts: I64, out: I64) -> None:
+    """Priority: swap pairs first, then larger (x, y), then smaller id (resolve.priority)."""
     n = cur.shape[0]
-    g = at.shape[0]
-    for c in range(n):
-        at[cur[c, 0], cur[c, 1]] = c
-    key = np.empty(n, np.int64)
+    swap = np.zeros(n, np.bool_)
     for a in range(n):
-        b = at[opts[a, 0, 0], opts[a, 0, 1]]
-        swap = b >= 0 and b != a and opts[b, 0, 0] == cur[a, 0] and opts[b, 0, 1] == cur[a, 1]
-        key[a] = (((0 if swap else 1) * g + (g - 1 - cur[a, 0])) * g + (g - 1 - cur[a, 1])) * n + a
-    for c in range(n):
-        at[cur[c, 0], cur[c, 1]] = -1
-    out[:] = np.argsort(key)
+        b = -1
+        for c in range(n - 1, -1, -1):  # the last robot standing there (a dict's overwrite)
+            if cur[c, 0] == opts[a, 0, 0] and cur[c, 1] == opts[a, 0, 1]:
+                b = c
+                break
+        if b >= 0 and b != a and opts[b, 0, 0] == cur[a, 0] and opts[b, 0, 1] == cur[a, 1]:
+            swap[a] = True
+    for a in range(n):
+        out[a] = a
+    for i in range(1, n):  # insertion sort on the key (not swap, -x, -y, id)
+        j = i
+        while j > 0:
+            p, q = out[j - 1], out[j]
+            kp = (0 if swap[p] else 1, -cur[p, 0], -cur[p, 1], p)
+            kq = (0 if swap[q] else 1, -cur[q, 0], -cur[q, 1], q)
+            if kq < kp:
+                out[j - 1], out[j] = q, p
+                j -= 1
+            else:
+                break
 
 
 @njit(cache=True)
@@ -200,7 +197,6 @@ def transport_tail(
     choice = np.zeros(n, np.int64)
     was = np.empty(n, np.bool_)
     busy = np.zeros(n, np.bool_)
-    grid = np.full((g, g), -1, np.int64)  # cell -> robot scratch, all -1 between uses
     rows = 0
     while rows < history.shape[0]:
         t = state[0]
@@ -215,13 +211,14 @@ def transport_tail(
             for a in range(n):
                 was[a] = carrying[a]
                 busy[a] = False
-            for c in range(n):  # the last RELAY robot on each cell, as the dict in sim.py
-                if tmode[c] == RELAY:
-                    grid[pos[c, 0], pos[c, 1]] = c
             for b in range(n):
                 if tmode[b] != RELAY or not was[b] or pidx[b] < 2:
                     continue
-                a = grid[path[pidx[b] - 1, 0], path[pidx[b] - 1, 1]]
+                cx, cy = path[pidx[b] - 1, 0], path[pidx[b] - 1, 1]
+                a = -1
+                for c in range(n):  # the last RELAY robot there, as the dict in sim.py
+                    if tmode[c] == RELAY and pos[c, 0] == cx and pos[c, 1] == cy:
+                        a = c
                 if a < 0 or was[a] or busy[a] or busy[b]:
                     continue
                 carrying[a] = True
@@ -229,9 +226,6 @@ def transport_tail(
                 handovers[b] += 1
                 busy[a] = True
                 busy[b] = True
-            for c in range(n):
-                if tmode[c] == RELAY:
-                    grid[pos[c, 0], pos[c, 1]] = -1
         for a in range(n):
             if tmode[a] != RELAY and tmode[a] != E2E:
                 continue
@@ -317,8 +311,8 @@ def transport_tail(
                 k = _sidesteps(opts[a], 1, x, y, g)
             nopt[a] = k
         # ---- Move
-        _order(pos, opts, order, grid)
-        _resolve(pos, opts, nopt, order, nest[0], nest[1], choice, grid)
+        _order(pos, opts, order)
+        _resolve(pos, opts, nopt, order, nest[0], nest[1], choice)
         for a in range(n):
             nx, ny = opts[a, choice[a], 0], opts[a, choice[a], 1]
             if tmode[a] == RELAY and (nx != pos[a, 0] or ny != pos[a, 1]):
