@@ -3,11 +3,21 @@
 from __future__ import annotations
 
 import os
+import tempfile
 from pathlib import Path
 
 import pytest
 
 REPO = Path(__file__).resolve().parents[1]
+
+# pytest -n 2: numba's on-disk cache is not safe when two processes write the same kernels at
+# once (a cold cache can crash a worker: numba issues #4807, #10128), so each xdist worker keeps
+# its own cache, set before any test imports numba. A user's NUMBA_CACHE_DIR wins.
+_WORKER = os.environ.get("PYTEST_XDIST_WORKER")
+if _WORKER and "NUMBA_CACHE_DIR" not in os.environ:
+    os.environ["NUMBA_CACHE_DIR"] = str(
+        Path(tempfile.gettempdir()) / f"swarmex-numba-tests-{os.getuid()}-{_WORKER}"
+    )
 
 
 def maps_dir() -> Path:
