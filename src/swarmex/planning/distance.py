@@ -508,10 +508,12 @@ def _repair_hops(
     indptr: Indptr, indices: Indices, blocked: Mask, hops: Hops, source: int, new: Vertices,
     state: NDArray[np.int8], touched: Scratch, work: Scratch, order_key: Scratch, limit: int,
     max_hop: int,
-) -> tuple[int, int]:  # pragma: no cover - compiled
+) -> tuple[int, int, int]:  # pragma: no cover - compiled
     """Decremental BFS: make the single-source ``hops`` exact after ``new`` became blocked.
 
-    Returns ``(changed, largest value written)``; ``changed`` is -1 (``hops`` untouched)
+    Returns ``(changed, largest value written, affected)``: the ``affected`` vertices whose
+    value was re-derived are left in ``order_key[:affected]`` (a caller keeping summaries of
+    the row updates them from there). ``changed`` is -1 (``hops`` untouched)
     when more than ``limit`` vertices would have to be re-derived, where a fresh BFS is
     cheaper, and -2 (``hops`` unusable) when a distance would exceed ``max_hop``, the
     largest value the table's integer type holds. ``state`` (int8,
@@ -581,7 +583,7 @@ def _repair_hops(
         if n_aff > limit:
             for j in range(nt):
                 state[touched[j]] = 0
-            return -1, 0
+            return -1, 0, 0
         for k in range(indptr[x], indptr[x + 1]):
             y = indices[k]
             if state[y] == 0 and hops[y] == hx + 1 and not blocked[y]:
@@ -657,8 +659,8 @@ def _repair_hops(
     for j in range(nt):
         state[touched[j]] = 0
     if overflow:
-        return -2, 0
-    return n_aff + n_removed, top
+        return -2, 0, 0
+    return n_aff + n_removed, top, n_aff
 
 
 _LATTICES: weakref.WeakKeyDictionary[NodeGraph, tuple[int, NbMask | None]] = (
@@ -852,7 +854,7 @@ def repair_hops(
     """
     n = graph.n_nodes
     new = np.asarray(new_blocked, dtype=np.int64).ravel()
-    changed, _ = _repair_hops(
+    changed, _, _ = _repair_hops(
         graph.indptr, graph.indices, blocked, hops, int(source), new,
         np.zeros(n, dtype=np.int8), np.empty(n, dtype=np.int32),
         np.empty(2 * n + 2, dtype=np.int32), np.empty(n, dtype=np.int32), n,

@@ -67,6 +67,7 @@ from swarmex.planning.distance import (
     max_hop_of,
     step_length,
 )
+from swarmex.planning.tiles import Tiling, raise_tile_max, tile_range
 from swarmex.worlds.nodegraph import NodeGraph
 
 
@@ -248,6 +249,11 @@ class KnownGraph:
             self._prefetch = prefetch and width > 0 and n >= PREFETCH_MIN_NODES
             self._pending: dict[int, _Job] = {}
             self._reading: dict[int, list[_Job]] = {}
+            # per-tile bounds of each row (see tile_bounds), built on first use
+            self._tiling: Tiling | None = None
+            self._tlo = np.empty((0, 0), dtype=np.int32)
+            self._thi = np.empty((0, 0), dtype=np.int32)
+            self._slack = np.empty(0, dtype=np.int64)  # row -> drift of its bounds, -1: none
 
     @property
     def version(self) -> int:
@@ -380,6 +386,7 @@ class KnownGraph:
         self._version[dst] = self._version[src]
         self._used[dst] = self._clock
         self._float.pop(dst, None)
+        self._shift_bounds(src, dst)
         hops, width, mask = self.hops, self._width, self._nbmask
         sample, near_source = self._sample, near
 
@@ -439,7 +446,7 @@ class KnownGraph:
         self._float.pop(slot, None)
         g = self.graph
         new = np.asarray(self._log[old:], dtype=np.int64)
-        changed, top = _repair_hops(
+        changed, top, affected = _repair_hops(
             g.indptr, g.indices, self.blocked, self.hops[slot], source, new,
             self._state, self._touched, self._work, self._key, self._repair_limit,
             self._max_hop,
@@ -449,6 +456,9 @@ class KnownGraph:
         elif changed > 0:
             self.repaired += 1
             self._row_max[slot] = max(self._row_max[slot], top)
+            if self._slack[slot] >= 0:  # repairs only raise values: raise the tiles' maxima
+                raise_tile_max(self.hops[slot], self._key, affected,
+                               self._tiling.tile_of, self._thi[slot])  # type: ignore[union-attr]
         else:  # too much changed (a fresh search is cheaper), or too far for the type
             if changed == -2:
                 self._widen()
@@ -483,6 +493,7 @@ class KnownGraph:
             _shift_lattice(self._width, self._nbmask, self.hops[near], self.hops[slot], source,
                            near_source, self._sample, sc.mark, sc.next_epoch(), sc.queue)
             self._row_max[slot] = bound
+            self._shift_bounds(near, slot)
             self.shifted += 1
             self.recomputed += 1
         return slot
@@ -501,6 +512,7 @@ class KnownGraph:
                 break
             self._widen()  # a distance does not fit the table's type
         self._row_max[slot] = top
+        self._drop_bounds(slot)
         self.recomputed += 1
 
     def _widen(self) -> None:
@@ -557,4 +569,63 @@ class KnownGraph:
         self._source = np.concatenate([self._source, np.full(grown - rows, -1, np.int64)])
         self._version = np.concatenate([self._version, np.zeros(grown - rows, np.int64)])
         self._used = np.concatenate([self._used, np.zeros(grown - rows, np.int64)])
+        self._slack = np.concatenate([self._slack, np.full(grown - rows, -1, np.int64)])
+        if self._tiling is not None:
+            extra = np.empty((grown - rows, self._tiling.n_tiles), dtype=np.int32)
+            self._tlo = np.concatenate([self._tlo, extra])
+            self._thi = np.concatenate([self._thi, extra])
         return rows
+
+    # ------------------------------------------------------------------ tile bounds (uniform)
+    #: bounds that drifted by more than this many shifts are recomputed on their next use
+    MAX_SLACK = 4
+
+    @property
+    def tiling(self) -> Tiling:
+        """The tiles of the graph (:mod:`swarmex.planning.tiles`), made on first use."""
+        if self._tiling is None:
+            self._tiling = Tiling(self.graph.n_nodes, self._width)
+            rows, t = self.hops.shape[0], self._tiling.n_tiles
+            self._tlo = np.empty((rows, t), dtype=np.int32)
+            self._thi = np.empty((rows, t), dtype=np.int32)
+            self._slack[:] = -1
+        return self._tiling
+
+    def tile_bounds(self, slots: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Per-tile bounds of the hop rows ``slots`` (rows as :meth:`slots` returns them):
+        ``(lo, hi, slack)``, tables of all rows, such that every reachable vertex ``v`` of a
+        tile ``t`` of row ``s`` has ``lo[s, t] - slack[s] <= hops[s, v] <= hi[s, t] +
+        slack[s]``; a tile the row reaches nowhere has ``lo`` NONE_LO and ``hi`` NONE_HI
+        (both exact: shifts and repairs never make a vertex reachable). Costs nothing for a
+        row whose bounds are current, one pass over the row otherwise."""
+        tiling = self.tiling
+        self._settle_pending(slots)
+        for s in slots.tolist():
+            slack = self._slack[s]
+            if slack < 0 or slack > self.MAX_SLACK:
+                tile_range(self.hops[s], tiling.tile_of, self._tlo[s], self._thi[s])
+                self._slack[s] = 0
+        return self._tlo, self._thi, self._slack
+
+    def _settle_pending(self, slots: np.ndarray) -> None:
+        if self._pending:
+            for s in slots.tolist():
+                job = self._pending.pop(s, None)
+                if job is not None:
+                    job.wait(self._scratch)
+
+    def _drop_bounds(self, slot: int) -> None:
+        """Row ``slot`` was rewritten: its tile bounds are recomputed on next use."""
+        self._slack[slot] = -1
+
+    def _shift_bounds(self, src: int, dst: int) -> None:
+        """Row ``dst`` now holds row ``src``'s field shifted by one edge: every value moved
+        by one, so ``src``'s bounds widened by one hold for it."""
+        slack = self._slack[src]
+        if slack < 0:
+            self._slack[dst] = -1
+            return
+        if dst != src:
+            self._tlo[dst] = self._tlo[src]
+            self._thi[dst] = self._thi[src]
+        self._slack[dst] = slack + 1

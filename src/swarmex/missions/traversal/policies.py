@@ -22,7 +22,8 @@ How the thesis's open points are read here (spec §6; docs/traversal.md repeats 
 
 Speed: on graphs with one edge length, :class:`Madgta` and :class:`Nearest` decide through
 compiled kernels that read the hop-count rows of the field cache (branch 2 in one call,
-branch 3 in one tiled scan with rivals grouped by speed and job time). Every float is
+branch 3 by tiles with bounds, :mod:`.fartiles`, rivals grouped by speed and job time;
+on an open lattice by blocks with closed-form distances, :mod:`.lattice`). Every float is
 computed with the same operations in the same order as the numpy code kept below for the
 other cases (and for subclasses that override ``utilities`` or ``best``), so the choices,
 and every draw from the generator, are the same bit for bit.
@@ -40,6 +41,7 @@ from numpy.typing import NDArray
 from swarmex.errors import InputError
 from swarmex.missions.traversal import lattice
 from swarmex.missions.traversal.belief import TraversalBelief
+from swarmex.missions.traversal.fartiles import far_tiles
 from swarmex.missions.traversal.selection import FAR as _FAR
 from swarmex.missions.traversal.selection import JOB as _JOB
 from swarmex.missions.traversal.selection import NUMPY as _NUMPY
@@ -157,105 +159,14 @@ def _near_choice(
     return _PICK, cands[top]
 
 
-#: vertices per tile of the branch-3 scan: the per-class minima of a tile stay in L1 cache,
-#: and a tile with nothing left to do is skipped from then on (``dead``)
-_TILE = 256
-
-
-@nb.njit(cache=True, nogil=True)
-def _far_scan(
-    hops_u: NDArray[np.unsignedinteger[Any]], me_slot: int, slots: NDArray[np.int64],
-    klass: NDArray[np.int64], ctpu: NDArray[np.float64], cjt: NDArray[np.float64],
-    status: NDArray[np.int32], reserved: NDArray[np.int32], me: int, step: float,
-    tpu_me: float, jt_me: float, far: NDArray[np.int64], mins: NDArray[np.float64],
-    hmin: NDArray[np.unsignedinteger[Any]], full: np.unsignedinteger[Any],
-    high: np.unsignedinteger[Any], dead: NDArray[np.uint8],
-) -> tuple[int, int, int]:  # pragma: no cover - compiled
-    """Branch 3 in one streaming pass: W = vacant vertices I can reach, each one's min
-    over rivals of util, and the vertices tied at the max-min. Returns (|W|, number tied,
-    vertices scanned); the tied vertices are left in ``far[:tied]``. ``hmin`` is
-    (classes, _TILE) scratch.
-
-    Rivals with the same speed and job time form a class, and within a class the cost is a
-    non-decreasing function of the hop count, so the min over the class is the cost of the
-    class's minimum hop count (``hops_u`` is the hop table viewed as unsigned integers:
-    unreached vertices, negative, become ``high`` or more; ``full`` is the type's maximum).
-    Rounding is monotone too, so min over rivals of ``cost - mine`` equals that of the
-    per-class minima: the floats match the generic code.
-    The rows are read tile by tile, so the minima never leave the cache.
-
-    ``dead[t]`` (this belief's, see :meth:`TraversalBelief.scan_flags`) marks tiles with no
-    vertex that is not done and that I can reach: that stays so (done vertices stay done
-    unless a revert resets the flags; the known graph only loses edges, so what I cannot
-    reach I never will), so they are skipped without reading them.
-    """
-    n = status.shape[0]
-    nk = ctpu.shape[0]
-    mine_row = hops_u[me_slot]
-    nf = 0
-    scanned = 0
-    for t in range(dead.shape[0]):
-        if dead[t]:
-            continue
-        lo = t * _TILE
-        hi = min(n, lo + _TILE)
-        live = False
-        for v in range(lo, hi):
-            if status[v] == 0 and mine_row[v] < high:
-                live = True
-                break
-        if not live:
-            dead[t] = 1
-            continue
-        scanned += hi - lo
-        for k in range(nk):
-            hmin[k, : hi - lo] = full
-        for i in range(slots.shape[0]):
-            row = hops_u[slots[i]]
-            hk = hmin[klass[i]]
-            for v in range(lo, hi):
-                hk[v - lo] = min(hk[v - lo], row[v])
-        for v in range(lo, hi):
-            if status[v] != 0:
-                continue
-            owner = reserved[v]
-            if owner != 0 and owner != me:
-                continue
-            hm = mine_row[v]
-            if hm >= high:
-                continue
-            mine = (hm * step) * tpu_me
-            mine = mine + jt_me
-            if nk == 0:
-                m = -mine
-            else:
-                m = np.inf
-                for k in range(nk):
-                    h = hmin[k, v - lo]
-                    theirs = (np.inf if h >= high else h * step) * ctpu[k]
-                    u = theirs + cjt[k] - mine
-                    if u < m:
-                        m = u
-            far[nf] = v
-            mins[nf] = m
-            nf += 1
-    if nf == 0:
-        return 0, 0, scanned
-    best = mins[:nf].max()
-    nt = 0
-    for k in range(nf):
-        if _close1(mins[k], best):
-            far[nt] = far[k]
-            nt += 1
-    return nf, nt, scanned
-
-
 class Madgta:
     """Algorithm 1's COMPUTE with Algorithm 2's GetBestNode."""
 
     name = "madgta"
-    #: vertices the compiled branch-3 searches looked at (an operation count: bench/tests)
+    #: vertices the compiled branch-3 searches looked at, and how many such searches ran
+    #: (operation counts for bench/ and tests/test_scale_growth.py)
     scanned = 0
+    far_decisions = 0
 
     def decide(self, belief: TraversalBelief, rng: np.random.Generator) -> Decision:
         known = belief.known
@@ -336,15 +247,12 @@ class Madgta:
                      belief.time_per_unit[rivals], belief.job_time[rivals], util)
         return util
 
-    def _scratch(
-        self, n: int, classes: int, unsigned: np.dtype[Any]
-    ) -> tuple[NDArray[np.int64], NDArray[np.float64], NDArray[Any]]:
-        """Reused work arrays of the branch-3 scan (fresh ones would page-fault each time)."""
+    def _scratch(self, n: int) -> tuple[NDArray[np.int64], NDArray[np.float64]]:
+        """Reused work arrays of the branch-3 searches (fresh ones would page-fault each
+        time): the candidates found and their max-min utilities."""
         buf = getattr(self, "_buffers", None)
-        if (buf is None or buf[0].size != n or buf[2].shape[0] < classes
-                or buf[2].dtype != unsigned):
-            buf = (np.empty(n, dtype=np.int64), np.empty(n),
-                   np.empty((max(1, classes), _TILE), dtype=unsigned))
+        if buf is None or buf[0].size != n:
+            buf = (np.empty(n, dtype=np.int64), np.empty(n))
             self._buffers = buf
         return buf
 
@@ -374,21 +282,27 @@ class Madgta:
         self, belief: TraversalBelief, rng: np.random.Generator, rivals: np.ndarray,
         jt_me: float, me_slot: int, slots: np.ndarray,
     ) -> Decision:
+        """Branch 3 from the hop rows, by tiles with bounds (:mod:`.fartiles`)."""
         known = belief.known
         me = belief.me
         here = belief.here
         klass, ctpu, cjt = _rival_classes(belief.time_per_unit[rivals], belief.job_time[rivals])
-        unsigned, full, high = _unsigned_view(known.hops.dtype)
-        far, mins, hmin = self._scratch(belief.status.size, ctpu.size, unsigned)
-        n = belief.status.size
-        dead = belief.scan_flags("tiles", (n + _TILE - 1) // _TILE)
-        nf, nt, scanned = _far_scan(
-            known.hops.view(unsigned), me_slot, slots, klass, ctpu, cjt,
-            belief.status, belief.reserved, me, known.step, belief.time_per_unit[me], jt_me,
-            far, mins, hmin, full, high, dead,
+        unsigned, _, high = _unsigned_view(known.hops.dtype)
+        far, mins = self._scratch(belief.status.size)
+        rows = np.empty(slots.size + 1, dtype=np.int64)
+        rows[0] = me_slot
+        rows[1:] = slots
+        lo, hi, slack = known.tile_bounds(rows)
+        tiling = known.tiling
+        dead = belief.scan_flags("field-tiles", tiling.n_tiles)
+        found, nt, scanned = far_tiles(
+            known.hops.view(unsigned), me_slot, slots, klass, ctpu, cjt, belief.status,
+            belief.reserved, me, here, known.step, belief.time_per_unit[me], jt_me, far, mins,
+            high, dead, tiling.ptr, tiling.verts, lo, hi, slack,
         )
         self.scanned += scanned
-        if nf == 0:
+        self.far_decisions += 1
+        if not found:
             return Decision("finish")
         if nt == 1:
             f = int(far[0])
@@ -429,7 +343,7 @@ class Madgta:
             return Decision("move", v, v, 2)
         klass, ctpu, cjt = _rival_classes(tpu_r, jt_r)
         n = belief.status.size
-        far, mins, _ = self._scratch(n, 1, np.dtype(np.uint16))
+        far, mins = self._scratch(n)
         height = n // width
         blocks = -(-width // lattice.BLOCK) * -(-height // lattice.BLOCK)
         found, nt, scanned = lattice.far_choice(
@@ -437,6 +351,7 @@ class Madgta:
             step, tpu_me, jt_me, lattice.BLOCK, far, mins, belief.scan_flags("blocks", blocks),
         )
         self.scanned += scanned
+        self.far_decisions += 1
         if not found:
             return Decision("finish")
         if nt == 1:
