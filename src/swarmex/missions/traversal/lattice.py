@@ -9,13 +9,15 @@ match the numpy code of ``Madgta.utilities``). Nothing here needs a distance fie
 decision costs no field per agent (the field route pays one shift of the whole map for every
 move of every agent, which is what made large open maps quadratic).
 
-Branch 3 (no vacant neighbour: the best of all vacant vertices) is searched block by block
-instead of vertex by vertex. Each ``block x block`` square of the grid gets an upper bound
+Branch 3 (no vacant neighbour: the best of all vacant vertices) is searched region by region
+instead of vertex by vertex. Each square region of the grid gets an upper bound
 of the max-min utility of its vertices, from the same separable form: a rival's advantage
 ``a·L1(r, v) - b·L1(me, v)`` splits into an x part and a y part, each piecewise linear with
 its kinks at the two agents' coordinates, so its maximum over a square is found among at
-most four points per axis. Blocks are then scanned in order of decreasing bound, and the
-scan stops at the first block whose bound (plus a safety margin for rounding) is below the
+most four points per axis. Regions form a tree (``BLOCK``-square blocks, joined 2 x 2 level
+by level up to the whole map) searched best first: a region is split only when its bound
+is the largest left, and blocks are scanned in order of decreasing bound; the search stops
+at the first region whose bound (plus a safety margin for rounding) is below the
 best value found minus the tie tolerance of Algorithm 2: every vertex that could be tied at
 the max-min is still found, in the same vertex order, so the policy's tie-breaks and its
 draw from the generator are the same.
@@ -188,57 +190,133 @@ def _axis_gap(lo: int, hi: int, x: int) -> int:  # pragma: no cover - compiled
 
 
 @nb.njit(cache=True, nogil=True)
+def tree_nodes(width: int, height: int, block: int) -> int:  # pragma: no cover - compiled
+    """How many regions the block tree of :func:`far_choice` has (its flags' size)."""
+    nx = (width + block - 1) // block
+    ny = (height + block - 1) // block
+    total = nx * ny
+    while nx > 1 or ny > 1:
+        nx = (nx + 1) // 2
+        ny = (ny + 1) // 2
+        total += nx * ny
+    return total
+
+
+@nb.njit(cache=True, nogil=True)
+def _rect_bound(
+    x0: int, x1: int, y0: int, y1: int, sx: I64, sy: I64, klass: I64, ctpu: F64, cjt: F64,
+    step: float, tpu_me: float, jt_me: float, margin: float,
+) -> float:  # pragma: no cover - compiled
+    """Upper bound of the max-min utility over the cells of ``[x0, x1] x [y0, y1]``."""
+    r = sx.shape[0] - 1
+    xm, ym = sx[0], sy[0]
+    if r == 0 or ctpu.shape[0] == 0:
+        d = _axis_gap(x0, x1, xm) + _axis_gap(y0, y1, ym)
+        return -((d * step) * tpu_me + jt_me) + margin
+    b = step * tpu_me
+    u = np.inf
+    for i in range(r):
+        k = klass[i]
+        a = step * ctpu[k]
+        v = (_axis_max(x0, x1, sx[i + 1], xm, a, b) + _axis_max(y0, y1, sy[i + 1], ym, a, b)
+             + cjt[k] - jt_me)
+        if v < u:
+            u = v
+    return u + margin
+
+
+@nb.njit(cache=True, nogil=True)
+def _push(keys: F64, ids: I64, size: int, key: float, node: int) -> int:  # pragma: no cover
+    """Max-heap push; returns the new size."""
+    i = size
+    while i > 0:
+        p = (i - 1) // 2
+        if keys[p] >= key:
+            break
+        keys[i] = keys[p]
+        ids[i] = ids[p]
+        i = p
+    keys[i] = key
+    ids[i] = node
+    return size + 1
+
+
+@nb.njit(cache=True, nogil=True)
+def _pop(keys: F64, ids: I64, size: int) -> int:  # pragma: no cover - compiled
+    """Max-heap pop of the root (read keys[0], ids[0] first); returns the new size."""
+    size -= 1
+    key = keys[size]
+    node = ids[size]
+    i = 0
+    while True:
+        c = 2 * i + 1
+        if c >= size:
+            break
+        if c + 1 < size and keys[c + 1] > keys[c]:
+            c += 1
+        if keys[c] <= key:
+            break
+        keys[i] = keys[c]
+        ids[i] = ids[c]
+        i = c
+    if size > 0:
+        keys[i] = key
+        ids[i] = node
+    return size
+
+
+@nb.njit(cache=True, nogil=True)
 def far_choice(
     width: int, height: int, sx: I64, sy: I64, klass: I64, ctpu: F64, cjt: F64,
     status: NDArray[np.int32], reserved: NDArray[np.int32], me: int, step: float,
     tpu_me: float, jt_me: float, block: int, far: I64, mins: F64, dead: NDArray[np.uint8],
 ) -> tuple[int, int, int]:  # pragma: no cover - compiled
-    """Branch 3 (``policies._far_scan`` on the open lattice) by bounded blocks.
+    """Branch 3 (``policies._far_scan`` on the open lattice) by a best-first search over a
+    tree of bounded regions.
 
     Returns ``(found, tied, scanned)``: whether any vacant vertex exists (0 or more), how
     many vertices are tied at the max-min (left in ascending order in ``far[:tied]``) and how
     many vertices were looked at. ``klass[i]`` is rival ``i``'s (speed, job time) class,
     ``ctpu, cjt`` the classes' values; ``sx, sy`` hold my cell first, then the rivals'.
-    ``dead[q]`` marks blocks with every vertex done (this belief's flags, reset when a job
-    is undone): they are skipped.
+
+    The leaves are ``block``-square blocks of cells; each level above joins 2 x 2 regions,
+    up to one region holding the map (:func:`tree_nodes` regions in all). Regions are taken
+    in order of decreasing bound (a heap); a leaf is scanned, an inner region's children
+    are bounded and queued. The search stops at the first region whose bound is below the
+    best utility found minus the tie tolerance, so a decision costs the regions near its
+    answer, not the whole map. ``dead`` (this belief's flags, reset when a job is undone)
+    marks regions with every vertex done: skipped.
     """
     r = sx.shape[0] - 1
     nk = ctpu.shape[0]
     xm, ym = sx[0], sy[0]
-    b = step * tpu_me
-    nbx = (width + block - 1) // block
-    nby = (height + block - 1) // block
-    nb_ = nbx * nby
     # rounding between the real-valued bound and the floats of a vertex's utility is a few
     # ulps of the largest term; the margin is far above that and far below one hop
-    amax = b
+    amax = step * tpu_me
     cmax = abs(jt_me)
     for k in range(nk):
         amax = max(amax, step * ctpu[k])
         cmax = max(cmax, abs(cjt[k]))
     margin = 1e-9 * (1.0 + amax * (width + height) + cmax)
-    ub = np.empty(nb_)
-    for q in range(nb_):
-        if dead[q]:
-            ub[q] = -np.inf
-            continue
-        by, bx = divmod(q, nbx)
-        x0, y0 = bx * block, by * block
-        x1, y1 = min(width, x0 + block) - 1, min(height, y0 + block) - 1
-        if r == 0 or nk == 0:
-            d = _axis_gap(x0, x1, xm) + _axis_gap(y0, y1, ym)
-            ub[q] = -((d * step) * tpu_me + jt_me) + margin
-            continue
-        u = np.inf
-        for i in range(r):
-            k = klass[i]
-            a = step * ctpu[k]
-            v = (_axis_max(x0, x1, sx[i + 1], xm, a, b) + _axis_max(y0, y1, sy[i + 1], ym, a, b)
-                 + cjt[k] - jt_me)
-            if v < u:
-                u = v
-        ub[q] = u + margin
-    order = np.argsort(-ub, kind="mergesort")
+    # the tree's levels: level 0 = leaves; off[l] = first flag of level l
+    nxs = np.empty(64, dtype=np.int64)
+    nys = np.empty(64, dtype=np.int64)
+    off = np.empty(64, dtype=np.int64)
+    nxs[0] = (width + block - 1) // block
+    nys[0] = (height + block - 1) // block
+    off[0] = 0
+    top = 0
+    while nxs[top] > 1 or nys[top] > 1:
+        off[top + 1] = off[top] + nxs[top] * nys[top]
+        nxs[top + 1] = (nxs[top] + 1) // 2
+        nys[top + 1] = (nys[top] + 1) // 2
+        top += 1
+    total = off[top] + 1
+    keys = np.empty(total)
+    ids = np.empty(total, dtype=np.int64)
+    size = 0
+    if not dead[off[top]]:
+        size = _push(keys, ids, size, np.inf, off[top])
     best = -np.inf
     found = 0
     nf = 0
@@ -246,13 +324,31 @@ def far_choice(
     near = np.empty(r, dtype=np.int64)  # the rivals that can be nearest in a block
     cut = np.empty(max(nk, 1), dtype=np.int64)
     hk = np.empty(max(nk, 1), dtype=np.int64)
-    for t in range(nb_):
-        q = order[t]
-        if dead[q]:
-            break  # (dead blocks sort last)
-        if found and ub[q] < best - 1e-9 * (1.0 + abs(best)):
+    while size > 0:
+        ub = keys[0]
+        node = ids[0]
+        size = _pop(keys, ids, size)
+        if found and ub < best - 1e-9 * (1.0 + abs(best)):
             break
-        by, bx = divmod(q, nbx)
+        lev = 0
+        while lev < top and node >= off[lev + 1]:
+            lev += 1
+        idx = node - off[lev]
+        by, bx = divmod(idx, nxs[lev])
+        side = block << lev
+        if lev > 0:  # bound the children and queue them
+            for cy in range(2 * by, min(2 * by + 2, nys[lev - 1])):
+                for cx in range(2 * bx, min(2 * bx + 2, nxs[lev - 1])):
+                    child = off[lev - 1] + cy * nxs[lev - 1] + cx
+                    if dead[child]:
+                        continue
+                    half = side >> 1
+                    x0, y0 = cx * half, cy * half
+                    x1, y1 = min(width, x0 + half) - 1, min(height, y0 + half) - 1
+                    size = _push(keys, ids, size, _rect_bound(
+                        x0, x1, y0, y1, sx, sy, klass, ctpu, cjt, step, tpu_me, jt_me,
+                        margin), child)
+            continue
         x0, y0 = bx * block, by * block
         x1, y1 = min(width, x0 + block) - 1, min(height, y0 + block) - 1
         # a rival farther from every cell of the block than some rival of its class is
@@ -306,8 +402,21 @@ def far_choice(
                     far[nf] = v
                     mins[nf] = m
                     nf += 1
-        if not live:
-            dead[q] = 1
+        if not live:  # every vertex done: flag the block, and each region now all dead
+            dead[node] = 1
+            lev, cx, cy = 0, bx, by
+            while lev < top:
+                px, py = cx // 2, cy // 2
+                alive = False
+                for yy in range(2 * py, min(2 * py + 2, nys[lev])):
+                    for xx in range(2 * px, min(2 * px + 2, nxs[lev])):
+                        if not dead[off[lev] + yy * nxs[lev] + xx]:
+                            alive = True
+                if alive:
+                    break
+                lev += 1
+                cx, cy = px, py
+                dead[off[lev] + cy * nxs[lev] + cx] = 1
     if not found:
         return 0, 0, scanned
     nt = 0

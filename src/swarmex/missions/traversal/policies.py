@@ -345,10 +345,10 @@ class Madgta:
         n = belief.status.size
         far, mins = self._scratch(n)
         height = n // width
-        blocks = -(-width // lattice.BLOCK) * -(-height // lattice.BLOCK)
+        blocks = lattice.tree_nodes(width, height, lattice.BLOCK)
         found, nt, scanned = lattice.far_choice(
             width, height, sx, sy, klass, ctpu, cjt, belief.status, belief.reserved, me,
-            step, tpu_me, jt_me, lattice.BLOCK, far, mins, belief.scan_flags("blocks", blocks),
+            step, tpu_me, jt_me, lattice.BLOCK, far, mins, belief.scan_flags("block-tree", blocks),
         )
         self.scanned += scanned
         self.far_decisions += 1
