@@ -2,7 +2,8 @@
 
 A regression to a faster-growing cost shows here as a failing fitted exponent, measured on
 sizes that run in seconds. Traversal is checked on operation counts (distance fields
-computed per job, and none at all on an open grid, where the distances are in closed form);
+computed per job, and none at all on an open grid, where the distances are in closed form;
+vertices read per branch-3 decision, which a whole-map scan would make grow like the map);
 the others on the CPU time per agent-step, whose fitted exponent against size must stay well
 below the one a per-step scan over every agent or every cell would give (≥ 1): the bounds are
 loose on purpose, so load on the machine does not make them flaky.
@@ -18,6 +19,7 @@ import numpy as np
 
 import swarmex
 from swarmex.missions.traversal import run_traversal, uniform_agents
+from swarmex.missions.traversal.policies import Madgta
 from swarmex.worlds.generators import empty_grid, random_obstacles
 
 
@@ -44,6 +46,29 @@ def test_traversal_fields_per_job_do_not_grow_with_the_map():
     for side in (16, 64):  # open grids: lattice distances, no field at all
         run = run_traversal(empty_grid(side, side), uniform_agents([0] * 8, 2.0, 9.0), seed=0)
         assert sum(run.field_cache.values()) == 0
+
+
+def _scanned_per_far_decision(world, nest: int) -> float:
+    policy = Madgta()
+    run_traversal(world, uniform_agents([nest] * 8, 2.0, 9.0), algorithm=policy, seed=0)
+    assert policy.far_decisions > 50  # enough branch-3 decisions to measure
+    return policy.scanned / policy.far_decisions
+
+
+def test_traversal_branch3_reads_a_bounded_part_of_the_map():
+    """Branch 3 (the best vacant vertex anywhere) searches bounded tiles / regions best
+    first: the vertices it reads per decision stay about flat while the map grows 16x. A
+    return to a whole-map scan gives an exponent near 1 (every live vertex is read)."""
+    cells, walled, open_ = [], [], []
+    for side in (24, 48, 96):  # walled: hop fields with tile bounds (fartiles)
+        world = random_obstacles(side, side, 0.15, seed=1)
+        cells.append(float(world.free.sum()))
+        walled.append(_scanned_per_far_decision(world, int(np.flatnonzero(world.free)[0])))
+    assert _exponent(cells, walled) < 0.4, walled
+    sides = (32, 64, 128)  # open lattice: closed-form distances, a tree of regions
+    for side in sides:
+        open_.append(_scanned_per_far_decision(empty_grid(side, side), 0))
+    assert _exponent([float(s * s) for s in sides], open_) < 0.4, open_
 
 
 def test_exploration_cost_per_robot_step_grows_slowly_with_the_team():
