@@ -2,7 +2,8 @@
 
 Every answer of the cache is compared with an independent computation (scipy's Dijkstra
 on the graph minus the obstacles known at that moment), whatever the interleaving of
-discoveries, requests, evictions and source moves.
+discoveries, requests, evictions and source moves; so are the per-tile hop bounds that
+branch 3 prunes with (``tile_bounds``).
 """
 
 from __future__ import annotations
@@ -13,7 +14,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from swarmex.planning import fieldcache
+from swarmex.planning import fieldcache, tiles
 from swarmex.planning.fieldcache import KnownGraph
 from swarmex.worlds import GraphWorld, GridWorld
 
@@ -84,8 +85,24 @@ def run_scenario(world, ops, capacity: int, max_hop: int | None = None,
                 hops = known.hops[r]
                 got = np.where(hops >= 0, hops * known.step, np.inf)
                 check(got, reference(g, s, known.blocked), True)
+            check_tile_bounds(known, srcs, rows)
             continue
         check(got, want, known.uniform)
+
+
+def check_tile_bounds(known: KnownGraph, srcs: np.ndarray, rows: np.ndarray) -> None:
+    """The rows' tile bounds (kept through shifts, repairs and evictions since the last
+    call) hold for the true hop counts, and a tile marked unreached has no reached vertex."""
+    lo, hi, slack = known.tile_bounds(rows)
+    tile_of = known.tiling.tile_of
+    for s, r in zip(srcs.tolist(), rows.tolist(), strict=True):
+        want = reference(known.graph, s, known.blocked)
+        fin = np.isfinite(want)
+        hops = np.round(want[fin] / known.step).astype(np.int64)
+        t = tile_of[fin]
+        assert np.all(lo[r, t] - slack[r] <= hops), (s, r)
+        assert np.all(hops <= hi[r, t] + slack[r]), (s, r)
+        assert not np.isin(t, np.flatnonzero(lo[r] == tiles.NONE_LO)).any()
 
 
 def check(got: np.ndarray, want: np.ndarray, exact: bool) -> None:

@@ -1,0 +1,127 @@
+"""Branch 3's bounded searches against a brute-force reading of Algorithm 2.
+
+``fartiles.far_tiles`` (hop fields, tile bounds) and ``lattice.far_choice`` (open lattice,
+a tree of regions) skip most of the map. Here random situations (walls partly known,
+vertices done or reserved, rivals of several speed / job-time classes chosen so that ties
+are common, fields shifted and repaired before the bounds are read) are decided both ways:
+the brute force computes every vacant vertex's utility against every rival with numpy and
+keeps the vertices tied at the max-min with Algorithm 2's tolerance. The answers (is there
+any vacant vertex; which vertices are tied, in order) must be identical.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from swarmex.missions.traversal import lattice
+from swarmex.missions.traversal.fartiles import far_tiles
+from swarmex.missions.traversal.policies import _rival_classes, _unsigned_view
+from swarmex.planning.fieldcache import KnownGraph
+from swarmex.worlds import GridWorld, empty_grid
+
+
+def brute_force(dist_me, dist_rivals, tpu_me, jt_me, tpu, jt, status, reserved, me):
+    """(found, tied vertices) from whole distance fields (inf: unreachable)."""
+    w = np.flatnonzero((status == 0) & ((reserved == 0) | (reserved == me))
+                       & np.isfinite(dist_me))
+    if w.size == 0:
+        return False, w
+    mine = dist_me[w] * tpu_me + jt_me
+    if len(dist_rivals) == 0:
+        m = -mine
+    else:
+        util = np.stack([d[w] * t + j - mine for d, t, j in zip(dist_rivals, tpu, jt,
+                                                                strict=True)])
+        m = util.min(axis=0)
+    best = m.max()
+    close = (m == best) if np.isinf(best) else np.abs(m - best) <= 1e-9 * (1.0 + abs(best))
+    return True, w[close]
+
+
+def situation(rng: np.random.Generator, n: int, agents: int):
+    status = np.zeros(n, dtype=np.int32)
+    status[rng.random(n) < rng.uniform(0.2, 0.95)] = 1  # done
+    reserved = np.zeros(n, dtype=np.int32)
+    pick = rng.random(n) < 0.05
+    reserved[pick] = rng.integers(1, agents + 1, pick.sum())
+    tpu = rng.choice([1.0, 2.0, 0.5], agents + 1)
+    jt = rng.choice([0.0, 1.0, 3.0], agents + 1)
+    return status, reserved, tpu, jt
+
+
+@pytest.mark.parametrize("seed", range(25))
+def test_far_tiles_equals_brute_force(seed):
+    rng = np.random.default_rng(seed)
+    h, w = int(rng.integers(6, 40)), int(rng.integers(6, 40))
+    free = rng.random((h, w)) >= rng.uniform(0.0, 0.35)
+    world = GridWorld(free)
+    g = world.graph
+    n = g.n_nodes
+    known = KnownGraph(g, capacity=32)
+    walls = np.flatnonzero(~free.ravel())
+    agents = int(rng.integers(1, 7))
+    open_cells = np.flatnonzero(free.ravel())
+    loc = rng.choice(open_cells, agents, replace=True)
+    known.add_obstacles(walls[: walls.size // 2])
+    known.slots(loc.astype(np.int64))
+    known.tile_bounds(known.slots(loc.astype(np.int64)))
+    # walk the agents a few steps and find more walls, so the bounds are stale (slack,
+    # raised maxima) when they are read
+    for _ in range(int(rng.integers(0, 9))):
+        a = int(rng.integers(agents))
+        nbrs = [int(v) for v in g.neighbors(int(loc[a])) if not known.blocked[v]]
+        if nbrs:
+            loc[a] = nbrs[int(rng.integers(len(nbrs)))]
+        if rng.random() < 0.3:
+            known.add_obstacles(walls[rng.integers(walls.size, size=2)] if walls.size else [])
+        known.slots(loc.astype(np.int64))
+    status, reserved, tpu, jt = situation(rng, n, agents)
+    status[known.blocked] = -1
+    me = 1
+    rivals = np.arange(2, agents + 1)
+    rows = known.slots(loc.astype(np.int64))
+    me_slot, slots = int(rows[0]), rows[1:].astype(np.int64)
+    klass, ctpu, cjt = _rival_classes(tpu[rivals], jt[rivals])
+    unsigned, _, high = _unsigned_view(known.hops.dtype)
+    lo, hi, slack = known.tile_bounds(rows.astype(np.int64))
+    tiling = known.tiling
+    far, mins = np.empty(n, dtype=np.int64), np.empty(n)
+    dead = np.zeros(tiling.n_tiles, dtype=np.uint8)
+    found, nt, scanned = far_tiles(
+        known.hops.view(unsigned), me_slot, slots, klass, ctpu, cjt, status, reserved, me,
+        int(loc[0]), known.step, float(tpu[me]), float(jt[me]), far, mins, high, dead,
+        tiling.ptr, tiling.verts, lo, hi, slack)
+    fields = [known.field(int(v)) for v in loc]
+    want_found, want_tied = brute_force(fields[0], fields[1:], tpu[me], jt[me], tpu[rivals],
+                                        jt[rivals], status, reserved, me)
+    assert bool(found) == want_found
+    assert far[:nt].tolist() == want_tied.tolist()
+    assert scanned <= n
+
+
+@pytest.mark.parametrize("seed", range(25))
+def test_lattice_far_choice_equals_brute_force(seed):
+    rng = np.random.default_rng(100 + seed)
+    h, w = int(rng.integers(5, 90)), int(rng.integers(5, 90))
+    world = empty_grid(w, h)
+    n = world.graph.n_nodes
+    agents = int(rng.integers(1, 8))
+    loc = rng.integers(0, n, agents)
+    status, reserved, tpu, jt = situation(rng, n, agents)
+    me = 1
+    rivals = np.arange(2, agents + 1)
+    sy, sx = np.divmod(loc.astype(np.int64), w)
+    klass, ctpu, cjt = _rival_classes(tpu[rivals], jt[rivals])
+    far, mins = np.empty(n, dtype=np.int64), np.empty(n)
+    dead = np.zeros(lattice.tree_nodes(w, h, 8), dtype=np.uint8)
+    found, nt, _ = lattice.far_choice(
+        w, h, sx, sy, klass, ctpu, cjt, status, reserved, me, 1.0, float(tpu[me]),
+        float(jt[me]), 8, far, mins, dead)
+    ys, xs = np.divmod(np.arange(n), w)
+    fields = [(np.abs(xs - x) + np.abs(ys - y)).astype(float) for x, y in zip(sx, sy,
+                                                                              strict=True)]
+    want_found, want_tied = brute_force(fields[0], fields[1:], tpu[me], jt[me], tpu[rivals],
+                                        jt[rivals], status, reserved, me)
+    assert bool(found) == want_found
+    assert far[:nt].tolist() == want_tied.tolist()
