@@ -50,8 +50,10 @@ def far_tiles(
     tpu_me: float, jt_me: float, far: I64, mins: F64, high: np.unsignedinteger[Any],
     dead: NDArray[np.uint8], ptr: I64, verts: I32, lo: I32, hi: I32, slack: I64,
 ) -> tuple[int, int, int]:  # pragma: no cover - compiled
-    """``policies._far_scan``'s answer by bounded tiles: ``(found, tied, scanned)``, the
-    tied vertices ascending in ``far[:tied]``.
+    """Branch 3's answer by bounded tiles: ``(found, tied, scanned)``: whether any vacant
+    vertex I can reach exists, how many vertices are tied at the max-min (ascending in
+    ``far[:tied]``, as a scan of every vertex in id order finds them) and how many vertices
+    were read.
 
     ``hops_u`` is the hop table viewed as unsigned (unreached entries are ``high`` or
     more), ``me_slot`` / ``slots`` my row and the rivals', ``klass`` each rival's (speed,

@@ -271,8 +271,8 @@ def far_choice(
     status: NDArray[np.int32], reserved: NDArray[np.int32], me: int, step: float,
     tpu_me: float, jt_me: float, block: int, far: I64, mins: F64, dead: NDArray[np.uint8],
 ) -> tuple[int, int, int]:  # pragma: no cover - compiled
-    """Branch 3 (``policies._far_scan`` on the open lattice) by a best-first search over a
-    tree of bounded regions.
+    """Branch 3 on the open lattice (``fartiles.far_tiles`` on hop fields) by a best-first
+    search over a tree of bounded regions.
 
     Returns ``(found, tied, scanned)``: whether any vacant vertex exists (0 or more), how
     many vertices are tied at the max-min (left in ascending order in ``far[:tied]``) and how

@@ -46,7 +46,6 @@ from swarmex.missions.traversal.selection import FAR as _FAR
 from swarmex.missions.traversal.selection import JOB as _JOB
 from swarmex.missions.traversal.selection import NUMPY as _NUMPY
 from swarmex.missions.traversal.selection import PICK as _PICK
-from swarmex.missions.traversal.selection import close1 as _close1
 from swarmex.missions.traversal.selection import top_columns as _top_columns
 from swarmex.missions.traversal.selection import vacant_neighbours
 from swarmex.planning.distance import on_path_neighbors, steps_towards
