@@ -149,7 +149,7 @@ def test_shift_hop_field_equals_a_fresh_search(seed):
         if not nbrs:
             break
         s = nbrs[int(rng.integers(len(nbrs)))]
-        method = ("auto", "cone", "complement")[step % 3]
+        method = ("auto", "cone", "complement", "complement-bits")[step % 4]
         hops = shift_hop_field(g, hops, s, method)
         fresh = hop_field(g, s, blocked)
         np.testing.assert_array_equal(np.maximum(hops, -1), fresh)

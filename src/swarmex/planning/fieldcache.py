@@ -388,11 +388,11 @@ class KnownGraph:
         self._float.pop(dst, None)
         self._shift_bounds(src, dst)
         hops, width, mask = self.hops, self._width, self._nbmask
-        sample, near_source = self._sample, near
+        sample, near_source, top = self._sample, near, int(self._row_max[src])
 
         def run(sc: _Scratch) -> None:
             _shift_lattice(width, mask, hops[src], hops[dst], source, near_source, sample,
-                           sc.mark, sc.next_epoch(), sc.queue)
+                           sc.mark, sc.next_epoch(), sc.queue, top)
 
         job = _Job(run)
         self._pending[dst] = job
@@ -491,7 +491,8 @@ class KnownGraph:
         else:
             sc = self._scratch
             _shift_lattice(self._width, self._nbmask, self.hops[near], self.hops[slot], source,
-                           near_source, self._sample, sc.mark, sc.next_epoch(), sc.queue)
+                           near_source, self._sample, sc.mark, sc.next_epoch(), sc.queue,
+                           bound - 1)
             self._row_max[slot] = bound
             self._shift_bounds(near, slot)
             self.shifted += 1
