@@ -596,9 +596,10 @@ class KnownGraph:
         """Per-tile bounds of the hop rows ``slots`` (rows as :meth:`slots` returns them):
         ``(lo, hi, slack)``, tables of all rows, such that every reachable vertex ``v`` of a
         tile ``t`` of row ``s`` has ``lo[s, t] - slack[s] <= hops[s, v] <= hi[s, t] +
-        slack[s]``; a tile the row reaches nowhere has ``lo`` NONE_LO and ``hi`` NONE_HI
-        (both exact: shifts and repairs never make a vertex reachable). Costs nothing for a
-        row whose bounds are current, one pass over the row otherwise."""
+        slack[s]``. ``lo`` NONE_LO and ``hi`` NONE_HI mark a tile the row reaches nowhere
+        (and never will: shifts and repairs never make a vertex reachable); a tile that a
+        repair cut off keeps its old, still valid, bounds. Costs nothing for a row whose
+        bounds are current, one pass over the row otherwise."""
         tiling = self.tiling
         self._settle_pending(slots)
         for s in slots.tolist():
