@@ -11,8 +11,10 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from swarmex.studies.foraging.design import BAND_LABEL as LABEL
-from swarmex.studies.foraging.design import BANDS, TRANSPORT_CONFIGS
+from swarmex.studies.foraging.design import BANDS, METRIC_OF, TRANSPORT_CONFIGS
 
 COLUMNS = ("exploration", "communication", "comm_transport", "transportation", "total")
 HEAD = ("EXPLORATION", "COMMUNICATION", "COMM+TRANS", "TRANSPORTATION", "total")
@@ -94,6 +96,16 @@ transport:
   nest. Its near cells are split between the first and the last phase.
 
 So it is a better *average* and *far-food* strategy, not a uniformly better one."""
+
+
+AUTHOR_TEXT = """\
+The seed author's simulator (repository sunidhiazad/foraging-sunidhi) publishes the output of
+82 of its runs: Strips with 16 robots, Relay-Food, 100 units
+(`foragingProject/files/output/Output.csv`; its food cells and time stamps are in
+src/swarmex/studies/reference/foraging_author_strips16.csv). We ran the same cells. It is the
+only (pattern, N) for which the author's own per-cell results are published; the other rows
+can be compared with the thesis's table only (above). Its separation labels are its own (one
+cell appears under two labels)."""
 
 
 def _fmt(v: float | None) -> str:
@@ -323,6 +335,38 @@ def transport_section(table) -> list[str]:
     return lines
 
 
+def author_section(author: list[dict[str, Any]], ours: list[dict[str, Any]]) -> list[str]:
+    """Our runs beside the seed author's published simulator runs on the same food cells
+    (Strips, N = 16): mean of each phase per separation label, and how many runs' totals lie
+    within 15 % of the author's."""
+    if not author or len(ours) != len(author):
+        return ["(no runs on the author's cells)"]
+    head = ["EXPLORATION", "COMMUNICATION", "COMM+TRANS", "TRANSPORTATION", "total"]
+    lines = [
+        "| separation (author's label) | runs | "
+        + " | ".join(f"{h} author / ours" for h in head)
+        + " | total ours / author | totals within 15 % |",
+        "|---|---|" + "---|" * (len(head) + 2),
+    ]
+    labels = sorted({a["separation"] for a in author}, key=lambda b: int(b.split("-")[0]))
+    for label in [*labels, "all"]:
+        idx = [i for i, a in enumerate(author) if label in ("all", a["separation"])]
+        cells = []
+        for c in COLUMNS:
+            theirs = float(np.mean([author[i][c] for i in idx]))
+            mine = float(np.mean([_ours(ours[i], c) for i in idx]))
+            cells.append(f"{theirs:.0f} / {mine:.0f}")
+        ratio = float(np.mean([_ours(ours[i], "total") / author[i]["total"] for i in idx]))
+        close = sum(abs(_ours(ours[i], "total") / author[i]["total"] - 1) <= 0.15 for i in idx)
+        tail = f" | {ratio:.2f} | {close}/{len(idx)} |"
+        lines.append(f"| {label} | {len(idx)} | " + " | ".join(cells) + tail)
+    return lines
+
+
+def _ours(run: dict[str, Any], column: str) -> float:
+    return float(run["total_time"] if column == "total" else run[METRIC_OF[column]])
+
+
 def write_report(
     out: Path,
     table: dict,
@@ -334,6 +378,7 @@ def write_report(
     per_band: int,
     runs: dict[str, Any],
     exact: dict | None = None,
+    author: tuple[list[dict[str, Any]], list[dict[str, Any]]] = ([], []),
 ) -> Path:
     wall = sum(r.get("wall", 0.0) for r in runs.values())
     lines = [
@@ -354,6 +399,12 @@ def write_report(
         "## Agreement: mean |ours − thesis| / thesis",
         "",
         *agreement(table, ref),
+        "",
+        "## Beside the author's simulator, on its own food cells",
+        "",
+        AUTHOR_TEXT,
+        "",
+        *author_section(*author),
         "",
         "## The thesis's findings, rechecked",
         "",
