@@ -176,6 +176,128 @@ def _order(cur: I64, opts: I64, out: I64) -> None:
 
 
 @njit(cache=True)
+def _transport_look(
+    pos: I64, carrying: Bools, tmode: I64, pidx: I64, join_at: I64, state: I64, path: I64,
+    nest: I64, food: I64, relay: bool, jobs: I64, handovers: I64, was: Bools, busy: Bools,
+) -> None:  # fmt: skip
+    """One round's Look (``Mission.transport_look``): join, hand-overs, drops, pick-ups;
+    ``was`` and ``busy`` are scratch arrays of n."""
+    n = pos.shape[0]
+    t = state[0]
+    if relay:
+        for a in range(n):
+            if tmode[a] == JOIN:
+                j = join_at[a]
+                if pos[a, 0] == path[j, 0] and pos[a, 1] == path[j, 1]:
+                    tmode[a] = RELAY
+                    pidx[a] = j
+        for a in range(n):
+            was[a] = carrying[a]
+            busy[a] = False
+        for b in range(n):
+            if tmode[b] != RELAY or not was[b] or pidx[b] < 2:
+                continue
+            cx, cy = path[pidx[b] - 1, 0], path[pidx[b] - 1, 1]
+            a = -1
+            for c in range(n):  # the last RELAY robot there, as the dict in sim.py
+                if tmode[c] == RELAY and pos[c, 0] == cx and pos[c, 1] == cy:
+                    a = c
+            if a < 0 or was[a] or busy[a] or busy[b]:
+                continue
+            carrying[a] = True
+            carrying[b] = False
+            handovers[b] += 1
+            busy[a] = True
+            busy[b] = True
+    for a in range(n):
+        if tmode[a] != RELAY and tmode[a] != E2E:
+            continue
+        if carrying[a] and pos[a, 0] == nest[0] and pos[a, 1] == nest[1]:
+            carrying[a] = False
+            state[2] += 1
+            jobs[state[4], 0] = t
+            jobs[state[4], 1] = a
+            jobs[state[4], 2] = 1
+            state[4] += 1
+        elif (not carrying[a]) and pos[a, 0] == food[0] and pos[a, 1] == food[1] and state[1]:
+            carrying[a] = True
+            state[1] -= 1
+            jobs[state[4], 0] = t
+            jobs[state[4], 1] = a
+            jobs[state[4], 2] = 0
+            state[4] += 1
+
+
+@njit(cache=True)
+def _transport_options(
+    pos: I64, carrying: Bools, tmode: I64, pidx: I64, join_at: I64, units: int, path: I64,
+    nest: I64, food: I64, g: int, frozen: bool, opts: I64, nopt: I64,
+) -> None:  # fmt: skip
+    """Every robot's ordered wishes (``Mission.options`` for the Transportation phase): cells
+    in ``opts[a, :nopt[a]]``. A relay robot at the food end with no unit left goes idle."""
+    n = pos.shape[0]
+    L = path.shape[0]
+    for a in range(n):
+        x, y = pos[a, 0], pos[a, 1]
+        k = 0
+        tm = tmode[a]
+        if tm == E2E:
+            if (not carrying[a]) and units == 0:
+                opts[a, 0, 0] = x
+                opts[a, 0, 1] = y
+                k = _sidesteps(opts[a], 1, x, y, g)
+            else:
+                if carrying[a]:
+                    k = _toward(opts[a], 0, x, y, nest[0], nest[1])
+                else:
+                    k = _toward(opts[a], 0, x, y, food[0], food[1])
+                if frozen and k > 0:
+                    k = _free_sides(opts[a], k, x, y, g)
+                opts[a, k, 0] = x
+                opts[a, k, 1] = y
+                k += 1
+        elif tm == JOIN:
+            j = join_at[a]
+            k = _toward(opts[a], 0, x, y, path[j, 0], path[j, 1])
+            opts[a, k, 0] = x
+            opts[a, k, 1] = y
+            k += 1
+        elif tm == RELAY:
+            i = pidx[a]
+            if carrying[a]:
+                if i > 0:
+                    opts[a, 0, 0] = path[i - 1, 0]
+                    opts[a, 0, 1] = path[i - 1, 1]
+                    opts[a, 1, 0] = x
+                    opts[a, 1, 1] = y
+                    k = 2
+                else:
+                    opts[a, 0, 0] = x
+                    opts[a, 0, 1] = y
+                    k = 1
+            elif i < L - 1:
+                opts[a, 0, 0] = path[i + 1, 0]
+                opts[a, 0, 1] = path[i + 1, 1]
+                opts[a, 1, 0] = x
+                opts[a, 1, 1] = y
+                k = 2
+            elif units == 0:
+                tmode[a] = IDLE
+                opts[a, 0, 0] = x
+                opts[a, 0, 1] = y
+                k = _sidesteps(opts[a], 1, x, y, g)
+            else:
+                opts[a, 0, 0] = x
+                opts[a, 0, 1] = y
+                k = 1
+        else:
+            opts[a, 0, 0] = x
+            opts[a, 0, 1] = y
+            k = _sidesteps(opts[a], 1, x, y, g)
+        nopt[a] = k
+
+
+@njit(cache=True)
 def transport_tail(
     pos: I64, carrying: Bools, tmode: I64, pidx: I64, join_at: I64, state: I64, path: I64,
     path_of: I64, nest: I64, food: I64, relay: bool, history: I64, jobs: I64, handovers: I64,
@@ -190,7 +312,6 @@ def transport_tail(
     """
     n = pos.shape[0]
     g = path_of.shape[0]
-    L = path.shape[0]
     opts = np.empty((n, MAXOPT, 2), np.int64)
     nopt = np.zeros(n, np.int64)
     order = np.empty(n, np.int64)
@@ -201,48 +322,10 @@ def transport_tail(
     while rows < history.shape[0]:
         t = state[0]
         # ---- Look: join, hand-overs, drops, pick-ups
-        if relay:
-            for a in range(n):
-                if tmode[a] == JOIN:
-                    j = join_at[a]
-                    if pos[a, 0] == path[j, 0] and pos[a, 1] == path[j, 1]:
-                        tmode[a] = RELAY
-                        pidx[a] = j
-            for a in range(n):
-                was[a] = carrying[a]
-                busy[a] = False
-            for b in range(n):
-                if tmode[b] != RELAY or not was[b] or pidx[b] < 2:
-                    continue
-                cx, cy = path[pidx[b] - 1, 0], path[pidx[b] - 1, 1]
-                a = -1
-                for c in range(n):  # the last RELAY robot there, as the dict in sim.py
-                    if tmode[c] == RELAY and pos[c, 0] == cx and pos[c, 1] == cy:
-                        a = c
-                if a < 0 or was[a] or busy[a] or busy[b]:
-                    continue
-                carrying[a] = True
-                carrying[b] = False
-                handovers[b] += 1
-                busy[a] = True
-                busy[b] = True
-        for a in range(n):
-            if tmode[a] != RELAY and tmode[a] != E2E:
-                continue
-            if carrying[a] and pos[a, 0] == nest[0] and pos[a, 1] == nest[1]:
-                carrying[a] = False
-                state[2] += 1
-                jobs[state[4], 0] = t
-                jobs[state[4], 1] = a
-                jobs[state[4], 2] = 1
-                state[4] += 1
-            elif (not carrying[a]) and pos[a, 0] == food[0] and pos[a, 1] == food[1] and state[1]:
-                carrying[a] = True
-                state[1] -= 1
-                jobs[state[4], 0] = t
-                jobs[state[4], 1] = a
-                jobs[state[4], 2] = 0
-                state[4] += 1
+        _transport_look(
+            pos, carrying, tmode, pidx, join_at, state, path, nest, food, relay, jobs,
+            handovers, was, busy,
+        )  # fmt: skip
         for a in range(n):
             history[rows, a, 0] = pos[a, 0]
             history[rows, a, 1] = pos[a, 1]
@@ -252,64 +335,10 @@ def transport_tail(
             break
         # ---- Compute: options
         frozen = _same_as_memo(memo, pos, carrying, tmode, pidx, state[1], state[2])
-        for a in range(n):
-            x, y = pos[a, 0], pos[a, 1]
-            k = 0
-            tm = tmode[a]
-            if tm == E2E:
-                if (not carrying[a]) and state[1] == 0:
-                    opts[a, 0, 0] = x
-                    opts[a, 0, 1] = y
-                    k = _sidesteps(opts[a], 1, x, y, g)
-                else:
-                    if carrying[a]:
-                        k = _toward(opts[a], 0, x, y, nest[0], nest[1])
-                    else:
-                        k = _toward(opts[a], 0, x, y, food[0], food[1])
-                    if frozen and k > 0:
-                        k = _free_sides(opts[a], k, x, y, g)
-                    opts[a, k, 0] = x
-                    opts[a, k, 1] = y
-                    k += 1
-            elif tm == JOIN:
-                j = join_at[a]
-                k = _toward(opts[a], 0, x, y, path[j, 0], path[j, 1])
-                opts[a, k, 0] = x
-                opts[a, k, 1] = y
-                k += 1
-            elif tm == RELAY:
-                i = pidx[a]
-                if carrying[a]:
-                    if i > 0:
-                        opts[a, 0, 0] = path[i - 1, 0]
-                        opts[a, 0, 1] = path[i - 1, 1]
-                        opts[a, 1, 0] = x
-                        opts[a, 1, 1] = y
-                        k = 2
-                    else:
-                        opts[a, 0, 0] = x
-                        opts[a, 0, 1] = y
-                        k = 1
-                elif i < L - 1:
-                    opts[a, 0, 0] = path[i + 1, 0]
-                    opts[a, 0, 1] = path[i + 1, 1]
-                    opts[a, 1, 0] = x
-                    opts[a, 1, 1] = y
-                    k = 2
-                elif state[1] == 0:
-                    tmode[a] = IDLE
-                    opts[a, 0, 0] = x
-                    opts[a, 0, 1] = y
-                    k = _sidesteps(opts[a], 1, x, y, g)
-                else:
-                    opts[a, 0, 0] = x
-                    opts[a, 0, 1] = y
-                    k = 1
-            else:
-                opts[a, 0, 0] = x
-                opts[a, 0, 1] = y
-                k = _sidesteps(opts[a], 1, x, y, g)
-            nopt[a] = k
+        _transport_options(
+            pos, carrying, tmode, pidx, join_at, state[1], path, nest, food, g, frozen, opts,
+            nopt,
+        )  # fmt: skip
         # ---- Move
         _order(pos, opts, order)
         _resolve(pos, opts, nopt, order, nest[0], nest[1], choice)
