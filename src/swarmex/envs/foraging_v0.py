@@ -87,7 +87,7 @@ if TYPE_CHECKING:
     from swarmex.missions.foraging.mission import ForagingWorld
     from swarmex.missions.foraging.params import ForagingParams
     from swarmex.missions.foraging.run import ForageRun
-    from swarmex.missions.foraging.sim import Frame, Mission
+    from swarmex.missions.foraging.sim import Mission
 
     Rounds = Generator[Compute, np.ndarray, ForageRun]
 
@@ -112,13 +112,6 @@ SENSING = 2  # robots seen within this Manhattan distance (what collision avoida
 INVALID_ACTION_MODES = ("raise", "project")
 RENDER_MODES = ("rgb_array",)
 Cell = tuple[int, int]
-
-
-def _cap(frame: Frame, limit: int) -> None:
-    from swarmex.missions.base import StopRun
-
-    if frame.t >= limit:
-        raise StopRun
 
 
 class ForagingEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray], int]):
@@ -247,13 +240,12 @@ class ForagingEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray], in
         params: ForagingParams = replace(self.params, seed=self._seed)
         world: ForagingWorld = mission.prepare(params)  # draws the food from the seed
         self._run_params, self._world = params, world
-        limit = self.max_rounds
         from swarmex.missions.foraging.run import forage_rounds
 
         p = params
         rounds = forage_rounds(
             p.algorithm, p.grid, p.agents, world.food, p.food_units, p.transport,
-            on_frame=lambda frame: _cap(frame, limit), comm=p.comm,
+            comm=p.comm, stop_at=self.max_rounds,
         )  # fmt: skip
         self._rounds = rounds
         self._finalizer = weakref.finalize(self, rounds.close)
@@ -309,18 +301,17 @@ class ForagingEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray], in
             m = self._mission
             if m is not None:
                 self._delivered = m.delivered
-                self._locate(m.pos)
+                self._locate(np.array(m.pos, dtype=np.int64).reshape(m.n, 2))
             return
         m = self._mission = request.mission
         self._delivered = m.delivered
         self._pending = request
-        self._locate(m.pos)
+        self._locate(request.positions)
 
-    def _locate(self, cells: list[Cell]) -> None:
-        """Take the robots' cells (the state after the last Look)."""
-        g = self.g
-        self._cells = [x * g + y for x, y in cells]
-        pos = self._pos = np.array(cells, dtype=np.int64)
+    def _locate(self, pos: np.ndarray) -> None:
+        """Take the robots' cells, an (n, 2) array (the state after the last Look)."""
+        self._pos = pos
+        self._cells = (pos[:, 0] * self.g + pos[:, 1]).tolist()
         self._mask = self._cell_masks[pos[:, 0], pos[:, 1]]
 
     def _moves_from(self, actions: Mapping[str, Any]) -> np.ndarray:
@@ -497,7 +488,7 @@ class ForagingEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray], in
         from swarmex.viz.foraging import animation_frames
 
         p = self.params
-        rows = m.history
+        rows = m.trajectory().tolist()
         agents = [
             {
                 "trajectory": [[t, int(r[a][0]), int(r[a][1])] for t, r in enumerate(rows)],

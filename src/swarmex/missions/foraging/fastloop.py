@@ -355,3 +355,138 @@ def transport_tail(
         state[0] = t + 1
     state[5] = rows
     return rows
+
+
+# ---------------------------------------------------------------- the hooked round
+# hooked_round's answers (negative: -(a + 1), robot a's move is not a legal move code)
+GOING, DONE, STOPPED, STALLED = 0, 1, 2, 3
+STAY = 0
+# (dx, dy) of the hook's move codes (hook.STEPS): stay, North, East, South, West
+STEP_X = np.array([0, 0, 1, 0, -1], dtype=np.int64)
+STEP_Y = np.array([0, -1, 0, 1, 0], dtype=np.int64)
+# hooked_round's state vector: its slots
+T, UNITS, DELIVERED, K, N_JOBS, ROW, STOP_AT, LIMIT, MOVED = range(9)
+
+
+@njit(cache=True)
+def _entry_cell(path: I64, x: int, y: int) -> int:
+    """``transport.entry_cell``: the path cell nearest (x, y), ties toward the food."""
+    best, dist = 0, -1
+    for i in range(path.shape[0]):
+        d = abs(path[i, 0] - x) + abs(path[i, 1] - y)
+        if dist < 0 or d <= dist:
+            best, dist = i, d
+    return best
+
+
+@njit(cache=True)
+def _move_code(dx: int, dy: int) -> int:
+    for m in range(5):
+        if STEP_X[m] == dx and STEP_Y[m] == dy:
+            return m
+    return -1  # pragma: no cover - a wish is always the robot's cell or a neighbour
+
+
+@njit(cache=True)
+def hooked_round(
+    pos: I64, carrying: Bools, tmode: I64, pidx: I64, join_at: I64, handovers: I64,
+    state: I64, path: I64, path_of: I64, nest: I64, food: I64, relay: bool, opts: I64,
+    nopt: I64, builtin: I64, moves: I64, history: I64, jobs: I64, memo: I64,
+) -> int:  # fmt: skip
+    """One round of a *hooked* run in the Transportation phase (every robot transports):
+    the Move of the pending round with the caller's ``moves`` (when ``state[MOVED]``), then
+    the next round's Look and Compute. A line-by-line port of ``Mission.hooked_step`` with
+    :func:`~swarmex.missions.foraging.hook.hooked_options` (a robot whose move is its seed
+    move keeps its wishes, any other move is "that cell, else stay"), the priority order and
+    resolution, ``Mission._move``'s rule for a relay robot moved off the path (it re-joins at
+    its nearest path cell), then ``transport_look`` and ``options`` as in
+    :func:`transport_tail`.
+
+    ``state`` = [t, units, delivered, k, n_jobs, row, stop_at, limit, moved]: the position
+    after the Look goes to ``history[row]`` (row is then advanced); jobs as in
+    :func:`transport_tail`. The seed's wishes are left in ``opts``/``nopt`` and their move
+    codes in ``builtin``. Returns GOING (a Compute is pending), DONE (k units home),
+    STOPPED (round ``stop_at`` reached), STALLED (round ``limit`` reached), or ``-(a + 1)``
+    when robot ``a``'s move is not a code or leaves the grid (nothing is changed then).
+    """
+    n = pos.shape[0]
+    g = path_of.shape[0]
+    if state[MOVED]:
+        for a in range(n):  # check every move first: a bad one changes nothing
+            m = moves[a]
+            if m == builtin[a]:
+                continue
+            if m < 0 or m > 4:
+                return -(a + 1)
+            nx, ny = pos[a, 0] + STEP_X[m], pos[a, 1] + STEP_Y[m]
+            if not (0 <= nx < g and 0 <= ny < g):
+                return -(a + 1)
+        chosen = np.empty((n, MAXOPT, 2), np.int64)
+        nchosen = np.empty(n, np.int64)
+        for a in range(n):
+            x, y = pos[a, 0], pos[a, 1]
+            m = moves[a]
+            if m == builtin[a]:  # the seed's wishes, staying as the last resort
+                k = nopt[a]
+                for j in range(k):
+                    chosen[a, j, 0] = opts[a, j, 0]
+                    chosen[a, j, 1] = opts[a, j, 1]
+                if opts[a, k - 1, 0] != x or opts[a, k - 1, 1] != y:
+                    chosen[a, k, 0] = x
+                    chosen[a, k, 1] = y
+                    k += 1
+                nchosen[a] = k
+            elif m == STAY:
+                chosen[a, 0, 0] = x
+                chosen[a, 0, 1] = y
+                nchosen[a] = 1
+            else:
+                chosen[a, 0, 0] = x + STEP_X[m]
+                chosen[a, 0, 1] = y + STEP_Y[m]
+                chosen[a, 1, 0] = x
+                chosen[a, 1, 1] = y
+                nchosen[a] = 2
+        order = np.empty(n, np.int64)
+        choice = np.zeros(n, np.int64)
+        _order(pos, chosen, order)  # no robot follows a route in this phase
+        _resolve(pos, chosen, nchosen, order, nest[0], nest[1], choice)
+        for a in range(n):
+            nx, ny = chosen[a, choice[a], 0], chosen[a, choice[a], 1]
+            if tmode[a] == RELAY and (nx != pos[a, 0] or ny != pos[a, 1]):
+                j = path_of[nx, ny]
+                if j >= 0 and abs(j - pidx[a]) == 1:
+                    pidx[a] = j
+                else:  # moved off the path by the hook: walk back and re-join
+                    tmode[a] = JOIN
+                    join_at[a] = _entry_cell(path, nx, ny)
+            pos[a, 0] = nx
+            pos[a, 1] = ny
+        state[T] += 1
+        state[MOVED] = 0
+    # ---- Look
+    was = np.empty(n, np.bool_)
+    busy = np.zeros(n, np.bool_)
+    _transport_look(
+        pos, carrying, tmode, pidx, join_at, state, path, nest, food, relay, jobs, handovers,
+        was, busy,
+    )  # fmt: skip
+    row = state[ROW]
+    for a in range(n):
+        history[row, a, 0] = pos[a, 0]
+        history[row, a, 1] = pos[a, 1]
+    state[ROW] = row + 1
+    if state[T] >= state[STOP_AT]:
+        return STOPPED
+    if state[DELIVERED] >= state[K]:
+        return DONE
+    if state[T] >= state[LIMIT]:
+        return STALLED
+    # ---- Compute: the seed's wishes and their moves
+    frozen = _same_as_memo(memo, pos, carrying, tmode, pidx, state[UNITS], state[DELIVERED])
+    _transport_options(
+        pos, carrying, tmode, pidx, join_at, state[UNITS], path, nest, food, g, frozen, opts,
+        nopt,
+    )  # fmt: skip
+    for a in range(n):
+        builtin[a] = _move_code(opts[a, 0, 0] - pos[a, 0], opts[a, 0, 1] - pos[a, 1])
+    return GOING

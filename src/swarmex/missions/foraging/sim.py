@@ -104,11 +104,14 @@ FrameSink = Callable[[Frame], object]
 class Compute:
     """A hooked run's request, at the Compute of round ``t`` (the state after its Look):
     ``builtin[a]`` is robot ``a``'s seed move (a :mod:`.hook` move code); the answer is an
-    (n,) array of every robot's move. ``mission`` is the run's state (read-only)."""
+    (n,) array of every robot's move. ``mission`` is the run's state (read-only);
+    ``positions`` its robots' cells as an array (what a caller that works on arrays wants,
+    without converting ``mission.pos``)."""
 
     mission: Mission
     t: int
     builtin: np.ndarray  # (n,) int64
+    positions: np.ndarray  # (n, 2) int64: every robot's cell after the Look (a copy)
 
 
 Decide = Callable[[Compute], np.ndarray]  # decide(request) -> every robot's move
@@ -180,6 +183,7 @@ class Mission:
         self.history: list[list[Cell]] = []
         self.join_at: dict[int, int] = {}
         self.tail_chunks: list[np.ndarray] = []
+        self._live: tuple[np.ndarray, np.ndarray] | None = None  # hooked tail: (chunk, state)
         # the transport state after the last Look, to spot a frozen crowd (see step)
         self._last_key: tuple | None = None
         self._frozen = False
@@ -432,7 +436,8 @@ class Mission:
         robot's move back (:mod:`.hook`)."""
         opts, following = self._compute()
         builtin = seed_moves(self.pos, opts)
-        moves = yield Compute(self, self.t, builtin)
+        here = np.array(self.pos, dtype=np.int64).reshape(self.n, 2)
+        moves = yield Compute(self, self.t, builtin, here)
         chosen, ranked = hooked_options(self.pos, opts, following, builtin, moves, self.g)
         self._move(opts, following, chosen, ranked)
 
@@ -510,17 +515,24 @@ class Mission:
         limit: int | None = None,
         fast: bool = True,
         on_frame: FrameSink | None = None,
+        stop_at: int | None = None,
     ) -> Rounds:
         """Play rounds until all k units are home; ``fast`` hands the pure-transport tail to
-        the compiled loop of :mod:`.fastloop` (same rules, same result). ``on_frame`` gets
-        each round's :class:`Frame`; if it raises StopRun the run stops there
-        (``self.stopped``). A generator: a hooked run yields each Compute (module
-        docstring); any other never yields."""
+        the compiled loop of :mod:`.fastloop` (same rules, same result): :meth:`_tail`, or
+        for a hooked run without ``on_frame`` :meth:`_hooked_tail`. ``on_frame`` gets each
+        round's :class:`Frame`; if it raises StopRun the run stops there (``self.stopped``),
+        and so it does at round ``stop_at`` (the same stop without a frame per round). A
+        generator: a hooked run yields each Compute (module docstring); any other never
+        yields."""
         limit = limit or self.t + 200 * self.g * (self.k + self.g) + 10_000
         while True:
             if fast and all(m == TRANSPORT for m in self.mode):
-                self._tail(record, limit, on_frame)
-                return
+                if not self.hooked:
+                    self._tail(record, limit, on_frame)
+                    return
+                if on_frame is None:
+                    yield from self._hooked_tail(record, limit, stop_at)
+                    return
             self.look()
             if record:
                 self.history.append(list(self.pos))
@@ -530,6 +542,9 @@ class Mission:
                 except StopRun:
                     self.stopped = True
                     return
+            if stop_at is not None and self.t >= stop_at:
+                self.stopped = True
+                return
             if self.delivered >= self.k:
                 return
             if self.t >= limit:
@@ -538,6 +553,101 @@ class Mission:
                 yield from self.hooked_step()
             else:
                 self.step()
+
+    def _hooked_tail(self, record: bool, limit: int, stop_at: int | None) -> Rounds:
+        """The rounds of a hooked run once every robot transports, in the compiled
+        :func:`~.fastloop.hooked_round` (one call per round: the pending Move with the
+        caller's moves, then the next Look and Compute). The Transportation phase is
+        absorbing and every robot is informed, so no one learns, tells or crosses off any
+        more: what remains is the arrays' rounds, the same as :meth:`hooked_step`'s. After
+        each round the lists of this Mission (``pos``, ``carrying``, ``tmode``, ``pidx``,
+        ``join_at``, ``handovers``, ``jobs``, the counts) are brought up to date, so it stays
+        the run's state for every reader; the positions after each Look go to
+        ``tail_chunks`` (:meth:`trajectory` joins them to ``history``)."""
+        from swarmex.missions.foraging import fastloop as fl
+
+        n, g = self.n, self.g
+        pos = np.asarray(self.pos, dtype=np.int64).reshape(n, 2)
+        carrying = np.asarray(self.carrying, dtype=np.bool_)
+        tmode = np.asarray(self.tmode, dtype=np.int64)
+        pidx = np.asarray(self.pidx, dtype=np.int64)
+        join_at = np.asarray([self.join_at.get(a, 0) for a in range(n)], dtype=np.int64)
+        handovers = np.asarray(self.handovers, dtype=np.int64)
+        path = np.asarray(self.path, dtype=np.int64)
+        path_of = np.full((g, g), -1, dtype=np.int64)
+        path_of[path[:, 0], path[:, 1]] = np.arange(len(path))
+        nest = np.asarray(self.nest, dtype=np.int64)
+        food = np.asarray(self.food, dtype=np.int64)
+        relay = self.transport != END_TO_END
+        never = np.iinfo(np.int64).max
+        state = np.asarray(
+            [self.t, self.units, self.delivered, self.k, 0, 0,
+             never if stop_at is None else stop_at, limit, 0],
+            dtype=np.int64,
+        )  # fmt: skip
+        jobs = np.zeros((2 * self.k + 2, 3), dtype=np.int64)
+        opts = np.empty((n, fl.MAXOPT, 2), dtype=np.int64)
+        nopt = np.zeros(n, dtype=np.int64)
+        builtin = np.zeros(n, dtype=np.int64)
+        moves = np.zeros(n, dtype=np.int64)
+        rows = 4096 if record else 1
+        chunk = np.empty((rows, n, 2), dtype=np.int32)
+        memo = fl.transport_memo(self._last_key, n)
+        self._live = (chunk, state)
+        synced = 0  # jobs already copied to self.jobs
+        while True:
+            status = fl.hooked_round(
+                pos, carrying, tmode, pidx, join_at, handovers, state, path, path_of, nest,
+                food, relay, opts, nopt, builtin, moves, chunk, jobs, memo,
+            )  # fmt: skip
+            if status < 0:
+                a = -status - 1
+                m, p = int(moves[a]), self.pos[a]
+                if not 0 <= m < len(fl.STEP_X):
+                    raise ValueError(f"robot {a}: move {m} is not a move code (0..4)")
+                raise ValueError(f"robot {a}: move {m} from {p} leaves the {g}×{g} grid")
+            self.t, self.units, self.delivered = state[:3].tolist()
+            self.pos = list(map(tuple, pos.tolist()))
+            self.carrying = carrying.tolist()
+            self.tmode = tmode.tolist()
+            self.pidx = pidx.tolist()
+            self.handovers = handovers.tolist()
+            if relay:
+                self.join_at = dict(enumerate(join_at.tolist()))
+            if state[fl.N_JOBS] > synced:
+                for t, a, kind in jobs[synced : state[fl.N_JOBS]].tolist():
+                    cell = self.nest if kind == 1 else self.food
+                    self.jobs[a].append((t, *cell, "drop" if kind == 1 else "pickup"))
+                synced = int(state[fl.N_JOBS])
+            if state[fl.ROW] == rows:  # the chunk is full: keep it, start another
+                if record:
+                    self.tail_chunks.append(chunk)
+                    chunk = np.empty((rows, n, 2), dtype=np.int32)
+                    self._live = (chunk, state)
+                state[fl.ROW] = 0
+            if status == fl.STOPPED:
+                self.stopped = True
+            if status == fl.STALLED:
+                raise NoProgress(f"no completion after {self.t} rounds")
+            if status != fl.GOING:
+                return
+            answer = yield Compute(self, self.t, builtin.copy(), pos.copy())
+            moves[:] = answer
+            state[fl.MOVED] = 1
+
+    def trajectory(self) -> np.ndarray:
+        """(rounds, n, 2) int32: the robots' cells after each Look this loop played (the
+        ``history`` rows, then the compiled rounds' chunks)."""
+        parts = []
+        if self.history:
+            parts.append(np.asarray(self.history, dtype=np.int32).reshape(-1, self.n, 2))
+        parts.extend(self.tail_chunks)
+        if self._live is not None:
+            chunk, state = self._live
+            parts.append(chunk[: int(state[5])])
+        if not parts:
+            return np.empty((0, self.n, 2), dtype=np.int32)
+        return np.concatenate(parts, axis=0)
 
     def _tail(self, record: bool, limit: int, on_frame: FrameSink | None = None) -> None:
         """The pure-transport rounds in the compiled loop; with ``on_frame``, one round per
@@ -670,9 +780,13 @@ def decided_rounds(
     record: bool = True,
     on_frame: FrameSink | None = None,
     comm: str = SEED,
+    fast: bool = True,
+    stop_at: int | None = None,
 ) -> Generator[Compute, np.ndarray, Outcome]:
     """A hooked run (module docstring): this loop from round 0, every Compute yielded; the
-    generator's value is the Outcome."""
+    generator's value is the Outcome. ``stop_at`` stops it at that round as an ``on_frame``
+    raising StopRun there would; ``fast`` plays the Transportation phase's rounds compiled
+    (:meth:`Mission._hooked_tail`, when there is no ``on_frame``)."""
     if transport not in (RELAY_FOOD, RELAY_PATH, END_TO_END):
         raise ValueError(transport)
     plan = timed.plan
@@ -680,8 +794,8 @@ def decided_rounds(
     m = Mission(
         plan.g, plan.nest, food, units, transport, start, timed=timed, hooked=True, comm=comm
     )
-    yield from m.rounds(record=True, fast=False, on_frame=on_frame)
-    history = np.asarray(m.history, dtype=np.int32).reshape(-1, plan.n, 2)
+    yield from m.rounds(record=True, fast=fast, on_frame=on_frame, stop_at=stop_at)
+    history = m.trajectory()
     told = [t for t in m.informed_at if t is not None]
     discovery = min(told) if told else None
     finders = [
