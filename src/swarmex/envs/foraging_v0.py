@@ -81,6 +81,7 @@ from swarmex.errors import InputError
 from swarmex.missions.foraging.hook import STAY, STEPS
 from swarmex.missions.foraging.sim import COMM, FOLLOW, TRANSPORT, Compute
 from swarmex.missions.registry import get as get_mission
+from swarmex.sensing.teammates import team_view
 
 if TYPE_CHECKING:
     from swarmex.engine.record import ResultRecord
@@ -132,7 +133,7 @@ class ForagingEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray], in
     }
 
     _TRANSIENT = (
-        "_rounds", "_mission", "_pending", "_pos", "_cells", "_mask", "_finalizer", "_result",
+        "_rounds", "_mission", "_pending", "_pos", "_cells", "_finalizer", "_result",
         "_record", "_run_params", "_world",
     )  # fmt: skip
 
@@ -185,8 +186,6 @@ class ForagingEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray], in
         self._cell_masks = np.stack(
             [np.ones_like(xs, dtype=bool), ys > 0, xs < g - 1, ys < g - 1, xs > 0], axis=2
         ).astype(np.int8)  # (g, g, 5): the action mask of a robot at cell (x, y)
-        self._eye = np.eye(n, dtype=bool)
-        self._robots = np.arange(n)
         self._shared_arrays()
         self.agents: list[str] = []
         self._next_seed = p.seed
@@ -198,7 +197,7 @@ class ForagingEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray], in
         self._pending: Compute | None = None
         self._pos: np.ndarray | None = None  # (n, 2) int64: the cells, after the last Look
         self._cells: list[int] = []  # the same cells as x·g + y
-        self._mask: np.ndarray | None = None
+        self._food_obs = self._unknown_food  # the food cell, set when a run starts
         self._finalizer: weakref.finalize[Any, Any] | None = None
         self._seed = self._next_seed
         self._run_params: ForagingParams | None = None
@@ -240,6 +239,8 @@ class ForagingEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray], in
         params: ForagingParams = replace(self.params, seed=self._seed)
         world: ForagingWorld = mission.prepare(params)  # draws the food from the seed
         self._run_params, self._world = params, world
+        self._food_obs = np.array(world.food, dtype=np.int64)
+        self._food_obs.flags.writeable = False
         from swarmex.missions.foraging.run import forage_rounds
 
         p = params
@@ -312,42 +313,35 @@ class ForagingEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray], in
         """Take the robots' cells, an (n, 2) array (the state after the last Look)."""
         self._pos = pos
         self._cells = (pos[:, 0] * self.g + pos[:, 1]).tolist()
-        self._mask = self._cell_masks[pos[:, 0], pos[:, 1]]
 
     def _moves_from(self, actions: Mapping[str, Any]) -> np.ndarray:
-        """Every robot's move as an (n,) array, after checking every action."""
-        for agent in actions:
-            if agent not in self._index:
-                raise ValueError(f"{NAME}: unknown agent {agent!r} (agents: {self.agents})")
-        n = len(self.possible_agents)
-        if len(actions) < n:
-            missing = [a for a in self.possible_agents if a not in actions]
+        """Every robot's move as an (n,) array, after checking every action. The usual case
+        (every robot, plain ints in the space, all on the grid) is a few Python-level passes
+        over n values, no numpy until the result."""
+        agents = self.possible_agents
+        if actions.keys() != self._index.keys():
+            for agent in actions:
+                if agent not in self._index:
+                    raise ValueError(f"{NAME}: unknown agent {agent!r} (agents: {self.agents})")
+            missing = [a for a in agents if a not in actions]
             raise ValueError(
                 f"{NAME}: no action for {', '.join(missing)}: every robot moves every round "
                 f"(0 stay, 1 N, 2 E, 3 S, 4 W)"
             )
-        raw = [actions[a] for a in self.possible_agents]
-        if all(type(v) is int or isinstance(v, np.integer) for v in raw):  # the usual case
-            moves = np.array(raw, dtype=np.int64)
-            if min(raw) < 0 or max(raw) >= len(ACTIONS):  # Python's min/max: cheaper for n ints
-                for a, v in zip(self.possible_agents, raw, strict=True):
-                    self._as_action(a, v)  # raises for the first one out of the space
-        else:
-            moves = np.fromiter(
-                (self._as_action(a, v) for a, v in zip(self.possible_agents, raw, strict=True)),
-                np.int64,
-                n,
-            )
-        mask = self._mask
-        assert mask is not None
-        ok = mask[self._robots, moves].astype(bool)
-        if not ok.all():
-            if self.invalid_action == "project":
-                moves[~ok] = STAY
-            else:
-                i = int(np.flatnonzero(~ok)[0])
-                raise ValueError(f"{NAME}: {self.possible_agents[i]} {self._why(i, moves[i])}")
-        return moves
+        raw = list(map(actions.__getitem__, agents))
+        if set(map(type, raw)) != {int} or min(raw) < 0 or max(raw) >= len(ACTIONS):
+            raw = [self._as_action(a, v) for a, v in zip(agents, raw, strict=True)]
+        # on the grid: the (cell, action) table, indexed by 5·cell + action
+        on_grid = self._on_grid
+        if all([on_grid[5 * c + a] for c, a in zip(self._cells, raw, strict=True)]):
+            return np.array(raw, dtype=np.int64)
+        moves = np.array(raw, dtype=np.int64)
+        ok = np.array([on_grid[5 * c + a] for c, a in zip(self._cells, raw, strict=True)])
+        if self.invalid_action == "project":
+            moves[~ok] = STAY
+            return moves
+        i = int(np.flatnonzero(~ok)[0])
+        raise ValueError(f"{NAME}: {agents[i]} {self._why(i, moves[i])}")
 
     def _as_action(self, agent: str, raw: Any) -> int:
         value = plain_int(raw)
@@ -381,6 +375,7 @@ class ForagingEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray], in
             return a
 
         self._cell_pos = [frozen((x, y), np.int64) for x in range(g) for y in range(g)]
+        self._on_grid: list[bool] = self._cell_masks.reshape(-1).astype(bool).tolist()
         self._cell_mask = [frozen(self._cell_masks[x, y], np.int8)
                            for x in range(g) for y in range(g)]  # fmt: skip
         self._flag = (frozen((0,), np.int8), frozen((1,), np.int8))
@@ -395,15 +390,11 @@ class ForagingEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray], in
         if m is None or pos is None or not self.agents:
             return {}
         # the team's positions as each robot sees them: one (n, n, 2) array, a row per robot
-        x, y = pos[:, 0], pos[:, 1]
-        near = np.abs(x[:, None] - x[None, :]) + np.abs(y[:, None] - y[None, :]) <= SENSING
-        near[self._eye] = False
-        team = np.where(near[:, :, None], pos[None, :, :], -1)
+        team = team_view(pos, SENSING)
         team.flags.writeable = False
         t = np.array((m.t,), dtype=np.int64)
         t.flags.writeable = False
-        food = np.array(m.food, dtype=np.int64)
-        food.flags.writeable = False
+        food = self._food_obs
         cell_pos, cell_mask, flag, phase = self._cell_pos, self._cell_mask, self._flag, self._phase
         nest, unknown, nobody = self._nest_obs, self._unknown_food, self._nobody
         out: dict[str, dict[str, np.ndarray]] = {}
