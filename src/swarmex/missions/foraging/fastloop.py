@@ -23,6 +23,7 @@ MAXOPT = 6
 
 I64 = NDArray[np.int64]  # numba ignores these annotations (postponed); mypy checks the calls
 Bools = NDArray[np.bool_]
+I32 = NDArray[np.int32]
 
 
 @njit(cache=True)
@@ -391,7 +392,7 @@ def _move_code(dx: int, dy: int) -> int:
 def hooked_round(
     pos: I64, carrying: Bools, tmode: I64, pidx: I64, join_at: I64, handovers: I64,
     state: I64, path: I64, path_of: I64, nest: I64, food: I64, relay: bool, opts: I64,
-    nopt: I64, builtin: I64, moves: I64, history: I64, jobs: I64, memo: I64,
+    nopt: I64, builtin: I64, moves: I64, history: I32, jobs: I64, memo: I64,
 ) -> int:  # fmt: skip
     """One round of a *hooked* run in the Transportation phase (every robot transports):
     the Move of the pending round with the caller's ``moves`` (when ``state[MOVED]``), then

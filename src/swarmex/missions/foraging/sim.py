@@ -607,7 +607,7 @@ class Mission:
                     raise ValueError(f"robot {a}: move {m} is not a move code (0..4)")
                 raise ValueError(f"robot {a}: move {m} from {p} leaves the {g}×{g} grid")
             self.t, self.units, self.delivered = state[:3].tolist()
-            self.pos = list(map(tuple, pos.tolist()))
+            self.pos = [(x, y) for x, y in pos.tolist()]
             self.carrying = carrying.tolist()
             self.tmode = tmode.tolist()
             self.pidx = pidx.tolist()
