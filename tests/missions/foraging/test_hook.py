@@ -65,11 +65,12 @@ def _play(args, fast, seed, share, stop_at=300):
     rng = np.random.default_rng(seed)
     rounds = forage_rounds(*args, fast=fast, stop_at=stop_at)
     request = next(rounds)
-    seen, compiled = [], 0
+    seen, compiled = [], [0, 0]  # rounds compiled before anyone knew, and in transport
     try:
         while True:
             m = request.mission
-            compiled += m._live is not None
+            if m._live is not None:
+                compiled[all(mode == 3 for mode in m.mode)] += 1
             seen.append((request.t, request.builtin.tolist(), request.positions.tolist(),
                          list(m.pos), list(m.carrying), list(m.tmode), list(m.pidx),
                          dict(m.join_at), list(m.handovers), [list(j) for j in m.jobs],
@@ -93,23 +94,32 @@ def _play(args, fast, seed, share, stop_at=300):
      ("spiral", "relay-path", 6, 8), ("zigzag", "relay-food", 8, 16)],
 )  # fmt: skip
 def test_the_compiled_transport_rounds_are_the_python_rounds(algorithm, transport, g, n):
-    """A hooked run's Transportation rounds played compiled (fastloop.hooked_round) give,
+    """A hooked run's rounds played compiled — before anyone knows where the food is
+    (fastloop.explore_round) and once everyone transports (fastloop.hooked_round) — give,
     round by round, the Computes, the Mission's state and the record of the Python rounds
     (Mission.hooked_step), under the seed's moves, random moves and mixes of both, truncated
     runs (stop_at) included."""
-    compiled = 0
+    compiled = np.zeros(2, dtype=int)
     for seed, share in [(0, 0.0), (1, 0.5), (2, 0.9), (3, 1.0)]:
         food = (1, 2) if seed % 2 else (g - 2, 1)
         args = (algorithm, g, n, food, 3, transport)
         fast = _play(args, True, seed, share)
         slow = _play(args, False, seed, share)
         assert fast[:2] == slow[:2]
-        assert slow[2] == 0
+        assert slow[2] == [0, 0]
         compiled += fast[2]
-    assert compiled > 20  # the compiled rounds were played
+    assert compiled.min() > 10  # both compiled phases were played
 
 
 def test_a_bad_move_in_a_compiled_round_raises_as_in_python():
+    for fast in (True, False):  # exploring: every robot is in the nest (4, 4)
+        rounds = forage_rounds("sectors", 8, 4, (6, 1), 3, "end-to-end", fast=fast)
+        request = next(rounds)
+        assert (request.mission._live is not None) == fast
+        moves = request.builtin.copy()
+        moves[1] = 7
+        with pytest.raises(ValueError, match="robot 1: move 7 is not a move code"):
+            rounds.send(moves)
     for fast in (True, False):
         rounds = forage_rounds("sectors", 8, 4, (6, 1), 3, "end-to-end", fast=fast)
         request = next(rounds)

@@ -149,8 +149,9 @@ def _resolve(
 
 
 @njit(cache=True)
-def _order(cur: I64, opts: I64, out: I64) -> None:
-    """Priority: swap pairs first, then larger (x, y), then smaller id (resolve.priority)."""
+def _order(cur: I64, opts: I64, out: I64, ranked: Bools) -> None:
+    """Priority: swap pairs first, then route followers (``ranked``), then larger (x, y),
+    then smaller id (resolve.priority)."""
     n = cur.shape[0]
     swap = np.zeros(n, np.bool_)
     for a in range(n):
@@ -167,8 +168,8 @@ def _order(cur: I64, opts: I64, out: I64) -> None:
         j = i
         while j > 0:
             p, q = out[j - 1], out[j]
-            kp = (0 if swap[p] else 1, -cur[p, 0], -cur[p, 1], p)
-            kq = (0 if swap[q] else 1, -cur[q, 0], -cur[q, 1], q)
+            kp = (0 if swap[p] else 1, 0 if ranked[p] else 1, -cur[p, 0], -cur[p, 1], p)
+            kq = (0 if swap[q] else 1, 0 if ranked[q] else 1, -cur[q, 0], -cur[q, 1], q)
             if kq < kp:
                 out[j - 1], out[j] = q, p
                 j -= 1
@@ -319,6 +320,7 @@ def transport_tail(
     choice = np.zeros(n, np.int64)
     was = np.empty(n, np.bool_)
     busy = np.zeros(n, np.bool_)
+    unranked = np.zeros(n, np.bool_)  # no robot follows a route in this phase
     rows = 0
     while rows < history.shape[0]:
         t = state[0]
@@ -341,7 +343,7 @@ def transport_tail(
             nopt,
         )  # fmt: skip
         # ---- Move
-        _order(pos, opts, order)
+        _order(pos, opts, order, unranked)
         _resolve(pos, opts, nopt, order, nest[0], nest[1], choice)
         for a in range(n):
             nx, ny = opts[a, choice[a], 0], opts[a, choice[a], 1]
@@ -389,6 +391,56 @@ def _move_code(dx: int, dy: int) -> int:
 
 
 @njit(cache=True)
+def _bad_move(pos: I64, builtin: I64, moves: I64, g: int) -> int:
+    """The first robot whose move (other than its seed move) is not a code or leaves the
+    g×g grid, or -1 (``hook.hooked_options``'s checks)."""
+    for a in range(pos.shape[0]):
+        m = moves[a]
+        if m == builtin[a]:
+            continue
+        if m < 0 or m > 4:
+            return a
+        nx, ny = pos[a, 0] + STEP_X[m], pos[a, 1] + STEP_Y[m]
+        if not (0 <= nx < g and 0 <= ny < g):
+            return a
+    return -1
+
+
+@njit(cache=True)
+def _hooked_wishes(
+    pos: I64, opts: I64, nopt: I64, builtin: I64, moves: I64, chosen: I64, nchosen: I64,
+    ranked: Bools,
+) -> None:  # fmt: skip
+    """``hook.hooked_options``: a robot whose move is its seed move keeps its wishes (staying
+    as the last resort) and its rank; any other move is "that cell, else stay", unranked."""
+    for a in range(pos.shape[0]):
+        x, y = pos[a, 0], pos[a, 1]
+        m = moves[a]
+        if m == builtin[a]:
+            k = nopt[a]
+            for j in range(k):
+                chosen[a, j, 0] = opts[a, j, 0]
+                chosen[a, j, 1] = opts[a, j, 1]
+            if opts[a, k - 1, 0] != x or opts[a, k - 1, 1] != y:
+                chosen[a, k, 0] = x
+                chosen[a, k, 1] = y
+                k += 1
+            nchosen[a] = k
+            continue
+        ranked[a] = False
+        if m == STAY:
+            chosen[a, 0, 0] = x
+            chosen[a, 0, 1] = y
+            nchosen[a] = 1
+        else:
+            chosen[a, 0, 0] = x + STEP_X[m]
+            chosen[a, 0, 1] = y + STEP_Y[m]
+            chosen[a, 1, 0] = x
+            chosen[a, 1, 1] = y
+            nchosen[a] = 2
+
+
+@njit(cache=True)
 def hooked_round(
     pos: I64, carrying: Bools, tmode: I64, pidx: I64, join_at: I64, handovers: I64,
     state: I64, path: I64, path_of: I64, nest: I64, food: I64, relay: bool, opts: I64,
@@ -413,43 +465,16 @@ def hooked_round(
     n = pos.shape[0]
     g = path_of.shape[0]
     if state[MOVED]:
-        for a in range(n):  # check every move first: a bad one changes nothing
-            m = moves[a]
-            if m == builtin[a]:
-                continue
-            if m < 0 or m > 4:
-                return -(a + 1)
-            nx, ny = pos[a, 0] + STEP_X[m], pos[a, 1] + STEP_Y[m]
-            if not (0 <= nx < g and 0 <= ny < g):
-                return -(a + 1)
+        bad = _bad_move(pos, builtin, moves, g)
+        if bad >= 0:
+            return -(bad + 1)
         chosen = np.empty((n, MAXOPT, 2), np.int64)
         nchosen = np.empty(n, np.int64)
-        for a in range(n):
-            x, y = pos[a, 0], pos[a, 1]
-            m = moves[a]
-            if m == builtin[a]:  # the seed's wishes, staying as the last resort
-                k = nopt[a]
-                for j in range(k):
-                    chosen[a, j, 0] = opts[a, j, 0]
-                    chosen[a, j, 1] = opts[a, j, 1]
-                if opts[a, k - 1, 0] != x or opts[a, k - 1, 1] != y:
-                    chosen[a, k, 0] = x
-                    chosen[a, k, 1] = y
-                    k += 1
-                nchosen[a] = k
-            elif m == STAY:
-                chosen[a, 0, 0] = x
-                chosen[a, 0, 1] = y
-                nchosen[a] = 1
-            else:
-                chosen[a, 0, 0] = x + STEP_X[m]
-                chosen[a, 0, 1] = y + STEP_Y[m]
-                chosen[a, 1, 0] = x
-                chosen[a, 1, 1] = y
-                nchosen[a] = 2
+        ranked = np.zeros(n, np.bool_)  # no robot follows a route in this phase
+        _hooked_wishes(pos, opts, nopt, builtin, moves, chosen, nchosen, ranked)
         order = np.empty(n, np.int64)
         choice = np.zeros(n, np.int64)
-        _order(pos, chosen, order)  # no robot follows a route in this phase
+        _order(pos, chosen, order, ranked)
         _resolve(pos, chosen, nchosen, order, nest[0], nest[1], choice)
         for a in range(n):
             nx, ny = chosen[a, choice[a], 0], chosen[a, choice[a], 1]
@@ -490,4 +515,93 @@ def hooked_round(
     )  # fmt: skip
     for a in range(n):
         builtin[a] = _move_code(opts[a, 0, 0] - pos[a, 0], opts[a, 0, 1] - pos[a, 1])
+    return GOING
+
+
+HANDOFF = 4  # explore_round: a robot stands on the food; the Look is the Python loop's
+
+
+@njit(cache=True)
+def explore_round(
+    pos: I64, delay: I64, displaced: Bools, state: I64, route: I32, t_end: int, g: int,
+    nest: I64, food: I64, opts: I64, nopt: I64, following: Bools, builtin: I64, moves: I64,
+    history: I32,
+) -> int:  # fmt: skip
+    """One round of a *hooked* run before anyone knows where the food is (every robot
+    explores): the Move of the pending round with the caller's ``moves`` (when
+    ``state[MOVED]``), then the next Look and Compute. A line-by-line port of
+    ``Mission.hooked_step`` for that phase: ``options`` of an exploring robot (its route's
+    next cell, the timetable ``route`` shifted by its ``delay``; once displaced from its
+    route or past its end, stay or step aside), the hook's wishes, priority (route followers
+    rank high) and resolution, ``_move``'s rules (a robot on its route that is held back
+    waits: its delay grows; one that moves elsewhere is displaced). The Look is empty
+    unless a robot stands on the food: then the Move is done, nothing else, and the answer
+    is HANDOFF (the Python loop plays that Look, which informs it, and the rounds after).
+    ``state`` and the other answers are :func:`hooked_round`'s."""
+    n = pos.shape[0]
+    if state[MOVED]:
+        bad = _bad_move(pos, builtin, moves, g)
+        if bad >= 0:
+            return -(bad + 1)
+        chosen = np.empty((n, MAXOPT, 2), np.int64)
+        nchosen = np.empty(n, np.int64)
+        ranked = following.copy()
+        _hooked_wishes(pos, opts, nopt, builtin, moves, chosen, nchosen, ranked)
+        order = np.empty(n, np.int64)
+        choice = np.zeros(n, np.int64)
+        _order(pos, chosen, order, ranked)
+        _resolve(pos, chosen, nchosen, order, nest[0], nest[1], choice)
+        for a in range(n):
+            nx, ny = chosen[a, choice[a], 0], chosen[a, choice[a], 1]
+            x, y = pos[a, 0], pos[a, 1]
+            if not displaced[a]:  # on its route (every robot explores)
+                wx, wy = opts[a, 0, 0], opts[a, 0, 1]
+                moved = nx != x or ny != y
+                if (nx != wx or ny != wy) and (wx != x or wy != y) and not moved:
+                    delay[a] += 1
+                elif moved and ((not following[a]) or nx != wx or ny != wy):
+                    displaced[a] = True
+            pos[a, 0] = nx
+            pos[a, 1] = ny
+        state[T] += 1
+        state[MOVED] = 0
+    for a in range(n):
+        if pos[a, 0] == food[0] and pos[a, 1] == food[1]:
+            return HANDOFF
+    row = state[ROW]
+    for a in range(n):
+        history[row, a, 0] = pos[a, 0]
+        history[row, a, 1] = pos[a, 1]
+    state[ROW] = row + 1
+    t = state[T]
+    if t >= state[STOP_AT]:
+        return STOPPED
+    if t >= state[LIMIT]:
+        return STALLED
+    # ---- Compute: Mission.options of exploring robots
+    for a in range(n):
+        x, y = pos[a, 0], pos[a, 1]
+        k = 1
+        opts[a, 0, 0] = x
+        opts[a, 0, 1] = y
+        following[a] = False
+        if not displaced[a]:
+            i = t + 1 - delay[a]
+            r = min(i, t_end)
+            nx, ny = route[r, a, 0], route[r, a, 1]
+            if nx != x or ny != y:
+                opts[a, 0, 0] = nx
+                opts[a, 0, 1] = ny
+                opts[a, 1, 0] = x
+                opts[a, 1, 1] = y
+                k = 2
+                following[a] = True
+            elif i <= t_end:
+                following[a] = True
+            else:
+                k = _sidesteps(opts[a], 1, x, y, g)
+        else:
+            k = _sidesteps(opts[a], 1, x, y, g)
+        nopt[a] = k
+        builtin[a] = _move_code(opts[a, 0, 0] - x, opts[a, 0, 1] - y)
     return GOING

@@ -183,7 +183,9 @@ class Mission:
         self.history: list[list[Cell]] = []
         self.join_at: dict[int, int] = {}
         self.tail_chunks: list[np.ndarray] = []
-        self._live: tuple[np.ndarray, np.ndarray] | None = None  # hooked tail: (chunk, state)
+        # a hooked run's compiled phases: rows so far in round order, the open (chunk, state)
+        self.segments: list[np.ndarray] = []
+        self._live: tuple[np.ndarray, np.ndarray] | None = None
         # the transport state after the last Look, to spot a frozen crowd (see step)
         self._last_key: tuple | None = None
         self._frozen = False
@@ -403,6 +405,11 @@ class Mission:
             return [p], False
         return [p, *sidesteps(p, self.g)], False
 
+    def _exploring(self) -> bool:
+        """Whether nobody knows the food yet (the phase :meth:`_hooked_explore` plays
+        compiled; once someone is informed, someone stays so)."""
+        return self.timed is not None and not any(self.informed)
+
     def transport_key(self) -> tuple | None:
         """Everything a transport round's moves depend on (None while anyone explores or
         communicates: their routes depend on the clock)."""
@@ -519,7 +526,8 @@ class Mission:
     ) -> Rounds:
         """Play rounds until all k units are home; ``fast`` hands the pure-transport tail to
         the compiled loop of :mod:`.fastloop` (same rules, same result): :meth:`_tail`, or
-        for a hooked run without ``on_frame`` :meth:`_hooked_tail`. ``on_frame`` gets each
+        for a hooked run without ``on_frame`` :meth:`_hooked_tail`, and a hooked run's rounds
+        before anyone is informed to :meth:`_hooked_explore`. ``on_frame`` gets each
         round's :class:`Frame`; if it raises StopRun the run stops there (``self.stopped``),
         and so it does at round ``stop_at`` (the same stop without a frame per round). A
         generator: a hooked run yields each Compute (module docstring); any other never
@@ -532,6 +540,10 @@ class Mission:
                     return
                 if on_frame is None:
                     yield from self._hooked_tail(record, limit, stop_at)
+                    return
+            if fast and self.hooked and on_frame is None and self._exploring():
+                ended = yield from self._hooked_explore(record, limit, stop_at)
+                if ended:  # stopped there; else a robot stands on the food: its Look follows
                     return
             self.look()
             if record:
@@ -554,6 +566,110 @@ class Mission:
             else:
                 self.step()
 
+    # ------------------------------------------------------------------ compiled hooked rounds
+    def _compiled_rows(self, record: bool, state: np.ndarray) -> np.ndarray:
+        """Start a compiled phase of a hooked run: the rows played so far in Python go to
+        ``segments`` (the trajectory stays in round order), and a chunk is opened for the
+        compiled rounds' positions (``state[ROW]`` its next row)."""
+        if self.history:
+            self.segments.append(np.asarray(self.history, dtype=np.int32).reshape(-1, self.n, 2))
+            self.history = []
+        chunk = np.empty((4096 if record else 1, self.n, 2), dtype=np.int32)
+        self._live = (chunk, state)
+        return chunk
+
+    def _full_chunk(self, record: bool, chunk: np.ndarray, state: np.ndarray) -> np.ndarray:
+        """After a compiled round: a full chunk is kept (when recording) and a new one
+        opened; returns the chunk to write to."""
+        from swarmex.missions.foraging.fastloop import ROW
+
+        if state[ROW] < len(chunk):
+            return chunk
+        state[ROW] = 0
+        if not record:
+            return chunk
+        self.segments.append(chunk)
+        chunk = np.empty_like(chunk)
+        self._live = (chunk, state)
+        return chunk
+
+    def _close_rows(self, record: bool) -> None:
+        """End a compiled phase that hands the run back to the Python loop."""
+        if self._live is not None:
+            chunk, state = self._live
+            if record:
+                self.segments.append(chunk[: int(state[5])])
+            self._live = None
+
+    def _bad_move(self, a: int, moves: np.ndarray) -> ValueError:
+        """:func:`~.hook.hooked_options`'s error for robot ``a``'s move."""
+        m, p = int(moves[a]), self.pos[a]
+        if not 0 <= m < 5:
+            return ValueError(f"robot {a}: move {m} is not a move code (0..4)")
+        return ValueError(f"robot {a}: move {m} from {p} leaves the {self.g}×{self.g} grid")
+
+    def _state(self, limit: int, stop_at: int | None) -> np.ndarray:
+        """The compiled rounds' state vector (:data:`~.fastloop.T` … ``MOVED``)."""
+        never = np.iinfo(np.int64).max
+        return np.asarray(
+            [self.t, self.units, self.delivered, self.k, 0, 0,
+             never if stop_at is None else stop_at, limit, 0],
+            dtype=np.int64,
+        )  # fmt: skip
+
+    def _hooked_explore(
+        self, record: bool, limit: int, stop_at: int | None
+    ) -> Generator[Compute, np.ndarray, bool]:
+        """The rounds of a hooked run before anyone knows where the food is, in the compiled
+        :func:`~.fastloop.explore_round` (one call per round: the pending Move with the
+        caller's moves, then the next Look and Compute). In that phase the Look is empty
+        (nobody is informed, so nobody tells, crosses off or transports) until a robot
+        stands on the food; then the kernel stops after the Move and this returns False: the
+        Python loop plays that Look (the finder learns, :mod:`.comm`'s rules start) and the
+        rounds after. Returns True when the run ended here (stopped or stalled). After each
+        round ``pos``, ``delay``, ``displaced`` and ``t`` are brought up to date."""
+        from swarmex.missions.foraging import fastloop as fl
+
+        assert self.timed is not None
+        n, g = self.n, self.g
+        pos = np.asarray(self.pos, dtype=np.int64).reshape(n, 2)
+        delay = np.asarray(self.delay, dtype=np.int64)
+        displaced = np.asarray(self.displaced, dtype=np.bool_)
+        route = np.ascontiguousarray(self.timed.pos, dtype=np.int32)
+        nest = np.asarray(self.nest, dtype=np.int64)
+        food = np.asarray(self.food, dtype=np.int64)
+        state = self._state(limit, stop_at)
+        opts = np.empty((n, fl.MAXOPT, 2), dtype=np.int64)
+        nopt = np.zeros(n, dtype=np.int64)
+        following = np.zeros(n, dtype=np.bool_)
+        builtin = np.zeros(n, dtype=np.int64)
+        moves = np.zeros(n, dtype=np.int64)
+        chunk = self._compiled_rows(record, state)
+        t_end = self.timed.t_end
+        while True:
+            status = fl.explore_round(
+                pos, delay, displaced, state, route, t_end, g, nest, food, opts, nopt,
+                following, builtin, moves, chunk,
+            )  # fmt: skip
+            if status < 0:
+                raise self._bad_move(-status - 1, moves)
+            self.t = int(state[fl.T])
+            self.pos = [(x, y) for x, y in pos.tolist()]
+            self.delay = delay.tolist()
+            self.displaced = displaced.tolist()
+            chunk = self._full_chunk(record, chunk, state)
+            if status == fl.HANDOFF:
+                self._close_rows(record)
+                return False
+            if status == fl.STOPPED:
+                self.stopped = True
+                return True
+            if status == fl.STALLED:
+                raise NoProgress(f"no completion after {self.t} rounds")
+            answer = yield Compute(self, self.t, builtin.copy(), pos.copy())
+            moves[:] = answer
+            state[fl.MOVED] = 1
+
     def _hooked_tail(self, record: bool, limit: int, stop_at: int | None) -> Rounds:
         """The rounds of a hooked run once every robot transports, in the compiled
         :func:`~.fastloop.hooked_round` (one call per round: the pending Move with the
@@ -563,7 +679,7 @@ class Mission:
         each round the lists of this Mission (``pos``, ``carrying``, ``tmode``, ``pidx``,
         ``join_at``, ``handovers``, ``jobs``, the counts) are brought up to date, so it stays
         the run's state for every reader; the positions after each Look go to
-        ``tail_chunks`` (:meth:`trajectory` joins them to ``history``)."""
+        ``segments`` (:meth:`trajectory`)."""
         from swarmex.missions.foraging import fastloop as fl
 
         n, g = self.n, self.g
@@ -579,21 +695,14 @@ class Mission:
         nest = np.asarray(self.nest, dtype=np.int64)
         food = np.asarray(self.food, dtype=np.int64)
         relay = self.transport != END_TO_END
-        never = np.iinfo(np.int64).max
-        state = np.asarray(
-            [self.t, self.units, self.delivered, self.k, 0, 0,
-             never if stop_at is None else stop_at, limit, 0],
-            dtype=np.int64,
-        )  # fmt: skip
+        state = self._state(limit, stop_at)
         jobs = np.zeros((2 * self.k + 2, 3), dtype=np.int64)
         opts = np.empty((n, fl.MAXOPT, 2), dtype=np.int64)
         nopt = np.zeros(n, dtype=np.int64)
         builtin = np.zeros(n, dtype=np.int64)
         moves = np.zeros(n, dtype=np.int64)
-        rows = 4096 if record else 1
-        chunk = np.empty((rows, n, 2), dtype=np.int32)
         memo = fl.transport_memo(self._last_key, n)
-        self._live = (chunk, state)
+        chunk = self._compiled_rows(record, state)
         synced = 0  # jobs already copied to self.jobs
         while True:
             status = fl.hooked_round(
@@ -601,11 +710,7 @@ class Mission:
                 food, relay, opts, nopt, builtin, moves, chunk, jobs, memo,
             )  # fmt: skip
             if status < 0:
-                a = -status - 1
-                m, p = int(moves[a]), self.pos[a]
-                if not 0 <= m < len(fl.STEP_X):
-                    raise ValueError(f"robot {a}: move {m} is not a move code (0..4)")
-                raise ValueError(f"robot {a}: move {m} from {p} leaves the {g}×{g} grid")
+                raise self._bad_move(-status - 1, moves)
             self.t, self.units, self.delivered = state[:3].tolist()
             self.pos = [(x, y) for x, y in pos.tolist()]
             self.carrying = carrying.tolist()
@@ -619,12 +724,7 @@ class Mission:
                     cell = self.nest if kind == 1 else self.food
                     self.jobs[a].append((t, *cell, "drop" if kind == 1 else "pickup"))
                 synced = int(state[fl.N_JOBS])
-            if state[fl.ROW] == rows:  # the chunk is full: keep it, start another
-                if record:
-                    self.tail_chunks.append(chunk)
-                    chunk = np.empty((rows, n, 2), dtype=np.int32)
-                    self._live = (chunk, state)
-                state[fl.ROW] = 0
+            chunk = self._full_chunk(record, chunk, state)
             if status == fl.STOPPED:
                 self.stopped = True
             if status == fl.STALLED:
@@ -636,15 +736,15 @@ class Mission:
             state[fl.MOVED] = 1
 
     def trajectory(self) -> np.ndarray:
-        """(rounds, n, 2) int32: the robots' cells after each Look this loop played (the
-        ``history`` rows, then the compiled rounds' chunks)."""
-        parts = []
-        if self.history:
-            parts.append(np.asarray(self.history, dtype=np.int32).reshape(-1, self.n, 2))
-        parts.extend(self.tail_chunks)
+        """(rounds, n, 2) int32: a hooked run's robot cells after each Look so far, in round
+        order (``segments``: the compiled phases' rows and the Python rows before them; the
+        open chunk; ``history``: the Python rows since)."""
+        parts = list(self.segments)
         if self._live is not None:
             chunk, state = self._live
             parts.append(chunk[: int(state[5])])
+        if self.history:
+            parts.append(np.asarray(self.history, dtype=np.int32).reshape(-1, self.n, 2))
         if not parts:
             return np.empty((0, self.n, 2), dtype=np.int32)
         return np.concatenate(parts, axis=0)
