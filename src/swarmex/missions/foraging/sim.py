@@ -581,11 +581,9 @@ class Mission:
     def _full_chunk(self, record: bool, chunk: np.ndarray, state: np.ndarray) -> np.ndarray:
         """After a compiled round: a full chunk is kept (when recording) and a new one
         opened; returns the chunk to write to."""
-        from swarmex.missions.foraging.fastloop import ROW
-
-        if state[ROW] < len(chunk):
+        if state[5] < len(chunk):  # fastloop.ROW: the next row to write
             return chunk
-        state[ROW] = 0
+        state[5] = 0
         if not record:
             return chunk
         self.segments.append(chunk)
@@ -654,7 +652,8 @@ class Mission:
             if status < 0:
                 raise self._bad_move(-status - 1, moves)
             self.t = int(state[fl.T])
-            self.pos = [(x, y) for x, y in pos.tolist()]
+            xs, ys = pos.T.tolist()
+            self.pos = list(zip(xs, ys, strict=True))
             self.delay = delay.tolist()
             self.displaced = displaced.tolist()
             chunk = self._full_chunk(record, chunk, state)
@@ -712,7 +711,8 @@ class Mission:
             if status < 0:
                 raise self._bad_move(-status - 1, moves)
             self.t, self.units, self.delivered = state[:3].tolist()
-            self.pos = [(x, y) for x, y in pos.tolist()]
+            xs, ys = pos.T.tolist()
+            self.pos = list(zip(xs, ys, strict=True))
             self.carrying = carrying.tolist()
             self.tmode = tmode.tolist()
             self.pidx = pidx.tolist()
