@@ -22,11 +22,18 @@ the rounds they were made to wait), informed robots communicate (:mod:`.comm`) a
 transport (:mod:`.transport`).
 
 Decision hook (for :mod:`swarmex.envs.foraging_v0`): a *hooked* run (:func:`decided_rounds`,
-or :func:`run_mission` given ``decide``) plays every round in this loop from round 0 (the
+or :func:`run_mission` given ``decide``) plays every round of this loop from round 0 (the
 timetable's rounds too: robots on their routes make the timetable's moves, which resolve
-without conflict, so the rounds are the same) and never hands the tail to the compiled loop.
-Each round's Compute is handed out (:mod:`.hook`): the run yields a :class:`Compute` with every
-robot's seed move and takes every robot's move back; the seed's moves give the seed's run. A
+without conflict, so the rounds are the same) and never hands the tail to the compiled loop
+:func:`~.fastloop.transport_tail`, which plays many rounds per call. Two phases of it are
+played one round per call by compiled ports of :meth:`Mission.hooked_step` instead, when no
+``on_frame`` asks for frames: the rounds before anyone knows the food
+(:func:`~.fastloop.explore_round`, until a robot stands on the food: its Look and the
+communication rules are this loop's) and the rounds once everyone transports
+(:func:`~.fastloop.hooked_round`); after each, the Mission's lists are brought up to date, and
+a test compares both with this loop round by round. Each round's Compute is handed out
+(:mod:`.hook`): the run yields a :class:`Compute` with every robot's seed move and takes every
+robot's move back; the seed's moves give the seed's run. A
 robot on its route that stays when its route moves it waits, as a blocked robot does (its
 timetable shifts by a round). Three rules only a hook can reach (the
 seed's robots never do these): a robot on its route that moves anywhere but where its route
