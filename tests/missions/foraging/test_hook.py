@@ -111,6 +111,21 @@ def test_the_compiled_transport_rounds_are_the_python_rounds(algorithm, transpor
     assert compiled.min() > 10  # both compiled phases were played
 
 
+@pytest.mark.parametrize(
+    ("algorithm", "n"),
+    [("hilbert", 4), ("rings", 4), ("loop-strips", 4), ("modified-zigzag", 8), ("sectors", 16)],
+)
+def test_the_compiled_rounds_of_other_patterns_are_the_python_rounds(algorithm, n):
+    """The same comparison for the remaining patterns (random and mixed moves)."""
+    compiled = np.zeros(2, dtype=int)
+    for seed, (share, transport) in enumerate([(0.3, "relay-path"), (0.95, "end-to-end")]):
+        args = (algorithm, 8, n, (6, 2), 3, transport)
+        fast = _play(args, True, seed, share)
+        assert fast[:2] == _play(args, False, seed, share)[:2]
+        compiled += fast[2]
+    assert compiled.min() > 0
+
+
 def test_a_bad_move_in_a_compiled_round_raises_as_in_python():
     for fast in (True, False):  # exploring: every robot is in the nest (4, 4)
         rounds = forage_rounds("sectors", 8, 4, (6, 1), 3, "end-to-end", fast=fast)
