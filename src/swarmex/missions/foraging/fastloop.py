@@ -7,6 +7,13 @@ the nest–food distance). This module is a line-by-line port of that part of
 :class:`~swarmex.missions.foraging.sim.Mission` (``transport_look``, ``options``, ``step`` and
 :func:`~swarmex.missions.foraging.resolve.resolve` with its priority order) to arrays, so the
 result is identical to the pure-Python loop; the test suite checks that on many runs.
+
+A *hooked* run (the PettingZoo environment: every round's moves come from the caller) cannot
+play many rounds per call, so it gets one-round kernels instead: :func:`hooked_round` (every
+robot transports) and :func:`explore_round` (nobody knows the food yet), each the pending
+Move with the caller's moves, then the next Look and the seed's Compute, ported line by line
+from ``Mission.hooked_step`` and sharing the tail's Look and options. The communication phase
+has no kernel: its rules are :mod:`.comm`'s, in Python.
 """
 
 from __future__ import annotations
