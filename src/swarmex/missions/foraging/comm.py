@@ -208,11 +208,14 @@ def adjacent_pairs(pos: Sequence[Cell], who: Sequence[int]) -> list[tuple[int, i
     for a in who:
         at.setdefault(pos[a], []).append(a)
     out: list[tuple[int, int]] = []
-    for c, here in at.items():
-        out.extend((a, b) for i, a in enumerate(here) for b in here[i + 1 :])
-        for dx, dy in ((1, 0), (0, 1)):
-            for b in at.get((c[0] + dx, c[1] + dy), ()):
-                out.extend((a, b) for a in here)
+    get = at.get
+    for (x, y), here in at.items():  # a cell holds one robot, but in the nest
+        if len(here) > 1:
+            out.extend((a, b) for i, a in enumerate(here) for b in here[i + 1 :])
+        for c in ((x + 1, y), (x, y + 1)):
+            there = get(c)
+            if there is not None:
+                out.extend([(a, b) for b in there for a in here])
     return out
 
 
