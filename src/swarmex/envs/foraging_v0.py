@@ -61,7 +61,7 @@ compiled ports of that loop's round before anyone knows the food and once everyo
 (the module docstring of :mod:`swarmex.missions.foraging.sim` says why the rounds are the same).
 
 Speed: one ``step`` of 16 robots costs about 40 µs of CPU in those compiled phases (the
-observations about 12 of them) and about 150 µs in the communication phase's Python rounds;
+observations about 12 of them) and about 140 µs in the communication phase's Python rounds;
 ``bench/bench_envs.py`` compares it with POGEMA (docs/envs.md).
 
 Seeding: ``reset(seed=s)`` runs the mission with ``seed=s`` (which draws the food cell when
