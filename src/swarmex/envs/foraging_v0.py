@@ -54,10 +54,15 @@ with no route-follower rank (:mod:`swarmex.missions.foraging.hook`). The mission
 random numbers after placing the food (in ``prepare``, before round 0), so no generator
 snapshot is needed: a baseline-driven episode
 plays exactly the rounds of ``swarmex.run``, and :meth:`ForagingEnv.record` equals its record
-(``wall_seconds`` aside). With a decision hook the run is played by the mission's Python round
-loop from round 0 to the end (the timetable's rounds and the transport tail included, which
-``swarmex.run`` plays from a table and in compiled code; the module docstring of
-:mod:`swarmex.missions.foraging.sim` says why the rounds are the same).
+(``wall_seconds`` aside). With a decision hook the run is played round by round from round 0
+to the end (the timetable's rounds and the transport tail included, which ``swarmex.run`` plays
+from a table and in a many-rounds compiled loop): by the mission's Python round loop, and by
+compiled ports of that loop's round before anyone knows the food and once everyone transports
+(the module docstring of :mod:`swarmex.missions.foraging.sim` says why the rounds are the same).
+
+Speed: one ``step`` of 16 robots costs about 40 µs of CPU in those compiled phases (the
+observations about 12 of them) and about 140 µs in the communication phase's Python rounds;
+``bench/bench_envs.py`` compares it with POGEMA (docs/envs.md).
 
 Seeding: ``reset(seed=s)`` runs the mission with ``seed=s`` (which draws the food cell when
 ``food`` is not given); ``reset()`` without a seed uses the params' ``seed`` first, then the
@@ -81,13 +86,14 @@ from swarmex.errors import InputError
 from swarmex.missions.foraging.hook import STAY, STEPS
 from swarmex.missions.foraging.sim import COMM, FOLLOW, TRANSPORT, Compute
 from swarmex.missions.registry import get as get_mission
+from swarmex.sensing.teammates import team_view
 
 if TYPE_CHECKING:
     from swarmex.engine.record import ResultRecord
     from swarmex.missions.foraging.mission import ForagingWorld
     from swarmex.missions.foraging.params import ForagingParams
     from swarmex.missions.foraging.run import ForageRun
-    from swarmex.missions.foraging.sim import Frame, Mission
+    from swarmex.missions.foraging.sim import Mission
 
     Rounds = Generator[Compute, np.ndarray, ForageRun]
 
@@ -114,13 +120,6 @@ RENDER_MODES = ("rgb_array",)
 Cell = tuple[int, int]
 
 
-def _cap(frame: Frame, limit: int) -> None:
-    from swarmex.missions.base import StopRun
-
-    if frame.t >= limit:
-        raise StopRun
-
-
 class ForagingEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray], int]):
     """The native Parallel environment (``raw_env``); see the module docstring.
 
@@ -139,7 +138,7 @@ class ForagingEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray], in
     }
 
     _TRANSIENT = (
-        "_rounds", "_mission", "_pending", "_pos", "_cells", "_mask", "_finalizer", "_result",
+        "_rounds", "_mission", "_pending", "_pos", "_cells", "_finalizer", "_result",
         "_record", "_run_params", "_world",
     )  # fmt: skip
 
@@ -192,8 +191,6 @@ class ForagingEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray], in
         self._cell_masks = np.stack(
             [np.ones_like(xs, dtype=bool), ys > 0, xs < g - 1, ys < g - 1, xs > 0], axis=2
         ).astype(np.int8)  # (g, g, 5): the action mask of a robot at cell (x, y)
-        self._eye = np.eye(n, dtype=bool)
-        self._robots = np.arange(n)
         self._shared_arrays()
         self.agents: list[str] = []
         self._next_seed = p.seed
@@ -205,7 +202,7 @@ class ForagingEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray], in
         self._pending: Compute | None = None
         self._pos: np.ndarray | None = None  # (n, 2) int64: the cells, after the last Look
         self._cells: list[int] = []  # the same cells as x·g + y
-        self._mask: np.ndarray | None = None
+        self._food_obs = self._unknown_food  # the food cell, set when a run starts
         self._finalizer: weakref.finalize[Any, Any] | None = None
         self._seed = self._next_seed
         self._run_params: ForagingParams | None = None
@@ -247,13 +244,14 @@ class ForagingEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray], in
         params: ForagingParams = replace(self.params, seed=self._seed)
         world: ForagingWorld = mission.prepare(params)  # draws the food from the seed
         self._run_params, self._world = params, world
-        limit = self.max_rounds
+        self._food_obs = np.array(world.food, dtype=np.int64)
+        self._food_obs.flags.writeable = False
         from swarmex.missions.foraging.run import forage_rounds
 
         p = params
         rounds = forage_rounds(
             p.algorithm, p.grid, p.agents, world.food, p.food_units, p.transport,
-            on_frame=lambda frame: _cap(frame, limit), comm=p.comm,
+            comm=p.comm, stop_at=self.max_rounds,
         )  # fmt: skip
         self._rounds = rounds
         self._finalizer = weakref.finalize(self, rounds.close)
@@ -309,54 +307,46 @@ class ForagingEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray], in
             m = self._mission
             if m is not None:
                 self._delivered = m.delivered
-                self._locate(m.pos)
+                self._locate(np.array(m.pos, dtype=np.int64).reshape(m.n, 2))
             return
         m = self._mission = request.mission
         self._delivered = m.delivered
         self._pending = request
-        self._locate(m.pos)
+        self._locate(request.positions)
 
-    def _locate(self, cells: list[Cell]) -> None:
-        """Take the robots' cells (the state after the last Look)."""
-        g = self.g
-        self._cells = [x * g + y for x, y in cells]
-        pos = self._pos = np.array(cells, dtype=np.int64)
-        self._mask = self._cell_masks[pos[:, 0], pos[:, 1]]
+    def _locate(self, pos: np.ndarray) -> None:
+        """Take the robots' cells, an (n, 2) array (the state after the last Look)."""
+        self._pos = pos
+        self._cells = (pos[:, 0] * self.g + pos[:, 1]).tolist()
 
     def _moves_from(self, actions: Mapping[str, Any]) -> np.ndarray:
-        """Every robot's move as an (n,) array, after checking every action."""
-        for agent in actions:
-            if agent not in self._index:
-                raise ValueError(f"{NAME}: unknown agent {agent!r} (agents: {self.agents})")
-        n = len(self.possible_agents)
-        if len(actions) < n:
-            missing = [a for a in self.possible_agents if a not in actions]
+        """Every robot's move as an (n,) array, after checking every action. The usual case
+        (every robot, plain ints in the space, all on the grid) is a few Python-level passes
+        over n values, no numpy until the result."""
+        agents = self.possible_agents
+        if actions.keys() != self._index.keys():
+            for agent in actions:
+                if agent not in self._index:
+                    raise ValueError(f"{NAME}: unknown agent {agent!r} (agents: {self.agents})")
+            missing = [a for a in agents if a not in actions]
             raise ValueError(
                 f"{NAME}: no action for {', '.join(missing)}: every robot moves every round "
                 f"(0 stay, 1 N, 2 E, 3 S, 4 W)"
             )
-        raw = [actions[a] for a in self.possible_agents]
-        if all(type(v) is int or isinstance(v, np.integer) for v in raw):  # the usual case
-            moves = np.array(raw, dtype=np.int64)
-            if min(raw) < 0 or max(raw) >= len(ACTIONS):  # Python's min/max: cheaper for n ints
-                for a, v in zip(self.possible_agents, raw, strict=True):
-                    self._as_action(a, v)  # raises for the first one out of the space
-        else:
-            moves = np.fromiter(
-                (self._as_action(a, v) for a, v in zip(self.possible_agents, raw, strict=True)),
-                np.int64,
-                n,
-            )
-        mask = self._mask
-        assert mask is not None
-        ok = mask[self._robots, moves].astype(bool)
-        if not ok.all():
-            if self.invalid_action == "project":
-                moves[~ok] = STAY
-            else:
-                i = int(np.flatnonzero(~ok)[0])
-                raise ValueError(f"{NAME}: {self.possible_agents[i]} {self._why(i, moves[i])}")
-        return moves
+        raw = list(map(actions.__getitem__, agents))
+        if set(map(type, raw)) != {int} or min(raw) < 0 or max(raw) >= len(ACTIONS):
+            raw = [self._as_action(a, v) for a, v in zip(agents, raw, strict=True)]
+        # on the grid: the (cell, action) table, indexed by 5·cell + action
+        on_grid = self._on_grid
+        if all([on_grid[5 * c + a] for c, a in zip(self._cells, raw, strict=True)]):
+            return np.array(raw, dtype=np.int64)
+        moves = np.array(raw, dtype=np.int64)
+        ok = np.array([on_grid[5 * c + a] for c, a in zip(self._cells, raw, strict=True)])
+        if self.invalid_action == "project":
+            moves[~ok] = STAY
+            return moves
+        i = int(np.flatnonzero(~ok)[0])
+        raise ValueError(f"{NAME}: {agents[i]} {self._why(i, moves[i])}")
 
     def _as_action(self, agent: str, raw: Any) -> int:
         value = plain_int(raw)
@@ -390,6 +380,7 @@ class ForagingEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray], in
             return a
 
         self._cell_pos = [frozen((x, y), np.int64) for x in range(g) for y in range(g)]
+        self._on_grid: list[bool] = self._cell_masks.reshape(-1).astype(bool).tolist()
         self._cell_mask = [frozen(self._cell_masks[x, y], np.int8)
                            for x in range(g) for y in range(g)]  # fmt: skip
         self._flag = (frozen((0,), np.int8), frozen((1,), np.int8))
@@ -404,15 +395,11 @@ class ForagingEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray], in
         if m is None or pos is None or not self.agents:
             return {}
         # the team's positions as each robot sees them: one (n, n, 2) array, a row per robot
-        x, y = pos[:, 0], pos[:, 1]
-        near = np.abs(x[:, None] - x[None, :]) + np.abs(y[:, None] - y[None, :]) <= SENSING
-        near[self._eye] = False
-        team = np.where(near[:, :, None], pos[None, :, :], -1)
+        team = team_view(pos, SENSING)
         team.flags.writeable = False
         t = np.array((m.t,), dtype=np.int64)
         t.flags.writeable = False
-        food = np.array(m.food, dtype=np.int64)
-        food.flags.writeable = False
+        food = self._food_obs
         cell_pos, cell_mask, flag, phase = self._cell_pos, self._cell_mask, self._flag, self._phase
         nest, unknown, nobody = self._nest_obs, self._unknown_food, self._nobody
         out: dict[str, dict[str, np.ndarray]] = {}
@@ -497,7 +484,7 @@ class ForagingEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray], in
         from swarmex.viz.foraging import animation_frames
 
         p = self.params
-        rows = m.history
+        rows = m.trajectory().tolist()
         agents = [
             {
                 "trajectory": [[t, int(r[a][0]), int(r[a][1])] for t, r in enumerate(rows)],

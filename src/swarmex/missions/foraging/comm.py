@@ -53,14 +53,25 @@ OMNISCIENT = "omniscient"
 COMM_RULES = (SEED, OMNISCIENT)
 # patterns whose informed robots finish their exploration route before detouring (seed rule)
 ROUTE_FIRST = frozenset({"zigzag", "hilbert"})
+SHORT_FUTURE = 16  # meet() scans futures up to this many rows without numpy
 
 
 def meet(me: Cell, future: np.ndarray) -> int:
     """Earliest τ ≥ 0 at which a robot now at ``me`` can be next to ``future[τ]``.
 
     ``future`` is the neighbour's predicted position for τ = 0, 1, …; it stays at the last
-    entry afterwards.
+    entry afterwards. A short future (a finished route is one row, most of a communication
+    phase's calls) is scanned in plain Python, where numpy's per-call cost would be most of
+    the round's; the same rule either way.
     """
+    if 0 < len(future) <= SHORT_FUTURE:
+        mx, my = me
+        d = 0
+        for tau, (x, y) in enumerate(future.tolist()):
+            d = abs(x - mx) + abs(y - my) - 1
+            if d <= tau:
+                return tau
+        return max(len(future) - 1, d)
     d = np.abs(future[:, 0] - me[0]) + np.abs(future[:, 1] - me[1]) - 1
     ok = d <= np.arange(len(future))
     if ok.any():
@@ -197,11 +208,14 @@ def adjacent_pairs(pos: Sequence[Cell], who: Sequence[int]) -> list[tuple[int, i
     for a in who:
         at.setdefault(pos[a], []).append(a)
     out: list[tuple[int, int]] = []
-    for c, here in at.items():
-        out.extend((a, b) for i, a in enumerate(here) for b in here[i + 1 :])
-        for dx, dy in ((1, 0), (0, 1)):
-            for b in at.get((c[0] + dx, c[1] + dy), ()):
-                out.extend((a, b) for a in here)
+    get = at.get
+    for (x, y), here in at.items():  # a cell holds one robot, but in the nest
+        if len(here) > 1:
+            out.extend((a, b) for i, a in enumerate(here) for b in here[i + 1 :])
+        for c in ((x + 1, y), (x, y + 1)):
+            there = get(c)
+            if there is not None:
+                out.extend([(a, b) for b in there for a in here])
     return out
 
 

@@ -7,6 +7,13 @@ the nest–food distance). This module is a line-by-line port of that part of
 :class:`~swarmex.missions.foraging.sim.Mission` (``transport_look``, ``options``, ``step`` and
 :func:`~swarmex.missions.foraging.resolve.resolve` with its priority order) to arrays, so the
 result is identical to the pure-Python loop; the test suite checks that on many runs.
+
+A *hooked* run (the PettingZoo environment: every round's moves come from the caller) cannot
+play many rounds per call, so it gets one-round kernels instead: :func:`hooked_round` (every
+robot transports) and :func:`explore_round` (nobody knows the food yet), each the pending
+Move with the caller's moves, then the next Look and the seed's Compute, ported line by line
+from ``Mission.hooked_step`` and sharing the tail's Look and options. The communication phase
+has no kernel: its rules are :mod:`.comm`'s, in Python.
 """
 
 from __future__ import annotations
@@ -23,6 +30,7 @@ MAXOPT = 6
 
 I64 = NDArray[np.int64]  # numba ignores these annotations (postponed); mypy checks the calls
 Bools = NDArray[np.bool_]
+I32 = NDArray[np.int32]
 
 
 @njit(cache=True)
@@ -148,8 +156,9 @@ def _resolve(
 
 
 @njit(cache=True)
-def _order(cur: I64, opts: I64, out: I64) -> None:
-    """Priority: swap pairs first, then larger (x, y), then smaller id (resolve.priority)."""
+def _order(cur: I64, opts: I64, out: I64, ranked: Bools) -> None:
+    """Priority: swap pairs first, then route followers (``ranked``), then larger (x, y),
+    then smaller id (resolve.priority)."""
     n = cur.shape[0]
     swap = np.zeros(n, np.bool_)
     for a in range(n):
@@ -166,13 +175,135 @@ def _order(cur: I64, opts: I64, out: I64) -> None:
         j = i
         while j > 0:
             p, q = out[j - 1], out[j]
-            kp = (0 if swap[p] else 1, -cur[p, 0], -cur[p, 1], p)
-            kq = (0 if swap[q] else 1, -cur[q, 0], -cur[q, 1], q)
+            kp = (0 if swap[p] else 1, 0 if ranked[p] else 1, -cur[p, 0], -cur[p, 1], p)
+            kq = (0 if swap[q] else 1, 0 if ranked[q] else 1, -cur[q, 0], -cur[q, 1], q)
             if kq < kp:
                 out[j - 1], out[j] = q, p
                 j -= 1
             else:
                 break
+
+
+@njit(cache=True)
+def _transport_look(
+    pos: I64, carrying: Bools, tmode: I64, pidx: I64, join_at: I64, state: I64, path: I64,
+    nest: I64, food: I64, relay: bool, jobs: I64, handovers: I64, was: Bools, busy: Bools,
+) -> None:  # fmt: skip
+    """One round's Look (``Mission.transport_look``): join, hand-overs, drops, pick-ups;
+    ``was`` and ``busy`` are scratch arrays of n."""
+    n = pos.shape[0]
+    t = state[0]
+    if relay:
+        for a in range(n):
+            if tmode[a] == JOIN:
+                j = join_at[a]
+                if pos[a, 0] == path[j, 0] and pos[a, 1] == path[j, 1]:
+                    tmode[a] = RELAY
+                    pidx[a] = j
+        for a in range(n):
+            was[a] = carrying[a]
+            busy[a] = False
+        for b in range(n):
+            if tmode[b] != RELAY or not was[b] or pidx[b] < 2:
+                continue
+            cx, cy = path[pidx[b] - 1, 0], path[pidx[b] - 1, 1]
+            a = -1
+            for c in range(n):  # the last RELAY robot there, as the dict in sim.py
+                if tmode[c] == RELAY and pos[c, 0] == cx and pos[c, 1] == cy:
+                    a = c
+            if a < 0 or was[a] or busy[a] or busy[b]:
+                continue
+            carrying[a] = True
+            carrying[b] = False
+            handovers[b] += 1
+            busy[a] = True
+            busy[b] = True
+    for a in range(n):
+        if tmode[a] != RELAY and tmode[a] != E2E:
+            continue
+        if carrying[a] and pos[a, 0] == nest[0] and pos[a, 1] == nest[1]:
+            carrying[a] = False
+            state[2] += 1
+            jobs[state[4], 0] = t
+            jobs[state[4], 1] = a
+            jobs[state[4], 2] = 1
+            state[4] += 1
+        elif (not carrying[a]) and pos[a, 0] == food[0] and pos[a, 1] == food[1] and state[1]:
+            carrying[a] = True
+            state[1] -= 1
+            jobs[state[4], 0] = t
+            jobs[state[4], 1] = a
+            jobs[state[4], 2] = 0
+            state[4] += 1
+
+
+@njit(cache=True)
+def _transport_options(
+    pos: I64, carrying: Bools, tmode: I64, pidx: I64, join_at: I64, units: int, path: I64,
+    nest: I64, food: I64, g: int, frozen: bool, opts: I64, nopt: I64,
+) -> None:  # fmt: skip
+    """Every robot's ordered wishes (``Mission.options`` for the Transportation phase): cells
+    in ``opts[a, :nopt[a]]``. A relay robot at the food end with no unit left goes idle."""
+    n = pos.shape[0]
+    L = path.shape[0]
+    for a in range(n):
+        x, y = pos[a, 0], pos[a, 1]
+        k = 0
+        tm = tmode[a]
+        if tm == E2E:
+            if (not carrying[a]) and units == 0:
+                opts[a, 0, 0] = x
+                opts[a, 0, 1] = y
+                k = _sidesteps(opts[a], 1, x, y, g)
+            else:
+                if carrying[a]:
+                    k = _toward(opts[a], 0, x, y, nest[0], nest[1])
+                else:
+                    k = _toward(opts[a], 0, x, y, food[0], food[1])
+                if frozen and k > 0:
+                    k = _free_sides(opts[a], k, x, y, g)
+                opts[a, k, 0] = x
+                opts[a, k, 1] = y
+                k += 1
+        elif tm == JOIN:
+            j = join_at[a]
+            k = _toward(opts[a], 0, x, y, path[j, 0], path[j, 1])
+            opts[a, k, 0] = x
+            opts[a, k, 1] = y
+            k += 1
+        elif tm == RELAY:
+            i = pidx[a]
+            if carrying[a]:
+                if i > 0:
+                    opts[a, 0, 0] = path[i - 1, 0]
+                    opts[a, 0, 1] = path[i - 1, 1]
+                    opts[a, 1, 0] = x
+                    opts[a, 1, 1] = y
+                    k = 2
+                else:
+                    opts[a, 0, 0] = x
+                    opts[a, 0, 1] = y
+                    k = 1
+            elif i < L - 1:
+                opts[a, 0, 0] = path[i + 1, 0]
+                opts[a, 0, 1] = path[i + 1, 1]
+                opts[a, 1, 0] = x
+                opts[a, 1, 1] = y
+                k = 2
+            elif units == 0:
+                tmode[a] = IDLE
+                opts[a, 0, 0] = x
+                opts[a, 0, 1] = y
+                k = _sidesteps(opts[a], 1, x, y, g)
+            else:
+                opts[a, 0, 0] = x
+                opts[a, 0, 1] = y
+                k = 1
+        else:
+            opts[a, 0, 0] = x
+            opts[a, 0, 1] = y
+            k = _sidesteps(opts[a], 1, x, y, g)
+        nopt[a] = k
 
 
 @njit(cache=True)
@@ -190,59 +321,21 @@ def transport_tail(
     """
     n = pos.shape[0]
     g = path_of.shape[0]
-    L = path.shape[0]
     opts = np.empty((n, MAXOPT, 2), np.int64)
     nopt = np.zeros(n, np.int64)
     order = np.empty(n, np.int64)
     choice = np.zeros(n, np.int64)
     was = np.empty(n, np.bool_)
     busy = np.zeros(n, np.bool_)
+    unranked = np.zeros(n, np.bool_)  # no robot follows a route in this phase
     rows = 0
     while rows < history.shape[0]:
         t = state[0]
         # ---- Look: join, hand-overs, drops, pick-ups
-        if relay:
-            for a in range(n):
-                if tmode[a] == JOIN:
-                    j = join_at[a]
-                    if pos[a, 0] == path[j, 0] and pos[a, 1] == path[j, 1]:
-                        tmode[a] = RELAY
-                        pidx[a] = j
-            for a in range(n):
-                was[a] = carrying[a]
-                busy[a] = False
-            for b in range(n):
-                if tmode[b] != RELAY or not was[b] or pidx[b] < 2:
-                    continue
-                cx, cy = path[pidx[b] - 1, 0], path[pidx[b] - 1, 1]
-                a = -1
-                for c in range(n):  # the last RELAY robot there, as the dict in sim.py
-                    if tmode[c] == RELAY and pos[c, 0] == cx and pos[c, 1] == cy:
-                        a = c
-                if a < 0 or was[a] or busy[a] or busy[b]:
-                    continue
-                carrying[a] = True
-                carrying[b] = False
-                handovers[b] += 1
-                busy[a] = True
-                busy[b] = True
-        for a in range(n):
-            if tmode[a] != RELAY and tmode[a] != E2E:
-                continue
-            if carrying[a] and pos[a, 0] == nest[0] and pos[a, 1] == nest[1]:
-                carrying[a] = False
-                state[2] += 1
-                jobs[state[4], 0] = t
-                jobs[state[4], 1] = a
-                jobs[state[4], 2] = 1
-                state[4] += 1
-            elif (not carrying[a]) and pos[a, 0] == food[0] and pos[a, 1] == food[1] and state[1]:
-                carrying[a] = True
-                state[1] -= 1
-                jobs[state[4], 0] = t
-                jobs[state[4], 1] = a
-                jobs[state[4], 2] = 0
-                state[4] += 1
+        _transport_look(
+            pos, carrying, tmode, pidx, join_at, state, path, nest, food, relay, jobs,
+            handovers, was, busy,
+        )  # fmt: skip
         for a in range(n):
             history[rows, a, 0] = pos[a, 0]
             history[rows, a, 1] = pos[a, 1]
@@ -252,66 +345,12 @@ def transport_tail(
             break
         # ---- Compute: options
         frozen = _same_as_memo(memo, pos, carrying, tmode, pidx, state[1], state[2])
-        for a in range(n):
-            x, y = pos[a, 0], pos[a, 1]
-            k = 0
-            tm = tmode[a]
-            if tm == E2E:
-                if (not carrying[a]) and state[1] == 0:
-                    opts[a, 0, 0] = x
-                    opts[a, 0, 1] = y
-                    k = _sidesteps(opts[a], 1, x, y, g)
-                else:
-                    if carrying[a]:
-                        k = _toward(opts[a], 0, x, y, nest[0], nest[1])
-                    else:
-                        k = _toward(opts[a], 0, x, y, food[0], food[1])
-                    if frozen and k > 0:
-                        k = _free_sides(opts[a], k, x, y, g)
-                    opts[a, k, 0] = x
-                    opts[a, k, 1] = y
-                    k += 1
-            elif tm == JOIN:
-                j = join_at[a]
-                k = _toward(opts[a], 0, x, y, path[j, 0], path[j, 1])
-                opts[a, k, 0] = x
-                opts[a, k, 1] = y
-                k += 1
-            elif tm == RELAY:
-                i = pidx[a]
-                if carrying[a]:
-                    if i > 0:
-                        opts[a, 0, 0] = path[i - 1, 0]
-                        opts[a, 0, 1] = path[i - 1, 1]
-                        opts[a, 1, 0] = x
-                        opts[a, 1, 1] = y
-                        k = 2
-                    else:
-                        opts[a, 0, 0] = x
-                        opts[a, 0, 1] = y
-                        k = 1
-                elif i < L - 1:
-                    opts[a, 0, 0] = path[i + 1, 0]
-                    opts[a, 0, 1] = path[i + 1, 1]
-                    opts[a, 1, 0] = x
-                    opts[a, 1, 1] = y
-                    k = 2
-                elif state[1] == 0:
-                    tmode[a] = IDLE
-                    opts[a, 0, 0] = x
-                    opts[a, 0, 1] = y
-                    k = _sidesteps(opts[a], 1, x, y, g)
-                else:
-                    opts[a, 0, 0] = x
-                    opts[a, 0, 1] = y
-                    k = 1
-            else:
-                opts[a, 0, 0] = x
-                opts[a, 0, 1] = y
-                k = _sidesteps(opts[a], 1, x, y, g)
-            nopt[a] = k
+        _transport_options(
+            pos, carrying, tmode, pidx, join_at, state[1], path, nest, food, g, frozen, opts,
+            nopt,
+        )  # fmt: skip
         # ---- Move
-        _order(pos, opts, order)
+        _order(pos, opts, order, unranked)
         _resolve(pos, opts, nopt, order, nest[0], nest[1], choice)
         for a in range(n):
             nx, ny = opts[a, choice[a], 0], opts[a, choice[a], 1]
@@ -326,3 +365,250 @@ def transport_tail(
         state[0] = t + 1
     state[5] = rows
     return rows
+
+
+# ---------------------------------------------------------------- the hooked round
+# hooked_round's answers (negative: -(a + 1), robot a's move is not a legal move code)
+GOING, DONE, STOPPED, STALLED = 0, 1, 2, 3
+STAY = 0
+# (dx, dy) of the hook's move codes (hook.STEPS): stay, North, East, South, West
+STEP_X = np.array([0, 0, 1, 0, -1], dtype=np.int64)
+STEP_Y = np.array([0, -1, 0, 1, 0], dtype=np.int64)
+# hooked_round's state vector: its slots
+T, UNITS, DELIVERED, K, N_JOBS, ROW, STOP_AT, LIMIT, MOVED = range(9)
+
+
+@njit(cache=True)
+def _entry_cell(path: I64, x: int, y: int) -> int:
+    """``transport.entry_cell``: the path cell nearest (x, y), ties toward the food."""
+    best, dist = 0, -1
+    for i in range(path.shape[0]):
+        d = abs(path[i, 0] - x) + abs(path[i, 1] - y)
+        if dist < 0 or d <= dist:
+            best, dist = i, d
+    return best
+
+
+@njit(cache=True)
+def _move_code(dx: int, dy: int) -> int:
+    for m in range(5):
+        if STEP_X[m] == dx and STEP_Y[m] == dy:
+            return m
+    return -1  # pragma: no cover - a wish is always the robot's cell or a neighbour
+
+
+@njit(cache=True)
+def _bad_move(pos: I64, builtin: I64, moves: I64, g: int) -> int:
+    """The first robot whose move (other than its seed move) is not a code or leaves the
+    g×g grid, or -1 (``hook.hooked_options``'s checks)."""
+    for a in range(pos.shape[0]):
+        m = moves[a]
+        if m == builtin[a]:
+            continue
+        if m < 0 or m > 4:
+            return a
+        nx, ny = pos[a, 0] + STEP_X[m], pos[a, 1] + STEP_Y[m]
+        if not (0 <= nx < g and 0 <= ny < g):
+            return a
+    return -1
+
+
+@njit(cache=True)
+def _hooked_wishes(
+    pos: I64, opts: I64, nopt: I64, builtin: I64, moves: I64, chosen: I64, nchosen: I64,
+    ranked: Bools,
+) -> None:  # fmt: skip
+    """``hook.hooked_options``: a robot whose move is its seed move keeps its wishes (staying
+    as the last resort) and its rank; any other move is "that cell, else stay", unranked."""
+    for a in range(pos.shape[0]):
+        x, y = pos[a, 0], pos[a, 1]
+        m = moves[a]
+        if m == builtin[a]:
+            k = nopt[a]
+            for j in range(k):
+                chosen[a, j, 0] = opts[a, j, 0]
+                chosen[a, j, 1] = opts[a, j, 1]
+            if opts[a, k - 1, 0] != x or opts[a, k - 1, 1] != y:
+                chosen[a, k, 0] = x
+                chosen[a, k, 1] = y
+                k += 1
+            nchosen[a] = k
+            continue
+        ranked[a] = False
+        if m == STAY:
+            chosen[a, 0, 0] = x
+            chosen[a, 0, 1] = y
+            nchosen[a] = 1
+        else:
+            chosen[a, 0, 0] = x + STEP_X[m]
+            chosen[a, 0, 1] = y + STEP_Y[m]
+            chosen[a, 1, 0] = x
+            chosen[a, 1, 1] = y
+            nchosen[a] = 2
+
+
+@njit(cache=True)
+def hooked_round(
+    pos: I64, carrying: Bools, tmode: I64, pidx: I64, join_at: I64, handovers: I64,
+    state: I64, path: I64, path_of: I64, nest: I64, food: I64, relay: bool, opts: I64,
+    nopt: I64, builtin: I64, moves: I64, history: I32, jobs: I64, memo: I64,
+) -> int:  # fmt: skip
+    """One round of a *hooked* run in the Transportation phase (every robot transports):
+    the Move of the pending round with the caller's ``moves`` (when ``state[MOVED]``), then
+    the next round's Look and Compute. A line-by-line port of ``Mission.hooked_step`` with
+    :func:`~swarmex.missions.foraging.hook.hooked_options` (a robot whose move is its seed
+    move keeps its wishes, any other move is "that cell, else stay"), the priority order and
+    resolution, ``Mission._move``'s rule for a relay robot moved off the path (it re-joins at
+    its nearest path cell), then ``transport_look`` and ``options`` as in
+    :func:`transport_tail`.
+
+    ``state`` = [t, units, delivered, k, n_jobs, row, stop_at, limit, moved]: the position
+    after the Look goes to ``history[row]`` (row is then advanced); jobs as in
+    :func:`transport_tail`. The seed's wishes are left in ``opts``/``nopt`` and their move
+    codes in ``builtin``. Returns GOING (a Compute is pending), DONE (k units home),
+    STOPPED (round ``stop_at`` reached), STALLED (round ``limit`` reached), or ``-(a + 1)``
+    when robot ``a``'s move is not a code or leaves the grid (nothing is changed then).
+    """
+    n = pos.shape[0]
+    g = path_of.shape[0]
+    if state[MOVED]:
+        bad = _bad_move(pos, builtin, moves, g)
+        if bad >= 0:
+            return -(bad + 1)
+        chosen = np.empty((n, MAXOPT, 2), np.int64)
+        nchosen = np.empty(n, np.int64)
+        ranked = np.zeros(n, np.bool_)  # no robot follows a route in this phase
+        _hooked_wishes(pos, opts, nopt, builtin, moves, chosen, nchosen, ranked)
+        order = np.empty(n, np.int64)
+        choice = np.zeros(n, np.int64)
+        _order(pos, chosen, order, ranked)
+        _resolve(pos, chosen, nchosen, order, nest[0], nest[1], choice)
+        for a in range(n):
+            nx, ny = chosen[a, choice[a], 0], chosen[a, choice[a], 1]
+            if tmode[a] == RELAY and (nx != pos[a, 0] or ny != pos[a, 1]):
+                j = path_of[nx, ny]
+                if j >= 0 and abs(j - pidx[a]) == 1:
+                    pidx[a] = j
+                else:  # moved off the path by the hook: walk back and re-join
+                    tmode[a] = JOIN
+                    join_at[a] = _entry_cell(path, nx, ny)
+            pos[a, 0] = nx
+            pos[a, 1] = ny
+        state[T] += 1
+        state[MOVED] = 0
+    # ---- Look
+    was = np.empty(n, np.bool_)
+    busy = np.zeros(n, np.bool_)
+    _transport_look(
+        pos, carrying, tmode, pidx, join_at, state, path, nest, food, relay, jobs, handovers,
+        was, busy,
+    )  # fmt: skip
+    row = state[ROW]
+    for a in range(n):
+        history[row, a, 0] = pos[a, 0]
+        history[row, a, 1] = pos[a, 1]
+    state[ROW] = row + 1
+    if state[T] >= state[STOP_AT]:
+        return STOPPED
+    if state[DELIVERED] >= state[K]:
+        return DONE
+    if state[T] >= state[LIMIT]:
+        return STALLED
+    # ---- Compute: the seed's wishes and their moves
+    frozen = _same_as_memo(memo, pos, carrying, tmode, pidx, state[UNITS], state[DELIVERED])
+    _transport_options(
+        pos, carrying, tmode, pidx, join_at, state[UNITS], path, nest, food, g, frozen, opts,
+        nopt,
+    )  # fmt: skip
+    for a in range(n):
+        builtin[a] = _move_code(opts[a, 0, 0] - pos[a, 0], opts[a, 0, 1] - pos[a, 1])
+    return GOING
+
+
+HANDOFF = 4  # explore_round: a robot stands on the food; the Look is the Python loop's
+
+
+@njit(cache=True)
+def explore_round(
+    pos: I64, delay: I64, displaced: Bools, state: I64, route: I32, t_end: int, g: int,
+    nest: I64, food: I64, opts: I64, nopt: I64, following: Bools, builtin: I64, moves: I64,
+    history: I32,
+) -> int:  # fmt: skip
+    """One round of a *hooked* run before anyone knows where the food is (every robot
+    explores): the Move of the pending round with the caller's ``moves`` (when
+    ``state[MOVED]``), then the next Look and Compute. A line-by-line port of
+    ``Mission.hooked_step`` for that phase: ``options`` of an exploring robot (its route's
+    next cell, the timetable ``route`` shifted by its ``delay``; once displaced from its
+    route or past its end, stay or step aside), the hook's wishes, priority (route followers
+    rank high) and resolution, ``_move``'s rules (a robot on its route that is held back
+    waits: its delay grows; one that moves elsewhere is displaced). The Look is empty
+    unless a robot stands on the food: then the Move is done, nothing else, and the answer
+    is HANDOFF (the Python loop plays that Look, which informs it, and the rounds after).
+    ``state`` and the other answers are :func:`hooked_round`'s."""
+    n = pos.shape[0]
+    if state[MOVED]:
+        bad = _bad_move(pos, builtin, moves, g)
+        if bad >= 0:
+            return -(bad + 1)
+        chosen = np.empty((n, MAXOPT, 2), np.int64)
+        nchosen = np.empty(n, np.int64)
+        ranked = following.copy()
+        _hooked_wishes(pos, opts, nopt, builtin, moves, chosen, nchosen, ranked)
+        order = np.empty(n, np.int64)
+        choice = np.zeros(n, np.int64)
+        _order(pos, chosen, order, ranked)
+        _resolve(pos, chosen, nchosen, order, nest[0], nest[1], choice)
+        for a in range(n):
+            nx, ny = chosen[a, choice[a], 0], chosen[a, choice[a], 1]
+            x, y = pos[a, 0], pos[a, 1]
+            if not displaced[a]:  # on its route (every robot explores)
+                wx, wy = opts[a, 0, 0], opts[a, 0, 1]
+                moved = nx != x or ny != y
+                if (nx != wx or ny != wy) and (wx != x or wy != y) and not moved:
+                    delay[a] += 1
+                elif moved and ((not following[a]) or nx != wx or ny != wy):
+                    displaced[a] = True
+            pos[a, 0] = nx
+            pos[a, 1] = ny
+        state[T] += 1
+        state[MOVED] = 0
+    for a in range(n):
+        if pos[a, 0] == food[0] and pos[a, 1] == food[1]:
+            return HANDOFF
+    row = state[ROW]
+    for a in range(n):
+        history[row, a, 0] = pos[a, 0]
+        history[row, a, 1] = pos[a, 1]
+    state[ROW] = row + 1
+    t = state[T]
+    if t >= state[STOP_AT]:
+        return STOPPED
+    if t >= state[LIMIT]:
+        return STALLED
+    # ---- Compute: Mission.options of exploring robots
+    for a in range(n):
+        x, y = pos[a, 0], pos[a, 1]
+        k = 1
+        opts[a, 0, 0] = x
+        opts[a, 0, 1] = y
+        following[a] = False
+        if not displaced[a]:
+            i = t + 1 - delay[a]
+            r = min(i, t_end)
+            nx, ny = route[r, a, 0], route[r, a, 1]
+            if nx != x or ny != y:
+                opts[a, 0, 0] = nx
+                opts[a, 0, 1] = ny
+                opts[a, 1, 0] = x
+                opts[a, 1, 1] = y
+                k = 2
+                following[a] = True
+            elif i <= t_end:
+                following[a] = True
+            else:
+                k = _sidesteps(opts[a], 1, x, y, g)
+        else:
+            k = _sidesteps(opts[a], 1, x, y, g)
+        nopt[a] = k
+        builtin[a] = _move_code(opts[a, 0, 0] - x, opts[a, 0, 1] - y)
+    return GOING

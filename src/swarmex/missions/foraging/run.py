@@ -152,14 +152,20 @@ def forage_rounds(
     record: bool = True,
     on_frame: FrameSink | None = None,
     comm: str = SEED,
+    fast: bool = True,
+    stop_at: int | None = None,
 ) -> Generator[Compute, np.ndarray, ForageRun]:
     """:func:`run_forage` as a hooked run that the caller steps (the PettingZoo
     environment): yields each round's :class:`~.sim.Compute`, takes every robot's move
-    (``send``) and returns the ForageRun (:mod:`.hook`)."""
+    (``send``) and returns the ForageRun (:mod:`.hook`). ``stop_at`` ends the run at that
+    round (as an ``on_frame`` raising StopRun there); ``fast=False`` plays every round in
+    Python (the compiled Transportation rounds give the same run: a test compares them)."""
     check_inputs(algorithm, g, n, units, transport, comm)
     t0 = time.perf_counter()
     timed = timed_plan(algorithm, g, n)
-    outcome = yield from decided_rounds(timed, food, units, transport, record, on_frame, comm)
+    outcome = yield from decided_rounds(
+        timed, food, units, transport, record, on_frame, comm, fast, stop_at
+    )
     return _finish(algorithm, g, n, food, units, transport, comm, timed, outcome, t0, True)
 
 

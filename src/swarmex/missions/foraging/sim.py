@@ -22,11 +22,18 @@ the rounds they were made to wait), informed robots communicate (:mod:`.comm`) a
 transport (:mod:`.transport`).
 
 Decision hook (for :mod:`swarmex.envs.foraging_v0`): a *hooked* run (:func:`decided_rounds`,
-or :func:`run_mission` given ``decide``) plays every round in this loop from round 0 (the
+or :func:`run_mission` given ``decide``) plays every round of this loop from round 0 (the
 timetable's rounds too: robots on their routes make the timetable's moves, which resolve
-without conflict, so the rounds are the same) and never hands the tail to the compiled loop.
-Each round's Compute is handed out (:mod:`.hook`): the run yields a :class:`Compute` with every
-robot's seed move and takes every robot's move back; the seed's moves give the seed's run. A
+without conflict, so the rounds are the same) and never hands the tail to the compiled loop
+:func:`~.fastloop.transport_tail`, which plays many rounds per call. Two phases of it are
+played one round per call by compiled ports of :meth:`Mission.hooked_step` instead, when no
+``on_frame`` asks for frames: the rounds before anyone knows the food
+(:func:`~.fastloop.explore_round`, until a robot stands on the food: its Look and the
+communication rules are this loop's) and the rounds once everyone transports
+(:func:`~.fastloop.hooked_round`); after each, the Mission's lists are brought up to date, and
+a test compares both with this loop round by round. Each round's Compute is handed out
+(:mod:`.hook`): the run yields a :class:`Compute` with every robot's seed move and takes every
+robot's move back; the seed's moves give the seed's run. A
 robot on its route that stays when its route moves it waits, as a blocked robot does (its
 timetable shifts by a round). Three rules only a hook can reach (the
 seed's robots never do these): a robot on its route that moves anywhere but where its route
@@ -104,11 +111,14 @@ FrameSink = Callable[[Frame], object]
 class Compute:
     """A hooked run's request, at the Compute of round ``t`` (the state after its Look):
     ``builtin[a]`` is robot ``a``'s seed move (a :mod:`.hook` move code); the answer is an
-    (n,) array of every robot's move. ``mission`` is the run's state (read-only)."""
+    (n,) array of every robot's move. ``mission`` is the run's state (read-only);
+    ``positions`` its robots' cells as an array (what a caller that works on arrays wants,
+    without converting ``mission.pos``)."""
 
     mission: Mission
     t: int
     builtin: np.ndarray  # (n,) int64
+    positions: np.ndarray  # (n, 2) int64: every robot's cell after the Look (a copy)
 
 
 Decide = Callable[[Compute], np.ndarray]  # decide(request) -> every robot's move
@@ -180,6 +190,9 @@ class Mission:
         self.history: list[list[Cell]] = []
         self.join_at: dict[int, int] = {}
         self.tail_chunks: list[np.ndarray] = []
+        # a hooked run's compiled phases: rows so far in round order, the open (chunk, state)
+        self.segments: list[np.ndarray] = []
+        self._live: tuple[np.ndarray, np.ndarray] | None = None
         # the transport state after the last Look, to spot a frozen crowd (see step)
         self._last_key: tuple | None = None
         self._frozen = False
@@ -399,6 +412,11 @@ class Mission:
             return [p], False
         return [p, *sidesteps(p, self.g)], False
 
+    def _exploring(self) -> bool:
+        """Whether nobody knows the food yet (the phase :meth:`_hooked_explore` plays
+        compiled; once someone is informed, someone stays so)."""
+        return self.timed is not None and not any(self.informed)
+
     def transport_key(self) -> tuple | None:
         """Everything a transport round's moves depend on (None while anyone explores or
         communicates: their routes depend on the clock)."""
@@ -432,7 +450,8 @@ class Mission:
         robot's move back (:mod:`.hook`)."""
         opts, following = self._compute()
         builtin = seed_moves(self.pos, opts)
-        moves = yield Compute(self, self.t, builtin)
+        here = np.array(self.pos, dtype=np.int64).reshape(self.n, 2)
+        moves = yield Compute(self, self.t, builtin, here)
         chosen, ranked = hooked_options(self.pos, opts, following, builtin, moves, self.g)
         self._move(opts, following, chosen, ranked)
 
@@ -510,17 +529,29 @@ class Mission:
         limit: int | None = None,
         fast: bool = True,
         on_frame: FrameSink | None = None,
+        stop_at: int | None = None,
     ) -> Rounds:
         """Play rounds until all k units are home; ``fast`` hands the pure-transport tail to
-        the compiled loop of :mod:`.fastloop` (same rules, same result). ``on_frame`` gets
-        each round's :class:`Frame`; if it raises StopRun the run stops there
-        (``self.stopped``). A generator: a hooked run yields each Compute (module
-        docstring); any other never yields."""
+        the compiled loop of :mod:`.fastloop` (same rules, same result): :meth:`_tail`, or
+        for a hooked run without ``on_frame`` :meth:`_hooked_tail`, and a hooked run's rounds
+        before anyone is informed to :meth:`_hooked_explore`. ``on_frame`` gets each
+        round's :class:`Frame`; if it raises StopRun the run stops there (``self.stopped``),
+        and so it does at round ``stop_at`` (the same stop without a frame per round). A
+        generator: a hooked run yields each Compute (module docstring); any other never
+        yields."""
         limit = limit or self.t + 200 * self.g * (self.k + self.g) + 10_000
         while True:
             if fast and all(m == TRANSPORT for m in self.mode):
-                self._tail(record, limit, on_frame)
-                return
+                if not self.hooked:
+                    self._tail(record, limit, on_frame)
+                    return
+                if on_frame is None:
+                    yield from self._hooked_tail(record, limit, stop_at)
+                    return
+            if fast and self.hooked and on_frame is None and self._exploring():
+                ended = yield from self._hooked_explore(record, limit, stop_at)
+                if ended:  # stopped there; else a robot stands on the food: its Look follows
+                    return
             self.look()
             if record:
                 self.history.append(list(self.pos))
@@ -530,6 +561,9 @@ class Mission:
                 except StopRun:
                     self.stopped = True
                     return
+            if stop_at is not None and self.t >= stop_at:
+                self.stopped = True
+                return
             if self.delivered >= self.k:
                 return
             if self.t >= limit:
@@ -538,6 +572,189 @@ class Mission:
                 yield from self.hooked_step()
             else:
                 self.step()
+
+    # ------------------------------------------------------------------ compiled hooked rounds
+    def _compiled_rows(self, record: bool, state: np.ndarray) -> np.ndarray:
+        """Start a compiled phase of a hooked run: the rows played so far in Python go to
+        ``segments`` (the trajectory stays in round order), and a chunk is opened for the
+        compiled rounds' positions (``state[ROW]`` its next row)."""
+        if self.history:
+            self.segments.append(np.asarray(self.history, dtype=np.int32).reshape(-1, self.n, 2))
+            self.history = []
+        chunk = np.empty((4096 if record else 1, self.n, 2), dtype=np.int32)
+        self._live = (chunk, state)
+        return chunk
+
+    def _full_chunk(self, record: bool, chunk: np.ndarray, state: np.ndarray) -> np.ndarray:
+        """After a compiled round: a full chunk is kept (when recording) and a new one
+        opened; returns the chunk to write to."""
+        if state[5] < len(chunk):  # fastloop.ROW: the next row to write
+            return chunk
+        state[5] = 0
+        if not record:
+            return chunk
+        self.segments.append(chunk)
+        chunk = np.empty_like(chunk)
+        self._live = (chunk, state)
+        return chunk
+
+    def _close_rows(self, record: bool) -> None:
+        """End a compiled phase that hands the run back to the Python loop."""
+        if self._live is not None:
+            chunk, state = self._live
+            if record:
+                self.segments.append(chunk[: int(state[5])])
+            self._live = None
+
+    def _bad_move(self, a: int, moves: np.ndarray) -> ValueError:
+        """:func:`~.hook.hooked_options`'s error for robot ``a``'s move."""
+        m, p = int(moves[a]), self.pos[a]
+        if not 0 <= m < 5:
+            return ValueError(f"robot {a}: move {m} is not a move code (0..4)")
+        return ValueError(f"robot {a}: move {m} from {p} leaves the {self.g}×{self.g} grid")
+
+    def _state(self, limit: int, stop_at: int | None) -> np.ndarray:
+        """The compiled rounds' state vector (:data:`~.fastloop.T` … ``MOVED``)."""
+        never = np.iinfo(np.int64).max
+        return np.asarray(
+            [self.t, self.units, self.delivered, self.k, 0, 0,
+             never if stop_at is None else stop_at, limit, 0],
+            dtype=np.int64,
+        )  # fmt: skip
+
+    def _hooked_explore(
+        self, record: bool, limit: int, stop_at: int | None
+    ) -> Generator[Compute, np.ndarray, bool]:
+        """The rounds of a hooked run before anyone knows where the food is, in the compiled
+        :func:`~.fastloop.explore_round` (one call per round: the pending Move with the
+        caller's moves, then the next Look and Compute). In that phase the Look is empty
+        (nobody is informed, so nobody tells, crosses off or transports) until a robot
+        stands on the food; then the kernel stops after the Move and this returns False: the
+        Python loop plays that Look (the finder learns, :mod:`.comm`'s rules start) and the
+        rounds after. Returns True when the run ended here (stopped or stalled). After each
+        round ``pos``, ``delay``, ``displaced`` and ``t`` are brought up to date."""
+        from swarmex.missions.foraging import fastloop as fl
+
+        assert self.timed is not None
+        n, g = self.n, self.g
+        pos = np.asarray(self.pos, dtype=np.int64).reshape(n, 2)
+        delay = np.asarray(self.delay, dtype=np.int64)
+        displaced = np.asarray(self.displaced, dtype=np.bool_)
+        route = np.ascontiguousarray(self.timed.pos, dtype=np.int32)
+        nest = np.asarray(self.nest, dtype=np.int64)
+        food = np.asarray(self.food, dtype=np.int64)
+        state = self._state(limit, stop_at)
+        opts = np.empty((n, fl.MAXOPT, 2), dtype=np.int64)
+        nopt = np.zeros(n, dtype=np.int64)
+        following = np.zeros(n, dtype=np.bool_)
+        builtin = np.zeros(n, dtype=np.int64)
+        moves = np.zeros(n, dtype=np.int64)
+        chunk = self._compiled_rows(record, state)
+        t_end = self.timed.t_end
+        while True:
+            status = fl.explore_round(
+                pos, delay, displaced, state, route, t_end, g, nest, food, opts, nopt,
+                following, builtin, moves, chunk,
+            )  # fmt: skip
+            if status < 0:
+                raise self._bad_move(-status - 1, moves)
+            self.t = int(state[fl.T])
+            xs, ys = pos.T.tolist()
+            self.pos = list(zip(xs, ys, strict=True))
+            self.delay = delay.tolist()
+            self.displaced = displaced.tolist()
+            chunk = self._full_chunk(record, chunk, state)
+            if status == fl.HANDOFF:
+                self._close_rows(record)
+                return False
+            if status == fl.STOPPED:
+                self.stopped = True
+                return True
+            if status == fl.STALLED:
+                raise NoProgress(f"no completion after {self.t} rounds")
+            answer = yield Compute(self, self.t, builtin.copy(), pos.copy())
+            moves[:] = answer
+            state[fl.MOVED] = 1
+
+    def _hooked_tail(self, record: bool, limit: int, stop_at: int | None) -> Rounds:
+        """The rounds of a hooked run once every robot transports, in the compiled
+        :func:`~.fastloop.hooked_round` (one call per round: the pending Move with the
+        caller's moves, then the next Look and Compute). The Transportation phase is
+        absorbing and every robot is informed, so no one learns, tells or crosses off any
+        more: what remains is the arrays' rounds, the same as :meth:`hooked_step`'s. After
+        each round the lists of this Mission (``pos``, ``carrying``, ``tmode``, ``pidx``,
+        ``join_at``, ``handovers``, ``jobs``, the counts) are brought up to date, so it stays
+        the run's state for every reader; the positions after each Look go to
+        ``segments`` (:meth:`trajectory`)."""
+        from swarmex.missions.foraging import fastloop as fl
+
+        n, g = self.n, self.g
+        pos = np.asarray(self.pos, dtype=np.int64).reshape(n, 2)
+        carrying = np.asarray(self.carrying, dtype=np.bool_)
+        tmode = np.asarray(self.tmode, dtype=np.int64)
+        pidx = np.asarray(self.pidx, dtype=np.int64)
+        join_at = np.asarray([self.join_at.get(a, 0) for a in range(n)], dtype=np.int64)
+        handovers = np.asarray(self.handovers, dtype=np.int64)
+        path = np.asarray(self.path, dtype=np.int64)
+        path_of = np.full((g, g), -1, dtype=np.int64)
+        path_of[path[:, 0], path[:, 1]] = np.arange(len(path))
+        nest = np.asarray(self.nest, dtype=np.int64)
+        food = np.asarray(self.food, dtype=np.int64)
+        relay = self.transport != END_TO_END
+        state = self._state(limit, stop_at)
+        jobs = np.zeros((2 * self.k + 2, 3), dtype=np.int64)
+        opts = np.empty((n, fl.MAXOPT, 2), dtype=np.int64)
+        nopt = np.zeros(n, dtype=np.int64)
+        builtin = np.zeros(n, dtype=np.int64)
+        moves = np.zeros(n, dtype=np.int64)
+        memo = fl.transport_memo(self._last_key, n)
+        chunk = self._compiled_rows(record, state)
+        synced = 0  # jobs already copied to self.jobs
+        while True:
+            status = fl.hooked_round(
+                pos, carrying, tmode, pidx, join_at, handovers, state, path, path_of, nest,
+                food, relay, opts, nopt, builtin, moves, chunk, jobs, memo,
+            )  # fmt: skip
+            if status < 0:
+                raise self._bad_move(-status - 1, moves)
+            self.t, self.units, self.delivered = state[:3].tolist()
+            xs, ys = pos.T.tolist()
+            self.pos = list(zip(xs, ys, strict=True))
+            self.carrying = carrying.tolist()
+            self.tmode = tmode.tolist()
+            self.pidx = pidx.tolist()
+            self.handovers = handovers.tolist()
+            if relay:
+                self.join_at = dict(enumerate(join_at.tolist()))
+            if state[fl.N_JOBS] > synced:
+                for t, a, kind in jobs[synced : state[fl.N_JOBS]].tolist():
+                    cell = self.nest if kind == 1 else self.food
+                    self.jobs[a].append((t, *cell, "drop" if kind == 1 else "pickup"))
+                synced = int(state[fl.N_JOBS])
+            chunk = self._full_chunk(record, chunk, state)
+            if status == fl.STOPPED:
+                self.stopped = True
+            if status == fl.STALLED:
+                raise NoProgress(f"no completion after {self.t} rounds")
+            if status != fl.GOING:
+                return
+            answer = yield Compute(self, self.t, builtin.copy(), pos.copy())
+            moves[:] = answer
+            state[fl.MOVED] = 1
+
+    def trajectory(self) -> np.ndarray:
+        """(rounds, n, 2) int32: a hooked run's robot cells after each Look so far, in round
+        order (``segments``: the compiled phases' rows and the Python rows before them; the
+        open chunk; ``history``: the Python rows since)."""
+        parts = list(self.segments)
+        if self._live is not None:
+            chunk, state = self._live
+            parts.append(chunk[: int(state[5])])
+        if self.history:
+            parts.append(np.asarray(self.history, dtype=np.int32).reshape(-1, self.n, 2))
+        if not parts:
+            return np.empty((0, self.n, 2), dtype=np.int32)
+        return np.concatenate(parts, axis=0)
 
     def _tail(self, record: bool, limit: int, on_frame: FrameSink | None = None) -> None:
         """The pure-transport rounds in the compiled loop; with ``on_frame``, one round per
@@ -670,9 +887,13 @@ def decided_rounds(
     record: bool = True,
     on_frame: FrameSink | None = None,
     comm: str = SEED,
+    fast: bool = True,
+    stop_at: int | None = None,
 ) -> Generator[Compute, np.ndarray, Outcome]:
     """A hooked run (module docstring): this loop from round 0, every Compute yielded; the
-    generator's value is the Outcome."""
+    generator's value is the Outcome. ``stop_at`` stops it at that round as an ``on_frame``
+    raising StopRun there would; ``fast`` plays the Transportation phase's rounds compiled
+    (:meth:`Mission._hooked_tail`, when there is no ``on_frame``)."""
     if transport not in (RELAY_FOOD, RELAY_PATH, END_TO_END):
         raise ValueError(transport)
     plan = timed.plan
@@ -680,8 +901,8 @@ def decided_rounds(
     m = Mission(
         plan.g, plan.nest, food, units, transport, start, timed=timed, hooked=True, comm=comm
     )
-    yield from m.rounds(record=True, fast=False, on_frame=on_frame)
-    history = np.asarray(m.history, dtype=np.int32).reshape(-1, plan.n, 2)
+    yield from m.rounds(record=True, fast=fast, on_frame=on_frame, stop_at=stop_at)
+    history = m.trajectory()
     told = [t for t in m.informed_at if t is not None]
     discovery = min(told) if told else None
     finders = [
