@@ -86,15 +86,29 @@ def _listener_type() -> type:
 def compile_notice(console: Console) -> Iterator[None]:
     """Within the block, a numba compile shows :data:`MESSAGE` on ``console`` (stderr).
 
-    Imports numba (the block is about to run kernels anyway); nothing is shown when every
-    kernel comes from the cache."""
-    from numba.core import event
+    Does not import numba: the listener is registered when a kernel loads it
+    (:func:`swarmex._kernels.when_loaded`), so a block whose kernels run interpreted, or
+    that runs none, never pays for numba. Nothing is shown when every kernel comes from the
+    cache."""
+    from swarmex._kernels import when_loaded
 
-    listener = _listener_type()(console)
-    event.register("numba:compile", listener)
+    attached: list[Any] = []
+
+    def attach() -> None:
+        from numba.core import event
+
+        listener = _listener_type()(console)
+        event.register("numba:compile", listener)
+        attached.append(listener)
+
+    withdraw = when_loaded(attach)
     try:
         yield
     finally:
-        event.unregister("numba:compile", listener)
-        with listener.lock:
-            listener.stop()
+        withdraw()
+        for listener in attached:
+            from numba.core import event
+
+            event.unregister("numba:compile", listener)
+            with listener.lock:
+                listener.stop()

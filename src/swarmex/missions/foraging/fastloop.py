@@ -14,8 +14,9 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
-from numba import njit
 from numpy.typing import NDArray
+
+from swarmex._kernels import kernel
 
 # tmode codes (same as sim.py)
 JOIN, RELAY, E2E, IDLE = 0, 1, 2, 3
@@ -25,7 +26,7 @@ I64 = NDArray[np.int64]  # numba ignores these annotations (postponed); mypy che
 Bools = NDArray[np.bool_]
 
 
-@njit(cache=True)
+@kernel(cache=True)
 def _sidesteps(opts: I64, k: int, x: int, y: int, g: int) -> int:
     for dx, dy in ((1, 0), (0, -1), (-1, 0), (0, 1)):
         nx, ny = x + dx, y + dy
@@ -36,7 +37,7 @@ def _sidesteps(opts: I64, k: int, x: int, y: int, g: int) -> int:
     return k
 
 
-@njit(cache=True)
+@kernel(cache=True)
 def _free_sides(opts: I64, k: int, x: int, y: int, g: int) -> int:
     """Append the side cells not already among ``opts[:k]`` (the frozen-crowd rule)."""
     first = k
@@ -66,7 +67,7 @@ def transport_memo(key: tuple[Any, ...] | None, n: int) -> I64:
     return memo
 
 
-@njit(cache=True)
+@kernel(cache=True)
 def _same_as_memo(
     memo: I64, pos: I64, carrying: Bools, tmode: I64, pidx: I64, units: int, delivered: int
 ) -> bool:
@@ -88,7 +89,7 @@ def _same_as_memo(
     return same
 
 
-@njit(cache=True)
+@kernel(cache=True)
 def _toward(opts: I64, k: int, x: int, y: int, qx: int, qy: int) -> int:
     if qx != x:
         opts[k, 0] = x + (1 if qx > x else -1)
@@ -101,7 +102,7 @@ def _toward(opts: I64, k: int, x: int, y: int, qx: int, qy: int) -> int:
     return k
 
 
-@njit(cache=True)
+@kernel(cache=True)
 def _resolve(
     cur: I64, opts: I64, nopt: I64, order: I64, nest_x: int, nest_y: int, choice: I64
 ) -> None:
@@ -147,7 +148,7 @@ def _resolve(
         choice[bumped] += 1
 
 
-@njit(cache=True)
+@kernel(cache=True)
 def _order(cur: I64, opts: I64, out: I64) -> None:
     """Priority: swap pairs first, then larger (x, y), then smaller id (resolve.priority)."""
     n = cur.shape[0]
@@ -175,7 +176,7 @@ def _order(cur: I64, opts: I64, out: I64) -> None:
                 break
 
 
-@njit(cache=True)
+@kernel(cache=True)
 def transport_tail(
     pos: I64, carrying: Bools, tmode: I64, pidx: I64, join_at: I64, state: I64, path: I64,
     path_of: I64, nest: I64, food: I64, relay: bool, history: I64, jobs: I64, handovers: I64,

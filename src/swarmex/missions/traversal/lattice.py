@@ -23,10 +23,10 @@ draw from the generator are the same.
 
 from __future__ import annotations
 
-import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
+from swarmex._kernels import kernel
 from swarmex.missions.traversal.selection import (
     FAR,
     JOB,
@@ -45,13 +45,13 @@ F64 = NDArray[np.float64]
 BLOCK = 32
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def _l1(width: int, v: int, x: int, y: int) -> int:  # pragma: no cover - compiled
     vy, vx = divmod(v, width)
     return abs(vx - x) + abs(vy - y)
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def util_matrix(
     width: int, sx: I64, sy: I64, cands: I64, step: float, tpu_me: float, jt_me: float,
     tpu: F64, jt: F64,
@@ -73,7 +73,7 @@ def util_matrix(
     return util
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def top_candidates(
     width: int, sx: I64, sy: I64, cands: I64, step: float, tpu_me: float, jt_me: float,
     tpu: F64, jt: F64,
@@ -99,7 +99,7 @@ def top_candidates(
     return select_top(mins, sums, errs)
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def near_choice(
     width: int, sx: I64, sy: I64, indptr: I64, indices: NDArray[np.int32], here: int,
     status: NDArray[np.int32], reserved: NDArray[np.int32], me: int, step: float,
@@ -117,7 +117,7 @@ def near_choice(
     return PICK, cands[top]
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def decide_near(
     width: int, loc: I64, me: int, indptr: I64, indices: NDArray[np.int32],
     status: NDArray[np.int32], reserved: NDArray[np.int32], step: float, tpu: F64, jt: F64,
@@ -155,7 +155,7 @@ def decide_near(
     return code, picks, rivals, sx, sy
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def distances(width: int, source: int, vertices: I64, step: float) -> F64:  # pragma: no cover
     """``KnownGraph.distances(source, vertices)`` on the open lattice."""
     sy, sx = divmod(source, width)
@@ -165,7 +165,7 @@ def distances(width: int, source: int, vertices: I64, step: float) -> F64:  # pr
     return out
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def _axis_max(lo: int, hi: int, r: int, m: int, a: float, b: float) -> float:  # pragma: no cover
     """Max over integers ``x`` in ``[lo, hi]`` of ``a|x - r| - b|x - m|``: piecewise linear
     with kinks at ``r`` and ``m``, so the max is at an end or at a kink."""
@@ -177,7 +177,7 @@ def _axis_max(lo: int, hi: int, r: int, m: int, a: float, b: float) -> float:  #
     return best
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def _axis_gap(lo: int, hi: int, x: int) -> int:  # pragma: no cover - compiled
     """Distance from ``x`` to the interval ``[lo, hi]``."""
     if x < lo:
@@ -187,7 +187,7 @@ def _axis_gap(lo: int, hi: int, x: int) -> int:  # pragma: no cover - compiled
     return 0
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def far_choice(
     width: int, height: int, sx: I64, sy: I64, klass: I64, ctpu: F64, cjt: F64,
     status: NDArray[np.int32], reserved: NDArray[np.int32], me: int, step: float,
