@@ -192,3 +192,25 @@ def test_kernel_surface():
     assert hasattr(k, "stats")  # the dispatcher's, loaded on demand
     with pytest.raises(TypeError):
         _kernels.twin(len)(len)
+
+
+def test_small_traverse_runs_interpreted_with_the_golden_records(tmp_path):
+    """Every traversal golden scenario (all <= 400 vertices) through `swarmex traverse` in a
+    fresh process: the kernels run interpreted, numba is never imported, and every record's
+    digest is the golden one."""
+    repo = SRC.parent
+    code = f"""
+    import json, os, sys
+    sys.path.insert(0, {str(repo)!r})
+    os.chdir({str(repo)!r})
+    from tests.golden.make_golden import digest, run_cli
+    from tests.golden.scenarios import SCENARIOS
+    got = {{name: digest(run_cli(command, argv))
+           for name, mission, command, argv in SCENARIOS if mission == "traversal"}}
+    print(json.dumps({{"numba": "numba" in sys.modules, "got": got}}))
+    """
+    out = json.loads(_python(code, tmp_path).strip().splitlines()[-1])
+    golden = json.loads((repo / "tests" / "golden" / "records.json").read_text())
+    assert out["numba"] is False
+    assert len(out["got"]) >= 7
+    assert out["got"] == {name: golden[name]["sha256"] for name in out["got"]}
