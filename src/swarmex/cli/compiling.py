@@ -3,9 +3,10 @@ install or after a kernel changed).
 
 Why: every kernel is ``cache=True``, so only the first process compiles (8-20 s on a small
 machine) and later ones load the machine code from disk in milliseconds. Without a word the
-first ``swarmex demo`` looks hung. The detection is exact and free: numba announces a
-``numba:compile`` event only when it really compiles (a cache hit loads without one), so a
-warm run prints nothing and costs one listener registration.
+first big run looks hung. (``swarmex demo`` and other runs small enough to keep their
+kernels interpreted, :mod:`swarmex._kernels`, compile nothing.) The detection is exact and
+free: numba announces a ``numba:compile`` event only when it really compiles (a cache hit
+loads without one), so a warm run prints nothing and costs one listener registration.
 
 On a terminal the line is a transient Rich spinner, shown while a compile runs and cleared
 after; elsewhere (a log, a pipe, the tests' capture) it is printed once per process. Only the

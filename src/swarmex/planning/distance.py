@@ -17,7 +17,8 @@ Which function to use:
   can be *repaired* in place when vertices become blocked, or *shifted* to a neighbouring
   source, and the result is bit-identical to a fresh search either way.
 
-Kernels are numba-compiled loops: a level-synchronous breadth-first search when all edges
+Kernels are numba-compiled loops (:mod:`swarmex._kernels`: compiled on first use, or run
+as Python in small one-shot runs): a level-synchronous breadth-first search when all edges
 have one length, a binary-heap Dijkstra otherwise. On a full 4-connected lattice (what a
 4-connected grid world builds; :func:`lattice_structure` recognises it) the searches compute
 neighbours (u ± 1, u ± width) instead of reading the CSR arrays, about 3x faster. A BFS field
