@@ -181,15 +181,25 @@ def test_cone_share_twin_equals_the_kernel():
         assert distance._cone_share_numpy(width, old, a, b, sample) == want
 
 
+def _kernel(module: str, name: str) -> _kernels.Kernel:
+    (k,) = [k for k in _kernels.kernels() if (k.__module__, k.__name__) == (module, name)]
+    return k
+
+
 def test_kernel_surface():
-    """Kernels pickle by reference, show their state, and reach the dispatcher's attributes;
-    a twin can only be given to a kernel."""
-    k = distance._bfs_lattice
-    assert isinstance(k, _kernels.Kernel) and k.__name__ == "_bfs_lattice"
-    assert pickle.loads(pickle.dumps(k)) is k
-    assert "planning.distance._bfs_lattice" in repr(k)
+    """Kernels show their state and reach the dispatcher's attributes; once loaded, the
+    names binding them in swarmex's modules are the dispatcher itself (no extra frame per
+    call), and pickles made either way load back; a twin can only be given to a kernel."""
+    from swarmex.planning import fieldcache
+
+    k = _kernel("swarmex.planning.distance", "_bfs_hops_lattice")
+    assert "planning.distance._bfs_hops_lattice" in repr(k)
     assert k.options == {"cache": True, "nogil": True}
     assert hasattr(k, "stats")  # the dispatcher's, loaded on demand
+    assert distance._bfs_hops_lattice is k.dispatcher
+    assert fieldcache._bfs_hops_lattice is k.dispatcher  # a `from ... import` binding too
+    assert pickle.loads(pickle.dumps(k)) is k.dispatcher  # by reference: the module's name
+    assert k.__wrapped__ is k.py_func and k.__doc__ == k.py_func.__doc__
     with pytest.raises(TypeError):
         _kernels.twin(len)(len)
 
