@@ -253,7 +253,7 @@ class ForagingEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray], in
         p = params
         rounds = forage_rounds(
             p.algorithm, p.grid, p.agents, world.food, p.food_units, p.transport,
-            on_frame=lambda frame: _cap(frame, limit),
+            on_frame=lambda frame: _cap(frame, limit), comm=p.comm,
         )  # fmt: skip
         self._rounds = rounds
         self._finalizer = weakref.finalize(self, rounds.close)

@@ -71,7 +71,7 @@ def test_run_is_the_cli_record(tmp_path, argv, kw):
     assert api == cli
     # the params dict, keys in order, as the command wrote it before the contract
     assert list(api["params"]) == [
-        "grid", "agents", "algorithm", "transport", "food", "food_units", "nest",
+        "grid", "agents", "algorithm", "transport", "comm", "food", "food_units", "nest",
         "food_distance", "seed",
     ]  # fmt: skip
     assert replay(api) == []
@@ -90,10 +90,12 @@ def test_registry_and_params():
     # swarmex.missions.* is imported: reported to the contract's owner)
     opts = ForagingParams.options()
     assert list(opts) == [
-        "grid", "agents", "algorithm", "transport", "food", "food_distance", "food_units", "seed",
+        "grid", "agents", "algorithm", "transport", "comm", "food", "food_distance", "food_units",
+        "seed",
     ]  # fmt: skip
     assert {k: o.default for k, o in opts.items() if not o.required} == {
         "transport": "relay-food",
+        "comm": "seed",
         "food": None,
         "food_distance": None,
         "food_units": 100,
@@ -103,6 +105,7 @@ def test_registry_and_params():
 
 
 BAD = [  # (keywords, text the message must contain: the parameter it names)
+    ({"comm": "telepathy"}, "--comm"),
     ({"grid": 1}, "--grid"),
     ({"grid": MAX_GRID + 1}, "--grid must be at most"),
     ({"grid": "big"}, "--grid"),

@@ -4,8 +4,8 @@
 ``numpy.random.default_rng(seed)`` in the ``food_distance`` band (or anywhere but the nest),
 so a seed fixes the whole run. ``execute`` plays the pattern's timetable, the communication
 phase and the transport (:func:`~swarmex.missions.foraging.run.run_forage`) and builds the
-record, whose ``params`` are the grid, team, pattern, transport, food cell, units, nest, the
-``food_distance`` as given and the seed.
+record, whose ``params`` are the grid, team, pattern, transport, communication rule, food cell,
+units, nest, the ``food_distance`` as given and the seed.
 
 Frames: ``on_frame`` is called once per round ``t = 0 … makespan`` with a
 :class:`~swarmex.missions.foraging.sim.Frame` (robots' cells, who carries, who is informed,
@@ -83,7 +83,7 @@ class ForagingMission(Mission[ForagingParams, ForagingWorld]):
         p = params
         run = run_forage(
             p.algorithm, p.grid, p.agents, world.food, p.food_units, p.transport,
-            record=trace, on_frame=on_frame,
+            record=trace, on_frame=on_frame, comm=p.comm,
         )  # fmt: skip
         record = to_record(run, p.seed, {"food_distance": p.food_distance, "seed": p.seed})
         if not trace:  # the run kept no per-round positions: a robot's moves are unknown

@@ -10,6 +10,9 @@ Conventions (also in ``swarmex forage --help``):
   (percent of the corner–nest distance, ch. 6; ``(lo, hi)`` in Python) or anywhere
   (``"random"``); with neither, a uniformly random non-nest cell is drawn. Draws use
   ``numpy.random.default_rng(seed)``, so a seed fixes the whole run. At most one of the two.
+* ``comm`` is the communication rule of :mod:`~swarmex.missions.foraging.comm`: ``seed`` (the
+  default: the thesis's rule as its author's simulator plays it, no robot knowing what it was
+  not told) or ``omniscient`` (the rule before 25 Nov 2026, which reproduces older records).
 * ``food_units`` defaults to 100, the released simulator's value (the thesis does not state
   its k).
 * ``algorithm`` is one of :data:`~swarmex.missions.foraging.patterns.ALGORITHMS`, the very list
@@ -43,6 +46,7 @@ from swarmex.missions.base import (
     optional,
     text,
 )
+from swarmex.missions.foraging.comm import COMM_RULES, SEED
 from swarmex.missions.foraging.food import parse_band
 from swarmex.missions.foraging.grid import nest_of
 from swarmex.missions.foraging.patterns import ALGORITHMS, OURS, THESIS_ALGORITHMS, build_plan
@@ -111,6 +115,12 @@ class ForagingParams(Params):
     algorithm: str = option(REQUIRED, help=algorithm_help(), parse=text(ALGORITHMS, lower=True))
     transport: str = option(
         "relay-food", help="end-to-end|relay-food|relay-path.", parse=text(TRANSPORTS, lower=True)
+    )
+    comm: str = option(
+        SEED,
+        help="Communication rule: seed (the thesis's and its simulator's) | omniscient "
+        "(knows who already knows; before 25 Nov 2026).",
+        parse=text(COMM_RULES, lower=True),
     )
     food: Cell | None = option(None, help="Food cell x,y.", parse=optional(cell()))
     food_distance: str | None = option(

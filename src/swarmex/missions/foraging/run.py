@@ -25,6 +25,7 @@ from typing import Any
 import numpy as np
 
 from swarmex.engine.record import AgentRecord, ResultRecord
+from swarmex.missions.foraging.comm import SEED
 from swarmex.missions.foraging.grid import Cell
 from swarmex.missions.foraging.hook import drive
 from swarmex.missions.foraging.params import ForagingParams
@@ -47,17 +48,20 @@ class ForageRun:
     food: Cell
     units: int
     transport: str
+    comm: str
     timed: Timed
     outcome: Outcome
     metrics: dict[str, Any]
     wall_seconds: float
 
 
-def check_inputs(algorithm: str, g: int, n: int, units: int, transport: str) -> None:
+def check_inputs(
+    algorithm: str, g: int, n: int, units: int, transport: str, comm: str = SEED
+) -> None:
     """The checks of :class:`~.params.ForagingParams` (the only place they live) for a run
     given as plain values; raises InputError naming the option."""
     ForagingParams.from_values(
-        grid=g, agents=n, algorithm=algorithm, food_units=units, transport=transport
+        grid=g, agents=n, algorithm=algorithm, food_units=units, transport=transport, comm=comm
     )
 
 
@@ -120,18 +124,22 @@ def run_forage(
     record: bool = True,
     on_frame: FrameSink | None = None,
     decide: Decide | None = None,
+    comm: str = SEED,
 ) -> ForageRun:
-    """Play one run (inputs checked first); ``on_frame`` gets every round's
+    """Play one run (inputs checked first) under the communication rule ``comm``
+    (:mod:`.comm`: ``seed`` or ``omniscient``); ``on_frame`` gets every round's
     :class:`~.sim.Frame` and may end the run early by raising StopRun; ``decide`` answers
     every Compute of a hooked run (:func:`forage_rounds`)."""
     if decide is not None:
-        rounds = forage_rounds(algorithm, g, n, food, units, transport, record, on_frame)
+        rounds = forage_rounds(algorithm, g, n, food, units, transport, record, on_frame, comm)
         return drive(rounds, decide)
-    check_inputs(algorithm, g, n, units, transport)
+    check_inputs(algorithm, g, n, units, transport, comm)
     t0 = time.perf_counter()
     timed = timed_plan(algorithm, g, n)
-    outcome = run_mission(timed, food, units, transport, record=record, on_frame=on_frame)
-    return _finish(algorithm, g, n, food, units, transport, timed, outcome, t0, False)
+    outcome = run_mission(
+        timed, food, units, transport, record=record, on_frame=on_frame, comm=comm
+    )
+    return _finish(algorithm, g, n, food, units, transport, comm, timed, outcome, t0, False)
 
 
 def forage_rounds(
@@ -143,15 +151,16 @@ def forage_rounds(
     transport: str = "relay-food",
     record: bool = True,
     on_frame: FrameSink | None = None,
+    comm: str = SEED,
 ) -> Generator[Compute, np.ndarray, ForageRun]:
     """:func:`run_forage` as a hooked run that the caller steps (the PettingZoo
     environment): yields each round's :class:`~.sim.Compute`, takes every robot's move
     (``send``) and returns the ForageRun (:mod:`.hook`)."""
-    check_inputs(algorithm, g, n, units, transport)
+    check_inputs(algorithm, g, n, units, transport, comm)
     t0 = time.perf_counter()
     timed = timed_plan(algorithm, g, n)
-    outcome = yield from decided_rounds(timed, food, units, transport, record, on_frame)
-    return _finish(algorithm, g, n, food, units, transport, timed, outcome, t0, True)
+    outcome = yield from decided_rounds(timed, food, units, transport, record, on_frame, comm)
+    return _finish(algorithm, g, n, food, units, transport, comm, timed, outcome, t0, True)
 
 
 def _finish(
@@ -161,6 +170,7 @@ def _finish(
     food: Cell,
     units: int,
     transport: str,
+    comm: str,
     timed: Timed,
     outcome: Outcome,
     t0: float,
@@ -174,7 +184,9 @@ def _finish(
         walked = replace(timed, pos=outcome.positions, t_end=len(outcome.positions) - 1)
     metrics = phase_metrics(outcome, walked)
     wall = time.perf_counter() - t0
-    return ForageRun(algorithm, g, n, food, units, transport, timed, outcome, metrics, wall)
+    return ForageRun(
+        algorithm, g, n, food, units, transport, comm, timed, outcome, metrics, wall
+    )
 
 
 def to_record(run: ForageRun, seed: int, params: dict[str, Any]) -> ResultRecord:
@@ -205,6 +217,7 @@ def to_record(run: ForageRun, seed: int, params: dict[str, Any]) -> ResultRecord
         "agents": run.n,
         "algorithm": run.algorithm,
         "transport": run.transport,
+        "comm": run.comm,
         "food": list(run.food),
         "food_units": run.units,
         "nest": list(run.timed.plan.nest),

@@ -44,7 +44,20 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from swarmex.missions.base import StopRun
-from swarmex.missions.foraging.comm import best_order, meet
+from swarmex.missions.foraging.comm import (
+    OMNISCIENT,
+    SEED,
+    Word,
+    adjacent_pairs,
+    best_order,
+    cross_off,
+    first_targets,
+    keeps_route,
+    meet,
+    meet_goal,
+    one_way,
+    predicted,
+)
 from swarmex.missions.foraging.grid import Cell, manhattan
 from swarmex.missions.foraging.hook import drive, hooked_options, seed_moves
 from swarmex.missions.foraging.resolve import priority, resolve, sidesteps, toward
@@ -131,8 +144,13 @@ class Mission:
         t: int = 0,
         timed: Timed | None = None,
         hooked: bool = False,
+        comm: str = SEED,
     ) -> None:
+        if comm not in (SEED, OMNISCIENT):
+            raise ValueError(comm)
         self.g, self.nest, self.food = g, nest, food
+        self.comm = comm  # the communication rule (:mod:`.comm`)
+        self.word = Word(len(start)) if comm == SEED else None  # who knows, as each knows
         self.units = units
         self.k = units
         self.transport = transport
@@ -158,6 +176,7 @@ class Mission:
         self.path_index = {c: i for i, c in enumerate(self.path)}
         self.neighbours = timed.plan.neighbours if timed else [[] for _ in range(n)]
         self.follow_comm = bool(timed and timed.plan.follow_path_comm)
+        self.one_way = bool(timed and one_way(comm, timed.plan.algorithm, n))
         self.history: list[list[Cell]] = []
         self.join_at: dict[int, int] = {}
         self.tail_chunks: list[np.ndarray] = []
@@ -187,6 +206,20 @@ class Mission:
             return seg if len(seg) else self.timed.pos[-1:, b]
         return np.asarray([self.pos[b]], dtype=np.int64)
 
+    def expected(self, b: int) -> Cell:
+        """Where ``b``'s pattern puts it now (the seed rule's prediction: its timetable shifted
+        by the rounds it was held up, whatever it knows); without a timetable, its cell."""
+        if self.timed is None:
+            return self.pos[b]
+        return predicted(self.timed.pos[:, b], self.timed.t_end, self.delay[b], self.t)
+
+    def expected_future(self, b: int, t: int) -> np.ndarray:
+        """``b``'s pattern positions from round ``t`` on (the seed rule's :meth:`future`)."""
+        if self.timed is None:
+            return np.asarray([self.pos[b]], dtype=np.int64)
+        i = min(max(0, t - self.delay[b]), self.timed.t_end)
+        return self.timed.pos[i:, b]
+
     def _t_end(self) -> int:
         """The timetable's last round (only robots that follow one ask)."""
         assert self.timed is not None
@@ -196,18 +229,31 @@ class Mission:
     def inform(self, a: int, teller: int | None) -> None:
         self.informed[a] = True
         self.informed_at[a] = self.t
-        todo = [b for b in self.neighbours[a] if b != teller and not self.informed[b]]
+        todo = first_targets(
+            self.comm, self.neighbours[a], teller, self.informed, self.one_way
+        )
         self.targets[a] = todo
+        if self.word is not None:
+            self.word.learn(a, self.t, teller, todo)
         if not todo:
             self.enter_transport(a)
-        elif self.follow_comm and self.on_route(a):
+        elif self.keeps_route(a) and self.on_route(a):
             self.mode[a] = FOLLOW
         else:
             self.start_comm(a)
 
+    def keeps_route(self, a: int) -> bool:
+        """Whether informed robot ``a`` keeps to its route (:func:`.comm.keeps_route`); it is
+        exploring once its timetable has passed the synchronised start."""
+        if self.timed is None:
+            return False
+        exploring = self.t - self.delay[a] >= self.timed.t_sync
+        return keeps_route(self.comm, self.timed.plan.algorithm, self.follow_comm, exploring)
+
     def start_comm(self, a: int) -> None:
         self.mode[a] = COMM
-        self.targets[a], _ = best_order(self.pos[a], self.t, self.targets[a], self.future)
+        predict = self.future if self.comm == OMNISCIENT else self.expected_future
+        self.targets[a], _ = best_order(self.pos[a], self.t, self.targets[a], predict)
 
     def enter_transport(self, a: int) -> None:
         self.mode[a] = TRANSPORT
@@ -252,16 +298,20 @@ class Mission:
                     new.append((a, min(tellers)))
         for a, b in new:
             self.inform(a, b)
-        for a in range(n):
-            if self.mode[a] in (FOLLOW, COMM):
-                before = self.targets[a]
-                self.targets[a] = [b for b in before if not self.informed[b]]
-                if not self.targets[a]:
-                    self.enter_transport(a)
-                elif self.mode[a] == FOLLOW and (
-                    self.displaced[a] or t - self.delay[a] >= self._t_end()
-                ):
-                    self.start_comm(a)
+        if self.word is not None:
+            knowing = [a for a in range(n) if self.informed[a]]
+            self.word.exchange(adjacent_pairs(self.pos, knowing))
+        telling = [a for a in range(n) if self.mode[a] in (FOLLOW, COMM)]
+        cross_off(
+            self.comm, self.targets, self.informed, self.pos, self.expected, telling, self.word
+        )
+        for a in telling:
+            if not self.targets[a]:
+                self.enter_transport(a)
+            elif self.mode[a] == FOLLOW and (
+                self.displaced[a] or t - self.delay[a] >= self._t_end()
+            ):
+                self.start_comm(a)
         self.transport_look()
 
     def transport_look(self) -> None:
@@ -308,6 +358,14 @@ class Mission:
             return [p], True
         if m == EXPLORE:  # pushed off its route after finishing it
             return [p, *sidesteps(p, self.g)], False
+        if m == COMM and self.comm == SEED:
+            b = self.targets[a][0]
+            if manhattan(p, self.pos[b]) <= 1:  # they exchange in the next Look
+                return [p], False
+            goal_c = meet_goal(p, self.pos[b], self.expected_future(b, self.t))
+            if p == goal_c:
+                return [p], False
+            return [*toward(p, goal_c), p], False
         if m == COMM:
             b = self.targets[a][0]
             fut = self.future(b, self.t)
@@ -549,13 +607,17 @@ def run_mission(
     fast: bool = True,
     on_frame: FrameSink | None = None,
     decide: Decide | None = None,
+    comm: str = SEED,
 ) -> Outcome:
-    """Play one foraging run of the pattern in ``timed`` with food at ``food``; ``on_frame``
-    gets every round's :class:`Frame`, ``decide`` every round's Compute (module docstring)."""
+    """Play one foraging run of the pattern in ``timed`` with food at ``food`` under the
+    communication rule ``comm`` (:mod:`.comm`); ``on_frame`` gets every round's
+    :class:`Frame`, ``decide`` every round's Compute (module docstring)."""
     if transport not in (RELAY_FOOD, RELAY_PATH, END_TO_END):
         raise ValueError(transport)
     if decide is not None:
-        return drive(decided_rounds(timed, food, units, transport, record, on_frame), decide)
+        return drive(
+            decided_rounds(timed, food, units, transport, record, on_frame, comm), decide
+        )
     plan = timed.plan
     pos = timed.pos
     hit = (pos[:, :, 0] == food[0]) & (pos[:, :, 1] == food[1])
@@ -568,7 +630,7 @@ def run_mission(
         if stopped is not None:
             return _stopped_before_discovery(timed, stopped, units, record)
     start = [(int(x), int(y)) for x, y in pos[t0]]
-    m = Mission(plan.g, plan.nest, food, units, transport, start, t=t0, timed=timed)
+    m = Mission(plan.g, plan.nest, food, units, transport, start, t=t0, timed=timed, comm=comm)
     m.run(record=record, fast=fast, on_frame=on_frame)
     if record:
         parts = [pos[:t0]]
@@ -607,6 +669,7 @@ def decided_rounds(
     transport: str,
     record: bool = True,
     on_frame: FrameSink | None = None,
+    comm: str = SEED,
 ) -> Generator[Compute, np.ndarray, Outcome]:
     """A hooked run (module docstring): this loop from round 0, every Compute yielded; the
     generator's value is the Outcome."""
@@ -614,7 +677,9 @@ def decided_rounds(
         raise ValueError(transport)
     plan = timed.plan
     start = [plan.nest] * plan.n
-    m = Mission(plan.g, plan.nest, food, units, transport, start, timed=timed, hooked=True)
+    m = Mission(
+        plan.g, plan.nest, food, units, transport, start, timed=timed, hooked=True, comm=comm
+    )
     yield from m.rounds(record=True, fast=False, on_frame=on_frame)
     history = np.asarray(m.history, dtype=np.int32).reshape(-1, plan.n, 2)
     told = [t for t in m.informed_at if t is not None]

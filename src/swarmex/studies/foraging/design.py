@@ -117,3 +117,34 @@ def reference() -> dict[tuple, dict[str, float]]:
         out[key] = {c: float(row[c]) for c in COLUMNS}
         out[key]["total"] = sum(out[key][c] for c in COLUMNS)
     return out
+
+
+AUTHOR = "author"  # the band tag of the runs on the author's published cells
+AUTHOR_PHASES = {  # our column -> the author's (start, end) time stamps
+    "exploration": (None, "foodDiscoveryTS"),
+    "communication": ("foodDiscoveryTS", "firstCommTS"),
+    "comm_transport": ("firstCommTS", "firstTransTS"),
+    "transportation": ("firstTransTS", "FoodTransportedTS"),
+}
+
+
+def author_rows() -> list[dict[str, Any]]:
+    """The seed author's published simulator runs (Strips, N = 16; see the file's header):
+    its separation label, the food cell and its four phase columns and total, per run."""
+    text = reference_file("foraging_author_strips16.csv").read_text(encoding="utf-8")
+    body = [line for line in text.splitlines() if not line.startswith("#")]
+    out = []
+    for row in csv.DictReader(body):
+        phases = {
+            c: float(row[end]) - (float(row[start]) if start else 0.0)
+            for c, (start, end) in AUTHOR_PHASES.items()
+        }
+        food = (int(row["foodX"]), int(row["foodY"]))
+        total = float(row["FoodTransportedTS"])
+        out.append({"separation": row["separation"], "food": food, **phases, "total": total})
+    return out
+
+
+def author_tasks(rows: list[dict[str, Any]]) -> list[tuple[str, int, str, int, Any, str]]:
+    """Our runs on the author's cells: Strips, N = 16, Relay-Food, one per published run."""
+    return [("strips", 16, AUTHOR, i, r["food"], "relay-food") for i, r in enumerate(rows)]

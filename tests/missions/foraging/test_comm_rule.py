@@ -1,0 +1,94 @@
+"""The communication rules of :mod:`swarmex.missions.foraging.comm`: the seed's (no robot
+knows what it was not told or cannot see) and the older omniscient one."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from swarmex.missions.foraging import comm as C
+from swarmex.missions.foraging.run import run_forage
+
+
+def test_finder_tells_all_neighbours_a_told_robot_all_but_its_teller():
+    informed = [True, False, True, False]
+    assert C.first_targets(C.SEED, [1, 2], None, informed) == [1, 2]
+    assert C.first_targets(C.SEED, [0, 3], 0, informed) == [3]
+    # the omniscient rule also leaves out robots that already know (here 2)
+    assert C.first_targets(C.OMNISCIENT, [1, 2], None, informed) == [1]
+    # Spiral with 4 or 8 robots: the word goes one way round the ring (the finder's successor)
+    assert C.one_way(C.SEED, "spiral", 8) and not C.one_way(C.SEED, "spiral", 16)
+    assert C.first_targets(C.SEED, [3, 1], None, informed, one_way=True) == [1]
+
+
+def test_seed_rule_crosses_off_only_what_the_robot_knows_or_sees():
+    """Robot 0 must tell 1 and 2. Robot 2 has learned from robot 3 far away: under the seed
+    rule robot 0 cannot know that, so 2 stays on its list; the omniscient rule drops it."""
+    pos = [(10, 10), (11, 10), (30, 30), (31, 30)]
+    where = {1: (11, 10), 2: (30, 30)}  # the patterns put 1 and 2 where they are
+    informed = [True, True, True, True]
+    word = C.Word(4)
+    word.learn(3, 5, None, [2])
+    word.learn(0, 6, None, [1, 2])
+    word.learn(2, 7, 3, [])
+    word.learn(1, 7, 0, [])
+    # robot 0 meets robot 1 (distance 1): they exchange, 0 now knows 1 knows
+    word.exchange(C.adjacent_pairs(pos, [0, 1]))
+    seed_lists = [[1, 2], [], [], []]
+    C.cross_off(C.SEED, seed_lists, informed, pos, where.__getitem__, [0], word)
+    assert word.settled(0, 1) and not word.settled(0, 2)  # 0 never heard of robot 3's news
+    assert seed_lists[0] == [2]
+    # once 1 and 2's news reach 0 (here: 0 meets 2), it is crossed off as well
+    word.exchange([(0, 2)])
+    C.cross_off(C.SEED, seed_lists, informed, pos, where.__getitem__, [0], word)
+    assert seed_lists[0] == []
+    omni = [[1, 2], [], [], []]
+    C.cross_off(C.OMNISCIENT, omni, informed, pos, where.__getitem__, [0])
+    assert omni[0] == []
+
+
+def test_absent_robot_is_crossed_off_only_when_seen_missing():
+    # robot 0 stands next to where 1's pattern puts it, and 1 is not there: it left its route,
+    # which only a robot that knows the food does
+    assert C.absent((5, 5), (20, 20), (5, 6))
+    assert not C.absent((5, 5), (5, 7), (5, 6))  # next to its expected cell: still there
+    assert not C.absent((0, 0), (20, 20), (5, 6))  # too far to see
+
+
+def test_meet_goal_heads_for_the_earliest_meeting():
+    future = np.array([[10 - t, 0] for t in range(10)])  # walking toward us
+    # from (0, 0) the earliest t with |me - future[t]| - 1 <= t is t = 5 (cell (5, 0))
+    assert C.meet((0, 0), future) == 5
+    assert C.meet_goal((0, 0), (10, 0), future) == (5, 0)
+    # a neighbour seen next to its expected cell when the meeting is now: go to it
+    assert C.meet_goal((5, 5), (5, 7), np.array([[5, 6]])) == (5, 7)
+
+
+@pytest.mark.parametrize("algorithm", ["zigzag", "sectors"])
+def test_thesis_42_four_robots_enter_transport_together(algorithm):
+    """§4.2: with four ZigZag robots (Sectors with 4 is ZigZag) the word goes round on the
+    regular meetings and all four enter Transportation in the same round."""
+    run = run_forage(algorithm, 32, 4, (3, 20), 6, "relay-food")
+    done = run.outcome.comm_done
+    assert None not in done and len(set(done)) == 1
+    assert run.metrics["comm_transport_overlap"] == 0
+
+
+def _comm_end(run) -> int:
+    """Rounds from the discovery until the last robot has finished communicating."""
+    return run.metrics["communication_time"] + run.metrics["comm_transport_overlap"]
+
+
+def test_seed_rule_takes_longer_than_the_omniscient_one():
+    """Knowing less delays the end of the communication phase (the seed rule's robots walk to
+    neighbours that may already know, and ZigZag/Hilbert robots finish their route first);
+    the rules agree where the route meetings carry the word (Strips). Spiral with 8 robots is
+    left out: its one-way chain (seed rule) ends the first robot's phase sooner."""
+    cells = [(3, 20), (28, 4), (25, 27), (6, 6), (16, 30)]
+    for algorithm, n in (("hilbert", 16), ("zigzag", 16), ("sectors", 8)):
+        seed = sum(_comm_end(run_forage(algorithm, 32, n, f, 6)) for f in cells)
+        omni = sum(_comm_end(run_forage(algorithm, 32, n, f, 6, comm="omniscient")) for f in cells)
+        assert seed > omni, algorithm
+    s = run_forage("strips", 32, 4, (28, 4), 6)
+    o = run_forage("strips", 32, 4, (28, 4), 6, comm="omniscient")
+    assert s.outcome.comm_done == o.outcome.comm_done
