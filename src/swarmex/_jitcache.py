@@ -1,7 +1,8 @@
 """Where numba keeps swarmex's compiled kernels, so ``cache=True`` never breaks an import.
 
-Every kernel is ``@njit(cache=True)``: the first process compiles (seconds), the next ones
-load the machine code from disk. numba looks for a writable place in this order: the
+Every kernel is ``@kernel(cache=True)`` (:mod:`swarmex._kernels`, numba's ``njit`` on first
+compiled use): the first process compiles (seconds), the next ones load the machine code
+from disk. numba looks for a writable place in this order: the
 ``NUMBA_CACHE_DIR`` the user set, the ``__pycache__`` folder beside the source (an editable
 or per-user install), then a per-user folder (``$XDG_CACHE_HOME/numba`` or
 ``~/.cache/numba``). When none is writable - a read-only system install run by a user

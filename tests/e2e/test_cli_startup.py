@@ -56,6 +56,50 @@ def test_help_imports_no_heavy_module():
         assert (name in listed) != entry.hidden, name
 
 
+def _imported(argv: list[str], cwd: Path) -> tuple[list[str], str]:
+    """Modules a fresh ``python -X importtime -m swarmex ARGV`` imported, in order."""
+    proc = subprocess.run(
+        [sys.executable, "-X", "importtime", "-m", "swarmex", *argv],
+        capture_output=True, text=True, timeout=240, cwd=cwd,
+        env={**os.environ, "PYTHONPATH": str(SRC), "COLUMNS": "120"},
+    )
+    assert proc.returncode == 0, proc.stderr
+    lines = [line for line in proc.stderr.splitlines() if line.startswith("import time:")]
+    return [line.split("|")[-1].strip() for line in lines], proc.stdout
+
+
+def test_demo_imports_no_numba_and_no_surface_it_does_not_use(tmp_path):
+    """`swarmex demo` runs its 256-cell map with the kernels interpreted (swarmex._kernels):
+    no numba, llvmlite or scipy.linalg; no monitor, network or study code; matplotlib only
+    for the picture, after the run (its options and help need none of it). The picture is
+    the one this process draws from its own (compiled) run."""
+    out = tmp_path / "demo.png"
+    order, stdout = _imported(["demo", "--out", str(out)], tmp_path)
+    assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and "complete" in stdout
+    from swarmex.missions.base import FrameList
+    from swarmex.missions.registry import get
+    from swarmex.missions.traversal.mission import demo_world
+    from swarmex.missions.traversal.params import TraversalParams
+    from swarmex.viz.traversal import render_traversal
+
+    prepared, frames = demo_world(), FrameList()
+    outcome = get("traversal").execute(
+        TraversalParams(agents=len(prepared.nests), seed=0), prepared, frames)
+    here = render_traversal(outcome.record.to_dict(), outcome.world, tmp_path / "here.png",
+                            frames)
+    assert here.read_bytes() == out.read_bytes()
+    unwanted = ("numba", "llvmlite", "starlette", "uvicorn", "zmq", "pyarrow", "imageio")
+    heavy = sorted(m for m in order if m.split(".")[0] in unwanted
+                   or m.startswith(("scipy.linalg", "swarmex.viz.monitor", "swarmex.net",
+                                    "swarmex.studies", "swarmex.experiments")))
+    assert heavy == [], heavy
+    assert "swarmex.missions.traversal.policies" in order and "matplotlib" in order
+    assert order.index("swarmex.viz.traversal") > order.index("swarmex.missions.traversal.sim")
+    helped, _ = _imported(["demo", "--help"], tmp_path)  # loads the mission's Params only
+    drawing = {"matplotlib", "numba", "llvmlite", "scipy", "imageio", "PIL", *unwanted}
+    assert not [m for m in helped if m.split(".")[0] in drawing]
+
+
 def test_the_index_says_what_the_commands_say():
     """Each index entry's help and hidden flag are its command's; no command is missing."""
     import typer

@@ -18,6 +18,7 @@ from swarmex.cli.missions import Surface, mission_command
 from swarmex.cli.outputs import check_output
 from swarmex.missions.base import FrameList, Outcome
 from swarmex.missions.registry import get
+from swarmex.missions.traversal.mission import TraversalWorld
 
 # ---------------------------------------------------------------------------- output
 
@@ -99,9 +100,21 @@ def recorder(path: Path) -> FrameList:
     return FrameList()
 
 
+#: one-shot runs on at most this many vertices run their kernels interpreted while numba is
+#: not loaded (swarmex._kernels): 16x16 with 4 agents costs 0.23 s of CPU so against 0.65 s
+#: compiled, most of it numba's loading; the two break even near 24x24 (576 vertices), and
+#: interpreted cost grows faster than the map. Same records either way.
+INTERPRETED_VERTICES = 400
+
+
+def small(params: Any, prepared: TraversalWorld) -> bool:
+    """Whether a run on ``prepared`` is cheaper with the kernels interpreted."""
+    return prepared.world.graph.n_nodes <= INTERPRETED_VERTICES
+
+
 traverse = mission_command(
     get("traversal"),
-    Surface(report, render, recorder=recorder,
+    Surface(report, render, recorder=recorder, interpreted=small,
             render_help="Draw the paths (.png) or animate the run (.gif, .mp4)."),
 )
 
@@ -111,13 +124,14 @@ def demo(
     seed: int = typer.Option(0, "--seed", help="Seed of the run's random choices."),
 ) -> None:
     """Run MADGTA on an embedded generated map, print a summary and draw the paths."""
+    from swarmex._kernels import interpreted_while_cold
     from swarmex.missions.traversal.mission import demo_world
     from swarmex.missions.traversal.params import TraversalParams
 
     out = out.resolve()  # say exactly where the picture went
     check_output(out, "--out", (".png",))
     with compile_notice(err_console):
-        prepared = demo_world()
+        prepared = demo_world()  # 16x16: interpreted, as small() says (no kernel runs here)
         world, agents = prepared.world, len(prepared.nests)
         # a generated world has neither map nor grid, so the Params are built directly
         params = TraversalParams(agents=agents, seed=seed)
@@ -126,7 +140,8 @@ def demo(
             f" map ({world.free_cells} free cells)"
         )
         frames = FrameList()
-        outcome = get("traversal").execute(params, prepared, frames)
+        with interpreted_while_cold(small(params, prepared)):
+            outcome = get("traversal").execute(params, prepared, frames)
     report(outcome, params)
     render(outcome, out, frames)
     console.print(f"wrote {out}")

@@ -3,9 +3,10 @@ install or after a kernel changed).
 
 Why: every kernel is ``cache=True``, so only the first process compiles (8-20 s on a small
 machine) and later ones load the machine code from disk in milliseconds. Without a word the
-first ``swarmex demo`` looks hung. The detection is exact and free: numba announces a
-``numba:compile`` event only when it really compiles (a cache hit loads without one), so a
-warm run prints nothing and costs one listener registration.
+first big run looks hung. (``swarmex demo`` and other runs small enough to keep their
+kernels interpreted, :mod:`swarmex._kernels`, compile nothing.) The detection is exact and
+free: numba announces a ``numba:compile`` event only when it really compiles (a cache hit
+loads without one), so a warm run prints nothing and costs one listener registration.
 
 On a terminal the line is a transient Rich spinner, shown while a compile runs and cleared
 after; elsewhere (a log, a pipe, the tests' capture) it is printed once per process. Only the
@@ -86,15 +87,29 @@ def _listener_type() -> type:
 def compile_notice(console: Console) -> Iterator[None]:
     """Within the block, a numba compile shows :data:`MESSAGE` on ``console`` (stderr).
 
-    Imports numba (the block is about to run kernels anyway); nothing is shown when every
-    kernel comes from the cache."""
-    from numba.core import event
+    Does not import numba: the listener is registered when a kernel loads it
+    (:func:`swarmex._kernels.when_loaded`), so a block whose kernels run interpreted, or
+    that runs none, never pays for numba. Nothing is shown when every kernel comes from the
+    cache."""
+    from swarmex._kernels import when_loaded
 
-    listener = _listener_type()(console)
-    event.register("numba:compile", listener)
+    attached: list[Any] = []
+
+    def attach() -> None:
+        from numba.core import event
+
+        listener = _listener_type()(console)
+        event.register("numba:compile", listener)
+        attached.append(listener)
+
+    withdraw = when_loaded(attach)
     try:
         yield
     finally:
-        event.unregister("numba:compile", listener)
-        with listener.lock:
-            listener.stop()
+        withdraw()
+        for listener in attached:
+            from numba.core import event
+
+            event.unregister("numba:compile", listener)
+            with listener.lock:
+                listener.stop()

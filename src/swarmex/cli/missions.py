@@ -20,6 +20,7 @@ from typing import Any
 
 import typer
 
+from swarmex._kernels import interpreted_while_cold
 from swarmex.cli.app import app, console, err_console
 from swarmex.cli.compiling import compile_notice
 from swarmex.cli.outputs import RENDER_SUFFIXES, check_output
@@ -53,6 +54,9 @@ class Surface:
     )
     json_flag: str = "--json"
     render_help: str = "Draw the run (.png) or animate it (.gif, .mp4)."
+    # (params, prepared world) -> whether this one-shot run is so small that its kernels
+    # cost less interpreted than loading numba (swarmex._kernels.interpreted_while_cold)
+    interpreted: Callable[[Any, Any], bool] | None = None
 
 
 def _annotation(info: OptionInfo) -> Any:
@@ -101,7 +105,9 @@ def mission_command(mission: Mission[Any, Any], surface: Surface) -> Callable[..
         with compile_notice(err_console):
             world = mission.prepare(params)
             on_frame = surface.recorder(render) if surface.recorder and render else None
-            outcome = mission.execute(params, world, on_frame)
+            small = surface.interpreted is not None and surface.interpreted(params, world)
+            with interpreted_while_cold(small):
+                outcome = mission.execute(params, world, on_frame)
         surface.report(outcome, params)
         if json_path is not None:
             from swarmex.engine.record import write_record

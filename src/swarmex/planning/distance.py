@@ -17,7 +17,8 @@ Which function to use:
   can be *repaired* in place when vertices become blocked, or *shifted* to a neighbouring
   source, and the result is bit-identical to a fresh search either way.
 
-Kernels are numba-compiled loops: a level-synchronous breadth-first search when all edges
+Kernels are numba-compiled loops (:mod:`swarmex._kernels`: compiled on first use, or run
+as Python in small one-shot runs): a level-synchronous breadth-first search when all edges
 have one length, a binary-heap Dijkstra otherwise. On a full 4-connected lattice (what a
 4-connected grid world builds; :func:`lattice_structure` recognises it) the searches compute
 neighbours (u ± 1, u ± width) instead of reading the CSR arrays, about 3x faster. A BFS field
@@ -35,10 +36,10 @@ from collections.abc import Sequence
 from concurrent.futures import ThreadPoolExecutor
 from typing import Any
 
-import numba as nb
 import numpy as np
 from numpy.typing import DTypeLike, NDArray
 
+from swarmex._kernels import kernel, twin
 from swarmex.worlds.nodegraph import NodeGraph
 
 #: hop count of a vertex no source reaches (any negative value means unreached)
@@ -63,7 +64,7 @@ Hops = NDArray[np.signedinteger[Any]]
 Field = NDArray[np.float64]
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def _bfs_hops(
     indptr: Indptr, indices: Indices, blocked: Mask, sources: Vertices, hops: Hops,
     queue: Scratch,
@@ -96,7 +97,7 @@ def _bfs_hops(
     return tail
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def _bfs_hops_csr(
     indptr: Indptr, indices: Indices, source: int, hops: Hops, queue: Scratch, max_hop: int
 ) -> int:  # pragma: no cover
@@ -126,7 +127,7 @@ def _bfs_hops_csr(
     return level - 1
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def _bfs_hops_lattice(
     width: int, nbmask: NbMask, source: int, hops: Hops, queue: Scratch, max_hop: int
 ) -> int:  # pragma: no cover
@@ -177,7 +178,7 @@ def _bfs_hops_lattice(
     return level - 1
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def _shift_source_lattice(
     width: int, nbmask: NbMask, old: Hops, row: Hops, new_source: int, queue: Scratch
 ) -> int:  # pragma: no cover
@@ -233,7 +234,7 @@ def _shift_source_lattice(
     return tail
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def _shift_by_complement(
     width: int, nbmask: NbMask, old: Hops, row: Hops, new_source: int, old_source: int,
     mark: Scratch, epoch: int, queue: Scratch,
@@ -305,7 +306,7 @@ def _shift_by_complement(
 OUTSIDE_BIT = 0x4000
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def _shift_by_complement_bits(
     width: int, nbmask: NbMask, old: Hops, row: Hops, new_source: int, old_source: int,
     queue: Scratch,
@@ -370,7 +371,7 @@ def _shift_by_complement_bits(
     return tail
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def _cone_share(
     width: int, old: Hops, new_source: int, old_source: int, sample: Vertices
 ) -> float:  # pragma: no cover - compiled
@@ -390,12 +391,28 @@ def _cone_share(
     return ahead / reach if reach else 0.0
 
 
+@twin(_cone_share)
+def _cone_share_numpy(
+    width: int, old: Hops, new_source: int, old_source: int, sample: Vertices
+) -> float:
+    """:func:`_cone_share` vectorised, for interpreted runs (the same counts, the same
+    division, so the same float and the same choice of search)."""
+    x = sample[old[sample] >= 0]
+    if x.size == 0:
+        return 0.0
+    ny, nx = divmod(int(new_source), width)
+    oy, ox = divmod(int(old_source), width)
+    y, c = np.divmod(x, width)
+    ahead = np.count_nonzero(np.abs(y - ny) + np.abs(c - nx) < np.abs(y - oy) + np.abs(c - ox))
+    return int(ahead) / int(x.size)
+
+
 #: above this estimated cone share, a shift searches the complement instead of the cone
 #: (the complement costs about 1.5-2x the cone per vertex; 0.5-0.65 measured best on den520d)
 COMPLEMENT_ABOVE = 0.6
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def _shift_lattice(
     width: int, nbmask: NbMask, old: Hops, row: Hops, new_source: int, old_source: int,
     sample: Vertices, mark: Scratch, epoch: int, queue: Scratch, top: int,
@@ -413,7 +430,7 @@ def _shift_lattice(
     return _shift_source_lattice(width, nbmask, old, row, new_source, queue)
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def _bfs(
     indptr: Indptr, indices: Indices, step: float, blocked: Mask, sources: Vertices,
     out: Field, queue: Scratch,
@@ -446,7 +463,7 @@ def _bfs(
                     tail += 1
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def _bfs_lattice(
     width: int, nbmask: NbMask, step: float, blocked: Mask, sources: Vertices, out: Field,
     queue: Scratch,
@@ -487,7 +504,7 @@ def _bfs_lattice(
                         tail += 1
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def _dijkstra(
     indptr: Indptr, indices: Indices, weights: Weights, blocked: Mask, sources: Vertices,
     out: Field, done: Mask, hd: NDArray[np.float64], hv: NDArray[np.int64],
@@ -555,7 +572,7 @@ def _dijkstra(
                 hv[i] = v
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def _fields_chunk(
     indptr: Indptr, indices: Indices, weights: Weights, width: int, nbmask: NbMask,
     uniform: bool, blocked: Mask, sources: Vertices, out: NDArray[np.float64], lo: int, hi: int,
@@ -578,7 +595,7 @@ def _fields_chunk(
             _bfs(indptr, indices, step, blocked, src, out[i], queue)
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def _repair_hops(
     indptr: Indptr, indices: Indices, blocked: Mask, hops: Hops, source: int, new: Vertices,
     state: NDArray[np.int8], touched: Scratch, work: Scratch, order_key: Scratch, limit: int,

@@ -44,10 +44,10 @@ import threading
 from collections import OrderedDict
 from collections.abc import Callable, Iterable
 
-import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
+from swarmex._kernels import kernel
 from swarmex.planning.distance import (
     BLOCKED,
     UNREACHED,
@@ -71,7 +71,7 @@ from swarmex.planning.tiles import Tiling, raise_tile_max, tile_range
 from swarmex.worlds.nodegraph import NodeGraph
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def _still_exact(
     indptr: Indptr, indices: Indices, weights: Weights, blocked: Mask, field: Field,
     new_obstacles: Vertices,
@@ -100,7 +100,7 @@ def _still_exact(
     return True
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def _gather(
     hops: Hops, slot: int, vertices: Vertices, step: float, out: NDArray[np.float64]
 ) -> None:  # pragma: no cover - compiled

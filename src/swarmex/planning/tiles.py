@@ -19,10 +19,10 @@ found gets the same vertices in the same order as a scan of the whole id range.
 
 from __future__ import annotations
 
-import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
+from swarmex._kernels import kernel
 from swarmex.planning.distance import Hops
 
 #: side of a lattice tile (cells)
@@ -58,7 +58,7 @@ class Tiling:
         np.cumsum(counts, out=self.ptr[1:])
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def tile_range(
     row: Hops, tile_of: NDArray[np.int32], lo: NDArray[np.int32], hi: NDArray[np.int32]
 ) -> None:  # pragma: no cover - compiled
@@ -79,7 +79,7 @@ def tile_range(
             hi[t] = h
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def raise_tile_max(
     row: Hops, changed: NDArray[np.int32], count: int, tile_of: NDArray[np.int32],
     hi: NDArray[np.int32],

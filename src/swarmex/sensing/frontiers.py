@@ -19,9 +19,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import numba as nb
 import numpy as np
 from numpy.typing import NDArray
+
+from swarmex._kernels import kernel
 
 
 def frontier_mask(free: np.ndarray, unknown: np.ndarray) -> np.ndarray:
@@ -56,7 +57,7 @@ class Frontiers:
         return self.n_cells > 0
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def _label(
     ys: NDArray[np.int64], xs: NDArray[np.int64], h: int, w: int, eight: bool
 ) -> tuple[NDArray[np.int64], int]:  # pragma: no cover - compiled
@@ -94,7 +95,7 @@ def _label(
     return lab, count
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def _frontier_cells(
     logodds: NDArray[np.float32],
 ) -> tuple[NDArray[np.int64], NDArray[np.int64]]:  # pragma: no cover - compiled

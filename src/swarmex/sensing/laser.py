@@ -29,17 +29,17 @@ import math
 from dataclasses import dataclass
 from functools import cached_property
 
-import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
+from swarmex._kernels import kernel
 from swarmex.errors import InputError
 
 # (sqrt(5) - 1) / 2 of a 1° step: far from every angle through a corner of a small grid
 ANGLE0_FRACTION = 0.6180339887498949
 
 
-@nb.njit(cache=True, nogil=True, inline="always")
+@kernel(cache=True, nogil=True, inline="always")
 def _axis(d: float) -> tuple[int, float]:  # pragma: no cover - compiled
     """Step direction and crossing spacing of one axis (Δ = inf when the beam is parallel)."""
     if d > 0.0:
@@ -49,7 +49,7 @@ def _axis(d: float) -> tuple[int, float]:  # pragma: no cover - compiled
     return 0, np.inf
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def cast_rays_cells(
     free: NDArray[np.bool_], x0: int, y0: int, angles: NDArray[np.float64], max_cells: float,
     out: NDArray[np.float64],

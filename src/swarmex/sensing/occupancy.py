@@ -45,9 +45,10 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
-import numba as nb
 import numpy as np
 from numpy.typing import NDArray
+
+from swarmex._kernels import kernel
 
 P_HIT = 0.7
 P_MISS = 0.4
@@ -70,7 +71,7 @@ def probability(logodds: np.ndarray) -> np.ndarray:
     return 1.0 - 1.0 / (1.0 + np.exp(np.asarray(logodds, dtype=np.float64)))
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def _rasterise(
     x0: int, y0: int, angles: NDArray[np.float64], ranges: NDArray[np.float64],
     max_cells: float, bx: int, by: int, free_p: NDArray[np.bool_], occ_p: NDArray[np.bool_],
@@ -117,7 +118,7 @@ def _rasterise(
                 free_p[cy - by, cx - bx] = True
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def _row_runs(
     x0: int, y0: int, free: NDArray[np.bool_], occ: NDArray[np.bool_]
 ) -> NDArray[np.int32]:  # pragma: no cover - compiled
@@ -144,7 +145,7 @@ def _row_runs(
     return out[:n].copy()
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def _add_runs(
     flat: NDArray[np.float32], width: int, runs: NDArray[np.int32], miss: np.float32,
     hit: np.float32, lo: np.float32, hi: np.float32,

@@ -9,13 +9,14 @@ with numba one pass over the pairs.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 from numpy.typing import NDArray
+
+from swarmex._kernels import kernel
 
 I64 = NDArray[np.int64]
 
 
-@njit(cache=True)
+@kernel(cache=True)
 def _fill(pos: I64, radius: int, out: I64) -> None:
     n = pos.shape[0]
     for i in range(n):

@@ -16,19 +16,20 @@ edges whose bounding box meets the range square are tested.
 
 from __future__ import annotations
 
-import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
+from swarmex._kernels import kernel
 
-@nb.njit(cache=True, inline="always")
+
+@kernel(cache=True, inline="always")
 def _orient(
     ax: float, ay: float, bx: float, by: float, cx: float, cy: float
 ) -> float:  # pragma: no cover - compiled
     return (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
 
 
-@nb.njit(cache=True)
+@kernel(cache=True)
 def segments_touch(
     px: float, py: float, qx: float, qy: float, ax: float, ay: float, bx: float, by: float
 ) -> bool:  # pragma: no cover - compiled
@@ -48,7 +49,7 @@ def segments_touch(
     return o1 * o2 <= 0.0 and o3 * o4 <= 0.0
 
 
-@nb.njit(cache=True)
+@kernel(cache=True)
 def first_blocker(
     px: float, py: float, qx: float, qy: float, edges: NDArray[np.float64],
     local: NDArray[np.int64], n_local: int, hint: int,
@@ -68,7 +69,7 @@ def first_blocker(
     return -1
 
 
-@nb.njit(cache=True)
+@kernel(cache=True)
 def segments_blocked(
     a: NDArray[np.float64], b: NDArray[np.float64], edges: NDArray[np.float64]
 ) -> NDArray[np.bool_]:  # pragma: no cover - compiled
@@ -82,7 +83,7 @@ def segments_blocked(
     return out
 
 
-@nb.njit(cache=True)
+@kernel(cache=True)
 def _sweep_cell(
     ax: float, ay: float, bx: float, by: float, m: int, rng_r: float, cx: float, cy: float,
     edges: NDArray[np.float64], local: NDArray[np.int64], n_local: int, hint: int,
@@ -156,7 +157,7 @@ def _sweep_cell(
     return False, k
 
 
-@nb.njit(cache=True)
+@kernel(cache=True)
 def _shadowed(
     ax: float, ay: float, bx: float, by: float, qx: float, qy: float, e: NDArray[np.float64]
 ) -> bool:  # pragma: no cover - compiled
@@ -165,7 +166,7 @@ def _shadowed(
             and segments_touch(bx, by, qx, qy, e[0], e[1], e[2], e[3]))
 
 
-@nb.njit(cache=True)
+@kernel(cache=True)
 def sweep_segment(
     ax: float, ay: float, bx: float, by: float, rng_r: float, spacing: float, x0: float,
     y0: float, h: float, free: NDArray[np.bool_], seen_at: NDArray[np.int64],
@@ -260,7 +261,7 @@ def sweep_segment(
     return new
 
 
-@nb.njit(cache=True)
+@kernel(cache=True)
 def first_sighting(
     ax: float, ay: float, bx: float, by: float, gx: float, gy: float, rng_r: float,
     spacing: float, edges: NDArray[np.float64],

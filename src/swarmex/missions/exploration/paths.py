@@ -26,9 +26,10 @@ import math
 from functools import lru_cache
 from typing import Any
 
-import numba as nb
 import numpy as np
 from numpy.typing import NDArray
+
+from swarmex._kernels import kernel
 
 _DY = np.array([-1, 1, 0, 0, -1, -1, 1, 1], dtype=np.int64)
 _DX = np.array([0, 0, -1, 1, -1, 1, -1, 1], dtype=np.int64)
@@ -46,7 +47,7 @@ def footprint_offsets(radius_cells: float) -> np.ndarray:
     return np.stack([dy[keep], dx[keep]], axis=1).astype(np.int64)
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def _inflate(
     occupied: NDArray[Any], offsets: NDArray[np.int64], out: NDArray[np.bool_]
 ) -> None:  # pragma: no cover - compiled
@@ -85,7 +86,7 @@ def inflate(occupied: np.ndarray, offsets: np.ndarray) -> np.ndarray:
     return out
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def _bfs8(
     trav: NDArray[np.bool_], src: int, stride: int, out: NDArray[np.int32]
 ) -> None:  # pragma: no cover - compiled
@@ -131,7 +132,7 @@ def distance_steps(traversable: np.ndarray, x: int, y: int) -> np.ndarray:
     return out.reshape(h + 2, stride)[1:-1, 1:-1]
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def _descend(
     dist: NDArray[np.integer[Any]], trav: NDArray[np.bool_], gy: int, gx: int, sy: int, sx: int,
     out: NDArray[np.int64],
@@ -173,7 +174,7 @@ def path_to(
     return out
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def footprint_clear(
     occupied: NDArray[Any], y: int, x: int, offsets: NDArray[np.int64]
 ) -> bool:  # pragma: no cover - compiled

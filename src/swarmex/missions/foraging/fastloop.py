@@ -21,8 +21,9 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
-from numba import njit
 from numpy.typing import NDArray
+
+from swarmex._kernels import kernel
 
 # tmode codes (same as sim.py)
 JOIN, RELAY, E2E, IDLE = 0, 1, 2, 3
@@ -33,7 +34,7 @@ Bools = NDArray[np.bool_]
 I32 = NDArray[np.int32]
 
 
-@njit(cache=True)
+@kernel(cache=True)
 def _sidesteps(opts: I64, k: int, x: int, y: int, g: int) -> int:
     for dx, dy in ((1, 0), (0, -1), (-1, 0), (0, 1)):
         nx, ny = x + dx, y + dy
@@ -44,7 +45,7 @@ def _sidesteps(opts: I64, k: int, x: int, y: int, g: int) -> int:
     return k
 
 
-@njit(cache=True)
+@kernel(cache=True)
 def _free_sides(opts: I64, k: int, x: int, y: int, g: int) -> int:
     """Append the side cells not already among ``opts[:k]`` (the frozen-crowd rule)."""
     first = k
@@ -74,7 +75,7 @@ def transport_memo(key: tuple[Any, ...] | None, n: int) -> I64:
     return memo
 
 
-@njit(cache=True)
+@kernel(cache=True)
 def _same_as_memo(
     memo: I64, pos: I64, carrying: Bools, tmode: I64, pidx: I64, units: int, delivered: int
 ) -> bool:
@@ -96,7 +97,7 @@ def _same_as_memo(
     return same
 
 
-@njit(cache=True)
+@kernel(cache=True)
 def _toward(opts: I64, k: int, x: int, y: int, qx: int, qy: int) -> int:
     if qx != x:
         opts[k, 0] = x + (1 if qx > x else -1)
@@ -109,7 +110,7 @@ def _toward(opts: I64, k: int, x: int, y: int, qx: int, qy: int) -> int:
     return k
 
 
-@njit(cache=True)
+@kernel(cache=True)
 def _resolve(
     cur: I64, opts: I64, nopt: I64, order: I64, nest_x: int, nest_y: int, choice: I64
 ) -> None:
@@ -155,7 +156,7 @@ def _resolve(
         choice[bumped] += 1
 
 
-@njit(cache=True)
+@kernel(cache=True)
 def _order(cur: I64, opts: I64, out: I64, ranked: Bools) -> None:
     """Priority: swap pairs first, then route followers (``ranked``), then larger (x, y),
     then smaller id (resolve.priority)."""
@@ -184,7 +185,7 @@ def _order(cur: I64, opts: I64, out: I64, ranked: Bools) -> None:
                 break
 
 
-@njit(cache=True)
+@kernel(cache=True)
 def _transport_look(
     pos: I64, carrying: Bools, tmode: I64, pidx: I64, join_at: I64, state: I64, path: I64,
     nest: I64, food: I64, relay: bool, jobs: I64, handovers: I64, was: Bools, busy: Bools,
@@ -237,7 +238,7 @@ def _transport_look(
             state[4] += 1
 
 
-@njit(cache=True)
+@kernel(cache=True)
 def _transport_options(
     pos: I64, carrying: Bools, tmode: I64, pidx: I64, join_at: I64, units: int, path: I64,
     nest: I64, food: I64, g: int, frozen: bool, opts: I64, nopt: I64,
@@ -306,7 +307,7 @@ def _transport_options(
         nopt[a] = k
 
 
-@njit(cache=True)
+@kernel(cache=True)
 def transport_tail(
     pos: I64, carrying: Bools, tmode: I64, pidx: I64, join_at: I64, state: I64, path: I64,
     path_of: I64, nest: I64, food: I64, relay: bool, history: I64, jobs: I64, handovers: I64,
@@ -378,7 +379,7 @@ STEP_Y = np.array([0, -1, 0, 1, 0], dtype=np.int64)
 T, UNITS, DELIVERED, K, N_JOBS, ROW, STOP_AT, LIMIT, MOVED = range(9)
 
 
-@njit(cache=True)
+@kernel(cache=True)
 def _entry_cell(path: I64, x: int, y: int) -> int:
     """``transport.entry_cell``: the path cell nearest (x, y), ties toward the food."""
     best, dist = 0, -1
@@ -389,7 +390,7 @@ def _entry_cell(path: I64, x: int, y: int) -> int:
     return best
 
 
-@njit(cache=True)
+@kernel(cache=True)
 def _move_code(dx: int, dy: int) -> int:
     for m in range(5):
         if STEP_X[m] == dx and STEP_Y[m] == dy:
@@ -397,7 +398,7 @@ def _move_code(dx: int, dy: int) -> int:
     return -1  # pragma: no cover - a wish is always the robot's cell or a neighbour
 
 
-@njit(cache=True)
+@kernel(cache=True)
 def _bad_move(pos: I64, builtin: I64, moves: I64, g: int) -> int:
     """The first robot whose move (other than its seed move) is not a code or leaves the
     g×g grid, or -1 (``hook.hooked_options``'s checks)."""
@@ -413,7 +414,7 @@ def _bad_move(pos: I64, builtin: I64, moves: I64, g: int) -> int:
     return -1
 
 
-@njit(cache=True)
+@kernel(cache=True)
 def _hooked_wishes(
     pos: I64, opts: I64, nopt: I64, builtin: I64, moves: I64, chosen: I64, nchosen: I64,
     ranked: Bools,
@@ -447,7 +448,7 @@ def _hooked_wishes(
             nchosen[a] = 2
 
 
-@njit(cache=True)
+@kernel(cache=True)
 def hooked_round(
     pos: I64, carrying: Bools, tmode: I64, pidx: I64, join_at: I64, handovers: I64,
     state: I64, path: I64, path_of: I64, nest: I64, food: I64, relay: bool, opts: I64,
@@ -528,7 +529,7 @@ def hooked_round(
 HANDOFF = 4  # explore_round: a robot stands on the food; the Look is the Python loop's
 
 
-@njit(cache=True)
+@kernel(cache=True)
 def explore_round(
     pos: I64, delay: I64, displaced: Bools, state: I64, route: I32, t_end: int, g: int,
     nest: I64, food: I64, opts: I64, nopt: I64, following: Bools, builtin: I64, moves: I64,

@@ -20,10 +20,10 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 
-import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
+from swarmex._kernels import kernel
 from swarmex.planning.fieldcache import KnownGraph
 from swarmex.worlds.nodegraph import NodeGraph
 
@@ -187,7 +187,7 @@ class TraversalBelief:
 POS, JOB, NEXT, UNDONE = 1, 2, 3, 4
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def deliver(
     kind: int, sender: int, node: int, obstacles: NDArray[np.int64], eta: float,
     status: NDArray[np.int32], reserved: NDArray[np.int32], loc: NDArray[np.int64],

@@ -23,10 +23,10 @@ from __future__ import annotations
 
 from typing import Any
 
-import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
+from swarmex._kernels import kernel
 from swarmex.missions.traversal.selection import close1
 from swarmex.planning.tiles import NONE_HI, NONE_LO
 
@@ -35,7 +35,7 @@ I64 = NDArray[np.int64]
 F64 = NDArray[np.float64]
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def _threshold(best: float) -> float:  # pragma: no cover - compiled
     """The least utility still tied with ``best`` (``close1``'s tolerance)."""
     if np.isinf(best):
@@ -43,7 +43,7 @@ def _threshold(best: float) -> float:  # pragma: no cover - compiled
     return best - 1e-9 * (1.0 + abs(best))
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def far_tiles(
     hops_u: NDArray[np.unsignedinteger[Any]], me_slot: int, slots: I64, klass: I64,
     ctpu: F64, cjt: F64, status: I32, reserved: I32, me: int, here: int, step: float,

@@ -25,10 +25,10 @@ draw from the generator are the same.
 
 from __future__ import annotations
 
-import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
+from swarmex._kernels import kernel
 from swarmex.missions.traversal.selection import (
     FAR,
     JOB,
@@ -47,13 +47,13 @@ F64 = NDArray[np.float64]
 BLOCK = 32
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def _l1(width: int, v: int, x: int, y: int) -> int:  # pragma: no cover - compiled
     vy, vx = divmod(v, width)
     return abs(vx - x) + abs(vy - y)
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def util_matrix(
     width: int, sx: I64, sy: I64, cands: I64, step: float, tpu_me: float, jt_me: float,
     tpu: F64, jt: F64,
@@ -75,7 +75,7 @@ def util_matrix(
     return util
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def top_candidates(
     width: int, sx: I64, sy: I64, cands: I64, step: float, tpu_me: float, jt_me: float,
     tpu: F64, jt: F64,
@@ -101,7 +101,7 @@ def top_candidates(
     return select_top(mins, sums, errs)
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def near_choice(
     width: int, sx: I64, sy: I64, indptr: I64, indices: NDArray[np.int32], here: int,
     status: NDArray[np.int32], reserved: NDArray[np.int32], me: int, step: float,
@@ -119,7 +119,7 @@ def near_choice(
     return PICK, cands[top]
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def decide_near(
     width: int, loc: I64, me: int, indptr: I64, indices: NDArray[np.int32],
     status: NDArray[np.int32], reserved: NDArray[np.int32], step: float, tpu: F64, jt: F64,
@@ -157,7 +157,7 @@ def decide_near(
     return code, picks, rivals, sx, sy
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def distances(width: int, source: int, vertices: I64, step: float) -> F64:  # pragma: no cover
     """``KnownGraph.distances(source, vertices)`` on the open lattice."""
     sy, sx = divmod(source, width)
@@ -167,7 +167,7 @@ def distances(width: int, source: int, vertices: I64, step: float) -> F64:  # pr
     return out
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def _axis_max(lo: int, hi: int, r: int, m: int, a: float, b: float) -> float:  # pragma: no cover
     """Max over integers ``x`` in ``[lo, hi]`` of ``a|x - r| - b|x - m|``: piecewise linear
     with kinks at ``r`` and ``m``, so the max is at an end or at a kink."""
@@ -179,7 +179,7 @@ def _axis_max(lo: int, hi: int, r: int, m: int, a: float, b: float) -> float:  #
     return best
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def _axis_gap(lo: int, hi: int, x: int) -> int:  # pragma: no cover - compiled
     """Distance from ``x`` to the interval ``[lo, hi]``."""
     if x < lo:
@@ -189,7 +189,7 @@ def _axis_gap(lo: int, hi: int, x: int) -> int:  # pragma: no cover - compiled
     return 0
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def tree_nodes(width: int, height: int, block: int) -> int:  # pragma: no cover - compiled
     """How many regions the block tree of :func:`far_choice` has (its flags' size)."""
     nx = (width + block - 1) // block
@@ -202,7 +202,7 @@ def tree_nodes(width: int, height: int, block: int) -> int:  # pragma: no cover 
     return total
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def _rect_bound(
     x0: int, x1: int, y0: int, y1: int, sx: I64, sy: I64, klass: I64, ctpu: F64, cjt: F64,
     step: float, tpu_me: float, jt_me: float, margin: float,
@@ -225,7 +225,7 @@ def _rect_bound(
     return u + margin
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def _push(keys: F64, ids: I64, size: int, key: float, node: int) -> int:  # pragma: no cover
     """Max-heap push; returns the new size."""
     i = size
@@ -241,7 +241,7 @@ def _push(keys: F64, ids: I64, size: int, key: float, node: int) -> int:  # prag
     return size + 1
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def _pop(keys: F64, ids: I64, size: int) -> int:  # pragma: no cover - compiled
     """Max-heap pop of the root (read keys[0], ids[0] first); returns the new size."""
     size -= 1
@@ -265,7 +265,7 @@ def _pop(keys: F64, ids: I64, size: int) -> int:  # pragma: no cover - compiled
     return size
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def far_choice(
     width: int, height: int, sx: I64, sy: I64, klass: I64, ctpu: F64, cjt: F64,
     status: NDArray[np.int32], reserved: NDArray[np.int32], me: int, step: float,

@@ -34,10 +34,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
+from swarmex._kernels import interpreting, kernel
 from swarmex.errors import InputError
 from swarmex.missions.traversal import lattice
 from swarmex.missions.traversal.belief import TraversalBelief
@@ -99,7 +99,7 @@ def _close(values: np.ndarray, best: float) -> np.ndarray:
 # (numba does not contract a*b+c into a fused multiply-add), so decisions are bit-identical.
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def _util_matrix(
     hops: NDArray[np.signedinteger[Any]], me_slot: int, slots: NDArray[np.int64],
     cands: NDArray[np.int64], step: float, tpu_me: float, jt_me: float,
@@ -117,7 +117,7 @@ def _util_matrix(
             util[i, j] = theirs + jt[i] - mine
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def _own_costs(
     hops: NDArray[np.signedinteger[Any]], me_slot: int, cands: NDArray[np.int64], step: float,
     tpu_me: float, jt_me: float, out: NDArray[np.float64],
@@ -128,7 +128,7 @@ def _own_costs(
         out[j] = mine + jt_me
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def _near_choice(
     hops: NDArray[np.signedinteger[Any]], me_slot: int, slots: NDArray[np.int64],
     indptr: NDArray[np.int64], indices: NDArray[np.int32], here: int, status: NDArray[np.int32],
@@ -199,7 +199,11 @@ class Madgta:
     def _compiled_kind(self) -> str:
         """Which utilities the compiled kernels may stand in for: ``"madgta"``,
         ``"nearest"``, or ``""`` for a subclass that overrides ``utilities`` or ``best``
-        (it gets the generic path, so variants stay correct)."""
+        (it gets the generic path, so variants stay correct). Also ``""`` while kernels run
+        interpreted (a small one-shot run, :mod:`swarmex._kernels`): there the numpy code
+        of the generic path is faster than the kernels' loops, with the same decisions."""
+        if interpreting():
+            return ""
         cls = type(self)
         if cls.best is not Madgta.best:
             return ""

@@ -9,9 +9,10 @@ two routes choose the same way by construction.
 
 from __future__ import annotations
 
-import numba as nb
 import numpy as np
 from numpy.typing import NDArray
+
+from swarmex._kernels import kernel
 
 #: outcomes of branch 2's compiled choice: no vacant neighbour (branch 3), candidates to draw
 #: from, or candidates whose utilities numpy must rank (sums too close to call); and JOB:
@@ -19,7 +20,7 @@ from numpy.typing import NDArray
 FAR, PICK, NUMPY, JOB = 0, 1, 2, 3
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def close1(v: float, best: float) -> bool:  # pragma: no cover - compiled; _close for one value
     if np.isinf(best):
         return v == best
@@ -31,7 +32,7 @@ def close1(v: float, best: float) -> bool:  # pragma: no cover - compiled; _clos
 EPS = 2.0**-53
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def column_stats(
     col: NDArray[np.float64], j: int, mins: NDArray[np.float64], sums: NDArray[np.float64],
     errs: NDArray[np.float64],
@@ -65,7 +66,7 @@ def column_stats(
     return True
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def select_top(
     mins: NDArray[np.float64], sums: NDArray[np.float64], errs: NDArray[np.float64]
 ) -> NDArray[np.int64]:  # pragma: no cover - compiled
@@ -118,7 +119,7 @@ def select_top(
     return top[:k]
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def top_columns(util: NDArray[np.float64]) -> NDArray[np.int64]:  # pragma: no cover - compiled
     """get_best_node's choice as column indices, or ``[-1]`` when numpy must decide (a NaN,
     an infinite sum among the tied, or sums too close to call: see :func:`select_top`)."""
@@ -135,7 +136,7 @@ def top_columns(util: NDArray[np.float64]) -> NDArray[np.int64]:  # pragma: no c
     return select_top(mins, sums, errs)
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(cache=True, nogil=True)
 def vacant_neighbours(
     indptr: NDArray[np.int64], indices: NDArray[np.int32], here: int,
     status: NDArray[np.int32], reserved: NDArray[np.int32], me: int,

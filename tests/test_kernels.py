@@ -1,0 +1,226 @@
+"""swarmex._kernels: kernels load numba on first compiled use, run interpreted in small
+one-shot runs, and give the same results both ways.
+
+Interpreted runs are checked in fresh processes (this one has numba loaded, and then kernels
+always run compiled); the compiled side runs here, so every comparison crosses the two
+routes. The golden records are the broader check: ``NUMBA_DISABLE_JIT=1`` (every kernel
+interpreted) reproduces all of them.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import pickle
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import swarmex
+from swarmex import _kernels
+from swarmex.planning import distance
+
+SRC = Path(swarmex.__file__).resolve().parents[1]
+KERNEL_MODULES = (
+    "swarmex.planning.distance", "swarmex.planning.fieldcache", "swarmex.sensing.visibility",
+    "swarmex.sensing.laser", "swarmex.sensing.frontiers", "swarmex.sensing.occupancy",
+    "swarmex.missions.traversal.policies", "swarmex.missions.traversal.lattice",
+    "swarmex.missions.foraging.fastloop", "swarmex.missions.exploration.paths",
+)
+
+
+def _python(code: str, tmp_path: Path, **env: str) -> str:
+    proc = subprocess.run(
+        [sys.executable, "-c", textwrap.dedent(code)], capture_output=True, text=True,
+        timeout=240, cwd=tmp_path,
+        env={**os.environ, "PYTHONPATH": f"{SRC}{os.pathsep}{tmp_path}", **env},
+    )
+    assert proc.returncode == 0, proc.stderr
+    return proc.stdout + proc.stderr
+
+
+def test_importing_kernel_modules_loads_no_numba(tmp_path):
+    code = f"""
+    import importlib, sys
+    for name in {KERNEL_MODULES!r}:
+        importlib.import_module(name)
+    print(sorted(m for m in sys.modules if m.split(".")[0] in ("numba", "llvmlite")
+                 or m.startswith("scipy.linalg")))
+    """
+    assert _python(code, tmp_path).strip() == "[]"
+
+
+DEMO = """
+import json, sys
+import swarmex
+from swarmex._kernels import interpreted_while_cold, interpreting
+from swarmex.missions.base import FrameList
+from swarmex.missions.registry import get
+from swarmex.missions.traversal.mission import demo_world
+from swarmex.missions.traversal.params import TraversalParams
+
+def run(seed):
+    prepared = demo_world()
+    params = TraversalParams(agents=len(prepared.nests), seed=seed)
+    rec = get("traversal").execute(params, prepared, FrameList()).record.to_dict()
+    rec.pop("wall_seconds")
+    return rec
+"""
+
+
+@pytest.mark.parametrize("seed", [0, 5])
+def test_demo_interpreted_equals_compiled(seed, tmp_path):
+    """The demo's whole run with every kernel interpreted (and MADGTA's numpy route) gives
+    the record of the compiled run; numba is never imported for it."""
+    code = DEMO + f"""
+with interpreted_while_cold():
+    assert interpreting()
+    rec = run({seed})
+print(json.dumps({{"numba": "numba" in sys.modules, "rec": rec}}))
+"""
+    got = json.loads(_python(code, tmp_path).strip().splitlines()[-1])
+    assert got["numba"] is False
+    ns: dict = {}
+    exec(DEMO, ns)
+    import numba  # noqa: F401  (compiled here, whatever ran before)
+
+    with _kernels.interpreted_while_cold():
+        assert not _kernels.interpreting()  # numba is loaded: kernels run compiled
+        compiled = json.loads(json.dumps(ns["run"](seed)))
+    assert got["rec"] == compiled
+    assert compiled["complete"] and compiled["metrics"]["nodes_missed"] == 0
+
+
+MODULE = '''
+import numpy as np
+from swarmex._kernels import kernel
+
+@kernel(cache=False, inline="always")
+def twice(x):
+    return 2 * x
+
+@kernel(cache=False)
+def plus_one(x):
+    return x + 1
+
+@kernel(cache=False, nogil=True)
+def total(a):
+    s = 0
+    for v in a:
+        s += plus_one(twice(v))
+    return s
+'''
+
+
+def test_compiled_kernel_calls_kernels_and_shows_the_compile_notice(tmp_path):
+    """A kernel compiled by numba calls other kernels (one inlined) through their Kernel
+    objects; the compile notice, entered before numba was imported, still speaks."""
+    (tmp_path / "kmod.py").write_text(MODULE)
+    code = """
+    import sys
+    import numpy as np
+    from rich.console import Console
+    from swarmex.cli.compiling import MESSAGE, compile_notice
+    import kmod
+    assert "numba" not in sys.modules
+    with compile_notice(Console(stderr=True)):
+        got = kmod.total(np.arange(5))
+    print("total", got, type(kmod.total.dispatcher).__name__, "numba" in sys.modules)
+    """
+    out = _python(code, tmp_path)
+    assert "total 25 CPUDispatcher True" in out  # sum(2v + 1) for v in 0..4
+    assert out.count("compiling kernels, first run only") == 1
+
+
+def test_interpreted_only_while_cold(tmp_path):
+    """Inside the block kernels run their Python until numba is imported; outside it a call
+    loads numba, runs the waiting callbacks once, and from then on everything is compiled."""
+    (tmp_path / "kmod.py").write_text(MODULE)
+    code = """
+    import sys
+    import numpy as np
+    from swarmex import _kernels
+    import kmod
+    calls = []
+    _kernels.when_loaded(lambda: calls.append("loaded"))
+    withdrawn = _kernels.when_loaded(lambda: calls.append("withdrawn"))
+    withdrawn()
+    with _kernels.interpreted_while_cold():
+        a = kmod.total(np.arange(4))
+        print("inside", a, _kernels.interpreting(), "numba" in sys.modules, calls)
+    with _kernels.interpreted_while_cold(enabled=False):
+        assert not _kernels.interpreting()
+    b = kmod.total(np.arange(4))
+    print("outside", b, "numba" in sys.modules, calls)
+    with _kernels.interpreted_while_cold():
+        print("after", _kernels.interpreting())
+    _kernels.when_loaded(lambda: calls.append("late"))
+    print(calls)
+    """
+    out = _python(code, tmp_path).splitlines()
+    assert out[0] == "inside 16 True False []"
+    assert out[1] == "outside 16 True ['loaded']"
+    assert out[2] == "after False"
+    assert out[3] == "['loaded', 'late']"  # a late callback runs at once
+
+
+def test_cone_share_twin_equals_the_kernel():
+    """The numpy twin returns the compiled kernel's float on random hop fields."""
+    rng = np.random.default_rng(4)
+    for _ in range(200):
+        width = int(rng.integers(1, 30))
+        n = width * int(rng.integers(1, 30))
+        old = rng.integers(-2, 50, size=n).astype(rng.choice([np.int16, np.int32]))
+        sample = np.arange(0, n, int(rng.integers(1, 5)), dtype=np.int64)
+        a, b = (int(v) for v in rng.integers(0, n, size=2))
+        want = distance._cone_share(width, old, a, b, sample)
+        assert distance._cone_share_numpy(width, old, a, b, sample) == want
+
+
+def _kernel(module: str, name: str) -> _kernels.Kernel:
+    (k,) = [k for k in _kernels.kernels() if (k.__module__, k.__name__) == (module, name)]
+    return k
+
+
+def test_kernel_surface():
+    """Kernels show their state and reach the dispatcher's attributes; once loaded, the
+    names binding them in swarmex's modules are the dispatcher itself (no extra frame per
+    call), and pickles made either way load back; a twin can only be given to a kernel."""
+    from swarmex.planning import fieldcache
+
+    k = _kernel("swarmex.planning.distance", "_bfs_hops_lattice")
+    assert "planning.distance._bfs_hops_lattice" in repr(k)
+    assert k.options == {"cache": True, "nogil": True}
+    assert hasattr(k, "stats")  # the dispatcher's, loaded on demand
+    assert distance._bfs_hops_lattice is k.dispatcher
+    assert fieldcache._bfs_hops_lattice is k.dispatcher  # a `from ... import` binding too
+    assert pickle.loads(pickle.dumps(k)) is k.dispatcher  # by reference: the module's name
+    assert k.__wrapped__ is k.py_func and k.__doc__ == k.py_func.__doc__
+    with pytest.raises(TypeError):
+        _kernels.twin(len)(len)
+
+
+def test_small_traverse_runs_interpreted_with_the_golden_records(tmp_path):
+    """Every traversal golden scenario (all <= 400 vertices) through `swarmex traverse` in a
+    fresh process: the kernels run interpreted, numba is never imported, and every record's
+    digest is the golden one."""
+    repo = SRC.parent
+    code = f"""
+    import json, os, sys
+    sys.path.insert(0, {str(repo)!r})
+    os.chdir({str(repo)!r})
+    from tests.golden.make_golden import digest, run_cli
+    from tests.golden.scenarios import SCENARIOS
+    got = {{name: digest(run_cli(command, argv))
+           for name, mission, command, argv in SCENARIOS if mission == "traversal"}}
+    print(json.dumps({{"numba": "numba" in sys.modules, "got": got}}))
+    """
+    out = json.loads(_python(code, tmp_path).strip().splitlines()[-1])
+    golden = json.loads((repo / "tests" / "golden" / "records.json").read_text())
+    assert out["numba"] is False
+    assert len(out["got"]) >= 7
+    assert out["got"] == {name: golden[name]["sha256"] for name in out["got"]}
