@@ -53,7 +53,11 @@ from swarmex.worlds.nodegraph import NodeGraph
 
 #: message kinds (see the module docstring); any other kind only carries obstacles and a list
 START, PASS, JOB, NEXT, DONE, UNDONE = "start", "pass", "job", "next", "done", "undone"
-KINDS = (START, PASS, JOB, NEXT, DONE, UNDONE)
+#: ``leave``: an agent that stops while vacant vertices remain says so, once (only policies
+#: that may stop early send it: their ``announce_leave``); receivers drop it as a rival
+#: (:func:`forget_rival`), so that nobody leaves a vertex to an agent that has gone
+LEAVE = "leave"
+KINDS = (START, PASS, JOB, NEXT, DONE, UNDONE, LEAVE)
 
 #: §4.1's done-nodes field: ``(bit, vertices, doers)``, optionally with a fourth array, the
 #: sender's known obstacles (:func:`encode_km`)
@@ -209,6 +213,8 @@ def apply_message(b: TraversalBelief, msg: Message) -> None:
         b.free_at[s] = msg.eta
     elif kind == UNDONE:
         b.mark_not_done(node)
+    elif kind == LEAVE:
+        forget_rival(b, s, -1)
 
 
 def forget_rival(b: TraversalBelief, agent: int, open_node: int) -> None:
@@ -361,6 +367,8 @@ class TraversalAgent:
             log.travel_time += dt
             return Next("arrive", d.node, t + dt)
         log.finished_at = t
+        if getattr(self.policy, "announce_leave", False):
+            self._say(LEAVE, log.node, t)
         return Next("finish", log.node, t)
 
     def _start_job(self, node: int, t: float, seen: Iterable[int] = ()) -> Next:
@@ -377,6 +385,7 @@ class TraversalAgent:
 
 __all__ = [
     "KINDS",
+    "LEAVE",
     "AdjacencySensor",
     "AgentLog",
     "DoneList",
