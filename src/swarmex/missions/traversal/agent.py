@@ -53,11 +53,13 @@ from swarmex.worlds.nodegraph import NodeGraph
 
 #: message kinds (see the module docstring); any other kind only carries obstacles and a list
 START, PASS, JOB, NEXT, DONE, UNDONE = "start", "pass", "job", "next", "done", "undone"
-#: ``leave``: an agent that stops while vacant vertices remain says so, once (only policies
-#: that may stop early send it: their ``announce_leave``); receivers drop it as a rival
-#: (:func:`forget_rival`), so that nobody leaves a vertex to an agent that has gone
+KINDS = (START, PASS, JOB, NEXT, DONE, UNDONE)
+#: ``leave``: an agent whose policy may stop while vacant vertices remain (its
+#: ``announce_leave``: madgta-h) says so when it finishes, once; receivers drop it as a rival
+#: (:func:`forget_rival`), so that nobody leaves a vertex to an agent that has gone. Not one
+#: of the §4.2 kinds of :data:`KINDS` (the thesis's agents never stop early): the networked
+#: runtime, whose wire carries those, offers only the policies that never send it.
 LEAVE = "leave"
-KINDS = (START, PASS, JOB, NEXT, DONE, UNDONE, LEAVE)
 
 #: §4.1's done-nodes field: ``(bit, vertices, doers)``, optionally with a fourth array, the
 #: sender's known obstacles (:func:`encode_km`)
