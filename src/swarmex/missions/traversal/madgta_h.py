@@ -247,7 +247,8 @@ class MadgtaH(MadgtaPlus):
             covered |= np.isfinite(arrival[i + 1])
             cell = np.concatenate(([int(belief.loc[r])], vacant[owner == i + 1]))
             detour = distance_field(belief.graph, cell, known.blocked)[vacant]
-            best = np.minimum(best, jt[r] + tpu[r] * (step + detour / size))
+            ins = jt[r] + tpu[r] * (step + detour / size)
+            best = np.minimum(best, ins)
         keep = arrival[0] <= (1.0 + self.rho) * best
         handover = False
         if not keep.any():
