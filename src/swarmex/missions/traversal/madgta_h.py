@@ -66,17 +66,17 @@ Choices, and why
   - On the gap instances this made no measurable difference to the sum. It does cost the
     optimum on a corridor with the two agents at its ends: the slow agent works until the
     fast one's known cells reach it.
-* **rho = 0.25.** This trades the sum against the makespan on mixed teams. On the 32 gap
-  instances (3 seeds) the mixed-agent gaps to the optimum are:
+* **rho = 0.25.** This trades the sum against the makespan on mixed teams. The table gives
+  the mixed-agent gaps to the optimum on the 32 gap instances:
 
-  | setting | sum gap | makespan gap |
-  |---|---|---|
-  | rho 0.2 | 6.1 % | 49 % |
-  | rho 0.25 | 7.6 % | 38 % |
-  | rho 0.3 | 8.7 % | 31 % |
-  | rho 0.5 | 11.5 % | 13 % |
-  | rho 0.7 | 14.7 % | 5.4 % |
-  | MADGTA | 15.9 % | 4.9 % |
+  | setting | sum gap | makespan gap | seeds |
+  |---|---|---|---|
+  | rho 0.2 | 6.1 % | 49 % | 3, exploratory |
+  | rho 0.25 | 7.8 % | 37 % | 5, bench |
+  | rho 0.3 | 8.7 % | 31 % | 3, exploratory |
+  | rho 0.5 | 11.5 % | 13 % | 5, bench |
+  | rho 0.7 | 14.8 % | 5.2 % | 5, bench |
+  | MADGTA | 16.0 % | 4.8 % | 5, bench |
 
   0.25 is the smallest makespan cost that meets the issue's target of 8 % for the sum.
   - The exact optimum itself cannot do much better. Among all plans whose makespan is
