@@ -86,6 +86,15 @@ Choices, and why
     docs/traversal-variants.md §3.)
   - So no method can meet both "sum <= 8 %" and "makespan <= 2 %" on mixed teams.
   - ``MadgtaH(rho=...)`` picks another point of the trade-off.
+  - On real maps the price grows with the team. On five MovingAI maps with mixed fleets,
+    the sum falls by 19 % (in 100 of 100 paired runs), while the makespan is 4.6× MADGTA's
+    with 8 agents and 7.6× with 16: the cheapest agent does most of the map alone. A fleet
+    that must finish soon should use madgta/madgta+ or a large rho.
+* **Capping the hand-over by the team's balanced finish.** The agent would keep whatever
+  would make a cheaper rival finish later than (1 + kappa) × the balanced finishing time of
+  the whole team. This changed nothing (sum gap 15.7 %, makespan 4.8 %, kappa 0.25–1). The
+  arrival-time cells of MADGTA are already balanced in time, so it leaves no spare time to
+  give away. It was dropped.
 * **The amortised detour.** Two other estimates of the rival's cost land on the same
   trade-off curve within noise:
   - a flat per-vertex comparison, ``g = 0``: rho 0.3 gives a sum gap of 7.4 % with a makespan
