@@ -46,10 +46,10 @@ announced too: one message per agent.
 What an agent must know
 -----------------------
 Only its belief. The speeds and job times of all agents are in every belief
-(``TraversalBelief.time_per_unit`` and ``job_time``). The thesis's agents share them before
-the start (its message C03 carries the fleet table), so no new announcement is needed for
-speeds. Rivals' positions come from C04/C05/C07, as in MADGTA. The one extra message is
-``leave``.
+(``TraversalBelief.time_per_unit`` and ``job_time``). The thesis's agents get them before
+the start: the server's reply to C22 carries every rival's job and travel speed. So no new
+announcement is needed for speeds. Rivals' positions come from C04/C05/C07, as in MADGTA.
+The one extra message is ``leave``.
 
 Choices, and why
 ----------------
