@@ -1,10 +1,15 @@
 """Compare traversal policies on the real MovingAI maps, and MADGTA over imperfect channels.
 
-Section 1 (``variants``): ``madgta``, ``madgta+`` (swarmex.missions.traversal.variants) and
-``nearest`` on the same maps, agent counts, nests and seeds. For every (map, agents, nests)
+Section 1 (``variants``): ``madgta``, ``madgta+`` (swarmex.missions.traversal.variants),
+``madgta-h`` (swarmex.missions.traversal.madgta_h) and ``nearest`` on the same maps, agent
+counts, nests and seeds. ``--fleets mixed`` also (or instead) runs mixed fleets: 1-2 s
+per edge and 5-10 s per job per agent, as in the gap study. That is where madgta-h
+differs from madgta+. For every (map, agents, nests)
 cell it prints the mean makespan (largest ``total_time``, metrics.py), ``total_time_all``,
-``nodes_without_job_all`` and the ratio madgta+/madgta of mean makespans with the 95 %
-confidence interval of the *paired* difference (same seed, same nests), Student t.
+``nodes_without_job_all`` and the ratio variant/madgta of mean makespans with the 95 %
+confidence interval of the *paired* difference (same seed, same nests), Student t, for each
+variant (madgta+, madgta-h); pooled tables give the paired relative difference per map and
+per agent count (for madgta-h also of ``total_time_all``, the thesis's sum).
 
 Section 2 (``comm``): MADGTA with the §4.1 done-nodes list over lossy, range-limited and
 delayed channels (the thesis's future work), against the perfect broadcast on the same
@@ -42,7 +47,7 @@ from scipy import ndimage
 
 from swarmex.comm.channel import Channel
 from swarmex.engine.stats import summarize
-from swarmex.missions.traversal import run_metrics, run_traversal, uniform_agents
+from swarmex.missions.traversal import AgentSpec, run_metrics, run_traversal, uniform_agents
 from swarmex.worlds import GridWorld, load_movingai
 
 REPO = Path(__file__).resolve().parents[1]
@@ -55,7 +60,10 @@ MAPS = [
     "ost003d",
 ]
 QUICK_MAPS = ["empty-16-16", "random-32-32-20", "room-32-32-4"]
-ALGORITHMS = ["madgta", "madgta+", "nearest"]
+ALGORITHMS = ["madgta", "madgta+", "madgta-h", "nearest"]
+#: the variants the paired tables compare with madgta
+VARIANTS = ("madgta+", "madgta-h")
+FLEETS = ("same", "mixed")
 TRAVEL, JOB = 2.0, 9.0
 NEST_MODES = ("shared", "dist")
 
@@ -99,6 +107,16 @@ def nests_for(world: GridWorld, agents: int, mode: str, seed: int) -> list[int]:
     return [int(v) for v in rng.choice(cells, agents, replace=False)]
 
 
+def fleet_for(nests: list[int], fleet: str, seed: int) -> list[AgentSpec]:
+    """Identical agents (2 s per edge, 9 s per job), or a mixed fleet as in the gap study of
+    bench/gap_traversal_optimal.py: 1-2 s per edge and 5-10 s per job, drawn per agent from
+    a generator seeded by (seed, agents), the same for every algorithm."""
+    if fleet == "same":
+        return uniform_agents(nests, TRAVEL, JOB)
+    rng = np.random.default_rng([seed, len(nests), 7])
+    return [AgentSpec(v, float(rng.uniform(0.5, 1.0)), float(rng.uniform(5, 10))) for v in nests]
+
+
 @dataclass(frozen=True)
 class Job:
     map: str
@@ -108,6 +126,7 @@ class Job:
     algorithm: str
     channel: str = "perfect"
     carry_obstacles: bool = True  # the done list carries KM's obstacles (sim.py's own rule)
+    fleet: str = "same"  # "mixed": speeds and job times drawn per agent (fleet_for)
 
 
 @contextmanager
@@ -144,7 +163,7 @@ def run_one(job: Job) -> dict:
     t0 = time.perf_counter()
     with done_list_without_obstacles(not job.carry_obstacles):
         run = run_traversal(
-            world, uniform_agents(nests, TRAVEL, JOB), job.algorithm, seed=job.seed,
+            world, fleet_for(nests, job.fleet, job.seed), job.algorithm, seed=job.seed,
             channel=channel,
         )
     totals, _ = run_metrics(run, 1.0)
@@ -158,6 +177,7 @@ def run_one(job: Job) -> dict:
         "duplicate_jobs": totals["duplicate_jobs"],
         "nodes_missed": totals["nodes_missed"],
         "message_bytes": totals["message_bytes"],
+        "messages": totals["messages"],
         "wall": time.perf_counter() - t0,
     }
 
@@ -197,11 +217,11 @@ def select(rows: list[dict], **key) -> list[dict]:
     return sorted(out, key=lambda r: r["seed"])
 
 
-def variants_table(rows: list[dict], algorithms: list[str]) -> list[str]:
+def variants_table(rows: list[dict], algorithms: list[str], variant: str = "madgta+") -> list[str]:
     lines = [
         "| map | agents | nests | "
         + " | ".join(f"{a} makespan" for a in algorithms)
-        + " | madgta+ / madgta | paired Δ (95 % CI) | "
+        + f" | {variant} / madgta | paired Δ (95 % CI) | "
         + " | ".join(f"{a} total_time_all" for a in algorithms)
         + " | "
         + " | ".join(f"{a} moves w/o job" for a in algorithms)
@@ -212,7 +232,7 @@ def variants_table(rows: list[dict], algorithms: list[str]) -> list[str]:
     for mp, m, mode in cells:
         means = {a: select(rows, map=mp, agents=m, mode=mode, algorithm=a) for a in algorithms}
         mk = {a: np.array([r["makespan"] for r in v]) for a, v in means.items()}
-        base, plus = mk.get("madgta"), mk.get("madgta+")
+        base, plus = mk.get("madgta"), mk.get(variant)
         if base is not None and plus is not None and base.size == plus.size and base.size:
             d, half = paired_ci(plus, base)
             ratio = f"{plus.mean() / base.mean():.3f}"
@@ -233,14 +253,16 @@ def variants_table(rows: list[dict], algorithms: list[str]) -> list[str]:
     return lines
 
 
-def pooled_summary(rows: list[dict], by: str) -> list[str]:
-    """Paired relative difference madgta+ vs madgta, pooled per ``by`` ("map" or "agents").
+def pooled_summary(rows: list[dict], by: str, variant: str = "madgta+",
+                   metric: str = "makespan") -> list[str]:
+    """Paired relative difference ``variant`` vs madgta, pooled per ``by`` ("map" or
+    "agents"), of ``metric`` (``makespan`` or ``total_time_all``).
 
-    Each run of madgta+ is paired with madgta's run on the same map, agents, nests and seed;
-    the mean of ``makespan+ / makespan − 1`` gets a 95 % Student-t interval.
+    Each run of the variant is paired with madgta's run on the same map, agents, nests and
+    seed; the mean of ``variant / madgta − 1`` gets a 95 % Student-t interval.
     """
     lines = [
-        f"| {by} | runs | mean makespan ratio | paired relative Δ (95 % CI) | better in |",
+        f"| {by} | runs | mean {metric} ratio | paired relative Δ (95 % CI) | better in |",
         "|---|---|---|---|---|",
     ]
     keys = sorted({r[by] for r in rows}, key=lambda k: (MAPS.index(k) if k in MAPS else 99, k))
@@ -251,12 +273,12 @@ def pooled_summary(rows: list[dict], by: str) -> list[str]:
             if key is not None and {"map": mp, "agents": m}[by] != key:
                 continue
             base = select(rows, map=mp, agents=m, mode=mode, algorithm="madgta")
-            plus = select(rows, map=mp, agents=m, mode=mode, algorithm="madgta+")
-            if len(base) != len(plus):
+            plus = select(rows, map=mp, agents=m, mode=mode, algorithm=variant)
+            if len(base) != len(plus) or not base:
                 continue
             for b, p in zip(base, plus, strict=True):
-                rel.append(p["makespan"] / b["makespan"] - 1.0)
-                wins += p["makespan"] < b["makespan"]
+                rel.append(p[metric] / b[metric] - 1.0)
+                wins += p[metric] < b[metric]
         if not rel:
             continue
         r = np.array(rel)
@@ -303,14 +325,32 @@ def comm_table(rows: list[dict]) -> list[str]:
     return lines
 
 
-def print_summaries(rows: list[dict]) -> None:
-    print("\n## madgta+ / madgta per map (agent counts and nests pooled)\n")
-    print("\n".join(pooled_summary(rows, "map")))
-    print("\n## madgta+ / madgta per agent count (maps and nests pooled)\n")
-    print("\n".join(pooled_summary(rows, "agents")))
-    crowded = [r for r in rows if r["agents"] == max(x["agents"] for x in rows)]
-    print(f"\n## madgta+ / madgta per map, {crowded[0]['agents']} agents only\n")
-    print("\n".join(pooled_summary(crowded, "map")))
+def print_summaries(rows: list[dict], variant: str = "madgta+") -> None:
+    for metric in ("makespan", "total_time_all"):
+        if metric == "total_time_all" and variant != "madgta-h":
+            continue  # madgta+ aims at the makespan; madgta-h at the sum as well
+        v = f"{variant} / madgta, {metric}"
+        print(f"\n## {v} per map (agent counts and nests pooled)\n")
+        print("\n".join(pooled_summary(rows, "map", variant, metric)))
+        print(f"\n## {v} per agent count (maps and nests pooled)\n")
+        print("\n".join(pooled_summary(rows, "agents", variant, metric)))
+        crowded = [r for r in rows if r["agents"] == max(x["agents"] for x in rows)]
+        print(f"\n## {v} per map, {crowded[0]['agents']} agents only\n")
+        print("\n".join(pooled_summary(crowded, "map", variant, metric)))
+
+
+def print_variant_tables(rows: list[dict], algorithms: list[str]) -> None:
+    """Per fleet: the mean table and the paired summaries of each variant against madgta."""
+    for fleet in FLEETS:
+        part = [r for r in rows if r.get("fleet", "same") == fleet]
+        if not part:
+            continue
+        algs = [a for a in algorithms if any(r["algorithm"] == a for r in part)]
+        for variant in [v for v in VARIANTS if v in algs]:
+            print(f"\n## {fleet} agents: {variant} against madgta (mean over seeds)\n")
+            print("\n".join(variants_table(part, algs, variant)))
+            if "madgta" in algs:
+                print_summaries(part, variant)
 
 
 def _cell_order(cell: tuple[str, int, str]) -> tuple:
@@ -326,6 +366,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--seeds", type=int, default=5)
     ap.add_argument("--nests", nargs="+", choices=NEST_MODES, default=list(NEST_MODES))
     ap.add_argument("--algorithms", nargs="+", default=ALGORITHMS)
+    ap.add_argument("--fleets", nargs="+", choices=FLEETS, default=["same"],
+                    help="same: identical agents; mixed: 1-2 s per edge, 5-10 s per job "
+                    "(see fleet_for)")
     ap.add_argument("--comm-maps", nargs="+", default=COMM_MAPS)
     ap.add_argument("--comm-agents", type=int, default=8)
     ap.add_argument("--comm-seeds", type=int, default=4)
@@ -353,10 +396,7 @@ def main(argv: list[str] | None = None) -> int:
         if saved.get("variants"):
             rows = saved["variants"]
             algs = [a for a in ALGORITHMS if any(r["algorithm"] == a for r in rows)]
-            print("\n## madgta+ against madgta and nearest (mean over seeds)\n")
-            print("\n".join(variants_table(rows, algs)))
-            if {"madgta", "madgta+"} <= set(algs):
-                print_summaries(rows)
+            print_variant_tables(rows, algs)
         if saved.get("comm"):
             print("\n## Imperfect channels\n")
             print("\n".join(comm_table(saved["comm"])))
@@ -372,7 +412,8 @@ def main(argv: list[str] | None = None) -> int:
         if not present:
             print(f"variants: none of the maps is in {maps_dir()}; nothing to run", file=sys.stderr)
         jobs = [
-            Job(mp, m, mode, s, alg)
+            Job(mp, m, mode, s, alg, fleet=fleet)
+            for fleet in args.fleets
             for mp in present
             for m in args.agents
             for mode in args.nests
@@ -383,10 +424,7 @@ def main(argv: list[str] | None = None) -> int:
         rows = run_all(jobs, args.jobs) if jobs else []
         out["variants"] = rows
         if rows:
-            print("\n## madgta+ against madgta and nearest (mean over seeds)\n")
-            print("\n".join(variants_table(rows, args.algorithms)))
-            if {"madgta", "madgta+"} <= set(args.algorithms):
-                print_summaries(rows)
+            print_variant_tables(rows, args.algorithms)
 
     if args.section in ("comm", "both"):
         present = [m for m in args.comm_maps if load(m) is not None]

@@ -22,6 +22,15 @@ It also prints the share of runs that were exactly optimal; the thesis reports 2
 6×6. The last line is the ratio of MADGTA's total_time_all to the optimum, averaged over
 runs, against the reference 1.0, the optimum itself.
 
+Online algorithms (``--algorithms``, default madgta, nearest, madgta+, madgta-h;
+``madgta-h@RHO`` runs madgta-h at another point of its sum/makespan trade-off). A table per
+agent type gives each algorithm's mean gaps and its paired difference to MADGTA (same
+instance, same seed) with a 95 % Student-t interval, in percentage points.
+
+Trade-off (``--pareto [CAP ...]``): what the optimum itself can do. Among the plans whose
+makespan is at most CAP × the optimal makespan, it finds the least sum. On mixed teams a low
+sum and a low makespan conflict, and this measures by how much.
+
 Thesis setting (``--thesis``): Table 5.1's 6×6 grid, 3 identical agents on one nest, for
 one nest per symmetry class. This gives MADGTA's sum gap where the thesis has its own
 numbers; the makespan is out of reach there, because 36 > 16.
@@ -30,6 +39,8 @@ Scaling (``--scaling``): solve time of both objectives on growing random grids. 
 what sets :data:`swarmex.missions.traversal.optimal.MAX_FREE_VERTICES`.
 
     .venv/bin/python bench/gap_traversal_optimal.py [--instances 32] [--seeds 5] [--json F]
+    .venv/bin/python bench/gap_traversal_optimal.py --algorithms madgta madgta-h madgta-h@0.5
+    .venv/bin/python bench/gap_traversal_optimal.py --pareto [1 1.02 1.1 1.25]
     .venv/bin/python bench/gap_traversal_optimal.py --thesis [--seeds 20]
     .venv/bin/python bench/gap_traversal_optimal.py --scaling [--time-limit 60] [--largest 64]
 """
@@ -42,8 +53,10 @@ import time
 
 import numpy as np
 
+from swarmex.engine.stats import summarize
 from swarmex.missions.traversal import run_metrics, run_traversal
 from swarmex.missions.traversal.agents import AgentSpec
+from swarmex.missions.traversal.madgta_h import MadgtaH
 from swarmex.missions.traversal.optimal import solve_optimal
 from swarmex.worlds import random_obstacles
 
@@ -72,12 +85,23 @@ def instance(i: int) -> tuple[object, list[AgentSpec], str]:
     return world, agents, label
 
 
-def gap_study(n_instances: int, seeds: int, time_limit: float) -> dict:
+#: online algorithms of the gap study; ``NAME@RHO`` is madgta-h with that rho
+ALGORITHMS = ["madgta", "nearest", "madgta+", "madgta-h"]
+
+
+def online_policy(name: str) -> str | MadgtaH:
+    """An algorithm name, or ``madgta-h@RHO`` for madgta-h at another point of its trade-off."""
+    if name.startswith("madgta-h@"):
+        return MadgtaH(rho=float(name.split("@", 1)[1]))
+    return name
+
+
+def gap_study(n_instances: int, seeds: int, time_limit: float,
+              algorithms: list[str] | None = None) -> dict:
+    algorithms = algorithms or ALGORITHMS
     rows = []
-    print(
-        f"{'#':>3} {'instance':38} {'n':>3} {'opt sum':>8} {'opt mk':>7} "
-        f"{'madgta sum%':>11} {'max':>6} {'mk%':>6} {'max':>6} {'nearest sum%':>12} {'mk%':>6}"
-    )
+    print(f"{'#':>3} {'instance':38} {'n':>3} {'opt sum':>8} {'opt mk':>7}  "
+          + "  ".join(f"{a[:14]:>14} sum%/mk%" for a in algorithms))
     for i in range(n_instances):
         world, agents, label = instance(i)
         opt_sum = solve_optimal(world, agents, "sum", time_limit=time_limit)
@@ -85,17 +109,19 @@ def gap_study(n_instances: int, seeds: int, time_limit: float) -> dict:
         row = {
             "instance": i,
             "label": label,
+            "mixed": label.endswith("mixed"),
             "n": len(opt_sum.vertices),
             "opt_sum": opt_sum.value,
             "opt_makespan": opt_mk.value,
             "proven": opt_sum.proven_optimal and opt_mk.proven_optimal,
             "solve_seconds": opt_sum.solve_seconds + opt_mk.solve_seconds,
         }
-        for algorithm in ("madgta", "nearest"):
-            sums, mks, errors = [], [], []
+        for algorithm in algorithms:
+            sums, mks, errors, messages = [], [], [], []
             for seed in range(seeds):
                 try:
-                    run = run_traversal(world, agents, algorithm=algorithm, seed=seed)
+                    run = run_traversal(world, agents, algorithm=online_policy(algorithm),
+                                        seed=seed)
                 except Exception as exc:  # an online-policy bug must not hide the other runs
                     errors.append(f"seed {seed}: {type(exc).__name__}: {exc}")
                     continue
@@ -103,23 +129,20 @@ def gap_study(n_instances: int, seeds: int, time_limit: float) -> dict:
                 totals, _ = run_metrics(run, 1.0)
                 sums.append(totals["total_time_all"] / opt_sum.value - 1.0)
                 mks.append(totals["max_total_time"] / opt_mk.value - 1.0)
-            row[algorithm] = {"sum_gap": sums, "makespan_gap": mks, "errors": errors}
+                messages.append(totals["messages"])
+            row[algorithm] = {"sum_gap": sums, "makespan_gap": mks, "errors": errors,
+                              "messages": messages}
         rows.append(row)
-        g, n = row["madgta"], row["nearest"]
-        if not (g["sum_gap"] and n["sum_gap"]):
-            print(f"{i:>3} {label:38} {row['n']:>3} {row['opt_sum']:>8.2f} "
-                  f"{row['opt_makespan']:>7.2f}  online runs failed: "
-                  f"madgta {g['errors'][:1]}, nearest {n['errors'][:1]}", flush=True)
-            continue
-        print(
-            f"{i:>3} {label:38} {row['n']:>3} {row['opt_sum']:>8.2f} {row['opt_makespan']:>7.2f} "
-            f"{100 * np.mean(g['sum_gap']):>11.2f} {100 * max(g['sum_gap']):>6.2f} "
-            f"{100 * np.mean(g['makespan_gap']):>6.2f} {100 * max(g['makespan_gap']):>6.2f} "
-            f"{100 * np.mean(n['sum_gap']):>12.2f} {100 * np.mean(n['makespan_gap']):>6.2f}",
-            flush=True,
-        )
+        cells = []
+        for a in algorithms:
+            g = row[a]
+            cells.append(
+                f"{100 * np.mean(g['sum_gap']):>14.2f} {100 * np.mean(g['makespan_gap']):>7.2f}"
+                if g["sum_gap"] else f"{'failed':>22}")
+        print(f"{i:>3} {label:38} {row['n']:>3} {row['opt_sum']:>8.2f} "
+              f"{row['opt_makespan']:>7.2f}  " + "  ".join(cells), flush=True)
     summary = {}
-    for algorithm in ("madgta", "nearest"):
+    for algorithm in algorithms:
         failed = sum(len(r[algorithm]["errors"]) for r in rows)
         if failed:
             print(f"{algorithm}: {failed} of {len(rows) * seeds} runs raised and are left out: "
@@ -139,14 +162,93 @@ def gap_study(n_instances: int, seeds: int, time_limit: float) -> dict:
           f"{all(r['proven'] for r in rows)}; "
           f"exact solve time mean {np.mean([r['solve_seconds'] for r in rows]):.2f} s, "
           f"max {max(r['solve_seconds'] for r in rows):.2f} s")
-    print(f"{'gap to optimum':28} {'mean %':>8} {'max %':>8} {'median inst %':>14} "
+    print(f"{'gap to optimum':32} {'mean %':>8} {'max %':>8} {'median inst %':>14} "
           f"{'optimal runs %':>15}")
-    for name, s in summary.items():
-        print(f"{name:28} {s['mean_pct']:>8.2f} {s['max_pct']:>8.2f} "
-              f"{s['median_instance_pct']:>14.2f} {s['optimal_runs_pct']:>15.1f}")
-    ratio = 1.0 + summary["madgta_sum_gap"]["mean_pct"] / 100
-    print(f"\nratio MADGTA total_time_all / optimum (reference 1.0): {ratio:.4f}")
-    return {"rows": rows, "summary": summary}
+    for name, st in summary.items():
+        print(f"{name:32} {st['mean_pct']:>8.2f} {st['max_pct']:>8.2f} "
+              f"{st['median_instance_pct']:>14.2f} {st['optimal_runs_pct']:>15.1f}")
+    by_agents = split_by_agents(rows, algorithms)
+    ratio = 1.0 + summary["madgta_sum_gap"]["mean_pct"] / 100 if "madgta" in algorithms else None
+    if ratio is not None:
+        print(f"\nratio MADGTA total_time_all / optimum (reference 1.0): {ratio:.4f}")
+    return {"rows": rows, "summary": summary, "by_agents": by_agents}
+
+
+def split_by_agents(rows: list[dict], algorithms: list[str]) -> dict:
+    """Mean gaps per agent type, and each algorithm's paired difference to MADGTA (same
+    instance, same seed) with its 95 % Student-t interval, in percentage points."""
+    out: dict = {}
+    print("\n| agents | algorithm | sum gap mean / max % | makespan gap mean / max % | "
+          "Δ sum gap vs madgta (95 % CI) | Δ makespan gap vs madgta (95 % CI) | messages |")
+    print("|---|---|---|---|---|---|---|")
+    for mixed in (False, True):
+        group = [r for r in rows if r["mixed"] == mixed]
+        kind = "mixed" if mixed else "identical"
+        if not group:
+            continue
+        for a in algorithms:
+            cell: dict = {}
+            for key in ("sum_gap", "makespan_gap"):
+                v = np.array([x for r in group for x in r[a][key]])
+                cell[key] = (float(100 * v.mean()), float(100 * v.max()))
+                if "madgta" in algorithms and a != "madgta":
+                    pairs = [(x, y) for r in group
+                             for x, y in zip(r[a][key], r["madgta"][key], strict=False)]
+                    d = summarize(100 * np.array([x - y for x, y in pairs]))
+                    cell[f"delta_{key}"] = (float(d.mean), float(d.half_width))
+            msgs = float(np.mean([x for r in group for x in r[a]["messages"]]))
+            out[f"{kind}/{a}"] = {**cell, "messages": msgs}
+
+            def delta(key: str, c: dict = cell) -> str:
+                if f"delta_{key}" not in c:
+                    return "–"
+                m, h = c[f"delta_{key}"]
+                return f"{m:+.2f} ± {h:.2f}"
+
+            print(f"| {kind} | {a} | {cell['sum_gap'][0]:.2f} / {cell['sum_gap'][1]:.1f} | "
+                  f"{cell['makespan_gap'][0]:.2f} / {cell['makespan_gap'][1]:.1f} | "
+                  f"{delta('sum_gap')} | {delta('makespan_gap')} | {msgs:.1f} |")
+    return out
+
+
+def pareto(n_instances: int, caps: list[float], time_limit: float) -> dict:
+    """What the optimum itself can do: among all plans whose makespan is at most
+    ``cap`` × the optimal makespan, the least sum, as a gap to the optimal sum. A low sum
+    and a low makespan conflict on mixed teams (the fast agent should do nearly everything
+    for the sum, and its share is capped for the makespan); this measures by how much.
+
+    Uses the exact partition model of ``optimal`` (all 2^n routes, n <= 16) with a cap on
+    every route's cost."""
+    from swarmex.missions.traversal import optimal as exact
+
+    res: dict = {c: {"identical": [], "mixed": []} for c in caps}
+    unproven = {c: 0 for c in caps}
+    for i in range(n_instances):
+        world, agents, label = instance(i)
+        kind = "mixed" if label.endswith("mixed") else "identical"
+        opt_sum = solve_optimal(world, agents, "sum", time_limit=time_limit)
+        opt_mk = solve_optimal(world, agents, "makespan", time_limit=time_limit)
+        inst, _ = exact._prepare(world, agents, 1.0, 16, "makespan")
+        cost, _ = exact._class_costs(inst)
+        incumbent = [[inst.verts.index(v) for v in p.jobs] for p in opt_mk.agents]
+        for c in caps:
+            cap = np.full(len(inst.classes), opt_mk.value * c * (1 + 1e-9) + 1e-9)
+            milp, picks, _ = exact._partition_sum(inst, cost, cap, incumbent, time_limit)
+            unproven[c] += not milp.optimal  # a time-out: the plan is feasible, maybe not least
+            routes = exact._assign(inst, picks)
+            total = sum(inst.route_cost(a, r) for a, r in enumerate(routes))
+            res[c][kind].append(total / opt_sum.value - 1)
+        print(f"  instance {i} done", flush=True)
+    print("\n| makespan at most | least sum gap, identical agents | mixed agents (mean / max) "
+          "| solves not proven |")
+    print("|---|---|---|---|")
+    for c in caps:
+        ident, mixed = np.array(res[c]["identical"]), np.array(res[c]["mixed"])
+        left = f"{100 * ident.mean():.2f} %" if ident.size else "–"
+        right = f"{100 * mixed.mean():.2f} % / {100 * mixed.max():.1f} %" if mixed.size else "–"
+        print(f"| {c:.2f} × optimal | {left} | {right} | {unproven[c]} |")
+    return {"pareto": {str(c): v for c, v in res.items()},
+            "unproven": {str(c): v for c, v in unproven.items()}}
 
 
 def thesis_setting(seeds: int, time_limit: float) -> dict:
@@ -223,14 +325,22 @@ def main() -> None:
     ap.add_argument("--largest", type=int, default=64, help="--scaling: largest grid (cells)")
     ap.add_argument("--thesis", action="store_true",
                     help="Table 5.1's 6x6 setting (sum only) instead")
+    ap.add_argument("--algorithms", nargs="+", default=ALGORITHMS,
+                    help="online algorithms (madgta-h@RHO: madgta-h with that rho)")
+    ap.add_argument("--pareto", nargs="*", type=float, metavar="CAP",
+                    help="instead: the least sum gap of plans with makespan <= CAP x optimal "
+                    "(default caps 1 1.02 1.05 1.1 1.25 1.5)")
     ap.add_argument("--json", help="also write the numbers to this file")
     args = ap.parse_args()
-    if args.scaling:
+    if args.pareto is not None:
+        caps = args.pareto or [1.0, 1.02, 1.05, 1.10, 1.25, 1.5]
+        result = pareto(args.instances, caps, args.time_limit)
+    elif args.scaling:
         result = scaling(args.time_limit, args.largest)
     elif args.thesis:
         result = thesis_setting(args.seeds, args.time_limit)
     else:
-        result = gap_study(args.instances, args.seeds, args.time_limit)
+        result = gap_study(args.instances, args.seeds, args.time_limit, args.algorithms)
     if args.json:
         with open(args.json, "w", encoding="utf-8") as fh:
             json.dump(result, fh, indent=1)

@@ -370,3 +370,27 @@ def test_madgta_plus_dispatch(tmp_path, capsys):
     )
     assert code == 0, err
     replay(json.loads(out.read_text()), free_mask(7, 6, [(2, 1), (2, 2), (2, 3), (5, 4)]))
+
+
+def test_madgta_h_dispatch_with_a_mixed_fleet(tmp_path, capsys):
+    """``--algorithm madgta-h`` with a fleet of mixed speeds and job times: the record
+    replays, names the algorithm, and equals swarmex.run's; its leave messages are counted."""
+    import swarmex
+
+    fleet = tmp_path / "fleet.csv"
+    fleet.write_text("id,travel_time,job_time\n1,1.0,5\n2,2.0,10\n3,1.5,6\n")
+    out = tmp_path / "r.json"
+    code, _, err = cli(
+        ["traverse", *GRID, "--agents", 3, "--fleet", fleet, "--algorithm", "madgta-h",
+         "--json", out, "--seed", 2], capsys
+    )
+    assert code == 0, err
+    rec = json.loads(out.read_text())
+    assert rec["algorithm"] == "madgta-h" and rec["complete"]
+    replay(rec, free_mask(7, 6, [(2, 1), (2, 2), (2, 3), (5, 4)]))
+    ref = swarmex.run("traversal", grid="7x6", obstacles="2,1;2,2;2,3;5,4", agents=3,
+                      fleet=str(fleet), algorithm="madgta-h", seed=2).to_dict()
+    assert rec["metrics"] == ref["metrics"]
+    plus = swarmex.run("traversal", grid="7x6", obstacles="2,1;2,2;2,3;5,4", agents=3,
+                       fleet=str(fleet), algorithm="madgta+", seed=2).to_dict()
+    assert rec["metrics"]["total_time_all"] < plus["metrics"]["total_time_all"]

@@ -17,6 +17,12 @@ from swarmex.envs import traversal_v0  # noqa: E402
 # a small grid with walls and two nests (agents 1 and 3 share the first)
 SMALL = dict(grid="5x4", obstacles="2,1;2,2", agents=3, nests="0,0;4,3")
 EXACT = dict(grid="6x5", obstacles="2,1;2,2;3,3;5,1", agents=3, nests="0,0;5,4")
+#: a mixed fleet (seconds per edge, per job): madgta-h's slow agents hand over (retire)
+MIXED = [
+    {"id": 1, "travel_time": 1.0, "job_time": 5.0},
+    {"id": 2, "travel_time": 2.0, "job_time": 10.0},
+    {"id": 3, "travel_time": 1.5, "job_time": 6.0},
+]
 
 
 @pytest.fixture(autouse=True)
@@ -105,8 +111,12 @@ def test_same_seed_same_episode_and_reset_without_seed_moves_on():
         dict(algorithm="madgta", loss=0.3, comm_range=3.0),
         dict(algorithm="nearest", loss=0.2, comm_range=2.5),
         dict(algorithm="madgta", connectivity=8, delay=0.5, job_failure=0.2),
+        dict(algorithm="madgta-h", fleet=MIXED),
+        dict(algorithm="madgta-h", fleet=MIXED, loss=0.3),
+        dict(algorithm="madgta-h"),
     ],
-    ids=["madgta", "nearest", "madgta+", "madgta-lossy", "nearest-lossy", "madgta-8-delay"],
+    ids=["madgta", "nearest", "madgta+", "madgta-lossy", "nearest-lossy", "madgta-8-delay",
+         "madgta-h-mixed", "madgta-h-mixed-lossy", "madgta-h"],
 )
 @pytest.mark.parametrize("seed", [0, 3])
 def test_baseline_gives_exactly_the_record_of_swarmex_run(options, seed):

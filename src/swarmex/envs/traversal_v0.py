@@ -23,7 +23,9 @@ generator, as MADGTA draws it). The agent decides again at its next vertex. An a
 would be empty finishes by itself (the seed algorithm's "no vacant vertex left").
 
 ``baseline_policy(env)`` plays the seed algorithm named by ``algorithm`` (madgta, madgta+,
-nearest); ``env.unwrapped.record()`` is then exactly ``swarmex.run``'s record (docs/envs.md).
+madgta-h, nearest); ``env.unwrapped.record()`` is then exactly ``swarmex.run``'s record
+(docs/envs.md). With ``algorithm="madgta-h"`` an agent also finishes when that policy's own
+rule retires it (a cheaper rival does the rest: ``MadgtaH.retires``), whatever the actions.
 
 Example::
 
@@ -62,7 +64,7 @@ from swarmex.errors import InputError
 #: what ``observe`` reports per vertex in ``status``
 VACANT, DONE, OBSTACLE, CLAIMED = 0, 1, 2, 3
 #: algorithms that are sequential policies (``optimal`` is a MILP over the whole mission)
-BASELINES = ("madgta", "madgta+", "nearest")
+BASELINES = ("madgta", "madgta+", "madgta-h", "nearest")
 INVALID_ACTIONS = ("raise", "project")
 
 Obs = dict[str, np.ndarray]
@@ -91,6 +93,8 @@ class _Stub:
         self.env = env
         self.name = name
         self.ask = ask
+        # a baseline that may stop early (madgta-h) announces it: the agent core reads this
+        self.announce_leave = bool(getattr(env._builtin, "announce_leave", False))
 
     def decide(self, belief: Any, rng: np.random.Generator) -> Any:
         from swarmex.missions.traversal.policies import Decision
@@ -100,7 +104,10 @@ class _Stub:
         env._decided.add(me)
         env._beliefs[me] = belief
         mask = env._choices(belief)
-        if not mask.any():  # no vacant vertex reachable: Algorithm 1 ends for this agent
+        retires = getattr(env._builtin, "retires", None)
+        # no vacant vertex reachable: Algorithm 1 ends for this agent; or the baseline's own
+        # rule stops it early (madgta-h: a cheaper rival does the rest more cheaply)
+        if not mask.any() or (retires is not None and retires(belief)):
             env._finished.append(me)
             return Decision("finish")
         return self.ask(_Request(me, belief, rng, float(belief.now), mask))
@@ -406,6 +413,8 @@ class raw_env(AECEnv):  # noqa: N801 - PettingZoo's module convention
     def _may_be_builtin(self, request: _Request, target: int) -> bool:
         """False when MADGTA's branches 1-2 (shared by every baseline) cannot pick ``target``:
         a vacant own vertex is always taken, else a vacant neighbour if there is one."""
+        if not getattr(self._builtin, "madgta_branch2", True):
+            return True  # its branch 2 is its own (madgta-h): always ask it
         b = request.belief
         here = int(b.here)
         if request.mask[here]:

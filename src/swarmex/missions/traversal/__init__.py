@@ -1,6 +1,9 @@
 """Traversal mission (seed 000): MADGTA, its baselines and variants on any graph."""
 
-from swarmex.missions.traversal import variants  # noqa: F401,E402  (registers variants)
+from swarmex.missions.traversal import (
+    madgta_h,  # noqa: F401,E402  (registers madgta-h)
+    variants,  # noqa: F401,E402  (registers variants)
+)
 from swarmex.missions.traversal.agent import TraversalAgent
 from swarmex.missions.traversal.agents import AgentSpec, uniform_agents
 from swarmex.missions.traversal.metrics import run_metrics, traversal_record

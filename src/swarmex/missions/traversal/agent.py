@@ -54,6 +54,12 @@ from swarmex.worlds.nodegraph import NodeGraph
 #: message kinds (see the module docstring); any other kind only carries obstacles and a list
 START, PASS, JOB, NEXT, DONE, UNDONE = "start", "pass", "job", "next", "done", "undone"
 KINDS = (START, PASS, JOB, NEXT, DONE, UNDONE)
+#: ``leave``: an agent whose policy may stop while vacant vertices remain (its
+#: ``announce_leave``: madgta-h) says so when it finishes, once; receivers drop it as a rival
+#: (:func:`forget_rival`), so that nobody leaves a vertex to an agent that has gone. Not one
+#: of the §4.2 kinds of :data:`KINDS` (the thesis's agents never stop early): the networked
+#: runtime, whose wire carries those, offers only the policies that never send it.
+LEAVE = "leave"
 
 #: §4.1's done-nodes field: ``(bit, vertices, doers)``, optionally with a fourth array, the
 #: sender's known obstacles (:func:`encode_km`)
@@ -209,6 +215,8 @@ def apply_message(b: TraversalBelief, msg: Message) -> None:
         b.free_at[s] = msg.eta
     elif kind == UNDONE:
         b.mark_not_done(node)
+    elif kind == LEAVE:
+        forget_rival(b, s, -1)
 
 
 def forget_rival(b: TraversalBelief, agent: int, open_node: int) -> None:
@@ -361,6 +369,8 @@ class TraversalAgent:
             log.travel_time += dt
             return Next("arrive", d.node, t + dt)
         log.finished_at = t
+        if getattr(self.policy, "announce_leave", False):
+            self._say(LEAVE, log.node, t)
         return Next("finish", log.node, t)
 
     def _start_job(self, node: int, t: float, seen: Iterable[int] = ()) -> Next:
@@ -377,6 +387,7 @@ class TraversalAgent:
 
 __all__ = [
     "KINDS",
+    "LEAVE",
     "AdjacencySensor",
     "AgentLog",
     "DoneList",

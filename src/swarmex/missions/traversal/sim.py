@@ -51,6 +51,7 @@ from swarmex.missions.base import StopRun
 from swarmex.missions.traversal.agent import (
     DONE,
     JOB,
+    LEAVE,
     NEXT,
     PASS,
     START,
@@ -60,6 +61,7 @@ from swarmex.missions.traversal.agent import (
     Message,
     Next,
     TraversalAgent,
+    forget_rival,
 )
 from swarmex.missions.traversal.agent import edge_length as _edge_length  # noqa: F401
 from swarmex.missions.traversal.agent import encode_done_list as _encode_done_list  # noqa: F401
@@ -114,7 +116,7 @@ class _Clock:
 # message kind -> deliver() code; 0: nothing for the receivers to do ("done" carries no state)
 _KIND_CODES = {
     START: POS_CODE, PASS: POS_CODE, JOB: JOB_CODE, NEXT: NEXT_CODE, UNDONE: UNDONE_CODE,
-    DONE: 0,
+    DONE: 0, LEAVE: 0,
 }
 
 
@@ -238,6 +240,11 @@ class _Sim:
             size += 4 * (listed.size + sum(w.size for w in walls))
         self.message_bytes += size
         if self.table is not None:  # perfect broadcast: every other belief, in one call
+            if msg.kind == LEAVE:  # rare (once per agent at most): the Python rule per belief
+                for other in self.agents:
+                    if other.me != sender:
+                        forget_rival(other.belief, sender, -1)
+                return
             code = _KIND_CODES[msg.kind]
             if code or obstacles:
                 self.agent(sender).belief.known.add_obstacles(obstacles)  # shared: a no-op
