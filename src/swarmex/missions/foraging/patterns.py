@@ -16,6 +16,7 @@ from swarmex.missions.foraging import (
     loop_strips,
     modified_zigzag,
     rings,
+    sector_loop,
     sectors,
     spiral,
     strips,
@@ -32,6 +33,7 @@ BUILDERS: dict[str, Callable[[int, int], Plan]] = {
     "modified-zigzag": modified_zigzag.plan,
     "rings": rings.plan,
     "loop-strips": loop_strips.plan,
+    "sector-loop": sector_loop.plan,
 }
 THESIS_ALGORITHMS = ("strips", "zigzag", "hilbert", "sectors", "spiral", "modified-zigzag")
 OURS = tuple(name for name in BUILDERS if name not in THESIS_ALGORITHMS)
