@@ -157,7 +157,7 @@ def test_baseline_through_the_aec_form():
 def test_the_hook_answering_the_seed_plays_the_same_run(algorithm, transport):
     """The decision hook (run_forage(decide=)) with the seed's answers is the run without it
     (the Python loop from round 0 == the timetable, this loop and the compiled tail)."""
-    n = 8 if algorithm == "modified-zigzag" else 4
+    n = 8 if algorithm in ("modified-zigzag", "sector-loop") else 4
     for food in [(12, 3), (1, 14), (9, 8)]:
         args = (algorithm, 16, n, food, 5, transport)
         plain = to_record(run_forage(*args), 0, {}).to_dict()

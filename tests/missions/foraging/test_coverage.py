@@ -21,6 +21,9 @@ CASES = [
     ("rings", 16, (4, 8, 16)),
     ("loop-strips", 16, (1, 2, 4, 8)),
     ("loop-strips", 30, (3, 5)),
+    ("sector-loop", 16, (8,)),
+    ("sector-loop", 32, (8, 16)),
+    ("sector-loop", 48, (8, 16)),
 ]
 
 

@@ -31,7 +31,8 @@ meetings and crosses off those it learns are informed.
 Cost: the same memory as Sectors plus Loop Strips (a function of ``(id, n, g)`` and a step
 counter); the phase-B start round is computed from ``(g, n)`` like every other timetable.
 
-Supported: ``n`` a multiple of 8 (Sectors' division), even ``g`` with ``g ≥ 2n``.
+Supported: ``n`` a multiple of 8 (Sectors' division) and an even ``g`` divisible by ``n`` into
+strips of height ≥ 2 (Loop Strips).
 """
 
 from __future__ import annotations
@@ -57,15 +58,17 @@ def switch_radius(g: int, n: int) -> int:
 
 def plan(g: int, n: int, radius: int | None = None) -> Plan:
     """The Sector Loop plan; ``radius`` overrides :func:`switch_radius` (tests, studies)."""
-    if n % 8 or g % 2 or g < 2 * n:
+    if n % 8 or g % 2 or g % n or g < 2 * n:
         raise InputError(
-            f"{NAME} supports --agents a multiple of 8 and an even grid of at least 2 × --agents "
-            f"(g={g}, n={n})"
+            f"{NAME} supports --agents a multiple of 8 and an even grid size divisible by "
+            f"--agents into strips of height ≥ 2 (g={g}, n={n})"
         )
-    r = max(2, switch_radius(g, n) if radius is None else radius)
+    r = max(0, switch_radius(g, n) if radius is None else radius)
 
     def near_first(cells: list[tuple[int, int]], lower: bool) -> list[tuple[int, int]]:
-        return sectors.sweep([(u, v) for u, v in cells if u + v < r], lower)
+        # a sector with no cell inside the diamond still deploys to its Start-Cell
+        order = sectors.sweep(cells, lower)
+        return [(u, v) for u, v in order if u + v < r] or order[:1]
 
     base = sectors.plan(g, n, name=NAME, order_fn=near_first)
     routes = [list(rt) for rt in base.routes]
@@ -82,10 +85,13 @@ def plan(g: int, n: int, radius: int | None = None) -> Plan:
     # stepping back and forth in their own sector) so that all start phase B together
     arrive = {a: base.depart[a] - 1 + len(routes[a]) - 1 + len(w) - 1 for a, w, _ in legs_b}
     latest = max(arrive.values())
+    far_from = [0] * n
     for a, walk, loop in legs_b:
         end, prev = routes[a][-1], routes[a][-2]
         pad = [prev, end] * ((latest - arrive[a]) // 2)
-        routes[a] = [*routes[a], *pad, *walk[1:], *loop[1:]]
+        routes[a] = [*routes[a], *pad, *walk[1:]]
+        far_from[a] = len(routes[a]) - 1
+        routes[a] += loop[1:]
     by_strip = {owner[a]: a for a in range(n)}
     neighbours = []
     for a in range(n):
@@ -99,5 +105,5 @@ def plan(g: int, n: int, radius: int | None = None) -> Plan:
         depart=list(base.depart),
         explore_from=list(base.explore_from),
         neighbours=neighbours,
-        notes={"radius": r, "strip": h, "strip_of": owner},
+        notes={"radius": r, "strip": h, "strip_of": owner, "far_from": far_from},
     )
