@@ -112,10 +112,12 @@ def test_render_is_the_foraging_renderer():
     ("algorithm", "transport"),
     [("sectors", "relay-food"), ("strips", "end-to-end"), ("spiral", "relay-path"),
      ("zigzag", "relay-food"), ("hilbert", "end-to-end"), ("rings", "relay-path"),
-     ("loop-strips", "relay-food")],
+     ("loop-strips", "relay-food"), ("sector-loop", "relay-food")],
 )  # fmt: skip
 def test_baseline_episode_is_the_run_record(algorithm, transport):
     params = {**SMALL, "algorithm": algorithm, "transport": transport}
+    if algorithm == "sector-loop":  # a multiple of 8 robots
+        params["agents"] = 8
     env = foraging_v0.parallel_env(**params)
     steps, rewards, terms, truncs = play(env, foraging_v0.baseline_policy(env))
     record = env.record()

@@ -59,6 +59,12 @@ SAME_RUNS = [  # (CLI argv, swarmex.run keywords: Python values or the CLI's str
         {"grid": 16, "agents": 4, "algorithm": "Loop-Strips", "transport": "relay-path",
          "food": "2,13", "food_units": 6},
     ),
+    (
+        ["--grid", "32", "--agents", "8", "--algorithm", "sector-loop", "--food-distance",
+         "60-100", "--food-units", "8", "--seed", "4"],
+        {"grid": 32, "agents": 8, "algorithm": "sector-loop", "food_distance": "60-100",
+         "food_units": 8, "seed": 4},
+    ),
 ]  # fmt: skip
 
 
