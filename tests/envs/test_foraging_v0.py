@@ -112,7 +112,8 @@ def test_render_is_the_foraging_renderer():
     ("algorithm", "transport"),
     [("sectors", "relay-food"), ("strips", "end-to-end"), ("spiral", "relay-path"),
      ("zigzag", "relay-food"), ("hilbert", "end-to-end"), ("rings", "relay-path"),
-     ("loop-strips", "relay-food"), ("sector-loop", "relay-food")],
+     ("loop-strips", "relay-food"), ("sector-loop", "relay-food"),
+     ("comb", "relay-path")],
 )  # fmt: skip
 def test_baseline_episode_is_the_run_record(algorithm, transport):
     params = {**SMALL, "algorithm": algorithm, "transport": transport}

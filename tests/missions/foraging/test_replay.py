@@ -27,6 +27,9 @@ RUNS = [
     ("sector-loop", 16, 8, (9, 10), "relay-food"),
     ("sector-loop", 32, 16, (30, 1), "relay-path"),
     ("sector-loop", 32, 8, (3, 28), "end-to-end"),
+    ("comb", 16, 4, (3, 12), "relay-food"),
+    ("comb", 32, 8, (30, 2), "end-to-end"),
+    ("comb", 32, 4, (17, 20), "relay-path"),
 ]
 
 
