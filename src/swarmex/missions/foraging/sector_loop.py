@@ -48,9 +48,10 @@ NAME = "sector-loop"
 def switch_radius(g: int, n: int) -> int:
     """The Manhattan radius of phase A: 20 % of the corner–nest distance ``D = g``.
 
-    This is the 0–20 % separation band: the only band where phase A's outward sweep paid in
-    our measurements (docs/foraging.md: a larger radius delays every far cell by the extra
-    phase-A rounds, ≈ 2R²/n, and the far bands lose more than the 20–40 % band gains).
+    This is the 0–20 % separation band. Of the radii we measured (0, 12, 25, 38, 51 with
+    g = 128, n = 16; docs/foraging.md) it has the smallest sum of losses against the best seed
+    pattern over the bands: a larger radius delays every far cell by the extra phase-A rounds
+    (≈ 2R²/n), a smaller one leaves the near cells to the strips.
     """
     del n
     return g // 5
