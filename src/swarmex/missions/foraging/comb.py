@@ -10,7 +10,7 @@ end of a pass every robot must shift n rows. Here the turn is a **staircase** th
 nothing: the robot nearest the next band turns n − 1 columns before the border, the next one
 n − 2 columns before, …, the farthest at the border, each walking its column to its row of the
 next band (the order of the robots in the comb flips). The turn's 2n × n cells are covered
-exactly once (robot i walks 4i + 2 of them; it is the only such tiling by hook-shaped paths).
+exactly once (robot i walks 4i + 2 of them).
 The price is a shear: the robots leave the turn up to 4(n − 1) rounds apart, a diagonal line,
 and are level again only after the next turn, where their roles swap.
 
