@@ -20,7 +20,8 @@ leaves the nest, farthest row first) and visits the 2g/n half-bands in one loop:
 halves upward to the North border, the East halves down to the South border, the West halves
 back up to the nest's row. A pass that ends on the middle column runs straight on into the
 other half; that does not swap the roles, so there the robots that are ahead step back and
-forth until the comb is level. After the deployment every cell is visited exactly once; the
+forth until the comb is level. After the deployment every cell is explored by one robot, once,
+apart from those levelling steps; the
 mean discovery time of a uniformly placed food is ≈ T_dep + g²/(2n) + the levelling
 (g = 128: 559 rounds with 16 robots, 1046 with 8; Strips 632 / 1135, Sectors 535 / 1047).
 
