@@ -96,6 +96,6 @@ def test_algorithm_names_are_the_builders(capsys):
         assert re.search(rf"(^|[\s|]){re.escape(name)}([\s|,]|$)", page), name
     # every listed name is accepted by its builder (loop-strips was refused before)
     for name in ALGORITHMS:
-        agents = "8" if name == "modified-zigzag" else "4"
+        agents = "8" if name in ("modified-zigzag", "sector-loop") else "4"
         argv = ["forage", "--grid", "16", "--agents", agents, "--algorithm", name]
         assert main([*argv, "--food-units", "1"]) == 0, name

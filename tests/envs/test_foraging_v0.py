@@ -112,10 +112,13 @@ def test_render_is_the_foraging_renderer():
     ("algorithm", "transport"),
     [("sectors", "relay-food"), ("strips", "end-to-end"), ("spiral", "relay-path"),
      ("zigzag", "relay-food"), ("hilbert", "end-to-end"), ("rings", "relay-path"),
-     ("loop-strips", "relay-food")],
+     ("loop-strips", "relay-food"), ("sector-loop", "relay-food"),
+     ("comb", "relay-path")],
 )  # fmt: skip
 def test_baseline_episode_is_the_run_record(algorithm, transport):
     params = {**SMALL, "algorithm": algorithm, "transport": transport}
+    if algorithm == "sector-loop":  # a multiple of 8 robots
+        params["agents"] = 8
     env = foraging_v0.parallel_env(**params)
     steps, rewards, terms, truncs = play(env, foraging_v0.baseline_policy(env))
     record = env.record()
@@ -157,7 +160,7 @@ def test_baseline_through_the_aec_form():
 def test_the_hook_answering_the_seed_plays_the_same_run(algorithm, transport):
     """The decision hook (run_forage(decide=)) with the seed's answers is the run without it
     (the Python loop from round 0 == the timetable, this loop and the compiled tail)."""
-    n = 8 if algorithm == "modified-zigzag" else 4
+    n = 8 if algorithm in ("modified-zigzag", "sector-loop") else 4
     for food in [(12, 3), (1, 14), (9, 8)]:
         args = (algorithm, 16, n, food, 5, transport)
         plain = to_record(run_forage(*args), 0, {}).to_dict()

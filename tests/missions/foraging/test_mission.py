@@ -59,6 +59,18 @@ SAME_RUNS = [  # (CLI argv, swarmex.run keywords: Python values or the CLI's str
         {"grid": 16, "agents": 4, "algorithm": "Loop-Strips", "transport": "relay-path",
          "food": "2,13", "food_units": 6},
     ),
+    (
+        ["--grid", "32", "--agents", "8", "--algorithm", "sector-loop", "--food-distance",
+         "60-100", "--food-units", "8", "--seed", "4"],
+        {"grid": 32, "agents": 8, "algorithm": "sector-loop", "food_distance": "60-100",
+         "food_units": 8, "seed": 4},
+    ),
+    (
+        ["--grid", "32", "--agents", "8", "--algorithm", "comb", "--food", "5,27",
+         "--transport", "end-to-end", "--food-units", "5"],
+        {"grid": 32, "agents": 8, "algorithm": "comb", "food": (5, 27),
+         "transport": "end-to-end", "food_units": 5},
+    ),
 ]  # fmt: skip
 
 

@@ -24,6 +24,12 @@ RUNS = [
     ("rings", 16, 16, (7, 7), "relay-path"),
     ("loop-strips", 16, 4, (12, 13), "relay-food"),
     ("loop-strips", 32, 16, (2, 30), "end-to-end"),
+    ("sector-loop", 16, 8, (9, 10), "relay-food"),
+    ("sector-loop", 32, 16, (30, 1), "relay-path"),
+    ("sector-loop", 32, 8, (3, 28), "end-to-end"),
+    ("comb", 16, 4, (3, 12), "relay-food"),
+    ("comb", 32, 8, (30, 2), "end-to-end"),
+    ("comb", 32, 4, (17, 20), "relay-path"),
 ]
 
 

@@ -12,10 +12,12 @@ from functools import lru_cache
 
 from swarmex.errors import InputError
 from swarmex.missions.foraging import (
+    comb,
     hilbert,
     loop_strips,
     modified_zigzag,
     rings,
+    sector_loop,
     sectors,
     spiral,
     strips,
@@ -32,6 +34,8 @@ BUILDERS: dict[str, Callable[[int, int], Plan]] = {
     "modified-zigzag": modified_zigzag.plan,
     "rings": rings.plan,
     "loop-strips": loop_strips.plan,
+    "sector-loop": sector_loop.plan,
+    "comb": comb.plan,
 }
 THESIS_ALGORITHMS = ("strips", "zigzag", "hilbert", "sectors", "spiral", "modified-zigzag")
 OURS = tuple(name for name in BUILDERS if name not in THESIS_ALGORITHMS)
