@@ -181,6 +181,28 @@ def test_cone_share_twin_equals_the_kernel():
         assert distance._cone_share_numpy(width, old, a, b, sample) == want
 
 
+def test_cone_share_of_neighbours_equals_the_definition():
+    """Between lattice neighbours (every shift) the kernel tests a half-plane instead of
+    comparing lattice distances per sampled vertex; the numpy twin keeps the definition."""
+    rng = np.random.default_rng(5)
+    checked = 0
+    for _ in range(300):
+        width = int(rng.integers(1, 30))
+        height = int(rng.integers(1, 30))
+        n = width * height
+        old = rng.integers(-2, 50, size=n).astype(rng.choice([np.int16, np.int32]))
+        sample = np.sort(rng.choice(n, min(n, int(rng.integers(1, 200))), replace=False))
+        b = int(rng.integers(0, n))
+        y, x = divmod(b, width)
+        for dy, dx in ((-1, 0), (1, 0), (0, -1), (0, 1)):
+            if 0 <= y + dy < height and 0 <= x + dx < width:
+                a = (y + dy) * width + x + dx
+                want = distance._cone_share_numpy(width, old, a, b, sample)
+                assert distance._cone_share(width, old, a, b, sample) == want
+                checked += 1
+    assert checked > 500
+
+
 def _kernel(module: str, name: str) -> _kernels.Kernel:
     (k,) = [k for k in _kernels.kernels() if (k.__module__, k.__name__) == (module, name)]
     return k

@@ -8,7 +8,9 @@ import pytest
 from scipy.sparse import csr_matrix
 from scipy.sparse.csgraph import dijkstra
 
+from swarmex.planning import distance
 from swarmex.planning.distance import (
+    BLOCKED,
     distance_field,
     distance_fields,
     hop_field,
@@ -200,3 +202,35 @@ def test_steps_towards_are_the_first_steps_of_shortest_paths(name, make):
             assert not blocked[v]
         got = on_path_neighbors(g, a, to_t[a], to_t[nb])
         np.testing.assert_array_equal(got, steps)
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_in_place_shift_equals_a_shift_into_another_row(seed):
+    """The field cache shifts a row in place (old and new row the same array); the shift
+    kernels take a separate, vectorised path then and must give the same row."""
+    world = random_obstacles(31, 17, 0.25, seed=seed)
+    g = world.graph
+    width, mask = lattice_structure(g)
+    rng = np.random.default_rng(seed)
+    blocked = world.blocked.copy()
+    free = np.flatnonzero(~blocked)
+    s = int(rng.choice(free))
+    row = hop_field(g, s, blocked).astype(np.int16)
+    row[blocked] = BLOCKED
+    n = g.n_nodes
+    queue = np.empty(n, dtype=np.int32)
+    for step in range(40):
+        nbrs = [int(v) for v in g.neighbors(s) if not blocked[v]]
+        if not nbrs:
+            break
+        t = nbrs[int(rng.integers(len(nbrs)))]
+        apart = np.empty_like(row)
+        if step % 2:
+            distance._shift_source_lattice(width, mask, row, apart, t, queue)
+            distance._shift_source_lattice(width, mask, row, row, t, queue)
+        else:
+            distance._shift_by_complement_bits(width, mask, row, apart, t, s, queue)
+            distance._shift_by_complement_bits(width, mask, row, row, t, s, queue)
+        np.testing.assert_array_equal(row, apart)
+        np.testing.assert_array_equal(np.maximum(row, -1), hop_field(g, t, blocked))
+        s = t

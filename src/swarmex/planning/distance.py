@@ -178,6 +178,45 @@ def _bfs_hops_lattice(
     return level - 1
 
 
+# Row passes of the shifts. Each takes its array(s) once so that the compiler vectorises it:
+# a loop reading ``old`` and writing ``row`` falls back to scalar code when the two are the
+# same array (the run-time alias check fails), about 15x slower on an in-place shift.
+
+
+@kernel(cache=True, nogil=True)
+def _plus_one_in_place(row: Hops) -> None:  # pragma: no cover - compiled
+    """Add one to every reached entry of ``row`` (negative entries are kept)."""
+    for x in range(row.shape[0]):
+        h = row[x]
+        row[x] = h + 1 if h >= 0 else h
+
+
+@kernel(cache=True, nogil=True)
+def _plus_one(old: Hops, row: Hops) -> None:  # pragma: no cover - compiled
+    """``row = old + 1`` on reached entries, negative ones copied (distinct arrays)."""
+    for x in range(old.shape[0]):
+        h = old[x]
+        row[x] = h + 1 if h >= 0 else h
+
+
+@kernel(cache=True, nogil=True)
+def _copy_row(old: Hops, row: Hops) -> None:  # pragma: no cover - compiled
+    for x in range(old.shape[0]):
+        row[x] = old[x]
+
+
+@kernel(cache=True, nogil=True)
+def _settle_outside_bits(row: Hops) -> None:  # pragma: no cover - compiled
+    """Final pass of :func:`_shift_by_complement_bits`: entries carrying
+    :data:`OUTSIDE_BIT` gain one hop (the bit cleared), other reached entries lose one,
+    negative ones stay; written without branches so that it vectorises."""
+    low = OUTSIDE_BIT - 1
+    for x in range(row.shape[0]):
+        v = row[x]
+        out = (v & low) - 1 + 2 * ((v >> 14) & 1)
+        row[x] = out if v >= 0 else v
+
+
 @kernel(cache=True, nogil=True)
 def _shift_source_lattice(
     width: int, nbmask: NbMask, old: Hops, row: Hops, new_source: int, queue: Scratch
@@ -194,10 +233,10 @@ def _shift_source_lattice(
     vertex is taken into the cone when it holds old(u) + 2, and once taken it holds
     old - 1, which no neighbour of a cone vertex can match again.
     """
-    n = row.shape[0]
-    for x in range(n):
-        h = old[x]
-        row[x] = h + 1 if h >= 0 else h
+    if old.ctypes.data == row.ctypes.data:
+        _plus_one_in_place(row)
+    else:
+        _plus_one(old, row)
     row[new_source] = 0
     queue[0] = new_source
     head = 0
@@ -317,9 +356,8 @@ def _shift_by_complement_bits(
     ``OUTSIDE_BIT - 1``. A vertex found inside is not marked; it is checked again if met
     from another parent, with the same answer. ``old`` may be ``row``.
     """
-    n = old.shape[0]
-    for x in range(n):
-        row[x] = old[x]
+    if old.ctypes.data != row.ctypes.data:
+        _copy_row(old, row)
     low = OUTSIDE_BIT - 1
     row[old_source] = row[old_source] | OUTSIDE_BIT
     queue[0] = old_source
@@ -364,10 +402,7 @@ def _shift_by_complement_bits(
                 row[y] = ry | OUTSIDE_BIT
                 queue[tail] = y
                 tail += 1
-    for x in range(n):
-        v = row[x]
-        if v >= 0:
-            row[x] = (v & low) + 1 if v & OUTSIDE_BIT else v - 1
+    _settle_outside_bits(row)
     return tail
 
 
@@ -377,17 +412,40 @@ def _cone_share(
 ) -> float:  # pragma: no cover - compiled
     """Rough share of the reachable vertices inside the cone of a shift: among a fixed
     sample, those nearer (in lattice steps) to the new source than to the old one."""
-    ny, nx = divmod(new_source, width)
-    oy, ox = divmod(old_source, width)
+    # new and old source are neighbours, so "nearer to the new one" is a half-plane: the
+    # side of the old source's row (a vertical move) or column (a horizontal one) the new
+    # source is on. Tested on vertex numbers and unsigned columns, not per-sample divmod.
     reach = 0
     ahead = 0
-    for x in sample:
-        if old[x] < 0:
-            continue
-        reach += 1
-        y, c = divmod(x, width)
-        if abs(y - ny) + abs(c - nx) < abs(y - oy) + abs(c - ox):
-            ahead += 1
+    d = new_source - old_source
+    if d == width or d == -width:
+        edge = max(new_source, old_source) - max(new_source, old_source) % width
+        for x in sample:
+            if old[x] < 0:
+                continue
+            reach += 1
+            if (x >= edge) == (d > 0):
+                ahead += 1
+    elif (d == 1 or d == -1) and new_source // width == old_source // width:
+        w = np.uint32(width)
+        oc = np.uint32(old_source) % w
+        for x in sample:
+            if old[x] < 0:
+                continue
+            reach += 1
+            c = np.uint32(x) % w
+            if (c > oc) if d > 0 else (c < oc):
+                ahead += 1
+    else:  # not neighbours (never in a shift): the definition itself
+        ny, nx = divmod(new_source, width)
+        oy, ox = divmod(old_source, width)
+        for x in sample:
+            if old[x] < 0:
+                continue
+            reach += 1
+            y, c = divmod(x, width)
+            if abs(y - ny) + abs(c - nx) < abs(y - oy) + abs(c - ox):
+                ahead += 1
     return ahead / reach if reach else 0.0
 
 

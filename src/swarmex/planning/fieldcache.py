@@ -67,7 +67,7 @@ from swarmex.planning.distance import (
     max_hop_of,
     step_length,
 )
-from swarmex.planning.tiles import Tiling, raise_tile_max, tile_range
+from swarmex.planning.tiles import Tiling, raise_tile_max, tile_range, tile_range_lattice
 from swarmex.worlds.nodegraph import NodeGraph
 
 
@@ -237,8 +237,10 @@ class KnownGraph:
             self._key = np.empty(n, dtype=np.int32)
             self._scratch = _Scratch(n)
             self._queue = self._scratch.queue
-            # a fixed spread of vertices, to guess how big a shift's cone is
-            self._sample = np.random.default_rng(0).choice(n, min(n, 1024), replace=False)
+            # a fixed spread of vertices, to guess how big a shift's cone is (sorted: the
+            # guess reads the row in order; it only picks the faster search, never a value)
+            self._sample = np.sort(
+                np.random.default_rng(0).choice(n, min(n, 1024), replace=False))
             self._repair_limit = max(1, n // 6)
             # what a fresh hop row starts as: UNREACHED, or BLOCKED for known obstacles
             self._template = np.full(n, UNREACHED, dtype=self.hops.dtype)
@@ -605,7 +607,10 @@ class KnownGraph:
         for s in slots.tolist():
             slack = self._slack[s]
             if slack < 0 or slack > self.MAX_SLACK:
-                tile_range(self.hops[s], tiling.tile_of, self._tlo[s], self._thi[s])
+                if tiling.width:
+                    tile_range_lattice(self.hops[s], tiling.width, self._tlo[s], self._thi[s])
+                else:
+                    tile_range(self.hops[s], tiling.tile_of, self._tlo[s], self._thi[s])
                 self._slack[s] = 0
         return self._tlo, self._thi, self._slack
 

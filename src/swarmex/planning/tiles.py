@@ -39,9 +39,10 @@ class Tiling:
     """The tiles of an ``n``-vertex graph: ``tile_of[v]``, and each tile's vertices
     ``verts[ptr[t]:ptr[t + 1]]`` in ascending order."""
 
-    __slots__ = ("n_tiles", "tile_of", "ptr", "verts")
+    __slots__ = ("n_tiles", "tile_of", "ptr", "verts", "width")
 
     def __init__(self, n: int, width: int) -> None:
+        self.width = width  # > 0: square tiles of a lattice (tile_range_lattice applies)
         ids = np.arange(n, dtype=np.int64)
         if width > 0:  # lattice: square blocks
             ys, xs = np.divmod(ids, width)
@@ -77,6 +78,44 @@ def tile_range(
             lo[t] = h
         if h > hi[t]:
             hi[t] = h
+
+
+@kernel(cache=True, nogil=True)
+def tile_range_lattice(
+    row: Hops, width: int, lo: NDArray[np.int32], hi: NDArray[np.int32]
+) -> None:  # pragma: no cover - compiled
+    """:func:`tile_range` for the square tiles of a ``width``-wide lattice, the same
+    values, computed so that the compiler vectorises it: per band of ``TILE_SIDE`` grid
+    rows, a column-wise least and largest value over the band's rows (long branch-free
+    loops; an unreached cell counts as NONE_LO for the least value and as its own negative
+    value, below NONE_HI, for the largest), then each tile reduces its ``TILE_SIDE``
+    columns. The generic kernel updates ``lo``/``hi`` in memory per cell instead."""
+    n = row.shape[0]
+    height = n // width
+    per_row = (width + TILE_SIDE - 1) // TILE_SIDE
+    none_lo = np.int32(NONE_LO)
+    none_hi = np.int32(NONE_HI)
+    cmin = np.empty(width, dtype=np.int32)
+    cmax = np.empty(width, dtype=np.int32)
+    for band in range((height + TILE_SIDE - 1) // TILE_SIDE):
+        for x in range(width):
+            cmin[x] = none_lo
+            cmax[x] = none_hi
+        for y in range(band * TILE_SIDE, min(height, band * TILE_SIDE + TILE_SIDE)):
+            r = row[y * width:(y + 1) * width]
+            for x in range(width):
+                h = np.int32(r[x])
+                cmin[x] = min(cmin[x], h if h >= 0 else none_lo)
+                cmax[x] = max(cmax[x], h)
+        for tx in range(per_row):
+            mn = none_lo
+            mx = none_hi
+            for x in range(tx * TILE_SIDE, min(width, tx * TILE_SIDE + TILE_SIDE)):
+                mn = min(mn, cmin[x])
+                mx = max(mx, cmax[x])
+            t = band * per_row + tx
+            lo[t] = mn
+            hi[t] = mx
 
 
 @kernel(cache=True, nogil=True)
