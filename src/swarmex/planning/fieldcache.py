@@ -63,6 +63,7 @@ from swarmex.planning.distance import (
     _repair_hops,
     _shift_lattice,
     distance_field,
+    free_counts,
     lattice_structure,
     max_hop_of,
     step_length,
@@ -237,16 +238,16 @@ class KnownGraph:
             self._key = np.empty(n, dtype=np.int32)
             self._scratch = _Scratch(n)
             self._queue = self._scratch.queue
-            # a fixed spread of vertices, to guess how big a shift's cone is (sorted: the
-            # guess reads the row in order; it only picks the faster search, never a value)
-            self._sample = np.sort(
-                np.random.default_rng(0).choice(n, min(n, 1024), replace=False))
             self._repair_limit = max(1, n // 6)
             # what a fresh hop row starts as: UNREACHED, or BLOCKED for known obstacles
             self._template = np.full(n, UNREACHED, dtype=self.hops.dtype)
             width, mask = lattice_structure(graph)
             self._width = width
             self._nbmask = mask if mask is not None else np.zeros(1, dtype=np.uint8)
+            # vertices not known blocked per grid column / row: a shift guesses from them
+            # how big its cone is (the guess picks the faster search, never a value)
+            self._col_free, self._row_free = free_counts(
+                np.ones(n if width else 0, dtype=bool), max(width, 1))
             # background shifts (see prefetch): row -> job writing it / jobs reading it
             self._prefetch = prefetch and width > 0 and n >= PREFETCH_MIN_NODES
             self._pending: dict[int, _Job] = {}
@@ -278,6 +279,10 @@ class KnownGraph:
                 self._log.append(v)
                 if self.uniform:
                     self._template[v] = BLOCKED
+                    if self._width:
+                        y, x = divmod(v, self._width)
+                        self._col_free[x] -= 1
+                        self._row_free[y] -= 1
                 new = True
         return new
 
@@ -390,11 +395,12 @@ class KnownGraph:
         self._float.pop(dst, None)
         self._shift_bounds(src, dst)
         hops, width, mask = self.hops, self._width, self._nbmask
-        sample, near_source, top = self._sample, near, int(self._row_max[src])
+        near_source, top = near, int(self._row_max[src])
+        col_free, row_free = self._col_free.copy(), self._row_free.copy()
 
         def run(sc: _Scratch) -> None:
-            _shift_lattice(width, mask, hops[src], hops[dst], source, near_source, sample,
-                           sc.mark, sc.next_epoch(), sc.queue, top)
+            _shift_lattice(width, mask, hops[src], hops[dst], source, near_source, col_free,
+                           row_free, sc.mark, sc.next_epoch(), sc.queue, top)
 
         job = _Job(run)
         self._pending[dst] = job
@@ -493,8 +499,8 @@ class KnownGraph:
         else:
             sc = self._scratch
             _shift_lattice(self._width, self._nbmask, self.hops[near], self.hops[slot], source,
-                           near_source, self._sample, sc.mark, sc.next_epoch(), sc.queue,
-                           bound - 1)
+                           near_source, self._col_free, self._row_free, sc.mark,
+                           sc.next_epoch(), sc.queue, bound - 1)
             self._row_max[slot] = bound
             self._shift_bounds(near, slot)
             self.shifted += 1
