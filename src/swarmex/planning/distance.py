@@ -232,6 +232,11 @@ def _shift_source_lattice(
     two. Exact, like a fresh BFS, at roughly half its cost. No visited marks are needed: a
     vertex is taken into the cone when it holds old(u) + 2, and once taken it holds
     old - 1, which no neighbour of a cone vertex can match again.
+
+    The cone is everything reachable from ``new_source`` along edges that go one hop
+    further from the old source, so the order of the search does not matter: it runs
+    depth first from a stack (``queue``), which keeps the recently touched cells in cache
+    (about 1.2x faster than breadth first on den520d). Returns the cone's size.
     """
     if old.ctypes.data == row.ctypes.data:
         _plus_one_in_place(row)
@@ -239,38 +244,39 @@ def _shift_source_lattice(
         _plus_one(old, row)
     row[new_source] = 0
     queue[0] = new_source
-    head = 0
-    tail = 1
-    while head < tail:
-        u = queue[head]
-        head += 1
+    top = 1
+    size = 0
+    while top > 0:
+        top -= 1
+        size += 1  # every cone vertex is pushed, and so popped, once
+        u = queue[top]
         want = row[u] + 3  # old(u) + 1, stored as old + 1 (outside the cone)
         m = nbmask[u]
         if m & 1:
             v = u - width
             if row[v] == want:
                 row[v] = want - 2
-                queue[tail] = v
-                tail += 1
+                queue[top] = v
+                top += 1
         if m & 2:
             v = u - 1
             if row[v] == want:
                 row[v] = want - 2
-                queue[tail] = v
-                tail += 1
+                queue[top] = v
+                top += 1
         if m & 4:
             v = u + 1
             if row[v] == want:
                 row[v] = want - 2
-                queue[tail] = v
-                tail += 1
+                queue[top] = v
+                top += 1
         if m & 8:
             v = u + width
             if row[v] == want:
                 row[v] = want - 2
-                queue[tail] = v
-                tail += 1
-    return tail
+                queue[top] = v
+                top += 1
+    return size
 
 
 @kernel(cache=True, nogil=True)
@@ -440,8 +446,9 @@ def _cone_share(
 
 
 #: above this estimated cone share, a shift searches the complement instead of the cone
-#: (the complement costs about 1.5-2x the cone per vertex; 0.5-0.65 measured best on den520d)
-COMPLEMENT_ABOVE = 0.6
+#: (the complement costs about 1.8-2x the cone per vertex; 0.65-0.7 best on den520d's
+#: recorded shifts since the cone search runs depth first)
+COMPLEMENT_ABOVE = 0.65
 
 
 @kernel(cache=True, nogil=True)
