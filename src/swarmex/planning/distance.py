@@ -359,19 +359,26 @@ def _shift_by_complement_bits(
     """:func:`_shift_by_complement` with the outside marks kept in the row itself (bit
     :data:`OUTSIDE_BIT` of the old value) instead of a separate array: a search step reads
     one array instead of two, about twice as fast. Every reached hop count must be below
-    ``OUTSIDE_BIT - 1``. A vertex found inside is not marked; it is checked again if met
-    from another parent, with the same answer. ``old`` may be ``row``.
+    ``OUTSIDE_BIT - 1``. ``old`` may be ``row``.
+
+    The search runs depth first from a stack (``queue``; about 1.25x faster than level by
+    level on den520d), so a vertex may be met before all of its parents are decided: it is
+    then found inside (a parent is not marked yet) and left unmarked, and met again from
+    each parent that is marked later. The last of its parents to be marked, if all are
+    outside, marks it, so every outside vertex is found whatever the order. Returns how
+    many vertices are outside.
     """
     if old.ctypes.data != row.ctypes.data:
         _copy_row(old, row)
     low = OUTSIDE_BIT - 1
     row[old_source] = row[old_source] | OUTSIDE_BIT
     queue[0] = old_source
-    head = 0
-    tail = 1
-    while head < tail:
-        u = queue[head]
-        head += 1
+    top = 1
+    size = 0
+    while top > 0:
+        top -= 1
+        size += 1  # every outside vertex is pushed, and so popped, once
+        u = queue[top]
         want = (row[u] & low) + 1
         m = nbmask[u]
         for b in range(4):
@@ -406,10 +413,10 @@ def _shift_by_complement_bits(
                     break
             if outside:
                 row[y] = ry | OUTSIDE_BIT
-                queue[tail] = y
-                tail += 1
+                queue[top] = y
+                top += 1
     _settle_outside_bits(row)
-    return tail
+    return size
 
 
 @kernel(cache=True, nogil=True)
