@@ -802,6 +802,49 @@ def _repair_hops(
     return n_aff + n_removed, top, n_aff
 
 
+@kernel(cache=True, nogil=True)
+def _first_steps(
+    indptr: Indptr, indices: Indices, hops: Hops, target: int, mark: Scratch, epoch: int,
+    queue: Scratch, out: Vertices,
+) -> int:  # pragma: no cover - compiled
+    """The neighbours of a hop row's source that lie on a shortest path to ``target``,
+    into ``out`` (returns how many; 0 if ``target`` is unreached or is the source).
+
+    A walk back from ``target`` through the row's shortest-path parents (neighbours one hop
+    nearer the source), level by level, visits exactly the vertices on shortest paths
+    between the two, and its last level (hop 1) is the answer: the same set as the
+    neighbours whose distance *from the target* is one less than the source's, without a
+    field of the target. ``mark`` (int32, n) gets ``epoch`` on visited vertices."""
+    top = hops[target]
+    if top < 0:
+        return 0
+    if top == 0:  # the target is the source: no step leads nearer
+        return 0
+    if top == 1:
+        out[0] = target
+        return 1
+    mark[target] = epoch
+    queue[0] = target
+    head = 0
+    tail = 1
+    found = 0
+    while head < tail:
+        x = queue[head]
+        head += 1
+        want = hops[x] - 1
+        for k in range(indptr[x], indptr[x + 1]):
+            p = indices[k]
+            if hops[p] == want and mark[p] != epoch:
+                mark[p] = epoch
+                if want == 1:
+                    out[found] = p
+                    found += 1
+                else:
+                    queue[tail] = p
+                    tail += 1
+    return found
+
+
 _LATTICES: weakref.WeakKeyDictionary[NodeGraph, tuple[int, NbMask | None]] = (
     weakref.WeakKeyDictionary()
 )

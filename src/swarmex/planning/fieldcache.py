@@ -60,6 +60,7 @@ from swarmex.planning.distance import (
     Weights,
     _bfs_hops_csr,
     _bfs_hops_lattice,
+    _first_steps,
     _repair_hops,
     _shift_lattice,
     distance_field,
@@ -237,6 +238,7 @@ class KnownGraph:
             self._work = np.empty(2 * n + 2, dtype=np.int32)
             self._key = np.empty(n, dtype=np.int32)
             self._scratch = _Scratch(n)
+            self._max_degree = int(np.diff(graph.indptr).max()) if n else 0
             self._queue = self._scratch.queue
             self._repair_limit = max(1, n // 6)
             # what a fresh hop row starts as: UNREACHED, or BLOCKED for known obstacles
@@ -336,6 +338,19 @@ class KnownGraph:
         slot = self.slot(source)  # first: it may grow (replace) self.hops
         _gather(self.hops, slot, vertices, self.step, out)
         return out
+
+    def first_steps(self, slot: int, target: int) -> np.ndarray:
+        """The neighbours of row ``slot``'s source on a shortest path to ``target``
+        (uniform graphs; ``slot`` as :meth:`slot` returns it), in no particular order:
+        what :func:`~swarmex.planning.distance.steps_towards` gives on ``field(target)``,
+        found by walking back from ``target`` through the source's own row, so ``target``
+        needs no field (it is no agent's position: its field would be a fresh search, kept
+        and repaired only for the few steps that head for it)."""
+        sc = self._scratch
+        out = np.empty(self._max_degree, dtype=np.int64)
+        found = _first_steps(self.graph.indptr, self.graph.indices, self.hops[slot],
+                             int(target), sc.mark, sc.next_epoch(), sc.queue, out)
+        return out[:found]
 
     # ------------------------------------------------------------------ hop rows (uniform)
     def slot(self, source: int) -> int:

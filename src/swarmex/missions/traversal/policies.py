@@ -312,9 +312,9 @@ class Madgta:
         else:
             tied = far[:nt].copy()
             f = _choose(tied, self._utility_matrix(belief, tied, rivals, jt_me), rng)
-        nbrs = belief.graph.neighbors(here)
-        d = known.distances(f, np.concatenate(([here], nbrs)))
-        steps = on_path_neighbors(belief.graph, here, d[0], d[1:])
+        # the next hop: walked back from f through my own row (no field of f needed);
+        # the same set as steps_towards on f's field, and _pick sorts it
+        steps = known.first_steps(me_slot, f)
         return Decision("move", _pick(steps, rng), f, 3)
 
     def _decide_lattice(
