@@ -15,8 +15,10 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from swarmex.planning import fieldcache, tiles
+from swarmex.planning.distance import steps_towards
 from swarmex.planning.fieldcache import KnownGraph
 from swarmex.worlds import GraphWorld, GridWorld
+from swarmex.worlds.generators import random_obstacles
 
 from .test_distance import reference
 
@@ -177,3 +179,23 @@ def test_counters_and_in_place_shift_on_a_walk():
     known.slot(path[-1])
     assert known.reused + known.repaired == before + 1
     check(known.field(path[-1]), reference(world.graph, path[-1], known.blocked), True)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_first_steps_equal_the_steps_of_the_targets_field(seed):
+    """KnownGraph.first_steps walks back through the source's own row; the answer must be
+    steps_towards on the target's own field (an independent search from the target)."""
+    world = random_obstacles(23, 19, 0.3, seed=seed)
+    g = world.graph
+    kg = KnownGraph(g)
+    rng = np.random.default_rng(seed)
+    kg.add_obstacles(np.flatnonzero(world.blocked)[: int(world.blocked.sum()) // 2])
+    free = np.flatnonzero(~kg.blocked)
+    for _ in range(40):
+        source, target = (int(v) for v in rng.choice(free, 2))
+        slot = kg.slot(source)
+        got = np.sort(kg.first_steps(slot, target))
+        want = np.sort(steps_towards(g, kg.field(target), source))
+        np.testing.assert_array_equal(got, want)
+    slot = kg.slot(source)
+    assert kg.first_steps(slot, source).size == 0
