@@ -178,6 +178,20 @@ class Wire:
                 if type(msg) is ScanMsg:
                     mask &= ~(ledger.have_all(s.key for s in msg.scans)
                               & ledger.listeners.get(src, 0))
+                    if len(msg.scans) == 1:  # a flooded scan: most receivers take it new
+                        rec = msg.scans[0]
+                        key = rec.key
+                        for d in bits(mask):
+                            self.delivered += 1
+                            r = robots[d]
+                            mesh = r.mesh
+                            if key not in mesh.seen and src in mesh.neighbours:
+                                out = r.take_scan(src, rec, t)
+                            else:
+                                out = r.on_message(src, msg, t)
+                            if out:
+                                self.send(d, out)
+                        continue
                 for d in bits(mask):
                     self.delivered += 1
                     self.send(d, robots[d].on_message(src, msg, t))
