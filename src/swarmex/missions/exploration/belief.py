@@ -80,7 +80,8 @@ class ScanArchive:
             runs.setdefault(origin, []).append((lo, hi))
         for spans in runs.values():
             spans.sort()
-        if not all(a[1] <= b[0] for spans in runs.values() for a, b in zip(spans, spans[1:], strict=False)):
+        if not all(a[1] <= b[0] for spans in runs.values()
+                   for a, b in zip(spans, spans[1:], strict=False)):
             return self._missing_slow(runs)
         scans = self.scans
         out: list[ScanRecord] = []
