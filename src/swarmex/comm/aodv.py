@@ -360,9 +360,13 @@ class AodvNode:
             return []
         out: Out = []
         keep: list[Pending] = []
-        for p in self.queue:
-            r = self.route(p.dest, t)
-            if r is None:
+        routes = self.routes
+        for p in self.queue:  # route() inlined: a flood's every RREQ flushes every queue
+            r = routes.get(p.dest)
+            if r is None or not r.valid:
+                keep.append(p)
+            elif r.expires < t:
+                r.valid = False
                 keep.append(p)
             else:
                 self.retry_at.pop(p.dest, None)

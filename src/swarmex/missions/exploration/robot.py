@@ -301,7 +301,8 @@ class ExplorerRobot:
         when it came over several hops: then its scans are passed on to every neighbour)."""
         out: Out = []
         if isinstance(msg, ScanMsg):  # SCAN and MAP
-            new = tuple(r for r in msg.scans if self.mesh.first_time(r.key))
+            seen = self.mesh.seen  # (a MAP mostly repeats scans the flood brought)
+            new = tuple(r for r in msg.scans if r.key not in seen and self.mesh.first_time(r.key))
             for r in new:
                 self.belief.integrate(r)
             if new:
