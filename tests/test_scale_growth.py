@@ -118,3 +118,33 @@ def test_exploration_catch_up_does_not_walk_the_archive():
         runs.setdefault(o, []).append((lo, hi))
     assert [r.key for r in answer] == [r.key for r in plain._missing_slow(
         {o: sorted(s) for o, s in runs.items()})]
+
+
+def test_exploration_flood_hands_each_scan_to_each_robot_about_once(monkeypatch):
+    """A flooded scan is sent to every neighbour of every relay (robots × neighbours copies,
+    all counted), but the simulator hands a robot only the copies it would not drop
+    unseen: the Python work per scan grows with the team, not with the team squared."""
+    from swarmex.missions.exploration.messages import ScanMsg
+    from swarmex.missions.exploration.robot import ExplorerRobot
+
+    calls = {"scan": 0}
+    take, on_message = ExplorerRobot.take_scan, ExplorerRobot.on_message
+
+    def counted_take(self, src, rec, t):
+        calls["scan"] += 1
+        return take(self, src, rec, t)
+
+    def counted_on_message(self, src, msg, t):
+        if type(msg) is ScanMsg:
+            calls["scan"] += 1
+        return on_message(self, src, msg, t)
+
+    monkeypatch.setattr(ExplorerRobot, "take_scan", counted_take)
+    monkeypatch.setattr(ExplorerRobot, "on_message", counted_on_message)
+    n = 12
+    rec = swarmex.run("exploration", trace=False, empty="6x6", cell=0.05, robots=n,
+                      laser_range=1.0, comm_range=20.0, seed=2)
+    scans = rec.metrics["moves"] + n  # one scan per move, and one each at the start
+    copies = rec.metrics["messages_by_kind"]["SCAN"]["messages"]
+    assert calls["scan"] <= 1.05 * scans * (n - 1), (calls, scans)
+    assert copies > 5 * calls["scan"], (copies, calls)  # each relay reaches n - 2 others
