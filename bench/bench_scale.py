@@ -12,6 +12,8 @@ Sizes (``size`` column):
 
 * traversal — MADGTA, 8 agents, empty grids of 32² … 256² cells: size = cells;
 * exploration — 20 × 20 m at 5 cm, laser 2 m, radio 10 m, 5 … 40 robots: size = robots;
+  ``--large`` adds issue 14's 100 robots on 40 × 40 m at 5 cm (size ``100x40``: robots x
+  side in metres), a row of its own, left out of the fitted exponents (another map);
 * foraging — Strips, Relay-Food, 100 units, g × g grid with N robots, (128, 16) …
   (1024, 1024): size = robots (the grid grows with them, g² / N = 1024 … 1024 cells each);
 * roadmap — WMA-RRT coverage, 32 agents, a 2000 × 2000 world with 9 square obstacles,
@@ -25,6 +27,7 @@ log-log plot into bench/scale.png.
     .venv/bin/python bench/bench_scale.py            # the full table
     .venv/bin/python bench/bench_scale.py --quick --missions traversal,roadmap
     .venv/bin/python bench/bench_scale.py --missions foraging --sizes 256x64,1024x1024
+    .venv/bin/python bench/bench_scale.py --missions exploration --large --timeout 3600
     .venv/bin/python bench/bench_scale.py --write
 """
 
@@ -48,6 +51,8 @@ SIZES: dict[str, list[Any]] = {
     "foraging": [(128, 16), (256, 64), (512, 256), (1024, 1024)],
     "roadmap": [2500, 5000, 10000, 20000],
 }
+# rows on a map of their own (``--large``): shown, not fitted
+LARGE: dict[str, list[Any]] = {"exploration": [(100, 40)]}
 MARK_BEGIN, MARK_END = "<!-- bench_scale:begin -->", "<!-- bench_scale:end -->"
 
 
@@ -65,8 +70,9 @@ def case_params(mission: str, size: Any, tmp: Path) -> tuple[dict[str, Any], flo
     if mission == "traversal":
         return {"grid": f"{size}x{size}", "agents": 8}, float(size * size)
     if mission == "exploration":
-        return {"empty": "20x20", "cell": 0.05, "robots": size, "laser_range": 2.0,
-                "comm_range": 10.0}, float(size)
+        n, side = size if isinstance(size, tuple) else (size, 20)
+        return {"empty": f"{side}x{side}", "cell": 0.05, "robots": n, "laser_range": 2.0,
+                "comm_range": 10.0}, float(n)
     if mission == "foraging":
         g, n = size
         return {"grid": g, "agents": n, "algorithm": "strips"}, float(n)
@@ -94,6 +100,13 @@ def agent_steps(mission: str, record: Any) -> int:
     return int(len(record.agents) * float(record.makespan))
 
 
+def label(mission: str, size: Any) -> str:
+    """The size column: a large exploration case names its map."""
+    if mission == "exploration" and isinstance(size, tuple):
+        return f"{size[0]} on {size[1]}x{size[1]} m"
+    return str(size)
+
+
 def child(mission: str, size_json: str, tmp: str) -> None:
     """One case in this process: warm up, run, print a JSON line."""
     import resource
@@ -109,9 +122,10 @@ def child(mission: str, size_json: str, tmp: str) -> None:
     rec = swarmex.run(mission, trace=False, **kw)
     wall, cpu = time.perf_counter() - w0, time.process_time() - c0
     print(json.dumps({
-        "mission": mission, "size": x, "label": str(size), "wall": wall, "cpu": cpu,
+        "mission": mission, "size": x, "label": label(mission, size), "wall": wall, "cpu": cpu,
         "rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
         "agent_steps": agent_steps(mission, rec), "complete": bool(rec.complete),
+        "large": isinstance(size, tuple) and mission == "exploration",
     }))
 
 
@@ -140,6 +154,9 @@ def parse_sizes(mission: str, text: str) -> list[Any]:
             if not sep:
                 raise ValueError(f"foraging sizes are GRIDxROBOTS, got {part!r}")
             out.append((int(g), int(n)))
+        elif mission == "exploration" and "x" in part:  # ROBOTSxSIDE (metres)
+            n, _, side = part.partition("x")
+            out.append((int(n), int(side)))
         else:
             out.append(int(part))
     if not out or any(v <= 0 for s in out for v in (s if isinstance(s, tuple) else (s,))):
@@ -164,7 +181,7 @@ def table(rows: list[dict[str, Any]]) -> list[str]:
     out += ["", "| mission | exponent of CPU vs size | exponent of CPU per agent-step |",
             "|---|---:|---:|"]
     for mission in MISSIONS:
-        rs = [r for r in rows if r["mission"] == mission]
+        rs = [r for r in rows if r["mission"] == mission and not r.get("large")]
         if len(rs) < 2:
             continue
         xs = [r["size"] for r in rs]
@@ -182,7 +199,7 @@ def plot(rows: list[dict[str, Any]], path: Path) -> None:
     FigureCanvasAgg(fig)
     ax = fig.add_subplot(111)
     for mission in MISSIONS:
-        rs = [r for r in rows if r["mission"] == mission]
+        rs = [r for r in rows if r["mission"] == mission and not r.get("large")]
         if rs:
             xs = np.array([r["size"] for r in rs]) / rs[0]["size"]
             ax.loglog(xs, [1e6 * r["cpu"] / max(r["agent_steps"], 1) for r in rs], "o-",
@@ -215,6 +232,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--write", action="store_true", help="update bench/README.md and scale.png")
     ap.add_argument("--sizes", help="sizes of the one mission of --missions, e.g. 64,128 "
                     "(traversal side, robots, nodes) or 256x64,512x256 (foraging grid x robots)")
+    ap.add_argument("--large", action="store_true",
+                    help="add the large-map rows (exploration: 100 robots on 40 x 40 m)")
     ap.add_argument("--child", nargs=3, help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.child:
@@ -224,6 +243,9 @@ def main(argv: list[str] | None = None) -> int:
     if unknown := [m for m in missions if m not in SIZES]:
         ap.error(f"unknown mission(s) {', '.join(unknown)}; choose from {', '.join(MISSIONS)}")
     sizes = {m: SIZES[m][: 3 if args.quick else None] for m in missions}
+    if args.large:
+        for m in missions:
+            sizes[m] = sizes[m] + LARGE.get(m, [])
     if args.sizes:
         if len(missions) != 1:
             ap.error("--sizes needs exactly one mission in --missions")

@@ -97,3 +97,79 @@ def test_roadmap_cost_per_agent_step_is_flat_in_the_node_count(tmp_path: Path):
     cost = [_cpu_per_step("roadmap", lambda r: len(r.agents) * r.makespan, env=str(env),
                           agents=8, nodes=k, step=10, sensor_range=15) for k in nodes]
     assert _exponent(nodes, cost) < 0.5, cost
+
+
+class _CountingDict(dict):
+    """A dict that counts the entries read and refuses to be walked."""
+
+    reads = 0
+
+    def __getitem__(self, key):
+        type(self).reads += 1
+        return super().__getitem__(key)
+
+    def __iter__(self):
+        raise AssertionError("the archive was walked")
+
+
+def test_exploration_catch_up_does_not_walk_the_archive():
+    """A NEED_MAP summary and its MAP answer cost O(runs + answer), not O(archive): a large
+    team asks for one at every new neighbour, and the archive holds every scan of the run.
+    Checked on operation counts (entries read), and against the seq-by-seq rule."""
+    from swarmex.missions.exploration.belief import ScanArchive
+    from swarmex.missions.exploration.messages import ScanRecord
+
+    arch = ScanArchive()
+    arch.scans = _CountingDict()
+    rng = np.random.default_rng(3)
+    for origin in range(50):
+        for seq in range(400):
+            if origin % 7 or seq not in (17, 18, 250):  # a few origins with holes
+                arch.add(ScanRecord(origin, seq, 0, 0, None))  # type: ignore[arg-type]
+    _CountingDict.reads = 0
+    have = arch.summary()
+    assert len(have) == 50 + 2 * 8  # one run per origin, three for the 8 with holes
+    peer = list(have)
+    for i in rng.choice(len(peer), 6, replace=False):  # the peer lacks a few scans
+        o, lo, hi = peer[i]
+        peer[i] = (o, lo, hi - 3)
+    answer = arch.missing_for(tuple(peer))
+    assert len(answer) == 18 and _CountingDict.reads == 18
+    plain = ScanArchive()  # the same archive in a plain dict, for the seq-by-seq rule
+    plain.scans = dict(arch.scans.items())
+    plain._seqs = arch._seqs
+    runs: dict[int, list[tuple[int, int]]] = {}
+    for o, lo, hi in peer:
+        runs.setdefault(o, []).append((lo, hi))
+    assert [r.key for r in answer] == [r.key for r in plain._missing_slow(
+        {o: sorted(s) for o, s in runs.items()})]
+
+
+def test_exploration_flood_hands_each_scan_to_each_robot_about_once(monkeypatch):
+    """A flooded scan is sent to every neighbour of every relay (robots × neighbours copies,
+    all counted), but the simulator hands a robot only the copies it would not drop
+    unseen: the Python work per scan grows with the team, not with the team squared."""
+    from swarmex.missions.exploration.messages import ScanMsg
+    from swarmex.missions.exploration.robot import ExplorerRobot
+
+    calls = {"scan": 0}
+    take, on_message = ExplorerRobot.take_scan, ExplorerRobot.on_message
+
+    def counted_take(self, src, rec, t):
+        calls["scan"] += 1
+        return take(self, src, rec, t)
+
+    def counted_on_message(self, src, msg, t):
+        if type(msg) is ScanMsg:
+            calls["scan"] += 1
+        return on_message(self, src, msg, t)
+
+    monkeypatch.setattr(ExplorerRobot, "take_scan", counted_take)
+    monkeypatch.setattr(ExplorerRobot, "on_message", counted_on_message)
+    n = 12
+    rec = swarmex.run("exploration", trace=False, empty="6x6", cell=0.05, robots=n,
+                      laser_range=1.0, comm_range=20.0, seed=2)
+    scans = rec.metrics["moves"] + n  # one scan per move, and one each at the start
+    copies = rec.metrics["messages_by_kind"]["SCAN"]["messages"]
+    assert calls["scan"] <= 1.05 * scans * (n - 1), (calls, scans)
+    assert copies > 5 * calls["scan"], (copies, calls)  # each relay reaches n - 2 others

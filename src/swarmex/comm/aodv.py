@@ -60,10 +60,9 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
-from functools import cached_property
 from typing import Any, ClassVar
 
-from swarmex.comm.message import PackedMessage, packed_size
+from swarmex.comm.message import PackedMessage, once, packed_size
 
 Out = list[tuple[int, Any]]  # (neighbour, message) transmissions
 
@@ -161,7 +160,7 @@ class Routed:
     def to_dict(self) -> dict[str, Any]:
         return self._with(self.payload.to_dict())
 
-    @cached_property
+    @once
     def nbytes(self) -> int:
         # the envelope around a placeholder (None packs to one byte), plus the payload's size
         return packed_size(self._with(None)) - 1 + int(self.payload.nbytes)
@@ -361,9 +360,13 @@ class AodvNode:
             return []
         out: Out = []
         keep: list[Pending] = []
-        for p in self.queue:
-            r = self.route(p.dest, t)
-            if r is None:
+        routes = self.routes
+        for p in self.queue:  # route() inlined: a flood's every RREQ flushes every queue
+            r = routes.get(p.dest)
+            if r is None or not r.valid:
+                keep.append(p)
+            elif r.expires < t:
+                r.valid = False
                 keep.append(p)
             else:
                 self.retry_at.pop(p.dest, None)
@@ -532,6 +535,7 @@ class AodvNode:
                 out += self._discover(dest, t)
         if not self.queue and self.retry_at:
             self.retry_at.clear()
-        if self.seen and len(self.seen) > 64:
-            self.seen = {k: v for k, v in self.seen.items() if v >= t}
+        if self.seen and len(self.seen) > 64 and min(self.seen.values()) < t:
+            self.seen = {k: v for k, v in self.seen.items() if v >= t}  # (rebuilt only if
+            # something expired: the same table, without a dict per tick in a large team)
         return out

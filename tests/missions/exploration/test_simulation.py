@@ -92,3 +92,17 @@ def test_same_seed_same_record(tmp_path):
         assert key in m
     assert m["mean_steps"] == pytest.approx(np.mean(m["steps"]))
     assert all(len(p) == 3 for a_ in d["agents"] for p in a_["trajectory"])
+
+
+def test_run_collects_garbage_less_often_and_restores_the_thresholds():
+    import gc
+
+    import swarmex
+    from swarmex.missions.exploration.sim import GC_YOUNG
+
+    before = gc.get_threshold()
+    during = []
+    swarmex.run("exploration", empty="3x3", robots=2, laser_range=0.8, max_ticks=5,
+                on_frame=lambda frame: during.append(gc.get_threshold()))
+    assert during and all(th[0] >= GC_YOUNG for th in during)
+    assert gc.get_threshold() == before

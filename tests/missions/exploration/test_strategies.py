@@ -110,3 +110,25 @@ def test_priority_conflict_lower_priority_replans_higher_sends_change_goal():
     assert me.request is None
     me.on_message(1, ChangeGoal(1, (150, 22), 3.0), t=9)
     assert me.request == "change_goal"
+
+
+def test_zone_test_through_the_goal_tree_matches_the_pass_per_goal():
+    """Many announced goals go through a k-d tree; the answer must be the brute-force one,
+    boundary cells (squared distance exactly r²) included."""
+    from swarmex.missions.exploration.strategies import ZONE_TREE_FROM, _within
+
+    rng = np.random.default_rng(5)
+    for trial in range(20):
+        cells = [tuple(int(v) for v in c) for c in rng.integers(0, 80, (300, 2))]
+        n_goals = int(rng.integers(ZONE_TREE_FROM, 60))
+        pts = rng.integers(0, 80, (n_goals, 2))
+        goals = {i: (int(g[0]), int(g[1])) for i, g in enumerate(pts)}
+        goals[-1] = (cells[0][0] + 6, cells[0][1] + 8)  # exactly 10 cells: on the boundary
+        ctx = context(cells, list(range(len(cells))))
+        idx = np.arange(len(cells))
+        xs, ys = ctx.frontiers.xs, ctx.frontiers.ys
+        brute = np.array([any((x - gx) ** 2 + (y - gy) ** 2 <= 100.0
+                              for gx, gy in goals.values())
+                          for x, y in zip(xs, ys, strict=True)])
+        got = _within(ctx, idx, goals)
+        assert got[0] and np.array_equal(got, brute), trial

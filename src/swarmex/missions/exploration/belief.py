@@ -46,10 +46,18 @@ class ScanArchive:
         return len(seqs) != seqs[-1] + 1
 
     def summary(self) -> tuple[tuple[int, int, int], ...]:
-        """Runs ``(origin, first, last + 1)`` of consecutive seqs held: NEED_MAP's content."""
+        """Runs ``(origin, first, last + 1)`` of consecutive seqs held: NEED_MAP's content.
+
+        An origin whose seqs have no hole (the usual case) is one run, found from the ends of
+        its sorted list without walking it: a summary costs O(origins + holes), not
+        O(archive), which matters when every new neighbour in a large team asks for one.
+        """
         runs: list[tuple[int, int, int]] = []
         for origin in sorted(self._seqs):
             seqs = self._seqs[origin]
+            if seqs[-1] - seqs[0] + 1 == len(seqs):  # sorted and distinct: no hole
+                runs.append((origin, seqs[0], seqs[-1] + 1))
+                continue
             start = prev = seqs[0]
             for s in seqs[1:]:
                 if s != prev + 1:
@@ -60,12 +68,36 @@ class ScanArchive:
         return tuple(runs)
 
     def missing_for(self, have: tuple[tuple[int, int, int], ...]) -> list[ScanRecord]:
-        """The scans this archive holds that a peer with summary ``have`` lacks, in key order."""
+        """The scans this archive holds that a peer with summary ``have`` lacks, in key order.
+
+        ``have`` is normally a :meth:`summary`: per origin, sorted runs that do not overlap.
+        Then each origin's sorted seqs are cut at the runs' ends by bisection, so the cost is
+        O(runs · log + answer) rather than a pass over the whole archive per request. Any
+        other ``have`` (overlapping runs, from a foreign peer) takes the seq-by-seq rule.
+        """
         runs: dict[int, list[tuple[int, int]]] = {}
         for origin, lo, hi in have:
             runs.setdefault(origin, []).append((lo, hi))
         for spans in runs.values():
             spans.sort()
+        if not all(a[1] <= b[0] for spans in runs.values()
+                   for a, b in zip(spans, spans[1:], strict=False)):
+            return self._missing_slow(runs)
+        scans = self.scans
+        out: list[ScanRecord] = []
+        for origin in sorted(self._seqs):
+            seqs = self._seqs[origin]
+            pos = 0
+            for lo, hi in runs.get(origin, ()):
+                a = bisect.bisect_left(seqs, lo, pos)
+                out.extend(scans[(origin, s)] for s in seqs[pos:a])
+                pos = max(pos, bisect.bisect_left(seqs, hi, a))
+            out.extend(scans[(origin, s)] for s in seqs[pos:])
+        return out
+
+    def _missing_slow(self, runs: dict[int, list[tuple[int, int]]]) -> list[ScanRecord]:
+        """:meth:`missing_for` seq by seq: a seq is held if the last run starting at or below
+        it contains it."""
         out = []
         for key in sorted(self.scans):
             origin, seq = key

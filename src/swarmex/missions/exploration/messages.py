@@ -27,12 +27,12 @@ sender's complete archive, as in the thesis, for a fraction of the bytes).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from functools import cached_property, lru_cache
+from functools import lru_cache
 from typing import Any, ClassVar
 
 import msgpack
 
-from swarmex.comm.message import PackedMessage, packed_size
+from swarmex.comm.message import PackedMessage, once, packed_size
 from swarmex.sensing.occupancy import LocalMap
 
 
@@ -73,7 +73,7 @@ class ScanRecord:
     def from_dict(cls, d: dict) -> ScanRecord:
         return cls(int(d["o"]), int(d["s"]), int(d["x"]), int(d["y"]), LocalMap.from_wire(d))
 
-    @cached_property
+    @once
     def nbytes(self) -> int:
         return packed_size(self.to_dict())
 
@@ -102,7 +102,7 @@ class ScanMsg(Message):
     def body(self) -> dict[str, Any]:
         return {"src": self.src, "scans": [s.to_dict() for s in self.scans]}
 
-    @cached_property
+    @once
     def nbytes(self) -> int:
         # the scans' encodings are cached, so a relay's size costs no re-packing
         scans = self.scans

@@ -281,12 +281,28 @@ class ExplorerRobot:
         out.extend(self._handle(src, src, msg, t))
         return out
 
+    def take_scan(self, src: int, rec: ScanRecord, t: int) -> Out:
+        """:meth:`on_message` for a ``SCAN`` carrying one scan this robot has not seen, from
+        a robot already in its neighbour table: the flood's common case, which a team of n
+        meets n times per scan. The same effects in the same order (accept the key, map
+        the scan, relay it to the other neighbours, ask for a hole in its origin's seqs)
+        without the general path's dispatch; the caller checks the two conditions."""
+        self.mesh.first_time(rec.key)
+        self.belief.integrate(rec)
+        fan = self.mesh.fanout(src)
+        out: Out = [(fan, ScanMsg(self.id, (rec,)))] if len(fan) else []
+        if self.aodv is not None and rec.origin != self.id and \
+                self.belief.archive.has_gap(rec.origin):
+            out.extend(self._ask_for_gaps((rec,), t))
+        return out
+
     def _handle(self, sender: int, via: int | None, msg: Message, t: int) -> Out:
         """An application message from ``sender``, received from neighbour ``via`` (None
         when it came over several hops: then its scans are passed on to every neighbour)."""
         out: Out = []
         if isinstance(msg, ScanMsg):  # SCAN and MAP
-            new = tuple(r for r in msg.scans if self.mesh.first_time(r.key))
+            seen = self.mesh.seen  # (a MAP mostly repeats scans the flood brought)
+            new = tuple(r for r in msg.scans if r.key not in seen and self.mesh.first_time(r.key))
             for r in new:
                 self.belief.integrate(r)
             if new:

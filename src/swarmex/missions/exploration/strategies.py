@@ -92,13 +92,31 @@ def greedy(ctx: GoalContext) -> Cell | None:
     return _nearest(ctx, np.nonzero(ctx.eligible)[0])
 
 
+#: announced goals from which a zone test uses a k-d tree of the goals (below: one pass each)
+ZONE_TREE_FROM = 8
+
+
 def _within(ctx: GoalContext, idx: np.ndarray, goals: dict[int, Cell]) -> np.ndarray:
-    """Which candidates lie within the laser range (a zone) of any of ``goals``."""
-    out = np.zeros(idx.size, dtype=bool)
+    """Which candidates lie within the laser range (a zone) of any of ``goals``.
+
+    With many goals (a large team in radio range) a pass per goal costs O(candidates ×
+    goals) per plan; a k-d tree of the goals finds each candidate's nearest goal instead,
+    and the zone test is then made exactly as before, in integers, against that goal (the
+    nearest goal by float distance has the least squared integer distance: a candidate is
+    in some zone iff it is in its nearest goal's)."""
     r2 = ctx.laser_cells**2
-    for gx, gy in goals.values():
-        out |= (ctx.frontiers.xs[idx] - gx) ** 2 + (ctx.frontiers.ys[idx] - gy) ** 2 <= r2
-    return out
+    xs, ys = ctx.frontiers.xs[idx], ctx.frontiers.ys[idx]
+    if len(goals) < ZONE_TREE_FROM or idx.size == 0:
+        out = np.zeros(idx.size, dtype=bool)
+        for gx, gy in goals.values():
+            out |= (xs - gx) ** 2 + (ys - gy) ** 2 <= r2
+        return out
+    from scipy.spatial import cKDTree
+
+    g = np.array(list(goals.values()), dtype=np.int64)
+    _, near = cKDTree(g).query(np.column_stack((xs, ys)).astype(np.float64))
+    gx, gy = g[near, 0], g[near, 1]
+    return (xs - gx) ** 2 + (ys - gy) ** 2 <= r2
 
 
 def excluded(ctx: GoalContext, idx: np.ndarray) -> np.ndarray:

@@ -147,7 +147,8 @@ class TraversalParams(Params):
     job_time: float = option(10.0, help="Seconds per job.", parse=real(lo=0))
     algorithm: str = option(
         "madgta",
-        help="madgta | madgta+ | madgta-h | nearest | optimal (exact MILP).",
+        help="madgta | madgta+ | madgta-h (mixed fleets: lower sum, longer makespan) | nearest"
+        " | optimal (exact MILP).",
         parse=text(ALGORITHMS),
     )
     objective: str = option(
