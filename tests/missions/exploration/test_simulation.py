@@ -98,7 +98,7 @@ def test_run_collects_garbage_less_often_and_restores_the_thresholds():
     import gc
 
     import swarmex
-    from swarmex.missions.exploration.sim import GC_YOUNG
+    from swarmex.engine.collector import GC_YOUNG
 
     before = gc.get_threshold()
     during = []

@@ -30,9 +30,8 @@ not start at the same instant) comes from one generator seeded by ``seed``.
 from __future__ import annotations
 
 import contextlib
-import gc
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import cast
 
@@ -40,6 +39,7 @@ import numpy as np
 
 from swarmex.comm.aodv import Routed, Rrep
 from swarmex.comm.mesh import Batch, DiscNetwork, Fanout, FloodLedger, bits
+from swarmex.engine.collector import fewer_collections
 from swarmex.missions.base import StopRun
 from swarmex.missions.exploration.messages import ScanMsg
 from swarmex.missions.exploration.params import (
@@ -240,29 +240,6 @@ def build_robots(
         for i in range(params.robots)
     ]
     return robots, tuple(starts), laser
-
-
-# the collector's generation-0 threshold during a run (CPython's default is 700)
-GC_YOUNG = 100_000
-
-
-@contextlib.contextmanager
-def fewer_collections() -> Iterator[None]:
-    """Run the cyclic garbage collector less often while a simulation runs.
-
-    A tick allocates hundreds of thousands of short-lived containers in a large team (a
-    relay message, a fan-out and a batch per robot per scan), and CPython's collector
-    walked the young ones every 700 allocations: 15 % of a 40-robot run's CPU. The run
-    makes no cyclic garbage (a whole 40-robot run leaves none for ``gc.collect()``), so
-    collecting rarely changes nothing but the time; the thresholds are restored after.
-    Process-wide, like every ``gc`` setting: a concurrent run only collects less often.
-    """
-    old = gc.get_threshold()
-    gc.set_threshold(max(old[0], GC_YOUNG), *old[1:])
-    try:
-        yield
-    finally:
-        gc.set_threshold(*old)
 
 
 def run_exploration(

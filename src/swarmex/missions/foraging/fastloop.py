@@ -112,86 +112,93 @@ def _toward(opts: I64, k: int, x: int, y: int, qx: int, qy: int) -> int:
 
 @kernel(cache=True)
 def _resolve(
-    cur: I64, opts: I64, nopt: I64, order: I64, nest_x: int, nest_y: int, choice: I64
-) -> None:
+    cur: I64, opts: I64, nopt: I64, order: I64, nest_x: int, nest_y: int, choice: I64,
+    cells: I64,
+) -> None:  # fmt: skip
+    """Collision resolution (``resolve.resolve``): robots claim their wished cell in
+    ``order``; on a clash one of the two is bumped to its next wish and the pass is played
+    again. The pass before the bumped robot's rank is unchanged by the bump, so it resumes
+    there (claims of later ranks are rolled back) instead of restarting: the same choices as
+    a restart, in O(n) per bump instead of O(n) per bump *and* per claim. ``cells`` (g x g,
+    all -1) maps a claimed cell to its robot and is all -1 again on return."""
     n = cur.shape[0]
     for a in range(n):
         choice[a] = 0
+    rank = np.empty(n, np.int64)
+    for r in range(n):
+        rank[order[r]] = r
     owner_x = np.empty(n, np.int64)
     owner_y = np.empty(n, np.int64)
     owner_a = np.empty(n, np.int64)
-    while True:
-        m = 0
-        bumped = -1
-        for r in range(n):
-            a = order[r]
-            cx = opts[a, choice[a], 0]
-            cy = opts[a, choice[a], 1]
-            if cx == nest_x and cy == nest_y:
-                continue
-            b = -1
-            for j in range(m):
-                if owner_x[j] == cx and owner_y[j] == cy:
-                    b = owner_a[j]
-                    break
-            if b < 0:
-                owner_x[m] = cx
-                owner_y[m] = cy
-                owner_a[m] = a
-                m += 1
-                continue
-            stayer = -1
-            if cx == cur[a, 0] and cy == cur[a, 1]:
-                stayer = a
-            elif cx == cur[b, 0] and cy == cur[b, 1]:
-                stayer = b
-            if stayer >= 0:
-                other = b if stayer == a else a
-                bumped = stayer if choice[stayer] + 1 < nopt[stayer] else other
-            else:
-                bumped = a
-            break
-        if bumped < 0:
-            return
+    m = 0
+    r = 0
+    while r < n:
+        a = order[r]
+        cx = opts[a, choice[a], 0]
+        cy = opts[a, choice[a], 1]
+        if cx == nest_x and cy == nest_y:
+            r += 1
+            continue
+        b = cells[cx, cy]
+        if b < 0:
+            cells[cx, cy] = a
+            owner_x[m] = cx
+            owner_y[m] = cy
+            owner_a[m] = a
+            m += 1
+            r += 1
+            continue
+        stayer = -1
+        if cx == cur[a, 0] and cy == cur[a, 1]:
+            stayer = a
+        elif cx == cur[b, 0] and cy == cur[b, 1]:
+            stayer = b
+        if stayer >= 0:
+            other = b if stayer == a else a
+            bumped = stayer if choice[stayer] + 1 < nopt[stayer] else other
+        else:
+            bumped = a
         choice[bumped] += 1
+        r = rank[bumped]
+        while m > 0 and rank[owner_a[m - 1]] >= r:
+            m -= 1
+            cells[owner_x[m], owner_y[m]] = -1
+    for j in range(m):
+        cells[owner_x[j], owner_y[j]] = -1
 
 
 @kernel(cache=True)
-def _order(cur: I64, opts: I64, out: I64, ranked: Bools) -> None:
+def _order(cur: I64, opts: I64, out: I64, ranked: Bools, cells: I64) -> None:
     """Priority: swap pairs first, then route followers (``ranked``), then larger (x, y),
-    then smaller id (resolve.priority)."""
+    then smaller id (resolve.priority). ``cells`` (g x g, all -1, left so) finds the robot
+    standing on a cell in O(1): the last one by id, as the dict of ``resolve`` keeps it.
+    The key is unique (the id is in it), so one integer per robot sorted by any algorithm
+    gives the order of the tuples."""
     n = cur.shape[0]
-    swap = np.zeros(n, np.bool_)
+    g = cells.shape[0]
+    for c in range(n):
+        cells[cur[c, 0], cur[c, 1]] = c
+    key = np.empty(n, np.int64)
     for a in range(n):
-        b = -1
-        for c in range(n - 1, -1, -1):  # the last robot standing there (a dict's overwrite)
-            if cur[c, 0] == opts[a, 0, 0] and cur[c, 1] == opts[a, 0, 1]:
-                b = c
-                break
-        if b >= 0 and b != a and opts[b, 0, 0] == cur[a, 0] and opts[b, 0, 1] == cur[a, 1]:
-            swap[a] = True
+        b = cells[opts[a, 0, 0], opts[a, 0, 1]]
+        swap = b >= 0 and b != a and opts[b, 0, 0] == cur[a, 0] and opts[b, 0, 1] == cur[a, 1]
+        k = (0 if swap else 1) * 2 + (0 if ranked[a] else 1)
+        key[a] = ((k * g + (g - 1 - cur[a, 0])) * g + (g - 1 - cur[a, 1])) * n + a
+    for c in range(n):
+        cells[cur[c, 0], cur[c, 1]] = -1
+    idx = np.argsort(key)
     for a in range(n):
-        out[a] = a
-    for i in range(1, n):  # insertion sort on the key (not swap, -x, -y, id)
-        j = i
-        while j > 0:
-            p, q = out[j - 1], out[j]
-            kp = (0 if swap[p] else 1, 0 if ranked[p] else 1, -cur[p, 0], -cur[p, 1], p)
-            kq = (0 if swap[q] else 1, 0 if ranked[q] else 1, -cur[q, 0], -cur[q, 1], q)
-            if kq < kp:
-                out[j - 1], out[j] = q, p
-                j -= 1
-            else:
-                break
+        out[a] = idx[a]
 
 
 @kernel(cache=True)
 def _transport_look(
     pos: I64, carrying: Bools, tmode: I64, pidx: I64, join_at: I64, state: I64, path: I64,
     nest: I64, food: I64, relay: bool, jobs: I64, handovers: I64, was: Bools, busy: Bools,
+    cells: I64,
 ) -> None:  # fmt: skip
     """One round's Look (``Mission.transport_look``): join, hand-overs, drops, pick-ups;
-    ``was`` and ``busy`` are scratch arrays of n."""
+    ``was`` and ``busy`` are scratch arrays of n, ``cells`` a g x g one (all -1, left so)."""
     n = pos.shape[0]
     t = state[0]
     if relay:
@@ -204,14 +211,13 @@ def _transport_look(
         for a in range(n):
             was[a] = carrying[a]
             busy[a] = False
+        for c in range(n):  # the last RELAY robot on each cell, as the dict in sim.py
+            if tmode[c] == RELAY:
+                cells[pos[c, 0], pos[c, 1]] = c
         for b in range(n):
             if tmode[b] != RELAY or not was[b] or pidx[b] < 2:
                 continue
-            cx, cy = path[pidx[b] - 1, 0], path[pidx[b] - 1, 1]
-            a = -1
-            for c in range(n):  # the last RELAY robot there, as the dict in sim.py
-                if tmode[c] == RELAY and pos[c, 0] == cx and pos[c, 1] == cy:
-                    a = c
+            a = cells[path[pidx[b] - 1, 0], path[pidx[b] - 1, 1]]
             if a < 0 or was[a] or busy[a] or busy[b]:
                 continue
             carrying[a] = True
@@ -219,6 +225,9 @@ def _transport_look(
             handovers[b] += 1
             busy[a] = True
             busy[b] = True
+        for c in range(n):
+            if tmode[c] == RELAY:
+                cells[pos[c, 0], pos[c, 1]] = -1
     for a in range(n):
         if tmode[a] != RELAY and tmode[a] != E2E:
             continue
@@ -311,14 +320,15 @@ def _transport_options(
 def transport_tail(
     pos: I64, carrying: Bools, tmode: I64, pidx: I64, join_at: I64, state: I64, path: I64,
     path_of: I64, nest: I64, food: I64, relay: bool, history: I64, jobs: I64, handovers: I64,
-    memo: I64,
+    memo: I64, cells: I64,
 ) -> int:  # fmt: skip
     """Play rounds until done or ``history`` is full.
 
     ``state`` = [t, units, delivered, k, n_jobs, rows_written, done]; positions after each
     Look are written to ``history``; jobs as rows (t, agent, kind 0=pickup 1=drop).
     ``memo`` holds the previous round's state after Look, for the frozen-crowd rule of
-    ``Mission.step``.
+    ``Mission.step``; ``cells`` is a g x g scratch grid of -1 (left so), the index that keeps
+    each round O(robots).
     """
     n = pos.shape[0]
     g = path_of.shape[0]
@@ -335,7 +345,7 @@ def transport_tail(
         # ---- Look: join, hand-overs, drops, pick-ups
         _transport_look(
             pos, carrying, tmode, pidx, join_at, state, path, nest, food, relay, jobs,
-            handovers, was, busy,
+            handovers, was, busy, cells,
         )  # fmt: skip
         for a in range(n):
             history[rows, a, 0] = pos[a, 0]
@@ -351,8 +361,8 @@ def transport_tail(
             nopt,
         )  # fmt: skip
         # ---- Move
-        _order(pos, opts, order, unranked)
-        _resolve(pos, opts, nopt, order, nest[0], nest[1], choice)
+        _order(pos, opts, order, unranked, cells)
+        _resolve(pos, opts, nopt, order, nest[0], nest[1], choice, cells)
         for a in range(n):
             nx, ny = opts[a, choice[a], 0], opts[a, choice[a], 1]
             if tmode[a] == RELAY and (nx != pos[a, 0] or ny != pos[a, 1]):
@@ -452,7 +462,7 @@ def _hooked_wishes(
 def hooked_round(
     pos: I64, carrying: Bools, tmode: I64, pidx: I64, join_at: I64, handovers: I64,
     state: I64, path: I64, path_of: I64, nest: I64, food: I64, relay: bool, opts: I64,
-    nopt: I64, builtin: I64, moves: I64, history: I32, jobs: I64, memo: I64,
+    nopt: I64, builtin: I64, moves: I64, history: I32, jobs: I64, memo: I64, cells: I64,
 ) -> int:  # fmt: skip
     """One round of a *hooked* run in the Transportation phase (every robot transports):
     the Move of the pending round with the caller's ``moves`` (when ``state[MOVED]``), then
@@ -482,8 +492,8 @@ def hooked_round(
         _hooked_wishes(pos, opts, nopt, builtin, moves, chosen, nchosen, ranked)
         order = np.empty(n, np.int64)
         choice = np.zeros(n, np.int64)
-        _order(pos, chosen, order, ranked)
-        _resolve(pos, chosen, nchosen, order, nest[0], nest[1], choice)
+        _order(pos, chosen, order, ranked, cells)
+        _resolve(pos, chosen, nchosen, order, nest[0], nest[1], choice, cells)
         for a in range(n):
             nx, ny = chosen[a, choice[a], 0], chosen[a, choice[a], 1]
             if tmode[a] == RELAY and (nx != pos[a, 0] or ny != pos[a, 1]):
@@ -502,7 +512,7 @@ def hooked_round(
     busy = np.zeros(n, np.bool_)
     _transport_look(
         pos, carrying, tmode, pidx, join_at, state, path, nest, food, relay, jobs, handovers,
-        was, busy,
+        was, busy, cells,
     )  # fmt: skip
     row = state[ROW]
     for a in range(n):
@@ -533,7 +543,7 @@ HANDOFF = 4  # explore_round: a robot stands on the food; the Look is the Python
 def explore_round(
     pos: I64, delay: I64, displaced: Bools, state: I64, route: I32, t_end: int, g: int,
     nest: I64, food: I64, opts: I64, nopt: I64, following: Bools, builtin: I64, moves: I64,
-    history: I32,
+    history: I32, cells: I64,
 ) -> int:  # fmt: skip
     """One round of a *hooked* run before anyone knows where the food is (every robot
     explores): the Move of the pending round with the caller's ``moves`` (when
@@ -557,8 +567,8 @@ def explore_round(
         _hooked_wishes(pos, opts, nopt, builtin, moves, chosen, nchosen, ranked)
         order = np.empty(n, np.int64)
         choice = np.zeros(n, np.int64)
-        _order(pos, chosen, order, ranked)
-        _resolve(pos, chosen, nchosen, order, nest[0], nest[1], choice)
+        _order(pos, chosen, order, ranked, cells)
+        _resolve(pos, chosen, nchosen, order, nest[0], nest[1], choice, cells)
         for a in range(n):
             nx, ny = chosen[a, choice[a], 0], chosen[a, choice[a], 1]
             x, y = pos[a, 0], pos[a, 1]

@@ -77,15 +77,20 @@ class ForagingMission(Mission[ForagingParams, ForagingWorld]):
         *,
         trace: bool = True,
     ) -> Outcome:
+        from swarmex.engine.collector import fewer_collections, no_collections
         from swarmex.engine.record import without_trace
         from swarmex.missions.foraging.run import run_forage, to_record
 
         p = params
-        run = run_forage(
-            p.algorithm, p.grid, p.agents, world.food, p.food_units, p.transport,
-            record=trace, on_frame=on_frame, comm=p.comm,
-        )  # fmt: skip
-        record = to_record(run, p.seed, {"food_distance": p.food_distance, "seed": p.seed})
+        # a large swarm's run and record are millions of acyclic lists: the collector's
+        # passes over them grew as their square (1,024 robots: 11.2 -> 6.8 s CPU)
+        with fewer_collections():
+            run = run_forage(
+                p.algorithm, p.grid, p.agents, world.food, p.food_units, p.transport,
+                record=trace, on_frame=on_frame, comm=p.comm,
+            )  # fmt: skip
+        with no_collections():
+            record = to_record(run, p.seed, {"food_distance": p.food_distance, "seed": p.seed})
         if not trace:  # the run kept no per-round positions: a robot's moves are unknown
             record = without_trace(record, derived=("moves",))
         return Outcome(record, run, world)

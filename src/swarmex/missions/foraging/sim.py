@@ -650,11 +650,12 @@ class Mission:
         builtin = np.zeros(n, dtype=np.int64)
         moves = np.zeros(n, dtype=np.int64)
         chunk = self._compiled_rows(record, state)
+        cells = np.full((self.g, self.g), -1, dtype=np.int64)  # the kernels' cell index
         t_end = self.timed.t_end
         while True:
             status = fl.explore_round(
                 pos, delay, displaced, state, route, t_end, g, nest, food, opts, nopt,
-                following, builtin, moves, chunk,
+                following, builtin, moves, chunk, cells,
             )  # fmt: skip
             if status < 0:
                 raise self._bad_move(-status - 1, moves)
@@ -709,11 +710,12 @@ class Mission:
         moves = np.zeros(n, dtype=np.int64)
         memo = fl.transport_memo(self._last_key, n)
         chunk = self._compiled_rows(record, state)
+        cells = np.full((self.g, self.g), -1, dtype=np.int64)  # the kernels' cell index
         synced = 0  # jobs already copied to self.jobs
         while True:
             status = fl.hooked_round(
                 pos, carrying, tmode, pidx, join_at, handovers, state, path, path_of, nest,
-                food, relay, opts, nopt, builtin, moves, chunk, jobs, memo,
+                food, relay, opts, nopt, builtin, moves, chunk, jobs, memo, cells,
             )  # fmt: skip
             if status < 0:
                 raise self._bad_move(-status - 1, moves)
@@ -778,12 +780,13 @@ class Mission:
         relay = self.transport != END_TO_END
         chunk = np.empty((1 if on_frame else 4096, n, 2), dtype=np.int64)
         memo = transport_memo(self._last_key, n)
+        cells = np.full((g, g), -1, dtype=np.int64)
         informed = np.asarray(self.informed, dtype=bool)
         while True:
             t = int(state[0])
             rows = transport_tail(
                 pos, carrying, tmode, pidx, join_at, state, path, path_of, nest, food, relay,
-                chunk, jobs, handovers, memo,
+                chunk, jobs, handovers, memo, cells,
             )  # fmt: skip
             if record:
                 self.tail_chunks.append(chunk[:rows].astype(np.int32))
