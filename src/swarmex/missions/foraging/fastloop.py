@@ -623,3 +623,80 @@ def explore_round(
         nopt[a] = k
         builtin[a] = _move_code(opts[a, 0, 0] - x, opts[a, 0, 1] - y)
     return GOING
+
+
+# ---------------------------------------------------------------- the timetable
+@kernel(cache=True)
+def timetable_rounds(
+    flat: I64, start: I64, depart: I64, explore_from: I64, sync: bool, nest: I64, g: int,
+    idx: I64, cur: I64, arrived: I64, state: I64, history: I32, cells: I64,
+) -> int:  # fmt: skip
+    """Play :func:`~swarmex.missions.foraging.timed.execute`'s rounds (every robot walks its
+    route with no food) until all routes are walked or ``history`` is full; a line-by-line
+    port of that loop, with the same options, priority and resolution as the Python rule.
+
+    Robot ``a``'s route is ``flat[start[a]:start[a + 1]]``; ``idx`` its position on it,
+    ``cur`` its cell, ``arrived`` the round it reached its Start-Cell (-1: not yet).
+    ``state`` = [t, t_sync, done]; the cells after each round go to ``history``. Returns the
+    rows written."""
+    n = cur.shape[0]
+    opts = np.empty((n, MAXOPT, 2), np.int64)
+    nopt = np.zeros(n, np.int64)
+    following = np.zeros(n, np.bool_)
+    order = np.empty(n, np.int64)
+    choice = np.zeros(n, np.int64)
+    rows = 0
+    while rows < history.shape[0]:
+        going = False
+        for a in range(n):
+            if idx[a] < start[a + 1] - start[a] - 1:
+                going = True
+                break
+        if not going:
+            state[2] = 1
+            break
+        t = state[0]
+        for a in range(n):
+            if arrived[a] < 0 and idx[a] >= explore_from[a]:
+                arrived[a] = t
+        if state[1] < 0:
+            everyone = True
+            for a in range(n):
+                if arrived[a] < 0:
+                    everyone = False
+                    break
+            if everyone:
+                state[1] = t
+        for a in range(n):
+            x, y = cur[a, 0], cur[a, 1]
+            opts[a, 0, 0] = x
+            opts[a, 0, 1] = y
+            if idx[a] >= start[a + 1] - start[a] - 1:  # done: stay, else step aside
+                nopt[a] = _sidesteps(opts[a], 1, x, y, g)
+                following[a] = False
+            elif t + 1 < depart[a] or (sync and idx[a] == explore_from[a] and state[1] < 0):
+                nopt[a] = 1  # held in the nest or at the Start-Cell
+                following[a] = True
+            else:
+                nxt = start[a] + idx[a] + 1
+                opts[a, 0, 0] = flat[nxt, 0]
+                opts[a, 0, 1] = flat[nxt, 1]
+                opts[a, 1, 0] = x
+                opts[a, 1, 1] = y
+                nopt[a] = 2
+                following[a] = True
+        _order(cur, opts, order, following, cells)
+        _resolve(cur, opts, nopt, order, nest[0], nest[1], choice, cells)
+        for a in range(n):
+            nx, ny = opts[a, choice[a], 0], opts[a, choice[a], 1]
+            if idx[a] < start[a + 1] - start[a] - 1:
+                nxt = start[a] + idx[a] + 1
+                if nx == flat[nxt, 0] and ny == flat[nxt, 1]:
+                    idx[a] += 1
+            cur[a, 0] = nx
+            cur[a, 1] = ny
+            history[rows, a, 0] = nx
+            history[rows, a, 1] = ny
+        rows += 1
+        state[0] = t + 1
+    return rows

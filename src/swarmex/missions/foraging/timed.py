@@ -35,7 +35,12 @@ class Timed:
         return self.pos[min(t, self.t_end)]
 
 
-def execute(plan: Plan, max_rounds: int | None = None) -> Timed:
+def execute(plan: Plan, max_rounds: int | None = None, *, compiled: bool = True) -> Timed:
+    """The timetable of ``plan``: compiled (:func:`.fastloop.timetable_rounds`, the default)
+    or this module's Python loop, which is the rule as written and the tests' reference
+    (the two give the same table)."""
+    if compiled:
+        return _execute_compiled(plan, max_rounds)
     n, g, nest = plan.n, plan.g, plan.nest
     routes = plan.routes
     idx = [0] * n
@@ -84,6 +89,40 @@ def execute(plan: Plan, max_rounds: int | None = None) -> Timed:
         t_sync = max(arrived)
     pos = np.asarray(history, dtype=np.int32)
     return Timed(plan, pos, t, t_sync, np.asarray(arrived, dtype=np.int64))
+
+
+def _execute_compiled(plan: Plan, max_rounds: int | None) -> Timed:
+    from swarmex.missions.foraging.fastloop import timetable_rounds
+
+    n, g = plan.n, plan.g
+    lengths = np.asarray([len(r) for r in plan.routes], dtype=np.int64)
+    start = np.zeros(n + 1, dtype=np.int64)
+    np.cumsum(lengths, out=start[1:])
+    flat = np.asarray([c for r in plan.routes for c in r], dtype=np.int64).reshape(-1, 2)
+    nest = np.asarray(plan.nest, dtype=np.int64)
+    cur = np.tile(nest, (n, 1))
+    idx = np.zeros(n, dtype=np.int64)
+    arrived = np.full(n, -1, dtype=np.int64)
+    state = np.asarray([0, 0 if not plan.sync else -1, 0], dtype=np.int64)
+    cells = np.full((g, g), -1, dtype=np.int64)
+    limit = max_rounds or 20 * g * g + 1000
+    chunks = [cur[None].astype(np.int32)]
+    rows = max(64, int(lengths.max()) + 1)  # most patterns end within their longest route
+    while not state[2]:
+        history = np.empty((rows, n, 2), dtype=np.int32)
+        done = timetable_rounds(
+            flat, start, np.asarray(plan.depart, dtype=np.int64),
+            np.asarray(plan.explore_from, dtype=np.int64), plan.sync, nest, g, idx, cur,
+            arrived, state, history, cells,
+        )  # fmt: skip
+        chunks.append(history[:done])
+        if state[0] > limit:  # pragma: no cover - a pattern bug, not user input
+            raise RuntimeError(f"{plan.algorithm}: exploration did not finish in {limit} rounds")
+    t = int(state[0])
+    arrived[arrived < 0] = t
+    t_sync = int(state[1]) if state[1] >= 0 else int(arrived.max())
+    pos = np.concatenate(chunks)
+    return Timed(plan, pos, t, t_sync, arrived)
 
 
 @lru_cache(maxsize=32)
