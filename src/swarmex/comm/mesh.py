@@ -218,6 +218,13 @@ class MeshNode:
             self._mask = sum(1 << i for i in ids)
         return Fanout(ids, self._mask, came_from)
 
+    def neighbour_mask(self) -> int:
+        """The neighbour table as a bitmask (bit i = node i), cached until it changes: what
+        a simulator's flood needs of a relay, without building a :class:`Fanout`."""
+        if self._mask < 0:
+            self._mask = sum(1 << i for i in self._ids())
+        return self._mask
+
 
 @dataclass
 class Counters:

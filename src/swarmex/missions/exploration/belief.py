@@ -150,6 +150,17 @@ class ExplorationBelief:
         h = self.heard.setdefault(rid, Heard((-1, -1), -(10**9)))
         h.goal, h.priority, h.goal_t = goal, priority, t
 
+    def hear_all(
+        self, rid: int, pos: Cell, goal: Cell | None, priority: float, t: int
+    ) -> None:
+        """:meth:`hear_position` then :meth:`hear_goal` (a ``GOAL`` message), in one lookup."""
+        h = self.heard.get(rid)
+        if h is None:
+            h = self.heard[rid] = Heard(pos, t)
+        else:
+            h.pos, h.t = pos, t
+        h.goal, h.priority, h.goal_t = goal, priority, t
+
     def forget(self, rid: int) -> None:
         self.heard.pop(rid, None)
 

@@ -287,14 +287,31 @@ class ExplorerRobot:
         meets n times per scan. The same effects in the same order (accept the key, map
         the scan, relay it to the other neighbours, ask for a hole in its origin's seqs)
         without the general path's dispatch; the caller checks the two conditions."""
-        self.mesh.first_time(rec.key)
-        self.belief.integrate(rec)
+        asks = self.accept_scan(rec, t)
         fan = self.mesh.fanout(src)
         out: Out = [(fan, ScanMsg(self.id, (rec,)))] if len(fan) else []
+        out.extend(asks)
+        return out
+
+    def accept_scan(self, rec: ScanRecord, t: int) -> Out:
+        """:meth:`take_scan` without the relay: accept the key, map the scan, and return the
+        ``NEED_MAP`` for a hole in its origin's seqs, if any. The simulator's flood calls it
+        and sends the relay (``ScanMsg`` to ``mesh.fanout(src)``) itself, before these
+        messages, as :meth:`take_scan` orders them: it knows the relay's receivers as a
+        bitmask already, and a relay object per robot per scan was the flood's main cost."""
+        self.mesh.first_time(rec.key)
+        self.belief.integrate(rec)
         if self.aodv is not None and rec.origin != self.id and \
                 self.belief.archive.has_gap(rec.origin):
-            out.extend(self._ask_for_gaps((rec,), t))
-        return out
+            return self._ask_for_gaps((rec,), t)
+        return []
+
+    def take_goal(self, src: int, msg: Goal, t: int) -> Out:
+        """:meth:`on_message` for a ``GOAL`` from a robot already in the neighbour table (every
+        plan sends one to each neighbour): note its position and goal, check for a conflict;
+        the same effects as the general path without its dispatch."""
+        self.belief.hear_all(src, (msg.x, msg.y), msg.goal, msg.priority, t)
+        return self._check_conflict(src, msg.goal, msg.priority, t)
 
     def _handle(self, sender: int, via: int | None, msg: Message, t: int) -> Out:
         """An application message from ``sender``, received from neighbour ``via`` (None

@@ -41,7 +41,7 @@ import numpy as np
 from swarmex.comm.aodv import Routed, Rrep
 from swarmex.comm.mesh import Batch, DiscNetwork, Fanout, FloodLedger, bits
 from swarmex.missions.base import StopRun
-from swarmex.missions.exploration.messages import ScanMsg
+from swarmex.missions.exploration.messages import Goal, ScanMsg, scan_head_size
 from swarmex.missions.exploration.params import (
     Cell,
     ExplorationParams,
@@ -135,6 +135,7 @@ class Wire:
             for key in r.mesh.seen:
                 self.ledger.holders[key] = self.ledger.holders.get(key, 0) | (1 << r.id)
         self.delivered = 0  # copies handed to a robot (the rest were dropped unseen)
+        self.heads = [scan_head_size(r.id) for r in robots]  # a relay's SCAN envelope, bytes
 
     def send(self, src: int, out: Out, t: int | None = None) -> None:
         if t is not None:
@@ -168,31 +169,36 @@ class Wire:
         sent but not handed over (the flood's main cost in Python calls). For a batch the
         ledger finds those receivers with a few bit operations: handing a copy to one
         receiver changes only that receiver, so the batch's mask, computed once, stays right
-        for the receivers after it.
+        for the receivers after it. A new flooded scan from a listed neighbour takes
+        :meth:`_flood`, a ``GOAL`` from one :meth:`ExplorerRobot.take_goal`.
         """
         robots = self.robots
-        ledger = self.ledger
+        holders = self.ledger.holders
+        listeners = self.ledger.listeners
         self.t = t
         for src, dst, msg in self.net.drain_batches():
             if type(dst) is Batch:
                 mask = dst.mask
-                if type(msg) is ScanMsg:
-                    mask &= ~(ledger.have_all(s.key for s in msg.scans)
-                              & ledger.listeners.get(src, 0))
-                    if len(msg.scans) == 1:  # a flooded scan: most receivers take it new
-                        rec = msg.scans[0]
-                        key = rec.key
-                        for d in bits(mask):
-                            self.delivered += 1
-                            r = robots[d]
-                            mesh = r.mesh
-                            if key not in mesh.seen and src in mesh.neighbours:
-                                out = r.take_scan(src, rec, t)
-                            else:
-                                out = r.on_message(src, msg, t)
-                            if out:
-                                self.send(d, out)
+                tm = type(msg)
+                if tm is ScanMsg:
+                    scans = msg.scans
+                    if len(scans) == 1:  # a flooded scan: most receivers take it new
+                        mask &= ~(holders.get(scans[0].key, 0) & listeners.get(src, 0))
+                        if mask:
+                            self._flood(src, mask, cast(ScanMsg, msg), t)
                         continue
+                    mask &= ~(self.ledger.have_all(s.key for s in scans)
+                              & listeners.get(src, 0))
+                elif tm is Goal:
+                    goal = cast(Goal, msg)
+                    for d in bits(mask):
+                        self.delivered += 1
+                        r = robots[d]
+                        out = r.take_goal(src, goal, t) if src in r.mesh.neighbours \
+                            else r.on_message(src, msg, t)
+                        if out:
+                            self.send(d, out)
+                    continue
                 for d in bits(mask):
                     self.delivered += 1
                     self.send(d, robots[d].on_message(src, msg, t))
@@ -205,6 +211,55 @@ class Wire:
                     continue
             self.delivered += 1
             self.send(dst, r.on_message(src, msg, t))
+
+    def _flood(self, src: int, mask: int, msg: ScanMsg, t: int) -> None:
+        """Hand one flooded scan from ``src`` to the robots of ``mask`` (in id order).
+
+        A robot that has not seen the scan and lists ``src`` takes it
+        (:meth:`ExplorerRobot.accept_scan`) and relays it to its other neighbours: the relay
+        is queued and counted here, from the neighbour bitmask, exactly as
+        :meth:`DiscNetwork.unicast_many` counts a :class:`Fanout` (copies to every listed
+        neighbour but ``src``, the ones out of range lost), and before the robot's own
+        messages, as :meth:`ExplorerRobot.take_scan` orders them. Any other receiver takes
+        the general path.
+        """
+        robots = self.robots
+        net = self.net
+        queue = net.queue
+        sent = net.sent
+        heads = self.heads
+        scans = msg.scans
+        rec = scans[0]
+        key = rec.key
+        size = rec.nbytes
+        for d in bits(mask):
+            self.delivered += 1
+            r = robots[d]
+            mesh = r.mesh
+            nb = mesh.neighbours
+            if key in mesh.seen or src not in nb:
+                out = r.on_message(src, msg, t)
+                if out:
+                    self.send(d, out)
+                continue
+            asks = r.accept_scan(rec, t)
+            copies = len(nb) - 1  # every neighbour but src
+            if copies:
+                ok = mesh.neighbour_mask() & ~(1 << src) & net.row_mask(d)
+                nbytes = (heads[d] + size) * copies
+                c = sent[d]
+                c.messages += copies
+                c.bytes += nbytes
+                c.lost += copies - ok.bit_count()
+                row = c.by_kind.get(ScanMsg.kind)
+                if row is None:
+                    row = c.by_kind[ScanMsg.kind] = [0, 0]
+                row[0] += copies
+                row[1] += nbytes
+                if ok:
+                    queue.append((d, Batch(ok), ScanMsg(d, scans)))
+            if asks:
+                self.send(d, asks)
 
 
 def build_robots(
