@@ -133,6 +133,94 @@ def distance_steps(traversable: np.ndarray, x: int, y: int) -> np.ndarray:
 
 
 @kernel(cache=True, nogil=True)
+def _bfs8_until(
+    trav: NDArray[np.bool_], src: int, stride: int, out: NDArray[np.int32],
+    stop: NDArray[np.bool_],
+) -> None:  # pragma: no cover - compiled
+    """:func:`_bfs8` that ends when it takes a ``stop`` cell off the queue.
+
+    Cells leave the queue in order of distance, so when the first stop cell (distance D)
+    leaves it, every cell at distance D - 1 has left too: every cell within D steps holds
+    its exact distance, every other cell -1 or its exact distance (D + 1)."""
+    n = trav.shape[0]
+    for i in range(n):
+        out[i] = -1
+    step = (-stride, stride, -1, 1, -stride - 1, -stride + 1, stride - 1, stride + 1)
+    side_a = (0, 0, 0, 0, -stride, -stride, stride, stride)
+    side_b = (0, 0, 0, 0, -1, 1, -1, 1)
+    q = np.empty(n, dtype=np.int32)
+    out[src] = 0
+    q[0] = src
+    head = 0
+    tail = 1
+    while head < tail:
+        u = q[head]
+        head += 1
+        if stop[u]:
+            return
+        d = out[u] + 1
+        for k in range(8):
+            v = u + step[k]
+            if out[v] >= 0 or not trav[v]:
+                continue
+            if k >= 4 and not (trav[u + side_a[k]] and trav[u + side_b[k]]):
+                continue
+            out[v] = d
+            q[tail] = v
+            tail += 1
+
+
+def padded(traversable: np.ndarray) -> np.ndarray:
+    """``traversable`` with a ring of untraversable cells round it (what the searches walk)."""
+    h, w = traversable.shape
+    out = np.zeros((h + 2, w + 2), dtype=np.bool_)
+    out[1:-1, 1:-1] = traversable
+    return out
+
+
+def distance_until(
+    trav_padded: np.ndarray, x: int, y: int, stop_xs: np.ndarray, stop_ys: np.ndarray
+) -> np.ndarray:
+    """Steps from (x, y) as :func:`distance_steps` gives them, up to the nearest stop cell.
+
+    Exact for every cell no farther than the nearest stop cell (D steps); farther cells
+    hold -1 or their exact distance. Enough to pick the nearest of the stop cells and to
+    walk a path to one at distance D (:func:`path_to_padded`) when a plan needs nothing
+    else from the field: the search visits the cells within D steps instead of the whole
+    known map. Returns the *padded* field ((h + 2, w + 2): cell (x, y) at [y + 1, x + 1]).
+    """
+    hp, stride = trav_padded.shape
+    stop = np.zeros(hp * stride, dtype=np.bool_)
+    stop[(np.asarray(stop_ys, np.int64) + 1) * stride + np.asarray(stop_xs, np.int64) + 1] = True
+    out = np.empty(hp * stride, dtype=np.int32)
+    _bfs8_until(trav_padded.ravel(), (int(y) + 1) * stride + int(x) + 1, stride, out, stop)
+    return out.reshape(hp, stride)
+
+
+def labels4(traversable: np.ndarray) -> np.ndarray:
+    """Connected pieces of the traversable cells (int32, 0 off them).
+
+    4-connected is exact for the robot's moves: a diagonal step needs both cells it squeezes
+    between traversable, and they join its two ends by straight steps already. So a cell is
+    reachable from the robot's cell iff it lies in a piece the robot's cell is in or touches
+    (the robot's own cell may be untraversable: it still leaves it, :func:`distance_steps`)."""
+    from scipy import ndimage  # here: only the planners that use it pay for the import
+
+    lab, _ = ndimage.label(traversable)
+    return np.asarray(lab, dtype=np.int32)
+
+
+def reachable_pieces(traversable: np.ndarray, lab: np.ndarray, x: int, y: int) -> list[int]:
+    """Labels (:func:`labels4`) of the pieces a search from (x, y) reaches."""
+    if traversable[y, x]:
+        return [int(lab[y, x])]
+    h, w = traversable.shape
+    out = {int(lab[y + dy, x + dx]) for dx, dy in ((0, -1), (0, 1), (-1, 0), (1, 0))
+           if 0 <= x + dx < w and 0 <= y + dy < h and traversable[y + dy, x + dx]}
+    return sorted(out)
+
+
+@kernel(cache=True, nogil=True)
 def _descend(
     dist: NDArray[np.integer[Any]], trav: NDArray[np.bool_], gy: int, gx: int, sy: int, sx: int,
     out: NDArray[np.int64],
@@ -171,6 +259,20 @@ def path_to(
     if n > 0:
         _descend(np.ascontiguousarray(dist), np.ascontiguousarray(traversable), int(gy),
                  int(gx), int(sy), int(sx), out)
+    return out
+
+
+def path_to_padded(
+    dist_padded: np.ndarray, trav_padded: np.ndarray, gx: int, gy: int, sx: int, sy: int
+) -> NDArray[np.int64]:
+    """:func:`path_to` on padded arrays (:func:`distance_until`, :func:`padded`): the same
+    cells, without copying an unpadded field first."""
+    n = int(dist_padded[gy + 1, gx + 1])
+    out = np.empty((max(n, 0), 2), dtype=np.int64)
+    if n > 0:
+        _descend(dist_padded, trav_padded, int(gy) + 1, int(gx) + 1, int(sy) + 1,
+                 int(sx) + 1, out)
+        out -= 1
     return out
 
 

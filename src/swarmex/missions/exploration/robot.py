@@ -97,12 +97,17 @@ from swarmex.missions.exploration.messages import (
 )
 from swarmex.missions.exploration.paths import (
     distance_steps,
+    distance_until,
     footprint_clear,
     footprint_offsets,
     inflate,
+    labels4,
+    padded,
     path_to,
+    path_to_padded,
+    reachable_pieces,
 )
-from swarmex.missions.exploration.strategies import GoalContext, Strategy
+from swarmex.missions.exploration.strategies import GoalContext, Strategy, nearest_candidate
 from swarmex.sensing.frontiers import Frontiers, frontiers_of_logodds
 from swarmex.sensing.occupancy import rasterise
 
@@ -111,6 +116,7 @@ RADIO = -1  # destination of a radio broadcast (heartbeats)
 # neighbours, in id order: a flood relay or a GOAL; one entry whatever their number)
 Out = list[tuple[int | Fanout, Message]]
 UNICASTS = (NeedMap, MapMsg, ChangeGoal)  # the messages addressed to one robot
+FAR = np.iinfo(np.int32).max  # steps to a reachable cell a bounded search did not reach
 
 
 @dataclass(frozen=True)
@@ -426,10 +432,18 @@ class ExplorerRobot:
         grid = self.belief.grid
         trav = grid.derived(("traversable", cfg.radius_cells), self._traversable)
         x, y = self.pos
-        dist = distance_steps(trav, x, y)
         fr = grid.derived(("frontiers", cfg.min_region), self._frontiers)
-        d = dist[fr.ys, fr.xs]
-        eligible = (d > 0) & trav[fr.ys, fr.xs]
+        nearest_of = cfg.strategy.candidates
+        if nearest_of is None:  # the strategy may read any distance: the whole field
+            dist = distance_steps(trav, x, y)
+            d = dist[fr.ys, fr.xs]
+            eligible = (d > 0) & trav[fr.ys, fr.xs]
+        else:  # which cells are reachable from the map's pieces (shared per map state)
+            lab = grid.derived(("pieces", cfg.radius_cells), lambda _lo: labels4(trav))
+            pieces = reachable_pieces(trav, lab, x, y)
+            eligible = trav[fr.ys, fr.xs] & np.isin(lab[fr.ys, fr.xs], pieces)
+            eligible &= (fr.xs != x) | (fr.ys != y)
+            d = np.empty(0, dtype=np.int32)  # set below, once the candidates are known
         reach = np.zeros(fr.n_regions, dtype=bool)
         reach[fr.region[eligible]] = True
         self.stats.blacklisted_regions = int(fr.n_regions - reach.sum())
@@ -458,7 +472,21 @@ class ExplorerRobot:
             winners=self._winners(t),
         )
         self.beaten_by.clear()
-        goal = cfg.strategy.choose(ctx) if eligible.any() else None
+        tp: np.ndarray | None = None
+        if nearest_of is None:
+            goal = cfg.strategy.choose(ctx) if eligible.any() else None
+        else:
+            goal = None
+            cand = nearest_of(ctx) if eligible.any() else np.empty(0, dtype=np.int64)
+            if cand.size:
+                # the goal is the nearest candidate: search only as far as the first one
+                tp = grid.derived(("traversable_padded", cfg.radius_cells),
+                                  lambda _lo: padded(trav))
+                dist = distance_until(tp, x, y, fr.xs[cand], fr.ys[cand])
+                d = dist[fr.ys + 1, fr.xs + 1]
+                d[d < 0] = FAR  # reachable (eligible) but beyond the nearest candidate
+                ctx.dist = d
+                goal = nearest_candidate(ctx, cand)
         had_goal = self.goal is not None
         was_finished = self.finished
         self.goal = goal
@@ -472,7 +500,10 @@ class ExplorerRobot:
                 return self._to_neighbours(Goal(self.id, None, 0.0, x, y))
             return []
         self.stats.finished_at = None
-        self.path = path_to(dist, trav, goal[0], goal[1], x, y)
+        if tp is None:
+            self.path = path_to(dist, trav, goal[0], goal[1], x, y)
+        else:
+            self.path = path_to_padded(dist, tp, goal[0], goal[1], x, y)
         self.path_i = 0
         self._record_plan(t, reason)
         self.hold = cfg.plan_pause

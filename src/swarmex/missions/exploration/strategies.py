@@ -124,18 +124,35 @@ def excluded(ctx: GoalContext, idx: np.ndarray) -> np.ndarray:
     return _within(ctx, idx, ctx.team_goals)
 
 
+def greedy_candidates(ctx: GoalContext) -> np.ndarray:
+    """``greedy``'s candidates: every eligible frontier cell."""
+    return np.nonzero(ctx.eligible)[0]
+
+
+def exclusion_candidates(ctx: GoalContext) -> np.ndarray:
+    """``greedy-exclusion``'s candidates: the eligible cells outside every neighbour's zone;
+    if there is none, those outside the zones of the robots that just beat this one
+    (``ctx.winners``, empty unless ``conflict_yield``), and only then all ("prefers")."""
+    idx = np.nonzero(ctx.eligible)[0]
+    free_zone = idx[~excluded(ctx, idx)]
+    if free_zone.size:
+        return free_zone
+    if ctx.winners:
+        yielded = idx[~_within(ctx, idx, ctx.winners)]
+        if yielded.size:
+            return yielded
+    return idx
+
+
 def greedy_exclusion(ctx: GoalContext) -> Cell | None:
     """Nearest candidate outside every neighbour's zone; if there is none, the nearest
     outside the zones of the robots that just beat this one (``ctx.winners``, empty unless
     ``conflict_yield``), and only then the nearest of all ("prefers")."""
-    idx = np.nonzero(ctx.eligible)[0]
-    free_zone = idx[~excluded(ctx, idx)]
-    if free_zone.size:
-        return _nearest(ctx, free_zone)
-    if ctx.winners:
-        yielded = idx[~_within(ctx, idx, ctx.winners)]
-        if yielded.size:
-            return _nearest(ctx, yielded)
+    return _nearest(ctx, exclusion_candidates(ctx))
+
+
+def nearest_candidate(ctx: GoalContext, idx: np.ndarray) -> Cell | None:
+    """The goal a nearest-candidate strategy picks among ``idx`` (:func:`_nearest`)."""
     return _nearest(ctx, idx)
 
 
@@ -252,12 +269,17 @@ class Strategy:
     exclusion: bool = False  # honours neighbours' goals (and so wants GOAL messages)
     priorities: bool = False  # resolves goal conflicts by distance priority / CHANGE_GOAL
     needs_rivals: bool = False  # needs distance fields from neighbours' cells
+    # the goal is the nearest (by steps, ``_nearest``'s ties) of these candidates, which
+    # depend on positions only: a planner then needs distances only up to the nearest one
+    # (ctx.dist unset when it is called)
+    candidates: Callable[[GoalContext], np.ndarray] | None = None
 
 
 STRATEGIES: dict[str, Strategy] = {
-    "greedy": Strategy("greedy", greedy),
+    "greedy": Strategy("greedy", greedy, candidates=greedy_candidates),
     "greedy-exclusion": Strategy(
-        "greedy-exclusion", greedy_exclusion, exclusion=True, priorities=True
+        "greedy-exclusion", greedy_exclusion, exclusion=True, priorities=True,
+        candidates=exclusion_candidates,
     ),
     "utility": Strategy("utility", utility, needs_rivals=True),
     "minpos": Strategy("minpos", minpos, needs_rivals=True),

@@ -1,0 +1,71 @@
+"""The bounded planner search (issue 14 item 2) against the full distance field.
+
+A nearest-candidate strategy's plan searches only up to its nearest candidate
+(:func:`distance_until`) and finds reachable frontier cells from the map's 4-connected
+pieces (:func:`labels4`); both must agree with :func:`distance_steps` wherever the plan
+reads them, on random maps with walls, gaps and an untraversable start.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from swarmex.missions.exploration.paths import (
+    distance_steps,
+    distance_until,
+    labels4,
+    padded,
+    path_to,
+    path_to_padded,
+    reachable_pieces,
+)
+
+
+def _maps() -> list[tuple[np.ndarray, int, int]]:
+    out = []
+    for seed in range(12):
+        rng = np.random.default_rng(seed)
+        h, w = int(rng.integers(5, 40)), int(rng.integers(5, 40))
+        trav = rng.random((h, w)) > float(rng.uniform(0.1, 0.5))
+        x, y = int(rng.integers(0, w)), int(rng.integers(0, h))
+        if seed % 3 == 0:
+            trav[y, x] = False  # a robot inside a freshly inflated zone still leaves it
+        out.append((trav, x, y))
+    return out
+
+
+@pytest.mark.parametrize("case", range(12))
+def test_reachable_pieces_are_what_the_search_reaches(case):
+    trav, x, y = _maps()[case]
+    full = distance_steps(trav, x, y)
+    lab = labels4(trav)
+    pieces = reachable_pieces(trav, lab, x, y)
+    reached = trav & np.isin(lab, pieces)
+    expect = (full >= 0) & trav
+    assert np.array_equal(reached, expect)
+
+
+@pytest.mark.parametrize("case", range(12))
+def test_bounded_search_is_exact_up_to_the_nearest_stop_cell(case):
+    trav, x, y = _maps()[case]
+    full = distance_steps(trav, x, y)
+    rng = np.random.default_rng(100 + case)
+    ys, xs = np.nonzero((full > 0) & trav)
+    if ys.size == 0:
+        pytest.skip("nothing reachable")
+    pick = rng.choice(ys.size, size=min(ys.size, 4), replace=False)
+    sx, sy = xs[pick], ys[pick]
+    tp = padded(trav)
+    dist_p = distance_until(tp, x, y, sx, sy)
+    dist = dist_p[1:-1, 1:-1]
+    near = int(full[sy, sx].min())
+    within = (full >= 0) & (full <= near)
+    assert np.array_equal(dist[within], full[within])
+    other = ~within
+    assert np.all((dist[other] == -1) | (dist[other] == full[other]))
+    for gx, gy in zip(sx, sy, strict=True):
+        if full[gy, gx] == near:
+            a = path_to(full, trav, int(gx), int(gy), x, y)
+            b = path_to_padded(dist_p, tp, int(gx), int(gy), x, y)
+            assert np.array_equal(a, b)
