@@ -13,12 +13,15 @@ import pytest
 
 from swarmex.missions.exploration.paths import (
     distance_steps,
+    distance_toward,
     distance_until,
+    field_padded,
     labels4,
     padded,
     path_to,
     path_to_padded,
     reachable_pieces,
+    steps_via_field,
 )
 
 
@@ -69,3 +72,25 @@ def test_bounded_search_is_exact_up_to_the_nearest_stop_cell(case):
             a = path_to(full, trav, int(gx), int(gy), x, y)
             b = path_to_padded(dist_p, tp, int(gx), int(gy), x, y)
             assert np.array_equal(a, b)
+
+
+@pytest.mark.parametrize("case", range(12))
+def test_fields_from_candidates_give_the_same_steps_and_path(case):
+    """Few candidates: steps read from fields taken at the candidates, and a search along
+    the shortest paths to the goal only, give the full field's steps and path."""
+    trav, x, y = _maps()[case]
+    full = distance_steps(trav, x, y)
+    ys, xs = np.nonzero((full > 0) & trav)
+    if ys.size == 0:
+        pytest.skip("nothing reachable")
+    tp = padded(trav)
+    rng = np.random.default_rng(200 + case)
+    for i in rng.choice(ys.size, size=min(ys.size, 5), replace=False):
+        gx, gy = int(xs[i]), int(ys[i])
+        f = field_padded(tp, gx, gy)
+        steps = steps_via_field(tp, f, x, y)
+        assert steps == full[gy, gx]
+        toward = distance_toward(tp, x, y, f, steps)
+        a = path_to(full, trav, gx, gy, x, y)
+        b = path_to_padded(toward, tp, gx, gy, x, y)
+        assert np.array_equal(a, b)

@@ -170,6 +170,87 @@ def _bfs8_until(
             tail += 1
 
 
+@kernel(cache=True, nogil=True)
+def _bfs8_toward(
+    trav: NDArray[np.bool_], src: int, stride: int, out: NDArray[np.int32],
+    to_goal: NDArray[np.int32], total: int,
+) -> None:  # pragma: no cover - compiled
+    """:func:`_bfs8` through the cells of shortest paths to a goal only: a cell is kept when
+    its distance plus its distance to the goal (``to_goal``) is ``total``."""
+    n = trav.shape[0]
+    for i in range(n):
+        out[i] = -1
+    step = (-stride, stride, -1, 1, -stride - 1, -stride + 1, stride - 1, stride + 1)
+    side_a = (0, 0, 0, 0, -stride, -stride, stride, stride)
+    side_b = (0, 0, 0, 0, -1, 1, -1, 1)
+    q = np.empty(n, dtype=np.int32)
+    out[src] = 0
+    q[0] = src
+    head = 0
+    tail = 1
+    while head < tail:
+        u = q[head]
+        head += 1
+        d = out[u] + 1
+        for k in range(8):
+            v = u + step[k]
+            if out[v] >= 0 or not trav[v]:
+                continue
+            if k >= 4 and not (trav[u + side_a[k]] and trav[u + side_b[k]]):
+                continue
+            g = to_goal[v]
+            if g < 0 or d + g != total:
+                continue
+            out[v] = d
+            q[tail] = v
+            tail += 1
+
+
+def field_padded(trav_padded: np.ndarray, x: int, y: int) -> np.ndarray:
+    """:func:`distance_steps` from (x, y) on a padded grid, padded ((h + 2, w + 2))."""
+    hp, stride = trav_padded.shape
+    out = np.empty(hp * stride, dtype=np.int32)
+    _bfs8(trav_padded.ravel(), (int(y) + 1) * stride + int(x) + 1, stride, out)
+    return out.reshape(hp, stride)
+
+
+def steps_via_field(trav_padded: np.ndarray, field: np.ndarray, x: int, y: int) -> int:
+    """Steps from (x, y) to the source of ``field`` (:func:`field_padded` from a traversable
+    cell), as :func:`distance_steps` from (x, y) counts them; -1 if unreachable.
+
+    Moves are reversible (a diagonal needs the same two cells free both ways), so over
+    traversable cells the distance is symmetric; an untraversable (x, y) is left by one
+    legal step, as the search from it does, and never re-entered."""
+    yy, xx = int(y) + 1, int(x) + 1
+    if trav_padded[yy, xx]:
+        return int(field[yy, xx])
+    best = -1
+    for k in range(8):
+        dy, dx = int(_DY[k]), int(_DX[k])
+        if not trav_padded[yy + dy, xx + dx]:
+            continue
+        if k >= 4 and not (trav_padded[yy + dy, xx] and trav_padded[yy, xx + dx]):
+            continue
+        f = int(field[yy + dy, xx + dx])
+        if f >= 0 and (best < 0 or f + 1 < best):
+            best = f + 1
+    return best
+
+
+def distance_toward(
+    trav_padded: np.ndarray, x: int, y: int, goal_field: np.ndarray, total: int
+) -> np.ndarray:
+    """Padded steps from (x, y), exact on every cell of a shortest path to the goal
+    ``goal_field`` is measured from (``total`` steps away), -1 elsewhere: all that
+    :func:`path_to_padded` reads of a field on its way down from the goal (a cell one step
+    nearer to the robot than a cell of such a path lies on one too)."""
+    hp, stride = trav_padded.shape
+    out = np.empty(hp * stride, dtype=np.int32)
+    _bfs8_toward(trav_padded.ravel(), (int(y) + 1) * stride + int(x) + 1, stride, out,
+                 goal_field.ravel(), int(total))
+    return out.reshape(hp, stride)
+
+
 def padded(traversable: np.ndarray) -> np.ndarray:
     """``traversable`` with a ring of untraversable cells round it (what the searches walk)."""
     h, w = traversable.shape

@@ -97,7 +97,9 @@ from swarmex.missions.exploration.messages import (
 )
 from swarmex.missions.exploration.paths import (
     distance_steps,
+    distance_toward,
     distance_until,
+    field_padded,
     footprint_clear,
     footprint_offsets,
     inflate,
@@ -106,6 +108,7 @@ from swarmex.missions.exploration.paths import (
     path_to,
     path_to_padded,
     reachable_pieces,
+    steps_via_field,
 )
 from swarmex.missions.exploration.strategies import GoalContext, Strategy, nearest_candidate
 from swarmex.sensing.frontiers import Frontiers, frontiers_of_logodds
@@ -117,6 +120,7 @@ RADIO = -1  # destination of a radio broadcast (heartbeats)
 Out = list[tuple[int | Fanout, Message]]
 UNICASTS = (NeedMap, MapMsg, ChangeGoal)  # the messages addressed to one robot
 FAR = np.iinfo(np.int32).max  # steps to a reachable cell a bounded search did not reach
+FIELDS_UP_TO = 8  # candidates up to which a plan uses fields from them (shared per map state)
 
 
 @dataclass(frozen=True)
@@ -478,11 +482,31 @@ class ExplorerRobot:
         else:
             goal = None
             cand = nearest_of(ctx) if eligible.any() else np.empty(0, dtype=np.int64)
+            pad: np.ndarray = grid.derived(("traversable_padded", cfg.radius_cells),
+                                           lambda _lo: padded(trav))
             if cand.size:
+                tp = pad
+            if 0 < cand.size <= FIELDS_UP_TO:
+                # few candidates (the end of a run): fields from them, shared by every
+                # robot whose map is in this state, then a search along shortest paths only
+                d = np.full(fr.n_cells, FAR, dtype=np.int64)
+                got: dict[int, np.ndarray] = {}
+                for i in cand.tolist():
+                    c = (int(fr.xs[i]), int(fr.ys[i]))
+
+                    def from_c(_lo: np.ndarray, c: Cell = c) -> np.ndarray:
+                        return field_padded(pad, *c)
+
+                    got[i] = grid.derived(("field", cfg.radius_cells, c), from_c)
+                    d[i] = steps_via_field(pad, got[i], x, y)
+                ctx.dist = d
+                goal = nearest_candidate(ctx, cand)
+                if goal is not None:
+                    gi = int(cand[(fr.xs[cand] == goal[0]) & (fr.ys[cand] == goal[1])][0])
+                    dist = distance_toward(pad, x, y, got[gi], int(d[gi]))
+            elif cand.size:
                 # the goal is the nearest candidate: search only as far as the first one
-                tp = grid.derived(("traversable_padded", cfg.radius_cells),
-                                  lambda _lo: padded(trav))
-                dist = distance_until(tp, x, y, fr.xs[cand], fr.ys[cand])
+                dist = distance_until(pad, x, y, fr.xs[cand], fr.ys[cand])
                 d = dist[fr.ys + 1, fr.xs + 1]
                 d[d < 0] = FAR  # reachable (eligible) but beyond the nearest candidate
                 ctx.dist = d
