@@ -41,7 +41,7 @@ import numpy as np
 from swarmex.comm.aodv import Routed, Rrep
 from swarmex.comm.mesh import Batch, DiscNetwork, Fanout, FloodLedger, bits
 from swarmex.missions.base import StopRun
-from swarmex.missions.exploration.messages import Goal, ScanMsg, scan_head_size
+from swarmex.missions.exploration.messages import Goal, ScanMsg, ScanRecord, scan_head_size
 from swarmex.missions.exploration.params import (
     Cell,
     ExplorationParams,
@@ -347,8 +347,10 @@ def _run(
     rng = np.random.default_rng(params.seed)
     robots, starts, laser = build_robots(grid, params, rng, routing=params.aodv)
     pool = GridPool()  # every scan comes from this one truth: grids in one state are one
+    store: dict[tuple[int, int], ScanRecord] = {}  # a key names one scan: one record each
     for r in robots:
         r.belief.grid.share(pool)
+        r.belief.archive.share(store)
     n = len(robots)
     net = DiscNetwork(n, params.comm_range)
     run = ExplorationRun(
