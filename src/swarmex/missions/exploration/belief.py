@@ -17,6 +17,9 @@ from swarmex.sensing.occupancy import OccupancyGrid
 Cell = tuple[int, int]
 
 
+HELD, ADDED, ADDED_GAP = 0, 1, 2  # what ScanArchive.admit did
+
+
 class ScanArchive:
     """Every scan a robot knows (own and received), by key ``(origin, seq)``.
 
@@ -52,8 +55,14 @@ class ScanArchive:
         return i < len(seqs) and seqs[i] == key[1]
 
     def add(self, rec: ScanRecord) -> bool:
-        """Archive ``rec``; False if its key was held. A team of n adds every scan n times,
-        and scans mostly come in seq order: appended without a search."""
+        """Archive ``rec``; False if its key was held."""
+        return self.admit(rec) != HELD
+
+    def admit(self, rec: ScanRecord) -> int:
+        """:meth:`add`, telling the caller :meth:`has_gap` of the scan's origin too:
+        ``HELD`` (nothing added), ``ADDED``, or ``ADDED_GAP`` (added, and some seq of that
+        origin below its highest is missing). A team of n adds every scan n times, and scans
+        mostly come in seq order: appended without a search, the gap read off the list."""
         seq = rec.seq
         seqs = self._seqs.get(rec.origin)
         if seqs is None:
@@ -63,14 +72,16 @@ class ScanArchive:
         else:
             i = bisect.bisect_left(seqs, seq)
             if i < len(seqs) and seqs[i] == seq:
-                return False
+                return HELD
             seqs.insert(i, seq)
         self._n += 1
         if self._shared:
             self.scans.setdefault(rec.key, rec)
         else:
             self.scans[rec.key] = rec
-        return True
+        if seqs is None:
+            return ADDED if seq == 0 else ADDED_GAP
+        return ADDED if len(seqs) == seqs[-1] + 1 else ADDED_GAP
 
     def has_gap(self, origin: int) -> bool:
         """True if some seq of ``origin`` below the highest one held is missing (an

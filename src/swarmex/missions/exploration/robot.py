@@ -84,7 +84,7 @@ import numpy as np
 
 from swarmex.comm.aodv import AodvMessage, AodvNode, AodvTiming, Routed
 from swarmex.comm.mesh import Fanout, MeshNode
-from swarmex.missions.exploration.belief import Cell, ExplorationBelief
+from swarmex.missions.exploration.belief import ADDED_GAP, HELD, Cell, ExplorationBelief
 from swarmex.missions.exploration.messages import (
     ChangeGoal,
     Goal,
@@ -310,9 +310,12 @@ class ExplorerRobot:
         messages, as :meth:`take_scan` orders them: it knows the relay's receivers as a
         bitmask already, and a relay object per robot per scan was the flood's main cost."""
         self.mesh.first_time(rec.key)
-        self.belief.integrate(rec)
-        if self.aodv is not None and rec.origin != self.id and \
-                self.belief.archive.has_gap(rec.origin):
+        belief = self.belief
+        got = belief.archive.admit(rec)  # belief.integrate, and has_gap read on the way
+        if got != HELD:
+            belief.grid.apply(rec.local)
+        if self.aodv is not None and rec.origin != self.id and (
+                got == ADDED_GAP if got != HELD else belief.archive.has_gap(rec.origin)):
             return self._ask_for_gaps((rec,), t)
         return []
 

@@ -221,23 +221,26 @@ class Wire:
         :meth:`DiscNetwork.unicast_many` counts a :class:`Fanout` (copies to every listed
         neighbour but ``src``, the ones out of range lost), and before the robot's own
         messages, as :meth:`ExplorerRobot.take_scan` orders them. Any other receiver takes
-        the general path.
+        the general path. The relay is ``msg`` itself: a receiver reads the scans and the
+        queue entry's sender, never the message's ``src`` field (which keeps naming the
+        first sender), and its size is counted here (``heads``), not read from it.
         """
         robots = self.robots
         net = self.net
         queue = net.queue
         sent = net.sent
         heads = self.heads
-        scans = msg.scans
-        rec = scans[0]
-        key = rec.key
+        rec = msg.scans[0]
         size = rec.nbytes
+        # who has seen the scan: a receiver's own bit changes only when it takes it, so the
+        # mask read once is right for each receiver of the loop (``key in mesh.seen``)
+        seen = self.ledger.holders.get(rec.key, 0)
         for d in bits(mask):
             self.delivered += 1
             r = robots[d]
             mesh = r.mesh
             nb = mesh.neighbours
-            if key in mesh.seen or src not in nb:
+            if seen >> d & 1 or src not in nb:
                 out = r.on_message(src, msg, t)
                 if out:
                     self.send(d, out)
@@ -256,8 +259,8 @@ class Wire:
                     row = c.by_kind[ScanMsg.kind] = [0, 0]
                 row[0] += copies
                 row[1] += nbytes
-                if ok:
-                    queue.append((d, Batch(ok), ScanMsg(d, scans)))
+                if ok:  # the relay: the same scan, from d (the queue names the sender)
+                    queue.append((d, Batch(ok), msg))
             if asks:
                 self.send(d, asks)
 
