@@ -221,10 +221,13 @@ class Wire:
         :meth:`DiscNetwork.unicast_many` counts a :class:`Fanout` (copies to every listed
         neighbour but ``src``, the ones out of range lost), and before the robot's own
         messages, as :meth:`ExplorerRobot.take_scan` orders them. Any other receiver takes
-        the general path. Relays are queued by :meth:`_queue_relays`.
+        the general path. The relay is ``msg`` itself: a receiver reads the scans and the
+        queue entry's sender, never the message's ``src`` field (which keeps naming the
+        first sender), and its size is counted here (``heads``), not read from it.
         """
         robots = self.robots
         net = self.net
+        queue = net.queue
         sent = net.sent
         heads = self.heads
         rec = msg.scans[0]
@@ -232,7 +235,6 @@ class Wire:
         # who has seen the scan: a receiver's own bit changes only when it takes it, so the
         # mask read once is right for each receiver of the loop (``key in mesh.seen``)
         seen = self.ledger.holders.get(rec.key, 0)
-        relays: list[tuple[int, int]] = []  # (relay, receivers) not queued yet
         for d in bits(mask):
             self.delivered += 1
             r = robots[d]
@@ -241,8 +243,6 @@ class Wire:
             if seen >> d & 1 or src not in nb:
                 out = r.on_message(src, msg, t)
                 if out:
-                    if relays:
-                        self._queue_relays(relays, msg)
                     self.send(d, out)
                 continue
             asks = r.accept_scan(rec, t)
@@ -259,37 +259,10 @@ class Wire:
                     row = c.by_kind[ScanMsg.kind] = [0, 0]
                 row[0] += copies
                 row[1] += nbytes
-                if ok:
-                    relays.append((d, ok))
+                if ok:  # the relay: the same scan, from d (the queue names the sender)
+                    queue.append((d, Batch(ok), msg))
             if asks:
-                if relays:
-                    self._queue_relays(relays, msg)
                 self.send(d, asks)
-        if relays:
-            self._queue_relays(relays, msg)
-
-    def _queue_relays(self, relays: list[tuple[int, int]], msg: ScanMsg) -> None:
-        """Queue the relays of a flooded scan that may still reach someone, in order.
-
-        When a relay is drained, the receivers that have seen the scan and list the relay
-        are dropped (:meth:`settle`); within one delivery loop neither set shrinks (``seen``
-        grows, neighbour tables only gain entries until the next housekeeping), so a relay
-        whose every receiver is dropped now would be dropped then, to no effect: it is not
-        queued. In a clique that is every relay of a scan once the origin's batch is
-        through. The relays wait in ``relays`` while the loop hands the scan to the
-        batch's other receivers (so more of them are seen) and are queued before any
-        other message the loop sends, keeping the queue's order. The relay is ``msg``
-        itself: a receiver reads the scans and the queue entry's sender, never the
-        message's ``src`` field (which keeps naming the first sender), and its size was
-        counted by :meth:`_flood` (``heads``), not read from it.
-        """
-        holders = self.ledger.holders.get(msg.scans[0].key, 0)
-        listeners = self.ledger.listeners
-        queue = self.net.queue
-        for d, ok in relays:
-            if ok & ~(holders & listeners.get(d, 0)):
-                queue.append((d, Batch(ok), msg))
-        relays.clear()
 
 
 def build_robots(
