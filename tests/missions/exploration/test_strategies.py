@@ -113,9 +113,9 @@ def test_priority_conflict_lower_priority_replans_higher_sends_change_goal():
 
 
 def test_zone_test_through_the_sorted_goals_matches_the_pass_per_goal():
-    """Many announced goals are tried by column window (goals sorted by column); the answer
-    must be the brute-force one,
-    boundary cells (squared distance exactly r²) included."""
+    """Many announced goals are tried in a window of columns (goals sorted by column); the
+    answer must be the brute-force one, boundary cells (squared distance exactly r²)
+    included."""
     from swarmex.missions.exploration.strategies import ZONE_TREE_FROM, _within
 
     rng = np.random.default_rng(5)
