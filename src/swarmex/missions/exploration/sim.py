@@ -128,12 +128,10 @@ class Wire:
         self.t = 0
         self.ledger = FloodLedger()
         for r in robots:
-            r.mesh.ledger = self.ledger
+            r.mesh.use_ledger(self.ledger)  # seen keys: one bitmask per key for the team
             for n in r.mesh.neighbours:  # robots built with neighbours already
                 lst = self.ledger.listeners
                 lst[n] = lst.get(n, 0) | (1 << r.id)
-            for key in r.mesh.seen:
-                self.ledger.holders[key] = self.ledger.holders.get(key, 0) | (1 << r.id)
         self.delivered = 0  # copies handed to a robot (the rest were dropped unseen)
         self.heads = [scan_head_size(r.id) for r in robots]  # a relay's SCAN envelope, bytes
 
