@@ -306,7 +306,8 @@ class Strategy:
     needs_rivals: bool = False  # needs distance fields from neighbours' cells
     # the goal is the nearest (by steps, ``_nearest``'s ties) of these candidates, which
     # depend on positions only: a planner then needs distances only up to the nearest one
-    # (ctx.dist unset when it is called)
+    # (ctx.dist unset when it is called) and does not call ``choose``; a copy that
+    # replaces ``choose`` must set this to None
     candidates: Callable[[GoalContext], np.ndarray] | None = None
 
 
