@@ -94,3 +94,22 @@ def test_fields_from_candidates_give_the_same_steps_and_path(case):
         a = path_to(full, trav, gx, gy, x, y)
         b = path_to_padded(toward, tp, gx, gy, x, y)
         assert np.array_equal(a, b)
+
+
+def test_sharers_counts_the_grids_in_one_state():
+    """Fields from candidates are cached on a map state only when at least as many robots
+    share it (``OccupancyGrid.sharers``): grids of a pool that merged the same local maps
+    are one state, a grid with another map is its own."""
+    from swarmex.sensing.occupancy import GridPool, LocalMap, OccupancyGrid
+
+    pool = GridPool()
+    grids = [OccupancyGrid((8, 8), pool) for _ in range(3)]
+    local = LocalMap(0, 0, np.ones((2, 2), dtype=bool), np.zeros((2, 2), dtype=bool))
+    other = LocalMap(4, 4, np.ones((2, 2), dtype=bool), np.zeros((2, 2), dtype=bool))
+    for g in grids:
+        g.apply(local)
+    grids[2].apply(other)
+    for g in grids:  # grids merge lazily: a state counts the grids that reached it
+        g.logodds  # noqa: B018
+    assert [g.sharers for g in grids] == [2, 2, 1]
+    assert OccupancyGrid((8, 8)).sharers == 1

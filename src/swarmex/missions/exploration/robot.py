@@ -489,9 +489,11 @@ class ExplorerRobot:
                                            lambda _lo: padded(trav))
             if cand.size:
                 tp = pad
-            if 0 < cand.size <= FIELDS_UP_TO:
+            if 0 < cand.size <= min(FIELDS_UP_TO, grid.sharers):
                 # few candidates (the end of a run): fields from them, shared by every
                 # robot whose map is in this state, then a search along shortest paths only
+                # (a field per candidate pays when at least as many robots share the map;
+                # it also bounds the fields kept to about one per robot)
                 d = np.full(fr.n_cells, FAR, dtype=np.int64)
                 got: dict[int, np.ndarray] = {}
                 for i in cand.tolist():
