@@ -153,18 +153,18 @@ def test_exploration_flood_hands_each_scan_to_each_robot_about_once(monkeypatch)
     from swarmex.missions.exploration.robot import ExplorerRobot
 
     calls = {"scan": 0}
-    take, on_message = ExplorerRobot.take_scan, ExplorerRobot.on_message
+    take, on_message = ExplorerRobot.accept_scan, ExplorerRobot.on_message
 
-    def counted_take(self, src, rec, t):
+    def counted_take(self, rec, t):  # the simulator's flood hands new scans over here
         calls["scan"] += 1
-        return take(self, src, rec, t)
+        return take(self, rec, t)
 
     def counted_on_message(self, src, msg, t):
         if type(msg) is ScanMsg:
             calls["scan"] += 1
         return on_message(self, src, msg, t)
 
-    monkeypatch.setattr(ExplorerRobot, "take_scan", counted_take)
+    monkeypatch.setattr(ExplorerRobot, "accept_scan", counted_take)
     monkeypatch.setattr(ExplorerRobot, "on_message", counted_on_message)
     n = 12
     rec = swarmex.run("exploration", trace=False, empty="6x6", cell=0.05, robots=n,

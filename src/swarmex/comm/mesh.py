@@ -139,6 +139,35 @@ class FloodLedger:
         return out if out >= 0 else 0
 
 
+class LedgerSeen:
+    """A node's seen flood keys kept as its bit in a :class:`FloodLedger`'s ``holders``.
+
+    In a simulated team of n nodes that all see every key, n sets of every key cost n
+    entries per key, cold in memory at every first sight; the ledger keeps one bitmask per
+    key already. A node reads and adds its keys there instead (:meth:`MeshNode.use_ledger`),
+    through the same ``in`` / ``add`` a set offers."""
+
+    __slots__ = ("bit", "holders")
+
+    def __init__(self, ledger: FloodLedger, node: int) -> None:
+        self.holders = ledger.holders
+        self.bit = 1 << node
+
+    def __contains__(self, key: object) -> bool:
+        return bool(self.holders.get(key, 0) & self.bit)  # type: ignore[call-overload]
+
+    def add(self, key: tuple[int, int]) -> None:
+        h = self.holders
+        h[key] = h.get(key, 0) | self.bit
+
+    def __iter__(self) -> Iterator[tuple[int, int]]:
+        bit = self.bit
+        return (k for k, m in self.holders.items() if m & bit)
+
+    def __len__(self) -> int:
+        return sum(1 for _ in self)
+
+
 @dataclass
 class MeshNode:
     """One robot's mesh protocol state (time in any unit, used consistently)."""
@@ -148,7 +177,7 @@ class MeshNode:
     timeout: float = 30.0
     phase: float = 0.0  # first heartbeat time
     neighbours: dict[int, float] = field(default_factory=dict)  # id -> last heard
-    seen: set[tuple[int, int]] = field(default_factory=set)
+    seen: set[tuple[int, int]] | LedgerSeen = field(default_factory=set)
     ledger: FloodLedger | None = field(default=None, repr=False, compare=False)
     _sorted: tuple[int, ...] | None = field(default=None, repr=False)
     _mask: int = field(default=-1, repr=False)
@@ -189,11 +218,29 @@ class MeshNode:
             self._changed()
         return gone
 
+    def use_ledger(self, ledger: FloodLedger) -> None:
+        """Report to ``ledger`` and keep the seen keys there (:class:`LedgerSeen`): a
+        simulator's team, whose ledger indexes every node's keys anyway."""
+        self.ledger = ledger
+        h = ledger.holders
+        bit = 1 << self.id
+        for key in self.seen:
+            h[key] = h.get(key, 0) | bit
+        self.seen = LedgerSeen(ledger, self.id)
+
     def first_time(self, key: tuple[int, int]) -> bool:
         """Flood de-duplication: True (and remember the key) the first time a key is seen."""
-        if key in self.seen:
+        seen = self.seen
+        if type(seen) is LedgerSeen:
+            h = seen.holders
+            m = h.get(key, 0)
+            if m & seen.bit:
+                return False
+            h[key] = m | seen.bit
+            return True
+        if key in seen:
             return False
-        self.seen.add(key)
+        seen.add(key)
         if self.ledger is not None:
             h = self.ledger.holders
             h[key] = h.get(key, 0) | (1 << self.id)
@@ -217,6 +264,13 @@ class MeshNode:
         if self._mask < 0 and self.ledger is not None:  # only a simulator needs the mask
             self._mask = sum(1 << i for i in ids)
         return Fanout(ids, self._mask, came_from)
+
+    def neighbour_mask(self) -> int:
+        """The neighbour table as a bitmask (bit i = node i), cached until it changes: what
+        a simulator's flood needs of a relay, without building a :class:`Fanout`."""
+        if self._mask < 0:
+            self._mask = sum(1 << i for i in self._ids())
+        return self._mask
 
 
 @dataclass

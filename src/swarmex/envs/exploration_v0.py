@@ -204,8 +204,10 @@ class ExplorationEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray],
                 live.run = r
                 cfg = r.robots[0].cfg
                 # the robots keep their strategy's flags (exclusion, priorities, rivals);
-                # only its choice is asked of the environment's caller
-                asked = replace(cfg, strategy=replace(cfg.strategy, choose=ask))
+                # only its choice is asked of the environment's caller (with the whole
+                # distance field: no nearest-candidate shortcut, ``candidates``)
+                asked = replace(cfg, strategy=replace(cfg.strategy, choose=ask,
+                                                      candidates=None))
                 for robot in r.robots:
                     robot.cfg = asked
 

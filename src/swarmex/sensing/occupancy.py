@@ -311,6 +311,15 @@ class OccupancyGrid:
         return self._logodds
 
     @property
+    def sharers(self) -> int:
+        """Grids in this grid's current state (itself included; 1 without a pool): how many
+        robots a result cached with :meth:`derived` now would serve. Grids merge lazily, so
+        a grid that was given the same maps but not read since is not counted yet."""
+        if self._pending:
+            self._flush()
+        return self._state.users if self._state is not None else 1
+
+    @property
     def pending(self) -> int:
         """Local maps given but not added yet."""
         return len(self._pending)

@@ -112,9 +112,10 @@ def test_priority_conflict_lower_priority_replans_higher_sends_change_goal():
     assert me.request == "change_goal"
 
 
-def test_zone_test_through_the_goal_tree_matches_the_pass_per_goal():
-    """Many announced goals go through a k-d tree; the answer must be the brute-force one,
-    boundary cells (squared distance exactly r²) included."""
+def test_zone_test_through_the_sorted_goals_matches_the_pass_per_goal():
+    """Many announced goals are tried in a window of columns (goals sorted by column); the
+    answer must be the brute-force one, boundary cells (squared distance exactly r²)
+    included."""
     from swarmex.missions.exploration.strategies import ZONE_TREE_FROM, _within
 
     rng = np.random.default_rng(5)

@@ -17,25 +17,71 @@ from swarmex.sensing.occupancy import OccupancyGrid
 Cell = tuple[int, int]
 
 
+HELD, ADDED, ADDED_GAP = 0, 1, 2  # what ScanArchive.admit did
+
+
 class ScanArchive:
-    """Every scan a robot knows (own and received), by key ``(origin, seq)``."""
+    """Every scan a robot knows (own and received), by key ``(origin, seq)``.
+
+    What the archive holds is its sorted seqs per origin; the records themselves are looked
+    up in :attr:`scans`, a dict of its own or — in a simulated team, :meth:`share` — one
+    dict for the whole team. A key names one scan whoever holds it, so the team's dict maps
+    it to the same record every archive would: n robots that all hear every scan keep one
+    entry per scan rather than n (a 100-robot run's archives held 7 M entries), and adding
+    a scan in seq order is a list append.
+    """
 
     def __init__(self) -> None:
         self.scans: dict[tuple[int, int], ScanRecord] = {}
         self._seqs: dict[int, list[int]] = {}  # origin -> sorted seqs held
+        self._n = 0  # keys held
+        self._shared = False
+
+    def share(self, store: dict[tuple[int, int], ScanRecord]) -> None:
+        """Look records up in ``store``, a team's dict (before anything was added)."""
+        if self._n:
+            raise ValueError("an archive shares a store before it holds anything")
+        self.scans = store
+        self._shared = True
 
     def __len__(self) -> int:
-        return len(self.scans)
+        return self._n
 
     def __contains__(self, key: tuple[int, int]) -> bool:
-        return key in self.scans
+        seqs = self._seqs.get(key[0])
+        if not seqs:
+            return False
+        i = bisect.bisect_left(seqs, key[1])
+        return i < len(seqs) and seqs[i] == key[1]
 
     def add(self, rec: ScanRecord) -> bool:
-        if rec.key in self.scans:
-            return False
-        self.scans[rec.key] = rec
-        bisect.insort(self._seqs.setdefault(rec.origin, []), rec.seq)
-        return True
+        """Archive ``rec``; False if its key was held."""
+        return self.admit(rec) != HELD
+
+    def admit(self, rec: ScanRecord) -> int:
+        """:meth:`add`, telling the caller :meth:`has_gap` of the scan's origin too:
+        ``HELD`` (nothing added), ``ADDED``, or ``ADDED_GAP`` (added, and some seq of that
+        origin below its highest is missing). A team of n adds every scan n times, and scans
+        mostly come in seq order: appended without a search, the gap read off the list."""
+        seq = rec.seq
+        seqs = self._seqs.get(rec.origin)
+        if seqs is None:
+            self._seqs[rec.origin] = [seq]
+        elif seqs[-1] < seq:
+            seqs.append(seq)
+        else:
+            i = bisect.bisect_left(seqs, seq)
+            if i < len(seqs) and seqs[i] == seq:
+                return HELD
+            seqs.insert(i, seq)
+        self._n += 1
+        if self._shared:
+            self.scans.setdefault(rec.key, rec)
+        else:
+            self.scans[rec.key] = rec
+        if seqs is None:
+            return ADDED if seq == 0 else ADDED_GAP
+        return ADDED if len(seqs) == seqs[-1] + 1 else ADDED_GAP
 
     def has_gap(self, origin: int) -> bool:
         """True if some seq of ``origin`` below the highest one held is missing (an
@@ -99,14 +145,14 @@ class ScanArchive:
         """:meth:`missing_for` seq by seq: a seq is held if the last run starting at or below
         it contains it."""
         out = []
-        for key in sorted(self.scans):
-            origin, seq = key
+        for origin in sorted(self._seqs):
             r = runs.get(origin)
-            if r:
-                i = bisect.bisect_right(r, (seq, float("inf"))) - 1
-                if i >= 0 and r[i][0] <= seq < r[i][1]:
-                    continue
-            out.append(self.scans[key])
+            for seq in self._seqs[origin]:
+                if r:
+                    i = bisect.bisect_right(r, (seq, float("inf"))) - 1
+                    if i >= 0 and r[i][0] <= seq < r[i][1]:
+                        continue
+                out.append(self.scans[(origin, seq)])
         return out
 
 
@@ -148,6 +194,17 @@ class ExplorationBelief:
 
     def hear_goal(self, rid: int, goal: Cell | None, priority: float, t: int) -> None:
         h = self.heard.setdefault(rid, Heard((-1, -1), -(10**9)))
+        h.goal, h.priority, h.goal_t = goal, priority, t
+
+    def hear_all(
+        self, rid: int, pos: Cell, goal: Cell | None, priority: float, t: int
+    ) -> None:
+        """:meth:`hear_position` then :meth:`hear_goal` (a ``GOAL`` message), in one lookup."""
+        h = self.heard.get(rid)
+        if h is None:
+            h = self.heard[rid] = Heard(pos, t)
+        else:
+            h.pos, h.t = pos, t
         h.goal, h.priority, h.goal_t = goal, priority, t
 
     def forget(self, rid: int) -> None:

@@ -48,6 +48,13 @@ def _head_size(kind: str, src: int) -> int:
     return packed_size({"type": kind, "src": src, "scans": []})
 
 
+def scan_head_size(src: int) -> int:
+    """Bytes of a ``SCAN`` from ``src`` beyond its scans' own: ``ScanMsg(src, (rec,)).nbytes``
+    is ``scan_head_size(src) + rec.nbytes`` (how a flood relay is counted without sizing each
+    relay message)."""
+    return _head_size(ScanMsg.kind, src)
+
+
 @dataclass(eq=False)
 class ScanRecord:
     """One archived scan: who took it, its number, where from, and its local map."""

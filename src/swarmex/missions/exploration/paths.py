@@ -23,6 +23,7 @@ robot", builds a graph from the grid and runs "a search algorithm" (§3.1); whic
 from __future__ import annotations
 
 import math
+import threading
 from functools import lru_cache
 from typing import Any
 
@@ -133,6 +134,202 @@ def distance_steps(traversable: np.ndarray, x: int, y: int) -> np.ndarray:
 
 
 @kernel(cache=True, nogil=True)
+def _bfs8_until(
+    trav: NDArray[np.bool_], src: int, stride: int, out: NDArray[np.int32],
+    stop: NDArray[np.bool_], q: NDArray[np.int32],
+) -> None:  # pragma: no cover - compiled
+    """:func:`_bfs8` that ends when it takes a ``stop`` cell off the queue.
+
+    Cells leave the queue in order of distance, so when the first stop cell (distance D)
+    leaves it, every cell at distance D - 1 has left too: every cell within D steps holds
+    its exact distance, every other cell -1 or its exact distance (D + 1)."""
+    n = trav.shape[0]
+    for i in range(n):
+        out[i] = -1
+    step = (-stride, stride, -1, 1, -stride - 1, -stride + 1, stride - 1, stride + 1)
+    side_a = (0, 0, 0, 0, -stride, -stride, stride, stride)
+    side_b = (0, 0, 0, 0, -1, 1, -1, 1)
+    out[src] = 0
+    q[0] = src
+    head = 0
+    tail = 1
+    while head < tail:
+        u = q[head]
+        head += 1
+        if stop[u]:
+            return
+        d = out[u] + 1
+        for k in range(8):
+            v = u + step[k]
+            if out[v] >= 0 or not trav[v]:
+                continue
+            if k >= 4 and not (trav[u + side_a[k]] and trav[u + side_b[k]]):
+                continue
+            out[v] = d
+            q[tail] = v
+            tail += 1
+
+
+@kernel(cache=True, nogil=True)
+def _bfs8_toward(
+    trav: NDArray[np.bool_], src: int, stride: int, out: NDArray[np.int32],
+    to_goal: NDArray[np.int32], total: int, q: NDArray[np.int32],
+) -> None:  # pragma: no cover - compiled
+    """:func:`_bfs8` through the cells of shortest paths to a goal only: a cell is kept when
+    its distance plus its distance to the goal (``to_goal``) is ``total``."""
+    n = trav.shape[0]
+    for i in range(n):
+        out[i] = -1
+    step = (-stride, stride, -1, 1, -stride - 1, -stride + 1, stride - 1, stride + 1)
+    side_a = (0, 0, 0, 0, -stride, -stride, stride, stride)
+    side_b = (0, 0, 0, 0, -1, 1, -1, 1)
+    out[src] = 0
+    q[0] = src
+    head = 0
+    tail = 1
+    while head < tail:
+        u = q[head]
+        head += 1
+        d = out[u] + 1
+        for k in range(8):
+            v = u + step[k]
+            if out[v] >= 0 or not trav[v]:
+                continue
+            if k >= 4 and not (trav[u + side_a[k]] and trav[u + side_b[k]]):
+                continue
+            g = to_goal[v]
+            if g < 0 or d + g != total:
+                continue
+            out[v] = d
+            q[tail] = v
+            tail += 1
+
+
+def field_padded(trav_padded: np.ndarray, x: int, y: int) -> np.ndarray:
+    """:func:`distance_steps` from (x, y) on a padded grid, padded ((h + 2, w + 2))."""
+    hp, stride = trav_padded.shape
+    n = hp * stride
+    out = np.empty(n, dtype=np.int32)  # kept (a map state's shared field): not a scratch one
+    _bfs8_until(trav_padded.ravel(), (int(y) + 1) * stride + int(x) + 1, stride, out,
+                _scratch("stop", n, np.bool_), _scratch("queue", n, np.int32))  # no stop cell
+    return out.reshape(hp, stride)
+
+
+def steps_via_field(trav_padded: np.ndarray, field: np.ndarray, x: int, y: int) -> int:
+    """Steps from (x, y) to the source of ``field`` (:func:`field_padded` from a traversable
+    cell), as :func:`distance_steps` from (x, y) counts them; -1 if unreachable.
+
+    Moves are reversible (a diagonal needs the same two cells free both ways), so over
+    traversable cells the distance is symmetric; an untraversable (x, y) is left by one
+    legal step, as the search from it does, and never re-entered."""
+    yy, xx = int(y) + 1, int(x) + 1
+    if trav_padded[yy, xx]:
+        return int(field[yy, xx])
+    best = -1
+    for k in range(8):
+        dy, dx = int(_DY[k]), int(_DX[k])
+        if not trav_padded[yy + dy, xx + dx]:
+            continue
+        if k >= 4 and not (trav_padded[yy + dy, xx] and trav_padded[yy, xx + dx]):
+            continue
+        f = int(field[yy + dy, xx + dx])
+        if f >= 0 and (best < 0 or f + 1 < best):
+            best = f + 1
+    return best
+
+
+def distance_toward(
+    trav_padded: np.ndarray, x: int, y: int, goal_field: np.ndarray, total: int
+) -> np.ndarray:
+    """Padded steps from (x, y), exact on every cell of a shortest path to the goal
+    ``goal_field`` is measured from (``total`` steps away), -1 elsewhere: all that
+    :func:`path_to_padded` reads of a field on its way down from the goal (a cell one step
+    nearer to the robot than a cell of such a path lies on one too). In a buffer this
+    thread reuses at its next call, like :func:`distance_until`'s."""
+    hp, stride = trav_padded.shape
+    n = hp * stride
+    out = _scratch("toward", n, np.int32)
+    _bfs8_toward(trav_padded.ravel(), (int(y) + 1) * stride + int(x) + 1, stride, out,
+                 goal_field.ravel(), int(total), _scratch("queue", n, np.int32))
+    return out.reshape(hp, stride)
+
+
+_SCRATCH = threading.local()
+
+
+def _scratch(name: str, n: int, dtype: Any) -> np.ndarray:
+    """This thread's reusable buffer ``name`` of ``n`` items (zeroed when first made).
+
+    A plan's searches need arrays as large as the map; allocated afresh, a few megabytes
+    come back from the allocator as new pages, and touching them cost more than a short
+    search itself (about 0.6 ms per plan on 800 × 800 cells)."""
+    bufs: dict[str, np.ndarray] | None = getattr(_SCRATCH, "bufs", None)
+    if bufs is None:
+        bufs = _SCRATCH.bufs = {}
+    buf = bufs.get(name)
+    if buf is None or buf.shape[0] != n or buf.dtype != dtype:
+        buf = bufs[name] = np.zeros(n, dtype=dtype)
+    return buf
+
+
+def padded(traversable: np.ndarray) -> np.ndarray:
+    """``traversable`` with a ring of untraversable cells round it (what the searches walk)."""
+    h, w = traversable.shape
+    out = np.zeros((h + 2, w + 2), dtype=np.bool_)
+    out[1:-1, 1:-1] = traversable
+    return out
+
+
+def distance_until(
+    trav_padded: np.ndarray, x: int, y: int, stop_xs: np.ndarray, stop_ys: np.ndarray
+) -> np.ndarray:
+    """Steps from (x, y) as :func:`distance_steps` gives them, up to the nearest stop cell.
+
+    Exact for every cell no farther than the nearest stop cell (D steps); farther cells
+    hold -1 or their exact distance. Enough to pick the nearest of the stop cells and to
+    walk a path to one at distance D (:func:`path_to_padded`) when a plan needs nothing
+    else from the field: the search visits the cells within D steps instead of the whole
+    known map. Returns the *padded* field ((h + 2, w + 2): cell (x, y) at [y + 1, x + 1]),
+    in a buffer this thread reuses at its next call: read it (or copy it) before then.
+    """
+    hp, stride = trav_padded.shape
+    n = hp * stride
+    stop = _scratch("stop", n, np.bool_)  # all False between calls
+    cells = (np.asarray(stop_ys, np.int64) + 1) * stride + np.asarray(stop_xs, np.int64) + 1
+    stop[cells] = True
+    out = _scratch("until", n, np.int32)
+    try:
+        _bfs8_until(trav_padded.ravel(), (int(y) + 1) * stride + int(x) + 1, stride, out, stop,
+                    _scratch("queue", n, np.int32))
+    finally:
+        stop[cells] = False
+    return out.reshape(hp, stride)
+
+
+def labels4(traversable: np.ndarray) -> np.ndarray:
+    """Connected pieces of the traversable cells (int32, 0 off them).
+
+    4-connected is exact for the robot's moves: a diagonal step needs both cells it squeezes
+    between traversable, and they join its two ends by straight steps already. So a cell is
+    reachable from the robot's cell iff it lies in a piece the robot's cell is in or touches
+    (the robot's own cell may be untraversable: it still leaves it, :func:`distance_steps`)."""
+    from scipy import ndimage  # here: only the planners that use it pay for the import
+
+    lab, _ = ndimage.label(traversable)
+    return np.asarray(lab, dtype=np.int32)
+
+
+def reachable_pieces(traversable: np.ndarray, lab: np.ndarray, x: int, y: int) -> list[int]:
+    """Labels (:func:`labels4`) of the pieces a search from (x, y) reaches."""
+    if traversable[y, x]:
+        return [int(lab[y, x])]
+    h, w = traversable.shape
+    out = {int(lab[y + dy, x + dx]) for dx, dy in ((0, -1), (0, 1), (-1, 0), (1, 0))
+           if 0 <= x + dx < w and 0 <= y + dy < h and traversable[y + dy, x + dx]}
+    return sorted(out)
+
+
+@kernel(cache=True, nogil=True)
 def _descend(
     dist: NDArray[np.integer[Any]], trav: NDArray[np.bool_], gy: int, gx: int, sy: int, sx: int,
     out: NDArray[np.int64],
@@ -171,6 +368,20 @@ def path_to(
     if n > 0:
         _descend(np.ascontiguousarray(dist), np.ascontiguousarray(traversable), int(gy),
                  int(gx), int(sy), int(sx), out)
+    return out
+
+
+def path_to_padded(
+    dist_padded: np.ndarray, trav_padded: np.ndarray, gx: int, gy: int, sx: int, sy: int
+) -> NDArray[np.int64]:
+    """:func:`path_to` on padded arrays (:func:`distance_until`, :func:`padded`): the same
+    cells, without copying an unpadded field first."""
+    n = int(dist_padded[gy + 1, gx + 1])
+    out = np.empty((max(n, 0), 2), dtype=np.int64)
+    if n > 0:
+        _descend(dist_padded, trav_padded, int(gy) + 1, int(gx) + 1, int(sy) + 1,
+                 int(sx) + 1, out)
+        out -= 1
     return out
 
 

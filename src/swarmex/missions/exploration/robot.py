@@ -84,7 +84,7 @@ import numpy as np
 
 from swarmex.comm.aodv import AodvMessage, AodvNode, AodvTiming, Routed
 from swarmex.comm.mesh import Fanout, MeshNode
-from swarmex.missions.exploration.belief import Cell, ExplorationBelief
+from swarmex.missions.exploration.belief import ADDED_GAP, HELD, Cell, ExplorationBelief
 from swarmex.missions.exploration.messages import (
     ChangeGoal,
     Goal,
@@ -97,12 +97,20 @@ from swarmex.missions.exploration.messages import (
 )
 from swarmex.missions.exploration.paths import (
     distance_steps,
+    distance_toward,
+    distance_until,
+    field_padded,
     footprint_clear,
     footprint_offsets,
     inflate,
+    labels4,
+    padded,
     path_to,
+    path_to_padded,
+    reachable_pieces,
+    steps_via_field,
 )
-from swarmex.missions.exploration.strategies import GoalContext, Strategy
+from swarmex.missions.exploration.strategies import GoalContext, Strategy, nearest_candidate
 from swarmex.sensing.frontiers import Frontiers, frontiers_of_logodds
 from swarmex.sensing.occupancy import rasterise
 
@@ -111,6 +119,8 @@ RADIO = -1  # destination of a radio broadcast (heartbeats)
 # neighbours, in id order: a flood relay or a GOAL; one entry whatever their number)
 Out = list[tuple[int | Fanout, Message]]
 UNICASTS = (NeedMap, MapMsg, ChangeGoal)  # the messages addressed to one robot
+FAR = np.iinfo(np.int32).max  # steps to a reachable cell a bounded search did not reach
+FIELDS_UP_TO = 8  # candidates up to which a plan uses fields from them (shared per map state)
 
 
 @dataclass(frozen=True)
@@ -287,14 +297,34 @@ class ExplorerRobot:
         meets n times per scan. The same effects in the same order (accept the key, map
         the scan, relay it to the other neighbours, ask for a hole in its origin's seqs)
         without the general path's dispatch; the caller checks the two conditions."""
-        self.mesh.first_time(rec.key)
-        self.belief.integrate(rec)
+        asks = self.accept_scan(rec, t)
         fan = self.mesh.fanout(src)
         out: Out = [(fan, ScanMsg(self.id, (rec,)))] if len(fan) else []
-        if self.aodv is not None and rec.origin != self.id and \
-                self.belief.archive.has_gap(rec.origin):
-            out.extend(self._ask_for_gaps((rec,), t))
+        out.extend(asks)
         return out
+
+    def accept_scan(self, rec: ScanRecord, t: int) -> Out:
+        """:meth:`take_scan` without the relay: accept the key, map the scan, and return the
+        ``NEED_MAP`` for a hole in its origin's seqs, if any. The simulator's flood calls it
+        and sends the relay (``ScanMsg`` to ``mesh.fanout(src)``) itself, before these
+        messages, as :meth:`take_scan` orders them: it knows the relay's receivers as a
+        bitmask already, and a relay object per robot per scan was the flood's main cost."""
+        self.mesh.first_time(rec.key)
+        belief = self.belief
+        got = belief.archive.admit(rec)  # belief.integrate, and has_gap read on the way
+        if got != HELD:
+            belief.grid.apply(rec.local)
+        if self.aodv is not None and rec.origin != self.id and (
+                got == ADDED_GAP if got != HELD else belief.archive.has_gap(rec.origin)):
+            return self._ask_for_gaps((rec,), t)
+        return []
+
+    def take_goal(self, src: int, msg: Goal, t: int) -> Out:
+        """:meth:`on_message` for a ``GOAL`` from a robot already in the neighbour table (every
+        plan sends one to each neighbour): note its position and goal, check for a conflict;
+        the same effects as the general path without its dispatch."""
+        self.belief.hear_all(src, (msg.x, msg.y), msg.goal, msg.priority, t)
+        return self._check_conflict(src, msg.goal, msg.priority, t)
 
     def _handle(self, sender: int, via: int | None, msg: Message, t: int) -> Out:
         """An application message from ``sender``, received from neighbour ``via`` (None
@@ -409,10 +439,18 @@ class ExplorerRobot:
         grid = self.belief.grid
         trav = grid.derived(("traversable", cfg.radius_cells), self._traversable)
         x, y = self.pos
-        dist = distance_steps(trav, x, y)
         fr = grid.derived(("frontiers", cfg.min_region), self._frontiers)
-        d = dist[fr.ys, fr.xs]
-        eligible = (d > 0) & trav[fr.ys, fr.xs]
+        nearest_of = cfg.strategy.candidates
+        if nearest_of is None:  # the strategy may read any distance: the whole field
+            dist = distance_steps(trav, x, y)
+            d = dist[fr.ys, fr.xs]
+            eligible = (d > 0) & trav[fr.ys, fr.xs]
+        else:  # which cells are reachable from the map's pieces (shared per map state)
+            lab = grid.derived(("pieces", cfg.radius_cells), lambda _lo: labels4(trav))
+            pieces = reachable_pieces(trav, lab, x, y)
+            eligible = trav[fr.ys, fr.xs] & np.isin(lab[fr.ys, fr.xs], pieces)
+            eligible &= (fr.xs != x) | (fr.ys != y)
+            d = np.empty(0, dtype=np.int32)  # set below, once the candidates are known
         reach = np.zeros(fr.n_regions, dtype=bool)
         reach[fr.region[eligible]] = True
         self.stats.blacklisted_regions = int(fr.n_regions - reach.sum())
@@ -441,7 +479,43 @@ class ExplorerRobot:
             winners=self._winners(t),
         )
         self.beaten_by.clear()
-        goal = cfg.strategy.choose(ctx) if eligible.any() else None
+        tp: np.ndarray | None = None
+        if nearest_of is None:
+            goal = cfg.strategy.choose(ctx) if eligible.any() else None
+        else:
+            goal = None
+            cand = nearest_of(ctx) if eligible.any() else np.empty(0, dtype=np.int64)
+            pad: np.ndarray = grid.derived(("traversable_padded", cfg.radius_cells),
+                                           lambda _lo: padded(trav))
+            if cand.size:
+                tp = pad
+            if 0 < cand.size <= min(FIELDS_UP_TO, grid.sharers):
+                # few candidates (the end of a run): fields from them, shared by every
+                # robot whose map is in this state, then a search along shortest paths only
+                # (a field per candidate pays when at least as many robots share the map;
+                # it also bounds the fields kept to about one per robot)
+                d = np.full(fr.n_cells, FAR, dtype=np.int64)
+                got: dict[int, np.ndarray] = {}
+                for i in cand.tolist():
+                    c = (int(fr.xs[i]), int(fr.ys[i]))
+
+                    def from_c(_lo: np.ndarray, c: Cell = c) -> np.ndarray:
+                        return field_padded(pad, *c)
+
+                    got[i] = grid.derived(("field", cfg.radius_cells, c), from_c)
+                    d[i] = steps_via_field(pad, got[i], x, y)
+                ctx.dist = d
+                goal = nearest_candidate(ctx, cand)
+                if goal is not None:
+                    gi = int(cand[(fr.xs[cand] == goal[0]) & (fr.ys[cand] == goal[1])][0])
+                    dist = distance_toward(pad, x, y, got[gi], int(d[gi]))
+            elif cand.size:
+                # the goal is the nearest candidate: search only as far as the first one
+                dist = distance_until(pad, x, y, fr.xs[cand], fr.ys[cand])
+                d = dist[fr.ys + 1, fr.xs + 1]
+                d[d < 0] = FAR  # reachable (eligible) but beyond the nearest candidate
+                ctx.dist = d
+                goal = nearest_candidate(ctx, cand)
         had_goal = self.goal is not None
         was_finished = self.finished
         self.goal = goal
@@ -455,7 +529,10 @@ class ExplorerRobot:
                 return self._to_neighbours(Goal(self.id, None, 0.0, x, y))
             return []
         self.stats.finished_at = None
-        self.path = path_to(dist, trav, goal[0], goal[1], x, y)
+        if tp is None:
+            self.path = path_to(dist, trav, goal[0], goal[1], x, y)
+        else:
+            self.path = path_to_padded(dist, tp, goal[0], goal[1], x, y)
         self.path_i = 0
         self._record_plan(t, reason)
         self.hold = cfg.plan_pause

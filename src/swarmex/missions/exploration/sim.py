@@ -41,7 +41,7 @@ from swarmex.comm.aodv import Routed, Rrep
 from swarmex.comm.mesh import Batch, DiscNetwork, Fanout, FloodLedger, bits
 from swarmex.engine.collector import fewer_collections
 from swarmex.missions.base import StopRun
-from swarmex.missions.exploration.messages import ScanMsg
+from swarmex.missions.exploration.messages import Goal, ScanMsg, ScanRecord, scan_head_size
 from swarmex.missions.exploration.params import (
     Cell,
     ExplorationParams,
@@ -128,13 +128,12 @@ class Wire:
         self.t = 0
         self.ledger = FloodLedger()
         for r in robots:
-            r.mesh.ledger = self.ledger
+            r.mesh.use_ledger(self.ledger)  # seen keys: one bitmask per key for the team
             for n in r.mesh.neighbours:  # robots built with neighbours already
                 lst = self.ledger.listeners
                 lst[n] = lst.get(n, 0) | (1 << r.id)
-            for key in r.mesh.seen:
-                self.ledger.holders[key] = self.ledger.holders.get(key, 0) | (1 << r.id)
         self.delivered = 0  # copies handed to a robot (the rest were dropped unseen)
+        self.heads = [scan_head_size(r.id) for r in robots]  # a relay's SCAN envelope, bytes
 
     def send(self, src: int, out: Out, t: int | None = None) -> None:
         if t is not None:
@@ -168,31 +167,36 @@ class Wire:
         sent but not handed over (the flood's main cost in Python calls). For a batch the
         ledger finds those receivers with a few bit operations: handing a copy to one
         receiver changes only that receiver, so the batch's mask, computed once, stays right
-        for the receivers after it.
+        for the receivers after it. A new flooded scan from a listed neighbour takes
+        :meth:`_flood`, a ``GOAL`` from one :meth:`ExplorerRobot.take_goal`.
         """
         robots = self.robots
-        ledger = self.ledger
+        holders = self.ledger.holders
+        listeners = self.ledger.listeners
         self.t = t
         for src, dst, msg in self.net.drain_batches():
             if type(dst) is Batch:
                 mask = dst.mask
-                if type(msg) is ScanMsg:
-                    mask &= ~(ledger.have_all(s.key for s in msg.scans)
-                              & ledger.listeners.get(src, 0))
-                    if len(msg.scans) == 1:  # a flooded scan: most receivers take it new
-                        rec = msg.scans[0]
-                        key = rec.key
-                        for d in bits(mask):
-                            self.delivered += 1
-                            r = robots[d]
-                            mesh = r.mesh
-                            if key not in mesh.seen and src in mesh.neighbours:
-                                out = r.take_scan(src, rec, t)
-                            else:
-                                out = r.on_message(src, msg, t)
-                            if out:
-                                self.send(d, out)
+                tm = type(msg)
+                if tm is ScanMsg:
+                    scans = msg.scans
+                    if len(scans) == 1:  # a flooded scan: most receivers take it new
+                        mask &= ~(holders.get(scans[0].key, 0) & listeners.get(src, 0))
+                        if mask:
+                            self._flood(src, mask, cast(ScanMsg, msg), t)
                         continue
+                    mask &= ~(self.ledger.have_all(s.key for s in scans)
+                              & listeners.get(src, 0))
+                elif tm is Goal:
+                    goal = cast(Goal, msg)
+                    for d in bits(mask):
+                        self.delivered += 1
+                        r = robots[d]
+                        out = r.take_goal(src, goal, t) if src in r.mesh.neighbours \
+                            else r.on_message(src, msg, t)
+                        if out:
+                            self.send(d, out)
+                    continue
                 for d in bits(mask):
                     self.delivered += 1
                     self.send(d, robots[d].on_message(src, msg, t))
@@ -205,6 +209,58 @@ class Wire:
                     continue
             self.delivered += 1
             self.send(dst, r.on_message(src, msg, t))
+
+    def _flood(self, src: int, mask: int, msg: ScanMsg, t: int) -> None:
+        """Hand one flooded scan from ``src`` to the robots of ``mask`` (in id order).
+
+        A robot that has not seen the scan and lists ``src`` takes it
+        (:meth:`ExplorerRobot.accept_scan`) and relays it to its other neighbours: the relay
+        is queued and counted here, from the neighbour bitmask, exactly as
+        :meth:`DiscNetwork.unicast_many` counts a :class:`Fanout` (copies to every listed
+        neighbour but ``src``, the ones out of range lost), and before the robot's own
+        messages, as :meth:`ExplorerRobot.take_scan` orders them. Any other receiver takes
+        the general path. The relay is ``msg`` itself: a receiver reads the scans and the
+        queue entry's sender, never the message's ``src`` field (which keeps naming the
+        first sender), and its size is counted here (``heads``), not read from it.
+        """
+        robots = self.robots
+        net = self.net
+        queue = net.queue
+        sent = net.sent
+        heads = self.heads
+        rec = msg.scans[0]
+        size = rec.nbytes
+        # who has seen the scan: a receiver's own bit changes only when it takes it, so the
+        # mask read once is right for each receiver of the loop (``key in mesh.seen``)
+        seen = self.ledger.holders.get(rec.key, 0)
+        for d in bits(mask):
+            self.delivered += 1
+            r = robots[d]
+            mesh = r.mesh
+            nb = mesh.neighbours
+            if seen >> d & 1 or src not in nb:
+                out = r.on_message(src, msg, t)
+                if out:
+                    self.send(d, out)
+                continue
+            asks = r.accept_scan(rec, t)
+            copies = len(nb) - 1  # every neighbour but src
+            if copies:
+                ok = mesh.neighbour_mask() & ~(1 << src) & net.row_mask(d)
+                nbytes = (heads[d] + size) * copies
+                c = sent[d]
+                c.messages += copies
+                c.bytes += nbytes
+                c.lost += copies - ok.bit_count()
+                row = c.by_kind.get(ScanMsg.kind)
+                if row is None:
+                    row = c.by_kind[ScanMsg.kind] = [0, 0]
+                row[0] += copies
+                row[1] += nbytes
+                if ok:  # the relay: the same scan, from d (the queue names the sender)
+                    queue.append((d, Batch(ok), msg))
+            if asks:
+                self.send(d, asks)
 
 
 def build_robots(
@@ -269,8 +325,10 @@ def _run(
     rng = np.random.default_rng(params.seed)
     robots, starts, laser = build_robots(grid, params, rng, routing=params.aodv)
     pool = GridPool()  # every scan comes from this one truth: grids in one state are one
+    store: dict[tuple[int, int], ScanRecord] = {}  # a key names one scan: one record each
     for r in robots:
         r.belief.grid.share(pool)
+        r.belief.archive.share(store)
     n = len(robots)
     net = DiscNetwork(n, params.comm_range)
     run = ExplorationRun(

@@ -43,11 +43,14 @@ of the map this robot does not know is simply not a rival for any target.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
+from numpy.typing import NDArray
 
+from swarmex._kernels import kernel
 from swarmex.errors import InputError
 from swarmex.sensing.frontiers import Frontiers, chunk_targets
 
@@ -92,18 +95,48 @@ def greedy(ctx: GoalContext) -> Cell | None:
     return _nearest(ctx, np.nonzero(ctx.eligible)[0])
 
 
-#: announced goals from which a zone test uses a k-d tree of the goals (below: one pass each)
+#: announced goals from which a zone test uses the goals sorted by column (below: one pass
+#: over the candidates per goal)
 ZONE_TREE_FROM = 8
+
+
+@kernel(cache=True, nogil=True)
+def _in_zones(
+    xs: NDArray[np.int64], ys: NDArray[np.int64], gxs: NDArray[np.int64],
+    gys: NDArray[np.int64], r2: float, reach: int, out: NDArray[np.bool_],
+) -> None:  # pragma: no cover - compiled
+    """``out[i]``: candidate i is within ``r2`` (squared cells) of some goal; goals sorted
+    by column, and only those within ``reach`` columns of the candidate are tried."""
+    m = gxs.shape[0]
+    for i in range(xs.shape[0]):
+        x = xs[i]
+        y = ys[i]
+        lo = 0
+        hi = m
+        while lo < hi:  # the first goal at column >= x - reach
+            mid = (lo + hi) // 2
+            if gxs[mid] < x - reach:
+                lo = mid + 1
+            else:
+                hi = mid
+        hit = False
+        j = lo
+        while j < m and gxs[j] <= x + reach:
+            dx = x - gxs[j]
+            dy = y - gys[j]
+            if dx * dx + dy * dy <= r2:
+                hit = True
+                break
+            j += 1
+        out[i] = hit
 
 
 def _within(ctx: GoalContext, idx: np.ndarray, goals: dict[int, Cell]) -> np.ndarray:
     """Which candidates lie within the laser range (a zone) of any of ``goals``.
 
     With many goals (a large team in radio range) a pass per goal costs O(candidates ×
-    goals) per plan; a k-d tree of the goals finds each candidate's nearest goal instead,
-    and the zone test is then made exactly as before, in integers, against that goal (the
-    nearest goal by float distance has the least squared integer distance: a candidate is
-    in some zone iff it is in its nearest goal's)."""
+    goals) per plan; with the goals sorted by column, each candidate is tested (exactly as
+    before, in integers) against the goals within the laser range of its column only."""
     r2 = ctx.laser_cells**2
     xs, ys = ctx.frontiers.xs[idx], ctx.frontiers.ys[idx]
     if len(goals) < ZONE_TREE_FROM or idx.size == 0:
@@ -111,12 +144,14 @@ def _within(ctx: GoalContext, idx: np.ndarray, goals: dict[int, Cell]) -> np.nda
         for gx, gy in goals.values():
             out |= (xs - gx) ** 2 + (ys - gy) ** 2 <= r2
         return out
-    from scipy.spatial import cKDTree
-
     g = np.array(list(goals.values()), dtype=np.int64)
-    _, near = cKDTree(g).query(np.column_stack((xs, ys)).astype(np.float64))
-    gx, gy = g[near, 0], g[near, 1]
-    return (xs - gx) ** 2 + (ys - gy) ** 2 <= r2
+    g = g[np.argsort(g[:, 0], kind="stable")]
+    out = np.empty(idx.size, dtype=bool)
+    reach = math.isqrt(math.floor(r2)) + 1  # |dx| beyond this cannot be within r2
+    _in_zones(np.ascontiguousarray(xs, dtype=np.int64), np.ascontiguousarray(ys, dtype=np.int64),
+              np.ascontiguousarray(g[:, 0]), np.ascontiguousarray(g[:, 1]), float(r2), reach,
+              out)
+    return out
 
 
 def excluded(ctx: GoalContext, idx: np.ndarray) -> np.ndarray:
@@ -124,18 +159,35 @@ def excluded(ctx: GoalContext, idx: np.ndarray) -> np.ndarray:
     return _within(ctx, idx, ctx.team_goals)
 
 
+def greedy_candidates(ctx: GoalContext) -> np.ndarray:
+    """``greedy``'s candidates: every eligible frontier cell."""
+    return np.nonzero(ctx.eligible)[0]
+
+
+def exclusion_candidates(ctx: GoalContext) -> np.ndarray:
+    """``greedy-exclusion``'s candidates: the eligible cells outside every neighbour's zone;
+    if there is none, those outside the zones of the robots that just beat this one
+    (``ctx.winners``, empty unless ``conflict_yield``), and only then all ("prefers")."""
+    idx = np.nonzero(ctx.eligible)[0]
+    free_zone = idx[~excluded(ctx, idx)]
+    if free_zone.size:
+        return free_zone
+    if ctx.winners:
+        yielded = idx[~_within(ctx, idx, ctx.winners)]
+        if yielded.size:
+            return yielded
+    return idx
+
+
 def greedy_exclusion(ctx: GoalContext) -> Cell | None:
     """Nearest candidate outside every neighbour's zone; if there is none, the nearest
     outside the zones of the robots that just beat this one (``ctx.winners``, empty unless
     ``conflict_yield``), and only then the nearest of all ("prefers")."""
-    idx = np.nonzero(ctx.eligible)[0]
-    free_zone = idx[~excluded(ctx, idx)]
-    if free_zone.size:
-        return _nearest(ctx, free_zone)
-    if ctx.winners:
-        yielded = idx[~_within(ctx, idx, ctx.winners)]
-        if yielded.size:
-            return _nearest(ctx, yielded)
+    return _nearest(ctx, exclusion_candidates(ctx))
+
+
+def nearest_candidate(ctx: GoalContext, idx: np.ndarray) -> Cell | None:
+    """The goal a nearest-candidate strategy picks among ``idx`` (:func:`_nearest`)."""
     return _nearest(ctx, idx)
 
 
@@ -252,12 +304,18 @@ class Strategy:
     exclusion: bool = False  # honours neighbours' goals (and so wants GOAL messages)
     priorities: bool = False  # resolves goal conflicts by distance priority / CHANGE_GOAL
     needs_rivals: bool = False  # needs distance fields from neighbours' cells
+    # the goal is the nearest (by steps, ``_nearest``'s ties) of these candidates, which
+    # depend on positions only: a planner then needs distances only up to the nearest one
+    # (ctx.dist unset when it is called) and does not call ``choose``; a copy that
+    # replaces ``choose`` must set this to None
+    candidates: Callable[[GoalContext], np.ndarray] | None = None
 
 
 STRATEGIES: dict[str, Strategy] = {
-    "greedy": Strategy("greedy", greedy),
+    "greedy": Strategy("greedy", greedy, candidates=greedy_candidates),
     "greedy-exclusion": Strategy(
-        "greedy-exclusion", greedy_exclusion, exclusion=True, priorities=True
+        "greedy-exclusion", greedy_exclusion, exclusion=True, priorities=True,
+        candidates=exclusion_candidates,
     ),
     "utility": Strategy("utility", utility, needs_rivals=True),
     "minpos": Strategy("minpos", minpos, needs_rivals=True),
