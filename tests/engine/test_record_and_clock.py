@@ -41,10 +41,20 @@ def test_failed_write_keeps_previous_file(tmp_path, monkeypatch):
     path = write_record(_record(), tmp_path / "r.json")
     before = path.read_text()
 
-    def boom(*a, **k):
-        raise RuntimeError("disk full")
+    import contextlib
 
-    monkeypatch.setattr(json, "dump", boom)
+    from swarmex.engine import record as record_module
+
+    real_open = record_module.atomic_open
+
+    @contextlib.contextmanager
+    def half_written(target, *a, **k):  # the disk fills up in the middle of the file
+        with real_open(target, *a, **k) as fh:
+            fh.write('{"half": ')
+            raise RuntimeError("disk full")
+            yield fh
+
+    monkeypatch.setattr(record_module, "atomic_open", half_written)
     with pytest.raises(RuntimeError):
         write_record(_record(), path)
     assert path.read_text() == before
