@@ -23,7 +23,6 @@ robot", builds a graph from the grid and runs "a search algorithm" (§3.1); whic
 from __future__ import annotations
 
 import math
-import threading
 from functools import lru_cache
 from typing import Any
 
@@ -31,6 +30,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from swarmex._kernels import kernel
+from swarmex.planning.distance import scratch
 
 _DY = np.array([-1, 1, 0, 0, -1, -1, 1, 1], dtype=np.int64)
 _DX = np.array([0, 0, -1, 1, -1, 1, -1, 1], dtype=np.int64)
@@ -87,37 +87,6 @@ def inflate(occupied: np.ndarray, offsets: np.ndarray) -> np.ndarray:
     return out
 
 
-@kernel(cache=True, nogil=True)
-def _bfs8(
-    trav: NDArray[np.bool_], src: int, stride: int, out: NDArray[np.int32]
-) -> None:  # pragma: no cover - compiled
-    """BFS on a padded, flattened grid (the padding ring is never traversable)."""
-    n = trav.shape[0]
-    for i in range(n):
-        out[i] = -1
-    step = (-stride, stride, -1, 1, -stride - 1, -stride + 1, stride - 1, stride + 1)
-    side_a = (0, 0, 0, 0, -stride, -stride, stride, stride)
-    side_b = (0, 0, 0, 0, -1, 1, -1, 1)
-    q = np.empty(n, dtype=np.int32)
-    out[src] = 0
-    q[0] = src
-    head = 0
-    tail = 1
-    while head < tail:
-        u = q[head]
-        head += 1
-        d = out[u] + 1
-        for k in range(8):
-            v = u + step[k]
-            if out[v] >= 0 or not trav[v]:
-                continue
-            if k >= 4 and not (trav[u + side_a[k]] and trav[u + side_b[k]]):
-                continue
-            out[v] = d
-            q[tail] = v
-            tail += 1
-
-
 def distance_steps(traversable: np.ndarray, x: int, y: int) -> np.ndarray:
     """Steps (8-connected, no corner cutting) from cell (x, y) to every cell; -1 unreachable.
 
@@ -128,24 +97,38 @@ def distance_steps(traversable: np.ndarray, x: int, y: int) -> np.ndarray:
     stride = w + 2
     padded = np.zeros((h + 2, stride), dtype=np.bool_)
     padded[1:-1, 1:-1] = traversable
-    out = np.empty((h + 2) * stride, dtype=np.int32)
-    _bfs8(padded.ravel(), (int(y) + 1) * stride + int(x) + 1, stride, out)
+    n = (h + 2) * stride
+    out = np.empty(n, dtype=np.int32)
+    _bfs8(padded.ravel(), (int(y) + 1) * stride + int(x) + 1, stride, out,
+          scratch("queue", n, np.int32), _NO_STOP, _NO_GOAL, 0)
     return out.reshape(h + 2, stride)[1:-1, 1:-1]
 
 
-@kernel(cache=True, nogil=True)
-def _bfs8_until(
-    trav: NDArray[np.bool_], src: int, stride: int, out: NDArray[np.int32],
-    stop: NDArray[np.bool_], q: NDArray[np.int32],
-) -> None:  # pragma: no cover - compiled
-    """:func:`_bfs8` that ends when it takes a ``stop`` cell off the queue.
+_NO_STOP = np.zeros(0, dtype=np.bool_)  # _bfs8 without stop cells
+_NO_GOAL = np.zeros(0, dtype=np.int32)  # _bfs8 without a goal to keep to
 
-    Cells leave the queue in order of distance, so when the first stop cell (distance D)
-    leaves it, every cell at distance D - 1 has left too: every cell within D steps holds
-    its exact distance, every other cell -1 or its exact distance (D + 1)."""
+
+@kernel(cache=True, nogil=True)
+def _bfs8(
+    trav: NDArray[np.bool_], src: int, stride: int, out: NDArray[np.int32],
+    q: NDArray[np.int32], stop: NDArray[np.bool_], to_goal: NDArray[np.int32], total: int,
+) -> None:  # pragma: no cover - compiled
+    """BFS on a padded, flattened grid (the padding ring is never traversable): 8-connected,
+    a diagonal only between two traversable cells; ``q`` a queue of n cells.
+
+    Two optional limits (an empty array: none):
+
+    * ``stop``: end when a stop cell leaves the queue. Cells leave it in order of distance,
+      so when the first stop cell (distance D) leaves it, every cell at distance D - 1 has
+      left too: every cell within D steps holds its exact distance, every other cell -1 or
+      its exact distance (D + 1);
+    * ``to_goal``: keep only the cells of shortest paths to a goal, those whose distance
+      plus their distance to the goal (``to_goal``) is ``total``."""
     n = trav.shape[0]
     for i in range(n):
         out[i] = -1
+    use_stop = stop.shape[0] > 0
+    use_goal = to_goal.shape[0] > 0
     step = (-stride, stride, -1, 1, -stride - 1, -stride + 1, stride - 1, stride + 1)
     side_a = (0, 0, 0, 0, -stride, -stride, stride, stride)
     side_b = (0, 0, 0, 0, -1, 1, -1, 1)
@@ -156,7 +139,7 @@ def _bfs8_until(
     while head < tail:
         u = q[head]
         head += 1
-        if stop[u]:
+        if use_stop and stop[u]:
             return
         d = out[u] + 1
         for k in range(8):
@@ -165,41 +148,10 @@ def _bfs8_until(
                 continue
             if k >= 4 and not (trav[u + side_a[k]] and trav[u + side_b[k]]):
                 continue
-            out[v] = d
-            q[tail] = v
-            tail += 1
-
-
-@kernel(cache=True, nogil=True)
-def _bfs8_toward(
-    trav: NDArray[np.bool_], src: int, stride: int, out: NDArray[np.int32],
-    to_goal: NDArray[np.int32], total: int, q: NDArray[np.int32],
-) -> None:  # pragma: no cover - compiled
-    """:func:`_bfs8` through the cells of shortest paths to a goal only: a cell is kept when
-    its distance plus its distance to the goal (``to_goal``) is ``total``."""
-    n = trav.shape[0]
-    for i in range(n):
-        out[i] = -1
-    step = (-stride, stride, -1, 1, -stride - 1, -stride + 1, stride - 1, stride + 1)
-    side_a = (0, 0, 0, 0, -stride, -stride, stride, stride)
-    side_b = (0, 0, 0, 0, -1, 1, -1, 1)
-    out[src] = 0
-    q[0] = src
-    head = 0
-    tail = 1
-    while head < tail:
-        u = q[head]
-        head += 1
-        d = out[u] + 1
-        for k in range(8):
-            v = u + step[k]
-            if out[v] >= 0 or not trav[v]:
-                continue
-            if k >= 4 and not (trav[u + side_a[k]] and trav[u + side_b[k]]):
-                continue
-            g = to_goal[v]
-            if g < 0 or d + g != total:
-                continue
+            if use_goal:
+                g = to_goal[v]
+                if g < 0 or d + g != total:
+                    continue
             out[v] = d
             q[tail] = v
             tail += 1
@@ -210,8 +162,8 @@ def field_padded(trav_padded: np.ndarray, x: int, y: int) -> np.ndarray:
     hp, stride = trav_padded.shape
     n = hp * stride
     out = np.empty(n, dtype=np.int32)  # kept (a map state's shared field): not a scratch one
-    _bfs8_until(trav_padded.ravel(), (int(y) + 1) * stride + int(x) + 1, stride, out,
-                _scratch("stop", n, np.bool_), _scratch("queue", n, np.int32))  # no stop cell
+    _bfs8(trav_padded.ravel(), (int(y) + 1) * stride + int(x) + 1, stride, out,
+          scratch("queue", n, np.int32), _NO_STOP, _NO_GOAL, 0)
     return out.reshape(hp, stride)
 
 
@@ -248,28 +200,10 @@ def distance_toward(
     thread reuses at its next call, like :func:`distance_until`'s."""
     hp, stride = trav_padded.shape
     n = hp * stride
-    out = _scratch("toward", n, np.int32)
-    _bfs8_toward(trav_padded.ravel(), (int(y) + 1) * stride + int(x) + 1, stride, out,
-                 goal_field.ravel(), int(total), _scratch("queue", n, np.int32))
+    out = scratch("toward", n, np.int32)
+    _bfs8(trav_padded.ravel(), (int(y) + 1) * stride + int(x) + 1, stride, out,
+          scratch("queue", n, np.int32), _NO_STOP, goal_field.ravel(), int(total))
     return out.reshape(hp, stride)
-
-
-_SCRATCH = threading.local()
-
-
-def _scratch(name: str, n: int, dtype: Any) -> np.ndarray:
-    """This thread's reusable buffer ``name`` of ``n`` items (zeroed when first made).
-
-    A plan's searches need arrays as large as the map; allocated afresh, a few megabytes
-    come back from the allocator as new pages, and touching them cost more than a short
-    search itself (about 0.6 ms per plan on 800 × 800 cells)."""
-    bufs: dict[str, np.ndarray] | None = getattr(_SCRATCH, "bufs", None)
-    if bufs is None:
-        bufs = _SCRATCH.bufs = {}
-    buf = bufs.get(name)
-    if buf is None or buf.shape[0] != n or buf.dtype != dtype:
-        buf = bufs[name] = np.zeros(n, dtype=dtype)
-    return buf
 
 
 def padded(traversable: np.ndarray) -> np.ndarray:
@@ -294,13 +228,13 @@ def distance_until(
     """
     hp, stride = trav_padded.shape
     n = hp * stride
-    stop = _scratch("stop", n, np.bool_)  # all False between calls
+    stop = scratch("stop", n, np.bool_)  # all False between calls
     cells = (np.asarray(stop_ys, np.int64) + 1) * stride + np.asarray(stop_xs, np.int64) + 1
     stop[cells] = True
-    out = _scratch("until", n, np.int32)
+    out = scratch("until", n, np.int32)
     try:
-        _bfs8_until(trav_padded.ravel(), (int(y) + 1) * stride + int(x) + 1, stride, out, stop,
-                    _scratch("queue", n, np.int32))
+        _bfs8(trav_padded.ravel(), (int(y) + 1) * stride + int(x) + 1, stride, out,
+              scratch("queue", n, np.int32), stop, _NO_GOAL, 0)
     finally:
         stop[cells] = False
     return out.reshape(hp, stride)
