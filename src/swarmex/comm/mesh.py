@@ -281,13 +281,18 @@ class Counters:
     by_kind: dict[str, list[int]] = field(default_factory=dict)  # kind -> [messages, bytes]
 
     def count(self, msg: Sized, copies: int = 1, delivered: int = 1) -> None:
-        size = int(msg.nbytes) * copies
+        self.count_sized(msg.kind, int(msg.nbytes), copies, delivered)
+
+    def count_sized(self, kind: str, nbytes: int, copies: int = 1, delivered: int = 1) -> None:
+        """:meth:`count` with the message's kind and size given (a caller that knows them
+        without sizing the message object)."""
+        size = nbytes * copies
         self.messages += copies
         self.bytes += size
         self.lost += copies - delivered
-        row = self.by_kind.get(msg.kind)
+        row = self.by_kind.get(kind)
         if row is None:
-            row = self.by_kind[msg.kind] = [0, 0]
+            row = self.by_kind[kind] = [0, 0]
         row[0] += copies
         row[1] += size
 
@@ -370,15 +375,20 @@ class DiscNetwork:
 
         A :class:`Fanout` is queued as one :class:`Batch` and counted with bit operations."""
         if isinstance(dsts, Fanout):
-            ok = dsts.mask & self.row_mask(src)
-            self.sent[src].count(msg, len(dsts), ok.bit_count())
-            if ok:
-                self.queue.append((src, Batch(ok), msg))
+            self.send_mask(src, dsts.mask, msg, msg.kind, int(msg.nbytes))
             return
         row = self.in_range[src]
         good = [d for d in dsts if row[d]]
         self.sent[src].count(msg, len(dsts), len(good))
         self.queue.extend((src, d, msg) for d in good)
+
+    def send_mask(self, src: int, mask: int, msg: Any, kind: str, nbytes: int) -> None:
+        """One message of ``kind`` and ``nbytes`` from ``src`` to each node of ``mask``: one
+        send counted per copy, queued as one :class:`Batch` of those in range."""
+        ok = mask & self.row_mask(src)
+        self.sent[src].count_sized(kind, nbytes, mask.bit_count(), ok.bit_count())
+        if ok:
+            self.queue.append((src, Batch(ok), msg))
 
     def drain_batches(self) -> Iterator[tuple[int, Any, Any]]:
         """Queue entries in FIFO order, including those queued while draining (relays):

@@ -215,9 +215,9 @@ class Wire:
 
         A robot that has not seen the scan and lists ``src`` takes it
         (:meth:`ExplorerRobot.accept_scan`) and relays it to its other neighbours: the relay
-        is queued and counted here, from the neighbour bitmask, exactly as
-        :meth:`DiscNetwork.unicast_many` counts a :class:`Fanout` (copies to every listed
-        neighbour but ``src``, the ones out of range lost), and before the robot's own
+        goes out from the neighbour bitmask through :meth:`DiscNetwork.send_mask`, which
+        :meth:`DiscNetwork.unicast_many` uses for a :class:`Fanout` too (copies to every
+        listed neighbour but ``src``, the ones out of range lost), and before the robot's own
         messages, as :meth:`ExplorerRobot.take_scan` orders them. Any other receiver takes
         the general path. The relay is ``msg`` itself: a receiver reads the scans and the
         queue entry's sender, never the message's ``src`` field (which keeps naming the
@@ -225,9 +225,8 @@ class Wire:
         """
         robots = self.robots
         net = self.net
-        queue = net.queue
-        sent = net.sent
         heads = self.heads
+        kind = ScanMsg.kind
         rec = msg.scans[0]
         size = rec.nbytes
         # who has seen the scan: a receiver's own bit changes only when it takes it, so the
@@ -244,21 +243,9 @@ class Wire:
                     self.send(d, out)
                 continue
             asks = r.accept_scan(rec, t)
-            copies = len(nb) - 1  # every neighbour but src
-            if copies:
-                ok = mesh.neighbour_mask() & ~(1 << src) & net.row_mask(d)
-                nbytes = (heads[d] + size) * copies
-                c = sent[d]
-                c.messages += copies
-                c.bytes += nbytes
-                c.lost += copies - ok.bit_count()
-                row = c.by_kind.get(ScanMsg.kind)
-                if row is None:
-                    row = c.by_kind[ScanMsg.kind] = [0, 0]
-                row[0] += copies
-                row[1] += nbytes
-                if ok:  # the relay: the same scan, from d (the queue names the sender)
-                    queue.append((d, Batch(ok), msg))
+            if len(nb) > 1:  # the relay to every neighbour but src: the same scan, from d
+                net.send_mask(d, mesh.neighbour_mask() & ~(1 << src), msg, kind,
+                              heads[d] + size)
             if asks:
                 self.send(d, asks)
 
