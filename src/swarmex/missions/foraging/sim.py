@@ -47,6 +47,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Generator
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 
@@ -574,6 +575,12 @@ class Mission:
                 self.step()
 
     # ------------------------------------------------------------------ compiled hooked rounds
+    @cached_property
+    def _cells(self) -> np.ndarray:
+        """The compiled rounds' g x g cell index (robot per cell, -1: none; all -1 between
+        kernel calls), made once per run."""
+        return np.full((self.g, self.g), -1, dtype=np.int64)
+
     def _compiled_rows(self, record: bool, state: np.ndarray) -> np.ndarray:
         """Start a compiled phase of a hooked run: the rows played so far in Python go to
         ``segments`` (the trajectory stays in round order), and a chunk is opened for the
@@ -650,12 +657,11 @@ class Mission:
         builtin = np.zeros(n, dtype=np.int64)
         moves = np.zeros(n, dtype=np.int64)
         chunk = self._compiled_rows(record, state)
-        cells = np.full((self.g, self.g), -1, dtype=np.int64)  # the kernels' cell index
         t_end = self.timed.t_end
         while True:
             status = fl.explore_round(
                 pos, delay, displaced, state, route, t_end, g, nest, food, opts, nopt,
-                following, builtin, moves, chunk, cells,
+                following, builtin, moves, chunk, self._cells,
             )  # fmt: skip
             if status < 0:
                 raise self._bad_move(-status - 1, moves)
@@ -710,12 +716,11 @@ class Mission:
         moves = np.zeros(n, dtype=np.int64)
         memo = fl.transport_memo(self._last_key, n)
         chunk = self._compiled_rows(record, state)
-        cells = np.full((self.g, self.g), -1, dtype=np.int64)  # the kernels' cell index
         synced = 0  # jobs already copied to self.jobs
         while True:
             status = fl.hooked_round(
                 pos, carrying, tmode, pidx, join_at, handovers, state, path, path_of, nest,
-                food, relay, opts, nopt, builtin, moves, chunk, jobs, memo, cells,
+                food, relay, opts, nopt, builtin, moves, chunk, jobs, memo, self._cells,
             )  # fmt: skip
             if status < 0:
                 raise self._bad_move(-status - 1, moves)
@@ -780,13 +785,12 @@ class Mission:
         relay = self.transport != END_TO_END
         chunk = np.empty((1 if on_frame else 4096, n, 2), dtype=np.int64)
         memo = transport_memo(self._last_key, n)
-        cells = np.full((g, g), -1, dtype=np.int64)
         informed = np.asarray(self.informed, dtype=bool)
         while True:
             t = int(state[0])
             rows = transport_tail(
                 pos, carrying, tmode, pidx, join_at, state, path, path_of, nest, food, relay,
-                chunk, jobs, handovers, memo, cells,
+                chunk, jobs, handovers, memo, self._cells,
             )  # fmt: skip
             if record:
                 self.tail_chunks.append(chunk[:rows].astype(np.int32))

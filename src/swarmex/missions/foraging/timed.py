@@ -98,7 +98,9 @@ def _execute_compiled(plan: Plan, max_rounds: int | None) -> Timed:
     lengths = np.asarray([len(r) for r in plan.routes], dtype=np.int64)
     start = np.zeros(n + 1, dtype=np.int64)
     np.cumsum(lengths, out=start[1:])
-    flat = np.asarray([c for r in plan.routes for c in r], dtype=np.int64).reshape(-1, 2)
+    flat = np.concatenate([np.asarray(r, dtype=np.int64).reshape(-1, 2) for r in plan.routes])
+    depart = np.asarray(plan.depart, dtype=np.int64)
+    explore_from = np.asarray(plan.explore_from, dtype=np.int64)
     nest = np.asarray(plan.nest, dtype=np.int64)
     cur = np.tile(nest, (n, 1))
     idx = np.zeros(n, dtype=np.int64)
@@ -111,9 +113,8 @@ def _execute_compiled(plan: Plan, max_rounds: int | None) -> Timed:
     while not state[2]:
         history = np.empty((rows, n, 2), dtype=np.int32)
         done = timetable_rounds(
-            flat, start, np.asarray(plan.depart, dtype=np.int64),
-            np.asarray(plan.explore_from, dtype=np.int64), plan.sync, nest, g, idx, cur,
-            arrived, state, history, cells,
+            flat, start, depart, explore_from, plan.sync, nest, g, idx, cur, arrived, state,
+            history, cells,
         )  # fmt: skip
         chunks.append(history[:done])
         if state[0] > limit:  # pragma: no cover - a pattern bug, not user input
