@@ -92,7 +92,7 @@ def _nearest(ctx: GoalContext, idx: np.ndarray) -> Cell | None:
 
 
 def greedy(ctx: GoalContext) -> Cell | None:
-    return _nearest(ctx, np.nonzero(ctx.eligible)[0])
+    return _nearest(ctx, greedy_candidates(ctx))
 
 
 #: announced goals from which a zone test uses the goals sorted by column (below: one pass
