@@ -38,6 +38,39 @@ def _maps() -> list[tuple[np.ndarray, int, int]]:
     return out
 
 
+def _python_bfs(trav: np.ndarray, x: int, y: int) -> np.ndarray:
+    """The rule written out: 8-connected steps, a diagonal only between two traversable
+    cells, the start left even when it is not traversable; -1 unreachable."""
+    h, w = trav.shape
+    out = np.full((h, w), -1, dtype=np.int64)
+    out[y, x] = 0
+    frontier = [(x, y)]
+    while frontier:
+        nxt = []
+        for cx, cy in frontier:
+            for dx in (-1, 0, 1):
+                for dy in (-1, 0, 1):
+                    nx, ny = cx + dx, cy + dy
+                    if (dx, dy) == (0, 0) or not (0 <= nx < w and 0 <= ny < h):
+                        continue
+                    if not trav[ny, nx] or out[ny, nx] >= 0:
+                        continue
+                    if dx and dy and not (trav[cy, nx] and trav[ny, cx]):
+                        continue
+                    out[ny, nx] = out[cy, cx] + 1
+                    nxt.append((nx, ny))
+        frontier = nxt
+    return out
+
+
+@pytest.mark.parametrize("case", range(12))
+def test_full_field_is_the_rule_written_out(case):
+    """The reference the bounded searches below are checked against (they share its
+    kernel) is itself checked against a plain Python breadth-first search."""
+    trav, x, y = _maps()[case]
+    assert np.array_equal(distance_steps(trav, x, y), _python_bfs(trav, x, y))
+
+
 @pytest.mark.parametrize("case", range(12))
 def test_reachable_pieces_are_what_the_search_reaches(case):
     trav, x, y = _maps()[case]
