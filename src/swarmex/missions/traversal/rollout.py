@@ -1,0 +1,518 @@
+"""``madgta-r``: rollout (one-step policy improvement) over MADGTA.
+
+Idea
+----
+Bertsekas' rollout: at a decision, take MADGTA's best few candidates (its utility order,
+``k`` of them), simulate the rest of the mission for each on the agent's own belief with
+every agent, the deciding one included after its first step, following MADGTA, and take the
+candidate whose simulated mission ends best. A rollout policy is never worse than its base
+heuristic *when the simulation is exact*; here it is not (rivals break MADGTA's ties at
+random, unknown cells are taken as free), so the gain has to be measured.
+
+The simulation (:func:`_simulate`, compiled)
+--------------------------------------------
+* **State from the belief only.** Done vertices, known obstacles and reservations
+  (``status``, ``reserved``, ``known.blocked``); each known agent's last vertex ``loc``, the
+  node it announced (``next_loc``: C05 next node, or C07 job node) and when it is next free
+  (``free_at``, the eta C05/C07 carry). A rival whose announced node differs from its last
+  vertex is moving there; one whose announced node holds its own job is working until
+  ``free_at``; any other is free now. Unknown cells count as free (as MADGTA's own distances
+  do), so the simulation does jobs on walls nobody has seen yet.
+* **MADGTA in the simulation.** Branch 1 (my vertex is vacant: its job), branch 2 (max-min
+  over the vacant neighbours, ties by the sum over rivals), branch 3 (the same over every
+  vacant vertex, then one hop on a shortest path). Ties that MADGTA draws at random go to
+  the lowest vertex id, so the simulation is deterministic: the same belief gives the same
+  choice. Rivals are every agent whose position is known, finished ones included (as
+  ``belief.rivals()``); an arrival does the job when the vertex is vacant and the agent
+  announced it, or nobody reserved it (``TraversalBelief.job_on_arrival``). Events run in
+  time order, ties by agent id.
+* **Distances without a field per move.** Every distance the simulation needs is between an
+  agent's vertex and a vertex vacant at the decision (candidates only ever are vacant
+  vertices, and a hop towards a target is read from the target's row). So one hop-count row
+  per vacant vertex (a breadth-first search on the known graph) serves every candidate and
+  every simulated event; rows are cached across decisions while no obstacle is learnt.
+* **The objective** of a simulated mission: the latest time any agent ends its last job or
+  move (the makespan, as ``free_at`` times are absolute) with ties broken by the sum of the
+  time every agent spends from now on (the thesis's ``total_time_all``); or
+  ``objective="mix"``: makespan + ``weight`` × sum / agents.
+
+Choices, and why
+----------------
+* **Only the end game** (``max_vacant``): the rollout runs when at most ``max_vacant``
+  vacant vertices are left in the belief; before that the agent is MADGTA, bit for bit (the
+  same draws from the generator). The waste MADGTA leaves is in the end game (40-50 % of the
+  moves without a job fall in the last tenth of the jobs, docs/traversal-variants.md §3),
+  and a full rollout early on costs O(vacant) rows and events per candidate. ``None``:
+  always (the small gap instances).
+* **Branch 3 candidates are targets**, not next hops: the simulated agent keeps going to
+  its candidate target (re-deciding once it gets there or the target is taken), so the
+  rollout compares *where* to go; two targets behind the same hop would otherwise tie.
+* **MADGTA is kept when nothing is better**: among candidates whose simulated objective is
+  equal, MADGTA's own order decides, then the generator as MADGTA draws.
+* **Graphs with one edge length only** (hop counts); elsewhere the policy is MADGTA.
+
+Cost
+----
+Per rollout decision: one row per newly vacant... per vacant vertex not yet cached
+(O(n) each), then ``k`` simulations of O(events × vacant × agents). Measured figures are in
+docs/traversal-variants.md §4.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+
+from swarmex._kernels import kernel
+from swarmex.missions.traversal.belief import TraversalBelief
+from swarmex.missions.traversal.policies import POLICIES, Decision, Madgta, _pick
+from swarmex.planning.distance import _bfs_hops
+
+#: agent modes of the simulation
+ABSENT, FREE, MOVING, WORKING, FINISHED = -1, 0, 1, 2, 3
+#: kinds of the deciding agent's options (returned by :func:`_options`)
+FINISH, JOB, NEAR, FAR = 0, 1, 2, 3
+
+
+@kernel(cache=True, nogil=True)
+def _fill_rows(
+    indptr: NDArray[np.int64], indices: NDArray[np.int32], blocked: NDArray[np.bool_],
+    verts: NDArray[np.int64], rows: NDArray[np.int64], table: NDArray[np.int32],
+    queue: NDArray[np.int32],
+) -> None:  # pragma: no cover - compiled
+    """Hop counts from each ``verts[i]`` into ``table[rows[i]]`` (-1: unreachable)."""
+    src = np.empty(1, dtype=np.int64)
+    for i in range(verts.shape[0]):
+        src[0] = verts[i]
+        _bfs_hops(indptr, indices, blocked, src, table[rows[i]], queue)
+
+
+@kernel(cache=True, nogil=True)
+def _better(m1: float, s1: float, v1: int, m2: float, s2: float, v2: int) -> bool:
+    """Algorithm 2's order: larger min, then larger sum, then (not random here) lower id."""
+    if not np.isfinite(m2) and m2 < 0:
+        return True
+    tol = 1e-9 * (1.0 + abs(m2)) if np.isfinite(m2) else 0.0
+    if m1 > m2 + tol:
+        return True
+    if m1 < m2 - tol:
+        return False
+    tol = 1e-9 * (1.0 + abs(s2)) if np.isfinite(s2) else 0.0
+    if s1 > s2 + tol:
+        return True
+    if s1 < s2 - tol:
+        return False
+    return v1 < v2
+
+
+@kernel(cache=True, nogil=True)
+def _key(
+    v: int, a: int, table: NDArray[np.int32], row_of: NDArray[np.int64],
+    loc: NDArray[np.int64], mode: NDArray[np.int64], tpu: NDArray[np.float64],
+    jt: NDArray[np.float64], step: float,
+) -> tuple[float, float]:  # pragma: no cover - compiled
+    """(min, sum) over rivals of MADGTA's utility of vacant vertex ``v`` for agent ``a``
+    (``-inf`` if ``a`` cannot reach it); with no rival, minus ``a``'s own cost."""
+    row = table[row_of[v]]
+    h = row[loc[a]]
+    if h < 0:
+        return -np.inf, -np.inf
+    mine = h * step * tpu[a] + jt[a]
+    lo = np.inf
+    s = 0.0
+    any_rival = False
+    for r in range(1, loc.shape[0]):
+        if r == a or mode[r] == ABSENT:
+            continue
+        any_rival = True
+        hr = row[loc[r]]
+        theirs = np.inf if hr < 0 else hr * step * tpu[r]
+        u = theirs + jt[r] - mine
+        if u < lo:
+            lo = u
+        s += u
+    if not any_rival:
+        return -mine, -mine
+    return lo, s
+
+
+@kernel(cache=True, nogil=True)
+def _options(
+    a: int, k: int, indptr: NDArray[np.int64], indices: NDArray[np.int32],
+    blocked: NDArray[np.bool_], st: NDArray[np.int32], rs: NDArray[np.int32],
+    vacant: NDArray[np.int64], table: NDArray[np.int32], row_of: NDArray[np.int64],
+    loc: NDArray[np.int64], mode: NDArray[np.int64], tpu: NDArray[np.float64],
+    jt: NDArray[np.float64], step: float, out: NDArray[np.int64],
+) -> tuple[int, int]:  # pragma: no cover - compiled
+    """MADGTA's options for agent ``a``: (kind, count) with the best ``k`` candidates in
+    ``out``, best first (branch 2: vacant neighbours; branch 3: vacant vertices)."""
+    here = loc[a]
+    if st[here] == 0 and (rs[here] == 0 or rs[here] == a):
+        out[0] = here
+        return JOB, 1
+    mins = np.empty(k)
+    sums = np.empty(k)
+    c = 0
+    for e in range(indptr[here], indptr[here + 1]):
+        v = indices[e]
+        if blocked[v] or st[v] != 0 or (rs[v] != 0 and rs[v] != a):
+            continue
+        lo, s = _key(v, a, table, row_of, loc, mode, tpu, jt, step)
+        c = _insert(out, mins, sums, c, k, v, lo, s)
+    if c > 0:
+        return NEAR, c
+    for i in range(vacant.shape[0]):
+        v = vacant[i]
+        if st[v] != 0 or (rs[v] != 0 and rs[v] != a):
+            continue
+        if table[row_of[v], here] < 0:
+            continue
+        lo, s = _key(v, a, table, row_of, loc, mode, tpu, jt, step)
+        c = _insert(out, mins, sums, c, k, v, lo, s)
+    if c > 0:
+        return FAR, c
+    return FINISH, 0
+
+
+@kernel(cache=True, nogil=True)
+def _insert(
+    out: NDArray[np.int64], mins: NDArray[np.float64], sums: NDArray[np.float64], c: int,
+    k: int, v: int, lo: float, s: float,
+) -> int:  # pragma: no cover - compiled
+    """Insert ``v`` into the best-first list of length ``c`` (at most ``k``)."""
+    j = c
+    while j > 0 and _better(lo, s, v, mins[j - 1], sums[j - 1], out[j - 1]):
+        j -= 1
+    if j >= k:
+        return c
+    last = min(c, k - 1)
+    for t in range(last, j, -1):
+        out[t] = out[t - 1]
+        mins[t] = mins[t - 1]
+        sums[t] = sums[t - 1]
+    out[j] = v
+    mins[j] = lo
+    sums[j] = s
+    return min(c + 1, k)
+
+
+@kernel(cache=True, nogil=True)
+def _hop(
+    here: int, f: int, indptr: NDArray[np.int64], indices: NDArray[np.int32],
+    blocked: NDArray[np.bool_], table: NDArray[np.int32], row_of: NDArray[np.int64],
+) -> int:  # pragma: no cover - compiled
+    """The lowest neighbour of ``here`` on a shortest path to ``f``."""
+    row = table[row_of[f]]
+    want = row[here] - 1
+    best = -1
+    for e in range(indptr[here], indptr[here + 1]):
+        v = indices[e]
+        if not blocked[v] and row[v] == want and (best < 0 or v < best):
+            best = v
+    return best
+
+
+@kernel(cache=True, nogil=True)
+def _move(
+    a: int, v: int, t: float, loc: NDArray[np.int64], dest: NDArray[np.int64],
+    tfree: NDArray[np.float64], mode: NDArray[np.int64], intent: NDArray[np.int64],
+    resv: NDArray[np.int64], st: NDArray[np.int32], rs: NDArray[np.int32],
+    work: NDArray[np.float64], last: NDArray[np.float64], dt: float,
+) -> None:  # pragma: no cover - compiled
+    """Agent ``a`` sets off to neighbour ``v`` (C05): it reserves ``v`` if it intends to do
+    its job there (``TraversalBelief.announce_move``)."""
+    old = resv[a]
+    if old >= 0:
+        if rs[old] == a:
+            rs[old] = 0
+        resv[a] = -1
+    if st[v] == 0 and (rs[v] == 0 or rs[v] == a):
+        intent[a] = v
+        rs[v] = a
+        resv[a] = v
+    else:
+        intent[a] = -1
+    dest[a] = v
+    mode[a] = MOVING
+    tfree[a] = t + dt
+    work[a] += dt
+    last[a] = tfree[a]
+
+
+@kernel(cache=True, nogil=True)
+def _start_job(
+    a: int, v: int, t: float, tfree: NDArray[np.float64], mode: NDArray[np.int64],
+    resv: NDArray[np.int64], st: NDArray[np.int32], rs: NDArray[np.int32],
+    work: NDArray[np.float64], last: NDArray[np.float64], jt: NDArray[np.float64],
+) -> None:  # pragma: no cover - compiled
+    st[v] = a
+    holder = rs[v]
+    if holder != 0:
+        rs[v] = 0
+        resv[holder] = -1
+    mode[a] = WORKING
+    tfree[a] = t + jt[a]
+    work[a] += jt[a]
+    last[a] = tfree[a]
+
+
+@kernel(cache=True, nogil=True)
+def _simulate(
+    me: int, first: int, first_kind: int, now: float, horizon: int,
+    indptr: NDArray[np.int64], indices: NDArray[np.int32], blocked: NDArray[np.bool_],
+    st: NDArray[np.int32], rs: NDArray[np.int32], vacant: NDArray[np.int64],
+    table: NDArray[np.int32], row_of: NDArray[np.int64], loc: NDArray[np.int64],
+    dest: NDArray[np.int64], tfree: NDArray[np.float64], mode: NDArray[np.int64],
+    intent: NDArray[np.int64], resv: NDArray[np.int64], tpu: NDArray[np.float64],
+    jt: NDArray[np.float64], step: float,
+) -> tuple[float, float]:  # pragma: no cover - compiled
+    """The rest of the mission with MADGTA everywhere, after ``me`` takes its candidate
+    ``first`` (NEAR: move to that neighbour; FAR: head for that target until it is reached
+    or taken). The state arrays are the caller's copies and are overwritten. Returns
+    (makespan, sum): the latest end of any agent's job or move, and the time spent from now
+    on summed over agents; after ``horizon`` decisions the rest is estimated (see
+    :class:`MadgtaR`)."""
+    m1 = loc.shape[0]
+    work = np.zeros(m1)
+    last = tfree.copy()
+    target = np.full(m1, -1, dtype=np.int64)
+    out = np.empty(1, dtype=np.int64)
+    if first_kind == FAR:  # head for the target: its first hop now
+        target[me] = first
+        first = _hop(loc[me], first, indptr, indices, blocked, table, row_of)
+    _move(me, first, now, loc, dest, tfree, mode, intent, resv, st, rs, work, last,
+          step * tpu[me])
+    decisions = 0
+    while True:
+        a = -1
+        t = np.inf
+        for r in range(1, m1):
+            if (mode[r] == FREE or mode[r] == MOVING or mode[r] == WORKING) and tfree[r] < t:
+                t = tfree[r]
+                a = r
+        if a < 0:
+            break
+        if mode[a] == MOVING:  # arrival (TraversalAgent.arrive)
+            v = dest[a]
+            loc[a] = v
+            old = resv[a]
+            if old >= 0:
+                if rs[old] == a:
+                    rs[old] = 0
+                resv[a] = -1
+            if st[v] == 0 and (intent[a] == v or rs[v] == 0):
+                intent[a] = -1
+                _start_job(a, v, t, tfree, mode, resv, st, rs, work, last, jt)
+                continue
+            intent[a] = -1
+        decisions += 1
+        if decisions > horizon:
+            break
+        # decide (Algorithm 1); a committed target first
+        f = target[a]
+        if f >= 0:
+            if f == loc[a] or st[f] != 0 or (rs[f] != 0 and rs[f] != a):
+                target[a] = -1
+            else:
+                here = loc[a]
+                if st[here] == 0 and (rs[here] == 0 or rs[here] == a):
+                    _start_job(a, here, t, tfree, mode, resv, st, rs, work, last, jt)
+                    continue
+                v = _hop(here, f, indptr, indices, blocked, table, row_of)
+                _move(a, v, t, loc, dest, tfree, mode, intent, resv, st, rs, work, last,
+                      step * tpu[a])
+                continue
+        kind, c = _options(a, 1, indptr, indices, blocked, st, rs, vacant, table, row_of,
+                           loc, mode, tpu, jt, step, out)
+        if kind == JOB:
+            _start_job(a, loc[a], t, tfree, mode, resv, st, rs, work, last, jt)
+        elif kind == NEAR:
+            _move(a, out[0], t, loc, dest, tfree, mode, intent, resv, st, rs, work, last,
+                  step * tpu[a])
+        elif kind == FAR:
+            v = _hop(loc[a], out[0], indptr, indices, blocked, table, row_of)
+            _move(a, v, t, loc, dest, tfree, mode, intent, resv, st, rs, work, last,
+                  step * tpu[a])
+        else:
+            mode[a] = FINISHED
+    makespan = 0.0
+    total = 0.0
+    for r in range(1, m1):
+        if mode[r] != ABSENT:
+            makespan = max(makespan, last[r])
+            total += work[r]
+    if decisions > horizon:  # the rest: vacant jobs shared by the working agents
+        left = 0
+        for i in range(vacant.shape[0]):
+            if st[vacant[i]] == 0:
+                left += 1
+        busy = 0.0
+        rate = 0.0
+        n_on = 0
+        for r in range(1, m1):
+            if mode[r] == FREE or mode[r] == MOVING or mode[r] == WORKING:
+                busy += tfree[r]
+                rate += jt[r] + step * tpu[r]
+                n_on += 1
+        if n_on > 0:
+            per_job = rate / n_on
+            makespan = max(makespan, (busy + left * per_job) / n_on)
+            total += left * per_job
+    return makespan, total
+
+
+class _Rows:
+    """Hop-count rows of the vacant vertices, kept across decisions while the known graph's
+    obstacles stay the same (a row depends only on them)."""
+
+    def __init__(self) -> None:
+        self.key: tuple[int, int] = (-1, -1)
+        self.table = np.empty((0, 0), dtype=np.int32)
+        self.row_of = np.empty(0, dtype=np.int64)
+        self.used = 0
+        self.queue = np.empty(0, dtype=np.int32)
+
+    def get(self, belief: TraversalBelief, vacant: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        known = belief.known
+        n = belief.status.size
+        key = (id(known), known.version)
+        if key != self.key or self.row_of.size != n:
+            self.key = key
+            self.row_of = np.full(n, -1, dtype=np.int64)
+            self.used = 0
+            self.queue = np.empty(n, dtype=np.int32)
+        missing = vacant[self.row_of[vacant] < 0]
+        if missing.size:
+            if self.used + missing.size > self.table.shape[0] or self.table.shape[1] != n:
+                # full: a new table with the rows still needed (vacant only shrinks)
+                keep = vacant[self.row_of[vacant] >= 0]
+                table = np.empty((max(2 * vacant.size, 64), n), dtype=np.int32)
+                if keep.size:
+                    table[: keep.size] = self.table[self.row_of[keep]]
+                self.row_of[:] = -1
+                self.row_of[keep] = np.arange(keep.size)
+                self.table = table
+                self.used = keep.size
+            rows = np.arange(self.used, self.used + missing.size, dtype=np.int64)
+            _fill_rows(belief.graph.indptr, belief.graph.indices, known.blocked, missing, rows,
+                       self.table, self.queue)
+            self.row_of[missing] = rows
+            self.used += missing.size
+        return self.table, self.row_of
+
+
+class MadgtaR(Madgta):
+    """MADGTA with rollout (see the module docstring).
+
+    ``k``: candidates simulated per decision; ``max_vacant``: roll out only when at most
+    this many vacant vertices are left (None: always); ``horizon``: simulated decisions
+    before the rest is estimated (the vacant jobs shared evenly by the agents still
+    working); ``objective``: ``"makespan"`` (ties by the sum) or ``"mix"`` (makespan +
+    ``weight`` × sum / agents).
+    """
+
+    name = "madgta-r"
+
+    def __init__(
+        self, k: int = 4, max_vacant: int | None = 200, horizon: int = 100_000,
+        objective: str = "makespan", weight: float = 1.0,
+    ) -> None:
+        if k < 1:
+            raise ValueError(f"k must be >= 1, got {k}")
+        if objective not in ("makespan", "mix"):
+            raise ValueError(f"objective must be 'makespan' or 'mix', got {objective!r}")
+        self.k = k
+        self.max_vacant = max_vacant
+        self.horizon = horizon
+        self.objective = objective
+        self.weight = weight
+        self._rows = _Rows()
+        self.rollouts = 0  # decisions rolled out (for the benches)
+        self.switched = 0  # of which MADGTA's first choice was not kept
+
+    def decide(self, belief: TraversalBelief, rng: np.random.Generator) -> Decision:
+        if not belief.known.uniform:
+            return super().decide(belief, rng)
+        here = belief.here
+        if not belief.in_km(here):
+            return super().decide(belief, rng)
+        vacant = np.nonzero((belief.status == 0) & ~belief.known.blocked)[0]
+        if self.max_vacant is not None and vacant.size > self.max_vacant:
+            return super().decide(belief, rng)
+        table, row_of = self._rows.get(belief, vacant)
+        state = self._state(belief)
+        loc, dest, tfree, mode, intent, resv = state
+        g = belief.graph
+        me = belief.me
+        cands = np.empty(self.k, dtype=np.int64)
+        kind, c = _options(me, self.k, g.indptr, g.indices, belief.known.blocked,
+                           belief.status, belief.reserved, vacant, table, row_of, loc, mode,
+                           belief.time_per_unit, belief.job_time, belief.known.step, cands)
+        if kind in (FINISH, JOB) or c < 2:
+            return super().decide(belief, rng)
+        self.rollouts += 1
+        scores = []
+        for j in range(c):
+            mk, total = _simulate(
+                me, int(cands[j]), kind, belief.now, self.horizon, g.indptr, g.indices,
+                belief.known.blocked, belief.status.copy(), belief.reserved.copy(), vacant,
+                table, row_of, loc.copy(), dest.copy(), tfree.copy(), mode.copy(),
+                intent.copy(), resv.copy(), belief.time_per_unit, belief.job_time,
+                belief.known.step,
+            )
+            scores.append(self._score(mk, total, int((mode != ABSENT).sum())))
+        best = min(scores)
+        # equal scores: MADGTA's own order (cands is best first)
+        j = next(i for i, s in enumerate(scores) if _same(s, best))
+        if j:
+            self.switched += 1
+        v = int(cands[j])
+        if kind == NEAR:
+            return Decision("move", v, v, 2)
+        steps = belief.known.first_steps(belief.known.slot(here), v)
+        return Decision("move", _pick(steps, rng), v, 3)
+
+    def _score(self, makespan: float, total: float, agents: int) -> tuple[float, float]:
+        if self.objective == "makespan":
+            return makespan, total
+        return makespan + self.weight * total / max(agents, 1), 0.0
+
+    @staticmethod
+    def _state(belief: TraversalBelief) -> tuple[np.ndarray, ...]:
+        """The simulation's agents from the belief (see the module docstring)."""
+        m1 = belief.loc.size
+        loc = belief.loc.copy()
+        dest = loc.copy()
+        now = belief.now
+        tfree = np.full(m1, now)
+        mode = np.full(m1, ABSENT, dtype=np.int64)
+        intent = np.full(m1, -1, dtype=np.int64)
+        resv = belief.reservation.copy()
+        st = belief.status
+        for a in range(1, m1):
+            if loc[a] < 0:
+                continue
+            if a == belief.me:
+                mode[a] = FREE
+                continue
+            nxt = int(belief.next_loc[a])
+            fa = float(belief.free_at[a])
+            if nxt >= 0 and nxt != loc[a]:
+                mode[a] = MOVING
+                dest[a] = nxt
+                tfree[a] = max(fa, now)
+                if belief.reserved[nxt] == a:
+                    intent[a] = nxt
+            elif nxt >= 0 and st[nxt] == a and fa > now:
+                mode[a] = WORKING
+                tfree[a] = fa
+            else:
+                mode[a] = FREE
+        return loc, dest, tfree, mode, intent, resv
+
+
+def _same(a: tuple[float, float], b: tuple[float, float]) -> bool:
+    return all(abs(x - y) <= 1e-9 * (1.0 + abs(y)) for x, y in zip(a, b, strict=True))
+
+
+POLICIES[MadgtaR.name] = MadgtaR
