@@ -1,8 +1,11 @@
 """Compare traversal policies on the real MovingAI maps, and MADGTA over imperfect channels.
 
 Section 1 (``variants``): ``madgta``, ``madgta+`` (swarmex.missions.traversal.variants),
-``madgta-h`` (swarmex.missions.traversal.madgta_h) and ``nearest`` on the same maps, agent
-counts, nests and seeds. ``--fleets mixed`` also (or instead) runs mixed fleets: 1-2 s
+``madgta-h`` (swarmex.missions.traversal.madgta_h), ``madgta-r``
+(swarmex.missions.traversal.rollout) and ``nearest`` on the same maps, agent counts, nests
+and seeds. Algorithm names are those of bench/gap_traversal_optimal.py (``madgta-r@K=V,...``
+for other settings, ``known:NAME`` with the whole map known from the start); the CPU time
+per run is printed per map. ``--fleets mixed`` also (or instead) runs mixed fleets: 1-2 s
 per edge and 5-10 s per job per agent, as in the gap study. That is where madgta-h
 differs from madgta+. For every (map, agents, nests)
 cell it prints the mean makespan (largest ``total_time``, metrics.py), ``total_time_all``,
@@ -50,6 +53,9 @@ from swarmex.engine.stats import summarize
 from swarmex.missions.traversal import AgentSpec, run_metrics, run_traversal, uniform_agents
 from swarmex.worlds import GridWorld, load_movingai
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))  # when imported from elsewhere
+from gap_traversal_optimal import KNOWN, map_known, online_policy  # noqa: E402
+
 REPO = Path(__file__).resolve().parents[1]
 MAPS = [
     "empty-16-16",
@@ -60,9 +66,9 @@ MAPS = [
     "ost003d",
 ]
 QUICK_MAPS = ["empty-16-16", "random-32-32-20", "room-32-32-4"]
-ALGORITHMS = ["madgta", "madgta+", "madgta-h", "nearest"]
-#: the variants the paired tables compare with madgta
-VARIANTS = ("madgta+", "madgta-h")
+ALGORITHMS = ["madgta", "madgta+", "madgta-h", "madgta-r", "nearest"]
+#: algorithms the paired tables do not compare with madgta (every other one is a variant)
+NOT_VARIANTS = ("madgta", "nearest")
 FLEETS = ("same", "mixed")
 TRAVEL, JOB = 2.0, 9.0
 NEST_MODES = ("shared", "dist")
@@ -161,11 +167,15 @@ def run_one(job: Job) -> dict:
     nests = nests_for(world, job.agents, job.mode, job.seed)
     channel = Channel(**dict(CHANNELS)[job.channel])
     t0 = time.perf_counter()
-    with done_list_without_obstacles(not job.carry_obstacles):
+    cpu = time.process_time()
+    with done_list_without_obstacles(not job.carry_obstacles), map_known(
+        job.algorithm.startswith(KNOWN)
+    ):
         run = run_traversal(
-            world, fleet_for(nests, job.fleet, job.seed), job.algorithm, seed=job.seed,
-            channel=channel,
+            world, fleet_for(nests, job.fleet, job.seed), online_policy(job.algorithm),
+            seed=job.seed, channel=channel,
         )
+    cpu = time.process_time() - cpu
     totals, _ = run_metrics(run, 1.0)
     return {
         **job.__dict__,
@@ -179,6 +189,7 @@ def run_one(job: Job) -> dict:
         "message_bytes": totals["message_bytes"],
         "messages": totals["messages"],
         "wall": time.perf_counter() - t0,
+        "cpu": cpu,
     }
 
 
@@ -327,7 +338,7 @@ def comm_table(rows: list[dict]) -> list[str]:
 
 def print_summaries(rows: list[dict], variant: str = "madgta+") -> None:
     for metric in ("makespan", "total_time_all"):
-        if metric == "total_time_all" and variant != "madgta-h":
+        if metric == "total_time_all" and variant == "madgta+":
             continue  # madgta+ aims at the makespan; madgta-h at the sum as well
         v = f"{variant} / madgta, {metric}"
         print(f"\n## {v} per map (agent counts and nests pooled)\n")
@@ -346,11 +357,24 @@ def print_variant_tables(rows: list[dict], algorithms: list[str]) -> None:
         if not part:
             continue
         algs = [a for a in algorithms if any(r["algorithm"] == a for r in part)]
-        for variant in [v for v in VARIANTS if v in algs]:
+        for variant in [v for v in algs if v not in NOT_VARIANTS]:
             print(f"\n## {fleet} agents: {variant} against madgta (mean over seeds)\n")
             print("\n".join(variants_table(part, algs, variant)))
             if "madgta" in algs:
                 print_summaries(part, variant)
+        print(f"\n## {fleet} agents: CPU seconds per run (mean over the runs above)\n")
+        print("| algorithm | " + " | ".join(sorted({r['map'] for r in part}, key=_map_order))
+              + " |")
+        print("|---|" + "---|" * len({r["map"] for r in part}))
+        for a in algs:
+            cells = [np.mean([r.get("cpu", np.nan) for r in part
+                              if r["algorithm"] == a and r["map"] == mp])
+                     for mp in sorted({r["map"] for r in part}, key=_map_order)]
+            print(f"| {a} | " + " | ".join(f"{c:.2f}" for c in cells) + " |")
+
+
+def _map_order(mp: str) -> tuple:
+    return (MAPS.index(mp) if mp in MAPS else 99, mp)
 
 
 def _cell_order(cell: tuple[str, int, str]) -> tuple:
@@ -395,7 +419,7 @@ def main(argv: list[str] | None = None) -> int:
             row.setdefault("carry_obstacles", False)  # files from before the option
         if saved.get("variants"):
             rows = saved["variants"]
-            algs = [a for a in ALGORITHMS if any(r["algorithm"] == a for r in rows)]
+            algs = list(dict.fromkeys(r["algorithm"] for r in rows))
             print_variant_tables(rows, algs)
         if saved.get("comm"):
             print("\n## Imperfect channels\n")

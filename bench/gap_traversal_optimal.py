@@ -22,10 +22,13 @@ It also prints the share of runs that were exactly optimal; the thesis reports 2
 6×6. The last line is the ratio of MADGTA's total_time_all to the optimum, averaged over
 runs, against the reference 1.0, the optimum itself.
 
-Online algorithms (``--algorithms``, default madgta, nearest, madgta+, madgta-h;
-``madgta-h@RHO`` runs madgta-h at another point of its sum/makespan trade-off). A table per
-agent type gives each algorithm's mean gaps and its paired difference to MADGTA (same
-instance, same seed) with a 95 % Student-t interval, in percentage points.
+Online algorithms (``--algorithms``, default madgta, nearest, madgta+, madgta-h, madgta-r;
+``madgta-h@RHO`` runs madgta-h at another point of its sum/makespan trade-off,
+``madgta-r@KEY=VALUE,...`` madgta-r with other settings, and ``known:NAME`` runs NAME with
+the whole map known from the start: how much of its gap is for lack of information). A
+table per agent type gives each algorithm's mean gaps and its paired difference to MADGTA
+(same instance, same seed) with a 95 % Student-t interval, in percentage points, and its
+CPU time per run.
 
 Trade-off (``--pareto [CAP ...]``): what the optimum itself can do. Among the plans whose
 makespan is at most CAP × the optimal makespan, it finds the least sum. On mixed teams a low
@@ -48,16 +51,20 @@ what sets :data:`swarmex.missions.traversal.optimal.MAX_FREE_VERTICES`.
 from __future__ import annotations
 
 import argparse
+import ast
 import json
 import time
+from collections.abc import Iterator
+from contextlib import contextmanager
 
 import numpy as np
 
 from swarmex.engine.stats import summarize
-from swarmex.missions.traversal import run_metrics, run_traversal
+from swarmex.missions.traversal import Madgta, run_metrics, run_traversal, sim
 from swarmex.missions.traversal.agents import AgentSpec
 from swarmex.missions.traversal.madgta_h import MadgtaH
 from swarmex.missions.traversal.optimal import solve_optimal
+from swarmex.missions.traversal.rollout import MadgtaR
 from swarmex.worlds import random_obstacles
 
 
@@ -86,14 +93,54 @@ def instance(i: int) -> tuple[object, list[AgentSpec], str]:
 
 
 #: online algorithms of the gap study; ``NAME@RHO`` is madgta-h with that rho
-ALGORITHMS = ["madgta", "nearest", "madgta+", "madgta-h"]
+ALGORITHMS = ["madgta", "nearest", "madgta+", "madgta-h", "madgta-r"]
+#: prefix of an algorithm run with the whole map known from the start (a diagnostic)
+KNOWN = "known:"
 
 
-def online_policy(name: str) -> str | MadgtaH:
-    """An algorithm name, or ``madgta-h@RHO`` for madgta-h at another point of its trade-off."""
+def online_policy(name: str) -> str | Madgta:
+    """An algorithm name; ``madgta-h@RHO`` for madgta-h at another point of its trade-off;
+    ``madgta-r@KEY=VALUE,...`` for madgta-r with other settings (``MadgtaR``'s keywords,
+    e.g. ``madgta-r@far=2,ties=4``). A ``known:`` prefix is dropped (see :func:`map_known`)."""
+    name = name.removeprefix(KNOWN)
     if name.startswith("madgta-h@"):
         return MadgtaH(rho=float(name.split("@", 1)[1]))
+    if name.startswith("madgta-r@"):
+        kw = {}
+        for item in name.split("@", 1)[1].split(","):
+            key, value = item.split("=", 1)
+            kw[key] = None if value == "None" else ast.literal_eval(value)
+        return MadgtaR(**kw)
     return name
+
+
+@contextmanager
+def map_known(enabled: bool) -> Iterator[None]:
+    """Diagnostic only: every agent's sensor reports every obstacle of the map at its first
+    look (and the start message carries them to all), so the team knows the whole map from
+    the start. What is left of an algorithm's gap then is not for lack of information."""
+    if not enabled:
+        yield
+        return
+    original = sim.AdjacencySensor
+
+    class Omniscient(original):  # type: ignore[misc, valid-type]
+        def __call__(self, node: int) -> np.ndarray:
+            return np.nonzero(self.blocked)[0]
+
+    sim.AdjacencySensor = Omniscient
+    try:
+        yield
+    finally:
+        sim.AdjacencySensor = original
+
+
+def run_online(world: object, agents: list[AgentSpec], name: str, seed: int) -> tuple:
+    """One online run of algorithm spec ``name``: (run, CPU seconds)."""
+    with map_known(name.startswith(KNOWN)):
+        t = time.process_time()
+        run = run_traversal(world, agents, algorithm=online_policy(name), seed=seed)
+        return run, time.process_time() - t
 
 
 def gap_study(n_instances: int, seeds: int, time_limit: float,
@@ -117,11 +164,10 @@ def gap_study(n_instances: int, seeds: int, time_limit: float,
             "solve_seconds": opt_sum.solve_seconds + opt_mk.solve_seconds,
         }
         for algorithm in algorithms:
-            sums, mks, errors, messages = [], [], [], []
+            sums, mks, errors, messages, cpu = [], [], [], [], []
             for seed in range(seeds):
                 try:
-                    run = run_traversal(world, agents, algorithm=online_policy(algorithm),
-                                        seed=seed)
+                    run, dt = run_online(world, agents, algorithm, seed)
                 except Exception as exc:  # an online-policy bug must not hide the other runs
                     errors.append(f"seed {seed}: {type(exc).__name__}: {exc}")
                     continue
@@ -130,8 +176,9 @@ def gap_study(n_instances: int, seeds: int, time_limit: float,
                 sums.append(totals["total_time_all"] / opt_sum.value - 1.0)
                 mks.append(totals["max_total_time"] / opt_mk.value - 1.0)
                 messages.append(totals["messages"])
+                cpu.append(dt)
             row[algorithm] = {"sum_gap": sums, "makespan_gap": mks, "errors": errors,
-                              "messages": messages}
+                              "messages": messages, "cpu": cpu}
         rows.append(row)
         cells = []
         for a in algorithms:
@@ -179,8 +226,9 @@ def split_by_agents(rows: list[dict], algorithms: list[str]) -> dict:
     instance, same seed) with its 95 % Student-t interval, in percentage points."""
     out: dict = {}
     print("\n| agents | algorithm | sum gap mean / max % | makespan gap mean / max % | "
-          "Δ sum gap vs madgta (95 % CI) | Δ makespan gap vs madgta (95 % CI) | messages |")
-    print("|---|---|---|---|---|---|---|")
+          "Δ sum gap vs madgta (95 % CI) | Δ makespan gap vs madgta (95 % CI) | messages "
+          "| CPU ms per run |")
+    print("|---|---|---|---|---|---|---|---|")
     for mixed in (False, True):
         group = [r for r in rows if r["mixed"] == mixed]
         kind = "mixed" if mixed else "identical"
@@ -197,7 +245,8 @@ def split_by_agents(rows: list[dict], algorithms: list[str]) -> dict:
                     d = summarize(100 * np.array([x - y for x, y in pairs]))
                     cell[f"delta_{key}"] = (float(d.mean), float(d.half_width))
             msgs = float(np.mean([x for r in group for x in r[a]["messages"]]))
-            out[f"{kind}/{a}"] = {**cell, "messages": msgs}
+            cpu = float(np.mean([x for r in group for x in r[a].get("cpu", [np.nan])]))
+            out[f"{kind}/{a}"] = {**cell, "messages": msgs, "cpu_seconds": cpu}
 
             def delta(key: str, c: dict = cell) -> str:
                 if f"delta_{key}" not in c:
@@ -207,7 +256,8 @@ def split_by_agents(rows: list[dict], algorithms: list[str]) -> dict:
 
             print(f"| {kind} | {a} | {cell['sum_gap'][0]:.2f} / {cell['sum_gap'][1]:.1f} | "
                   f"{cell['makespan_gap'][0]:.2f} / {cell['makespan_gap'][1]:.1f} | "
-                  f"{delta('sum_gap')} | {delta('makespan_gap')} | {msgs:.1f} |")
+                  f"{delta('sum_gap')} | {delta('makespan_gap')} | {msgs:.1f} | "
+                  f"{1000 * cpu:.0f} |")
     return out
 
 
@@ -326,7 +376,9 @@ def main() -> None:
     ap.add_argument("--thesis", action="store_true",
                     help="Table 5.1's 6x6 setting (sum only) instead")
     ap.add_argument("--algorithms", nargs="+", default=ALGORITHMS,
-                    help="online algorithms (madgta-h@RHO: madgta-h with that rho)")
+                    help="online algorithms (madgta-h@RHO: madgta-h with that rho; "
+                    "madgta-r@K=V,...: madgta-r with those keywords; known:NAME: NAME with "
+                    "the whole map known from the start, a diagnostic)")
     ap.add_argument("--pareto", nargs="*", type=float, metavar="CAP",
                     help="instead: the least sum gap of plans with makespan <= CAP x optimal "
                     "(default caps 1 1.02 1.05 1.1 1.25 1.5)")

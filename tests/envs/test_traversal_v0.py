@@ -114,9 +114,13 @@ def test_same_seed_same_episode_and_reset_without_seed_moves_on():
         dict(algorithm="madgta-h", fleet=MIXED),
         dict(algorithm="madgta-h", fleet=MIXED, loss=0.3),
         dict(algorithm="madgta-h"),
+        dict(algorithm="madgta-r"),
+        dict(algorithm="madgta-r", loss=0.3, comm_range=3.0),
+        dict(algorithm="madgta-r", fleet=MIXED),
     ],
     ids=["madgta", "nearest", "madgta+", "madgta-lossy", "nearest-lossy", "madgta-8-delay",
-         "madgta-h-mixed", "madgta-h-mixed-lossy", "madgta-h"],
+         "madgta-h-mixed", "madgta-h-mixed-lossy", "madgta-h", "madgta-r", "madgta-r-lossy",
+         "madgta-r-mixed"],
 )
 @pytest.mark.parametrize("seed", [0, 3])
 def test_baseline_gives_exactly_the_record_of_swarmex_run(options, seed):

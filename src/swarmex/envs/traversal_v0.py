@@ -64,7 +64,7 @@ from swarmex.errors import InputError
 #: what ``observe`` reports per vertex in ``status``
 VACANT, DONE, OBSTACLE, CLAIMED = 0, 1, 2, 3
 #: algorithms that are sequential policies (``optimal`` is a MILP over the whole mission)
-BASELINES = ("madgta", "madgta+", "madgta-h", "nearest")
+BASELINES = ("madgta", "madgta+", "madgta-h", "madgta-r", "nearest")
 INVALID_ACTIONS = ("raise", "project")
 
 Obs = dict[str, np.ndarray]

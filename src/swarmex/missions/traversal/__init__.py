@@ -2,6 +2,7 @@
 
 from swarmex.missions.traversal import (
     madgta_h,  # noqa: F401,E402  (registers madgta-h)
+    rollout,  # noqa: F401,E402  (registers madgta-r)
     variants,  # noqa: F401,E402  (registers variants)
 )
 from swarmex.missions.traversal.agent import TraversalAgent

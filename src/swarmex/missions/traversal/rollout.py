@@ -60,6 +60,8 @@ docs/traversal-variants.md §4.
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 from numpy.typing import NDArray
 
@@ -67,6 +69,7 @@ from swarmex._kernels import kernel
 from swarmex.missions.traversal.belief import TraversalBelief
 from swarmex.missions.traversal.policies import POLICIES, Decision, Madgta, _pick
 from swarmex.planning.distance import _bfs_hops
+from swarmex.planning.fieldcache import KnownGraph
 
 #: agent modes of the simulation
 ABSENT, FREE, MOVING, WORKING, FINISHED = -1, 0, 1, 2, 3
@@ -88,8 +91,9 @@ def _fill_rows(
 
 
 @kernel(cache=True, nogil=True)
-def _better(m1: float, s1: float, v1: int, m2: float, s2: float, v2: int) -> bool:
-    """Algorithm 2's order: larger min, then larger sum, then (not random here) lower id."""
+def _better(m1: float, s1: float, p1: int, m2: float, s2: float, p2: int) -> bool:
+    """Algorithm 2's order: larger min, then larger sum, then (not random here) the lower
+    tie rank ``p`` (the vertex id, or a seeded permutation of the ids)."""
     if not np.isfinite(m2) and m2 < 0:
         return True
     tol = 1e-9 * (1.0 + abs(m2)) if np.isfinite(m2) else 0.0
@@ -102,7 +106,7 @@ def _better(m1: float, s1: float, v1: int, m2: float, s2: float, v2: int) -> boo
         return True
     if s1 < s2 - tol:
         return False
-    return v1 < v2
+    return p1 < p2
 
 
 @kernel(cache=True, nogil=True)
@@ -142,7 +146,7 @@ def _options(
     blocked: NDArray[np.bool_], st: NDArray[np.int32], rs: NDArray[np.int32],
     vacant: NDArray[np.int64], table: NDArray[np.int32], row_of: NDArray[np.int64],
     loc: NDArray[np.int64], mode: NDArray[np.int64], tpu: NDArray[np.float64],
-    jt: NDArray[np.float64], step: float, out: NDArray[np.int64],
+    jt: NDArray[np.float64], step: float, out: NDArray[np.int64], prio: NDArray[np.int64],
 ) -> tuple[int, int]:  # pragma: no cover - compiled
     """MADGTA's options for agent ``a``: (kind, count) with the best ``k`` candidates in
     ``out``, best first (branch 2: vacant neighbours; branch 3: vacant vertices)."""
@@ -158,30 +162,48 @@ def _options(
         if blocked[v] or st[v] != 0 or (rs[v] != 0 and rs[v] != a):
             continue
         lo, s = _key(v, a, table, row_of, loc, mode, tpu, jt, step)
-        c = _insert(out, mins, sums, c, k, v, lo, s)
+        c = _insert(out, mins, sums, c, k, v, lo, s, prio)
     if c > 0:
         return NEAR, c
-    for i in range(vacant.shape[0]):
-        v = vacant[i]
-        if st[v] != 0 or (rs[v] != 0 and rs[v] != a):
-            continue
-        if table[row_of[v], here] < 0:
-            continue
-        lo, s = _key(v, a, table, row_of, loc, mode, tpu, jt, step)
-        c = _insert(out, mins, sums, c, k, v, lo, s)
+    c = _far_scan(a, k, 1, st, rs, vacant, table, row_of, loc, mode, tpu, jt, step, out,
+                  mins, sums, prio)
     if c > 0:
         return FAR, c
     return FINISH, 0
 
 
 @kernel(cache=True, nogil=True)
+def _far_scan(
+    a: int, k: int, min_hops: int, st: NDArray[np.int32], rs: NDArray[np.int32],
+    vacant: NDArray[np.int64], table: NDArray[np.int32], row_of: NDArray[np.int64],
+    loc: NDArray[np.int64], mode: NDArray[np.int64], tpu: NDArray[np.float64],
+    jt: NDArray[np.float64], step: float, out: NDArray[np.int64], mins: NDArray[np.float64],
+    sums: NDArray[np.float64], prio: NDArray[np.int64],
+) -> int:  # pragma: no cover - compiled
+    """Branch 3's candidates: the best ``k`` vacant vertices not in ``a``'s KM that ``a``
+    reaches in ``min_hops`` hops or more, best first, into ``out``; returns how many."""
+    here = loc[a]
+    c = 0
+    for i in range(vacant.shape[0]):
+        v = vacant[i]
+        if st[v] != 0 or (rs[v] != 0 and rs[v] != a):
+            continue
+        h = table[row_of[v], here]
+        if h < min_hops:  # also -1: unreachable
+            continue
+        lo, s = _key(v, a, table, row_of, loc, mode, tpu, jt, step)
+        c = _insert(out, mins, sums, c, k, v, lo, s, prio)
+    return c
+
+
+@kernel(cache=True, nogil=True)
 def _insert(
     out: NDArray[np.int64], mins: NDArray[np.float64], sums: NDArray[np.float64], c: int,
-    k: int, v: int, lo: float, s: float,
+    k: int, v: int, lo: float, s: float, prio: NDArray[np.int64],
 ) -> int:  # pragma: no cover - compiled
     """Insert ``v`` into the best-first list of length ``c`` (at most ``k``)."""
     j = c
-    while j > 0 and _better(lo, s, v, mins[j - 1], sums[j - 1], out[j - 1]):
+    while j > 0 and _better(lo, s, prio[v], mins[j - 1], sums[j - 1], prio[out[j - 1]]):
         j -= 1
     if j >= k:
         return c
@@ -200,14 +222,15 @@ def _insert(
 def _hop(
     here: int, f: int, indptr: NDArray[np.int64], indices: NDArray[np.int32],
     blocked: NDArray[np.bool_], table: NDArray[np.int32], row_of: NDArray[np.int64],
+    prio: NDArray[np.int64],
 ) -> int:  # pragma: no cover - compiled
-    """The lowest neighbour of ``here`` on a shortest path to ``f``."""
+    """The neighbour of ``here`` of lowest tie rank on a shortest path to ``f``."""
     row = table[row_of[f]]
     want = row[here] - 1
     best = -1
     for e in range(indptr[here], indptr[here + 1]):
         v = indices[e]
-        if not blocked[v] and row[v] == want and (best < 0 or v < best):
+        if not blocked[v] and row[v] == want and (best < 0 or prio[v] < prio[best]):
             best = v
     return best
 
@@ -264,7 +287,7 @@ def _simulate(
     table: NDArray[np.int32], row_of: NDArray[np.int64], loc: NDArray[np.int64],
     dest: NDArray[np.int64], tfree: NDArray[np.float64], mode: NDArray[np.int64],
     intent: NDArray[np.int64], resv: NDArray[np.int64], tpu: NDArray[np.float64],
-    jt: NDArray[np.float64], step: float,
+    jt: NDArray[np.float64], step: float, prio: NDArray[np.int64],
 ) -> tuple[float, float]:  # pragma: no cover - compiled
     """The rest of the mission with MADGTA everywhere, after ``me`` takes its candidate
     ``first`` (NEAR: move to that neighbour; FAR: head for that target until it is reached
@@ -279,7 +302,7 @@ def _simulate(
     out = np.empty(1, dtype=np.int64)
     if first_kind == FAR:  # head for the target: its first hop now
         target[me] = first
-        first = _hop(loc[me], first, indptr, indices, blocked, table, row_of)
+        first = _hop(loc[me], first, indptr, indices, blocked, table, row_of, prio)
     _move(me, first, now, loc, dest, tfree, mode, intent, resv, st, rs, work, last,
           step * tpu[me])
     decisions = 0
@@ -318,19 +341,19 @@ def _simulate(
                 if st[here] == 0 and (rs[here] == 0 or rs[here] == a):
                     _start_job(a, here, t, tfree, mode, resv, st, rs, work, last, jt)
                     continue
-                v = _hop(here, f, indptr, indices, blocked, table, row_of)
+                v = _hop(here, f, indptr, indices, blocked, table, row_of, prio)
                 _move(a, v, t, loc, dest, tfree, mode, intent, resv, st, rs, work, last,
                       step * tpu[a])
                 continue
         kind, c = _options(a, 1, indptr, indices, blocked, st, rs, vacant, table, row_of,
-                           loc, mode, tpu, jt, step, out)
+                           loc, mode, tpu, jt, step, out, prio)
         if kind == JOB:
             _start_job(a, loc[a], t, tfree, mode, resv, st, rs, work, last, jt)
         elif kind == NEAR:
             _move(a, out[0], t, loc, dest, tfree, mode, intent, resv, st, rs, work, last,
                   step * tpu[a])
         elif kind == FAR:
-            v = _hop(loc[a], out[0], indptr, indices, blocked, table, row_of)
+            v = _hop(loc[a], out[0], indptr, indices, blocked, table, row_of, prio)
             _move(a, v, t, loc, dest, tfree, mode, intent, resv, st, rs, work, last,
                   step * tpu[a])
         else:
@@ -362,124 +385,236 @@ def _simulate(
 
 
 class _Rows:
-    """Hop-count rows of the vacant vertices, kept across decisions while the known graph's
-    obstacles stay the same (a row depends only on them)."""
+    """Hop-count rows of the vacant vertices of one known graph, kept across decisions while
+    its obstacles stay the same (a row depends only on them; vacant vertices only become
+    fewer, so a row once made serves until the next obstacle)."""
 
-    def __init__(self) -> None:
-        self.key: tuple[int, int] = (-1, -1)
-        self.table = np.empty((0, 0), dtype=np.int32)
-        self.row_of = np.empty(0, dtype=np.int64)
+    def __init__(self, known: KnownGraph) -> None:
+        self.known = known  # held, so that its id is not reused while this cache lives
+        n = known.graph.n_nodes
+        self.version = -1
+        self.table = np.empty((0, n), dtype=np.int32)
+        self.row_of = np.full(n, -1, dtype=np.int64)
         self.used = 0
-        self.queue = np.empty(0, dtype=np.int32)
+        self.queue = np.empty(n, dtype=np.int32)
 
-    def get(self, belief: TraversalBelief, vacant: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        known = belief.known
-        n = belief.status.size
-        key = (id(known), known.version)
-        if key != self.key or self.row_of.size != n:
-            self.key = key
-            self.row_of = np.full(n, -1, dtype=np.int64)
+    def get(self, vacant: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(table, row_of): ``table[row_of[v]]`` holds the hop counts from each ``v`` in
+        ``vacant`` on the known graph (-1: unreachable)."""
+        known = self.known
+        if known.version != self.version:
+            self.version = known.version
+            self.row_of[:] = -1
             self.used = 0
-            self.queue = np.empty(n, dtype=np.int32)
         missing = vacant[self.row_of[vacant] < 0]
         if missing.size:
-            if self.used + missing.size > self.table.shape[0] or self.table.shape[1] != n:
-                # full: a new table with the rows still needed (vacant only shrinks)
+            if self.used + missing.size > self.table.shape[0]:
+                # full: a new table with the rows still needed
                 keep = vacant[self.row_of[vacant] >= 0]
-                table = np.empty((max(2 * vacant.size, 64), n), dtype=np.int32)
-                if keep.size:
-                    table[: keep.size] = self.table[self.row_of[keep]]
+                table = np.empty((max(2 * vacant.size, 64), self.row_of.size), dtype=np.int32)
+                table[: keep.size] = self.table[self.row_of[keep]]
                 self.row_of[:] = -1
                 self.row_of[keep] = np.arange(keep.size)
                 self.table = table
                 self.used = keep.size
             rows = np.arange(self.used, self.used + missing.size, dtype=np.int64)
-            _fill_rows(belief.graph.indptr, belief.graph.indices, known.blocked, missing, rows,
-                       self.table, self.queue)
+            g = known.graph
+            _fill_rows(g.indptr, g.indices, known.blocked, missing, rows, self.table,
+                       self.queue)
             self.row_of[missing] = rows
             self.used += missing.size
         return self.table, self.row_of
 
 
+#: what a simulated world is: (known obstacles, status, vacant vertices, table, row_of)
+World = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]
+
+
 class MadgtaR(Madgta):
     """MADGTA with rollout (see the module docstring).
 
-    ``k``: candidates simulated per decision; ``max_vacant``: roll out only when at most
-    this many vacant vertices are left (None: always); ``horizon``: simulated decisions
-    before the rest is estimated (the vacant jobs shared evenly by the agents still
-    working); ``objective``: ``"makespan"`` (ties by the sum) or ``"mix"`` (makespan +
-    ``weight`` × sum / agents).
+    ``k``: MADGTA's best candidates simulated per decision. ``max_vacant``: roll out only
+    when at most this many vacant vertices are left (None: always). ``horizon``: simulated
+    decisions before the rest is estimated (the vacant jobs shared evenly by the agents
+    still working). ``objective``: ``"makespan"`` (ties by the sum) or ``"mix"`` (makespan
+    + ``weight`` × sum / agents). ``far``: with vacant neighbours, also simulate this many
+    of branch 3's distant targets. ``ties``: average over this many seeded random tie orders
+    instead of the lowest id. ``samples``: average over this many seeded guesses of the
+    unsensed walls instead of taking unknown cells as free. ``seed``: of those draws.
     """
 
     name = "madgta-r"
 
     def __init__(
-        self, k: int = 4, max_vacant: int | None = 200, horizon: int = 100_000,
-        objective: str = "makespan", weight: float = 1.0,
+        self, k: int = 4, max_vacant: int | None = 200, horizon: int = 1_000_000,
+        objective: str = "makespan", weight: float = 1.0, far: int = 0, ties: int = 0,
+        samples: int = 0, seed: int = 0,
     ) -> None:
         if k < 1:
             raise ValueError(f"k must be >= 1, got {k}")
         if objective not in ("makespan", "mix"):
             raise ValueError(f"objective must be 'makespan' or 'mix', got {objective!r}")
+        if min(far, ties, samples) < 0 or horizon < 1:
+            raise ValueError("far, ties and samples must be >= 0 and horizon >= 1")
         self.k = k
         self.max_vacant = max_vacant
         self.horizon = horizon
         self.objective = objective
         self.weight = weight
-        self._rows = _Rows()
+        self.far = far
+        self.ties = ties
+        self.samples = samples
+        self.seed = seed
+        self._rows: dict[int, _Rows] = {}
         self.rollouts = 0  # decisions rolled out (for the benches)
         self.switched = 0  # of which MADGTA's first choice was not kept
 
+    @property
+    def madgta_branch2(self) -> bool:
+        """Whether branch 2 still picks among the vacant neighbours (traversal_v0 reads it):
+        not when distant targets compete with them (``far``)."""
+        return self.far == 0
+
     def decide(self, belief: TraversalBelief, rng: np.random.Generator) -> Decision:
-        if not belief.known.uniform:
-            return super().decide(belief, rng)
-        here = belief.here
-        if not belief.in_km(here):
-            return super().decide(belief, rng)
-        vacant = np.nonzero((belief.status == 0) & ~belief.known.blocked)[0]
+        known = belief.known
+        if not known.uniform or not belief.in_km(belief.here):
+            return super().decide(belief, rng)  # branch 1, or edges of several lengths
+        vacant = np.nonzero((belief.status == 0) & ~known.blocked)[0]
         if self.max_vacant is not None and vacant.size > self.max_vacant:
-            return super().decide(belief, rng)
-        table, row_of = self._rows.get(belief, vacant)
+            return super().decide(belief, rng)  # not yet the end game: MADGTA as it is
+        rows = self._rows.get(id(known))
+        if rows is None or rows.known is not known:
+            rows = self._rows[id(known)] = _Rows(known)
+        table, row_of = rows.get(vacant)
         state = self._state(belief)
+        cands, kinds = self._candidates(belief, vacant, table, row_of, state)
+        if len(cands) < 2:
+            return super().decide(belief, rng)
+        self.rollouts += 1
+        scores = self._scores(belief, cands, kinds, (known.blocked, belief.status, vacant,
+                                                     table, row_of), state)
+        best = min(scores)
+        # equal scores: MADGTA's own order (candidates are best first, its own kind first)
+        j = next(i for i, s in enumerate(scores) if _same(s, best))
+        self.switched += j > 0
+        v = cands[j]
+        if kinds[j] == NEAR:
+            return Decision("move", v, v, 2)
+        steps = known.first_steps(known.slot(belief.here), v)
+        return Decision("move", _pick(steps, rng), v, 3)
+
+    def _candidates(
+        self, belief: TraversalBelief, vacant: np.ndarray, table: np.ndarray,
+        row_of: np.ndarray, state: tuple[np.ndarray, ...],
+    ) -> tuple[list[int], list[int]]:
+        """MADGTA's best ``k`` options (vacant neighbours, else distant targets), best
+        first, plus ``far`` distant targets when it has vacant neighbours; with their kinds."""
+        loc, _, _, mode, _, _ = state
+        g, known = belief.graph, belief.known
+        me = belief.me
+        ids = self._ids(g.n_nodes)
+        tpu, jt = belief.time_per_unit, belief.job_time
+        out = np.empty(self.k, dtype=np.int64)
+        kind, c = _options(me, self.k, g.indptr, g.indices, known.blocked, belief.status,
+                           belief.reserved, vacant, table, row_of, loc, mode, tpu, jt,
+                           known.step, out, ids)
+        if kind in (FINISH, JOB):
+            return [], []
+        cands, kinds = out[:c].tolist(), [kind] * c
+        if kind == NEAR and self.far:
+            out = np.empty(self.far, dtype=np.int64)
+            e = _far_scan(me, self.far, 2, belief.status, belief.reserved, vacant, table,
+                          row_of, loc, mode, tpu, jt, known.step, out, np.empty(self.far),
+                          np.empty(self.far), ids)
+            cands += out[:e].tolist()
+            kinds += [FAR] * e
+        return cands, kinds
+
+    def _scores(
+        self, belief: TraversalBelief, cands: list[int], kinds: list[int], world: World,
+        state: tuple[np.ndarray, ...],
+    ) -> list[tuple[float, float]]:
+        """Each candidate's simulated (objective, tie-break), averaged over the worlds
+        (unsensed walls: ``samples``) and tie orders (``ties``)."""
         loc, dest, tfree, mode, intent, resv = state
         g = belief.graph
         me = belief.me
-        cands = np.empty(self.k, dtype=np.int64)
-        kind, c = _options(me, self.k, g.indptr, g.indices, belief.known.blocked,
-                           belief.status, belief.reserved, vacant, table, row_of, loc, mode,
-                           belief.time_per_unit, belief.job_time, belief.known.step, cands)
-        if kind in (FINISH, JOB) or c < 2:
-            return super().decide(belief, rng)
-        self.rollouts += 1
-        scores = []
-        for j in range(c):
-            mk, total = _simulate(
-                me, int(cands[j]), kind, belief.now, self.horizon, g.indptr, g.indices,
-                belief.known.blocked, belief.status.copy(), belief.reserved.copy(), vacant,
-                table, row_of, loc.copy(), dest.copy(), tfree.copy(), mode.copy(),
-                intent.copy(), resv.copy(), belief.time_per_unit, belief.job_time,
-                belief.known.step,
-            )
-            scores.append(self._score(mk, total, int((mode != ABSENT).sum())))
-        best = min(scores)
-        # equal scores: MADGTA's own order (cands is best first)
-        j = next(i for i, s in enumerate(scores) if _same(s, best))
-        if j:
-            self.switched += 1
-        v = int(cands[j])
-        if kind == NEAR:
-            return Decision("move", v, v, 2)
-        steps = belief.known.first_steps(belief.known.slot(here), v)
-        return Decision("move", _pick(steps, rng), v, 3)
-
-    def _score(self, makespan: float, total: float, agents: int) -> tuple[float, float]:
+        worlds = [world]
+        if self.samples:
+            worlds = self._sampled_worlds(belief, np.asarray(cands), world[2]) or worlds
+        orders = [self._ids(g.n_nodes)]
+        if self.ties:
+            gen = np.random.default_rng([self.seed, me, int((belief.status > 0).sum())])
+            orders = [gen.permutation(g.n_nodes).astype(np.int64) for _ in range(self.ties)]
+        totals = np.zeros((len(cands), 2))
+        for (blocked, status, vac, tab, rows), prio in itertools.product(worlds, orders):
+            for j, (v, kind) in enumerate(zip(cands, kinds, strict=True)):
+                totals[j] += _simulate(
+                    me, v, kind, belief.now, self.horizon, g.indptr, g.indices, blocked,
+                    status.copy(), belief.reserved.copy(), vac, tab, rows, loc.copy(),
+                    dest.copy(), tfree.copy(), mode.copy(), intent.copy(), resv.copy(),
+                    belief.time_per_unit, belief.job_time, belief.known.step, prio,
+                )
+        totals /= len(worlds) * len(orders)
+        agents = int((mode != ABSENT).sum())
         if self.objective == "makespan":
-            return makespan, total
-        return makespan + self.weight * total / max(agents, 1), 0.0
+            return [(float(mk), float(tot)) for mk, tot in totals]
+        return [(float(mk + self.weight * tot / max(agents, 1)), 0.0) for mk, tot in totals]
+
+    def _sampled_worlds(
+        self, belief: TraversalBelief, cands: np.ndarray, vacant: np.ndarray
+    ) -> list[World]:
+        """``samples`` guesses of the walls nobody has sensed yet (empty: none unknown).
+
+        Sensed cells are the vertices agents stood on (done vertices, agents' positions)
+        and their neighbours; each other not-done cell is a wall with the density of walls
+        among the sensed cells. Drawn from a generator seeded by the belief (the agent, the
+        number of done vertices), so the same belief gives the same guesses. Candidates
+        are never walls (the agent compares going there).
+        """
+        g = belief.graph
+        known = belief.known
+        status = belief.status
+        visited = status > 0
+        visited[belief.loc[belief.loc >= 0]] = True
+        vis = np.nonzero(visited)[0]
+        starts, ends = g.indptr[vis], g.indptr[vis + 1]
+        lens = ends - starts
+        offs = np.repeat(starts - np.cumsum(lens) + lens, lens) + np.arange(int(lens.sum()))
+        sensed = visited.copy()
+        sensed[g.indices[offs]] = True
+        unknown = ~sensed & (status == 0) & ~known.blocked
+        unknown[cands] = False
+        if not unknown.any():
+            return []
+        density = float(known.blocked.sum()) / max(int(sensed.sum()), 1)
+        gen = np.random.default_rng([self.seed, belief.me, int(visited.sum())])
+        worlds: list[World] = []
+        queue = np.empty(status.size, dtype=np.int32)
+        for _ in range(self.samples):
+            walls = unknown & (gen.random(status.size) < density)
+            blocked = known.blocked | walls
+            st = status.copy()
+            st[walls] = -1
+            vac = vacant[~walls[vacant]]
+            table = np.empty((vac.size, status.size), dtype=np.int32)
+            rows = np.full(status.size, -1, dtype=np.int64)
+            rows[vac] = np.arange(vac.size)
+            _fill_rows(g.indptr, g.indices, blocked, vac, rows[vac], table, queue)
+            worlds.append((blocked, st, vac, table, rows))
+        return worlds
+
+    def _ids(self, n: int) -> np.ndarray:
+        """Tie ranks = vertex ids (cached)."""
+        ids: np.ndarray | None = getattr(self, "_id_order", None)
+        if ids is None or ids.size != n:
+            ids = self._id_order = np.arange(n, dtype=np.int64)
+        return ids
 
     @staticmethod
     def _state(belief: TraversalBelief) -> tuple[np.ndarray, ...]:
-        """The simulation's agents from the belief (see the module docstring)."""
+        """The simulation's agents from the belief (see the module docstring):
+        (loc, dest, tfree, mode, intent, reservation) per agent id."""
         m1 = belief.loc.size
         loc = belief.loc.copy()
         dest = loc.copy()
@@ -492,18 +627,17 @@ class MadgtaR(Madgta):
         for a in range(1, m1):
             if loc[a] < 0:
                 continue
-            if a == belief.me:
-                mode[a] = FREE
-                continue
             nxt = int(belief.next_loc[a])
             fa = float(belief.free_at[a])
-            if nxt >= 0 and nxt != loc[a]:
+            if a == belief.me:
+                mode[a] = FREE
+            elif nxt >= 0 and nxt != loc[a]:  # C05: on its way to nxt
                 mode[a] = MOVING
                 dest[a] = nxt
                 tfree[a] = max(fa, now)
                 if belief.reserved[nxt] == a:
                     intent[a] = nxt
-            elif nxt >= 0 and st[nxt] == a and fa > now:
+            elif nxt >= 0 and st[nxt] == a and fa > now:  # C07: working at nxt
                 mode[a] = WORKING
                 tfree[a] = fa
             else:
