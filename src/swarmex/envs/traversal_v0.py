@@ -23,7 +23,7 @@ generator, as MADGTA draws it). The agent decides again at its next vertex. An a
 would be empty finishes by itself (the seed algorithm's "no vacant vertex left").
 
 ``baseline_policy(env)`` plays the seed algorithm named by ``algorithm`` (madgta, madgta+,
-madgta-h, nearest); ``env.unwrapped.record()`` is then exactly ``swarmex.run``'s record
+madgta-h, madgta-r, nearest); ``env.unwrapped.record()`` is then exactly ``swarmex.run``'s record
 (docs/envs.md). With ``algorithm="madgta-h"`` an agent also finishes when that policy's own
 rule retires it (a cheaper rival does the rest: ``MadgtaH.retires``), whatever the actions.
 
