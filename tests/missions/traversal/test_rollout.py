@@ -62,7 +62,8 @@ def test_registered_and_selectable():
     assert isinstance(policy, MadgtaR) and isinstance(policy, Madgta)
     assert policy.name == "madgta-r" and policy.madgta_branch2
     assert not MadgtaR(far=2).madgta_branch2  # distant targets compete with neighbours
-    for bad in (dict(k=0), dict(objective="sum"), dict(far=-1), dict(horizon=0)):
+    for bad in (dict(k=0), dict(objective="sum"), dict(far=-1), dict(horizon=0),
+                dict(outside="nearest")):
         with pytest.raises(ValueError):
             MadgtaR(**bad)
 
@@ -84,7 +85,7 @@ def test_completes_every_job_once(seed, fleet):
 
 
 @pytest.mark.parametrize("options", [dict(), dict(far=2, ties=2, samples=2),
-                                     dict(objective="mix", horizon=30)])
+                                     dict(objective="mix", horizon=30, outside="madgta+")])
 def test_completes_over_a_lossy_range_limited_channel(options):
     world = random_obstacles(10, 10, 0.2, seed=3)
     agents = _mixed(world, 4, 3)
