@@ -35,6 +35,7 @@ def _world_and_nests(size: int, density: float, k: int, seed: int):
         (9, 0.2, 4, 1, {}),
         (10, 0.25, 5, 2, {"job_failure": 0.2}),
         (8, 0.15, 3, 3, {"algorithm": "nearest"}),
+        (9, 0.2, 4, 6, {"algorithm": "madgta-r"}),
         (7, 0.1, 2, 4, {"start_interval": 0.0}),
     ],
 )
