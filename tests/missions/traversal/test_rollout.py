@@ -212,3 +212,20 @@ def test_lower_makespan_than_madgta_on_an_open_grid_with_16_agents():
         base = run_metrics(run_traversal(world, agents, "madgta", seed=seed), 1.0)[0]
         ratios.append(ours["max_total_time"] / base["max_total_time"])
     assert np.mean(ratios) < 0.99, ratios
+
+
+def test_cells_walled_in_by_known_walls_are_not_counted_as_vacant():
+    """A free cell inside a ring of known walls (or an unknown one behind them) can never be
+    reached: it must not count towards ``max_vacant`` nor enter the simulation."""
+    from swarmex.missions.traversal.belief import TraversalBelief
+    from swarmex.planning.fieldcache import KnownGraph
+
+    world = random_obstacles(7, 7, 0.0, seed=0)
+    ring = [y * 7 + x for y in range(3, 6) for x in range(3, 6) if (x, y) != (4, 4)]
+    known = KnownGraph(world.graph)
+    belief = TraversalBelief(1, 1, known, np.array([0.0, 2.0]), np.array([0.0, 9.0]))
+    belief.loc[1] = 0
+    belief.see_obstacles(ring)
+    vacant = MadgtaR._vacant(belief)
+    assert 4 * 7 + 4 not in vacant.tolist()
+    assert vacant.size == 49 - len(ring) - 1

@@ -80,6 +80,11 @@ Measured on the 32 gap instances (identical agents, 5 seeds) and on five MovingA
 * **MADGTA outside the rollout**, not madgta+ (``outside="madgta+"``): -1.48 % ± 0.53 %
   pooled against -1.31 % ± 0.46 %, but +0.03 % on the warehouse, where the default's interval
   excludes zero (-0.21 % ± 0.15 %).
+* **Only reachable vacant vertices count**, towards ``max_vacant`` and in the simulation:
+  unknown cells count as free, so a walled-in cell would stay "vacant" for ever. On a map
+  whose outer wall nobody has sensed all along (ost003d with a shared nest), the unknown
+  cells beyond it stay reachable in the belief until the very end, the count never drops
+  to ``max_vacant``, and the agent stays MADGTA.
 * **Graphs with one edge length only** (hop counts); elsewhere the policy is MADGTA.
 
 Cost
@@ -518,7 +523,7 @@ class MadgtaR(Madgta):
         known = belief.known
         if not known.uniform or not belief.in_km(belief.here):
             return self._plain.decide(belief, rng)  # branch 1, or edges of several lengths
-        vacant = np.nonzero((belief.status == 0) & ~known.blocked)[0]
+        vacant = self._vacant(belief)
         if self.max_vacant is not None and vacant.size > self.max_vacant:
             return self._plain.decide(belief, rng)  # not yet the end game: MADGTA as it is
         rows = self._rows.get(id(known))
@@ -541,6 +546,19 @@ class MadgtaR(Madgta):
             return Decision("move", v, v, 2)
         steps = known.first_steps(known.slot(belief.here), v)
         return Decision("move", _pick(steps, rng), v, 3)
+
+    @staticmethod
+    def _vacant(belief: TraversalBelief) -> np.ndarray:
+        """The vacant vertices the agent can reach on its known graph (done by nobody, not
+        a known wall). Unknown cells count as free, so cells walled in on every side would
+        count as vacant for ever (ost003d has thousands); only reachable ones are counted
+        and simulated. A vertex only a rival reaches is left out of the simulation."""
+        known = belief.known
+        free = (belief.status == 0) & ~known.blocked
+        if not known.open_lattice:
+            row = known.slot(belief.here)  # first: it may grow the table
+            free &= known.hops[row] >= 0
+        return np.nonzero(free)[0]
 
     def _candidates(
         self, belief: TraversalBelief, vacant: np.ndarray, table: np.ndarray,
