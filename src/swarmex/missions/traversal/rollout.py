@@ -54,10 +54,11 @@ Measured on the 32 gap instances (identical agents, 5 seeds) and on five MovingA
   same draws from the generator). The waste MADGTA leaves piles up in the end game (40-50 %
   of the moves without a job fall in the last tenth of the jobs), and rolling out earlier
   was no better: 400 gives -1.32 % makespan on the real maps against -1.16 %, within
-  noise, at 2.4x the CPU; rolling out from the start (``None``, random-32-32-20 and room-32-32-4, 4 runs each)
-  was +1.2 % and -0.4 % at 9-12 s of CPU per run, and with a horizon of 200 or 600 simulated
-  decisions +0.4 % and -0.9 % / +0.3 % and -2.4 % at 4-11 s: a long simulation is too far
-  from what the rivals really do. On the gap instances (at most 16 vertices) it always runs.
+  noise, at 2.4x the CPU. Rolling out from the start (``None``; random-32-32-20 and
+  room-32-32-4, 4 runs each) gave +1.2 % and -0.4 % at 9-12 s of CPU per run; with a
+  horizon of 200 or 600 simulated decisions, +0.4 % and -0.9 % / +0.3 % and -2.4 % at
+  4-11 s: a long simulation is too far from what the rivals really do. On the gap
+  instances (at most 16 vertices) it always runs.
 * **Branch 3 candidates are targets**, not next hops: the simulated agent keeps going to
   its candidate target (re-deciding once it gets there or the target is taken), so the
   rollout compares *where* to go; two targets behind the same hop would otherwise tie.
