@@ -13,8 +13,11 @@ from swarmex.missions.exploration.strategies import (
     hungarian,
     hungarian_exclusion,
     minpos,
+    pocket_exclusion,
+    pocket_regions,
     utility,
 )
+from swarmex.sensing.frontiers import Frontiers
 from tests.missions.exploration.helpers import config, team
 from tests.missions.exploration.helpers import goal_context as context
 
@@ -80,6 +83,34 @@ def test_hungarian_exclusion_assigns_with_two_rivals_in_view():
                     field_from=lambda c: fields[c])
     assert hungarian_exclusion(zoned) == (5, 0)
     assert get_strategy("hungarian-exclusion").exclusion  # it announces goals (GOAL messages)
+
+
+def _long_frontier_and_a_pocket(pocket_steps):
+    """Region 0: a frontier 21 cells long (x = 5..25, wider than the 10-cell laser range);
+    region 1: one cell at (30, 5), ``pocket_steps`` from the robot at (0, 0)."""
+    xs = np.array([*range(5, 26), 30])
+    ys = np.array([0] * 21 + [5])
+    fr = Frontiers(ys, xs, np.array([0] * 21 + [1]), np.array([21, 1]), 0)
+    from swarmex.missions.exploration.strategies import GoalContext
+
+    dist = np.array([*range(5, 26), pocket_steps])
+    return GoalContext(me=0, pos=(0, 0), frontiers=fr, eligible=np.ones(22, bool), dist=dist,
+                       laser_cells=10.0)
+
+
+def test_pocket_exclusion_clears_a_near_pocket_before_the_long_frontier():
+    assert list(pocket_regions(_long_frontier_and_a_pocket(9).frontiers, 10.0)) == [False, True]
+    ctx = _long_frontier_and_a_pocket(9)  # half of 9 steps beats the frontier's 5
+    assert greedy_exclusion(ctx) == (5, 0)
+    assert pocket_exclusion(ctx) == (30, 5)
+    far = _long_frontier_and_a_pocket(12)  # 6 > 5: the nearest cell, as greedy-exclusion
+    assert pocket_exclusion(far) == (5, 0)
+    # the pocket inside an announced goal's zone is excluded like any candidate
+    zoned = _long_frontier_and_a_pocket(9)
+    zoned.team_goals = {3: (31, 5)}
+    assert pocket_exclusion(zoned) == (5, 0)
+    st = get_strategy("pocket-exclusion")
+    assert st.exclusion and st.priorities and st.home_when_done
 
 
 def test_unknown_strategy_is_an_input_error():

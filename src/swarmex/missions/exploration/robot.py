@@ -195,6 +195,7 @@ class ExplorerRobot:
         self.asked: dict[int, int] = {}  # origin -> tick of the last gap NEED_MAP to it
         self.beaten_by: set[int] = set()  # robots that won a conflict since the last plan
         self.hold = 0  # ticks left standing still while a plan is computed (plan_pause)
+        self.start: Cell = (int(pos[0]), int(pos[1]))  # where it was deployed
 
     # ------------------------------------------------------------------ state
     @property
@@ -522,6 +523,8 @@ class ExplorerRobot:
         if goal is None:
             self.path = np.empty((0, 2), dtype=np.int64)
             self.path_i = 0
+            if cfg.strategy.home_when_done and (x, y) != self.start:
+                self._head_home(trav)
             if not was_finished:
                 self.stats.finished_at = t
                 self._record_plan(t, reason)
@@ -539,6 +542,16 @@ class ExplorerRobot:
         if not cfg.strategy.exclusion:
             return []
         return self._to_neighbours(Goal(self.id, goal, float(self.remaining), x, y))
+
+    def _head_home(self, trav: np.ndarray) -> None:
+        """A path back to the start, if the map knows one (``home_when_done``)."""
+        x, y = self.pos
+        sx, sy = self.start
+        if not trav[sy, sx]:
+            return
+        dist = distance_steps(trav, x, y)
+        if dist[sy, sx] > 0:
+            self.path = path_to(dist, trav, sx, sy, x, y)
 
     def _traversable(self, lo: np.ndarray) -> np.ndarray:
         """Known-free cells whose footprint touches no known obstacle nor the map's edge."""
