@@ -107,29 +107,3 @@ def test_run_collects_garbage_less_often_and_restores_the_thresholds():
     assert during and all(th[0] >= GC_YOUNG for th in during)
     assert gc.get_threshold() == before
 
-
-def test_pocket_exclusion_finished_robots_walk_home_and_stay_finished():
-    # robots that finish before the team walk back to their starts (a meeting point for a
-    # robot that missed their scans) without un-finishing; the others never move once done
-    import swarmex  # noqa: F401  (registry)
-    from swarmex.missions.exploration.mission import build_world
-    from swarmex.missions.registry import get
-
-    m = get("exploration")
-    homed = 0
-    for strategy in ("pocket-exclusion", "greedy-exclusion"):
-        p = m.params(empty=(4.0, 4.0), cell=0.1, robots=4, laser_range=0.6, comm_range=1.0,
-                     strategy=strategy, seed=2)
-        run = run_exploration(build_world(p), p)
-        assert run.complete
-        for r, traj, start in zip(run.robots, run.trajectories, run.starts, strict=True):
-            after = [(x, y) for t, x, y in traj if t > r.stats.finished_at]
-            if strategy == "greedy-exclusion":
-                assert not after
-            elif after:
-                homed += 1
-                at_end = max(abs(after[-1][0] - start[0]), abs(after[-1][1] - start[1]))
-                before = [(x, y) for t, x, y in traj if t <= r.stats.finished_at][-1]
-                at_finish = max(abs(before[0] - start[0]), abs(before[1] - start[1]))
-                assert at_end == at_finish - len(after)  # straight home, a step a tick
-    assert homed > 0

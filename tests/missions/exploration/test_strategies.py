@@ -7,18 +7,21 @@ import pytest
 
 from swarmex.missions.exploration.messages import ChangeGoal, Goal
 from swarmex.missions.exploration.strategies import (
+    ALONE_TICKS,
+    GoalContext,
+    adaptive_exclusion,
     get_strategy,
     greedy,
     greedy_exclusion,
     hungarian,
     hungarian_exclusion,
     minpos,
+    pocket_cells,
     pocket_exclusion,
-    pocket_regions,
     utility,
 )
 from swarmex.sensing.frontiers import Frontiers
-from tests.missions.exploration.helpers import config, team
+from tests.missions.exploration.helpers import config, heartbeats, scan, team
 from tests.missions.exploration.helpers import goal_context as context
 
 CELLS = [(5, 0), (30, 0), (60, 0)]
@@ -85,32 +88,94 @@ def test_hungarian_exclusion_assigns_with_two_rivals_in_view():
     assert get_strategy("hungarian-exclusion").exclusion  # it announces goals (GOAL messages)
 
 
-def _long_frontier_and_a_pocket(pocket_steps):
-    """Region 0: a frontier 21 cells long (x = 5..25, wider than the 10-cell laser range);
-    region 1: one cell at (30, 5), ``pocket_steps`` from the robot at (0, 0)."""
-    xs = np.array([*range(5, 26), 30])
-    ys = np.array([0] * 21 + [5])
-    fr = Frontiers(ys, xs, np.array([0] * 21 + [1]), np.array([21, 1]), 0)
-    from swarmex.missions.exploration.strategies import GoalContext
+def _wall_sliver_and_open_field():
+    """A 20 x 60 map: known free rows 0..15 except a 2-cell unknown sliver at the left wall
+    (x 0..1, rows 0..3) and everything below row 15 unknown (the open field). Frontier
+    cells: (2, 0..3) beside the sliver, row 15 beside the field. The robot is at (30, 8)."""
+    h, w = 40, 60
+    lo = np.zeros((h, w), dtype=np.float32)
+    lo[:16, :] = -1.0
+    lo[0:4, 0:2] = 0.0
+    xs = np.array([2, 2, 2, 2, *range(w)])
+    ys = np.array([0, 1, 2, 3, *([15] * w)])
+    fr = Frontiers(ys, xs, np.array([0] * 4 + [1] * w), np.array([4, w]), 0)
+    # steps from the robot at (30, 8): Chebyshev on the open known rows
+    dist = np.maximum(np.abs(xs - 30), np.abs(ys - 8))
 
-    dist = np.array([*range(5, 26), pocket_steps])
-    return GoalContext(me=0, pos=(0, 0), frontiers=fr, eligible=np.ones(22, bool), dist=dist,
-                       laser_cells=10.0)
+    def derived(key, make):
+        return make(lo)
+
+    return GoalContext(me=0, pos=(30, 8), frontiers=fr, eligible=np.ones(xs.size, bool),
+                       dist=dist, laser_cells=10.0, derived=derived)
 
 
-def test_pocket_exclusion_clears_a_near_pocket_before_the_long_frontier():
-    assert list(pocket_regions(_long_frontier_and_a_pocket(9).frontiers, 10.0)) == [False, True]
-    ctx = _long_frontier_and_a_pocket(9)  # half of 9 steps beats the frontier's 5
-    assert greedy_exclusion(ctx) == (5, 0)
-    assert pocket_exclusion(ctx) == (30, 5)
-    far = _long_frontier_and_a_pocket(12)  # 6 > 5: the nearest cell, as greedy-exclusion
-    assert pocket_exclusion(far) == (5, 0)
-    # the pocket inside an announced goal's zone is excluded like any candidate
-    zoned = _long_frontier_and_a_pocket(9)
-    zoned.team_goals = {3: (31, 5)}
-    assert pocket_exclusion(zoned) == (5, 0)
-    st = get_strategy("pocket-exclusion")
-    assert st.exclusion and st.priorities and st.home_when_done
+def test_pockets_are_small_unknown_components_and_come_first():
+    ctx = _wall_sliver_and_open_field()
+    idx = np.arange(ctx.frontiers.n_cells)
+    pocket = pocket_cells(ctx, idx)
+    assert pocket[:4].all() and not pocket[4:].any()  # the sliver: 8 cells; the field: 1440
+    # greedy-exclusion takes the field (7 steps); the sliver's 28 steps count as 14, so it is
+    # still the field; nearer (robot at (15, 8): sliver 13 -> 6.5, field 7) the sliver
+    assert greedy_exclusion(ctx) == (23, 15)  # 7 steps from x = 23 to 37: (y, x) order
+    assert pocket_exclusion(ctx) == (23, 15)
+    near = _wall_sliver_and_open_field()
+    near.pos = (15, 8)
+    near.dist = np.maximum(np.abs(near.frontiers.xs - 15), np.abs(near.frontiers.ys - 8))
+    assert greedy_exclusion(near) == (8, 15)
+    assert pocket_exclusion(near) == (2, 0)  # ties: (y, x) order
+    zoned = _wall_sliver_and_open_field()
+    zoned.pos, zoned.dist = near.pos, near.dist
+    zoned.team_goals = {3: (2, 2)}  # another robot's goal covers the sliver: excluded as ever
+    assert pocket_exclusion(zoned) == (8, 15)
+
+
+def test_adaptive_exclusion_rendezvous_and_team_size():
+    ctx = _wall_sliver_and_open_field()
+    ctx.start = (30, 2)
+    ctx.field_from = lambda c: np.zeros((40, 60), dtype=np.int32) + 6  # start reachable
+    ctx.alone = ALONE_TICKS - 1
+    assert adaptive_exclusion(ctx) == pocket_exclusion(ctx)  # a small team: the pocket rule
+    ctx.alone = ALONE_TICKS
+    assert adaptive_exclusion(ctx) == (30, 2)  # alone too long: back to the start
+    ctx.field_from = lambda c: np.full((40, 60), -1, dtype=np.int32)  # no known way back
+    assert adaptive_exclusion(ctx) == pocket_exclusion(ctx)
+    finished = _wall_sliver_and_open_field()
+    finished.eligible[:] = False
+    finished.alone, finished.start = ALONE_TICKS, (30, 2)
+    assert adaptive_exclusion(finished) is None  # a finished robot stays finished
+    # a team of 7 or more with two rivals in view: hungarian-exclusion's assignment
+    fields = _rival_fields({(6, 0): [1, 40, 70], (58, 0): [50, 25, 2]})
+    two = {1: (6, 0), 2: (58, 0)}
+    big = context(CELLS, [5, 30, 60], team_pos=two, field_from=lambda c: fields[c])
+    big.team_size = 7
+    assert adaptive_exclusion(big) == hungarian_exclusion(big) == (30, 0)
+    big.team_size = 6
+    assert adaptive_exclusion(big) == (5, 0)
+    st = get_strategy("adaptive-exclusion")
+    assert st.exclusion and st.priorities and st.needs_rivals
+
+
+def test_robot_counts_its_team_and_the_ticks_alone():
+    robots, net, wire = team([(10, 10), (14, 10), (18, 10)], 1.0)
+    for r in robots:
+        wire.send(r.id, scan(r))
+    heartbeats(robots, wire, 0)
+    r0 = robots[0]
+    ctx = GoalContext(me=0, pos=r0.pos, frontiers=Frontiers(*[np.zeros(0, int)] * 4, 0),
+                      eligible=np.zeros(0, bool), dist=np.zeros(0, int), laser_cells=10.0)
+    r0._what_it_knows(ctx, 0)
+    assert ctx.team_size == 3 and ctx.start == (10, 10) and ctx.alone == 0
+    r0.belief.hear_position(1, (14, 10), 5)  # its last contact, at tick 5
+    r0.belief.pos = (12, 10)  # it has left its start
+    r0._what_it_knows(ctx, 200)
+    assert ctx.alone == 195
+    r0.belief.pos = (10, 10)  # back at the start: no second rendezvous for that contact
+    r0._what_it_knows(ctx, 260)
+    assert ctx.alone == 0
+    r0.belief.hear_position(2, (18, 10), 300)  # a new contact
+    r0.belief.pos = (12, 10)
+    r0._what_it_knows(ctx, 320)
+    assert ctx.alone == 20
 
 
 def test_unknown_strategy_is_an_input_error():

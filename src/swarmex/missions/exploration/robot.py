@@ -196,6 +196,9 @@ class ExplorerRobot:
         self.beaten_by: set[int] = set()  # robots that won a conflict since the last plan
         self.hold = 0  # ticks left standing still while a plan is computed (plan_pause)
         self.start: Cell = (int(pos[0]), int(pos[1]))  # where it was deployed
+        self.team_size = rid + 1  # 1 + the highest robot id it has heard
+        self.last_contact = 0  # the last tick it heard a teammate
+        self.rendezvous_for = -1  # the contact after which it last stood at its start
 
     # ------------------------------------------------------------------ state
     @property
@@ -479,6 +482,7 @@ class ExplorerRobot:
             field_from=field_from,
             winners=self._winners(t),
         )
+        self._what_it_knows(ctx, t)
         self.beaten_by.clear()
         tp: np.ndarray | None = None
         if nearest_of is None:
@@ -523,8 +527,6 @@ class ExplorerRobot:
         if goal is None:
             self.path = np.empty((0, 2), dtype=np.int64)
             self.path_i = 0
-            if cfg.strategy.home_when_done and (x, y) != self.start:
-                self._head_home(trav)
             if not was_finished:
                 self.stats.finished_at = t
                 self._record_plan(t, reason)
@@ -543,15 +545,19 @@ class ExplorerRobot:
             return []
         return self._to_neighbours(Goal(self.id, goal, float(self.remaining), x, y))
 
-    def _head_home(self, trav: np.ndarray) -> None:
-        """A path back to the start, if the map knows one (``home_when_done``)."""
-        x, y = self.pos
-        sx, sy = self.start
-        if not trav[sy, sx]:
-            return
-        dist = distance_steps(trav, x, y)
-        if dist[sy, sx] > 0:
-            self.path = path_to(dist, trav, sx, sy, x, y)
+    def _what_it_knows(self, ctx: GoalContext, t: int) -> None:
+        """The context's map cache, start, team size (from the ids it has heard) and the
+        ticks it has been alone (0 if it has stood at its start since its last contact)."""
+        ctx.derived = self.belief.grid.derived
+        ctx.start = self.start
+        for rid, h in self.belief.heard.items():
+            self.team_size = max(self.team_size, rid + 1)
+            if h.pos[0] >= 0:
+                self.last_contact = max(self.last_contact, h.t)
+        if self.pos == self.start:
+            self.rendezvous_for = self.last_contact
+        ctx.team_size = self.team_size
+        ctx.alone = t - self.last_contact if self.last_contact > self.rendezvous_for else 0
 
     def _traversable(self, lo: np.ndarray) -> np.ndarray:
         """Known-free cells whose footprint touches no known obstacle nor the map's edge."""

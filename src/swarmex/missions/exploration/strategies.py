@@ -33,18 +33,27 @@ and distances, and what it has heard from neighbours) and returns a goal cell or
   within laser range of its assigned target (the target is a region's representative, the
   nearest cell of it is where the robot starts seeing it). With fewer than two rivals in view
   the assignment has nothing to balance and the choice is greedy-exclusion's.
-* ``pocket-exclusion`` — ours (issue 17 item 2, aimed at the short radio): greedy-exclusion
-  (same GOAL messages, zones and priorities) with two changes against the run's *tail*, which
-  in the short-radio world is often a quarter of the makespan. (1) A frontier region that
-  fits in a square of the laser range's side (a *pocket*: one visit clears it) costs half
-  its path length, so a robot clears a pocket it passes instead of leaving it behind for a
-  long trip at the end (greedy follows the big frontier, and a 30-cell sliver left at a wall
-  at tick 550 kept a whole team busy until tick 1066). (2) A robot that has finished (no
-  reachable frontier on its map) walks back to its start, staying finished: the starts are
-  the one meeting point every robot knows, so a robot that missed the team's scans can find
-  them there. No extra message; cost: one full distance field per plan (as ``hungarian``),
-  and one more for the walk home. The measured effect is nil (docs/exploration.md): the
-  pockets and lonely robots are real, but these two rules do not shorten the runs.
+* ``adaptive-exclusion`` — ours (issue 17 item 2): the thesis's GOAL messages, zones and
+  priorities throughout, and three rules, each from a measured cause (docs/exploration.md):
+
+  - *the assignment by team size*: with at least :data:`ASSIGN_MIN_TEAM` robots in the team
+    (the robot counts the ids it has heard) it is ``hungarian-exclusion``; below, the
+    assignment loses to greedy-exclusion even with an unlimited radio (5 robots: +11 %;
+    7: −7 %; 10: −18 %, open 20 × 20 m world, laser 1.5 m), so it is greedy-exclusion with
+    the two rules below;
+  - *pockets first*: a frontier cell next to an unknown *pocket* (an 8-connected unknown
+    component, bounded by known cells and the map's edge, of at most π·laser² cells: one
+    visit clears it) costs half its path length. Greedy follows the big frontier and leaves
+    slivers at walls that a whole team later crosses the map for (a 30-cell one left at
+    tick 550 kept five robots busy until tick 1066);
+  - *a rendezvous for a lonely robot*: a robot that has heard no teammate for
+    :data:`ALONE_TICKS` ticks walks back to its start, once per contact (the start is the one
+    place every robot knows and the team's paths cross; with a short radio a robot that
+    lost the team otherwise re-explores alone what the others mapped: +430 steps in one
+    seed).
+
+  No extra message. Cost: a full distance field per plan (as ``hungarian``), the unknown
+  components once per map state, and the assignment's fields in large teams.
 
 The assignment-style strategies work on *targets*: one representative cell per piece of a
 frontier region (:func:`swarmex.sensing.frontiers.chunk_targets`), so that a long frontier
@@ -58,6 +67,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -86,6 +96,12 @@ class GoalContext:
     # goals of the robots that beat this one in a conflict since its last plan (only with
     # ``conflict_yield``): their zones stay closed even when every candidate is excluded
     winners: dict[int, Cell] = field(default_factory=dict)
+    # ``OccupancyGrid.derived`` of the robot's map: ``derived(key, make)`` is
+    # ``make(logodds)``, computed once per map state
+    derived: Callable[[Any, Callable[[np.ndarray], Any]], Any] | None = None
+    start: Cell | None = None  # where the robot was deployed
+    team_size: int = 1  # 1 + the highest robot id it has heard (ids are 0 … n − 1)
+    alone: int = 0  # ticks since it last heard a teammate (0 once it has been back at start)
 
 
 def _nearest(ctx: GoalContext, idx: np.ndarray) -> Cell | None:
@@ -323,39 +339,58 @@ def _cheapest(ctx: GoalContext, idx: np.ndarray, cost: np.ndarray) -> Cell | Non
     return int(ctx.frontiers.xs[i]), int(ctx.frontiers.ys[i])
 
 
-#: a pocket's path cost is multiplied by this (``pocket-exclusion``)
+#: a frontier cell next to an unknown pocket costs this share of its path length
 POCKET_DISCOUNT = 0.5
+#: team size from which ``adaptive-exclusion`` assigns (``hungarian-exclusion``)
+ASSIGN_MIN_TEAM = 7
+#: ticks without hearing a teammate after which a robot walks back to its start
+ALONE_TICKS = 150
 
 
-def pocket_regions(fr: Frontiers, extent: float) -> np.ndarray:
-    """Per region: whether it fits in a square of side ``extent`` cells (one visit clears it)."""
-    k = fr.n_regions
-    if k == 0:
-        return np.zeros(0, dtype=bool)
-    big = np.iinfo(np.int64).max
-    lo_x = np.full(k, big, dtype=np.int64)
-    lo_y = np.full(k, big, dtype=np.int64)
-    hi_x = np.full(k, -1, dtype=np.int64)
-    hi_y = np.full(k, -1, dtype=np.int64)
-    np.minimum.at(lo_x, fr.region, fr.xs)
-    np.minimum.at(lo_y, fr.region, fr.ys)
-    np.maximum.at(hi_x, fr.region, fr.xs)
-    np.maximum.at(hi_y, fr.region, fr.ys)
-    return np.maximum(hi_x - lo_x, hi_y - lo_y) <= extent
+def _unknown_components(lo: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """8-connected components of the unknown cells (labels, cells per label; label 0 is
+    known)."""
+    from scipy import ndimage
+
+    lab, _ = ndimage.label(lo == 0, structure=np.ones((3, 3), dtype=bool))
+    return lab, np.bincount(lab.ravel())
 
 
-def pocket_exclusion(ctx: GoalContext, discount: float = POCKET_DISCOUNT,
-                     extent: float = 1.0) -> Cell | None:
-    """greedy-exclusion's candidates, ranked by path length with a pocket's (a region within
-    ``extent`` laser ranges square) multiplied by ``discount``; ties as :func:`_nearest`.
-    0.5 and 1 were the best of 0.15–0.5 and 1–2 on the short-radio world (4 seeds)."""
+def pocket_cells(ctx: GoalContext, idx: np.ndarray) -> np.ndarray:
+    """Which candidates border only unknown components of at most π·laser² cells (pockets)."""
+    if ctx.derived is None or idx.size == 0:
+        return np.zeros(idx.size, dtype=bool)
+    lab, sizes = ctx.derived(("unknown-components",), _unknown_components)
+    h, w = lab.shape
+    xs, ys = ctx.frontiers.xs[idx], ctx.frontiers.ys[idx]
+    biggest = np.zeros(idx.size, dtype=np.int64)
+    for dx, dy in ((1, 0), (-1, 0), (0, 1), (0, -1)):
+        near = lab[np.clip(ys + dy, 0, h - 1), np.clip(xs + dx, 0, w - 1)]
+        biggest = np.maximum(biggest, np.where(near > 0, sizes[near], 0))
+    return biggest <= math.pi * ctx.laser_cells**2
+
+
+def pocket_exclusion(ctx: GoalContext, discount: float = POCKET_DISCOUNT) -> Cell | None:
+    """greedy-exclusion's candidates by path length, a pocket's multiplied by ``discount``
+    (0.5 was the best of 0.1, 0.25 and 0.5 with the short radio)."""
     idx = exclusion_candidates(ctx)
     if idx.size == 0:
         return None
     cost = ctx.dist[idx].astype(np.float64)
-    pocket = pocket_regions(ctx.frontiers, extent * ctx.laser_cells)[ctx.frontiers.region[idx]]
-    cost[pocket] *= discount
+    cost[pocket_cells(ctx, idx)] *= discount
     return _cheapest(ctx, idx, cost)
+
+
+def adaptive_exclusion(ctx: GoalContext) -> Cell | None:
+    if not ctx.eligible.any():
+        return None  # finished: no rendezvous walk would un-finish it
+    home = ctx.start
+    if (ctx.alone >= ALONE_TICKS and home is not None and ctx.pos != home
+            and ctx.field_from is not None and ctx.field_from(ctx.pos)[home[1], home[0]] > 0):
+        return home  # a path back exists on its map
+    if ctx.team_size >= ASSIGN_MIN_TEAM:
+        return hungarian_exclusion(ctx)
+    return pocket_exclusion(ctx)
 
 
 @dataclass(frozen=True)
@@ -370,9 +405,6 @@ class Strategy:
     # (ctx.dist unset when it is called) and does not call ``choose``; a copy that
     # replaces ``choose`` must set this to None
     candidates: Callable[[GoalContext], np.ndarray] | None = None
-    # a finished robot walks back to its start (still finished: its map has no frontier),
-    # where the team's finished robots meet and a robot that missed their scans finds them
-    home_when_done: bool = False
 
 
 STRATEGIES: dict[str, Strategy] = {
@@ -388,9 +420,9 @@ STRATEGIES: dict[str, Strategy] = {
         "hungarian-exclusion", hungarian_exclusion, exclusion=True, priorities=True,
         needs_rivals=True,
     ),
-    "pocket-exclusion": Strategy(
-        "pocket-exclusion", pocket_exclusion, exclusion=True, priorities=True,
-        home_when_done=True,
+    "adaptive-exclusion": Strategy(
+        "adaptive-exclusion", adaptive_exclusion, exclusion=True, priorities=True,
+        needs_rivals=True,
     ),
 }
 
