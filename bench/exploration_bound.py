@@ -252,16 +252,17 @@ def pair_bound(free: np.ndarray, starts: tuple[tuple[int, int], ...], angles: np
     ys, xs = np.nonzero(target)
     stamp = np.full(free.shape, -1, dtype=np.int64)
     mark = 0
-    seers: dict[tuple[int, int], tuple[int, np.ndarray]] = {}  # cell -> (T, BFS from seers)
+    # cell -> (T, its seers, steps from them)
+    seers: dict[tuple[int, int], tuple[int, np.ndarray, np.ndarray]] = {}
 
-    def seer_field(c: tuple[int, int]) -> tuple[int, np.ndarray]:
+    def seer_field(c: tuple[int, int]) -> tuple[int, np.ndarray, np.ndarray]:
         nonlocal mark
         if c not in seers:
             v = np.zeros(free.shape, dtype=bool)
             mark = _seers(f, target, c[0], c[1], a, float(laser_cells), stamp, mark, v)
             g = np.empty(free.shape, dtype=np.int64)
             _bfs_from_set(f, v, g)
-            seers[c] = (int(d[v].min()), g)
+            seers[c] = (int(d[v].min()), v, g)
         return seers[c]
 
     rng = np.random.default_rng(0)
@@ -282,13 +283,11 @@ def pair_bound(free: np.ndarray, starts: tuple[tuple[int, int], ...], angles: np
             chosen.append((k % free.shape[1], k // free.shape[1]))
         value = None
         for i, ci in enumerate(chosen):
-            ti, gi = seer_field(ci)
+            ti, _, gi = seer_field(ci)
             for cj in chosen[i + 1:]:
-                tj, _ = seer_field(cj)
+                tj, vj, _ = seer_field(cj)
                 # G_ij: steps from i's seers to the nearest of j's seers
-                v = np.zeros(free.shape, dtype=bool)
-                mark = _seers(f, target, cj[0], cj[1], a, float(laser_cells), stamp, mark, v)
-                gij = int(gi[v & (gi >= 0)].min())
+                gij = int(gi[vj & (gi >= 0)].min())
                 pair = min(ti, tj) + gij
                 value = pair if value is None else min(value, pair)
         best = max(best, value or 0)
