@@ -410,6 +410,9 @@ class Strategy:
     # (ctx.dist unset when it is called) and does not call ``choose``; a copy that
     # replaces ``choose`` must set this to None
     candidates: Callable[[GoalContext], np.ndarray] | None = None
+    # re-plan at once when the goal's frontier region has vanished from the map (what lay
+    # behind it has been seen), instead of walking on to the goal or the timer
+    replan_when_seen: bool = False
 
 
 STRATEGIES: dict[str, Strategy] = {
@@ -427,7 +430,7 @@ STRATEGIES: dict[str, Strategy] = {
     ),
     "adaptive-exclusion": Strategy(
         "adaptive-exclusion", adaptive_exclusion, exclusion=True, priorities=True,
-        needs_rivals=True,
+        needs_rivals=True, replan_when_seen=True,
     ),
 }
 
