@@ -229,3 +229,24 @@ def test_zone_test_through_the_sorted_goals_matches_the_pass_per_goal():
                           for x, y in zip(xs, ys, strict=True)])
         got = _within(ctx, idx, goals)
         assert got[0] and np.array_equal(got, brute), trial
+
+
+def test_adaptive_exclusion_replans_when_its_goal_region_vanishes():
+    # a robot re-plans at once ("seen") when no cell of its goal's frontier region is a
+    # frontier cell any more, instead of walking on to the goal or waiting for its timer
+    robots, net, wire = team([(40, 20)], 1.0, config(strategy="adaptive-exclusion"))
+    r = robots[0]
+    wire.send(0, scan(r))
+    r.maybe_plan(0)
+    assert r.goal is not None and r.goal_region is not None
+    ys, xs = r.goal_region
+    assert r._any_frontier(ys, xs)  # the ring of the scan borders the unknown
+    assert not r._any_frontier(np.array([20]), np.array([40]))  # the robot's own cell
+    plans = r.stats.plans
+    r._any_frontier = lambda ys, xs: False  # as if a scan had seen past the whole ring
+    r.maybe_plan(3)
+    assert r.stats.plans == plans + 1 and r.stats.reasons.get("seen") == 1
+    greedy_robot = team([(40, 20)], 1.0, config(strategy="greedy-exclusion"))[0][0]
+    greedy_robot.observe(np.full(len(greedy_robot.cfg.angles), greedy_robot.cfg.laser_cells), 0)
+    greedy_robot.maybe_plan(0)
+    assert greedy_robot.goal_region is None  # the other strategies keep the thesis's timing
