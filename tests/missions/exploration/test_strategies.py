@@ -143,13 +143,13 @@ def test_adaptive_exclusion_rendezvous_and_team_size():
     finished.eligible[:] = False
     finished.alone, finished.start = ALONE_TICKS, (30, 2)
     assert adaptive_exclusion(finished) is None  # a finished robot stays finished
-    # a team of 7 or more with two rivals in view: hungarian-exclusion's assignment
+    # a team of 6 or more with two rivals in view: hungarian-exclusion's assignment
     fields = _rival_fields({(6, 0): [1, 40, 70], (58, 0): [50, 25, 2]})
     two = {1: (6, 0), 2: (58, 0)}
     big = context(CELLS, [5, 30, 60], team_pos=two, field_from=lambda c: fields[c])
-    big.team_size = 7
-    assert adaptive_exclusion(big) == hungarian_exclusion(big) == (30, 0)
     big.team_size = 6
+    assert adaptive_exclusion(big) == hungarian_exclusion(big) == (30, 0)
+    big.team_size = 5
     assert adaptive_exclusion(big) == (5, 0)
     st = get_strategy("adaptive-exclusion")
     assert st.exclusion and st.priorities and st.needs_rivals

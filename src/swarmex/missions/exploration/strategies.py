@@ -50,8 +50,8 @@ and distances, and what it has heard from neighbours) and returns a goal cell or
     (the robot counts the ids it has heard) it is ``hungarian-exclusion``; below, it is
     greedy-exclusion with the two rules below. The assignment's gain grows with the team
     even with an unlimited radio (open 20 × 20 m world, laser 1.5 m: 5 robots +4 %, 6 −3 %,
-    7 −7 %, 10 −18 %, 3–8 seeds each); 7 rather than 6 because room-32-32-4's team of 6
-    took 78 steps with the switch at 6 against 75 at 7 (20 seeds);
+    7 −7 %, 10 −18 %, 3–8 seeds each); room-32-32-4's team of 6 took 65.0 steps with the
+    switch at 6 against 68.0 at 7 on seeds 0–19, and 63.8 against 65.4 on seeds 20–39;
   - *pockets first*: a frontier cell next to an unknown *pocket* (an 8-connected unknown
     component, bounded by known cells and the map's edge, of at most π·laser² cells: one
     visit clears it) costs half its path length. Greedy follows the big frontier and leaves
@@ -354,7 +354,7 @@ def _cheapest(ctx: GoalContext, idx: np.ndarray, cost: np.ndarray) -> Cell | Non
 #: a frontier cell next to an unknown pocket costs this share of its path length
 POCKET_DISCOUNT = 0.5
 #: team size from which ``adaptive-exclusion`` assigns (``hungarian-exclusion``)
-ASSIGN_MIN_TEAM = 7
+ASSIGN_MIN_TEAM = 6
 #: ticks without hearing a teammate after which a robot walks back to its start
 ALONE_TICKS = 150
 
