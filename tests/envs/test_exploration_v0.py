@@ -27,7 +27,7 @@ from swarmex.missions.exploration.strategies import get_strategy  # noqa: E402
 SMALL = {"empty": "3x3", "cell": 0.1, "robots": 2, "laser_range": 0.6}
 CAPPED = {**SMALL, "max_ticks": 300}  # random goals: a bounded episode
 STRATEGIES = ["greedy", "greedy-exclusion", "utility", "minpos", "hungarian",
-              "hungarian-exclusion"]
+              "hungarian-exclusion", "adaptive-exclusion"]
 
 pytestmark = pytest.mark.filterwarnings(
     # PettingZoo's api_test recommends Box/Discrete observations; ours is a Dict with a mask

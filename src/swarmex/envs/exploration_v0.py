@@ -52,7 +52,7 @@ the no-op. Out-of-space actions raise in both modes.
 
 Baseline and exactness: :func:`baseline_policy` answers each decision with the strategy named
 in the params (``greedy``, ``greedy-exclusion``, ``utility``, ``minpos``, ``hungarian``,
-``hungarian-exclusion``),
+``hungarian-exclusion``, ``adaptive-exclusion``),
 called on the deciding robot's own :class:`~swarmex.missions.exploration.strategies.GoalContext`
 (its map, frontiers and what it heard — :meth:`ExplorationEnv.decision_context`). Strategies
 are pure functions that draw no random numbers (the run's generator is used only for the

@@ -62,8 +62,15 @@ def without_wall(record: dict[str, Any]) -> dict[str, Any]:
             ["--empty", "3x3", "--robots", "3", "--laser-range", "0.8", "--comm-range", "3",
              "--strategy", "hungarian-exclusion", "--seed", "4"],
         ),
+        (  # issue 17 item 2: pockets first, a lonely robot's rendezvous
+            {"empty": "3x3", "robots": 3, "laser_range": 0.6, "comm_range": 1,
+             "strategy": "adaptive-exclusion", "seed": 5},
+            ["--empty", "3x3", "--robots", "3", "--laser-range", "0.6", "--comm-range", "1",
+             "--strategy", "adaptive-exclusion", "--seed", "5"],
+        ),
     ],
-    ids=["empty-minpos", "python-values", "map-max-ticks", "hungarian-exclusion"],
+    ids=["empty-minpos", "python-values", "map-max-ticks", "hungarian-exclusion",
+         "adaptive-exclusion"],
 )
 def test_run_equals_the_cli_record(
     tmp_path: Path, kwargs: dict[str, Any], argv: list[str]

@@ -106,3 +106,4 @@ def test_run_collects_garbage_less_often_and_restores_the_thresholds():
                 on_frame=lambda frame: during.append(gc.get_threshold()))
     assert during and all(th[0] >= GC_YOUNG for th in during)
     assert gc.get_threshold() == before
+

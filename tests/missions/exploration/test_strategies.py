@@ -7,15 +7,21 @@ import pytest
 
 from swarmex.missions.exploration.messages import ChangeGoal, Goal
 from swarmex.missions.exploration.strategies import (
+    ALONE_TICKS,
+    GoalContext,
+    adaptive_exclusion,
     get_strategy,
     greedy,
     greedy_exclusion,
     hungarian,
     hungarian_exclusion,
     minpos,
+    pocket_cells,
+    pocket_exclusion,
     utility,
 )
-from tests.missions.exploration.helpers import config, team
+from swarmex.sensing.frontiers import Frontiers
+from tests.missions.exploration.helpers import config, heartbeats, scan, team
 from tests.missions.exploration.helpers import goal_context as context
 
 CELLS = [(5, 0), (30, 0), (60, 0)]
@@ -82,6 +88,96 @@ def test_hungarian_exclusion_assigns_with_two_rivals_in_view():
     assert get_strategy("hungarian-exclusion").exclusion  # it announces goals (GOAL messages)
 
 
+def _wall_sliver_and_open_field():
+    """A 20 x 60 map: known free rows 0..15 except a 2-cell unknown sliver at the left wall
+    (x 0..1, rows 0..3) and everything below row 15 unknown (the open field). Frontier
+    cells: (2, 0..3) beside the sliver, row 15 beside the field. The robot is at (30, 8)."""
+    h, w = 40, 60
+    lo = np.zeros((h, w), dtype=np.float32)
+    lo[:16, :] = -1.0
+    lo[0:4, 0:2] = 0.0
+    xs = np.array([2, 2, 2, 2, *range(w)])
+    ys = np.array([0, 1, 2, 3, *([15] * w)])
+    fr = Frontiers(ys, xs, np.array([0] * 4 + [1] * w), np.array([4, w]), 0)
+    # steps from the robot at (30, 8): Chebyshev on the open known rows
+    dist = np.maximum(np.abs(xs - 30), np.abs(ys - 8))
+
+    def derived(key, make):
+        return make(lo)
+
+    return GoalContext(me=0, pos=(30, 8), frontiers=fr, eligible=np.ones(xs.size, bool),
+                       dist=dist, laser_cells=10.0, derived=derived)
+
+
+def test_pockets_are_small_unknown_components_and_come_first():
+    ctx = _wall_sliver_and_open_field()
+    idx = np.arange(ctx.frontiers.n_cells)
+    pocket = pocket_cells(ctx, idx)
+    assert pocket[:4].all() and not pocket[4:].any()  # the sliver: 8 cells; the field: 1440
+    # greedy-exclusion takes the field (7 steps); the sliver's 28 steps count as 14, so it is
+    # still the field; nearer (robot at (15, 8): sliver 13 -> 6.5, field 7) the sliver
+    assert greedy_exclusion(ctx) == (23, 15)  # 7 steps from x = 23 to 37: (y, x) order
+    assert pocket_exclusion(ctx) == (23, 15)
+    near = _wall_sliver_and_open_field()
+    near.pos = (15, 8)
+    near.dist = np.maximum(np.abs(near.frontiers.xs - 15), np.abs(near.frontiers.ys - 8))
+    assert greedy_exclusion(near) == (8, 15)
+    assert pocket_exclusion(near) == (2, 0)  # ties: (y, x) order
+    zoned = _wall_sliver_and_open_field()
+    zoned.pos, zoned.dist = near.pos, near.dist
+    zoned.team_goals = {3: (2, 2)}  # another robot's goal covers the sliver: excluded as ever
+    assert pocket_exclusion(zoned) == (8, 15)
+
+
+def test_adaptive_exclusion_rendezvous_and_team_size():
+    ctx = _wall_sliver_and_open_field()
+    ctx.start = (30, 2)
+    ctx.field_from = lambda c: np.zeros((40, 60), dtype=np.int32) + 6  # start reachable
+    ctx.alone = ALONE_TICKS - 1
+    assert adaptive_exclusion(ctx) == pocket_exclusion(ctx)  # a small team: the pocket rule
+    ctx.alone = ALONE_TICKS
+    assert adaptive_exclusion(ctx) == (30, 2)  # alone too long: back to the start
+    ctx.field_from = lambda c: np.full((40, 60), -1, dtype=np.int32)  # no known way back
+    assert adaptive_exclusion(ctx) == pocket_exclusion(ctx)
+    finished = _wall_sliver_and_open_field()
+    finished.eligible[:] = False
+    finished.alone, finished.start = ALONE_TICKS, (30, 2)
+    assert adaptive_exclusion(finished) is None  # a finished robot stays finished
+    # a team of 6 or more with two rivals in view: hungarian-exclusion's assignment
+    fields = _rival_fields({(6, 0): [1, 40, 70], (58, 0): [50, 25, 2]})
+    two = {1: (6, 0), 2: (58, 0)}
+    big = context(CELLS, [5, 30, 60], team_pos=two, field_from=lambda c: fields[c])
+    big.team_size = 6
+    assert adaptive_exclusion(big) == hungarian_exclusion(big) == (30, 0)
+    big.team_size = 5
+    assert adaptive_exclusion(big) == (5, 0)
+    st = get_strategy("adaptive-exclusion")
+    assert st.exclusion and st.priorities and st.needs_rivals
+
+
+def test_robot_counts_its_team_and_the_ticks_alone():
+    robots, net, wire = team([(10, 10), (14, 10), (18, 10)], 1.0)
+    for r in robots:
+        wire.send(r.id, scan(r))
+    heartbeats(robots, wire, 0)
+    r0 = robots[0]
+    ctx = GoalContext(me=0, pos=r0.pos, frontiers=Frontiers(*[np.zeros(0, int)] * 4, 0),
+                      eligible=np.zeros(0, bool), dist=np.zeros(0, int), laser_cells=10.0)
+    r0._what_it_knows(ctx, 0)
+    assert ctx.team_size == 3 and ctx.start == (10, 10) and ctx.alone == 0
+    r0.belief.hear_position(1, (14, 10), 5)  # its last contact, at tick 5
+    r0.belief.pos = (12, 10)  # it has left its start
+    r0._what_it_knows(ctx, 200)
+    assert ctx.alone == 195
+    r0.belief.pos = (10, 10)  # back at the start: no second rendezvous for that contact
+    r0._what_it_knows(ctx, 260)
+    assert ctx.alone == 0
+    r0.belief.hear_position(2, (18, 10), 300)  # a new contact
+    r0.belief.pos = (12, 10)
+    r0._what_it_knows(ctx, 320)
+    assert ctx.alone == 20
+
+
 def test_unknown_strategy_is_an_input_error():
     from swarmex.errors import InputError
 
@@ -133,3 +229,24 @@ def test_zone_test_through_the_sorted_goals_matches_the_pass_per_goal():
                           for x, y in zip(xs, ys, strict=True)])
         got = _within(ctx, idx, goals)
         assert got[0] and np.array_equal(got, brute), trial
+
+
+def test_adaptive_exclusion_replans_when_its_goal_region_vanishes():
+    # a robot re-plans at once ("seen") when no cell of its goal's frontier region is a
+    # frontier cell any more, instead of walking on to the goal or waiting for its timer
+    robots, net, wire = team([(40, 20)], 1.0, config(strategy="adaptive-exclusion"))
+    r = robots[0]
+    wire.send(0, scan(r))
+    r.maybe_plan(0)
+    assert r.goal is not None and r.goal_region is not None
+    ys, xs = r.goal_region
+    assert r._any_frontier(ys, xs)  # the ring of the scan borders the unknown
+    assert not r._any_frontier(np.array([20]), np.array([40]))  # the robot's own cell
+    plans = r.stats.plans
+    r._any_frontier = lambda ys, xs: False  # as if a scan had seen past the whole ring
+    r.maybe_plan(3)
+    assert r.stats.plans == plans + 1 and r.stats.reasons.get("seen") == 1
+    greedy_robot = team([(40, 20)], 1.0, config(strategy="greedy-exclusion"))[0][0]
+    greedy_robot.observe(np.full(len(greedy_robot.cfg.angles), greedy_robot.cfg.laser_cells), 0)
+    greedy_robot.maybe_plan(0)
+    assert greedy_robot.goal_region is None  # the other strategies keep the thesis's timing

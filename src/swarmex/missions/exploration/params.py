@@ -116,7 +116,8 @@ class ExplorationParams(Params):
     )
     strategy: str = option(
         "greedy-exclusion",
-        help="greedy | greedy-exclusion | utility | minpos | hungarian | hungarian-exclusion",
+        help="greedy | greedy-exclusion | utility | minpos | hungarian | hungarian-exclusion"
+        " | adaptive-exclusion",
         parse=text(tuple(STRATEGIES)),
     )
     robot_radius: float = option(0.1, help="Robot radius, metres.", parse=real(above=0))

@@ -195,6 +195,12 @@ class ExplorerRobot:
         self.asked: dict[int, int] = {}  # origin -> tick of the last gap NEED_MAP to it
         self.beaten_by: set[int] = set()  # robots that won a conflict since the last plan
         self.hold = 0  # ticks left standing still while a plan is computed (plan_pause)
+        self.start: Cell = (int(pos[0]), int(pos[1]))  # where it was deployed
+        self.team_size = rid + 1  # 1 + the highest robot id it has heard
+        self.last_contact = 0  # the last tick it heard a teammate
+        self.rendezvous_for = -1  # the contact after which it last stood at its start
+        # the cells (ys, xs) of the goal's frontier region when it was chosen
+        self.goal_region: tuple[np.ndarray, np.ndarray] | None = None
 
     # ------------------------------------------------------------------ state
     @property
@@ -426,6 +432,9 @@ class ExplorerRobot:
 
     def maybe_plan(self, t: int) -> Out:
         """Plan on the timer or on a pending request (at most once per tick)."""
+        if self.goal_region is not None and not self._any_frontier(*self.goal_region):
+            self.goal_region = None  # (only with ``replan_when_seen``)
+            self._request("seen")
         if not self.plan_due(t):
             return []
         reason = None if self._timer(t) else self.request
@@ -478,6 +487,7 @@ class ExplorerRobot:
             field_from=field_from,
             winners=self._winners(t),
         )
+        self._what_it_knows(ctx, t)
         self.beaten_by.clear()
         tp: np.ndarray | None = None
         if nearest_of is None:
@@ -519,6 +529,12 @@ class ExplorerRobot:
         had_goal = self.goal is not None
         was_finished = self.finished
         self.goal = goal
+        self.goal_region = None
+        if cfg.strategy.replan_when_seen and goal is not None:
+            at = np.nonzero((fr.xs == goal[0]) & (fr.ys == goal[1]))[0]
+            if at.size:
+                mine = fr.region == fr.region[at[0]]
+                self.goal_region = (fr.ys[mine], fr.xs[mine])
         if goal is None:
             self.path = np.empty((0, 2), dtype=np.int64)
             self.path_i = 0
@@ -539,6 +555,29 @@ class ExplorerRobot:
         if not cfg.strategy.exclusion:
             return []
         return self._to_neighbours(Goal(self.id, goal, float(self.remaining), x, y))
+
+    def _any_frontier(self, ys: np.ndarray, xs: np.ndarray) -> bool:
+        """Whether any of these (known free) cells still has an unknown 4-neighbour."""
+        lo = self.belief.grid.logodds
+        h, w = lo.shape
+        for dx, dy in ((1, 0), (-1, 0), (0, 1), (0, -1)):
+            if (lo[np.clip(ys + dy, 0, h - 1), np.clip(xs + dx, 0, w - 1)] == 0).any():
+                return True
+        return False
+
+    def _what_it_knows(self, ctx: GoalContext, t: int) -> None:
+        """The context's map cache, start, team size (from the ids it has heard) and the
+        ticks it has been alone (0 if it has stood at its start since its last contact)."""
+        ctx.derived = self.belief.grid.derived
+        ctx.start = self.start
+        for rid, h in self.belief.heard.items():
+            self.team_size = max(self.team_size, rid + 1)
+            if h.pos[0] >= 0:
+                self.last_contact = max(self.last_contact, h.t)
+        if self.pos == self.start:
+            self.rendezvous_for = self.last_contact
+        ctx.team_size = self.team_size
+        ctx.alone = t - self.last_contact if self.last_contact > self.rendezvous_for else 0
 
     def _traversable(self, lo: np.ndarray) -> np.ndarray:
         """Known-free cells whose footprint touches no known obstacle nor the map's edge."""

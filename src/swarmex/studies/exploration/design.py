@@ -41,6 +41,7 @@ from typing import Any
 THESIS_SNAPSHOT_STEPS = (80, 580, 800)
 STRATEGY_ORDER = (
     "greedy", "greedy-exclusion", "utility", "minpos", "hungarian", "hungarian-exclusion",
+    "adaptive-exclusion",
 )
 
 
