@@ -41,6 +41,8 @@ def one(job: dict[str, Any]) -> tuple[str, str, int, int, bool]:
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--seeds", type=int, default=None, help="seeds per cell (10; --quick 3)")
+    ap.add_argument("--first-seed", type=int, default=0,
+                    help="seeds run from here (20 with --seeds 20: the held-out seeds 20-39)")
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--only", help="comma-separated scenario indices (0-based)")
     ap.add_argument("--strategies", default=",".join(STRATEGY_ORDER))
@@ -48,6 +50,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--json", help="write every run's makespan here")
     args = ap.parse_args(argv)
     seeds = args.seeds or (3 if args.quick else 10)
+    seed_list = range(args.first_seed, args.first_seed + seeds)
     scenarios = SCENARIOS
     if args.only:
         scenarios = [SCENARIOS[int(i)] for i in args.only.split(",")]
@@ -61,7 +64,7 @@ def main(argv: list[str] | None = None) -> int:
             continue
         jobs += [{"kind": "strategy", "scenario": name, "world": world, "robots": n,
                   "laser": laser, "comm": comm, "strategy": st, "seed": s}
-                 for st in strategies for s in range(seeds)]
+                 for st in strategies for s in seed_list]
     res: dict[str, dict[str, dict[int, tuple[int, bool]]]] = {}
     t0 = time.perf_counter()
     with ProcessPoolExecutor(args.jobs) as pool:
@@ -70,16 +73,16 @@ def main(argv: list[str] | None = None) -> int:
             print(f"\r{i}/{len(jobs)} runs, {time.perf_counter() - t0:.0f} s", end="",
                   file=sys.stderr, flush=True)
     print(file=sys.stderr)
-    print(f"makespan in steps, mean ± sd over {seeds} seeds; Δ = strategy − {BASE} on the "
+    print(f"makespan in steps, mean ± sd over seeds {seed_list.start}-{seed_list.stop - 1}; Δ = strategy − {BASE} on the "
           "same seed (mean [95 % CI])\n")
     print("| scenario | " + " | ".join(strategies) + " |")
     print("|---|" + "---:|" * len(strategies))
     for sc, by in res.items():
-        base = np.array([by[BASE][s][0] for s in range(seeds)], dtype=float)
+        base = np.array([by[BASE][s][0] for s in seed_list], dtype=float)
         cells = []
         for st in strategies:
-            v = np.array([by[st][s][0] for s in range(seeds)], dtype=float)
-            done = all(by[st][s][1] for s in range(seeds))
+            v = np.array([by[st][s][0] for s in seed_list], dtype=float)
+            done = all(by[st][s][1] for s in seed_list)
             cell = f"{v.mean():.0f} ± {v.std(ddof=1) if seeds > 1 else 0:.0f}"
             if st != BASE:
                 d = summarize(v - base)
@@ -88,7 +91,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"| {sc} | " + " | ".join(cells) + " |")
     if args.json:
         with open(args.json, "w") as fh:
-            json.dump({sc: {st: [by[st][s][0] for s in range(seeds)] for st in by}
+            json.dump({sc: {st: [by[st][s][0] for s in seed_list] for st in by}
                        for sc, by in res.items()}, fh, indent=1)
     return 0
 
