@@ -489,12 +489,16 @@ class MadgtaR(Madgta):
     def __init__(
         self, k: int = 4, max_vacant: int | None = 200, horizon: int = 1_000_000,
         objective: str = "makespan", weight: float = 1.0, far: int = 0, ties: int = 0,
-        samples: int = 0, seed: int = 0, outside: str = "madgta",
+        samples: int = 0, seed: int = 0, outside: str = "madgta", tol: float | None = None,
+        unknown: str = "free",
     ) -> None:
         if k < 1:
             raise ValueError(f"k must be >= 1, got {k}")
-        if objective not in ("makespan", "mix"):
-            raise ValueError(f"objective must be 'makespan' or 'mix', got {objective!r}")
+        if objective not in ("makespan", "mix", "lex"):
+            raise ValueError(
+                f"objective must be 'makespan', 'mix' or 'lex', got {objective!r}")
+        if unknown not in ("free", "walled"):
+            raise ValueError(f"unknown must be 'free' or 'walled', got {unknown!r}")
         if min(far, ties, samples) < 0 or horizon < 1:
             raise ValueError("far, ties and samples must be >= 0 and horizon >= 1")
         self.k = k
@@ -509,6 +513,8 @@ class MadgtaR(Madgta):
         if outside not in ("madgta", "madgta+"):
             raise ValueError(f"outside must be 'madgta' or 'madgta+', got {outside!r}")
         self.outside = outside
+        self.tol = tol
+        self.unknown = unknown
         #: the policy of every decision not rolled out
         self._plain: Madgta = MadgtaPlus() if outside == "madgta+" else Madgta()
         self._rows: dict[int, _Rows] = {}
@@ -539,6 +545,14 @@ class MadgtaR(Madgta):
         self.rollouts += 1
         scores = self._scores(belief, cands, kinds, (known.blocked, belief.status, vacant,
                                                      table, row_of), state)
+        if self.objective == "lex":  # a makespan near the best, then the least sum
+            tol = self.tol
+            if tol is None:  # one edge of the fastest agent known
+                seen = belief.loc >= 0
+                seen[0] = False
+                tol = float(known.step * belief.time_per_unit[seen].min())
+            low = min(mk for mk, _ in scores) + tol + 1e-9
+            scores = [(tot, 0.0) if mk <= low else (np.inf, 0.0) for mk, tot in scores]
         best = min(scores)
         # equal scores: MADGTA's own order (candidates are best first, its own kind first)
         j = next(i for i, s in enumerate(scores) if _same(s, best))
@@ -599,6 +613,8 @@ class MadgtaR(Madgta):
         g = belief.graph
         me = belief.me
         worlds = [world]
+        if self.unknown == "walled":
+            worlds = self._walled_world(belief, np.asarray(cands), world[2]) or worlds
         if self.samples:
             worlds = self._sampled_worlds(belief, np.asarray(cands), world[2]) or worlds
         orders = [self._ids(g.n_nodes)]
@@ -616,9 +632,65 @@ class MadgtaR(Madgta):
                 )
         totals /= len(worlds) * len(orders)
         agents = int((mode != ABSENT).sum())
-        if self.objective == "makespan":
+        if self.objective in ("makespan", "lex"):
             return [(float(mk), float(tot)) for mk, tot in totals]
         return [(float(mk + self.weight * tot / max(agents, 1)), 0.0) for mk, tot in totals]
+
+    def _walled_world(
+        self, belief: TraversalBelief, cands: np.ndarray, vacant: np.ndarray
+    ) -> list[World]:
+        """One world where every unsensed cell next to a known wall is a wall too (walls
+        come in runs), candidates excepted; empty if no such cell."""
+        g = belief.graph
+        known = belief.known
+        sensed = self._sensed(belief)
+        unknown = ~sensed & (belief.status == 0) & ~known.blocked
+        unknown[cands] = False
+        walls_at = np.nonzero(known.blocked)[0]
+        starts, ends = g.indptr[walls_at], g.indptr[walls_at + 1]
+        lens = ends - starts
+        offs = np.repeat(starts - np.cumsum(lens) + lens, lens) + np.arange(int(lens.sum()))
+        near = np.zeros(belief.status.size, dtype=bool)
+        near[g.indices[offs]] = True
+        walls = unknown & near
+        if not walls.any():
+            return []
+        world = self._world(belief, walls, vacant)
+        _, _, _, table, rows = world
+        if (table[rows[cands], belief.here] < 0).any():
+            return []  # a candidate cut off by the guessed walls: guess nothing
+        return [world]
+
+    @staticmethod
+    def _sensed(belief: TraversalBelief) -> np.ndarray:
+        """Cells some agent has sensed: those agents stood on (done vertices, agents'
+        positions) and their neighbours."""
+        g = belief.graph
+        visited = belief.status > 0
+        visited[belief.loc[belief.loc >= 0]] = True
+        vis = np.nonzero(visited)[0]
+        starts, ends = g.indptr[vis], g.indptr[vis + 1]
+        lens = ends - starts
+        offs = np.repeat(starts - np.cumsum(lens) + lens, lens) + np.arange(int(lens.sum()))
+        sensed = visited.copy()
+        sensed[g.indices[offs]] = True
+        return sensed
+
+    @staticmethod
+    def _world(belief: TraversalBelief, walls: np.ndarray, vacant: np.ndarray) -> World:
+        """The simulated world with ``walls`` added to the known ones."""
+        g = belief.graph
+        status = belief.status
+        blocked = belief.known.blocked | walls
+        st = status.copy()
+        st[walls] = -1
+        vac = vacant[~walls[vacant]]
+        table = np.empty((vac.size, status.size), dtype=np.int32)
+        rows = np.full(status.size, -1, dtype=np.int64)
+        rows[vac] = np.arange(vac.size)
+        _fill_rows(g.indptr, g.indices, blocked, vac, rows[vac], table,
+                   np.empty(status.size, dtype=np.int32))
+        return (blocked, st, vac, table, rows)
 
     def _sampled_worlds(
         self, belief: TraversalBelief, cands: np.ndarray, vacant: np.ndarray
