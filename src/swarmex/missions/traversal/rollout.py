@@ -501,10 +501,11 @@ class MadgtaR(Madgta):
     makespan is within ``tol`` of the best; ``tol`` None: one edge of the fastest known
     agent), ``"makespan"`` (ties by the sum) or ``"mix"`` (makespan + ``weight`` × sum /
     agents). ``unknown``: ``"free"`` (unknown cells are free) or ``"walled"`` (unsensed
-    cells next to a known wall are walls in the simulation). ``far``: with vacant neighbours, also simulate this many
-    of branch 3's distant targets. ``ties``: average over this many seeded random tie orders
-    instead of the lowest id. ``samples``: average over this many seeded guesses of the
-    unsensed walls instead of taking unknown cells as free. ``seed``: of those draws.
+    cells next to a known wall are walls in the simulation). ``far``: with vacant
+    neighbours, also simulate this many of branch 3's distant targets. ``ties``: average
+    over this many seeded random tie orders instead of the lowest id. ``samples``: average
+    over this many seeded guesses of the unsensed walls instead of taking unknown cells as
+    free. ``seed``: of those draws. ``outside``: the policy before the end game.
     """
 
     name = "madgta-r"
