@@ -63,7 +63,7 @@ def test_registered_and_selectable():
     assert policy.name == "madgta-r" and policy.madgta_branch2
     assert not MadgtaR(far=2).madgta_branch2  # distant targets compete with neighbours
     for bad in (dict(k=0), dict(objective="sum"), dict(far=-1), dict(horizon=0),
-                dict(outside="nearest")):
+                dict(outside="nearest"), dict(unknown="wall")):
         with pytest.raises(ValueError):
             MadgtaR(**bad)
 
@@ -85,7 +85,9 @@ def test_completes_every_job_once(seed, fleet):
 
 
 @pytest.mark.parametrize("options", [dict(), dict(far=2, ties=2, samples=2),
-                                     dict(objective="mix", horizon=30, outside="madgta+")])
+                                     dict(objective="mix", horizon=30, outside="madgta+"),
+                                     dict(objective="lex", tol=0.5, unknown="walled"),
+                                     dict(objective="makespan"), dict(nest=True)])
 def test_completes_over_a_lossy_range_limited_channel(options):
     world = random_obstacles(10, 10, 0.2, seed=3)
     agents = _mixed(world, 4, 3)
@@ -229,3 +231,56 @@ def test_cells_walled_in_by_known_walls_are_not_counted_as_vacant():
     vacant = MadgtaR._vacant(belief)
     assert 4 * 7 + 4 not in vacant.tolist()
     assert vacant.size == 49 - len(ring) - 1
+
+
+def test_lex_keeps_a_near_best_makespan_and_takes_the_least_sum():
+    """objective='lex': among the candidates whose simulated makespan is within ``tol`` of the
+    best, the least simulated sum; with ``tol=0`` the same choices as 'makespan' (ties by
+    the sum)."""
+    world = random_obstacles(8, 8, 0.15, seed=5)
+    free = np.nonzero(~world.blocked)[0]
+    agents = uniform_agents([int(free[0])] * 3, 2.0, 9.0)
+    lex0 = run_traversal(world, agents, MadgtaR(objective="lex", tol=0.0), seed=5)
+    mk = run_traversal(world, agents, MadgtaR(objective="makespan"), seed=5)
+    assert lex0.path_strings() == mk.path_strings()
+    policy = MadgtaR(objective="lex")
+    run = run_traversal(world, agents, policy, seed=5)
+    _all_done(run)
+    assert policy.rollouts > 0
+
+
+def test_walled_world_guesses_only_unsensed_cells_next_to_known_walls():
+    """unknown='walled': the simulated world adds as walls the unsensed cells next to a known
+    wall; sensed cells and candidates never become walls."""
+    world = random_obstacles(10, 10, 0.25, seed=2)
+    free = np.nonzero(~world.blocked)[0]
+    agents = uniform_agents([int(free[0])] * 3, 2.0, 9.0)
+    seen: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []
+    policy = MadgtaR(unknown="walled")
+    original = policy._walled_world
+
+    def spy(belief, cands, vacant):
+        worlds = original(belief, cands, vacant)
+        for blocked, *_ in worlds:
+            seen.append((blocked & ~belief.known.blocked, policy._sensed(belief), cands))
+        return worlds
+
+    policy._walled_world = spy  # type: ignore[method-assign]
+    run = run_traversal(world, agents, policy, seed=2)
+    _all_done(run)
+    assert seen
+    for added, sensed, cands in seen:
+        assert not (added & sensed).any()
+        assert not added[cands].any()
+
+
+def test_nested_rollout_completes_and_is_deterministic():
+    """nest=True: rivals roll out their first simulated decision; every job is done once and
+    the same seed gives the same run."""
+    world = random_obstacles(6, 6, 0.15, seed=4)
+    free = np.nonzero(~world.blocked)[0]
+    agents = uniform_agents([int(free[0])] * 3, 2.0, 9.0)
+    runs = [run_traversal(world, agents, MadgtaR(nest=True), seed=4) for _ in range(2)]
+    _all_done(runs[0])
+    assert run_metrics(runs[0], 1.0)[0]["duplicate_jobs"] == 0
+    assert runs[0].path_strings() == runs[1].path_strings()
