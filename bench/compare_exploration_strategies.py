@@ -73,8 +73,8 @@ def main(argv: list[str] | None = None) -> int:
             print(f"\r{i}/{len(jobs)} runs, {time.perf_counter() - t0:.0f} s", end="",
                   file=sys.stderr, flush=True)
     print(file=sys.stderr)
-    print(f"makespan in steps, mean ± sd over seeds {seed_list.start}-{seed_list.stop - 1}; Δ = strategy − {BASE} on the "
-          "same seed (mean [95 % CI])\n")
+    print(f"makespan in steps, mean ± sd over seeds {seed_list.start}-{seed_list.stop - 1}; "
+          f"Δ = strategy − {BASE} on the same seed (mean [95 % CI])\n")
     print("| scenario | " + " | ".join(strategies) + " |")
     print("|---|" + "---:|" * len(strategies))
     for sc, by in res.items():

@@ -129,6 +129,24 @@ def test_pockets_are_small_unknown_components_and_come_first():
     assert pocket_exclusion(zoned) == (8, 15)
 
 
+def test_an_obstacle_inside_is_not_a_pocket():
+    """An unknown block whose known rim is mostly occupied (a shelf whose faces the laser
+    hit, seen through one free cell) is never a pocket: no visit clears it."""
+    ctx = _wall_sliver_and_open_field()
+    lo = np.zeros((40, 60), dtype=np.float32)
+    lo[:16, :] = -1.0
+    lo[0:4, 0:2] = 0.0
+    lo[0:5, 2] = 1.0  # the sliver's rim: its right side and the cells below it occupied
+    lo[4, 0:2] = 1.0
+    lo[3, 2] = -1.0  # one free cell (x 2, y 3) still touches the unknown block
+    ctx.derived = lambda key, make: make(lo)
+    idx = np.arange(ctx.frontiers.n_cells)
+    pocket = pocket_cells(ctx, idx)
+    assert not pocket[:4].any() and not pocket[4:].any()
+    lo[0:3, 2] = -1.0  # most of the rim free again: an opening, a pocket
+    assert pocket_cells(ctx, idx)[:4].all()
+
+
 def test_adaptive_exclusion_rendezvous_and_team_size():
     ctx = _wall_sliver_and_open_field()
     ctx.start = (30, 2)

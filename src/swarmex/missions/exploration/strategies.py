@@ -53,7 +53,8 @@ and distances, and what it has heard from neighbours) and returns a goal cell or
     7 −7 %, 10 −18 %, 3–8 seeds each); room-32-32-4's team of 6 took 65.0 steps with the
     switch at 6 against 68.0 at 7 on seeds 0–19, and 63.8 against 65.4 on seeds 20–39;
   - *pockets first*: a frontier cell next to an unknown *pocket* (an 8-connected unknown
-    component, bounded by known cells and the map's edge, of at most π·laser² cells: one
+    component, bounded by known cells and the map's edge, at least half of the known cells
+    around it free (an opening, not an obstacle's inside), of at most π·laser² cells: one
     visit clears it) costs half its path length. Greedy follows the big frontier and leaves
     slivers at walls that a whole team later crosses the map for (a 30-cell one left at
     tick 550 kept five robots busy until tick 1066);
@@ -359,20 +360,43 @@ ASSIGN_MIN_TEAM = 6
 ALONE_TICKS = 150
 
 
+#: a pocket is an opening: at least this share of the known cells around it are free
+POCKET_FREE_SHARE = 0.5
+
+
 def _unknown_components(lo: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """8-connected components of the unknown cells (labels, cells per label; label 0 is
-    known)."""
+    """8-connected components of the unknown cells: (labels, cells per label), label 0 is
+    known. A component whose known surroundings (its known 8-neighbours) are less than
+    :data:`POCKET_FREE_SHARE` free is the inside of an obstacle seen from outside (a shelf
+    whose faces the laser hit), which no visit clears: its size is given as the largest
+    integer, so it is never a pocket. Without this test, the warehouse's shelf insides drew
+    a team of 4 robots to frontiers it could not clear (586 steps against greedy-exclusion's
+    516, 10 seeds; with it 411)."""
     from scipy import ndimage
 
-    lab, _ = ndimage.label(lo == 0, structure=np.ones((3, 3), dtype=bool))
-    return lab, np.bincount(lab.ravel())
+    unknown = lo == 0
+    lab, count = ndimage.label(unknown, structure=np.ones((3, 3), dtype=bool))
+    h, w = lo.shape
+    padded = np.pad(lab, 1)
+    free = np.zeros(count + 1)
+    occupied = np.zeros(count + 1)
+    for dy in (-1, 0, 1):
+        for dx in (-1, 0, 1):
+            if dx or dy:
+                near = padded[1 + dy : 1 + dy + h, 1 + dx : 1 + dx + w]
+                rim = ~unknown & (near > 0)
+                free += np.bincount(near[rim & (lo < 0)], minlength=count + 1)
+                occupied += np.bincount(near[rim & (lo > 0)], minlength=count + 1)
+    sizes = np.bincount(lab.ravel(), minlength=count + 1)
+    opening = free >= POCKET_FREE_SHARE * np.maximum(free + occupied, 1)
+    return lab, np.where(opening, sizes, np.iinfo(np.int64).max)
 
 
 def pocket_cells(ctx: GoalContext, idx: np.ndarray) -> np.ndarray:
-    """Which candidates border only unknown components of at most π·laser² cells (pockets)."""
+    """Which candidates border only unknown openings of at most π·laser² cells (pockets)."""
     if ctx.derived is None or idx.size == 0:
         return np.zeros(idx.size, dtype=bool)
-    lab, sizes = ctx.derived(("unknown-components",), _unknown_components)
+    lab, sizes = ctx.derived(("unknown-openings", POCKET_FREE_SHARE), _unknown_components)
     h, w = lab.shape
     xs, ys = ctx.frontiers.xs[idx], ctx.frontiers.ys[idx]
     biggest = np.zeros(idx.size, dtype=np.int64)
