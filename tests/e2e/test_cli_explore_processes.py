@@ -38,3 +38,15 @@ def test_processes_without_aodv_send_one_hop_unicasts(tmp_path):
     m = record["metrics"]
     assert record["params"]["aodv"] is False and m["unicasts"]["sent"] == 0
     assert m["aodv_messages"] == 0 and not m["multihop_in_by_kind"]
+
+
+def test_processes_run_the_strategy_beyond_the_seed(tmp_path):
+    """adaptive-exclusion (issue 17 item 2) keeps its per-robot state (start, ids heard,
+    ticks alone, goal region) in the robot core, so one OS process per robot runs it too."""
+    out = tmp_path / "adaptive.json"
+    code = main(["explore", "--empty", "3x3", "--robots", "3", "--processes",
+                 "--strategy", "adaptive-exclusion", "--json", str(out)])
+    assert code == 0
+    record = json.loads(out.read_text())
+    assert record["params"]["strategy"] == "adaptive-exclusion"
+    assert record["complete"] and record["metrics"]["explored_fraction"] >= 0.99
