@@ -2,8 +2,11 @@
 
 from __future__ import annotations
 
+import contextlib
 import os
+import shutil
 import tempfile
+import time
 from pathlib import Path
 
 import pytest
@@ -12,12 +15,18 @@ REPO = Path(__file__).resolve().parents[1]
 
 # pytest -n 2: numba's on-disk cache is not safe when two processes write the same kernels at
 # once (a cold cache can crash a worker: numba issues #4807, #10128), so each xdist worker keeps
-# its own cache, set before any test imports numba. A user's NUMBA_CACHE_DIR wins.
+# its own cache, set before any test imports numba, and new for every test session (xdist's
+# run id): a folder kept from an earlier session, or from another checkout at the same path,
+# once crashed a worker loading a kernel. A user's NUMBA_CACHE_DIR wins.
 _WORKER = os.environ.get("PYTEST_XDIST_WORKER")
 if _WORKER and "NUMBA_CACHE_DIR" not in os.environ:
-    os.environ["NUMBA_CACHE_DIR"] = str(
-        Path(tempfile.gettempdir()) / f"swarmex-numba-tests-{os.getuid()}-{_WORKER}"
-    )
+    _RUN = os.environ.get("PYTEST_XDIST_TESTRUNUID", "run")[:12]
+    _CACHES = Path(tempfile.gettempdir()) / f"swarmex-numba-tests-{os.getuid()}"
+    os.environ["NUMBA_CACHE_DIR"] = str(_CACHES / f"{_RUN}-{_WORKER}")
+    for _old in _CACHES.glob("*") if _CACHES.is_dir() else ():
+        with contextlib.suppress(OSError):  # a day old: no session still running uses it
+            if time.time() - _old.stat().st_mtime > 86400:
+                shutil.rmtree(_old, ignore_errors=True)
 
 
 def maps_dir() -> Path:
