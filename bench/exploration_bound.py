@@ -53,6 +53,7 @@ from numpy.typing import NDArray
 from swarmex._kernels import kernel
 from swarmex.missions.exploration.paths import distance_steps
 from swarmex.missions.exploration.sim import reachable_free
+from swarmex.sensing.laser import _axis
 
 UNSEEN = np.iinfo(np.int64).max
 
@@ -68,20 +69,8 @@ def _scan_into(
     h, w = free.shape
     stamp[y0, x0] = mark
     for b in range(angles.shape[0]):
-        dx = math.cos(angles[b])
-        dy = math.sin(angles[b])
-        if dx > 0.0:
-            sx, ddx = 1, 1.0 / dx
-        elif dx < 0.0:
-            sx, ddx = -1, -1.0 / dx
-        else:
-            sx, ddx = 0, np.inf
-        if dy > 0.0:
-            sy, ddy = 1, 1.0 / dy
-        elif dy < 0.0:
-            sy, ddy = -1, -1.0 / dy
-        else:
-            sy, ddy = 0, np.inf
+        sx, ddx = _axis(math.cos(angles[b]))
+        sy, ddy = _axis(math.sin(angles[b]))
         kx = 0
         ky = 0
         cx = x0

@@ -119,17 +119,7 @@ class GoalContext:
 
 def _nearest(ctx: GoalContext, idx: np.ndarray) -> Cell | None:
     """The candidate with the fewest steps; ties keep the current goal, then (y, x) order."""
-    if idx.size == 0:
-        return None
-    d = ctx.dist[idx]
-    best = idx[d == d.min()]
-    if ctx.current_goal is not None:
-        gx, gy = ctx.current_goal
-        same = best[(ctx.frontiers.xs[best] == gx) & (ctx.frontiers.ys[best] == gy)]
-        if same.size:
-            return (gx, gy)
-    i = best[np.lexsort((ctx.frontiers.xs[best], ctx.frontiers.ys[best]))[0]]
-    return int(ctx.frontiers.xs[i]), int(ctx.frontiers.ys[i])
+    return _cheapest(ctx, idx, ctx.dist[idx])
 
 
 def greedy(ctx: GoalContext) -> Cell | None:
@@ -339,7 +329,7 @@ def hungarian_exclusion(ctx: GoalContext) -> Cell | None:
 
 
 def _cheapest(ctx: GoalContext, idx: np.ndarray, cost: np.ndarray) -> Cell | None:
-    """The candidate of least ``cost``; ties as :func:`_nearest` (current goal, then (y, x))."""
+    """The candidate of least ``cost``; ties keep the current goal, then (y, x) order."""
     if idx.size == 0:
         return None
     best = idx[cost == cost.min()]
