@@ -347,6 +347,142 @@ def _start_job(
 
 
 @kernel(cache=True, nogil=True)
+def _next_agent(
+    mode: NDArray[np.int64], tfree: NDArray[np.float64],
+) -> tuple[int, float]:  # pragma: no cover - compiled
+    """The active agent with the earliest event (ties: lowest id), or -1."""
+    a = -1
+    t = np.inf
+    for r in range(1, mode.shape[0]):
+        if (mode[r] == FREE or mode[r] == MOVING or mode[r] == WORKING) and tfree[r] < t:
+            t = tfree[r]
+            a = r
+    return a, t
+
+
+@kernel(cache=True, nogil=True)
+def _next_event(
+    a: int, t: float,
+    indptr: NDArray[np.int64], indices: NDArray[np.int32], blocked: NDArray[np.bool_],
+    st: NDArray[np.int32], rs: NDArray[np.int32], vacant: NDArray[np.int64],
+    table: NDArray[np.int32], row_of: NDArray[np.int64], loc: NDArray[np.int64],
+    dest: NDArray[np.int64], tfree: NDArray[np.float64], mode: NDArray[np.int64],
+    intent: NDArray[np.int64], resv: NDArray[np.int64], tpu: NDArray[np.float64],
+    jt: NDArray[np.float64], step: float, prio: NDArray[np.int64],
+    work: NDArray[np.float64], last: NDArray[np.float64],
+) -> bool:  # pragma: no cover - compiled
+    """Agent ``a``'s arrival at its event time ``t``, if it was moving: the job there when it
+    may (``TraversalAgent.arrive``; True), else nothing done yet (False: it decides)."""
+    if mode[a] == MOVING:  # arrival (TraversalAgent.arrive)
+        v = dest[a]
+        loc[a] = v
+        old = resv[a]
+        if old >= 0:
+            if rs[old] == a:
+                rs[old] = 0
+            resv[a] = -1
+        if st[v] == 0 and (intent[a] == v or rs[v] == 0):
+            intent[a] = -1
+            _start_job(a, v, t, tfree, mode, resv, st, rs, work, last, jt)
+            return True
+        intent[a] = -1
+    return False
+
+
+@kernel(cache=True, nogil=True)
+def _follow_target(
+    a: int, t: float, target: NDArray[np.int64],
+    indptr: NDArray[np.int64], indices: NDArray[np.int32], blocked: NDArray[np.bool_],
+    st: NDArray[np.int32], rs: NDArray[np.int32], vacant: NDArray[np.int64],
+    table: NDArray[np.int32], row_of: NDArray[np.int64], loc: NDArray[np.int64],
+    dest: NDArray[np.int64], tfree: NDArray[np.float64], mode: NDArray[np.int64],
+    intent: NDArray[np.int64], resv: NDArray[np.int64], tpu: NDArray[np.float64],
+    jt: NDArray[np.float64], step: float, prio: NDArray[np.int64],
+    work: NDArray[np.float64], last: NDArray[np.float64],
+) -> bool:  # pragma: no cover - compiled
+    """A committed target first: its job when the agent stands on a vacant vertex on the
+    way, else one hop towards it (True); False when there is none (or it was taken)."""
+    f = target[a]
+    if f < 0:
+        return False
+    if f == loc[a] or st[f] != 0 or (rs[f] != 0 and rs[f] != a):
+        target[a] = -1
+        return False
+    here = loc[a]
+    if st[here] == 0 and (rs[here] == 0 or rs[here] == a):
+        _start_job(a, here, t, tfree, mode, resv, st, rs, work, last, jt)
+        return True
+    v = _hop(here, f, indptr, indices, blocked, table, row_of, prio)
+    _move(a, v, t, loc, dest, tfree, mode, intent, resv, st, rs, work, last, step * tpu[a])
+    return True
+
+
+@kernel(cache=True, nogil=True)
+def _madgta_step(
+    a: int, t: float, out: NDArray[np.int64],
+    indptr: NDArray[np.int64], indices: NDArray[np.int32], blocked: NDArray[np.bool_],
+    st: NDArray[np.int32], rs: NDArray[np.int32], vacant: NDArray[np.int64],
+    table: NDArray[np.int32], row_of: NDArray[np.int64], loc: NDArray[np.int64],
+    dest: NDArray[np.int64], tfree: NDArray[np.float64], mode: NDArray[np.int64],
+    intent: NDArray[np.int64], resv: NDArray[np.int64], tpu: NDArray[np.float64],
+    jt: NDArray[np.float64], step: float, prio: NDArray[np.int64],
+    work: NDArray[np.float64], last: NDArray[np.float64],
+) -> None:  # pragma: no cover - compiled
+    """MADGTA's decision for agent ``a`` (lowest-id ties): its job, a neighbour, one hop
+    towards a distant target, or finished."""
+    kind, c = _options(a, 1, indptr, indices, blocked, st, rs, vacant, table, row_of,
+                       loc, mode, tpu, jt, step, out, prio)
+    if kind == JOB:
+        _start_job(a, loc[a], t, tfree, mode, resv, st, rs, work, last, jt)
+    elif kind == NEAR:
+        _move(a, out[0], t, loc, dest, tfree, mode, intent, resv, st, rs, work, last,
+              step * tpu[a])
+    elif kind == FAR:
+        v = _hop(loc[a], out[0], indptr, indices, blocked, table, row_of, prio)
+        _move(a, v, t, loc, dest, tfree, mode, intent, resv, st, rs, work, last,
+              step * tpu[a])
+    else:
+        mode[a] = FINISHED
+
+
+@kernel(cache=True, nogil=True)
+def _outcome(
+    cut: bool, mode: NDArray[np.int64], tfree: NDArray[np.float64],
+    work: NDArray[np.float64], last: NDArray[np.float64], st: NDArray[np.int32],
+    vacant: NDArray[np.int64], tpu: NDArray[np.float64], jt: NDArray[np.float64], step: float,
+) -> tuple[float, float]:  # pragma: no cover - compiled
+    """(makespan, sum) of a simulated mission; when it was ``cut`` at the horizon, the rest
+    is estimated (see :class:`MadgtaR`)."""
+    m1 = mode.shape[0]
+    makespan = 0.0
+    total = 0.0
+    for r in range(1, m1):
+        if mode[r] != ABSENT:
+            makespan = max(makespan, last[r])
+            total += work[r]
+    if cut:  # the rest: vacant jobs shared by the working agents
+        left = 0
+        for i in range(vacant.shape[0]):
+            if st[vacant[i]] == 0:
+                left += 1
+        busy = 0.0
+        rate = 0.0
+        n_on = 0
+        for r in range(1, m1):
+            if mode[r] == FREE or mode[r] == MOVING or mode[r] == WORKING:
+                busy += tfree[r]
+                rate += jt[r] + step * tpu[r]
+                n_on += 1
+        if n_on > 0:
+            per_job = rate / n_on
+            makespan = max(makespan, (busy + left * per_job) / n_on)
+            total += left * per_job
+    return makespan, total
+
+
+
+
+@kernel(cache=True, nogil=True)
 def _simulate(
     me: int, first: int, first_kind: int, now: float, horizon: int,
     indptr: NDArray[np.int64], indices: NDArray[np.int32], blocked: NDArray[np.bool_],
@@ -374,81 +510,30 @@ def _simulate(
           step * tpu[me])
     decisions = 0
     while True:
-        a = -1
-        t = np.inf
-        for r in range(1, m1):
-            if (mode[r] == FREE or mode[r] == MOVING or mode[r] == WORKING) and tfree[r] < t:
-                t = tfree[r]
-                a = r
+        a, t = _next_agent(mode, tfree)
         if a < 0:
             break
-        if mode[a] == MOVING:  # arrival (TraversalAgent.arrive)
-            v = dest[a]
-            loc[a] = v
-            old = resv[a]
-            if old >= 0:
-                if rs[old] == a:
-                    rs[old] = 0
-                resv[a] = -1
-            if st[v] == 0 and (intent[a] == v or rs[v] == 0):
-                intent[a] = -1
-                _start_job(a, v, t, tfree, mode, resv, st, rs, work, last, jt)
-                continue
-            intent[a] = -1
+        if _next_event(
+            a, t,
+            indptr, indices, blocked, st, rs, vacant, table, row_of, loc, dest, tfree, mode,
+            intent, resv, tpu, jt, step, prio, work, last,
+        ):
+            continue
         decisions += 1
         if decisions > horizon:
             break
-        # decide (Algorithm 1); a committed target first
-        f = target[a]
-        if f >= 0:
-            if f == loc[a] or st[f] != 0 or (rs[f] != 0 and rs[f] != a):
-                target[a] = -1
-            else:
-                here = loc[a]
-                if st[here] == 0 and (rs[here] == 0 or rs[here] == a):
-                    _start_job(a, here, t, tfree, mode, resv, st, rs, work, last, jt)
-                    continue
-                v = _hop(here, f, indptr, indices, blocked, table, row_of, prio)
-                _move(a, v, t, loc, dest, tfree, mode, intent, resv, st, rs, work, last,
-                      step * tpu[a])
-                continue
-        kind, c = _options(a, 1, indptr, indices, blocked, st, rs, vacant, table, row_of,
-                           loc, mode, tpu, jt, step, out, prio)
-        if kind == JOB:
-            _start_job(a, loc[a], t, tfree, mode, resv, st, rs, work, last, jt)
-        elif kind == NEAR:
-            _move(a, out[0], t, loc, dest, tfree, mode, intent, resv, st, rs, work, last,
-                  step * tpu[a])
-        elif kind == FAR:
-            v = _hop(loc[a], out[0], indptr, indices, blocked, table, row_of, prio)
-            _move(a, v, t, loc, dest, tfree, mode, intent, resv, st, rs, work, last,
-                  step * tpu[a])
-        else:
-            mode[a] = FINISHED
-    makespan = 0.0
-    total = 0.0
-    for r in range(1, m1):
-        if mode[r] != ABSENT:
-            makespan = max(makespan, last[r])
-            total += work[r]
-    if decisions > horizon:  # the rest: vacant jobs shared by the working agents
-        left = 0
-        for i in range(vacant.shape[0]):
-            if st[vacant[i]] == 0:
-                left += 1
-        busy = 0.0
-        rate = 0.0
-        n_on = 0
-        for r in range(1, m1):
-            if mode[r] == FREE or mode[r] == MOVING or mode[r] == WORKING:
-                busy += tfree[r]
-                rate += jt[r] + step * tpu[r]
-                n_on += 1
-        if n_on > 0:
-            per_job = rate / n_on
-            makespan = max(makespan, (busy + left * per_job) / n_on)
-            total += left * per_job
-    return makespan, total
+        if _follow_target(
+            a, t, target,
+            indptr, indices, blocked, st, rs, vacant, table, row_of, loc, dest, tfree, mode,
+            intent, resv, tpu, jt, step, prio, work, last,
+        ):
+            continue
+        _madgta_step(
+            a, t, out,
+            indptr, indices, blocked, st, rs, vacant, table, row_of, loc, dest, tfree, mode,
+            intent, resv, tpu, jt, step, prio, work, last,
+        )
+    return _outcome(decisions > horizon, mode, tfree, work, last, st, vacant, tpu, jt, step)
 
 
 @kernel(cache=True, nogil=True)
@@ -479,44 +564,24 @@ def _simulate_nested(
           step * tpu[me])
     decisions = 0
     while True:
-        a = -1
-        t = np.inf
-        for r in range(1, m1):
-            if (mode[r] == FREE or mode[r] == MOVING or mode[r] == WORKING) and tfree[r] < t:
-                t = tfree[r]
-                a = r
+        a, t = _next_agent(mode, tfree)
         if a < 0:
             break
-        if mode[a] == MOVING:  # arrival (TraversalAgent.arrive)
-            v = dest[a]
-            loc[a] = v
-            old = resv[a]
-            if old >= 0:
-                if rs[old] == a:
-                    rs[old] = 0
-                resv[a] = -1
-            if st[v] == 0 and (intent[a] == v or rs[v] == 0):
-                intent[a] = -1
-                _start_job(a, v, t, tfree, mode, resv, st, rs, work, last, jt)
-                continue
-            intent[a] = -1
+        if _next_event(
+            a, t,
+            indptr, indices, blocked, st, rs, vacant, table, row_of, loc, dest, tfree, mode,
+            intent, resv, tpu, jt, step, prio, work, last,
+        ):
+            continue
         decisions += 1
         if decisions > horizon:
             break
-        # decide (Algorithm 1); a committed target first
-        f = target[a]
-        if f >= 0:
-            if f == loc[a] or st[f] != 0 or (rs[f] != 0 and rs[f] != a):
-                target[a] = -1
-            else:
-                here = loc[a]
-                if st[here] == 0 and (rs[here] == 0 or rs[here] == a):
-                    _start_job(a, here, t, tfree, mode, resv, st, rs, work, last, jt)
-                    continue
-                v = _hop(here, f, indptr, indices, blocked, table, row_of, prio)
-                _move(a, v, t, loc, dest, tfree, mode, intent, resv, st, rs, work, last,
-                      step * tpu[a])
-                continue
+        if _follow_target(
+            a, t, target,
+            indptr, indices, blocked, st, rs, vacant, table, row_of, loc, dest, tfree, mode,
+            intent, resv, tpu, jt, step, prio, work, last,
+        ):
+            continue
         if a != me and not nested[a]:
             nested[a] = True
             kind, c = _options(a, k, indptr, indices, blocked, st, rs, vacant, table,
@@ -542,43 +607,12 @@ def _simulate_nested(
                 _move(a, f, t, loc, dest, tfree, mode, intent, resv, st, rs, work, last,
                       step * tpu[a])
                 continue
-        kind, c = _options(a, 1, indptr, indices, blocked, st, rs, vacant, table, row_of,
-                           loc, mode, tpu, jt, step, out, prio)
-        if kind == JOB:
-            _start_job(a, loc[a], t, tfree, mode, resv, st, rs, work, last, jt)
-        elif kind == NEAR:
-            _move(a, out[0], t, loc, dest, tfree, mode, intent, resv, st, rs, work, last,
-                  step * tpu[a])
-        elif kind == FAR:
-            v = _hop(loc[a], out[0], indptr, indices, blocked, table, row_of, prio)
-            _move(a, v, t, loc, dest, tfree, mode, intent, resv, st, rs, work, last,
-                  step * tpu[a])
-        else:
-            mode[a] = FINISHED
-    makespan = 0.0
-    total = 0.0
-    for r in range(1, m1):
-        if mode[r] != ABSENT:
-            makespan = max(makespan, last[r])
-            total += work[r]
-    if decisions > horizon:  # the rest: vacant jobs shared by the working agents
-        left = 0
-        for i in range(vacant.shape[0]):
-            if st[vacant[i]] == 0:
-                left += 1
-        busy = 0.0
-        rate = 0.0
-        n_on = 0
-        for r in range(1, m1):
-            if mode[r] == FREE or mode[r] == MOVING or mode[r] == WORKING:
-                busy += tfree[r]
-                rate += jt[r] + step * tpu[r]
-                n_on += 1
-        if n_on > 0:
-            per_job = rate / n_on
-            makespan = max(makespan, (busy + left * per_job) / n_on)
-            total += left * per_job
-    return makespan, total
+        _madgta_step(
+            a, t, out,
+            indptr, indices, blocked, st, rs, vacant, table, row_of, loc, dest, tfree, mode,
+            intent, resv, tpu, jt, step, prio, work, last,
+        )
+    return _outcome(decisions > horizon, mode, tfree, work, last, st, vacant, tpu, jt, step)
 
 
 class _Rows:
