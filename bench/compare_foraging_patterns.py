@@ -9,7 +9,8 @@ lowest mean on the same cells) and the paired difference, ours − best, on the 
 a t and a bootstrap 95 % interval. A difference is significant when its interval excludes 0.
 
     PYTHONPATH=src python bench/compare_foraging_patterns.py [--per-band 40] [--workers 2]
-        [--ours sector-loop,loop-strips] [--raw runs.json]
+        [--ours sector-loop,loop-strips] [--raw runs.json | --load runs.json]
+        [--floor-search 40] [--floors floors.json]
 
 Every run goes through the mission contract (``registry.get("foraging")``), like
 ``swarmex reproduce foraging``. 40 cells: 1,920 seed runs plus 480 per pattern of ours; about
@@ -20,6 +21,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
 import time
 from concurrent.futures import ProcessPoolExecutor
@@ -117,50 +119,150 @@ def phases(rows: list[tuple[Task, float, dict[str, Any]]], ours: list[str]) -> l
     return lines
 
 
-def budget(rows: list[tuple[Task, float, dict[str, Any]]]) -> list[str]:
+Floors = dict[tuple[str, int, int], tuple[int, int, str]]  # (band, i, n) -> Q_min, proven, how
+
+
+def floors(foods: dict[str, list[tuple[int, int]]], per_band: int, search: int) -> Floors:
+    """Q_min (:func:`~swarmex.missions.foraging.floor.least_transport`: the real Relay-Food
+    run from the best start state found) and the proven floor, per food cell and N."""
+    from swarmex.missions.foraging.floor import least_transport, proven_floor
+    from swarmex.missions.foraging.grid import manhattan, nest_of
+
+    out: Floors = {}
+    for band in BANDS:
+        for i, food in enumerate(foods[band][:per_band]):
+            d = manhattan(nest_of(G), food)
+            for n in NS:
+                q, start = least_transport(G, food, n, UNITS, budget=search)
+                out[(band, i, n)] = (q, proven_floor(d, n, UNITS), start.describe(n))
+    return out
+
+
+def _se(x: np.ndarray) -> float:
+    """Standard error of the mean of ``x`` (the 40-cell sample of a band)."""
+    return float(x.std(ddof=1) / np.sqrt(len(x)))
+
+
+def budget(rows: list[tuple[Task, float, dict[str, Any]]], fl: Floors) -> list[str]:
     """Is "no worse than the best seed pattern in every band" reachable at all?
 
-    A run's total is its exploration time E plus what follows the discovery, Q. Take for Q, in
-    every band, the lowest band mean any measured pattern reached (an empirical floor, not a
-    proven one). Then a pattern matching the best seed pattern in band b must find its food
-    there within the budget ``best_b − Q_b`` on average. The bands partition the grid, so the
+    A run's total is its exploration time E plus what follows the discovery, Q. Given a floor
+    Q_b for Q in band b, a pattern matching the best seed pattern there must find its food
+    within the budget ``best_b − Q_b`` on average. The bands partition the grid, so the
     band-size-weighted budget must be at least the mean discovery time of *any* pattern, which
-    is at least ``(g² − 1) / (2n)``: ``n`` robots find at most ``n`` new cells per round.
+    is at least ``(g² − 1) / (2n)``: ``n`` robots find at most ``n`` new cells per round. Three
+    floors: the lowest band mean any measured pattern reached (empirical), the mean of Q_min
+    (the least Relay-Food time from the best start state found, zero communication and
+    gathering) and the mean of the proven floor (:func:`~.floor.proven_floor`), each on the
+    same 40 cells. ± is one standard error of the budget as an estimate of its value over the
+    whole band (from the per-cell spread of best total − floor).
     """
     from swarmex.missions.foraging.food import band_cells
 
-    acc: dict[tuple[str, int, str], list[dict[str, Any]]] = {}
-    for (pattern, n, band, _, _), _, m in rows:
-        acc.setdefault((pattern, n, band), []).append(m)
+    acc: dict[tuple[str, int, str], dict[int, dict[str, Any]]] = {}
+    for (pattern, n, band, i, _), _, m in rows:
+        acc.setdefault((pattern, n, band), {})[i] = m
 
-    def mean(pattern: str, n: int, band: str, key: str) -> float:
+    def per_cell(pattern: str, n: int, band: str, key: str) -> np.ndarray:
         ms = acc[(pattern, n, band)]
         if key == "q":
-            return float(np.mean([m["total_time"] - m["exploration_time"] for m in ms]))
-        return float(np.mean([m[key] for m in ms]))
+            return np.asarray([ms[i]["total_time"] - ms[i]["exploration_time"] for i in sorted(ms)])
+        return np.asarray([ms[i][key] for i in sorted(ms)], dtype=float)
 
-    lines = ["| N | band | cells | best seed total | lowest Q (any pattern) | E budget |",
-             "|---|---|---|---|---|---|"]
+    lines = [
+        "| N | band | cells | best seed total | Q floor: empirical / Q_min / proven | "
+        "E budget: empirical | with Q_min | with proven floor |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
+    verdicts = []
     for n in NS:
-        weighted, cells = 0.0, 0
+        sums = {"emp": [0.0, 0.0], "qmin": [0.0, 0.0], "proven": [0.0, 0.0]}  # budget, var
+        cells = 0
         for band in BANDS:
             seeds = [p for p in SEED_PATTERNS if (p, n, band) in acc]
             everyone = [p for p in {k[0] for k in acc} if (p, n, band) in acc]
             if not seeds:
                 continue
-            best = min(mean(p, n, band, "total_time") for p in seeds)
-            q = min(mean(p, n, band, "q") for p in everyone)
+            best_p = min(seeds, key=lambda p: per_cell(p, n, band, "total_time").mean())
+            best = per_cell(best_p, n, band, "total_time")
+            emp_p = min(everyone, key=lambda p: per_cell(p, n, band, "q").mean())
+            floor = {
+                "emp": per_cell(emp_p, n, band, "q"),
+                "qmin": np.asarray([fl[(band, i, n)][0] for i in sorted(acc[(best_p, n, band)])]),
+                "proven": np.asarray(
+                    [fl[(band, i, n)][1] for i in sorted(acc[(best_p, n, band)])]
+                ),
+            }
             size = len(band_cells(G, band)) if band != "random" else G * G - 1
-            lines.append(f"| {n} | {BAND_LABEL[band]} | {size} | {best:.0f} | {q:.0f} | "
-                         f"{best - q:.0f} |")
+            for frac, label in ((1.0, BAND_LABEL[band]), (0.9, "RANDOM, 10 % below the best")):
+                if frac < 1 and band != "random":
+                    continue
+                b = {k: (frac * best - f).mean() for k, f in floor.items()}
+                se = {k: _se(frac * best - f) for k, f in floor.items()}
+                qs = " / ".join(f"{floor[k].mean():.0f}" for k in ("emp", "qmin", "proven"))
+                tail = " | ".join(f"{b[k]:.0f} ± {se[k]:.0f}" for k in ("emp", "qmin", "proven"))
+                need = f" (vs at least {size / (2 * n):.0f})" if frac < 1 else ""
+                lines.append(f"| {n} | {label} | {size} | {frac * best.mean():.0f} | {qs} | "
+                             f"{tail}{need} |")
+                if frac < 1:
+                    verdicts.append((n, "RANDOM −10 %", b, se, size / (2 * n)))
             if band != "random":
-                weighted += size * (best - q)
+                for k, f in floor.items():
+                    sums[k][0] += size * (best - f).mean()
+                    sums[k][1] += (size * _se(best - f)) ** 2
                 cells += size
-            else:
-                lines.append(f"| {n} | RANDOM, 10 % below the best | {size} | {0.9 * best:.0f} | "
-                             f"{q:.0f} | {0.9 * best - q:.0f} vs at least {size / (2 * n):.0f} |")
-        lines.append(f"| {n} | weighted over the five bands | {cells} | | | "
-                     f"**{weighted / cells:.0f}** vs at least {cells / (2 * n):.0f} |")
+        b = {k: v[0] / cells for k, v in sums.items()}
+        se = {k: float(np.sqrt(v[1])) / cells for k, v in sums.items()}
+        tail = " | ".join(f"**{b[k]:.0f}** ± {se[k]:.0f}" for k in ("emp", "qmin", "proven"))
+        lines.append(f"| {n} | weighted over the five bands | {cells} | | | {tail} "
+                     f"(vs at least {cells / (2 * n):.0f}) |")
+        verdicts.append((n, "bands", b, se, cells / (2 * n)))
+    lines.append("")
+    lines.append("Shortfall = the least mean discovery time minus the budget, in standard errors "
+                 "of the budget (> 2: beyond sampling error; < 0: the budget is not exceeded):")
+    for n, what, b, se, need in verdicts:
+        parts = [f"{k} {need - b[k]:+.0f} ({(need - b[k]) / se[k]:+.1f} SE)"
+                 for k in ("emp", "qmin", "proven")]
+        lines.append(f"* N = {n}, {what}: " + ", ".join(parts))
+    return lines
+
+
+def floor_checks(rows: list[tuple[Task, float, dict[str, Any]]], fl: Floors) -> list[str]:
+    """Q_min and the proven floor against every measured run (a run below the proven floor
+    would refute its argument) and against the steady-state closed form 2k(d − n)/n."""
+    from swarmex.missions.foraging.grid import manhattan, nest_of
+
+    below_q: list[str] = []
+    below_p = 0
+    for (pattern, n, band, i, food), _, m in rows:
+        q = m["total_time"] - m["exploration_time"]
+        if q < fl[(band, i, n)][0]:
+            below_q.append(f"{pattern} N = {n} food {food}: Q {q} < Q_min {fl[(band, i, n)][0]} "
+                           f"({fl[(band, i, n)][2]})")
+        below_p += q < fl[(band, i, n)][1]
+    lines = [f"{len(rows)} measured runs: {len(below_q)} with Q below Q_min of their cell, "
+             f"{below_p} below the proven floor.", *below_q, "",
+             "| N | band | mean d | mean Q_min | mean 2k(d − n)/n | mean proven floor | "
+             "lowest measured Q | Q_min: relay only / with joining robots |",
+             "|---|---|---|---|---|---|---|---|"]
+    foods = {(band, i): f for (_, _, band, i, f), _, _ in rows}
+    for n in NS:
+        for band in BANDS:
+            keys = sorted(k for k in fl if k[0] == band and k[2] == n)
+            ds = np.asarray([manhattan(nest_of(G), foods[(b, i)]) for b, i, _ in keys])
+            qmin = np.asarray([fl[k][0] for k in keys])
+            proven = np.asarray([fl[k][1] for k in keys])
+            closed = 2 * UNITS * (ds - n) / n
+            qs: dict[str, list[float]] = {}
+            for (pattern, nn, b, _, _), _, m in rows:
+                if nn == n and b == band:
+                    qs.setdefault(pattern, []).append(m["total_time"] - m["exploration_time"])
+            joining = sum(" 0 joining" not in fl[k][2] for k in keys)
+            lines.append(
+                f"| {n} | {BAND_LABEL[band]} | {ds.mean():.0f} | {qmin.mean():.0f} | "
+                f"{closed.mean():.0f} | {proven.mean():.0f} | "
+                f"{min(np.mean(v) for v in qs.values()):.0f} | {len(keys) - joining} / {joining} |"
+            )
     return lines
 
 
@@ -198,6 +300,11 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--ours", default="comb,sector-loop,loop-strips")
     ap.add_argument("--seed", type=int, default=2015)
     ap.add_argument("--raw", help="write every run's metrics to this JSON file")
+    ap.add_argument("--load", help="read the runs' metrics from this --raw file instead")
+    ap.add_argument("--floors", help="Q_min and proven floors: read this JSON file if it "
+                    "exists, else compute them and write it")
+    ap.add_argument("--floor-search", type=int, default=40,
+                    help="local-search runs per food cell and N for Q_min (after the formations)")
     a = ap.parse_args(argv)
     ours = [p for p in a.ours.split(",") if p]
     foods = food_cells(a.seed, 40)  # the reproduction's cells; --per-band takes the first ones
@@ -210,8 +317,13 @@ def main(argv: list[str] | None = None) -> int:
         for i, f in enumerate(foods[band][: a.per_band])
     ]
     t0 = time.time()
-    with ProcessPoolExecutor(max(1, a.workers)) as ex:
-        rows = list(ex.map(run_one, tasks, chunksize=8))
+    if a.load:  # the metrics of an earlier --raw, for the same cells
+        with open(a.load, encoding="utf-8") as fh:
+            saved = {tuple(key): m for key, m in json.load(fh)}
+        rows = [(t, 0.0, saved[t[:4]]) for t in tasks]
+    else:
+        with ProcessPoolExecutor(max(1, a.workers)) as ex:
+            rows = list(ex.map(run_one, tasks, chunksize=8))
     cpu = sum(r[1] for r in rows)
     totals: dict[tuple[str, int, str], list[float]] = {}
     for (p, n, band, _, _), _, m in rows:
@@ -228,8 +340,20 @@ def main(argv: list[str] | None = None) -> int:
     print("Uniform food, noise-free estimate (exact mean E + measured mean Q):")
     print("\n".join(noise_free(rows, ours)))
     print()
+    t1 = time.process_time()
+    if a.floors and os.path.exists(a.floors):
+        with open(a.floors, encoding="utf-8") as fh:
+            fl = {(b, i, n): (q, p, how) for b, i, n, q, p, how in json.load(fh)}
+    else:
+        fl = floors(foods, a.per_band, a.floor_search)
+        if a.floors:
+            with open(a.floors, "w", encoding="utf-8") as fh:
+                json.dump([[*k, *v] for k, v in fl.items()], fh)
+    print(f"Transport floors per food cell and N: CPU {time.process_time() - t1:.0f} s")
+    print("\n".join(floor_checks(rows, fl)))
+    print()
     print("Exploration budgets (docs/foraging.md, 'Why no pattern can meet the target'):")
-    print("\n".join(budget(rows)))
+    print("\n".join(budget(rows, fl)))
     if a.raw:
         with open(a.raw, "w", encoding="utf-8") as fh:
             json.dump([[list(t[:4]), m] for t, _, m in rows], fh)
