@@ -15,6 +15,14 @@ a t and a bootstrap 95 % interval. A difference is significant when its interval
 Every run goes through the mission contract (``registry.get("foraging")``), like
 ``swarmex reproduce foraging``. 40 cells: 1,920 seed runs plus 480 per pattern of ours; about
 0.15 s of CPU each after the timetables (≈ 6 min on 2 workers).
+
+Then the exploration budgets ("Can any pattern meet the target?" in docs/foraging.md): for
+every food cell and N, Q_min (the real Relay-Food run from the best start state found,
+:func:`~swarmex.missions.foraging.floor.least_transport`) and the proven floor
+(:func:`~swarmex.missions.foraging.floor.proven_floor`), checked against every measured run,
+and the budget table under the empirical floor, Q_min and the proven floor, with standard
+errors. The floors cost ≈ 170 s of CPU in this process (``--floors FILE`` keeps them);
+``--load`` reuses the runs of an earlier ``--raw``.
 """
 
 from __future__ import annotations
@@ -352,7 +360,7 @@ def main(argv: list[str] | None = None) -> int:
     print(f"Transport floors per food cell and N: CPU {time.process_time() - t1:.0f} s")
     print("\n".join(floor_checks(rows, fl)))
     print()
-    print("Exploration budgets (docs/foraging.md, 'Why no pattern can meet the target'):")
+    print("Exploration budgets (docs/foraging.md, 'Can any pattern meet the target?'):")
     print("\n".join(budget(rows, fl)))
     if a.raw:
         with open(a.raw, "w", encoding="utf-8") as fh:

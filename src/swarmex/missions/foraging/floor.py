@@ -3,8 +3,8 @@
 A run's total time is its exploration time E (until a robot first stands on the food) plus Q,
 everything after it (communication, overlap, transport). To say how low Q can go for *any*
 exploration pattern while the transport (Relay-Food, ch. 5) and the communication rule stay
-the seed's, this module gives two numbers per food cell (docs/foraging.md, "Why no pattern
-can meet the target"):
+the seed's, this module gives two numbers per food cell (docs/foraging.md, "Can any pattern
+meet the target?"):
 
 * :func:`proven_floor`, a bound that holds for every state the discovery can leave, whatever
   the pattern and whoever is informed, derived from the transport rules alone (its docstring
