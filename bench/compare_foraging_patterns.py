@@ -151,7 +151,47 @@ def _se(x: np.ndarray) -> float:
     return float(x.std(ddof=1) / np.sqrt(len(x)))
 
 
-def budget(rows: list[tuple[Task, float, dict[str, Any]]], fl: Floors) -> list[str]:
+def first_visits(pattern: str, n: int) -> np.ndarray:
+    """Every cell's discovery round under ``pattern`` (its timetable's first visit; -1 for the
+    nest and cells never visited)."""
+    from swarmex.missions.foraging import timed_plan
+
+    pos = timed_plan(pattern, G, n).pos
+    first = np.full((G, G), -1, dtype=np.int64)
+    for t in range(len(pos) - 1, -1, -1):
+        first[pos[t, :, 0], pos[t, :, 1]] = t
+    first[G // 2, G // 2] = -1
+    return first
+
+
+def exact_band_e(
+    rows: list[tuple[Task, float, dict[str, Any]]],
+) -> dict[tuple[str, int, str], float]:
+    """The seed patterns' exact mean discovery time over every cell of each band (not just
+    the 40 drawn), for budgets without E's sampling error; checks the timetable against the
+    runs' exploration times on the drawn cells."""
+    from swarmex.missions.foraging.food import band_cells
+
+    out = {}
+    for pattern in SEED_PATTERNS:
+        for n in NS:
+            if not supports(pattern, n):
+                continue
+            first = first_visits(pattern, n)
+            for (p, nn, _, _, food), _, m in rows:
+                if p == pattern and nn == n and first[food] != m["exploration_time"]:
+                    raise AssertionError(f"{pattern} N = {n} {food}: timetable disagrees")
+            for band in BANDS:
+                cells = band_cells(G, band)
+                out[(pattern, n, band)] = float(first[cells[:, 0], cells[:, 1]].mean())
+    return out
+
+
+def budget(
+    rows: list[tuple[Task, float, dict[str, Any]]],
+    fl: Floors,
+    exact: dict[tuple[str, int, str], float] | None = None,
+) -> list[str]:
     """Is "no worse than the best seed pattern in every band" reachable at all?
 
     A run's total is its exploration time E plus what follows the discovery, Q. Given a floor
@@ -163,7 +203,9 @@ def budget(rows: list[tuple[Task, float, dict[str, Any]]], fl: Floors) -> list[s
     (the least Relay-Food time from the best start state found, zero communication and
     gathering) and the mean of the proven floor (:func:`~.floor.proven_floor`), each on the
     same 40 cells. ± is one standard error of the budget as an estimate of its value over the
-    whole band (from the per-cell spread of best total − floor).
+    whole band (from the per-cell spread of best total − floor). With ``exact`` (the seed
+    patterns' exact band-mean E, :func:`exact_band_e`) each seed run's total is taken as that
+    exact mean plus its own Q, so only Q's spread is left in the error.
     """
     from swarmex.missions.foraging.food import band_cells
 
@@ -175,6 +217,8 @@ def budget(rows: list[tuple[Task, float, dict[str, Any]]], fl: Floors) -> list[s
         ms = acc[(pattern, n, band)]
         if key == "q":
             return np.asarray([ms[i]["total_time"] - ms[i]["exploration_time"] for i in sorted(ms)])
+        if key == "total_time" and exact is not None:
+            return exact[(pattern, n, band)] + per_cell(pattern, n, band, "q")
         return np.asarray([ms[i][key] for i in sorted(ms)], dtype=float)
 
     lines = [
@@ -362,6 +406,9 @@ def main(argv: list[str] | None = None) -> int:
     print()
     print("Exploration budgets (docs/foraging.md, 'Can any pattern meet the target?'):")
     print("\n".join(budget(rows, fl)))
+    print()
+    print("The same with the seed patterns' exact band-mean E (no sampling error in E):")
+    print("\n".join(budget(rows, fl, exact_band_e(rows))))
     if a.raw:
         with open(a.raw, "w", encoding="utf-8") as fh:
             json.dump([[list(t[:4]), m] for t, _, m in rows], fh)
