@@ -27,7 +27,7 @@ from swarmex._kernels import kernel
 
 # tmode codes (same as sim.py)
 JOIN, RELAY, E2E, IDLE = 0, 1, 2, 3
-MAXOPT = 6
+MAXOPT = 6  # the longest list is 5 (4 side cells + stay): one slot left for the last resort
 
 I64 = NDArray[np.int64]  # numba ignores these annotations (postponed); mypy checks the calls
 Bools = NDArray[np.bool_]
@@ -120,7 +120,8 @@ def _resolve(
     again. The pass before the bumped robot's rank is unchanged by the bump, so it resumes
     there (claims of later ranks are rolled back) instead of restarting: the same choices as
     a restart, in O(n) per bump instead of O(n) per bump *and* per claim. ``cells`` (g x g,
-    all -1) maps a claimed cell to its robot and is all -1 again on return."""
+    all -1) maps a claimed cell to its robot and is all -1 again on return. A robot bumped
+    past its list gets its own cell appended to ``opts``/``nopt`` as its last resort."""
     n = cur.shape[0]
     for a in range(n):
         choice[a] = 0
@@ -159,6 +160,15 @@ def _resolve(
         else:
             bumped = a
         choice[bumped] += 1
+        if choice[bumped] == nopt[bumped]:
+            # past its list (an idle robot hemmed in): its own cell is the last resort, as
+            # in resolve.resolve; a free slot is left for it (MAXOPT > the longest list)
+            k = nopt[bumped]
+            if k >= opts.shape[1]:
+                raise RuntimeError("collision resolution: no slot for the last resort")
+            opts[bumped, k, 0] = cur[bumped, 0]
+            opts[bumped, k, 1] = cur[bumped, 1]
+            nopt[bumped] = k + 1
         r = rank[bumped]
         while m > 0 and rank[owner_a[m - 1]] >= r:
             m -= 1

@@ -149,20 +149,15 @@ def transport_start(g: int, food: Cell, n: int, units: int, start: Start) -> Mis
 
 
 def transport_time(g: int, food: Cell, n: int, units: int, start: Start) -> int | None:
-    """Rounds from the discovery until the k-th unit is home, from ``start`` (the real run);
-    None if the collision rule fails in that state or its ray does not fit.
-
-    States with joining robots run in the Python loop: when the food runs out while joining
-    robots still surround it, the robot on the food (now idle, it must step aside) can find
-    every side cell taken by robots that want the food, and Alg. 1's resolution has no option
-    left (:func:`~.resolve.resolve` raises; the compiled loop has no such check). The seed's
-    runs of the pattern comparison never reached it (their robots had joined long before the
-    food ran out); we drop such a start state rather than change the rule."""
+    """Rounds from the discovery until the k-th unit is home, from ``start`` (the real run,
+    compiled); None if its ray does not fit. (Such start states first showed that an idle
+    robot hemmed in by robots walking to the food had no answer in Alg. 1's resolution; the
+    rule's last resort, :func:`~.resolve.resolve`, now covers them.)"""
     try:
         m = transport_start(g, food, n, units, start)
-        m.run(record=False, fast=start.joining == 0)
-    except (RuntimeError, OffGrid):
+    except OffGrid:
         return None
+    m.run(record=False)
     return m.t
 
 

@@ -16,7 +16,14 @@ rule is then:
   route rank above everyone, because those routes are designed to be collision-free and the
   other robots can compute them (ch. 4);
 * a robot that cannot leave its cell keeps it; losers fall back to their next option, and
-  the process repeats until no cell outside the nest is claimed twice.
+  the process repeats until no cell outside the nest is claimed twice;
+* every robot's last resort is its own cell, even when its list does not end there (an idle
+  robot's list ends with its side cells): an idle robot that was asked to step aside and
+  finds every side cell kept stays put, and the robot that wanted its cell yields instead.
+  Without that the rule had no answer, e.g. for an idle robot on a food cell in a grid
+  corner hemmed in by robots still walking to the food (``swarmex.run("foraging", grid=16,
+  agents=8, food=[15, 0], food_units=3, algorithm="spiral", transport="relay-path")``);
+  it changes no run that had one.
 
 Swaps of two adjacent robots (Fig. 3) and rotations are legal outcomes; two robots never end
 a round in one non-nest cell. Robots that lose every option wait and retry next round.
@@ -87,13 +94,15 @@ def resolve(cur: list[Cell], opts: list[list[Cell]], order: list[int], nest: Cel
     bump that made a round quadratic in a large swarm).
     """
     ch = [0] * len(cur)
+    # the last resort, own cell, is one option past the list unless the list ends there
+    last = [len(o) - 1 + (o[-1] != p) for o, p in zip(opts, cur, strict=True)]
     place = {a: i for i, a in enumerate(order)}
     claimed: list[Cell | None] = [None] * len(order)  # the cell the i-th robot claimed
     owner: dict[Cell, int] = {}
     i = 0
     while i < len(order):
         a = order[i]
-        c = opts[a][ch[a]]
+        c = opts[a][ch[a]] if ch[a] < len(opts[a]) else cur[a]
         if c == nest:
             i += 1
             continue
@@ -106,11 +115,11 @@ def resolve(cur: list[Cell], opts: list[list[Cell]], order: list[int], nest: Cel
         stayer = a if c == cur[a] else b if c == cur[b] else -1
         if stayer >= 0:
             other = b if stayer == a else a
-            bumped = stayer if ch[stayer] + 1 < len(opts[stayer]) else other
+            bumped = stayer if ch[stayer] < last[stayer] else other
         else:
             bumped = a  # both move in: the later (lower-priority) one yields
-        if ch[bumped] + 1 >= len(opts[bumped]):  # pragma: no cover - defensive
-            raise RuntimeError("collision resolution ran out of options")
+        # never past the last resort: a robot there is a stayer with nothing left, so the
+        # robot moving into its cell is bumped, and that one's last resort is elsewhere
         ch[bumped] += 1
         back = place[bumped]
         for k in range(back, i):  # undo the claims from the bumped robot's place on
@@ -119,4 +128,4 @@ def resolve(cur: list[Cell], opts: list[list[Cell]], order: list[int], nest: Cel
                 del owner[cell]
                 claimed[k] = None
         i = back
-    return [opts[a][ch[a]] for a in range(len(cur))]
+    return [opts[a][ch[a]] if ch[a] < len(opts[a]) else cur[a] for a in range(len(cur))]
