@@ -8,9 +8,9 @@ TRUE map (every wall known):
 * each agent starts where it is next free (the node it is moving to, or its vertex) at the
   time it is next free; a move it made towards a vacant vertex ends with that job;
 * the plan starts from what MADGTA actually did after the snapshot (each agent's later
-  jobs, in order; so the plan is never worse than MADGTA's own rest), then
-  endgame_teamplan's min-max local search (relocate, swap, 2-opt; makespan first, then the
-  sum of the route ends) improves it.
+  jobs, in order; so the plan is never worse than MADGTA's own rest), then madgta-p's
+  min-max local search (swarmex.missions.traversal.teamplan: 2-opt, or-opt, relocation,
+  swaps, tail exchanges; makespan first, then the sum of the route ends) improves it.
 
 It prints, per run and X, MADGTA's makespan, the plan's and a lower bound, each relative
 to MADGTA's makespan. The lower bound spreads the remaining work evenly: every agent's
@@ -32,10 +32,10 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from compare_traversal_variants import JOB, TRAVEL, fleet_for, load, nests_for  # noqa: E402
-from endgame_teamplan import _improve, _route_end  # noqa: E402
 from swarmex.missions.traversal import run_metrics, run_traversal  # noqa: E402
 from swarmex.missions.traversal import sim as simmod  # noqa: E402
 from swarmex.missions.traversal.rollout import _fill_rows  # noqa: E402
+from swarmex.missions.traversal.teamplan import _improve, _route_end  # noqa: E402
 from swarmex.planning.distance import distance_field  # noqa: E402
 
 MAPS = ["empty-16-16", "random-32-32-20", "room-32-32-4", "random-64-64-20",

@@ -1,57 +1,69 @@
-"""``madgta-p``: an explicit end-game team plan (replicated min-max routing) over MADGTA.
-
-Tried for issue 17, item 1 (docs/traversal-variants.md §5) and NOT kept in swarmex: on the
-real maps it is no better than madgta-r (rollout), so it lives here, with the screen that
-measured it, and its local search serves bench/endgame_headroom.py (the oracle).
+"""``madgta-p``: madgta-r's rollout with one more candidate, the first vertex of an
+end-game team plan (replicated min-max routing).
 
 Idea
 ----
-In the end game (at most ``max_vacant`` vacant vertices in the belief) an agent does not
-improve one step at a time, as ``madgta-r`` does, but plans the whole rest of the mission
-for the whole team and takes the first vertex of its own route:
+In the end game (at most ``max_vacant`` vacant vertices in the belief) the agent plans the
+whole rest of the mission for the whole team, from its own belief, and offers the first
+vertex of its own route to madgta-r's rollout (:mod:`swarmex.missions.traversal.rollout`)
+as one more candidate beside MADGTA's best ``k``:
 
-1. **A start plan from MADGTA.** The compiled MADGTA simulation of ``madgta-r``
-   (:mod:`swarmex.missions.traversal.rollout`) runs from the belief to the end, and each
-   simulated agent's jobs, in order, are its route. So the plan begins where MADGTA would go.
-2. **Min-max local search.** Routes are open paths from where each agent is next free
-   (its announced node, or its vertex) at the time it is next free; a route's end is that
-   time plus, per vertex, the hops from the previous one (the hop rows of the vacant
-   vertices, unknown cells as free) and the job. The search relocates a vertex to another
-   route, swaps two vertices of two routes, and reverses a stretch of one route (2-opt),
-   accepting a change when it lowers the later end of the routes it touches (or keeps it
-   and lowers their sum): the team's makespan first, then its total time.
-3. **The first vertex of my route** is where I go: a vacant neighbour directly, else one hop
-   on a shortest path towards it. With an empty route, MADGTA decides. ``commit``: keep
-   heading for a distant first vertex until it is reached or taken, instead of replanning
-   at every hop.
+1. **A start plan from MADGTA.** madgta-r's compiled MADGTA simulation runs from the
+   belief to the end; each simulated agent's jobs, in order, are its route.
+2. **Min-max local search** (:func:`_improve`). Routes are open paths from where each agent
+   is next free (its announced node, or its vertex) at the time it is next free; a route
+   ends at that time plus, per vertex, its hops from the previous one (madgta-r's hop rows
+   of the vacant vertices, unknown cells as free) and the job. The search reverses a
+   stretch of a route (2-opt), moves a vertex inside its route (or-opt) or to another
+   route, swaps two vertices of two routes and exchanges two routes' tails (2-opt*); a
+   change is kept when it lowers the later end of the routes it touches, or keeps it and
+   lowers their sum: the team's makespan first, then its total time. Deterministic (fixed
+   order, ties to the lowest id): the same belief gives the same plan, so under the
+   perfect broadcast the agents' plans differ only in when they are made.
+3. **The rollout decides.** The plan's first vertex (a vacant neighbour, or a distant
+   target reached hop by hop) is simulated like MADGTA's candidates, and madgta-r's
+   objective (a makespan within one edge of the best, then the least sum) picks; MADGTA's
+   own order wins ties.
 
-Every agent plans from its own belief; under the perfect broadcast all beliefs agree, and
-the plan is deterministic (ties to the lowest id, fixed move order), so the agents' plans
-differ only in when they are made. Everyone replans at every decision (receding horizon).
+Results (docs/traversal-variants.md §5; five MovingAI maps, 16 identical agents, 8 seeds,
+both nest modes): makespan -1.50 % ± 0.48 % against MADGTA (madgta-r: -1.20 % ± 0.47 %;
+paired against madgta-r -0.30 % ± 0.19 %), never significantly above MADGTA in any map and
+nest row; issue 17's -3 % is not reached. An oracle that plans on the true map from
+MADGTA's state at 200 vacant vertices gains -2.95 % on average over the maps, and its lower
+bound shows that no end-game plan gains more than 2.3 % (warehouse) and 3.0 % (random-64)
+there (bench/endgame_headroom.py).
 
-Cost: per end-game decision one MADGTA simulation (one rollout candidate of ``madgta-r``)
-and at most ``passes`` rounds of local search, each O(vacant x (vacant + agents)) for
-relocation and O(sum of route lengths squared) for swaps and 2-opt. No message is added.
-CPU per run with 16 agents is about madgta-r's.
+Choices, and why
+----------------
+* **The plan as a candidate, not as the decision** (``follow=False``). Following the
+  plan's first vertex (``follow=True``) gave -0.91 % ± 0.35 % (with ``commit=True``,
+  heading for a distant first vertex until it is reached or taken: -0.91 % ± 0.37 %):
+  agents replan at different moments from slightly different states, and the plans, which
+  assume unknown cells free, do not agree; the rollout filters the plan's bad first steps.
+* **MADGTA's routes as the start plan.** A cold start (insertion of the farthest vertex at
+  its cheapest place, min-max) was 2-12 % worse than MADGTA's own rest in the oracle, and
+  the local search did not recover it.
+* **Only the end game** (``max_vacant=200``, as madgta-r): 400 gave no gain in a screen of
+  the plan alone (-0.27 % against -1.29 % on three maps, 4 seeds).
 
-    .venv/bin/python bench/endgame_teamplan.py [--maps M ...] [--seeds 4] \
-        [--algorithms madgta madgta-r madgta-p madgta-p@commit=True known:madgta-p ...]
+Cost
+----
+Per end-game decision: madgta-r's (``k`` simulations, now ``k`` + 1) plus one simulation
+for the start plan and at most ``passes`` rounds of local search, each
+O(vacant x (vacant + agents)) for relocation and O(agents^2 x route length^3) for tail
+exchanges. CPU per run with 16 agents: 0.8 s on empty-16-16, 2.2 s on random-32-32-20,
+3.0 s on room-32-32-4, 4.9 s on random-64-64-20, 6.4 s on warehouse-10-20-10-2-1, about
+twice madgta-r's. No message is added.
 """
 
 from __future__ import annotations
-
-import argparse
-import ast
-import sys
-import time
-from pathlib import Path
 
 import numpy as np
 from numpy.typing import NDArray
 
 from swarmex._kernels import kernel
 from swarmex.missions.traversal.belief import TraversalBelief
-from swarmex.missions.traversal.policies import Decision, _pick
+from swarmex.missions.traversal.policies import POLICIES, Decision, _pick
 from swarmex.missions.traversal.rollout import (
     ABSENT,
     FAR,
@@ -414,30 +426,34 @@ def _team_plan(
 
 
 class MadgtaP(MadgtaR):
-    """MADGTA with an end-game team plan (see the module docstring).
+    """madgta-r with the team plan's first vertex as one more candidate (see the module
+    docstring).
 
-    ``max_vacant``: plan only when at most this many vacant vertices are left (before, the
-    agent is MADGTA, bit for bit). ``passes``: rounds of local search per plan (0: MADGTA's
-    simulated routes as they are).
+    ``passes``: rounds of local search per plan (0: MADGTA's simulated routes as they are).
+    ``follow``: go to the plan's first vertex instead of rolling it out (not kept, for the
+    benches); ``commit`` (with ``follow``): keep heading for a distant first vertex until
+    it is reached or taken. Every other keyword is madgta-r's (``max_vacant``, ``k``, ...).
     """
 
     name = "madgta-p"
 
-    def __init__(self, max_vacant: int | None = 200, passes: int = 50,
-                 commit: bool = False, hybrid: bool = False) -> None:
-        super().__init__(max_vacant=max_vacant)
-        self.hybrid = hybrid
+    def __init__(self, passes: int = 50, follow: bool = False, commit: bool = False,
+                 **rollout: object) -> None:
+        super().__init__(**rollout)  # type: ignore[arg-type]
         if passes < 0:
             raise ValueError(f"passes must be >= 0, got {passes}")
+        if commit and not follow:
+            raise ValueError("commit needs follow=True")
         self.passes = passes
+        self.hybrid = not follow
         self.commit = commit
         self._target: dict[int, int] = {}
         self.plans = 0  # decisions planned (for the benches)
-        self.switched = 0  # of which the plan's first vertex was not MADGTA's choice
 
     @property
     def madgta_branch2(self) -> bool:
-        """The plan may send an agent past a vacant neighbour."""
+        """Whether branch 2 still picks among the vacant neighbours (traversal_v0 reads
+        it): not here, the plan may send an agent past a vacant neighbour."""
         return False
 
     def decide(self, belief: TraversalBelief, rng: np.random.Generator) -> Decision:
@@ -510,75 +526,4 @@ class MadgtaP(MadgtaR):
         return Decision("move", _pick(steps, rng), f, 3)
 
 
-
-def policy(name: str) -> object:
-    """``madgta-p[@KEY=VALUE,...]`` (a ``known:`` prefix is handled by the caller), else
-    what bench/gap_traversal_optimal.py's ``online_policy`` makes of the name."""
-    from gap_traversal_optimal import online_policy
-
-    if name == "madgta-p" or name.startswith("madgta-p@"):
-        kw = {}
-        if "@" in name:
-            for item in name.split("@", 1)[1].split(","):
-                key, value = item.split("=", 1)
-                kw[key] = None if value == "None" else ast.literal_eval(value)
-        return MadgtaP(**kw)
-    return online_policy(name)
-
-
-def main(argv: list[str] | None = None) -> int:
-    """The screen of docs/traversal-variants.md §5: each algorithm against MADGTA, paired
-    (same map, nest mode, seed), 16 identical agents, both nest modes."""
-    sys.path.insert(0, str(Path(__file__).resolve().parent))
-    from compare_traversal_variants import fleet_for, load, nests_for
-    from gap_traversal_optimal import KNOWN, map_known
-    from swarmex.missions.traversal import run_metrics, run_traversal
-
-    ap = argparse.ArgumentParser(description="madgta-p's screen against MADGTA")
-    ap.add_argument("--maps", nargs="+",
-                    default=["empty-16-16", "random-32-32-20", "room-32-32-4"])
-    ap.add_argument("--seeds", type=int, default=4)
-    ap.add_argument("--agents", type=int, default=16)
-    ap.add_argument("--algorithms", nargs="+",
-                    default=["madgta", "madgta-r", "madgta-p", "madgta-p@commit=True"])
-    args = ap.parse_args(argv)
-    algs = ["madgta", *[a for a in args.algorithms if a != "madgta"]]
-    res: dict[tuple[str, str, int, str], tuple[float, float]] = {}
-    for mp in args.maps:
-        world = load(mp)
-        if world is None:
-            continue
-        for mode in ("shared", "dist"):
-            for seed in range(args.seeds):
-                specs = fleet_for(nests_for(world, args.agents, mode, seed), "same", seed)
-                for a in algs:
-                    cpu = time.process_time()
-                    with map_known(a.startswith(KNOWN)):
-                        run = run_traversal(world, specs, policy(a.removeprefix(KNOWN)),
-                                            seed=seed)
-                    cpu = time.process_time() - cpu
-                    assert run.complete
-                    res[(mp, mode, seed, a)] = (run_metrics(run, 1.0)[0]["max_total_time"], cpu)
-                print(mp, mode, seed, "  ".join(
-                    f"{a} {res[(mp, mode, seed, a)][0]:.0f}" for a in algs), flush=True)
-    print("\n| algorithm | map | runs | makespan vs MADGTA (95 % CI) | CPU s per run |")
-    print("|---|---|---|---|---|")
-    maps = sorted({k[0] for k in res}, key=args.maps.index)
-    for a in algs[1:]:
-        pooled: list[float] = []
-        cpus: list[float] = []
-        for mp in [*maps, "all"]:
-            keys = [k for k in res if k[3] == a and (mp == "all" or k[0] == mp)]
-            rel = np.array([res[k][0] / res[(*k[:3], "madgta")][0] - 1 for k in keys]) * 100
-            cpu = np.array([res[k][1] for k in keys])
-            if mp != "all":
-                pooled += rel.tolist()
-                cpus += cpu.tolist()
-            half = 1.96 * rel.std(ddof=1) / np.sqrt(rel.size) if rel.size > 1 else 0.0
-            print(f"| {a} | {mp} | {rel.size} | {rel.mean():+.2f} % ± {half:.2f} % "
-                  f"| {cpu.mean():.2f} |")
-    return 0
-
-
-if __name__ == "__main__":
-    raise SystemExit(main())
+POLICIES[MadgtaP.name] = MadgtaP
