@@ -26,9 +26,11 @@ as one more candidate beside MADGTA's best ``k``:
    own order wins ties.
 
 Results (docs/traversal-variants.md §5; five MovingAI maps, 16 identical agents, 8 seeds,
-both nest modes): makespan -1.50 % ± 0.48 % against MADGTA (madgta-r: -1.20 % ± 0.47 %;
-paired against madgta-r -0.30 % ± 0.19 %), never significantly above MADGTA in any map and
-nest row; issue 17's -3 % is not reached. An oracle that plans on the true map from
+both nest modes): makespan -1.50 % ± 0.49 % against MADGTA (madgta-r: -1.20 % ± 0.48 %;
+paired against madgta-r -0.30 % ± 0.20 %), never significantly above MADGTA in any map and
+nest row; issue 17's -3 % is not reached. Gap instances: identical agents exactly
+madgta-r's runs (sum / makespan gap 1.38 / 1.27 %); mixed sum gap 14.25 % (madgta-r
+14.58 %). An oracle that plans on the true map from
 MADGTA's state at 200 vacant vertices gains -2.95 % on average over the maps, and its lower
 bound shows that no end-game plan gains more than 2.3 % (warehouse) and 3.0 % (random-64)
 there (bench/endgame_headroom.py).
@@ -37,23 +39,24 @@ Choices, and why
 ----------------
 * **The plan as a candidate, not as the decision** (``follow=False``). Following the
   plan's first vertex (``follow=True``) gave -0.91 % ± 0.35 % (with ``commit=True``,
-  heading for a distant first vertex until it is reached or taken: -0.91 % ± 0.37 %):
+  heading for a distant first vertex until it is reached or taken: -0.91 % ± 0.38 %):
   agents replan at different moments from slightly different states, and the plans, which
   assume unknown cells free, do not agree; the rollout filters the plan's bad first steps.
 * **MADGTA's routes as the start plan.** A cold start (insertion of the farthest vertex at
   its cheapest place, min-max) was 2-12 % worse than MADGTA's own rest in the oracle, and
   the local search did not recover it.
 * **Only the end game** (``max_vacant=200``, as madgta-r): 400 gave no gain in a screen of
-  the plan alone (-0.27 % against -1.29 % on three maps, 4 seeds).
+  the pure plan (random-32-32-20 and room-32-32-4, 4 seeds, an earlier search: -0.27 %
+  against -0.42 % with 200).
 
 Cost
 ----
 Per end-game decision: madgta-r's (``k`` simulations, now ``k`` + 1) plus one simulation
 for the start plan and at most ``passes`` rounds of local search, each
 O(vacant x (vacant + agents)) for relocation and O(agents^2 x route length^3) for tail
-exchanges. CPU per run with 16 agents: 0.8 s on empty-16-16, 2.2 s on random-32-32-20,
-3.0 s on room-32-32-4, 4.9 s on random-64-64-20, 6.4 s on warehouse-10-20-10-2-1, about
-twice madgta-r's. No message is added.
+exchanges. CPU per run with 16 agents: 0.9 s on empty-16-16, 2.2 s on random-32-32-20,
+3.0 s on room-32-32-4, 5.0 s on random-64-64-20, 6.9 s on warehouse-10-20-10-2-1, about
+twice madgta-r's; 2 ms on the gap instances. No message is added.
 """
 
 from __future__ import annotations
