@@ -45,9 +45,9 @@ Choices, and why
 * **MADGTA's routes as the start plan.** A cold start (insertion of the farthest vertex at
   its cheapest place, min-max) was 2-12 % worse than MADGTA's own rest in the oracle, and
   the local search did not recover it.
-* **Only the end game** (``max_vacant=200``, as madgta-r): 400 gave no gain in a screen of
-  the pure plan (random-32-32-20 and room-32-32-4, 4 seeds, an earlier search: -0.27 %
-  against -0.42 % with 200).
+* **Only the end game** (``max_vacant=200``, as madgta-r): 400 gives -1.53 % ± 0.48 % on
+  the real maps, noise, at 3-5x the CPU. ``outside="madgta+"`` gives -1.53 % ± 0.50 %, but
+  it loses the warehouse (-0.02 % ± 0.42 %), as it did for madgta-r.
 
 Cost
 ----
