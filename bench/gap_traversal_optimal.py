@@ -24,11 +24,11 @@ runs, against the reference 1.0, the optimum itself.
 
 Online algorithms (``--algorithms``, default madgta, nearest, madgta+, madgta-h, madgta-r;
 ``madgta-h@RHO`` runs madgta-h at another point of its sum/makespan trade-off,
-``madgta-r@KEY=VALUE,...`` madgta-r with other settings, and ``known:NAME`` runs NAME with
-the whole map known from the start: how much of its gap is for lack of information). A
-table per agent type gives each algorithm's mean gaps and its paired difference to MADGTA
-(same instance, same seed) with a 95 % Student-t interval, in percentage points, and its
-CPU time per run.
+``madgta-r@KEY=VALUE,...`` madgta-r with other settings (``madgta-p@...`` likewise), and
+``known:NAME`` runs NAME with the whole map known from the start: how much of its gap is
+for lack of information). A table per agent type gives each algorithm's mean gaps and its
+paired difference to MADGTA (same instance, same seed) with a 95 % Student-t interval, in
+percentage points, and its CPU time per run.
 
 Trade-off (``--pareto [CAP ...]``): what the optimum itself can do. Among the plans whose
 makespan is at most CAP × the optimal makespan, it finds the least sum. On mixed teams a low
@@ -65,6 +65,7 @@ from swarmex.missions.traversal.agents import AgentSpec
 from swarmex.missions.traversal.madgta_h import MadgtaH
 from swarmex.missions.traversal.optimal import solve_optimal
 from swarmex.missions.traversal.rollout import MadgtaR
+from swarmex.missions.traversal.teamplan import MadgtaP
 from swarmex.worlds import random_obstacles
 
 
@@ -101,16 +102,18 @@ KNOWN = "known:"
 def online_policy(name: str) -> str | Madgta:
     """An algorithm name; ``madgta-h@RHO`` for madgta-h at another point of its trade-off;
     ``madgta-r@KEY=VALUE,...`` for madgta-r with other settings (``MadgtaR``'s keywords,
-    e.g. ``madgta-r@far=2,ties=4``). A ``known:`` prefix is dropped (see :func:`map_known`)."""
+    e.g. ``madgta-r@far=2,ties=4``), ``madgta-p@KEY=VALUE,...`` likewise (``MadgtaP``). A
+    ``known:`` prefix is dropped (see :func:`map_known`)."""
     name = name.removeprefix(KNOWN)
     if name.startswith("madgta-h@"):
         return MadgtaH(rho=float(name.split("@", 1)[1]))
-    if name.startswith("madgta-r@"):
-        kw = {}
-        for item in name.split("@", 1)[1].split(","):
-            key, value = item.split("=", 1)
-            kw[key] = None if value == "None" else ast.literal_eval(value)
-        return MadgtaR(**kw)
+    for prefix, cls in (("madgta-r@", MadgtaR), ("madgta-p@", MadgtaP)):
+        if name.startswith(prefix):
+            kw = {}
+            for item in name.split("@", 1)[1].split(","):
+                key, value = item.split("=", 1)
+                kw[key] = None if value == "None" else ast.literal_eval(value)
+            return cls(**kw)
     return name
 
 
@@ -377,8 +380,8 @@ def main() -> None:
                     help="Table 5.1's 6x6 setting (sum only) instead")
     ap.add_argument("--algorithms", nargs="+", default=ALGORITHMS,
                     help="online algorithms (madgta-h@RHO: madgta-h with that rho; "
-                    "madgta-r@K=V,...: madgta-r with those keywords; known:NAME: NAME with "
-                    "the whole map known from the start, a diagnostic)")
+                    "madgta-r@K=V,... / madgta-p@K=V,...: with those keywords; "
+                    "known:NAME: NAME with the whole map known from the start, a diagnostic)")
     ap.add_argument("--pareto", nargs="*", type=float, metavar="CAP",
                     help="instead: the least sum gap of plans with makespan <= CAP x optimal "
                     "(default caps 1 1.02 1.05 1.1 1.25 1.5)")

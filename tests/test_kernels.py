@@ -29,7 +29,7 @@ KERNEL_MODULES = (
     "swarmex.planning.distance", "swarmex.planning.fieldcache", "swarmex.sensing.visibility",
     "swarmex.sensing.laser", "swarmex.sensing.frontiers", "swarmex.sensing.occupancy",
     "swarmex.missions.traversal.policies", "swarmex.missions.traversal.lattice",
-    "swarmex.missions.traversal.rollout",
+    "swarmex.missions.traversal.rollout", "swarmex.missions.traversal.teamplan",
     "swarmex.missions.foraging.fastloop", "swarmex.missions.exploration.paths",
 )
 

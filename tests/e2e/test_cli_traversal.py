@@ -396,20 +396,21 @@ def test_madgta_h_dispatch_with_a_mixed_fleet(tmp_path, capsys):
     assert rec["metrics"]["total_time_all"] < plus["metrics"]["total_time_all"]
 
 
-def test_madgta_r_dispatch(tmp_path, capsys):
-    """``--algorithm madgta-r``: the record replays, names the algorithm and equals
-    swarmex.run's."""
+@pytest.mark.parametrize("algorithm", ["madgta-r", "madgta-p"])
+def test_madgta_r_dispatch(tmp_path, capsys, algorithm):
+    """``--algorithm madgta-r`` (and madgta-p): the record replays, names the algorithm and
+    equals swarmex.run's."""
     import swarmex
 
     out = tmp_path / "r.json"
     code, _, err = cli(
-        ["traverse", *GRID, "--agents", 4, "--algorithm", "madgta-r", "--json", out,
+        ["traverse", *GRID, "--agents", 4, "--algorithm", algorithm, "--json", out,
          "--seed", 3], capsys
     )
     assert code == 0, err
     rec = json.loads(out.read_text())
-    assert rec["algorithm"] == "madgta-r" and rec["complete"]
+    assert rec["algorithm"] == algorithm and rec["complete"]
     replay(rec, free_mask(7, 6, [(2, 1), (2, 2), (2, 3), (5, 4)]))
     ref = swarmex.run("traversal", grid="7x6", obstacles="2,1;2,2;2,3;5,4", agents=4,
-                      algorithm="madgta-r", seed=3).to_dict()
+                      algorithm=algorithm, seed=3).to_dict()
     assert rec["metrics"] == ref["metrics"]

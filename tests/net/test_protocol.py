@@ -36,6 +36,7 @@ def _world_and_nests(size: int, density: float, k: int, seed: int):
         (10, 0.25, 5, 2, {"job_failure": 0.2}),
         (8, 0.15, 3, 3, {"algorithm": "nearest"}),
         (9, 0.2, 4, 6, {"algorithm": "madgta-r"}),
+        (9, 0.2, 4, 5, {"algorithm": "madgta-p"}),
         (7, 0.1, 2, 4, {"start_interval": 0.0}),
     ],
 )

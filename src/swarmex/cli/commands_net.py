@@ -55,7 +55,8 @@ def serve(
     ),
     job_time: float = typer.Option(_default("job_time"), "--job-time", help="Seconds per job."),
     algorithm: str = typer.Option(
-        _default("algorithm"), "--algorithm", help="madgta | madgta+ | madgta-r | nearest."
+        _default("algorithm"), "--algorithm",
+        help="madgta | madgta+ | madgta-r | madgta-p | nearest.",
     ),
     connectivity: int = typer.Option(_default("connectivity"), "--connectivity", help="4 or 8."),
     start_interval: float = typer.Option(
@@ -147,9 +148,10 @@ def serve(
             "nodes_on_edge": nodes_on_edge,
         }
     )
-    if tparams.algorithm not in ("madgta", "madgta+", "madgta-r", "nearest"):
+    if tparams.algorithm not in ("madgta", "madgta+", "madgta-r", "madgta-p", "nearest"):
         raise InputError(
-            f"--algorithm must be madgta, madgta+, madgta-r or nearest, got {algorithm!r}"
+            "--algorithm must be madgta, madgta+, madgta-r, madgta-p or nearest, "
+            f"got {algorithm!r}"
         )
     prepared = traversal.prepare(tparams)
     world = prepared.world

@@ -3,6 +3,7 @@
 from swarmex.missions.traversal import (
     madgta_h,  # noqa: F401,E402  (registers madgta-h)
     rollout,  # noqa: F401,E402  (registers madgta-r)
+    teamplan,  # noqa: F401,E402  (registers madgta-p)
     variants,  # noqa: F401,E402  (registers variants)
 )
 from swarmex.missions.traversal.agent import TraversalAgent

@@ -1,0 +1,169 @@
+"""How much an end-game team plan could gain over MADGTA at best (issue 17, item 1).
+
+An oracle, not a method: it runs MADGTA (16 identical agents, the maps, nests and seeds of
+compare_traversal_variants.py) and takes a snapshot of the true state the first time at
+most X reachable vertices are left without a job. From that state it plans the rest on the
+TRUE map (every wall known):
+
+* each agent starts where it is next free (the node it is moving to, or its vertex) at the
+  time it is next free; a move it made towards a vacant vertex ends with that job;
+* the plan starts from what MADGTA actually did after the snapshot (each agent's later
+  jobs, in order; so the plan is never worse than MADGTA's own rest), then madgta-p's
+  min-max local search (swarmex.missions.traversal.teamplan: 2-opt, or-opt, relocation,
+  swaps, tail exchanges; makespan first, then the sum of the route ends) improves it.
+
+It prints, per run and X, MADGTA's makespan, the plan's and a lower bound, each relative
+to MADGTA's makespan. The lower bound spreads the remaining work evenly: every agent's
+busy time up to the snapshot plus one job and one edge per vacant vertex, over the agents
+(or the busiest agent, if later). The plan is a heuristic, so the true head-room lies
+between the plan's and the bound's.
+
+    .venv/bin/python bench/endgame_headroom.py [--maps M ...] [--seeds 4] [--x 100 200 400]
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from compare_traversal_variants import JOB, TRAVEL, fleet_for, load, nests_for  # noqa: E402
+from swarmex.missions.traversal import run_metrics, run_traversal  # noqa: E402
+from swarmex.missions.traversal import sim as simmod  # noqa: E402
+from swarmex.missions.traversal.rollout import _fill_rows  # noqa: E402
+from swarmex.missions.traversal.teamplan import _improve, _route_end  # noqa: E402
+from swarmex.planning.distance import distance_field  # noqa: E402
+
+MAPS = ["empty-16-16", "random-32-32-20", "room-32-32-4", "random-64-64-20",
+        "warehouse-10-20-10-2-1"]
+
+
+def madgta_with_snapshots(world, specs, seed: int, xs: list[int]) -> tuple[float, list[dict]]:
+    """MADGTA's makespan and one snapshot per X (the first event with <= X vacant)."""
+    g = world.graph
+    reach = np.isfinite(distance_field(g, [s.nest for s in specs], world.blocked))
+    reach &= ~world.blocked
+    holder: dict = {}
+    original = simmod._Sim.__init__
+
+    def grab(self, *args, **kwargs):  # the simulator, to read its true state
+        original(self, *args, **kwargs)
+        holder["sim"] = self
+
+    snaps: dict[int, dict] = {}
+
+    def on_frame(frame) -> None:
+        sim = holder["sim"]
+        vac = reach & (sim.job_count == 0)
+        left = int(vac.sum())
+        todo = [x for x in xs if x not in snaps and left <= x]
+        if not todo:
+            return
+        pending = {a: (t, kind, node) for t, _, kind, a, node in sim.queue._heap
+                   if kind in ("arrive", "job_end")}
+        agents = []
+        for a in range(1, sim.m + 1):
+            start = (a - 1) * sim.start_interval
+            log = sim.agent(a).log
+            if a in pending:
+                t, kind, node = pending[a]
+                agents.append((t - start, int(node), kind))
+            elif log.trajectory:
+                agents.append((log.finished_at - start, int(log.node), "finished"))
+            else:  # not started yet: at its nest when it starts
+                agents.append((0.0, specs[a - 1].nest, "finished"))
+        for x in todo:
+            snaps[x] = {"t": frame.t, "agents": agents, "vacant": np.nonzero(vac)[0]}
+
+    simmod._Sim.__init__ = grab
+    try:
+        run = run_traversal(world, specs, "madgta", seed=seed, on_frame=on_frame)
+    finally:
+        simmod._Sim.__init__ = original
+    makespan = run_metrics(run, 1.0)[0]["max_total_time"]
+    for snap in snaps.values():  # what MADGTA did after the snapshot: the warm start
+        snap["later"] = [[int(v) for t, v in log.jobs if t > snap["t"] + 1e-9]
+                         for log in run.agents]
+    return makespan, [snaps[x] for x in xs if x in snaps]
+
+
+def plan(world, snap: dict, passes: int = 200) -> tuple[float, float]:
+    """(plan makespan, lower bound) from a snapshot, on the true map."""
+    g = world.graph
+    m = len(snap["agents"])
+    vacant = {int(v) for v in snap["vacant"]}
+    base = np.zeros(m + 1)
+    pos = np.zeros(m + 1, dtype=np.int64)
+    for a, (t, node, kind) in enumerate(snap["agents"], start=1):
+        base[a] = t
+        pos[a] = node
+        if kind == "arrive" and node in vacant:  # it does that job on arrival
+            vacant.discard(node)
+            base[a] += JOB
+    vac = np.array(sorted(vacant), dtype=np.int64)
+    n = g.n_nodes
+    row_of = np.full(n, -1, dtype=np.int64)
+    row_of[vac] = np.arange(vac.size)
+    table = np.empty((vac.size, n), dtype=np.int32)
+    _fill_rows(g.indptr, g.indices, world.blocked, vac, row_of[vac], table,
+               np.empty(n, dtype=np.int32))
+    routes = np.full((m + 1, vac.size + 1), -1, dtype=np.int64)
+    lens = np.zeros(m + 1, dtype=np.int64)
+    for a, later in enumerate(snap["later"], start=1):
+        for v in later:
+            if v in vacant:
+                vacant.discard(v)
+                routes[a, lens[a]] = v
+                lens[a] += 1
+    assert not vacant, "MADGTA left vacant vertices"
+    active = np.ones(m + 1, dtype=np.bool_)
+    active[0] = False
+    edge = np.full(m + 1, TRAVEL)
+    jt = np.full(m + 1, JOB)
+    _improve(base, pos, active, routes, lens, edge, jt, table, row_of, passes)
+    makespan = max(_route_end(a, base, pos, routes, lens, edge, jt, table, row_of)
+                   for a in range(1, m + 1))
+    bound = max(base[1:].max(), (base[1:].sum() + vac.size * (JOB + TRAVEL)) / m)
+    return float(makespan), float(bound)
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--maps", nargs="+", default=MAPS)
+    ap.add_argument("--seeds", type=int, default=4)
+    ap.add_argument("--x", type=int, nargs="+", default=[100, 200, 400, 800])
+    ap.add_argument("--agents", type=int, default=16)
+    args = ap.parse_args(argv)
+    rows: dict[tuple[str, int], list[tuple[float, float]]] = {}
+    cpu0 = time.process_time()
+    for name in args.maps:
+        world = load(name)
+        if world is None:
+            continue
+        for mode in ("shared", "dist"):
+            for seed in range(args.seeds):
+                specs = fleet_for(nests_for(world, args.agents, mode, seed), "same", seed)
+                mk, snaps = madgta_with_snapshots(world, specs, seed, args.x)
+                for x, snap in zip(args.x, snaps, strict=False):
+                    p, lb = plan(world, snap)
+                    rows.setdefault((name, x), []).append((p / mk - 1, lb / mk - 1))
+                    print(f"{name} {mode} seed {seed} X={x}: madgta {mk:.0f} plan {p:.0f} "
+                          f"({100 * (p / mk - 1):+.2f} %) bound {lb:.0f} "
+                          f"({100 * (lb / mk - 1):+.2f} %)", flush=True)
+    print("\n| map | X | runs | plan vs MADGTA (mean, 95 % CI) | lower bound vs MADGTA |")
+    print("|---|---|---|---|---|")
+    for (name, x), vals in rows.items():
+        arr = 100 * np.array(vals)
+        half = 1.96 * arr[:, 0].std(ddof=1) / np.sqrt(len(arr)) if len(arr) > 1 else 0.0
+        print(f"| {name} | {x} | {len(arr)} | {arr[:, 0].mean():+.2f} % ± {half:.2f} % "
+              f"| {arr[:, 1].mean():+.2f} % |")
+    print(f"\nCPU {time.process_time() - cpu0:.0f} s")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,532 @@
+"""``madgta-p``: madgta-r's rollout with one more candidate, the first vertex of an
+end-game team plan (replicated min-max routing).
+
+Idea
+----
+In the end game (at most ``max_vacant`` vacant vertices in the belief) the agent plans the
+whole rest of the mission for the whole team, from its own belief, and offers the first
+vertex of its own route to madgta-r's rollout (:mod:`swarmex.missions.traversal.rollout`)
+as one more candidate beside MADGTA's best ``k``:
+
+1. **A start plan from MADGTA.** madgta-r's compiled MADGTA simulation runs from the
+   belief to the end; each simulated agent's jobs, in order, are its route.
+2. **Min-max local search** (:func:`_improve`). Routes are open paths from where each agent
+   is next free (its announced node, or its vertex) at the time it is next free; a route
+   ends at that time plus, per vertex, its hops from the previous one (madgta-r's hop rows
+   of the vacant vertices, unknown cells as free) and the job. The search reverses a
+   stretch of a route (2-opt), moves a vertex inside its route (or-opt) or to another
+   route, swaps two vertices of two routes and exchanges two routes' tails (2-opt*); a
+   change is kept when it lowers the later end of the routes it touches, or keeps it and
+   lowers their sum: the team's makespan first, then its total time. Deterministic (fixed
+   order, ties to the lowest id): the same belief gives the same plan, so under the
+   perfect broadcast the agents' plans differ only in when they are made.
+3. **The rollout decides.** The plan's first vertex (a vacant neighbour, or a distant
+   target reached hop by hop) is simulated like MADGTA's candidates, and madgta-r's
+   objective (a makespan within one edge of the best, then the least sum) picks; MADGTA's
+   own order wins ties.
+
+Results (docs/traversal-variants.md §5; five MovingAI maps, 16 identical agents, 8 seeds,
+both nest modes): makespan -1.50 % ± 0.49 % against MADGTA (madgta-r: -1.20 % ± 0.48 %;
+paired against madgta-r -0.30 % ± 0.20 %), never significantly above MADGTA in any map and
+nest row; issue 17's -3 % is not reached. Gap instances: identical agents exactly
+madgta-r's runs (sum / makespan gap 1.38 / 1.27 %); mixed sum gap 14.25 % (madgta-r
+14.58 %). An oracle that plans on the true map from
+MADGTA's state at 200 vacant vertices gains -2.95 % on average over the maps, and its lower
+bound shows that no end-game plan gains more than 2.3 % (warehouse) and 3.0 % (random-64)
+there (bench/endgame_headroom.py).
+
+Choices, and why
+----------------
+* **The plan as a candidate, not as the decision** (``follow=False``). Following the
+  plan's first vertex (``follow=True``) gave -0.91 % ± 0.35 % (with ``commit=True``,
+  heading for a distant first vertex until it is reached or taken: -0.91 % ± 0.38 %):
+  agents replan at different moments from slightly different states, and the plans, which
+  assume unknown cells free, do not agree; the rollout filters the plan's bad first steps.
+* **MADGTA's routes as the start plan.** A cold start (insertion of the farthest vertex at
+  its cheapest place, min-max) was 2-12 % worse than MADGTA's own rest in the oracle, and
+  the local search did not recover it.
+* **Only the end game** (``max_vacant=200``, as madgta-r): 400 gives -1.53 % ± 0.48 % on
+  the real maps, noise, at 3-5x the CPU. ``outside="madgta+"`` gives -1.53 % ± 0.50 %, but
+  it loses the warehouse (-0.02 % ± 0.42 %), as it did for madgta-r.
+
+Cost
+----
+Per end-game decision: madgta-r's (``k`` simulations, now ``k`` + 1) plus one simulation
+for the start plan and at most ``passes`` rounds of local search, each
+O(vacant x (vacant + agents)) for relocation and O(agents^2 x route length^3) for tail
+exchanges. CPU per run with 16 agents: 0.9 s on empty-16-16, 2.2 s on random-32-32-20,
+3.0 s on room-32-32-4, 5.0 s on random-64-64-20, 6.9 s on warehouse-10-20-10-2-1, about
+twice madgta-r's; 2 ms on the gap instances. No message is added.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+
+from swarmex._kernels import kernel
+from swarmex.missions.traversal.belief import TraversalBelief
+from swarmex.missions.traversal.policies import POLICIES, Decision, _pick
+from swarmex.missions.traversal.rollout import (
+    ABSENT,
+    FAR,
+    MOVING,
+    NEAR,
+    WORKING,
+    MadgtaR,
+    _follow_target,
+    _madgta_step,
+    _next_agent,
+    _next_event,
+    _Rows,
+)
+
+#: a hop count standing for "unreachable" in the plan's costs
+_FAR = 1_000_000
+
+
+@kernel(cache=True, nogil=True)
+def _madgta_routes(
+    now: float, indptr: NDArray[np.int64], indices: NDArray[np.int32],
+    blocked: NDArray[np.bool_], st: NDArray[np.int32], rs: NDArray[np.int32],
+    vacant: NDArray[np.int64], table: NDArray[np.int32], row_of: NDArray[np.int64],
+    loc: NDArray[np.int64], dest: NDArray[np.int64], tfree: NDArray[np.float64],
+    mode: NDArray[np.int64], intent: NDArray[np.int64], resv: NDArray[np.int64],
+    tpu: NDArray[np.float64], jt: NDArray[np.float64], step: float,
+    prio: NDArray[np.int64], routes: NDArray[np.int64], lens: NDArray[np.int64],
+) -> None:  # pragma: no cover - compiled
+    """MADGTA everywhere from the state (overwritten) to the end; ``routes[a, :lens[a]]``
+    are the vertices agent ``a`` starts its jobs on, in order."""
+    m1 = loc.shape[0]
+    work = np.zeros(m1)
+    last = tfree.copy()
+    target = np.full(m1, -1, dtype=np.int64)
+    out = np.empty(1, dtype=np.int64)
+    while True:
+        a, t = _next_agent(mode, tfree)
+        if a < 0:
+            break
+        if not _next_event(
+            a, t,
+            indptr, indices, blocked, st, rs, vacant, table, row_of, loc, dest, tfree, mode,
+            intent, resv, tpu, jt, step, prio, work, last,
+        ) and not _follow_target(
+            a, t, target,
+            indptr, indices, blocked, st, rs, vacant, table, row_of, loc, dest, tfree,
+            mode, intent, resv, tpu, jt, step, prio, work, last,
+        ):
+            _madgta_step(
+                a, t, out,
+                indptr, indices, blocked, st, rs, vacant, table, row_of, loc, dest,
+                tfree, mode, intent, resv, tpu, jt, step, prio, work, last,
+            )
+        if mode[a] == WORKING and tfree[a] > t:  # a job begun at t
+            routes[a, lens[a]] = loc[a]
+            lens[a] += 1
+
+
+@kernel(cache=True, nogil=True)
+def _d(
+    u: int, v: int, table: NDArray[np.int32], row_of: NDArray[np.int64],
+) -> float:  # pragma: no cover - compiled
+    """Hops between any vertex ``u`` and a vacant vertex ``v`` (``_FAR``: unreachable)."""
+    h = table[row_of[v], u]
+    return float(h) if h >= 0 else float(_FAR)
+
+
+@kernel(cache=True, nogil=True)
+def _route_end(
+    a: int, base: NDArray[np.float64], pos: NDArray[np.int64], routes: NDArray[np.int64],
+    lens: NDArray[np.int64], edge: NDArray[np.float64], jt: NDArray[np.float64],
+    table: NDArray[np.int32], row_of: NDArray[np.int64],
+) -> float:  # pragma: no cover - compiled
+    """When agent ``a`` ends its route."""
+    c = base[a]
+    prev = pos[a]
+    for i in range(lens[a]):
+        v = routes[a, i]
+        c += edge[a] * _d(prev, v, table, row_of) + jt[a]
+        prev = v
+    return c
+
+
+@kernel(cache=True, nogil=True)
+def _gain(old_a: float, old_b: float, new_a: float, new_b: float) -> bool:
+    """A change of two routes is kept when it lowers their later end, or keeps it and
+    lowers their sum (so the team's sorted ends fall: makespan first, then total)."""
+    om = max(old_a, old_b)
+    nm = max(new_a, new_b)
+    if nm < om - 1e-9:
+        return True
+    return nm <= om + 1e-9 and new_a + new_b < old_a + old_b - 1e-9
+
+
+@kernel(cache=True, nogil=True)
+def _shift(routes: NDArray[np.int64], a: int, i: int, q: int, n: int) -> None:
+    """Move ``routes[a, i]`` to position ``q`` of the ``n`` of route ``a``."""
+    v = routes[a, i]
+    if i < q:
+        for t in range(i, q):
+            routes[a, t] = routes[a, t + 1]
+    else:
+        for t in range(i, q, -1):
+            routes[a, t] = routes[a, t - 1]
+    routes[a, q] = v
+
+
+@kernel(cache=True, nogil=True)
+def _improve(
+    base: NDArray[np.float64], pos: NDArray[np.int64], active: NDArray[np.bool_],
+    routes: NDArray[np.int64], lens: NDArray[np.int64], edge: NDArray[np.float64],
+    jt: NDArray[np.float64], table: NDArray[np.int32], row_of: NDArray[np.int64],
+    passes: int,
+) -> int:  # pragma: no cover - compiled
+    """Min-max local search on the routes in place (2-opt and or-opt inside a route,
+    relocation to another route, swaps and tail exchanges between routes), at most
+    ``passes`` rounds; returns the rounds that changed something."""
+    m1 = base.shape[0]
+    ends = np.zeros(m1)
+    for a in range(1, m1):
+        if active[a]:
+            ends[a] = _route_end(a, base, pos, routes, lens, edge, jt, table, row_of)
+    changed = 0
+    for _ in range(passes):
+        better = False
+        # 2-opt inside each route: reverse routes[a, i..j]
+        for a in range(1, m1):
+            if not active[a]:
+                continue
+            n = lens[a]
+            for i in range(n):
+                p = pos[a] if i == 0 else routes[a, i - 1]
+                for j in range(i + 1, n):
+                    vi = routes[a, i]
+                    vj = routes[a, j]
+                    delta = _d(p, vj, table, row_of) - _d(p, vi, table, row_of)
+                    if j + 1 < n:
+                        nx = routes[a, j + 1]
+                        delta += _d(vi, nx, table, row_of) - _d(vj, nx, table, row_of)
+                    if delta < -1e-9:
+                        lo, hi = i, j
+                        while lo < hi:
+                            tmp = routes[a, lo]
+                            routes[a, lo] = routes[a, hi]
+                            routes[a, hi] = tmp
+                            lo += 1
+                            hi -= 1
+                        ends[a] += edge[a] * delta
+                        better = True
+        # move one vertex elsewhere in its own route (or-opt of one)
+        for a in range(1, m1):
+            if not active[a]:
+                continue
+            n = lens[a]
+            for i in range(n):
+                for q in range(n):
+                    if q == i:
+                        continue
+                    _shift(routes, a, i, q, n)
+                    e = _route_end(a, base, pos, routes, lens, edge, jt, table, row_of)
+                    if e < ends[a] - 1e-9:
+                        ends[a] = e
+                        better = True
+                    else:
+                        _shift(routes, a, q, i, n)
+        # relocate one vertex to another route (best place)
+        for a in range(1, m1):
+            if not active[a]:
+                continue
+            i = 0
+            while i < lens[a]:
+                v = routes[a, i]
+                p = pos[a] if i == 0 else routes[a, i - 1]
+                cut = -_d(p, v, table, row_of)
+                if i + 1 < lens[a]:
+                    nx = routes[a, i + 1]
+                    cut += _d(p, nx, table, row_of) - _d(v, nx, table, row_of)
+                new_a = ends[a] + edge[a] * cut - jt[a]
+                best_b = -1
+                best_q = -1
+                best_m = np.inf
+                best_s = np.inf
+                best_nb = 0.0
+                for b in range(1, m1):
+                    if not active[b] or b == a:
+                        continue
+                    q_prev = pos[b]
+                    for q in range(lens[b] + 1):
+                        add = _d(q_prev, v, table, row_of)
+                        if q < lens[b]:
+                            nx = routes[b, q]
+                            add += _d(v, nx, table, row_of) - _d(q_prev, nx, table, row_of)
+                        nb = ends[b] + edge[b] * add + jt[b]
+                        if _gain(ends[a], ends[b], new_a, nb):
+                            nm = max(new_a, nb)
+                            ns = new_a + nb
+                            if nm < best_m - 1e-9 or (nm <= best_m + 1e-9 and ns < best_s - 1e-9):
+                                best_m = nm
+                                best_s = ns
+                                best_b = b
+                                best_q = q
+                                best_nb = nb
+                        if q < lens[b]:
+                            q_prev = routes[b, q]
+                if best_b >= 0:
+                    for t in range(i, lens[a] - 1):
+                        routes[a, t] = routes[a, t + 1]
+                    lens[a] -= 1
+                    b = best_b
+                    for t in range(lens[b], best_q, -1):
+                        routes[b, t] = routes[b, t - 1]
+                    routes[b, best_q] = v
+                    lens[b] += 1
+                    ends[a] = new_a
+                    ends[b] = best_nb
+                    better = True
+                else:
+                    i += 1
+        # swap two vertices of two routes
+        for a in range(1, m1):
+            if not active[a]:
+                continue
+            for b in range(a + 1, m1):
+                if not active[b]:
+                    continue
+                for i in range(lens[a]):
+                    va = routes[a, i]
+                    pa = pos[a] if i == 0 else routes[a, i - 1]
+                    na = routes[a, i + 1] if i + 1 < lens[a] else -1
+                    for j in range(lens[b]):
+                        vb = routes[b, j]
+                        pb = pos[b] if j == 0 else routes[b, j - 1]
+                        nb_ = routes[b, j + 1] if j + 1 < lens[b] else -1
+                        da = _d(pa, vb, table, row_of) - _d(pa, va, table, row_of)
+                        if na >= 0:
+                            da += _d(vb, na, table, row_of) - _d(va, na, table, row_of)
+                        db = _d(pb, va, table, row_of) - _d(pb, vb, table, row_of)
+                        if nb_ >= 0:
+                            db += _d(va, nb_, table, row_of) - _d(vb, nb_, table, row_of)
+                        new_a = ends[a] + edge[a] * da
+                        new_b = ends[b] + edge[b] * db
+                        if _gain(ends[a], ends[b], new_a, new_b):
+                            routes[a, i] = vb
+                            routes[b, j] = va
+                            ends[a] = new_a
+                            ends[b] = new_b
+                            va = vb
+                            better = True
+        # exchange the tails of two routes (2-opt*): a[:i] + b[j:] and b[:j] + a[i:]
+        for a in range(1, m1):
+            if not active[a]:
+                continue
+            for b in range(a + 1, m1):
+                if not active[b]:
+                    continue
+                found = True
+                while found:
+                    found = False
+                    for i in range(lens[a] + 1):
+                        for j in range(lens[b] + 1):
+                            if (i == lens[a] and j == lens[b]) or (i == 0 and j == 0):
+                                continue
+                            new_a = _spliced_end(a, base, pos, routes, a, i, b, j, lens, edge,
+                                                 jt, table, row_of)
+                            new_b = _spliced_end(b, base, pos, routes, b, j, a, i, lens, edge,
+                                                 jt, table, row_of)
+                            if _gain(ends[a], ends[b], new_a, new_b):
+                                _swap_tails(routes, lens, a, i, b, j)
+                                ends[a] = new_a
+                                ends[b] = new_b
+                                better = True
+                                found = True
+                                break
+                        if found:
+                            break
+        if not better:
+            break
+        changed += 1
+    return changed
+
+
+@kernel(cache=True, nogil=True)
+def _spliced_end(
+    who: int, base: NDArray[np.float64], pos: NDArray[np.int64], routes: NDArray[np.int64],
+    a: int, i: int, b: int, j: int, lens: NDArray[np.int64], edge: NDArray[np.float64],
+    jt: NDArray[np.float64], table: NDArray[np.int32], row_of: NDArray[np.int64],
+) -> float:  # pragma: no cover - compiled
+    """When agent ``who`` ends the route ``routes[a, :i]`` + ``routes[b, j:]``."""
+    c = base[who]
+    prev = pos[who]
+    for t in range(i):
+        v = routes[a, t]
+        c += edge[who] * _d(prev, v, table, row_of) + jt[who]
+        prev = v
+    for t in range(j, lens[b]):
+        v = routes[b, t]
+        c += edge[who] * _d(prev, v, table, row_of) + jt[who]
+        prev = v
+    return c
+
+
+@kernel(cache=True, nogil=True)
+def _swap_tails(
+    routes: NDArray[np.int64], lens: NDArray[np.int64], a: int, i: int, b: int, j: int,
+) -> None:  # pragma: no cover - compiled
+    """``routes[a]`` becomes a[:i] + b[j:] and ``routes[b]`` b[:j] + a[i:]."""
+    ta = routes[a, i:lens[a]].copy()
+    tb = routes[b, j:lens[b]].copy()
+    na = i + tb.size
+    nb = j + ta.size
+    routes[a, i:na] = tb
+    routes[b, j:nb] = ta
+    routes[a, na:] = -1
+    routes[b, nb:] = -1
+    lens[a] = na
+    lens[b] = nb
+
+
+@kernel(cache=True, nogil=True)
+def _team_plan(
+    me: int, now: float, indptr: NDArray[np.int64], indices: NDArray[np.int32],
+    blocked: NDArray[np.bool_], st: NDArray[np.int32], rs: NDArray[np.int32],
+    vacant: NDArray[np.int64], table: NDArray[np.int32], row_of: NDArray[np.int64],
+    loc: NDArray[np.int64], dest: NDArray[np.int64], tfree: NDArray[np.float64],
+    mode: NDArray[np.int64], intent: NDArray[np.int64], resv: NDArray[np.int64],
+    tpu: NDArray[np.float64], jt: NDArray[np.float64], step: float,
+    prio: NDArray[np.int64], passes: int, routes: NDArray[np.int64], lens: NDArray[np.int64],
+) -> int:  # pragma: no cover - compiled
+    """The team plan from the state (the caller's copies; overwritten): MADGTA's routes,
+    then :func:`_improve`. Returns the first vertex of ``me``'s route (-1: none)."""
+    m1 = loc.shape[0]
+    base = tfree.copy()
+    pos = loc.copy()
+    active = np.zeros(m1, dtype=np.bool_)
+    fixed = np.full(m1, -1, dtype=np.int64)
+    for a in range(1, m1):
+        if mode[a] == ABSENT:
+            continue
+        active[a] = True
+        if a == me:
+            base[a] = now
+        elif mode[a] == MOVING:
+            pos[a] = dest[a]
+            if intent[a] >= 0:
+                fixed[a] = intent[a]  # its job on arrival: not for the plan to move
+        if base[a] < now:
+            base[a] = now
+    _madgta_routes(now, indptr, indices, blocked, st, rs, vacant, table, row_of, loc, dest,
+                   tfree, mode, intent, resv, tpu, jt, step, prio, routes, lens)
+    edge = np.empty(m1)
+    for a in range(m1):
+        edge[a] = step * tpu[a]
+        if active[a] and fixed[a] >= 0 and lens[a] > 0 and routes[a, 0] == fixed[a]:
+            for t in range(lens[a] - 1):
+                routes[a, t] = routes[a, t + 1]
+            lens[a] -= 1
+            base[a] += jt[a]
+    _improve(base, pos, active, routes, lens, edge, jt, table, row_of, passes)
+    return routes[me, 0] if lens[me] > 0 else -1
+
+
+class MadgtaP(MadgtaR):
+    """madgta-r with the team plan's first vertex as one more candidate (see the module
+    docstring).
+
+    ``passes``: rounds of local search per plan (0: MADGTA's simulated routes as they are).
+    ``follow``: go to the plan's first vertex instead of rolling it out (not kept, for the
+    benches); ``commit`` (with ``follow``): keep heading for a distant first vertex until
+    it is reached or taken. Every other keyword is madgta-r's (``max_vacant``, ``k``, ...).
+    """
+
+    name = "madgta-p"
+
+    def __init__(self, passes: int = 50, follow: bool = False, commit: bool = False,
+                 **rollout: object) -> None:
+        super().__init__(**rollout)  # type: ignore[arg-type]
+        if passes < 0:
+            raise ValueError(f"passes must be >= 0, got {passes}")
+        if commit and not follow:
+            raise ValueError("commit needs follow=True")
+        self.passes = passes
+        self.hybrid = not follow
+        self.commit = commit
+        self._target: dict[int, int] = {}
+        self.plans = 0  # decisions planned (for the benches)
+
+    @property
+    def madgta_branch2(self) -> bool:
+        """Whether branch 2 still picks among the vacant neighbours (traversal_v0 reads
+        it): not here, the plan may send an agent past a vacant neighbour."""
+        return False
+
+    def decide(self, belief: TraversalBelief, rng: np.random.Generator) -> Decision:
+        known = belief.known
+        if not known.uniform or not belief.in_km(belief.here):
+            return self._plain.decide(belief, rng)
+        vacant = self._vacant(belief)
+        if self.max_vacant is not None and vacant.size > self.max_vacant:
+            return self._plain.decide(belief, rng)
+        rows = self._rows.get(id(known))
+        if rows is None or rows.known is not known:
+            rows = self._rows[id(known)] = _Rows(known)
+        g = belief.graph
+        me = belief.me
+        here = belief.here
+        if self.commit:
+            f = self._target.pop(me, -1)
+            if (f >= 0 and f != here and belief.status[f] == 0 and not known.blocked[f]
+                    and belief.reserved[f] in (0, me)
+                    and (known.open_lattice or known.hops[known.slot(here)][f] >= 0)):
+                return self._towards(belief, f, rng)
+        table, row_of = rows.get(vacant)
+        state = self._state(belief)
+        loc, dest, tfree, mode, intent, resv = state
+        if vacant.size == 0:
+            return self._plain.decide(belief, rng)
+        routes = np.full((loc.size, vacant.size + 1), -1, dtype=np.int64)
+        lens = np.zeros(loc.size, dtype=np.int64)
+        f = _team_plan(
+            me, belief.now, g.indptr, g.indices, known.blocked, belief.status.copy(),
+            belief.reserved.copy(), vacant, table, row_of, loc.copy(), dest.copy(),
+            tfree.copy(), mode.copy(), intent.copy(), resv.copy(), belief.time_per_unit,
+            belief.job_time, known.step, self._ids(g.n_nodes), self.passes, routes, lens,
+        )
+        if self.hybrid:  # the plan's vertex as one more candidate of madgta-r's rollout
+            cands, kinds = self._candidates(belief, vacant, table, row_of, state)
+            if not cands:
+                return self._plain.decide(belief, rng)
+            if f >= 0 and f not in cands:
+                near = f in g.indices[g.indptr[here]:g.indptr[here + 1]]
+                cands.append(int(f))
+                kinds.append(NEAR if near else FAR)
+            if len(cands) < 2:
+                return self._plain.decide(belief, rng)
+            scores = self._scores(belief, cands, kinds, (known.blocked, belief.status,
+                                                         vacant, table, row_of), state)
+            low = min(mk for mk, _ in scores) + self._tol(belief) + 1e-9
+            keyed = [(tot if mk <= low else np.inf) for mk, tot in scores]
+            j = int(np.argmin(keyed))
+            self.plans += 1
+            if kinds[j] == NEAR:
+                return Decision("move", cands[j], cands[j], 2)
+            steps = known.first_steps(known.slot(here), cands[j])
+            return Decision("move", _pick(steps, rng), cands[j], 3)
+        if f < 0:
+            return self._plain.decide(belief, rng)
+        self.plans += 1
+        return self._towards(belief, int(f), rng)
+
+    def _towards(self, belief: TraversalBelief, f: int, rng: np.random.Generator) -> Decision:
+        """To ``f``: directly if it is a neighbour, else one hop on a shortest path."""
+        g = belief.graph
+        here = belief.here
+        if f in g.indices[g.indptr[here]:g.indptr[here + 1]]:
+            return Decision("move", f, f, 2)
+        if self.commit:
+            self._target[belief.me] = f
+        known = belief.known
+        steps = known.first_steps(known.slot(here), f)
+        return Decision("move", _pick(steps, rng), f, 3)
+
+
+POLICIES[MadgtaP.name] = MadgtaP

@@ -1,0 +1,286 @@
+"""``madgta-p`` (swarmex.missions.traversal.teamplan): madgta-r's rollout with the first
+vertex of an end-game team plan as one more candidate.
+
+What is pinned: it is registered and selectable; the plan's local search lowers a
+hand-checked plan to its optimum and stays near the brute-force min-max optimum on tiny
+instances (and at it on most); the policy completes missions (identical and mixed teams,
+perfect and lossy channels, every option), is MADGTA before the end game, never writes the
+belief and gives the same decision for the same belief; compiled and interpreted kernels
+give the same run.
+"""
+
+from __future__ import annotations
+
+import copy
+import itertools
+import json
+import os
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import swarmex
+from swarmex.comm.channel import Channel
+from swarmex.missions.traversal import (
+    AgentSpec,
+    make_policy,
+    run_metrics,
+    run_traversal,
+    uniform_agents,
+)
+from swarmex.missions.traversal import teamplan as tp
+from swarmex.missions.traversal.policies import POLICIES
+from swarmex.missions.traversal.rollout import MadgtaR, _fill_rows
+from swarmex.worlds import random_obstacles
+from swarmex.worlds.nodegraph import NodeGraph
+
+SRC = Path(swarmex.__file__).resolve().parents[1]
+
+
+def test_registered_and_selectable():
+    assert POLICIES["madgta-p"] is tp.MadgtaP
+    policy = make_policy("madgta-p")
+    assert isinstance(policy, tp.MadgtaP) and isinstance(policy, MadgtaR)
+    assert policy.name == "madgta-p" and not policy.madgta_branch2
+    assert tp.MadgtaP(k=2, max_vacant=50).k == 2  # madgta-r's keywords pass through
+    for bad in (dict(passes=-1), dict(commit=True), dict(k=0)):
+        with pytest.raises(ValueError):
+            tp.MadgtaP(**bad)
+
+
+def _corridor(n: int) -> NodeGraph:
+    u = np.arange(n - 1)
+    return NodeGraph.from_edges(n, u, u + 1, np.ones(n - 1), np.c_[np.arange(n), np.zeros(n)])
+
+
+def _rows(g: NodeGraph, vacant: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    n = g.n_nodes
+    table = np.empty((vacant.size, n), dtype=np.int32)
+    row_of = np.full(n, -1, dtype=np.int64)
+    row_of[vacant] = np.arange(vacant.size)
+    _fill_rows(g.indptr, g.indices, np.zeros(n, dtype=bool), vacant, row_of[vacant], table,
+               np.empty(n, dtype=np.int32))
+    return table, row_of
+
+
+def _ends(base, pos, routes, lens, edge, jt, table, row_of) -> list[float]:
+    return [tp._route_end(a, base, pos, routes, lens, edge, jt, table, row_of)
+            for a in range(1, base.size)]
+
+
+def test_local_search_splits_a_corridor_between_its_two_ends():
+    """Corridor 0-...-6, agents at 0 and 6 (free at t = 0), vertices 1..5 vacant, 2 s per
+    edge, 9 s per job. Start: agent 1 does all five (5 x 11 = 55 s). By hand the min-max
+    optimum gives three to one agent and two to the other: 33 s, with 22 s for the other."""
+    g = _corridor(7)
+    vacant = np.arange(1, 6, dtype=np.int64)
+    table, row_of = _rows(g, vacant)
+    base = np.zeros(3)
+    pos = np.array([-1, 0, 6])
+    routes = np.full((3, 6), -1, dtype=np.int64)
+    routes[1, :5] = vacant
+    lens = np.array([0, 5, 0])
+    edge = np.array([0.0, 2.0, 2.0])
+    jt = np.array([0.0, 9.0, 9.0])
+    active = np.array([False, True, True])
+    assert _ends(base, pos, routes, lens, edge, jt, table, row_of) == [55.0, 0.0]
+    tp._improve(base, pos, active, routes, lens, edge, jt, table, row_of, 50)
+    assert sorted(_ends(base, pos, routes, lens, edge, jt, table, row_of)) == [22.0, 33.0]
+    done = sorted(routes[1, :lens[1]].tolist() + routes[2, :lens[2]].tolist())
+    assert done == [1, 2, 3, 4, 5]
+
+
+def _brute_force(base, pos, vac, edge, jt, table, row_of) -> float:
+    """The least makespan over every assignment and order (tiny instances only)."""
+    m = base.size - 1
+    best = np.inf
+    for perm in itertools.permutations(vac.tolist()):
+        for cuts in itertools.combinations_with_replacement(range(len(perm) + 1), m - 1):
+            bounds = (0, *cuts, len(perm))
+            worst = 0.0
+            for a in range(1, m + 1):
+                seq = perm[bounds[a - 1]:bounds[a]]
+                c, prev = base[a], pos[a]
+                for v in seq:
+                    c += edge[a] * table[row_of[v], prev] + jt[a]
+                    prev = v
+                worst = max(worst, c)
+            best = min(best, worst)
+    return float(best)
+
+
+def _tiny(seed: int) -> tuple | None:
+    """Two agents (free at random times) and five vacant vertices on a 5x5 random map."""
+    rng = np.random.default_rng(seed)
+    world = random_obstacles(5, 5, 0.15, seed=seed)
+    g = world.graph
+    free = np.nonzero(~world.blocked)[0]
+    n = g.n_nodes
+    pick = rng.choice(free, 7, replace=False)
+    pos = np.array([-1, pick[0], pick[1]])
+    vac = np.sort(pick[2:]).astype(np.int64)
+    table = np.empty((vac.size, n), dtype=np.int32)
+    row_of = np.full(n, -1, dtype=np.int64)
+    row_of[vac] = np.arange(vac.size)
+    _fill_rows(g.indptr, g.indices, world.blocked, vac, row_of[vac], table,
+               np.empty(n, dtype=np.int32))
+    if (table[:, pos[1:]] < 0).any() or (table[:, vac] < 0).any():
+        return None  # a walled-off cell drawn
+    base = np.array([0.0, rng.uniform(0, 10), rng.uniform(0, 10)])
+    return base, pos, vac, table, row_of
+
+
+def test_local_search_against_the_brute_force_optimum_on_tiny_instances():
+    """A local search, not an exact solver: from the worst start (everything on agent 1) it
+    reaches the min-max optimum on most tiny instances and stays about one edge above it on
+    the others (16 instances: 13 optimal, 3 at 2.0-2.9 s above; the tail exchange was added
+    for instance 3, which relocations and swaps left one edge above the optimum)."""
+    edge = np.array([0.0, 2.0, 2.0])
+    jt = np.array([0.0, 9.0, 9.0])
+    optimal = tried = 0
+    for seed in range(16):
+        inst = _tiny(seed)
+        if inst is None:
+            continue
+        base, pos, vac, table, row_of = inst
+        routes = np.full((3, vac.size + 1), -1, dtype=np.int64)
+        routes[1, :vac.size] = vac
+        lens = np.array([0, vac.size, 0])
+        tp._improve(base, pos, np.array([False, True, True]), routes, lens, edge, jt, table,
+                    row_of, 100)
+        got = max(_ends(base, pos, routes, lens, edge, jt, table, row_of))
+        best = _brute_force(base, pos, vac, edge, jt, table, row_of)
+        assert best - 1e-9 <= got <= best + 3.0
+        assert sorted(routes[1, :lens[1]].tolist() + routes[2, :lens[2]].tolist()) == \
+            vac.tolist()
+        tried += 1
+        optimal += got <= best + 1e-9
+    assert tried >= 12 and optimal >= tried - 3
+
+
+def _mixed(world, m: int, seed: int) -> list[AgentSpec]:
+    rng = np.random.default_rng(seed)
+    free = np.nonzero(~world.blocked)[0]
+    return [AgentSpec(int(v), float(rng.uniform(0.5, 1.0)), float(rng.uniform(5, 10)))
+            for v in rng.choice(free, m, replace=False)]
+
+
+@pytest.mark.parametrize("options", [dict(), dict(follow=True), dict(follow=True, commit=True),
+                                     dict(passes=0)])
+@pytest.mark.parametrize("fleet", ["same", "mixed"])
+def test_completes_every_job_once(options, fleet):
+    world = random_obstacles(12, 12, 0.2, seed=1)
+    free = np.nonzero(~world.blocked)[0]
+    agents = (uniform_agents([int(v) for v in free[:5]], 2.0, 9.0) if fleet == "same"
+              else _mixed(world, 5, 1))
+    policy = tp.MadgtaP(**options)
+    run = run_traversal(world, agents, policy, seed=1)
+    assert run.complete and policy.plans > 0
+    assert np.all(run.job_count[run.reachable] >= 1)
+    assert run_metrics(run, 1.0)[0]["duplicate_jobs"] == 0
+
+
+@pytest.mark.parametrize("options", [dict(), dict(follow=True, commit=True)])
+def test_completes_over_a_lossy_range_limited_channel(options):
+    world = random_obstacles(10, 10, 0.2, seed=3)
+    run = run_traversal(world, _mixed(world, 4, 3), tp.MadgtaP(**options), seed=3,
+                        channel=Channel(loss=0.3, range=4.0))
+    assert run.complete
+
+
+def test_before_the_end_game_it_is_madgta_record_for_record():
+    world = random_obstacles(14, 14, 0.2, seed=7)
+    free = np.nonzero(~world.blocked)[0]
+    agents = uniform_agents([int(free[0])] * 6, 2.0, 9.0)
+    ours = run_traversal(world, agents, tp.MadgtaP(max_vacant=0), seed=7)
+    theirs = run_traversal(world, agents, "madgta", seed=7)
+    assert ours.path_strings() == theirs.path_strings()
+    assert run_metrics(ours, 1.0)[0] == run_metrics(theirs, 1.0)[0]
+
+
+def test_the_start_plan_is_madgtas_simulated_routes():
+    """Corridor 0-1-2-3-4, agent 1 free at 0 (t = 0), agent 2 working at 4 until t = 5
+    (test_rollout's mission seen whole). MADGTA: agent 1 takes 1 then 2, agent 2 takes 3;
+    nothing to improve (agent 2 ends at 16 and agent 1 at 22; giving 2 to agent 2 ends it
+    at 27), so the plan is those routes and agent 1's first vertex is 1."""
+    g = _corridor(5)
+    n = 5
+    status = np.zeros(n, dtype=np.int32)
+    status[0] = 1
+    status[4] = 2
+    vacant = np.array([1, 2, 3], dtype=np.int64)
+    table, row_of = _rows(g, vacant)
+    loc = np.array([-1, 0, 4])
+    mode = np.array([-1, 0, 2])
+    tfree = np.array([0.0, 0.0, 5.0])
+    routes = np.full((3, 4), -1, dtype=np.int64)
+    lens = np.zeros(3, dtype=np.int64)
+    first = tp._team_plan(
+        1, 0.0, g.indptr, g.indices, np.zeros(n, dtype=bool), status,
+        np.zeros(n, dtype=np.int32), vacant, table, row_of, loc, loc.copy(), tfree, mode,
+        np.full(3, -1), np.full(3, -1), np.array([0.0, 2.0, 2.0]), np.array([0.0, 9.0, 9.0]),
+        1.0, np.arange(n, dtype=np.int64), 50, routes, lens,
+    )
+    assert first == 1
+    assert routes[1, :lens[1]].tolist() == [1, 2]
+    assert routes[2, :lens[2]].tolist() == [3]
+
+
+class Checking(tp.MadgtaP):
+    """Never writes the belief; the same belief gives the same decision."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.checked = 0
+
+    def decide(self, belief, rng):
+        keys = ("status", "reserved", "loc", "next_loc", "free_at", "reservation")
+        before = {k: np.copy(getattr(belief, k)) for k in keys}
+        state = copy.deepcopy(rng.bit_generator.state)
+        decision = super().decide(belief, rng)
+        for k, old in before.items():
+            assert np.array_equal(getattr(belief, k), old), f"policy changed belief.{k}"
+        if self.checked < 40:
+            again = np.random.default_rng()
+            again.bit_generator.state = state
+            assert tp.MadgtaP.decide(tp.MadgtaP(), copy.deepcopy(belief), again) == decision
+            self.checked += 1
+        return decision
+
+
+def test_never_writes_the_belief_and_is_deterministic():
+    world = random_obstacles(10, 10, 0.2, seed=5)
+    free = np.nonzero(~world.blocked)[0]
+    spy = Checking()
+    run = run_traversal(world, uniform_agents([int(v) for v in free[:4]], 2.0, 9.0), spy,
+                        seed=5)
+    assert run.complete and spy.checked > 20 and spy.plans > 0
+
+
+def test_compiled_and_interpreted_give_the_same_run(tmp_path):
+    code = """
+    import json
+    import numpy as np
+    from swarmex.missions.traversal import run_traversal, run_metrics, uniform_agents
+    from swarmex.missions.traversal.teamplan import MadgtaP
+    from swarmex.worlds import random_obstacles
+    world = random_obstacles(9, 9, 0.2, seed=2)
+    free = np.nonzero(~world.blocked)[0]
+    run = run_traversal(world, uniform_agents([int(free[0])] * 4, 2.0, 9.0), MadgtaP(),
+                        seed=2)
+    print(json.dumps([run.path_strings(), run_metrics(run, 1.0)[0]["max_total_time"]]))
+    """
+    out = {}
+    for name, env in (("jit", {}), ("python", {"NUMBA_DISABLE_JIT": "1"})):
+        proc = subprocess.run(
+            [sys.executable, "-c", textwrap.dedent(code)], capture_output=True, text=True,
+            timeout=240, cwd=tmp_path,
+            env={**os.environ, "PYTHONPATH": str(SRC), **env},
+        )
+        assert proc.returncode == 0, proc.stderr
+        out[name] = json.loads(proc.stdout.strip().splitlines()[-1])
+    assert out["jit"] == out["python"]
