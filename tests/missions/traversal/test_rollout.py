@@ -9,18 +9,9 @@ the makespan where the docs say it does (an open grid with 16 agents).
 
 from __future__ import annotations
 
-import copy
-import json
-import os
-import subprocess
-import sys
-import textwrap
-from pathlib import Path
-
 import numpy as np
 import pytest
 
-import swarmex
 from swarmex.comm.channel import Channel
 from swarmex.missions.traversal import (
     AgentSpec,
@@ -41,7 +32,7 @@ from swarmex.missions.traversal.rollout import (
 from swarmex.worlds import GridWorld, random_obstacles
 from swarmex.worlds.nodegraph import NodeGraph
 
-SRC = Path(swarmex.__file__).resolve().parents[1]
+from .checking import checking, jit_and_python_agree
 
 
 def _mixed(world: GridWorld, m: int, seed: int) -> list[AgentSpec]:
@@ -146,32 +137,9 @@ def test_the_simulation_predicts_a_mission_it_sees_whole():
     assert total == pytest.approx((2 + 9 + 2 + 9) + (2 + 9))
 
 
-class Checking(MadgtaR):
-    """Never writes the belief; the same belief (a deep copy, same generator state) gives
-    the same decision."""
-
-    def __init__(self) -> None:
-        super().__init__()
-        self.checked = 0
-
-    def decide(self, belief, rng):
-        keys = ("status", "reserved", "loc", "next_loc", "free_at", "reservation")
-        snapshot = {k: np.copy(getattr(belief, k)) for k in keys}
-        state = copy.deepcopy(rng.bit_generator.state)
-        decision = super().decide(belief, rng)
-        for k, before in snapshot.items():
-            assert np.array_equal(getattr(belief, k), before), f"policy changed belief.{k}"
-        if self.checked < 60:
-            again = np.random.default_rng()
-            again.bit_generator.state = state
-            assert MadgtaR.decide(MadgtaR(), copy.deepcopy(belief), again) == decision
-            self.checked += 1
-        return decision
-
-
 def test_never_writes_the_belief_and_is_deterministic():
     world = random_obstacles(10, 10, 0.2, seed=5)
-    spy = Checking()
+    spy = checking(MadgtaR, 60)
     run = run_traversal(world, _mixed(world, 4, 5), spy, seed=5)
     assert run.complete and spy.checked > 20 and spy.rollouts > 0
 
@@ -189,16 +157,7 @@ def test_compiled_and_interpreted_give_the_same_run(tmp_path):
                         MadgtaR(far=2), seed=2)
     print(json.dumps([run.path_strings(), run_metrics(run, 1.0)[0]["max_total_time"]]))
     """
-    out = {}
-    for name, env in (("jit", {}), ("python", {"NUMBA_DISABLE_JIT": "1"})):
-        proc = subprocess.run(
-            [sys.executable, "-c", textwrap.dedent(code)], capture_output=True, text=True,
-            timeout=240, cwd=tmp_path,
-            env={**os.environ, "PYTHONPATH": str(SRC), **env},
-        )
-        assert proc.returncode == 0, proc.stderr
-        out[name] = json.loads(proc.stdout.strip().splitlines()[-1])
-    assert out["jit"] == out["python"]
+    jit_and_python_agree(code, tmp_path)
 
 
 def test_lower_makespan_than_madgta_on_an_open_grid_with_16_agents():

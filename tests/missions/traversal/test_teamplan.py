@@ -11,19 +11,11 @@ give the same run.
 
 from __future__ import annotations
 
-import copy
 import itertools
-import json
-import os
-import subprocess
-import sys
-import textwrap
-from pathlib import Path
 
 import numpy as np
 import pytest
 
-import swarmex
 from swarmex.comm.channel import Channel
 from swarmex.missions.traversal import (
     AgentSpec,
@@ -38,7 +30,7 @@ from swarmex.missions.traversal.rollout import MadgtaR, _fill_rows
 from swarmex.worlds import random_obstacles
 from swarmex.worlds.nodegraph import NodeGraph
 
-SRC = Path(swarmex.__file__).resolve().parents[1]
+from .checking import checking, jit_and_python_agree
 
 
 def test_registered_and_selectable():
@@ -230,32 +222,10 @@ def test_the_start_plan_is_madgtas_simulated_routes():
     assert routes[2, :lens[2]].tolist() == [3]
 
 
-class Checking(tp.MadgtaP):
-    """Never writes the belief; the same belief gives the same decision."""
-
-    def __init__(self) -> None:
-        super().__init__()
-        self.checked = 0
-
-    def decide(self, belief, rng):
-        keys = ("status", "reserved", "loc", "next_loc", "free_at", "reservation")
-        before = {k: np.copy(getattr(belief, k)) for k in keys}
-        state = copy.deepcopy(rng.bit_generator.state)
-        decision = super().decide(belief, rng)
-        for k, old in before.items():
-            assert np.array_equal(getattr(belief, k), old), f"policy changed belief.{k}"
-        if self.checked < 40:
-            again = np.random.default_rng()
-            again.bit_generator.state = state
-            assert tp.MadgtaP.decide(tp.MadgtaP(), copy.deepcopy(belief), again) == decision
-            self.checked += 1
-        return decision
-
-
 def test_never_writes_the_belief_and_is_deterministic():
     world = random_obstacles(10, 10, 0.2, seed=5)
     free = np.nonzero(~world.blocked)[0]
-    spy = Checking()
+    spy = checking(tp.MadgtaP, 40)
     run = run_traversal(world, uniform_agents([int(v) for v in free[:4]], 2.0, 9.0), spy,
                         seed=5)
     assert run.complete and spy.checked > 20 and spy.plans > 0
@@ -274,13 +244,4 @@ def test_compiled_and_interpreted_give_the_same_run(tmp_path):
                         seed=2)
     print(json.dumps([run.path_strings(), run_metrics(run, 1.0)[0]["max_total_time"]]))
     """
-    out = {}
-    for name, env in (("jit", {}), ("python", {"NUMBA_DISABLE_JIT": "1"})):
-        proc = subprocess.run(
-            [sys.executable, "-c", textwrap.dedent(code)], capture_output=True, text=True,
-            timeout=240, cwd=tmp_path,
-            env={**os.environ, "PYTHONPATH": str(SRC), **env},
-        )
-        assert proc.returncode == 0, proc.stderr
-        out[name] = json.loads(proc.stdout.strip().splitlines()[-1])
-    assert out["jit"] == out["python"]
+    jit_and_python_agree(code, tmp_path)
