@@ -575,7 +575,13 @@ def run_agents(
     if vehicle is not None and not wait_for_vehicle(vehicle, (safety or Safety()).task_timeout,
                                                     say):
         return EXIT_HANDED_BACK
-    ctx: zmq.Context[zmq.Socket[bytes]] = zmq.Context.instance()
+    # A context of their own, terminated at the end: that waits (up to each socket's
+    # linger) until the last frames are out. pyzmq does not terminate contexts at
+    # interpreter exit, so a process ending right after its id hand-back (RET) or its
+    # stats (ST) could kill ZeroMQ's I/O thread with the frame still queued; the server
+    # would then wait for the id until its init timeout (the likely cause of one CI
+    # failure under load, not reproduced).
+    ctx: zmq.Context[zmq.Socket[bytes]] = zmq.Context()
     agents = [
         AgentClient(ctx, address, want_id if count == 1 or want_id < 0 else 0, server_timeout,
                     connect_timeout, faults, say, vehicle, safety)
@@ -616,4 +622,5 @@ def run_agents(
     finally:
         for a in agents:
             a.close()
+        ctx.term()
     return max(a.exit_code or 0 for a in agents)

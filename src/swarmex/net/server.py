@@ -124,7 +124,11 @@ class TraversalServer:
         self.wall0 = 0.0
         self.forwarder = ev.IngestForwarder(monitor_url) if monitor_url else None
         self.record: dict[str, Any] | None = None
-        self.ctx: zmq.Context[zmq.Socket[bytes]] = zmq.Context.instance()
+        # its own context, terminated after the socket closes: that waits (up to the
+        # linger) for the last frames, END among them. A process that just exits would
+        # kill ZeroMQ's I/O thread with them still queued (pyzmq does not terminate
+        # contexts at interpreter exit), and the agents would wait for their timeout.
+        self.ctx: zmq.Context[zmq.Socket[bytes]] = zmq.Context()
         self.sock = self.ctx.socket(zmq.ROUTER)
         self.sock.setsockopt(zmq.LINGER, 500)
         self.sock.setsockopt(zmq.SNDHWM, 0)
@@ -246,6 +250,7 @@ class TraversalServer:
             if self.forwarder is not None:
                 self.forwarder.close()
             self.sock.close(500)
+            self.ctx.term()
 
     # ------------------------------------------------------------------ frames
     def _on_frame(self, ident: bytes, frame: bytes, now: float) -> None:
