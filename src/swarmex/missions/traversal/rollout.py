@@ -482,6 +482,79 @@ def _outcome(
 
 
 
+# what one simulated event was (:func:`_turn`)
+EVENT, STOP, FOLLOWED, DECIDE = 0, 1, 2, 3
+
+
+@kernel(cache=True, nogil=True)
+def _take(
+    a: int, f: int, kind: int, t: float, target: NDArray[np.int64],
+    indptr: NDArray[np.int64], indices: NDArray[np.int32], blocked: NDArray[np.bool_],
+    st: NDArray[np.int32], rs: NDArray[np.int32], table: NDArray[np.int32],
+    row_of: NDArray[np.int64], loc: NDArray[np.int64], dest: NDArray[np.int64],
+    tfree: NDArray[np.float64], mode: NDArray[np.int64], intent: NDArray[np.int64],
+    resv: NDArray[np.int64], tpu: NDArray[np.float64], step: float, prio: NDArray[np.int64],
+    work: NDArray[np.float64], last: NDArray[np.float64],
+) -> None:  # pragma: no cover - compiled
+    """Agent ``a`` takes the candidate ``f`` a rollout chose: NEAR, move to that neighbour;
+    FAR, commit to that target and make its first hop now."""
+    if kind == FAR:
+        target[a] = f
+        f = _hop(loc[a], f, indptr, indices, blocked, table, row_of, prio)
+    _move(a, f, t, loc, dest, tfree, mode, intent, resv, st, rs, work, last, step * tpu[a])
+
+
+@kernel(cache=True, nogil=True)
+def _begin(
+    me: int, first: int, first_kind: int, now: float,
+    indptr: NDArray[np.int64], indices: NDArray[np.int32], blocked: NDArray[np.bool_],
+    st: NDArray[np.int32], rs: NDArray[np.int32], table: NDArray[np.int32],
+    row_of: NDArray[np.int64], loc: NDArray[np.int64], dest: NDArray[np.int64],
+    tfree: NDArray[np.float64], mode: NDArray[np.int64], intent: NDArray[np.int64],
+    resv: NDArray[np.int64], tpu: NDArray[np.float64], step: float, prio: NDArray[np.int64],
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.int64]]:  # pragma: no cover
+    """A simulation's start: ``me`` takes its candidate ``first`` (NEAR: move to that
+    neighbour; FAR: commit to that target, first hop now). Returns (work, last, target)."""
+    m1 = loc.shape[0]
+    work = np.zeros(m1)
+    last = tfree.copy()
+    target = np.full(m1, -1, dtype=np.int64)
+    _take(me, first, first_kind, now, target, indptr, indices, blocked, st, rs, table, row_of,
+          loc, dest, tfree, mode, intent, resv, tpu, step, prio, work, last)
+    return work, last, target
+
+
+@kernel(cache=True, nogil=True)
+def _turn(
+    a: int, t: float, over: bool, target: NDArray[np.int64],
+    indptr: NDArray[np.int64], indices: NDArray[np.int32], blocked: NDArray[np.bool_],
+    st: NDArray[np.int32], rs: NDArray[np.int32], vacant: NDArray[np.int64],
+    table: NDArray[np.int32], row_of: NDArray[np.int64], loc: NDArray[np.int64],
+    dest: NDArray[np.int64], tfree: NDArray[np.float64], mode: NDArray[np.int64],
+    intent: NDArray[np.int64], resv: NDArray[np.int64], tpu: NDArray[np.float64],
+    jt: NDArray[np.float64], step: float, prio: NDArray[np.int64],
+    work: NDArray[np.float64], last: NDArray[np.float64],
+) -> int:  # pragma: no cover - compiled
+    """Agent ``a``'s event at ``t`` up to its free decision: EVENT (an arrival that began a
+    job; not a decision), STOP (a decision, but ``over`` the horizon), FOLLOWED (a decision
+    taken by the committed target) or DECIDE (the caller decides)."""
+    if _next_event(
+        a, t,
+            indptr, indices, blocked, st, rs, vacant, table, row_of, loc, dest, tfree, mode,
+            intent, resv, tpu, jt, step, prio, work, last,
+    ):
+        return EVENT
+    if over:
+        return STOP
+    if _follow_target(
+        a, t, target,
+            indptr, indices, blocked, st, rs, vacant, table, row_of, loc, dest, tfree, mode,
+            intent, resv, tpu, jt, step, prio, work, last,
+    ):
+        return FOLLOWED
+    return DECIDE
+
+
 @kernel(cache=True, nogil=True)
 def _simulate(
     me: int, first: int, first_kind: int, now: float, horizon: int,
@@ -498,35 +571,26 @@ def _simulate(
     (makespan, sum): the latest end of any agent's job or move, and the time spent from now
     on summed over agents; after ``horizon`` decisions the rest is estimated (see
     :class:`MadgtaR`)."""
-    m1 = loc.shape[0]
-    work = np.zeros(m1)
-    last = tfree.copy()
-    target = np.full(m1, -1, dtype=np.int64)
+    work, last, target = _begin(me, first, first_kind, now, indptr, indices, blocked, st, rs,
+                                table, row_of, loc, dest, tfree, mode, intent, resv, tpu,
+                                step, prio)
     out = np.empty(1, dtype=np.int64)
-    if first_kind == FAR:  # head for the target: its first hop now
-        target[me] = first
-        first = _hop(loc[me], first, indptr, indices, blocked, table, row_of, prio)
-    _move(me, first, now, loc, dest, tfree, mode, intent, resv, st, rs, work, last,
-          step * tpu[me])
     decisions = 0
     while True:
         a, t = _next_agent(mode, tfree)
         if a < 0:
             break
-        if _next_event(
-            a, t,
+        turn = _turn(
+            a, t, decisions >= horizon, target,
             indptr, indices, blocked, st, rs, vacant, table, row_of, loc, dest, tfree, mode,
             intent, resv, tpu, jt, step, prio, work, last,
-        ):
+        )
+        if turn == EVENT:
             continue
         decisions += 1
-        if decisions > horizon:
+        if turn == STOP:
             break
-        if _follow_target(
-            a, t, target,
-            indptr, indices, blocked, st, rs, vacant, table, row_of, loc, dest, tfree, mode,
-            intent, resv, tpu, jt, step, prio, work, last,
-        ):
+        if turn == FOLLOWED:
             continue
         _madgta_step(
             a, t, out,
@@ -549,38 +613,30 @@ def _simulate_nested(
     """:func:`_simulate` where every rival rolls out its first decision in the simulation
     (``k`` candidates, each simulated with :func:`_simulate`, chosen as ``objective='lex'``
     with ``tol``): one level of nesting, so the rivals are simulated as rollout agents for
-    the next step instead of as MADGTA."""
-    m1 = loc.shape[0]
-    work = np.zeros(m1)
-    last = tfree.copy()
-    target = np.full(m1, -1, dtype=np.int64)
+    the next step instead of as MADGTA. (Its own loop rather than a flag of
+    :func:`_simulate`, which it calls: compiled kernels cannot recurse.)"""
+    work, last, target = _begin(me, first, first_kind, now, indptr, indices, blocked, st, rs,
+                                table, row_of, loc, dest, tfree, mode, intent, resv, tpu,
+                                step, prio)
     out = np.empty(1, dtype=np.int64)
     outk = np.empty(k, dtype=np.int64)
-    nested = np.zeros(m1, dtype=np.bool_)
-    if first_kind == FAR:  # head for the target: its first hop now
-        target[me] = first
-        first = _hop(loc[me], first, indptr, indices, blocked, table, row_of, prio)
-    _move(me, first, now, loc, dest, tfree, mode, intent, resv, st, rs, work, last,
-          step * tpu[me])
+    nested = np.zeros(loc.shape[0], dtype=np.bool_)
     decisions = 0
     while True:
         a, t = _next_agent(mode, tfree)
         if a < 0:
             break
-        if _next_event(
-            a, t,
+        turn = _turn(
+            a, t, decisions >= horizon, target,
             indptr, indices, blocked, st, rs, vacant, table, row_of, loc, dest, tfree, mode,
             intent, resv, tpu, jt, step, prio, work, last,
-        ):
+        )
+        if turn == EVENT:
             continue
         decisions += 1
-        if decisions > horizon:
+        if turn == STOP:
             break
-        if _follow_target(
-            a, t, target,
-            indptr, indices, blocked, st, rs, vacant, table, row_of, loc, dest, tfree, mode,
-            intent, resv, tpu, jt, step, prio, work, last,
-        ):
+        if turn == FOLLOWED:
             continue
         if a != me and not nested[a]:
             nested[a] = True
@@ -600,12 +656,9 @@ def _simulate_nested(
                 for j in range(c):
                     if mks[j] <= lo and (pick < 0 or tots[j] < tots[pick] - 1e-9):
                         pick = j
-                f = outk[pick]
-                if kind == FAR:
-                    target[a] = f
-                    f = _hop(loc[a], f, indptr, indices, blocked, table, row_of, prio)
-                _move(a, f, t, loc, dest, tfree, mode, intent, resv, st, rs, work, last,
-                      step * tpu[a])
+                _take(a, outk[pick], kind, t, target, indptr, indices, blocked, st, rs,
+                      table, row_of, loc, dest, tfree, mode, intent, resv, tpu, step, prio,
+                      work, last)
                 continue
         _madgta_step(
             a, t, out,

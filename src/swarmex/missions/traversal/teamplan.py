@@ -69,16 +69,16 @@ from swarmex.missions.traversal.belief import TraversalBelief
 from swarmex.missions.traversal.policies import POLICIES, Decision, _pick
 from swarmex.missions.traversal.rollout import (
     ABSENT,
+    DECIDE,
     FAR,
     MOVING,
     NEAR,
     WORKING,
     MadgtaR,
-    _follow_target,
     _madgta_step,
     _next_agent,
-    _next_event,
     _Rows,
+    _turn,
 )
 
 #: a hop count standing for "unreachable" in the plan's costs
@@ -106,15 +106,11 @@ def _madgta_routes(
         a, t = _next_agent(mode, tfree)
         if a < 0:
             break
-        if not _next_event(
-            a, t,
+        if _turn(
+            a, t, False, target,
             indptr, indices, blocked, st, rs, vacant, table, row_of, loc, dest, tfree, mode,
             intent, resv, tpu, jt, step, prio, work, last,
-        ) and not _follow_target(
-            a, t, target,
-            indptr, indices, blocked, st, rs, vacant, table, row_of, loc, dest, tfree,
-            mode, intent, resv, tpu, jt, step, prio, work, last,
-        ):
+        ) == DECIDE:
             _madgta_step(
                 a, t, out,
                 indptr, indices, blocked, st, rs, vacant, table, row_of, loc, dest,
