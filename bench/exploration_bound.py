@@ -53,9 +53,23 @@ from numpy.typing import NDArray
 from swarmex._kernels import kernel
 from swarmex.missions.exploration.paths import distance_steps
 from swarmex.missions.exploration.sim import reachable_free
-from swarmex.sensing.laser import _axis
+from swarmex.sensing.laser import _axis, _cross
 
 UNSEEN = np.iinfo(np.int64).max
+
+
+@kernel(cache=True, nogil=True, inline="always")
+def _can_step(
+    free: NDArray[np.bool_], x0: int, y0: int, mx: int, my: int,
+) -> bool:  # pragma: no cover - compiled
+    """The simulator's ``legal_step`` from (x0, y0) by (mx, my): one 8-neighbour move onto a
+    free cell of the grid, a diagonal only between two free cells."""
+    h, w = free.shape
+    x1 = x0 + mx
+    y1 = y0 + my
+    if (mx == 0 and my == 0) or x1 < 0 or y1 < 0 or x1 >= w or y1 >= h or not free[y1, x1]:
+        return False
+    return mx == 0 or my == 0 or (free[y0, x1] and free[y1, x0])
 
 
 @kernel(cache=True, nogil=True)
@@ -76,16 +90,7 @@ def _scan_into(
         cx = x0
         cy = y0
         while True:
-            tx = (kx + 0.5) * ddx
-            ty = (ky + 0.5) * ddy
-            if tx < ty:
-                t = tx
-                kx += 1
-                cx += sx
-            else:
-                t = ty
-                ky += 1
-                cy += sy
+            t, kx, ky, cx, cy = _cross(kx, ky, cx, cy, sx, sy, ddx, ddy)
             if t >= max_cells or cx < 0 or cy < 0 or cx >= w or cy >= h or not free[cy, cx]:
                 break
             stamp[cy, cx] = mark
@@ -143,11 +148,7 @@ def _max_gain(
             for my in range(-1, 2):
                 x1 = x0 + mx
                 y1 = y0 + my
-                if (mx == 0 and my == 0) or x1 < 0 or y1 < 0 or x1 >= w or y1 >= h:
-                    continue
-                if not free[y1, x1]:
-                    continue
-                if mx != 0 and my != 0 and not (free[y0, x1] and free[y1, x0]):
+                if not _can_step(free, x0, y0, mx, my):
                     continue
                 _scan_into(free, x1, y1, angles, max_cells, there, k)
                 gain = 0
@@ -209,11 +210,7 @@ def _bfs_from_set(free: NDArray[np.bool_], src: NDArray[np.bool_],
             for my in range(-1, 2):
                 x1 = x0 + mx
                 y1 = y0 + my
-                if (mx == 0 and my == 0) or x1 < 0 or y1 < 0 or x1 >= w or y1 >= h:
-                    continue
-                if out[y1, x1] >= 0 or not free[y1, x1]:
-                    continue
-                if mx != 0 and my != 0 and not (free[y0, x1] and free[y1, x0]):
+                if not _can_step(free, x0, y0, mx, my) or out[y1, x1] >= 0:
                     continue
                 out[y1, x1] = out[y0, x0] + 1
                 qx[tail] = x1

@@ -49,6 +49,21 @@ def _axis(d: float) -> tuple[int, float]:  # pragma: no cover - compiled
     return 0, np.inf
 
 
+@kernel(cache=True, nogil=True, inline="always")
+def _cross(
+    kx: int, ky: int, cx: int, cy: int, sx: int, sy: int, ddx: float, ddy: float,
+) -> tuple[float, int, int, int, int]:  # pragma: no cover - compiled
+    """One step of the grid walk of a beam from a cell centre (Amanatides & Woo): the
+    distance ``t`` (cells) at which it enters the next cell, and the updated crossing
+    counts (kx, ky) and cell (cx, cy). Shared by the laser, the rasteriser and the
+    exploration bound, so all three pass exactly the same cells."""
+    tx = (kx + 0.5) * ddx
+    ty = (ky + 0.5) * ddy
+    if tx < ty:
+        return tx, kx + 1, ky, cx + sx, cy
+    return ty, kx, ky + 1, cx, cy + sy
+
+
 @kernel(cache=True, nogil=True)
 def cast_rays_cells(
     free: NDArray[np.bool_], x0: int, y0: int, angles: NDArray[np.float64], max_cells: float,
@@ -67,16 +82,7 @@ def cast_rays_cells(
         cy = y0
         r = max_cells
         while True:
-            tx = (kx + 0.5) * ddx
-            ty = (ky + 0.5) * ddy
-            if tx < ty:
-                t = tx
-                kx += 1
-                cx += sx
-            else:
-                t = ty
-                ky += 1
-                cy += sy
+            t, kx, ky, cx, cy = _cross(kx, ky, cx, cy, sx, sy, ddx, ddy)
             if t >= max_cells:
                 break
             if cx < 0 or cy < 0 or cx >= w or cy >= h or not free[cy, cx]:

@@ -49,6 +49,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from swarmex._kernels import kernel
+from swarmex.sensing.laser import _axis, _cross
 
 P_HIT = 0.7
 P_MISS = 0.4
@@ -79,36 +80,15 @@ def _rasterise(
     ph, pw = free_p.shape
     for b in range(angles.shape[0]):
         r = ranges[b]
-        dx = math.cos(angles[b])
-        dy = math.sin(angles[b])
-        if dx > 0.0:
-            sx, ddx = 1, 1.0 / dx
-        elif dx < 0.0:
-            sx, ddx = -1, -1.0 / dx
-        else:
-            sx, ddx = 0, np.inf
-        if dy > 0.0:
-            sy, ddy = 1, 1.0 / dy
-        elif dy < 0.0:
-            sy, ddy = -1, -1.0 / dy
-        else:
-            sy, ddy = 0, np.inf
+        sx, ddx = _axis(math.cos(angles[b]))
+        sy, ddy = _axis(math.sin(angles[b]))
         kx = 0
         ky = 0
         cx = x0
         cy = y0
         free_p[cy - by, cx - bx] = True
         while True:
-            tx = (kx + 0.5) * ddx
-            ty = (ky + 0.5) * ddy
-            if tx < ty:
-                t = tx
-                kx += 1
-                cx += sx
-            else:
-                t = ty
-                ky += 1
-                cy += sy
+            t, kx, ky, cx, cy = _cross(kx, ky, cx, cy, sx, sy, ddx, ddy)
             inside = 0 <= cx - bx < pw and 0 <= cy - by < ph
             if t >= r:
                 if r < max_cells and inside:
