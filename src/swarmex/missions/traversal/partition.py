@@ -30,39 +30,47 @@ the agent's own belief only, and keeps each agent to its own part:
 
 Choices, and why (screened on 16 identical agents, both nest modes, seeds 0-3 of
 docs/traversal-variants.md §1 on empty-16-16, random-32-32-20 and room-32-32-4: 24 runs,
-makespan against madgta-p, paired, normal 95 % intervals; throw-away script)
+makespan against MADGTA unless said, paired, normal 95 % intervals; throw-away script)
 ---------------------------------------------------------------------------------------
 * **Weighted Voronoi, not plain Voronoi nor round robin.** Unweighted Voronoi parts:
-  +0.92 % ± 1.30 % against MADGTA (no end game); a round robin (each agent in turn takes its
-  nearest unassigned vertex, exactly balanced counts, scattered parts): room-32-32-4 seed 0
-  +9 %. The weights never balance the counts exactly (hop distances are integers and an
-  agent between another and a region shifts all of it at once): the imbalance kept is about
-  27 vertices in the median decision on room-32-32-4. Balancing harder by raising the
-  largest part's weight to its exact k-th margin was worse (room-32-32-4 seed 0: 566 s
-  against 531 s).
+  +0.92 % ± 1.30 % (no end game; weighted: -2.16 % ± 1.18 %); a round robin (each agent
+  in turn takes its nearest unassigned vertex, exactly balanced counts, scattered parts):
+  room-32-32-4, shared nest, seed 0, 666 s against MADGTA's 610 s. The weights never
+  balance the counts exactly (hop distances are integers, and an agent between another and
+  a region shifts all of it at once): the imbalance kept is about 27 vertices in the median
+  decision on room-32-32-4. Balancing harder by raising the
+  largest part's weight to its exact k-th margin was worse (room-32-32-4, own nests, seed
+  0: 566 s against 531 s; MADGTA 554 s).
 * **Balance by count**, not by count plus the travel to the part: -1.66 % against MADGTA
   without end game against -2.16 %.
 * **MADGTA's order inside the part**, not the fewest in-part neighbours first (a
   boustrophedon-like compactness rule): -1.07 % against -2.16 % (both without end game);
   branch 3 to the nearest vertex of the part, not MADGTA's max-min over the part: -2.33 %
   against -2.73 % with madgta-p's end game.
-* **Vacant neighbours outside the part are left** (``near='part'``); taking any vacant
-  neighbour when none is in the part: -2.64 % against -2.73 %.
+* **Vacant neighbours outside the part are left**; taking any vacant neighbour when none
+  is in the part: -2.64 % against -2.73 %.
 * **MADGTA in the end game's fallbacks and at a shared place**: -3.12 % against -2.73 %
-  (both against MADGTA); the difference is on empty-16-16 with a shared nest.
+  with the partition there (both against MADGTA); the difference is mostly on
+  empty-16-16 (-4.96 % against -3.84 %).
 * **40 rounds**: 20 and 60 gave -0.47 % and -0.34 % against madgta-p, 40 gave -1.04 %
   (same 24 runs): the result depends on which unbalanced partition is kept, so the gain
   is not robust to this setting.
 
-Results: docs/traversal-variants.md §6.
+Results (docs/traversal-variants.md §6; five MovingAI maps, 16 identical agents, 8 seeds,
+both nest modes, 80 paired runs): makespan -1.95 % ± 0.53 % against MADGTA (madgta-p
+-1.50 % ± 0.49 %), paired against madgta-p -0.46 % ± 0.34 %; lower than MADGTA in every map
+and nest row. The gain is on the small crowded maps (against madgta-p: random-32-32-20
+-0.96 %, room-32-32-4 -1.43 %); on random-64-64-20 and the warehouse it is noise (+0.13 %,
++0.01 %). Issue 17's -3 % is not reached. On the 32 gap instances (at most 16 vertices,
+always the end game) it is madgta-p, run for run.
 
 Cost
 ----
 Per decision before the end game: one hop row per agent's place (the field cache MADGTA
-already keeps) and 40 rounds over (vacant vertices x agents). CPU per run with 16 agents:
-about 1 s on empty-16-16, 3 s on random-32-32-20 and room-32-32-4, 15-20 s on
-random-64-64-20 and 35-50 s on warehouse-10-20-10-2-1 (madgta-p: 0.9-6.9 s). No message is
-added.
+already keeps) and up to 40 rounds over (vacant vertices x agents). CPU per run with 16
+agents: 0.95 s on empty-16-16, 3.0 s on random-32-32-20, 3.5 s on room-32-32-4, 17 s on
+random-64-64-20 and 40 s on warehouse-10-20-10-2-1 (madgta-p: 0.95-7.4 s in the same
+bench). No message is added.
 """
 
 from __future__ import annotations
