@@ -64,6 +64,7 @@ from swarmex.missions.traversal import Madgta, run_metrics, run_traversal, sim
 from swarmex.missions.traversal.agents import AgentSpec
 from swarmex.missions.traversal.madgta_h import MadgtaH
 from swarmex.missions.traversal.optimal import solve_optimal
+from swarmex.missions.traversal.partition import MadgtaK
 from swarmex.missions.traversal.rollout import MadgtaR
 from swarmex.missions.traversal.teamplan import MadgtaP
 from swarmex.worlds import random_obstacles
@@ -102,12 +103,13 @@ KNOWN = "known:"
 def online_policy(name: str) -> str | Madgta:
     """An algorithm name; ``madgta-h@RHO`` for madgta-h at another point of its trade-off;
     ``madgta-r@KEY=VALUE,...`` for madgta-r with other settings (``MadgtaR``'s keywords,
-    e.g. ``madgta-r@far=2,ties=4``), ``madgta-p@KEY=VALUE,...`` likewise (``MadgtaP``). A
+    e.g. ``madgta-r@far=2,ties=4``), ``madgta-p@KEY=VALUE,...`` likewise (``MadgtaP``;
+    ``madgta-k@...``: ``MadgtaK``). A
     ``known:`` prefix is dropped (see :func:`map_known`)."""
     name = name.removeprefix(KNOWN)
     if name.startswith("madgta-h@"):
         return MadgtaH(rho=float(name.split("@", 1)[1]))
-    for prefix, cls in (("madgta-r@", MadgtaR), ("madgta-p@", MadgtaP)):
+    for prefix, cls in (("madgta-r@", MadgtaR), ("madgta-p@", MadgtaP), ("madgta-k@", MadgtaK)):
         if name.startswith(prefix):
             kw = {}
             for item in name.split("@", 1)[1].split(","):

@@ -30,6 +30,7 @@ KERNEL_MODULES = (
     "swarmex.sensing.laser", "swarmex.sensing.frontiers", "swarmex.sensing.occupancy",
     "swarmex.missions.traversal.policies", "swarmex.missions.traversal.lattice",
     "swarmex.missions.traversal.rollout", "swarmex.missions.traversal.teamplan",
+    "swarmex.missions.traversal.partition",
     "swarmex.missions.foraging.fastloop", "swarmex.missions.exploration.paths",
 )
 

@@ -396,10 +396,10 @@ def test_madgta_h_dispatch_with_a_mixed_fleet(tmp_path, capsys):
     assert rec["metrics"]["total_time_all"] < plus["metrics"]["total_time_all"]
 
 
-@pytest.mark.parametrize("algorithm", ["madgta-r", "madgta-p"])
+@pytest.mark.parametrize("algorithm", ["madgta-r", "madgta-p", "madgta-k"])
 def test_madgta_r_dispatch(tmp_path, capsys, algorithm):
-    """``--algorithm madgta-r`` (and madgta-p): the record replays, names the algorithm and
-    equals swarmex.run's."""
+    """``--algorithm madgta-r`` (and madgta-p, madgta-k): the record replays, names the
+    algorithm and equals swarmex.run's."""
     import swarmex
 
     out = tmp_path / "r.json"

@@ -56,7 +56,7 @@ def serve(
     job_time: float = typer.Option(_default("job_time"), "--job-time", help="Seconds per job."),
     algorithm: str = typer.Option(
         _default("algorithm"), "--algorithm",
-        help="madgta | madgta+ | madgta-r | madgta-p | nearest.",
+        help="madgta | madgta+ | madgta-r | madgta-p | madgta-k | nearest.",
     ),
     connectivity: int = typer.Option(_default("connectivity"), "--connectivity", help="4 or 8."),
     start_interval: float = typer.Option(
@@ -148,9 +148,11 @@ def serve(
             "nodes_on_edge": nodes_on_edge,
         }
     )
-    if tparams.algorithm not in ("madgta", "madgta+", "madgta-r", "madgta-p", "nearest"):
+    if tparams.algorithm not in (
+        "madgta", "madgta+", "madgta-r", "madgta-p", "madgta-k", "nearest"
+    ):
         raise InputError(
-            "--algorithm must be madgta, madgta+, madgta-r, madgta-p or nearest, "
+            "--algorithm must be madgta, madgta+, madgta-r, madgta-p, madgta-k or nearest, "
             f"got {algorithm!r}"
         )
     prepared = traversal.prepare(tparams)

@@ -2,6 +2,7 @@
 
 from swarmex.missions.traversal import (
     madgta_h,  # noqa: F401,E402  (registers madgta-h)
+    partition,  # noqa: F401,E402  (registers madgta-k)
     rollout,  # noqa: F401,E402  (registers madgta-r)
     teamplan,  # noqa: F401,E402  (registers madgta-p)
     variants,  # noqa: F401,E402  (registers variants)

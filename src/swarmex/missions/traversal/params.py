@@ -50,7 +50,9 @@ from swarmex.missions.base import (
 from swarmex.missions.traversal.fleet import FleetRow, fleet, is_table_list
 from swarmex.worlds.geo import MAX_NODES_ON_EDGE, MAX_RADIUS, check_center
 
-ALGORITHMS = ("madgta", "madgta+", "madgta-h", "madgta-r", "madgta-p", "nearest", "optimal")
+ALGORITHMS = (
+    "madgta", "madgta+", "madgta-h", "madgta-r", "madgta-p", "madgta-k", "nearest", "optimal"
+)
 OBJECTIVES = ("sum", "makespan")
 MAX_GRID_CELLS = 16_000_000  # a 4000x4000 grid; beyond that the arrays alone exhaust memory
 _GRID = re.compile(r"^\s*(\d+)\s*[xX×]\s*(\d+)\s*$")
@@ -149,7 +151,8 @@ class TraversalParams(Params):
         "madgta",
         help="madgta | madgta+ | madgta-h (mixed fleets: lower sum, longer makespan)"
         " | madgta-r (rollout over MADGTA in the end game) | madgta-p (madgta-r with an"
-        " end-game team plan's vertex as one more candidate) | nearest | optimal (exact MILP).",
+        " end-game team plan's vertex as one more candidate) | madgta-k (madgta-p with a sweep"
+        " kept to each agent's part of a balanced partition) | nearest | optimal (exact MILP).",
         parse=text(ALGORITHMS),
     )
     objective: str = option(

@@ -1,0 +1,160 @@
+"""``madgta-k`` (swarmex.missions.traversal.partition): a sweep kept to each agent's part of
+a balanced partition of the vacant vertices, then madgta-p's end game.
+
+What is pinned: it is registered and selectable; the partition is hand-checked on
+corridors (Voronoi halves, the head start of a busy rival, the weights giving the smaller
+part the vertex between two agents but not the region behind one); the policy completes
+missions (identical and mixed teams, perfect and lossy channels), is madgta-p once every
+decision is in the end game, never writes the belief and gives the same decision for the
+same belief; compiled and interpreted kernels give the same run.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from swarmex.comm.channel import Channel
+from swarmex.missions.traversal import (
+    AgentSpec,
+    make_policy,
+    run_metrics,
+    run_traversal,
+    uniform_agents,
+)
+from swarmex.missions.traversal import partition as pt
+from swarmex.missions.traversal.policies import POLICIES
+from swarmex.missions.traversal.teamplan import MadgtaP
+from swarmex.worlds import random_obstacles
+
+from .checking import checking, jit_and_python_agree
+
+
+def test_registered_and_selectable():
+    assert POLICIES["madgta-k"] is pt.MadgtaK
+    policy = make_policy("madgta-k")
+    assert isinstance(policy, pt.MadgtaK) and isinstance(policy, MadgtaP)
+    assert policy.name == "madgta-k" and not policy.madgta_branch2
+    assert pt.MadgtaK(rounds=5, max_vacant=50).sweep.rounds == 5
+    for bad in (dict(rounds=0), dict(passes=-1), dict(k=0)):
+        with pytest.raises(ValueError):
+            pt.MadgtaK(**bad)
+
+
+def _parts(n: int, places: list[int], vacant: list[int], off: list[float] | None = None,
+           rounds: int = 40) -> tuple[list[int], float]:
+    """The partition kernel on corridor 0-1-...-(n-1) with agents at ``places``."""
+    hops = np.abs(np.arange(n)[None, :] - np.asarray(places)[:, None]).astype(np.int16)
+    assign = np.full(len(vacant), -1, dtype=np.int64)
+    _, err = pt._balanced_parts(
+        hops, np.arange(len(places), dtype=np.int64), np.asarray(vacant, dtype=np.int64),
+        np.zeros(len(places)) if off is None else np.asarray(off, dtype=float), rounds,
+        assign,
+    )
+    return assign.tolist(), err
+
+
+def test_two_ends_of_a_corridor_split_it_in_halves():
+    """Agents at 0 and 9, vertices 1..8 vacant: 1..4 are nearer 0, 5..8 nearer 9."""
+    assert _parts(10, [0, 9], list(range(1, 9))) == ([0, 0, 0, 0, 1, 1, 1, 1], 0.0)
+
+
+def test_a_busy_rival_has_a_head_start_against_it():
+    """The same corridor, agent 2 busy for 2 more edges: vertex v costs v to agent 1 and
+    9 - v + 2 to agent 2, so 1..5 go to agent 1 (5 against 3: imbalance 1, kept)."""
+    assert _parts(10, [0, 9], list(range(1, 9)), off=[0.0, 2.0]) == (
+        [0, 0, 0, 0, 0, 1, 1, 1], 1.0)
+
+
+def test_weights_give_the_smaller_part_what_lies_between_not_what_lies_behind():
+    """Corridor 0..12, agents at 0 and 4, vacant 1-3 and 5-12. Voronoi: 1 and 2 (a tie,
+    lowest id) to agent 1, the other nine to agent 2 (imbalance 3.5). Round 1 moves the
+    weights 2.39 hops apart, so 3 goes to agent 1 (3 against 8: 2.5). Every vertex past
+    4 is 4 hops farther from agent 1 than from agent 2, so a weight can only move all of
+    them at once (round 2: 11 against 0); the first partition of least imbalance is kept."""
+    assign, err = _parts(13, [0, 4], [1, 2, 3, *range(5, 13)])
+    assert assign == [0, 0, 0] + [1] * 8 and err == 2.5
+    assert _parts(13, [0, 4], [1, 2, 3, *range(5, 13)], rounds=1) == ([0, 0] + [1] * 9, 3.5)
+
+
+def _mixed(world, m: int, seed: int) -> list[AgentSpec]:
+    rng = np.random.default_rng(seed)
+    free = np.nonzero(~world.blocked)[0]
+    return [AgentSpec(int(v), float(rng.uniform(0.5, 1.0)), float(rng.uniform(5, 10)))
+            for v in rng.choice(free, m, replace=False)]
+
+
+class _EarlyEndGame(pt.MadgtaK):
+    """madgta-k whose end game starts at 20 vacant vertices, so that a small map has both
+    phases (checking() builds it without arguments)."""
+
+    def __init__(self) -> None:
+        super().__init__(max_vacant=20)
+
+
+@pytest.mark.parametrize("fleet", ["same", "mixed"])
+@pytest.mark.parametrize("nests", ["shared", "own"])
+def test_completes_every_job_once(fleet, nests):
+    world = random_obstacles(14, 14, 0.2, seed=1)
+    free = np.nonzero(~world.blocked)[0]
+    starts = [int(free[0])] * 5 if nests == "shared" else [int(v) for v in free[:40:8]]
+    agents = (uniform_agents(starts, 2.0, 9.0) if fleet == "same" else _mixed(world, 5, 1))
+    policy = _EarlyEndGame()
+    run = run_traversal(world, agents, policy, seed=1)
+    assert run.complete and policy.sweep.parted > 0 and policy.plans > 0
+    assert np.all(run.job_count[run.reachable] >= 1)
+    assert run_metrics(run, 1.0)[0]["duplicate_jobs"] == 0
+
+
+def test_completes_over_a_lossy_range_limited_channel():
+    world = random_obstacles(12, 12, 0.2, seed=3)
+    policy = _EarlyEndGame()
+    run = run_traversal(world, _mixed(world, 4, 3), policy, seed=3,
+                        channel=Channel(loss=0.3, range=4.0))
+    assert run.complete and policy.sweep.parted > 0
+
+
+def test_in_the_end_game_from_the_start_it_is_madgta_p_record_for_record():
+    world = random_obstacles(12, 12, 0.2, seed=7)
+    free = np.nonzero(~world.blocked)[0]
+    agents = uniform_agents([int(v) for v in free[:30:6]], 2.0, 9.0)
+    ours = run_traversal(world, agents, pt.MadgtaK(max_vacant=1000), seed=7)
+    theirs = run_traversal(world, agents, MadgtaP(max_vacant=1000), seed=7)
+    assert ours.path_strings() == theirs.path_strings()
+    assert run_metrics(ours, 1.0)[0] == run_metrics(theirs, 1.0)[0]
+
+
+def test_the_sweep_changes_the_runs():
+    """Not MADGTA in disguise: on a 14x14 map with own nests the sweep decides differently."""
+    world = random_obstacles(14, 14, 0.2, seed=2)
+    free = np.nonzero(~world.blocked)[0]
+    agents = uniform_agents([int(v) for v in free[:60:12]], 2.0, 9.0)
+    ours = run_traversal(world, agents, pt.PartSweep(), seed=2)
+    theirs = run_traversal(world, agents, "madgta", seed=2)
+    assert ours.complete and ours.path_strings() != theirs.path_strings()
+
+
+@pytest.mark.parametrize("base", [pt.PartSweep, _EarlyEndGame])
+def test_never_writes_the_belief_and_is_deterministic(base):
+    world = random_obstacles(12, 12, 0.2, seed=5)
+    free = np.nonzero(~world.blocked)[0]
+    spy = checking(base, 40)
+    run = run_traversal(world, uniform_agents([int(v) for v in free[:40:10]], 2.0, 9.0), spy,
+                        seed=5)
+    assert run.complete and spy.checked > 20
+
+
+def test_compiled_and_interpreted_give_the_same_run(tmp_path):
+    code = """
+    import json
+    import numpy as np
+    from swarmex.missions.traversal import run_traversal, run_metrics, uniform_agents
+    from swarmex.missions.traversal.partition import MadgtaK
+    from swarmex.worlds import random_obstacles
+    world = random_obstacles(10, 10, 0.2, seed=2)
+    free = np.nonzero(~world.blocked)[0]
+    run = run_traversal(world, uniform_agents([int(v) for v in free[:40:10]], 2.0, 9.0),
+                        MadgtaK(max_vacant=20), seed=2)
+    print(json.dumps([run.path_strings(), run_metrics(run, 1.0)[0]["max_total_time"]]))
+    """
+    jit_and_python_agree(code, tmp_path)
