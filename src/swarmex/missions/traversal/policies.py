@@ -162,6 +162,9 @@ class Madgta:
     """Algorithm 1's COMPUTE with Algorithm 2's GetBestNode."""
 
     name = "madgta"
+    #: whether a run's kernels simulate the mission (rollouts, team plans): interpreted, such
+    #: a run takes minutes even on a small map, so it always pays to load numba for it
+    simulates = False
     #: vertices the compiled branch-3 searches looked at, and how many such searches ran
     #: (operation counts for bench/ and tests/test_scale_growth.py)
     scanned = 0

@@ -733,6 +733,7 @@ class MadgtaR(Madgta):
     """
 
     name = "madgta-r"
+    simulates = True
 
     def __init__(
         self, k: int = 4, max_vacant: int | None = 200, horizon: int = 1_000_000,
