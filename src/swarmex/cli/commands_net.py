@@ -22,10 +22,13 @@ from swarmex.cli.app import app, console
 from swarmex.cli.outputs import check_output
 from swarmex.cli.shared import _positive, _say, run_mesh
 from swarmex.errors import InputError, require
-from swarmex.missions.traversal.params import TraversalParams
+from swarmex.missions.traversal.params import ALGORITHMS, TraversalParams
 from swarmex.net.vehicle import Safety
 
 _TRAVERSAL = TraversalParams.options()
+#: what the networked runtime serves: not madgta-h (the Fig. 4.17 wire has no ``leave``
+#: command) nor the whole-mission MILP
+SERVED = tuple(a for a in ALGORITHMS if a not in ("madgta-h", "optimal"))
 _SAFETY = Safety()  # the vehicle limits' defaults (swarmex.net.vehicle)
 
 
@@ -148,12 +151,9 @@ def serve(
             "nodes_on_edge": nodes_on_edge,
         }
     )
-    if tparams.algorithm not in (
-        "madgta", "madgta+", "madgta-r", "madgta-p", "madgta-k", "nearest"
-    ):
+    if tparams.algorithm not in SERVED:
         raise InputError(
-            "--algorithm must be madgta, madgta+, madgta-r, madgta-p, madgta-k or nearest, "
-            f"got {algorithm!r}"
+            f"--algorithm must be {', '.join(SERVED[:-1])} or {SERVED[-1]}, got {algorithm!r}"
         )
     prepared = traversal.prepare(tparams)
     world = prepared.world

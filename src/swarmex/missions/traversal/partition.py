@@ -157,19 +157,19 @@ def _places(belief: TraversalBelief) -> tuple[np.ndarray, np.ndarray]:
     return agents, src
 
 
-def parts(belief: TraversalBelief, rounds: int = 40) -> tuple[np.ndarray, np.ndarray, int]:
+def parts(
+    belief: TraversalBelief, rounds: int = 40,
+    places: tuple[np.ndarray, np.ndarray] | None = None,
+) -> tuple[np.ndarray, np.ndarray, int]:
     """The partition of the agent's belief (see the module docstring): (vacant vertices,
     index of the owning agent for each, index of the agent itself); indices are into the
-    known agents in id order."""
+    known agents in id order. ``places``: :func:`_places` of the belief, if already known."""
     known = belief.known
     me = belief.me
-    now = belief.now
-    agents, src = _places(belief)
+    agents, src = _places(belief) if places is None else places
     edge = known.step * belief.time_per_unit[agents]
-    off = np.zeros(agents.size)
-    for i, a in enumerate(agents.tolist()):
-        if a != me:
-            off[i] = max(float(belief.free_at[a]) - now, 0.0) / edge[i]
+    off = np.maximum(belief.free_at[agents].astype(float) - belief.now, 0.0) / edge
+    off[agents == me] = 0.0  # the agent decides now: no head start
     rows = np.asarray(known.slots(src), dtype=np.int64)
     mi = int(np.nonzero(agents == me)[0][0])
     free = (belief.status == 0) & ~known.blocked
@@ -200,10 +200,11 @@ class PartSweep(Madgta):
         here = belief.here
         if not belief.in_km(here):
             return Decision("job", here, here, 1)
-        _, src = _places(belief)
+        places = _places(belief)
+        src = places[1]
         if np.unique(src).size < src.size:  # agents at one place: arbitrary parts
             return Madgta.decide(self, belief, rng)
-        vac, assign, mi = parts(belief, self.rounds)
+        vac, assign, mi = parts(belief, self.rounds, places)
         mine = vac[assign == mi]
         if mine.size == 0:
             return Madgta.decide(self, belief, rng)
@@ -238,14 +239,9 @@ class MadgtaK(MadgtaP):
 
     def __init__(self, rounds: int = 40, **teamplan: object) -> None:
         super().__init__(**teamplan)  # type: ignore[arg-type]
-        self.sweep = PartSweep(rounds)
-
-    def decide(self, belief: TraversalBelief, rng: np.random.Generator) -> Decision:
-        if (self.max_vacant is not None and belief.known.uniform
-                and belief.in_km(belief.here)
-                and self._vacant(belief).size > self.max_vacant):
-            return self.sweep.decide(belief, rng)
-        return super().decide(belief, rng)
+        # madgta-r's own gate hands every decision before the end game to the sweep; its
+        # other fallbacks (an end game with too few candidates) stay MADGTA
+        self.sweep: PartSweep = PartSweep(rounds)
 
 
 POLICIES[MadgtaK.name] = MadgtaK

@@ -767,6 +767,8 @@ class MadgtaR(Madgta):
         self.nest = nest
         #: the policy of every decision not rolled out
         self._plain: Madgta = MadgtaPlus() if outside == "madgta+" else Madgta()
+        #: the policy before the end game (MADGTA's own, or a subclass's sweep rule)
+        self.sweep: Madgta = self._plain
         self._rows: dict[int, _Rows] = {}
         self.rollouts = 0  # decisions rolled out (for the benches)
         self.switched = 0  # of which MADGTA's first choice was not kept
@@ -783,7 +785,7 @@ class MadgtaR(Madgta):
             return self._plain.decide(belief, rng)  # branch 1, or edges of several lengths
         vacant = self._vacant(belief)
         if self.max_vacant is not None and vacant.size > self.max_vacant:
-            return self._plain.decide(belief, rng)  # not yet the end game: MADGTA as it is
+            return self.sweep.decide(belief, rng)  # not yet the end game
         rows = self._rows.get(id(known))
         if rows is None or rows.known is not known:
             rows = self._rows[id(known)] = _Rows(known)

@@ -461,7 +461,7 @@ class MadgtaP(MadgtaR):
             return self._plain.decide(belief, rng)
         vacant = self._vacant(belief)
         if self.max_vacant is not None and vacant.size > self.max_vacant:
-            return self._plain.decide(belief, rng)
+            return self.sweep.decide(belief, rng)  # not yet the end game
         rows = self._rows.get(id(known))
         if rows is None or rows.known is not known:
             rows = self._rows[id(known)] = _Rows(known)
