@@ -90,6 +90,9 @@ BAD = [
     (lambda e, t: base(e, "--task", "sweep"), "--task"),
     (lambda e, t: base(e, "--render", str(t / "x.svg")), "--render"),
     (lambda e, t: base(e, "--step-budget", "0"), "--step-budget"),
+    # numpy refused these with a traceback: a negative seed, a raster too large to allocate
+    (lambda e, t: base(e, "--seed", "-1"), "--seed must be at least 0"),
+    (lambda e, t: base(e, "--raster", "100000"), "--raster must be at most"),
     (lambda e, t: ["roadmap", "--env", str(e), "--agents", "x", "--nodes", "5", "--step", "1",
                    "--sensor-range", "1"], "agents"),
 ]
