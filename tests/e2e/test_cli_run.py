@@ -116,10 +116,20 @@ def test_bad_scenario_exits_2_with_one_line(name, tmp_path, capsys):
     assert code == 2, (out, err)
     assert len(err.strip().splitlines()) == 1, err
     assert "Traceback" not in out + err
-    assert "s.toml" in err  # the message names the file
+    assert err.count("s.toml") == 1  # the message names the file, once
 
 
 def test_a_mission_whose_command_is_missing(tmp_path, capsys, monkeypatch):
     monkeypatch.setitem(scenario_mod.MISSIONS, "teleport", "teleport-nowhere")
     code, _, err = cli(["run", write(tmp_path, 'mission = "teleport"\n')], capsys)
     assert code == 2 and "teleport-nowhere" in err and len(err.strip().splitlines()) == 1
+
+
+def test_the_monitor_names_a_scenario_file_once(tmp_path):
+    from swarmex.cli.commands_monitor import scenario_mission
+    from swarmex.errors import InputError
+
+    path = write(tmp_path, 'mission = "traversal"\ngrid = "4x4"\nagents = 2\ncolour = "red"\n')
+    with pytest.raises(InputError) as caught:
+        scenario_mission(path)
+    assert str(caught.value).count(str(path)) == 1 and "--colour" in str(caught.value)

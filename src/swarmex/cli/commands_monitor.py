@@ -34,7 +34,12 @@ from swarmex.errors import InputError, require
 def scenario_mission(scenario: Path) -> tuple[Any, Any]:
     """A scenario file's mission and checked params (the file's output keys, json and render,
     are ignored here)."""
-    from swarmex.experiments.scenario import load_scenario, mission_shapes, scenario_values
+    from swarmex.experiments.scenario import (
+        in_file,
+        load_scenario,
+        mission_shapes,
+        scenario_values,
+    )
     from swarmex.missions.registry import get
 
     scn = load_scenario(scenario)
@@ -44,7 +49,7 @@ def scenario_mission(scenario: Path) -> tuple[Any, Any]:
         mission = get(scn.mission)
         return mission, mission.params(scenario_values(scn, mission_shapes(scn.mission)))
     except InputError as exc:
-        raise InputError(f"{scenario}: {exc}") from None
+        raise in_file(scenario, exc) from None
 
 
 def run_scenario_record(scenario: Path) -> dict:
