@@ -418,3 +418,32 @@ def test_chunk_size_follows_run_time_and_shrinks_at_the_end():
     assert _chunk_size(0.02, 1000, 2) == 5  # about 0.1 s of work per chunk
     assert _chunk_size(5.0, 1000, 2) == 1  # long runs one at a time (Ctrl-C stays quick)
     assert _chunk_size(0.001, 20, 2) == 2  # the tail: a quarter of a fair share
+
+
+def test_the_progress_bar_is_silent_in_a_pipe(tmp_path, capsys):
+    # Rich printed a non-terminal bar's last state on stop: "sweep ━━━ 8/8 runs/s" in a log
+    path = write_spec(tmp_path)
+    assert main(["sweep", str(path), "--backend", "serial", "--out", str(tmp_path / "o")]) == 0
+    captured = capsys.readouterr()
+    assert "runs/s" not in captured.err + captured.out
+    assert "8/8 runs finished" in captured.out
+
+
+def test_the_progress_bar_draws_on_a_terminal():
+    import io
+
+    from rich.console import Console
+
+    from swarmex.experiments.progress import runs_progress
+
+    screen = io.StringIO()
+    bar = runs_progress("sweep", Console(file=screen, force_terminal=True, width=100))
+    task = bar.add_task("", total=2)
+    with bar:
+        bar.advance(task, 2)
+    assert "2/2" in screen.getvalue() and "runs/s" in screen.getvalue()
+    piped = io.StringIO()
+    bar = runs_progress("sweep", Console(file=piped, force_terminal=False))
+    with bar:
+        bar.advance(bar.add_task("", total=2), 2)
+    assert piped.getvalue() == ""
