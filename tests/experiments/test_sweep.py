@@ -447,3 +447,28 @@ def test_the_progress_bar_draws_on_a_terminal():
     with bar:
         bar.advance(bar.add_task("", total=2), 2)
     assert piped.getvalue() == ""
+
+
+def test_an_interrupted_table_has_every_record_on_disk(tmp_path):
+    # Ctrl-C with 87 records on disk left 83 rows: runs a worker had written but whose
+    # outcome was still on its way to the driver were missing from results.parquet
+    path = write_spec(tmp_path)
+    fresh = tmp_path / "fresh"
+    sweep(path, fresh)
+    ids = [r["run"] for r in pq.read_table(fresh / "results.parquet").to_pylist()]
+    out = tmp_path / "out"
+    seen: list[str] = []
+
+    def ctrl_c_with_one_in_flight(outcome):
+        seen.append(outcome.run_id)
+        if len(seen) == 3:  # a worker has just written the last run's record
+            (out / "runs" / f"{ids[-1]}.json").write_text(
+                (fresh / "runs" / f"{ids[-1]}.json").read_text()
+            )
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        sweep(path, out, on_outcome=ctrl_c_with_one_in_flight)
+    rows = pq.read_table(out / "results.parquet").to_pylist()
+    assert [r["run"] for r in rows] == [*ids[:3], ids[-1]]
+    assert rows[-1]["makespan"] == table_rows(fresh)[-1]["makespan"]
