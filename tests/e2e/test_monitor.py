@@ -549,3 +549,19 @@ def test_browser_draws_informed_and_carrying_foragers(tmp_path):
     assert mid_gold > 20 * informed and mid_green > 10 * carrying
     assert all(a["informed"] for a in final["agents"])
     assert not any(a["carrying"] for a in final["agents"]) and end_green == 0
+
+
+def test_the_address_line_says_what_the_server_does():
+    from swarmex.cli.commands_monitor import address_note
+
+    # a scenario runs in this process: it was announced as "waiting for events on /ingest"
+    assert address_note(5, wait=True, has_mission=True, connect=None) == (
+        "waiting for the first viewer"
+    )
+    assert address_note(5, wait=False, has_mission=True, connect=None) == "streaming"
+    assert address_note(5, wait=True, has_mission=False, connect=None) == (
+        "waiting for events on ws://127.0.0.1:5/ingest"
+    )
+    assert address_note(5, wait=True, has_mission=False, connect="tcp://h:1") == (
+        "showing the mission at tcp://h:1"
+    )

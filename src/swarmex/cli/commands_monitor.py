@@ -52,6 +52,18 @@ def scenario_mission(scenario: Path) -> tuple[Any, Any]:
         raise in_file(scenario, exc) from None
 
 
+def address_note(port: int, *, wait: bool, has_mission: bool, connect: str | None) -> str:
+    """What the server does, said after the page's address: a replayed record or a scenario
+    run in this process (``has_mission``) waits for a viewer or streams at once; otherwise
+    the page shows a networked mission or whatever a producer sends to /ingest. (A scenario
+    run used to be announced as "waiting for events on /ingest", which it never needs.)"""
+    if connect is not None:
+        return f"showing the mission at {connect}"
+    if has_mission:
+        return "waiting for the first viewer" if wait else "streaming"
+    return f"waiting for events on ws://127.0.0.1:{port}/ingest"
+
+
 def run_scenario_record(scenario: Path) -> dict:
     """Run a scenario file's mission in this process (through the Mission contract) and
     return its result record."""
@@ -338,12 +350,8 @@ def monitor(
         producer = network_producer(connect)
 
     def ready(srv: MonitorServer) -> None:
-        what = ("waiting for the first viewer" if wait and (record or live) is not None
-                else "streaming")
-        if connect is not None:
-            what = f"showing the mission at {connect}"
-        elif record is None:
-            what = f"waiting for events on ws://127.0.0.1:{srv.port}/ingest"
+        what = address_note(srv.port, wait=wait, has_mission=record is not None or live is not None,
+                            connect=connect)
         console.print(f"swarmex monitor: {srv.url} ({what})", soft_wrap=True, highlight=False)
         console.file.flush()
 
