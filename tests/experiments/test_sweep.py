@@ -114,6 +114,9 @@ def test_spec_fixed_table_seed_count_and_algorithm_option(tmp_path):
         ({"mission": "traversal", "agents": [2, 2]}, "lists a value twice"),
         ({"mission": "traversal", "seeds": [0, 0]}, "seed twice"),
         ({"mission": "traversal", "seeds": "many"}, "seeds must be"),
+        # accepted before, and then every run with the seed failed inside numpy
+        ({"mission": "traversal", "seeds": [-1, 2]}, "seeds must be >= 0, got -1"),
+        ({"mission": "roadmap", "seed": -3}, "seeds must be >= 0, got -3"),
         ({"mission": "traversal", "agents": []}, "no values"),
         ({"mission": "traversal", "travel_time": 1, "travel-time": 2}, "given twice"),
     ],

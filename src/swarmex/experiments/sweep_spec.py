@@ -166,6 +166,7 @@ def _seeds(path: Path, seeds: Any, seed: Any) -> list[int]:
             if value < 1:
                 raise InputError(f"{path}: seeds = {value}: need at least one seed")
             return list(range(value))
+        _non_negative(path, [value])
         return [value]
     if (
         isinstance(value, list)
@@ -174,8 +175,17 @@ def _seeds(path: Path, seeds: Any, seed: Any) -> list[int]:
     ):
         if len(set(value)) != len(value):
             raise InputError(f"{path}: seeds lists a seed twice")
+        _non_negative(path, value)
         return list(value)
     raise InputError(f"{path}: seeds must be a list of integers or a count, got {value!r}")
+
+
+def _non_negative(path: Path, seeds: list[int]) -> None:
+    """Seeds are numpy seeds, which cannot be negative: refuse them before any run, or every
+    run with one fails (each with numpy's "expected non-negative integer")."""
+    negative = [s for s in seeds if s < 0]
+    if negative:
+        raise InputError(f"{path}: seeds must be >= 0, got {negative[0]}")
 
 
 def _check_values(path: Path, key: str, values: list[Any]) -> None:
