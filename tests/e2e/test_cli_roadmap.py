@@ -92,6 +92,9 @@ BAD = [
     (lambda e, t: base(e, "--step-budget", "0"), "--step-budget"),
     # numpy refused these with a traceback: a negative seed, a raster too large to allocate
     (lambda e, t: base(e, "--seed", "-1"), "--seed must be at least 0"),
+    # too many agents for the default cluster: the message says what to do
+    (lambda e, t: [*base(e)[:4], "200", "--nodes", "300", *base(e)[7:]],
+     "give their positions with --starts"),
     (lambda e, t: base(e, "--raster", "100000"), "--raster must be at most"),
     (lambda e, t: ["roadmap", "--env", str(e), "--agents", "x", "--nodes", "5", "--step", "1",
                    "--sensor-range", "1"], "agents"),
