@@ -65,6 +65,13 @@ def test_explicit_starts_goal_and_renders(env, tmp_path):
     assert gif.read_bytes()[:3] == b"GIF"
 
 
+def _full_env(tmp_path: Path) -> Path:
+    p = tmp_path / "full.json"
+    p.write_text('{"bounds": [0, 0, 100, 100], "obstacles": [[[0, 0], [100, 0], [100, 100], '
+                 '[0, 100]]]}')
+    return p
+
+
 def _bad_env(tmp_path: Path) -> Path:
     p = tmp_path / "bad.json"
     p.write_text('{"bounds": [0, 0, 100, 100], "obstacles": [[[1, 1], [2, 2]')
@@ -74,6 +81,9 @@ def _bad_env(tmp_path: Path) -> Path:
 BAD = [
     (lambda e, t: base(t / "missing.json"), "not found"),
     (lambda e, t: base(_bad_env(t)), "malformed JSON"),
+    # was reported as no room for the start cluster, or as a start inside an obstacle
+    (lambda e, t: base(_full_env(t)), "full.json: no free space"),
+    (lambda e, t: base(_full_env(t), "--starts", "1,1;2,2;3,3"), "full.json: no free space"),
     (lambda e, t: base(e, "--starts", "50,45;10,10;12,12"), "inside an obstacle"),
     (lambda e, t: base(e, "--starts", "10,10;12,12"), "2 positions for --agents 3"),
     (lambda e, t: base(e, "--starts", "10;12,12;5,5"), "--starts"),
