@@ -133,3 +133,23 @@ def test_the_monitor_names_a_scenario_file_once(tmp_path):
     with pytest.raises(InputError) as caught:
         scenario_mission(path)
     assert str(caught.value).count(str(path)) == 1 and "--colour" in str(caught.value)
+
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+
+
+def test_the_roadmap_examples_run(tmp_path, capsys):
+    # examples/ had a scenario for every mission but the roadmap, and no roadmap sweep
+    out = tmp_path / "r.json"
+    code, text, err = cli(
+        ["run", EXAMPLES / "roadmap.toml", "--nodes", "60", "--json", out], capsys
+    )
+    assert code == 0, err
+    rec = json.loads(out.read_text())
+    assert rec["params"]["planner"] == "wma-rrt-fairshare" and rec["params"]["task"] == "search"
+    assert rec["params"]["sensor_range"] == 40.0 and rec["params"]["goal"] == [250.0, 230.0]
+    assert "wma-rrt-fairshare search" in text
+    from swarmex.experiments.sweep_spec import load_sweep_spec
+
+    spec = load_sweep_spec(EXAMPLES / "sweep-roadmap.toml")
+    assert len(spec.runs()) == 30 and spec.axes["algorithm"][0] == "wma-rrt"
