@@ -124,3 +124,21 @@ def test_search_without_goal(tmp_path, capsys):
     p.write_text(json.dumps({"bounds": [0, 0, 100, 100], "obstacles": []}))
     assert main(base(p, "--task", "search")) == 2
     assert "needs a goal" in capsys.readouterr().err
+
+
+def test_ctrl_c_exits_130_with_one_line(env, tmp_path, capsys, monkeypatch):
+    # Typer turned Ctrl-C into a silent exit 130: nothing said the run was interrupted, nor
+    # that a reproduction's finished runs were kept
+    import swarmex.studies.roadmap as study
+    from swarmex.missions.registry import get
+
+    def ctrl_c(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(type(get("roadmap")), "execute", ctrl_c)
+    assert main(base(env)) == 130
+    assert capsys.readouterr().err == "swarmex: interrupted\n"
+    monkeypatch.setattr(study, "reproduce", ctrl_c)
+    assert main(["reproduce", "roadmap", "--quick", "--out", str(tmp_path / "rep")]) == 130
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "finished runs are saved in" in err and "resume" in err

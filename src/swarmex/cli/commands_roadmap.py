@@ -11,7 +11,7 @@ from typing import Any
 
 import typer
 
-from swarmex.cli.app import console, reproduce_app
+from swarmex.cli.app import console, interrupted, reproduce_app
 from swarmex.cli.missions import Surface, mission_command
 from swarmex.missions.base import FrameList, Outcome
 from swarmex.missions.registry import get
@@ -63,4 +63,7 @@ def reproduce_roadmap(
     """Tables 1–2, Fig. 6 and Figs. 14–17 of seed 004, beside the paper's numbers."""
     from swarmex.studies.roadmap import reproduce
 
-    reproduce(out, quick=quick, console=console)
+    try:
+        reproduce(out, quick=quick, console=console)
+    except KeyboardInterrupt:  # every finished run is in the journal already
+        interrupted(f"finished runs are saved in {out} (run the same command again to resume)")

@@ -18,7 +18,7 @@ from rich.measure import Measurement
 from rich.progress import TaskID
 from rich.table import Table
 
-from swarmex.cli.app import app, console, err_console
+from swarmex.cli.app import app, console, err_console, interrupted
 from swarmex.errors import InputError
 from swarmex.experiments.progress import runs_progress
 
@@ -114,11 +114,9 @@ def sweep(
             if task is not None:  # a bar never started would print a blank line
                 progress.stop()
     except KeyboardInterrupt:
-        err_console.print(
-            f"swarmex: interrupted; finished runs are saved in {out_dir}"
-            " (run the same command again to resume)"
+        interrupted(
+            f"finished runs are saved in {out_dir} (run the same command again to resume)"
         )
-        raise typer.Exit(130) from None
     finally:
         if previous is not None:
             signal.signal(signal.SIGTERM, previous)
