@@ -475,3 +475,14 @@ def test_an_interrupted_table_has_every_record_on_disk(tmp_path):
     rows = pq.read_table(out / "results.parquet").to_pylist()
     assert [r["run"] for r in rows] == [*ids[:3], ids[-1]]
     assert rows[-1]["makespan"] == table_rows(fresh)[-1]["makespan"]
+
+
+def test_the_spec_in_docs_sweeps_runs_without_failures(tmp_path):
+    # its [fixed] nest (0,9) lay outside the 8x8 grid of its own axis: half its runs failed
+    import re
+
+    doc = (Path(__file__).resolve().parents[2] / "docs" / "sweeps.md").read_text()
+    text = re.search(r"```toml\n(.*?)```", doc, re.S).group(1)
+    result = sweep(write_spec(tmp_path, text.replace("seeds = [0, 1, 2]", "seeds = [0]")),
+                   tmp_path / "o")
+    assert (result.total, result.failed) == (8, 0)
