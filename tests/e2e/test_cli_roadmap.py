@@ -142,3 +142,15 @@ def test_ctrl_c_exits_130_with_one_line(env, tmp_path, capsys, monkeypatch):
     assert main(["reproduce", "roadmap", "--quick", "--out", str(tmp_path / "rep")]) == 130
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "finished runs are saved in" in err and "resume" in err
+
+
+def test_reproduce_into_a_file_is_one_line(tmp_path, capsys):
+    # mkdir's FileExistsError came out as a traceback
+    afile = tmp_path / "afile"
+    afile.write_text("")
+    assert main(["reproduce", "roadmap", "--quick", "--out", str(afile)]) == 2
+    err = capsys.readouterr().err
+    assert "exists and is not a directory" in err and err.count("\n") == 1
+    assert main(["reproduce", "roadmap", "--quick", "--out", str(afile / "sub")]) == 2
+    err = capsys.readouterr().err
+    assert "--out: cannot create" in err and err.count("\n") == 1

@@ -13,6 +13,7 @@ import typer
 
 from swarmex.cli.app import console, interrupted, reproduce_app
 from swarmex.cli.missions import Surface, mission_command
+from swarmex.errors import InputError
 from swarmex.missions.base import FrameList, Outcome
 from swarmex.missions.registry import get
 
@@ -63,6 +64,12 @@ def reproduce_roadmap(
     """Tables 1–2, Fig. 6 and Figs. 14–17 of seed 004, beside the paper's numbers."""
     from swarmex.studies.roadmap import reproduce
 
+    if out.exists() and not out.is_dir():  # was a FileExistsError traceback from mkdir
+        raise InputError(f"--out {out} exists and is not a directory")
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InputError(f"--out: cannot create {out}: {exc.strerror}") from None
     try:
         reproduce(out, quick=quick, console=console)
     except KeyboardInterrupt:  # every finished run is in the journal already
