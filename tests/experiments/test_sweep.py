@@ -486,3 +486,18 @@ def test_the_spec_in_docs_sweeps_runs_without_failures(tmp_path):
     result = sweep(write_spec(tmp_path, text.replace("seeds = [0, 1, 2]", "seeds = [0]")),
                    tmp_path / "o")
     assert (result.total, result.failed) == (8, 0)
+
+
+def test_algorithm_and_its_option_together_are_refused(tmp_path, capsys):
+    # the run used `algorithm`, while the table's `planner` column named the other one
+    env = Path(__file__).resolve().parents[2] / "examples" / "roadmap_fig8.json"
+    path = write_spec(
+        tmp_path,
+        f'mission = "roadmap"\nenv = "{env}"\nagents = 2\nnodes = 40\nstep = 40\n'
+        'sensor-range = 25\nplanner = ["prm"]\nalgorithm = ["wma-rrt"]\n',
+    )
+    code = main(["sweep", str(path), "--backend", "serial", "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1
+    assert "algorithm and planner are the same option" in err
+    assert not (tmp_path / "o" / "runs").exists() or not list((tmp_path / "o" / "runs").iterdir())

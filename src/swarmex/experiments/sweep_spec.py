@@ -94,10 +94,18 @@ class SweepSpec:
         taken from the spec's folder, and checked for required options before anything runs.
         """
         options: dict[str, Any] = {}
+        given = {key.replace("_", "-") for key in run.params}
         for key, value in run.params.items():
             name = key.replace("_", "-")
             if name == "algorithm":
                 name = algorithm_option(shapes, self.path, self.command)
+                if name != "algorithm" and name in given:
+                    # both name the same option: one silently won, and the table's column
+                    # of the other one named an algorithm that never ran
+                    raise InputError(
+                        f"{self.path}: algorithm and {name} are the same option of swarmex"
+                        f" {self.command} (--{name}); give one of them"
+                    )
             options[name] = value
         options["seed"] = run.seed
         missing = [n for n, shape in shapes.items() if shape.required and n not in options]
