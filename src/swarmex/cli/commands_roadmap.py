@@ -34,7 +34,9 @@ def summary_line(record: dict[str, Any]) -> str:
 
 
 def report(outcome: Outcome, params: Any) -> None:
-    console.print(summary_line(outcome.record.to_dict()), highlight=False)
+    # soft_wrap: one line whatever the width, so that `grep steps= | cut` works on a log
+    # (Rich folded it over two or three lines at a pipe's 80 columns)
+    console.print(summary_line(outcome.record.to_dict()), highlight=False, soft_wrap=True)
 
 
 def render(outcome: Outcome, path: Path, frames: list[Any]) -> None:
