@@ -501,3 +501,12 @@ def test_algorithm_and_its_option_together_are_refused(tmp_path, capsys):
     assert code == 2 and err.count("\n") == 1
     assert "algorithm and planner are the same option" in err
     assert not (tmp_path / "o" / "runs").exists() or not list((tmp_path / "o" / "runs").iterdir())
+
+
+def test_the_sweep_lines_are_not_folded(tmp_path, capsys):
+    # Rich folded "sweep: … → DIR" at 80 columns, cutting the folder's path in two in a log
+    path = write_spec(tmp_path)
+    out = tmp_path / ("a-long-folder-name-" * 4) / "o"
+    assert main(["sweep", str(path), "--backend", "serial", "--out", str(out)]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[0].endswith(f"→ {out}") and lines[1].endswith(str(out / "results.parquet"))

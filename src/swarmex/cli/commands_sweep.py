@@ -78,7 +78,8 @@ def sweep(
         todo = total - finished
         console.print(
             f"sweep: {total} runs of swarmex {spec.command} ({finished} finished before,"
-            f" {todo} to run) → {out_dir}"
+            f" {todo} to run) → {out_dir}",
+            soft_wrap=True,  # one line each, whatever the width: paths stay whole in logs
         )
         nonlocal task
         task = progress.add_task("", total=total, completed=finished)
@@ -122,12 +123,14 @@ def sweep(
             signal.signal(signal.SIGTERM, previous)
     console.print(
         f"{result.skipped + result.ran}/{result.total} runs finished ({result.ran} now),"
-        f" {result.failed} failed → {result.table}"
+        f" {result.failed} failed → {result.table}",
+        soft_wrap=True,
     )
     if result.failed:
         console.print(
             f"[yellow]failed runs are in the table's error column and in"
-            f" {result.out_dir / 'runs'}/*.error.json[/]"
+            f" {result.out_dir / 'runs'}/*.error.json[/]",
+            soft_wrap=True,
         )
     if summary:
         print_summary(result.out_dir, metric)
