@@ -242,5 +242,5 @@ def plot(
     path = out if out is not None else base / f"{y}-vs-{x}.png"
     written, note = plot_sweep(table.to_pylist(), meta, x, y, hue, where, kind, path)
     if note:
-        console.print(note)
-    console.print(f"wrote {written}")
+        console.print(note, soft_wrap=True)  # one line each, as the sweep's own lines
+    console.print(f"wrote {written}", soft_wrap=True)
