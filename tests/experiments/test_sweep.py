@@ -510,3 +510,17 @@ def test_the_sweep_lines_are_not_folded(tmp_path, capsys):
     assert main(["sweep", str(path), "--backend", "serial", "--out", str(out)]) == 0
     lines = capsys.readouterr().out.splitlines()
     assert lines[0].endswith(f"→ {out}") and lines[1].endswith(str(out / "results.parquet"))
+
+
+def test_a_missing_input_file_stops_the_sweep_before_any_run(tmp_path, capsys):
+    # every run failed with "environment file not found", one error file each
+    path = write_spec(
+        tmp_path,
+        'mission = "roadmap"\nenv = ["fig8.json"]\nagents = 2\nnodes = 40\nstep = 40\n'
+        'sensor-range = 25\nseeds = 3\n',
+    )
+    code = main(["sweep", str(path), "--backend", "serial", "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1
+    assert f"env = {tmp_path / 'fig8.json'}: no such file" in err
+    assert not list((tmp_path / "o").glob("runs/*"))

@@ -115,7 +115,13 @@ class SweepSpec:
                 f"{self.path}: swarmex {self.command} needs"
                 f" {', '.join('--' + n for n in missing)}; add {wanted} to the spec"
             )
-        return scenario_values(Scenario(self.path, self.mission, options), shapes)
+        values = scenario_values(Scenario(self.path, self.mission, options), shapes)
+        for name, shape in shapes.items():
+            given = values.get(name.replace("-", "_"))
+            if shape.is_path and isinstance(given, Path) and not given.exists():
+                # before anything runs: otherwise every run with it fails, one error file each
+                raise InputError(f"{self.path}: {name} = {given}: no such file")
+        return values
 
 
 def run_id(mission: str, params: dict[str, Any], seed: int) -> str:
