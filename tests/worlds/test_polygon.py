@@ -151,6 +151,7 @@ def test_missing_file(tmp_path):
         load_polygon_world(tmp_path / "nope.json")
 
 
+@pytest.mark.filterwarnings("ignore::DeprecationWarning")  # imageio tries every plugin
 def test_an_unreadable_image_is_one_line(tmp_path):
     # imageio's message goes on with lines of plugins to pip install; bad input is one line
     png = tmp_path / "bad.png"
