@@ -117,10 +117,10 @@ class SweepSpec:
             )
         values = scenario_values(Scenario(self.path, self.mission, options), shapes)
         for name, shape in shapes.items():
-            given = values.get(name.replace("-", "_"))
-            if shape.is_path and isinstance(given, Path) and not given.exists():
+            file = values.get(name.replace("-", "_"))
+            if shape.is_path and isinstance(file, Path) and not file.exists():
                 # before anything runs: otherwise every run with it fails, one error file each
-                raise InputError(f"{self.path}: {name} = {given}: no such file")
+                raise InputError(f"{self.path}: {name} = {file}: no such file")
         return values
 
 
