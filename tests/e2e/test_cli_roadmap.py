@@ -37,7 +37,8 @@ def test_run_writes_a_replayable_record(env, tmp_path, capsys, planner, task):
     out = tmp_path / "run.json"
     argv = base(env, "--planner", planner, "--task", task, "--seed", "2", "--json", str(out))
     assert main(argv) == 0
-    assert "coverage=" in capsys.readouterr().out
+    summary = capsys.readouterr().out.splitlines()[0]  # one line, even in a pipe
+    assert summary.startswith(f"{planner} {task}: complete=") and " path=" in summary
     rec = json.loads(out.read_text())
     assert rec["mission"] == "roadmap" and rec["algorithm"] == planner
     assert rec["world"]["kind"] == "polygons" and rec["time_unit"] == "step"
@@ -65,6 +66,13 @@ def test_explicit_starts_goal_and_renders(env, tmp_path):
     assert gif.read_bytes()[:3] == b"GIF"
 
 
+def _full_env(tmp_path: Path) -> Path:
+    p = tmp_path / "full.json"
+    p.write_text('{"bounds": [0, 0, 100, 100], "obstacles": [[[0, 0], [100, 0], [100, 100], '
+                 '[0, 100]]]}')
+    return p
+
+
 def _bad_env(tmp_path: Path) -> Path:
     p = tmp_path / "bad.json"
     p.write_text('{"bounds": [0, 0, 100, 100], "obstacles": [[[1, 1], [2, 2]')
@@ -74,6 +82,9 @@ def _bad_env(tmp_path: Path) -> Path:
 BAD = [
     (lambda e, t: base(t / "missing.json"), "not found"),
     (lambda e, t: base(_bad_env(t)), "malformed JSON"),
+    # was reported as no room for the start cluster, or as a start inside an obstacle
+    (lambda e, t: base(_full_env(t)), "full.json: no free space"),
+    (lambda e, t: base(_full_env(t), "--starts", "1,1;2,2;3,3"), "full.json: no free space"),
     (lambda e, t: base(e, "--starts", "50,45;10,10;12,12"), "inside an obstacle"),
     (lambda e, t: base(e, "--starts", "10,10;12,12"), "2 positions for --agents 3"),
     (lambda e, t: base(e, "--starts", "10;12,12;5,5"), "--starts"),
@@ -90,6 +101,12 @@ BAD = [
     (lambda e, t: base(e, "--task", "sweep"), "--task"),
     (lambda e, t: base(e, "--render", str(t / "x.svg")), "--render"),
     (lambda e, t: base(e, "--step-budget", "0"), "--step-budget"),
+    # numpy refused these with a traceback: a negative seed, a raster too large to allocate
+    (lambda e, t: base(e, "--seed", "-1"), "--seed must be at least 0"),
+    # too many agents for the default cluster: the message says what to do
+    (lambda e, t: [*base(e)[:4], "200", "--nodes", "300", *base(e)[7:]],
+     "give their positions with --starts"),
+    (lambda e, t: base(e, "--raster", "100000"), "--raster must be at most"),
     (lambda e, t: ["roadmap", "--env", str(e), "--agents", "x", "--nodes", "5", "--step", "1",
                    "--sensor-range", "1"], "agents"),
 ]
@@ -108,3 +125,33 @@ def test_search_without_goal(tmp_path, capsys):
     p.write_text(json.dumps({"bounds": [0, 0, 100, 100], "obstacles": []}))
     assert main(base(p, "--task", "search")) == 2
     assert "needs a goal" in capsys.readouterr().err
+
+
+def test_ctrl_c_exits_130_with_one_line(env, tmp_path, capsys, monkeypatch):
+    # Typer turned Ctrl-C into a silent exit 130: nothing said the run was interrupted, nor
+    # that a reproduction's finished runs were kept
+    import swarmex.studies.roadmap as study
+    from swarmex.missions.registry import get
+
+    def ctrl_c(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(type(get("roadmap")), "execute", ctrl_c)
+    assert main(base(env)) == 130
+    assert capsys.readouterr().err == "swarmex: interrupted\n"
+    monkeypatch.setattr(study, "reproduce", ctrl_c)
+    assert main(["reproduce", "roadmap", "--quick", "--out", str(tmp_path / "rep")]) == 130
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "finished runs are saved in" in err and "resume" in err
+
+
+def test_reproduce_into_a_file_is_one_line(tmp_path, capsys):
+    # mkdir's FileExistsError came out as a traceback
+    afile = tmp_path / "afile"
+    afile.write_text("")
+    assert main(["reproduce", "roadmap", "--quick", "--out", str(afile)]) == 2
+    err = capsys.readouterr().err
+    assert "exists and is not a directory" in err and err.count("\n") == 1
+    assert main(["reproduce", "roadmap", "--quick", "--out", str(afile / "sub")]) == 2
+    err = capsys.readouterr().err
+    assert "--out: cannot create" in err and err.count("\n") == 1

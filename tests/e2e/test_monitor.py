@@ -258,6 +258,9 @@ def test_ingest_feeds_the_same_page_stream():
         (["--scenario", "a.toml", "--record", "b.json"], "at most one of"),
         (["--connect", "tcp://127.0.0.1:9", "--record", "b.json"], "at most one of"),
         (["--port", "70000"], "--port must be"),
+        # the reader thread died with a ZMQError traceback and the page waited for nothing
+        (["--connect", "foo"], "--connect: expected tcp://HOST:PORT"),
+        (["--connect", "tcp://127.0.0.1"], "--connect: expected tcp://HOST:PORT"),
     ],
 )
 def test_monitor_bad_input_exits_2(argv, message, capsys):
@@ -549,3 +552,36 @@ def test_browser_draws_informed_and_carrying_foragers(tmp_path):
     assert mid_gold > 20 * informed and mid_green > 10 * carrying
     assert all(a["informed"] for a in final["agents"])
     assert not any(a["carrying"] for a in final["agents"]) and end_green == 0
+
+
+def test_the_address_line_says_what_the_server_does():
+    from swarmex.cli.commands_monitor import address_note
+
+    # a scenario runs in this process: it was announced as "waiting for events on /ingest"
+    assert address_note(5, wait=True, has_mission=True, connect=None) == (
+        "waiting for the first viewer"
+    )
+    assert address_note(5, wait=False, has_mission=True, connect=None) == "streaming"
+    assert address_note(5, wait=True, has_mission=False, connect=None) == (
+        "waiting for events on ws://127.0.0.1:5/ingest"
+    )
+    assert address_note(5, wait=True, has_mission=False, connect="tcp://h:1") == (
+        "showing the mission at tcp://h:1"
+    )
+
+
+@pytest.mark.parametrize(
+    ("text", "needle"),
+    [
+        ('{"agents": 3}', "'agents' must be a list"),
+        ('{"agents": [{"id": 0, "trajectory": [[0, 1]]}]}', "[t, x, y] rows"),
+        ('{"agents": [], "makespan": "long"}', "'makespan' must be a number"),
+    ],
+)
+def test_a_json_that_is_not_a_record_is_one_line(tmp_path, capsys, text, needle):
+    # these were tracebacks from the summary line or the event builder
+    path = tmp_path / "r.json"
+    path.write_text(text)
+    assert main(["monitor", "--record", str(path), "--no-wait", "--linger", "0"]) == 2
+    err = capsys.readouterr().err
+    assert needle in err and "not a result record" in err and err.count("\n") == 1

@@ -164,6 +164,13 @@ def test_bad_params_are_the_same_input_error_as_swarmex_run():
     with pytest.raises(swarmex.InputError, match="max_edges=50"):  # the PRM has ~190 edges
         roadmap_v0.env(planner="prm", max_edges=50, **SMALL).reset()
 
+    # numpy refused a negative reset seed from deep inside the run, without naming it
+    env = roadmap_v0.env(**SMALL)
+    for seed, needle in ((-3, "reset seed must be at least 0"), ("x", "expected an integer")):
+        with pytest.raises(swarmex.InputError, match=needle):
+            env.reset(seed=seed)
+    env.close()
+
 
 def test_bad_actions_raise_naming_agent_action_and_why():
     aec = roadmap_v0.env(**SMALL)

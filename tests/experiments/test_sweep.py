@@ -114,6 +114,9 @@ def test_spec_fixed_table_seed_count_and_algorithm_option(tmp_path):
         ({"mission": "traversal", "agents": [2, 2]}, "lists a value twice"),
         ({"mission": "traversal", "seeds": [0, 0]}, "seed twice"),
         ({"mission": "traversal", "seeds": "many"}, "seeds must be"),
+        # accepted before, and then every run with the seed failed inside numpy
+        ({"mission": "traversal", "seeds": [-1, 2]}, "seeds must be >= 0, got -1"),
+        ({"mission": "roadmap", "seed": -3}, "seeds must be >= 0, got -3"),
         ({"mission": "traversal", "agents": []}, "no values"),
         ({"mission": "traversal", "travel_time": 1, "travel-time": 2}, "given twice"),
     ],
@@ -418,3 +421,106 @@ def test_chunk_size_follows_run_time_and_shrinks_at_the_end():
     assert _chunk_size(0.02, 1000, 2) == 5  # about 0.1 s of work per chunk
     assert _chunk_size(5.0, 1000, 2) == 1  # long runs one at a time (Ctrl-C stays quick)
     assert _chunk_size(0.001, 20, 2) == 2  # the tail: a quarter of a fair share
+
+
+def test_the_progress_bar_is_silent_in_a_pipe(tmp_path, capsys):
+    # Rich printed a non-terminal bar's last state on stop: "sweep ━━━ 8/8 runs/s" in a log
+    path = write_spec(tmp_path)
+    assert main(["sweep", str(path), "--backend", "serial", "--out", str(tmp_path / "o")]) == 0
+    captured = capsys.readouterr()
+    assert "runs/s" not in captured.err + captured.out
+    assert "8/8 runs finished" in captured.out
+
+
+def test_the_progress_bar_draws_on_a_terminal():
+    import io
+
+    from rich.console import Console
+
+    from swarmex.experiments.progress import runs_progress
+
+    screen = io.StringIO()
+    bar = runs_progress("sweep", Console(file=screen, force_terminal=True, width=100))
+    task = bar.add_task("", total=2)
+    with bar:
+        bar.advance(task, 2)
+    assert "2/2" in screen.getvalue() and "runs/s" in screen.getvalue()
+    piped = io.StringIO()
+    bar = runs_progress("sweep", Console(file=piped, force_terminal=False))
+    with bar:
+        bar.advance(bar.add_task("", total=2), 2)
+    assert piped.getvalue() == ""
+
+
+def test_an_interrupted_table_has_every_record_on_disk(tmp_path):
+    # Ctrl-C with 87 records on disk left 83 rows: runs a worker had written but whose
+    # outcome was still on its way to the driver were missing from results.parquet
+    path = write_spec(tmp_path)
+    fresh = tmp_path / "fresh"
+    sweep(path, fresh)
+    ids = [r["run"] for r in pq.read_table(fresh / "results.parquet").to_pylist()]
+    out = tmp_path / "out"
+    seen: list[str] = []
+
+    def ctrl_c_with_one_in_flight(outcome):
+        seen.append(outcome.run_id)
+        if len(seen) == 3:  # a worker has just written the last run's record
+            (out / "runs" / f"{ids[-1]}.json").write_text(
+                (fresh / "runs" / f"{ids[-1]}.json").read_text()
+            )
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        sweep(path, out, on_outcome=ctrl_c_with_one_in_flight)
+    rows = pq.read_table(out / "results.parquet").to_pylist()
+    assert [r["run"] for r in rows] == [*ids[:3], ids[-1]]
+    assert rows[-1]["makespan"] == table_rows(fresh)[-1]["makespan"]
+
+
+def test_the_spec_in_docs_sweeps_runs_without_failures(tmp_path):
+    # its [fixed] nest (0,9) lay outside the 8x8 grid of its own axis: half its runs failed
+    import re
+
+    doc = (Path(__file__).resolve().parents[2] / "docs" / "sweeps.md").read_text()
+    text = re.search(r"```toml\n(.*?)```", doc, re.S).group(1)
+    result = sweep(write_spec(tmp_path, text.replace("seeds = [0, 1, 2]", "seeds = [0]")),
+                   tmp_path / "o")
+    assert (result.total, result.failed) == (8, 0)
+
+
+def test_algorithm_and_its_option_together_are_refused(tmp_path, capsys):
+    # the run used `algorithm`, while the table's `planner` column named the other one
+    env = Path(__file__).resolve().parents[2] / "examples" / "roadmap_fig8.json"
+    path = write_spec(
+        tmp_path,
+        f'mission = "roadmap"\nenv = "{env}"\nagents = 2\nnodes = 40\nstep = 40\n'
+        'sensor-range = 25\nplanner = ["prm"]\nalgorithm = ["wma-rrt"]\n',
+    )
+    code = main(["sweep", str(path), "--backend", "serial", "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1
+    assert "algorithm and planner are the same option" in err
+    assert not (tmp_path / "o" / "runs").exists() or not list((tmp_path / "o" / "runs").iterdir())
+
+
+def test_the_sweep_lines_are_not_folded(tmp_path, capsys):
+    # Rich folded "sweep: … → DIR" at 80 columns, cutting the folder's path in two in a log
+    path = write_spec(tmp_path)
+    out = tmp_path / ("a-long-folder-name-" * 4) / "o"
+    assert main(["sweep", str(path), "--backend", "serial", "--out", str(out)]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[0].endswith(f"→ {out}") and lines[1].endswith(str(out / "results.parquet"))
+
+
+def test_a_missing_input_file_stops_the_sweep_before_any_run(tmp_path, capsys):
+    # every run failed with "environment file not found", one error file each
+    path = write_spec(
+        tmp_path,
+        'mission = "roadmap"\nenv = ["fig8.json"]\nagents = 2\nnodes = 40\nstep = 40\n'
+        'sensor-range = 25\nseeds = 3\n',
+    )
+    code = main(["sweep", str(path), "--backend", "serial", "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1
+    assert f"env = {tmp_path / 'fig8.json'}: no such file" in err
+    assert not list((tmp_path / "o").glob("runs/*"))

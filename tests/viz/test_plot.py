@@ -98,6 +98,13 @@ def test_cli_plot_of_a_real_sweep(tmp_path, capsys):
     err = capsys.readouterr().err
     assert err.startswith("swarmex: error: --y: no column 'nope'") and err.count("\n") == 1
     assert main(["plot", str(tmp_path / "missing"), "--x", "a", "--y", "b"]) == 2
+    capsys.readouterr()
+    # the note and the "wrote" line were folded at 80 columns
+    deep = tmp_path / ("a-long-folder-name-" * 4) / "p.png"
+    assert main(["plot", str(out), "--x", "seed", "--y", "makespan", "--out", str(deep)]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert lines == ["note: pooled over agents (use --hue or --where to separate)",
+                     f"wrote {deep}"]
 
 
 def test_traversal_mp4_render(tmp_path, capsys):

@@ -149,3 +149,13 @@ def test_movingai_and_image_cells_become_squares(tmp_path):
 def test_missing_file(tmp_path):
     with pytest.raises(InputError, match="not found"):
         load_polygon_world(tmp_path / "nope.json")
+
+
+@pytest.mark.filterwarnings("ignore::DeprecationWarning")  # imageio tries every plugin
+def test_an_unreadable_image_is_one_line(tmp_path):
+    # imageio's message goes on with lines of plugins to pip install; bad input is one line
+    png = tmp_path / "bad.png"
+    png.write_bytes(b"not a png")
+    with pytest.raises(InputError, match="cannot read image") as caught:
+        load_polygon_world(png)
+    assert "\n" not in str(caught.value)

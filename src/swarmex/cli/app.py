@@ -17,7 +17,7 @@ from __future__ import annotations
 import importlib
 import sys
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, NoReturn
 
 import typer
 from rich.console import Console
@@ -170,3 +170,28 @@ app.add_typer(reproduce_app, name="reproduce")
 
 console = Console()
 err_console = Console(stderr=True)
+
+# whether a command has said what an interruption kept (see interrupted); main() says
+# "swarmex: interrupted" itself otherwise
+_interrupt_told = [False]
+
+
+def interrupted(detail: str) -> NoReturn:
+    """End a command stopped by Ctrl-C with one line on stderr saying what was kept, and exit
+    status 130.
+
+    Why here and not in main(): Typer turns a KeyboardInterrupt into a silent exit 130 before
+    main() sees it, so a command that keeps finished work (a sweep, a reproduction) must say so
+    itself; main() prints the plain "swarmex: interrupted" for the others.
+    """
+    err_console.print(f"swarmex: interrupted; {detail}", highlight=False, soft_wrap=True)
+    _interrupt_told[0] = True
+    raise typer.Exit(130)
+
+
+def interrupt_told(reset: bool = False) -> bool:
+    """Whether :func:`interrupted` spoke since the last reset (``reset`` clears it)."""
+    told = _interrupt_told[0]
+    if reset:
+        _interrupt_told[0] = False
+    return told

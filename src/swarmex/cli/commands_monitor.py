@@ -34,7 +34,12 @@ from swarmex.errors import InputError, require
 def scenario_mission(scenario: Path) -> tuple[Any, Any]:
     """A scenario file's mission and checked params (the file's output keys, json and render,
     are ignored here)."""
-    from swarmex.experiments.scenario import load_scenario, mission_shapes, scenario_values
+    from swarmex.experiments.scenario import (
+        in_file,
+        load_scenario,
+        mission_shapes,
+        scenario_values,
+    )
     from swarmex.missions.registry import get
 
     scn = load_scenario(scenario)
@@ -44,7 +49,60 @@ def scenario_mission(scenario: Path) -> tuple[Any, Any]:
         mission = get(scn.mission)
         return mission, mission.params(scenario_values(scn, mission_shapes(scn.mission)))
     except InputError as exc:
-        raise InputError(f"{scenario}: {exc}") from None
+        raise in_file(scenario, exc) from None
+
+
+def check_connect(address: str) -> None:
+    """``--connect`` must be a ZeroMQ endpoint the mission server publishes on: otherwise the
+    reader thread died with a ZMQError traceback and the page waited for nothing."""
+    if address.startswith(("ipc://", "inproc://")) and len(address.split("://", 1)[1]) > 0:
+        return
+    host, sep, port = address.removeprefix("tcp://").rpartition(":")
+    if address.startswith("tcp://") and host and sep and port.isdigit() and 0 < int(port) < 65536:
+        return
+    raise InputError(f"--connect: expected tcp://HOST:PORT, got {address!r}")
+
+
+def check_record(record: Any, path: Path) -> None:
+    """What the replay reads of a record, checked up front so that a JSON file that is not a
+    result record is one line, not a traceback from inside the event builder: the agents
+    (objects with an id, their trajectories ``[t, x, y]`` rows) and a numeric makespan."""
+
+    def bad(what: str) -> InputError:
+        return InputError(f"{path} is not a result record ({what})")
+
+    if not isinstance(record, dict) or "agents" not in record:
+        raise bad("no agents")
+    agents = record["agents"]
+    if not isinstance(agents, list) or not all(
+        isinstance(a, dict) and "id" in a for a in agents
+    ):
+        raise bad("'agents' must be a list of objects with an 'id'")
+    for a in agents:
+        for key in ("trajectory", "jobs"):
+            rows = a.get(key, [])
+            if not isinstance(rows, list) or not all(
+                isinstance(r, list) and len(r) >= 3
+                and all(isinstance(v, int | float) and not isinstance(v, bool) for v in r[:3])
+                for r in rows
+            ):
+                raise bad(f"agent {a['id']}: '{key}' must be a list of [t, x, y] rows")
+    makespan = record.get("makespan")
+    if makespan is not None and (isinstance(makespan, bool)
+                                 or not isinstance(makespan, int | float)):
+        raise bad(f"'makespan' must be a number, got {makespan!r}")
+
+
+def address_note(port: int, *, wait: bool, has_mission: bool, connect: str | None) -> str:
+    """What the server does, said after the page's address: a replayed record or a scenario
+    run in this process (``has_mission``) waits for a viewer or streams at once; otherwise
+    the page shows a networked mission or whatever a producer sends to /ingest. (A scenario
+    run used to be announced as "waiting for events on /ingest", which it never needs.)"""
+    if connect is not None:
+        return f"showing the mission at {connect}"
+    if has_mission:
+        return "waiting for the first viewer" if wait else "streaming"
+    return f"waiting for events on ws://127.0.0.1:{port}/ingest"
 
 
 def run_scenario_record(scenario: Path) -> dict:
@@ -289,16 +347,18 @@ def monitor(
         )
     elif record_file is not None:
         record = read_record(record_file)
-        if not isinstance(record, dict) or "agents" not in record:
-            raise InputError(f"{record_file} is not a result record (no agents)")
+        check_record(record, record_file)
     if record is not None and json_path is not None:
         write_json_atomic(record, json_path)
     if record is not None:
         done = "complete" if record.get("complete") else "incomplete"
         messages = (record.get("metrics") or {}).get("messages")
+        makespan = record.get("makespan")
         console.print(
             f"{record.get('mission')} · {record.get('algorithm')} · {len(record['agents'])} agents"
-            f" · {done} · makespan {record.get('makespan'):.1f} {record.get('time_unit', '')}"
+            f" · {done} · makespan "
+            + (f"{makespan:.1f}" if makespan is not None else "?")
+            + f" {record.get('time_unit', '')}"
             + (f" · {messages} messages" if messages is not None else ""),
             highlight=False,
         )
@@ -320,12 +380,16 @@ def monitor(
 
     if record is not None:
         base = record_file.resolve().parent if record_file is not None else None
-        events = record_events(record, speed=speed, world=record_world(record, base))
+        try:
+            events = record_events(record, speed=speed, world=record_world(record, base))
+        except (TypeError, KeyError, ValueError, IndexError) as exc:  # a hand-made record
+            raise InputError(f"{record_file} is not a result record: {exc}") from None
 
         def producer(hub):
             return replay(hub, events, speed, wait)
 
     if connect is not None:
+        check_connect(connect)
         try:
             from swarmex.net.events import network_producer
         except ImportError as exc:
@@ -333,12 +397,8 @@ def monitor(
         producer = network_producer(connect)
 
     def ready(srv: MonitorServer) -> None:
-        what = ("waiting for the first viewer" if wait and (record or live) is not None
-                else "streaming")
-        if connect is not None:
-            what = f"showing the mission at {connect}"
-        elif record is None:
-            what = f"waiting for events on ws://127.0.0.1:{srv.port}/ingest"
+        what = address_note(srv.port, wait=wait, has_mission=record is not None or live is not None,
+                            connect=connect)
         console.print(f"swarmex monitor: {srv.url} ({what})", soft_wrap=True, highlight=False)
         console.file.flush()
 

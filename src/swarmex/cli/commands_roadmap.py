@@ -11,8 +11,9 @@ from typing import Any
 
 import typer
 
-from swarmex.cli.app import console, reproduce_app
+from swarmex.cli.app import console, interrupted, reproduce_app
 from swarmex.cli.missions import Surface, mission_command
+from swarmex.errors import InputError
 from swarmex.missions.base import FrameList, Outcome
 from swarmex.missions.registry import get
 
@@ -33,7 +34,9 @@ def summary_line(record: dict[str, Any]) -> str:
 
 
 def report(outcome: Outcome, params: Any) -> None:
-    console.print(summary_line(outcome.record.to_dict()), highlight=False)
+    # soft_wrap: one line whatever the width, so that `grep steps= | cut` works on a log
+    # (Rich folded it over two or three lines at a pipe's 80 columns)
+    console.print(summary_line(outcome.record.to_dict()), highlight=False, soft_wrap=True)
 
 
 def render(outcome: Outcome, path: Path, frames: list[Any]) -> None:
@@ -63,4 +66,13 @@ def reproduce_roadmap(
     """Tables 1–2, Fig. 6 and Figs. 14–17 of seed 004, beside the paper's numbers."""
     from swarmex.studies.roadmap import reproduce
 
-    reproduce(out, quick=quick, console=console)
+    if out.exists() and not out.is_dir():  # was a FileExistsError traceback from mkdir
+        raise InputError(f"--out {out} exists and is not a directory")
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InputError(f"--out: cannot create {out}: {exc.strerror}") from None
+    try:
+        reproduce(out, quick=quick, console=console)
+    except KeyboardInterrupt:  # every finished run is in the journal already
+        interrupted(f"finished runs are saved in {out} (run the same command again to resume)")

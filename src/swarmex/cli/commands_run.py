@@ -18,6 +18,7 @@ from swarmex.cli.app import app
 from swarmex.errors import InputError
 from swarmex.experiments.scenario import (
     OptionShape,
+    in_file,
     load_scenario,
     mission_shapes,
     scenario_values,
@@ -82,4 +83,4 @@ def run_scenario(
             values[key] = resolve_path(scn.path.parent, str(value))
         return invoke(scn.mission, values, ctx.args)
     except InputError as exc:
-        raise InputError(f"{scenario}: {exc}") from None
+        raise in_file(scenario, exc) from None

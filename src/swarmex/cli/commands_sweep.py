@@ -18,7 +18,7 @@ from rich.measure import Measurement
 from rich.progress import TaskID
 from rich.table import Table
 
-from swarmex.cli.app import app, console, err_console
+from swarmex.cli.app import app, console, err_console, interrupted
 from swarmex.errors import InputError
 from swarmex.experiments.progress import runs_progress
 
@@ -78,7 +78,8 @@ def sweep(
         todo = total - finished
         console.print(
             f"sweep: {total} runs of swarmex {spec.command} ({finished} finished before,"
-            f" {todo} to run) → {out_dir}"
+            f" {todo} to run) → {out_dir}",
+            soft_wrap=True,  # one line each, whatever the width: paths stay whole in logs
         )
         nonlocal task
         task = progress.add_task("", total=total, completed=finished)
@@ -114,22 +115,22 @@ def sweep(
             if task is not None:  # a bar never started would print a blank line
                 progress.stop()
     except KeyboardInterrupt:
-        err_console.print(
-            f"swarmex: interrupted; finished runs are saved in {out_dir}"
-            " (run the same command again to resume)"
+        interrupted(
+            f"finished runs are saved in {out_dir} (run the same command again to resume)"
         )
-        raise typer.Exit(130) from None
     finally:
         if previous is not None:
             signal.signal(signal.SIGTERM, previous)
     console.print(
         f"{result.skipped + result.ran}/{result.total} runs finished ({result.ran} now),"
-        f" {result.failed} failed → {result.table}"
+        f" {result.failed} failed → {result.table}",
+        soft_wrap=True,
     )
     if result.failed:
         console.print(
             f"[yellow]failed runs are in the table's error column and in"
-            f" {result.out_dir / 'runs'}/*.error.json[/]"
+            f" {result.out_dir / 'runs'}/*.error.json[/]",
+            soft_wrap=True,
         )
     if summary:
         print_summary(result.out_dir, metric)
@@ -241,5 +242,5 @@ def plot(
     path = out if out is not None else base / f"{y}-vs-{x}.png"
     written, note = plot_sweep(table.to_pylist(), meta, x, y, hue, where, kind, path)
     if note:
-        console.print(note)
-    console.print(f"wrote {written}")
+        console.print(note, soft_wrap=True)  # one line each, as the sweep's own lines
+    console.print(f"wrote {written}", soft_wrap=True)

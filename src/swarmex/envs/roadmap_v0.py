@@ -84,6 +84,7 @@ from pettingzoo.utils.wrappers import (
 from swarmex.envs.broker import Ask, DecisionBroker
 from swarmex.envs.common import check_finite
 from swarmex.errors import InputError
+from swarmex.missions.base import integer
 from swarmex.missions.registry import get
 from swarmex.missions.roadmap.params import GRAPH_PLANNERS
 
@@ -413,8 +414,9 @@ class raw_env(AECEnv[str, dict[str, np.ndarray], int]):  # noqa: N801 - PettingZ
     # ---------------------------------------------------------------- episode
     def reset(self, seed: int | None = None, options: dict[str, Any] | None = None) -> None:
         self._close_episode()
-        if seed is not None:
-            self._seed = int(seed)
+        if seed is not None:  # checked as the seed parameter is: numpy's refusal of a
+            # negative seed came from deep in the run, without naming it
+            self._seed = integer(lo=0)(seed, "roadmap_v0: reset seed")
         else:
             self._seed = self.params.seed if self._seed is None else self._seed + 1
         params = dataclasses.replace(self.params, seed=self._seed)

@@ -201,6 +201,14 @@ def scenario_values(scenario: Scenario, shapes: dict[str, OptionShape]) -> dict[
     return values
 
 
+def in_file(path: Path, exc: InputError) -> InputError:
+    """``exc`` as one line that names the scenario file once: errors of the mission's parsers
+    do not know the file, but the ones raised here (an unknown key) already start with it,
+    and naming it twice ("s.toml: s.toml: ...") reads as a bug."""
+    text = str(exc)
+    return exc if text.startswith(f"{path}:") else InputError(f"{path}: {text}")
+
+
 def resolve_path(folder: Path, text: str) -> Path:
     """A path from a scenario: ``~`` expanded, relative ones taken from the file's folder."""
     p = Path(text).expanduser()

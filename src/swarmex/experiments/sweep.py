@@ -322,6 +322,9 @@ def run_sweep(
         raise
     finally:
         store.close()
+        if interrupted:  # records the workers wrote whose outcomes never reached the driver
+            for run_id, outcome in store.finished(runs).items():
+                outcomes.setdefault(run_id, outcome)
         table = write_table(build_table(spec, runs, outcomes), store.dir / RESULTS)
     failed = sum(1 for o in outcomes.values() if not o.ok)
     return SweepResult(

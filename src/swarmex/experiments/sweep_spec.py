@@ -94,10 +94,18 @@ class SweepSpec:
         taken from the spec's folder, and checked for required options before anything runs.
         """
         options: dict[str, Any] = {}
+        given = {key.replace("_", "-") for key in run.params}
         for key, value in run.params.items():
             name = key.replace("_", "-")
             if name == "algorithm":
                 name = algorithm_option(shapes, self.path, self.command)
+                if name != "algorithm" and name in given:
+                    # both name the same option: one silently won, and the table's column
+                    # of the other one named an algorithm that never ran
+                    raise InputError(
+                        f"{self.path}: algorithm and {name} are the same option of swarmex"
+                        f" {self.command} (--{name}); give one of them"
+                    )
             options[name] = value
         options["seed"] = run.seed
         missing = [n for n, shape in shapes.items() if shape.required and n not in options]
@@ -107,7 +115,13 @@ class SweepSpec:
                 f"{self.path}: swarmex {self.command} needs"
                 f" {', '.join('--' + n for n in missing)}; add {wanted} to the spec"
             )
-        return scenario_values(Scenario(self.path, self.mission, options), shapes)
+        values = scenario_values(Scenario(self.path, self.mission, options), shapes)
+        for name, shape in shapes.items():
+            file = values.get(name.replace("-", "_"))
+            if shape.is_path and isinstance(file, Path) and not file.exists():
+                # before anything runs: otherwise every run with it fails, one error file each
+                raise InputError(f"{self.path}: {name} = {file}: no such file")
+        return values
 
 
 def run_id(mission: str, params: dict[str, Any], seed: int) -> str:
@@ -166,6 +180,7 @@ def _seeds(path: Path, seeds: Any, seed: Any) -> list[int]:
             if value < 1:
                 raise InputError(f"{path}: seeds = {value}: need at least one seed")
             return list(range(value))
+        _non_negative(path, [value])
         return [value]
     if (
         isinstance(value, list)
@@ -174,8 +189,17 @@ def _seeds(path: Path, seeds: Any, seed: Any) -> list[int]:
     ):
         if len(set(value)) != len(value):
             raise InputError(f"{path}: seeds lists a seed twice")
+        _non_negative(path, value)
         return list(value)
     raise InputError(f"{path}: seeds must be a list of integers or a count, got {value!r}")
+
+
+def _non_negative(path: Path, seeds: list[int]) -> None:
+    """Seeds are numpy seeds, which cannot be negative: refuse them before any run, or every
+    run with one fails (each with numpy's "expected non-negative integer")."""
+    negative = [s for s in seeds if s < 0]
+    if negative:
+        raise InputError(f"{path}: seeds must be >= 0, got {negative[0]}")
 
 
 def _check_values(path: Path, key: str, values: list[Any]) -> None:

@@ -301,7 +301,10 @@ def load_polygon_world(path: str | Path) -> PolygonWorld:
         try:
             img = np.asarray(iio.imread(path), dtype=np.float64)
         except Exception as exc:  # imageio raises many types for unreadable files
-            raise InputError(f"cannot read image {path}: {exc}") from None
+            # first line only: imageio appends lines of plugins to pip install, and bad input
+            # is one line
+            reason = (str(exc).strip().splitlines() or [type(exc).__name__])[0]
+            raise InputError(f"cannot read image {path}: {reason}") from None
         if img.ndim == 3:
             img = img[..., :3].mean(axis=2)
         if img.ndim != 2:

@@ -127,6 +127,8 @@ BAD: list[tuple[dict[str, Any], str]] = [
     ({"starts": ""}, "--starts"),
     ({"step_budget": 0}, "--step-budget"),
     ({"raster": 4}, "--raster"),
+    ({"raster": 10**6}, "--raster must be at most"),
+    ({"seed": -1}, "--seed must be at least 0"),
     ({"env": 42}, "--env"),
     ({"sensor": 20}, "did you mean 'sensor_range'"),
 ]

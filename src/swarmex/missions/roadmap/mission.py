@@ -147,10 +147,12 @@ class RoadmapMission(Mission[RoadmapParams, RoadmapWorld]):
         import shapely
 
         world = load_environment(params.env)
-        starts = resolve_starts(world, params)
-        goal = resolve_goal(world, params)
+        # before the starts: a world without free space would otherwise be reported as a
+        # start inside an obstacle, or as no room for the default start cluster
         if shapely.is_empty(world.free_region):
             raise InputError(f"{world.source}: no free space")
+        starts = resolve_starts(world, params)
+        goal = resolve_goal(world, params)
         return RoadmapWorld(world, starts, goal)
 
     def execute(

@@ -52,6 +52,9 @@ TASKS = ("coverage", "search")
 # the coverage raster's cells on the long side; equal to sensing.coverage_raster.DEFAULT_CELLS
 # (a test checks it), not imported from there because that module pulls in numba
 RASTER_CELLS = 256
+# the finest raster accepted: 4096 cells on the long side already take about 0.8 GB and a few
+# seconds; a larger value would fail with a numpy MemoryError (or swap) instead of one line
+RASTER_MAX = 4096
 _INFINITE = ("inf", "infinite", "infinity", "∞")
 
 
@@ -163,14 +166,17 @@ class RoadmapParams(Params):
     starts: tuple[Point, ...] | None = option(
         None, help="Starts 'x,y;x,y;…'.", parse=optional(points())
     )
-    seed: int = option(0, help="Seed of every random choice.", parse=integer())
+    # numpy's generators refuse negative seeds: refuse them here, by name, before any work
+    seed: int = option(0, help="Seed of every random choice.", parse=integer(lo=0))
     step_budget: int | None = option(
         None,
         help="Stop after this many steps (PRM default: 2K).",
         parse=optional(integer(lo=1)),
     )
     raster: int = option(
-        RASTER_CELLS, help="Coverage raster cells on the long side.", parse=integer(lo=8)
+        RASTER_CELLS,
+        help=f"Coverage raster cells on the long side (8 to {RASTER_MAX}).",
+        parse=integer(lo=8, hi=RASTER_MAX),
     )
 
     def check(self) -> None:
@@ -195,6 +201,7 @@ __all__ = [
     "GRAPH_PLANNERS",
     "PLANNERS",
     "RASTER_CELLS",
+    "RASTER_MAX",
     "TASKS",
     "RoadmapParams",
     "SensorRange",

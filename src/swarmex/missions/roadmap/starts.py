@@ -23,7 +23,10 @@ def default_starts(world: PolygonWorld, n: int) -> np.ndarray:
     margin = rho + 0.02 * scale
     room = shapely.buffer(world.free_region, -margin)
     if room.is_empty:
-        raise InputError(f"no free spot with {margin:g} units of clearance for {n} agents")
+        raise InputError(  # the user did not choose this cluster: say how to avoid it
+            f"no free spot with {margin:g} units of clearance for the default cluster of {n}"
+            " agents: give their positions with --starts"
+        )
     corner = shapely.Point(world.lower_left())
     centre = np.asarray(shapely.shortest_line(room, corner).coords[0])
     if n == 1:
