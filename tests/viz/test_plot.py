@@ -86,6 +86,12 @@ def test_bad_requests_name_the_problem(tmp_path, kwargs, message):
         plot_sweep(rows(), META, **args)
 
 
+def test_an_output_under_a_file_names_that_file(tmp_path):
+    (tmp_path / "afile").write_text("x")
+    with pytest.raises(InputError, match="afile is a file, not a folder"):
+        plot_sweep(rows(), META, "agents", "makespan", None, path=tmp_path / "afile" / "p.png")
+
+
 def test_cli_plot_of_a_real_sweep(tmp_path, capsys):
     spec = tmp_path / "s.toml"
     spec.write_text('mission = "traversal"\ngrid = "4x4"\nagents = [1, 2]\nseeds = [0, 1]\n')
