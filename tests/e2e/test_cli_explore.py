@@ -49,6 +49,9 @@ def test_explore_gif_and_starts(tmp_path):
         (["--empty", "3x3", "--robots", "1", "--render", "x.bmp"], "--render"),
         (["--empty", "3x3"], "--robots"),
         (["--empty", "3x3", "--robots", "many"], "robots"),
+        (["--empty", "3x3", "--robots", "1", "--seed", "-1"], "--seed"),
+        (["--empty", "3x3", "--robots", "1", "--robot-radius", "2"],
+         "fits in no free cell"),
     ],
 )
 def test_bad_input_exits_2_with_one_line(args, needle, capsys):
@@ -67,6 +70,23 @@ def test_unreadable_map_files(tmp_path, capsys):
     assert main(["explore", "--map", str(y), "--robots", "1"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "m.pgm" in err
+
+
+def test_maps_with_no_room_to_move(tmp_path, capsys):
+    """A map of walls only, and a map whose passages are narrower than the robot (a MovingAI
+    map read at the default 5 cm cells), are refused before the run: they used to raise a
+    traceback, or run zero steps and report the mission complete."""
+    walls = tmp_path / "walls.map"
+    walls.write_text("type octile\nheight 3\nwidth 3\nmap\n@@@\n@@@\n@@@\n")
+    assert main(["explore", "--map", str(walls), "--robots", "1"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "no free cell" in err and "Traceback" not in err
+    narrow = tmp_path / "narrow.map"  # one-cell corridors: 5 cm, for a robot 20 cm wide
+    narrow.write_text("type octile\nheight 5\nwidth 5\nmap\n@@@@@\n@...@\n@.@.@\n@...@\n@@@@@\n")
+    assert main(["explore", "--map", str(narrow), "--robots", "1"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--cell" in err and "Traceback" not in err
+    assert main(["explore", "--map", str(narrow), "--cell", "0.5", "--robots", "1"]) == 0
 
 
 def test_routing_and_negotiation_options_reach_the_run(tmp_path):
