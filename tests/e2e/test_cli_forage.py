@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import gc
 import json
+import os
 import re
 
 import pytest
@@ -99,3 +101,43 @@ def test_algorithm_names_are_the_builders(capsys):
         agents = "8" if name in ("modified-zigzag", "sector-loop") else "4"
         argv = ["forage", "--grid", "16", "--agents", agents, "--algorithm", name]
         assert main([*argv, "--food-units", "1"]) == 0, name
+
+
+UNWRITABLE = "/proc/swarmex-cannot-write"  # writable to os.access as root, yet no file
+
+
+@pytest.mark.skipif(not os.path.isdir("/proc"), reason="needs a /proc file system")
+@pytest.mark.parametrize(
+    ("command", "option", "suffix"),
+    [(c, o, s) for c in ("forage", "explore") for o, s in
+     [("--json", ".json"), ("--render", ".png"), ("--render", ".gif"), ("--render", ".mp4")]],
+)
+def test_an_output_that_cannot_be_created_exits_2_before_the_run(command, option, suffix,
+                                                                  capfd):
+    """os.access says yes to root everywhere; the PNG writer raised a traceback after the
+    run, the GIF writer printed a second one from imageio's finaliser, and MP4 exited 1."""
+    args = (["--grid", "8", "--agents", "4", "--algorithm", "sectors", "--food-units", "2"]
+            if command == "forage" else ["--empty", "2x2", "--robots", "1"])
+    assert main([command, *args, option, UNWRITABLE + suffix]) == 2
+    gc.collect()  # imageio's finaliser, if a writer was left open
+    out, err = capfd.readouterr()
+    assert err.count("\n") == 1 and "cannot write" in err and "Traceback" not in err
+    assert out == ""  # refused before the run: no summary
+
+
+@pytest.mark.skipif(not os.path.isdir("/proc"), reason="needs a /proc file system")
+@pytest.mark.parametrize("suffix", [".gif", ".mp4"])
+def test_a_failed_animation_write_is_one_input_error(suffix, capfd):
+    """Past the command's check (a full disk, a vanished mount) the writers still fail with
+    one InputError line and nothing more on stderr."""
+    import numpy as np
+
+    from swarmex.errors import InputError
+    from swarmex.viz.animation import write_animation
+
+    frames = [np.zeros((8, 8, 3), dtype=np.uint8)] * 2
+    with pytest.raises(InputError) as info:
+        write_animation(UNWRITABLE + suffix, frames, fps=4)
+    gc.collect()
+    assert "\n" not in str(info.value) and "cannot write" in str(info.value)
+    assert "Traceback" not in capfd.readouterr().err

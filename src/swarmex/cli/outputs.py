@@ -8,6 +8,7 @@ command checks its output options here, so the messages read the same everywhere
 from __future__ import annotations
 
 import os
+import secrets
 from pathlib import Path
 
 from swarmex.errors import InputError
@@ -34,3 +35,11 @@ def check_output(path: Path | None, option: str, suffixes: tuple[str, ...] = ())
         raise InputError(f"{option}: cannot write {path}: {parent} is not a directory")
     if not os.access(parent, os.W_OK | os.X_OK):
         raise InputError(f"{option}: cannot write {path}: {parent} is not writable")
+    # os.access answers yes to root everywhere, and knows nothing of read-only mounts or
+    # pseudo file systems (/proc): creating a file there is the only sure test
+    probe = parent / f".swarmex-probe-{os.getpid()}-{secrets.token_hex(4)}"
+    try:
+        os.close(os.open(probe, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600))
+    except OSError as exc:
+        raise InputError(f"{option}: cannot write {path}: {exc.strerror or exc}") from None
+    probe.unlink(missing_ok=True)
