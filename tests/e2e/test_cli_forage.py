@@ -141,3 +141,35 @@ def test_a_failed_animation_write_is_one_input_error(suffix, capfd):
     gc.collect()
     assert "\n" not in str(info.value) and "cannot write" in str(info.value)
     assert "Traceback" not in capfd.readouterr().err
+
+
+@pytest.mark.parametrize("study", ["foraging", "exploration"])
+def test_reproduce_bad_out_or_seed_exits_2_with_one_line(study, tmp_path, capsys):
+    """An --out that is a file or cannot be made, and a negative --seed, used to raise a
+    traceback (FileExistsError, FileNotFoundError, NumPy's 'expected non-negative integer')."""
+    a_file = tmp_path / "a_file"
+    a_file.write_text("")
+    cases = [(["--out", str(a_file)], "not a directory")]
+    if os.path.isdir("/proc"):
+        cases.append((["--out", "/proc/swarmex-no/dir"], "cannot write"))
+    if study == "foraging":
+        cases.append((["--out", str(tmp_path / "o"), "--seed", "-1"], "--seed"))
+    for args, needle in cases:
+        assert main(["reproduce", study, "--quick", *args]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and needle in err and "Traceback" not in err
+
+
+@pytest.mark.parametrize("study", ["foraging", "exploration"])
+def test_reproduce_interrupted_says_where_the_runs_are(study, tmp_path, capsys, monkeypatch):
+    """Ctrl-C used to end with status 130 and not a word (Typer swallows it)."""
+    import importlib
+
+    def stop(*_args, **_kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(importlib.import_module(f"swarmex.studies.{study}"), "reproduce", stop)
+    assert main(["reproduce", study, "--quick", "--out", str(tmp_path / "o")]) == 130
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "interrupted" in err and "runs.jsonl" in err
+

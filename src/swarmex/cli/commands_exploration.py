@@ -14,6 +14,7 @@ import typer
 
 from swarmex.cli.app import console, reproduce_app
 from swarmex.cli.missions import Extra, Surface, mission_command
+from swarmex.cli.outputs import check_out_dir, interrupted_keeps
 from swarmex.errors import InputError
 from swarmex.missions.base import FrameCallback, Mission, Outcome
 from swarmex.missions.registry import get
@@ -106,5 +107,7 @@ def reproduce_exploration(
 
     if workers < 1:
         raise InputError(f"--workers must be at least 1, got {workers}")
-    report = reproduce(out, quick=quick, workers=workers, progress=console.print)
+    check_out_dir(out)
+    with interrupted_keeps(out / "runs.jsonl"):
+        report = reproduce(out, quick=quick, workers=workers, progress=console.print)
     console.print(f"report: {report}")

@@ -15,6 +15,7 @@ from rich.table import Table
 
 from swarmex.cli.app import console, reproduce_app
 from swarmex.cli.missions import Surface, mission_command
+from swarmex.cli.outputs import check_out_dir, interrupted_keeps
 from swarmex.errors import InputError
 from swarmex.missions.base import FrameList, Outcome
 from swarmex.missions.registry import get
@@ -71,6 +72,10 @@ def reproduce_foraging(
 
     if workers < 1:
         raise InputError(f"--workers must be at least 1 (got {workers})")
+    if seed is not None and seed < 0:
+        raise InputError(f"--seed must be at least 0, got {seed}")
+    check_out_dir(out)
     chosen = {} if seed is None else {"seed": seed}  # the study owns its default seed
-    report = reproduce(out, quick=quick, workers=workers, **chosen)
+    with interrupted_keeps(out / "runs.jsonl"):
+        report = reproduce(out, quick=quick, workers=workers, **chosen)
     console.print(f"report → {report}")
