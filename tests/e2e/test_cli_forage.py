@@ -173,3 +173,25 @@ def test_reproduce_interrupted_says_where_the_runs_are(study, tmp_path, capsys, 
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "interrupted" in err and "runs.jsonl" in err
 
+
+def test_ctrl_c_inside_a_compiled_kernel_is_a_clean_interrupt(monkeypatch, capsys):
+    """Ctrl-C during a numba call surfaces as SystemError ('returned a result with an
+    exception set') caused by the KeyboardInterrupt: it used to print a traceback."""
+    import swarmex.cli as cli
+
+    def kernel(*_args, **_kwargs):
+        try:
+            raise KeyboardInterrupt
+        except KeyboardInterrupt as exc:
+            raise SystemError("CPUDispatcher returned a result with an exception set") from exc
+
+    monkeypatch.setattr(cli, "app", kernel)
+    assert cli.main(["explore", "--empty", "2x2", "--robots", "1"]) == 130
+    assert capsys.readouterr().err == "swarmex: interrupted\n"
+
+    def broken(*_args, **_kwargs):
+        raise SystemError("a real bug")
+
+    monkeypatch.setattr(cli, "app", broken)
+    with pytest.raises(SystemError):
+        cli.main(["explore", "--empty", "2x2", "--robots", "1"])
