@@ -50,6 +50,7 @@ def test_explore_gif_and_starts(tmp_path):
         (["--empty", "3x3"], "--robots"),
         (["--empty", "3x3", "--robots", "many"], "robots"),
         (["--empty", "3x3", "--robots", "1", "--seed", "-1"], "--seed"),
+        (["--empty", "3x3", "--robots", "1", "--time-scale", "0.01"], "needs --processes"),
         (["--empty", "3x3", "--robots", "1", "--robot-radius", "2"],
          "fits in no free cell"),
     ],

@@ -58,6 +58,8 @@ def processes(
     if not extras["processes"]:
         if extras["inject_loss"]:
             raise InputError("--inject-loss needs --processes")
+        if extras["time_scale"] != 1.0:  # the simulator has no wall clock to scale
+            raise InputError("--time-scale needs --processes")
         return False
     if extras["render"] is not None:
         raise InputError("--render is not available with --processes (use swarmex monitor)")
