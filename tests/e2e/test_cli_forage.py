@@ -195,3 +195,18 @@ def test_ctrl_c_inside_a_compiled_kernel_is_a_clean_interrupt(monkeypatch, capsy
     monkeypatch.setattr(cli, "app", broken)
     with pytest.raises(SystemError):
         cli.main(["explore", "--empty", "2x2", "--robots", "1"])
+
+
+def test_the_summary_fits_80_columns(capsys, monkeypatch):
+    """The phase table's headers were the metric names, cut to 'communicati…' and wrapped
+    over three lines in an 80-column terminal or a pipe."""
+    from swarmex.cli.app import console
+
+    monkeypatch.setattr(console, "_width", 80)
+    argv = ["forage", "--grid", "16", "--agents", "4", "--algorithm", "strips", "--seed", "1"]
+    assert main(argv) == 0
+    out = capsys.readouterr().out
+    assert "…" not in out
+    header = next(line for line in out.splitlines() if "exploration" in line)
+    for name in ("exploration", "communication", "COMM+TRANS", "transport", "total"):
+        assert name in header

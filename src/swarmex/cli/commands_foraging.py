@@ -26,11 +26,11 @@ def report(outcome: Outcome, params: Any) -> None:
     run = outcome.run
     m = run.metrics
     table = Table(title=f"foraging · {run.algorithm} · n={run.n} · g={run.g} · food {run.food}")
-    for key in ("exploration_time", "communication_time", "comm_transport_overlap"):
-        table.add_column(key.replace("_", " "))
-    table.add_column("transport time")
-    table.add_column("total")
-    table.add_column("delivered")
+    # the phases' short names (the thesis's COMM+TRANS): the long metric names were cut to
+    # "communicati…" and wrapped over three lines in an 80-column terminal or a pipe
+    for name in ("exploration", "communication", "COMM+TRANS", "transport", "total",
+                 "delivered"):
+        table.add_column(name, no_wrap=True)
     table.add_row(
         str(m["exploration_time"]),
         str(m["communication_time"]),
