@@ -210,3 +210,17 @@ def test_the_summary_fits_80_columns(capsys, monkeypatch):
     header = next(line for line in out.splitlines() if "exploration" in line)
     for name in ("exploration", "communication", "COMM+TRANS", "transport", "total"):
         assert name in header
+
+
+def test_ctrl_c_during_a_run_says_so(monkeypatch, capsys):
+    """Typer turns a KeyboardInterrupt into a silent status 130; the run now says it was
+    interrupted and that nothing was written."""
+    from swarmex.missions.foraging.mission import ForagingMission
+
+    def stop(*_args, **_kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(ForagingMission, "execute", stop)
+    argv = ["forage", "--grid", "8", "--agents", "4", "--algorithm", "sectors"]
+    assert main(argv) == 130
+    assert capsys.readouterr().err == "swarmex: interrupted; nothing written\n"

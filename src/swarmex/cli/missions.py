@@ -12,8 +12,10 @@ from the Params (``inspect.Signature``), which Typer honours like a hand-written
 
 from __future__ import annotations
 
+import contextlib
 import inspect
-from collections.abc import Callable, Sequence
+import sys
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -86,6 +88,17 @@ def _typer_option(info: OptionInfo) -> Any:
 COMMANDS: dict[str, Callable[..., Any]] = {}  # mission name -> its generated command
 
 
+@contextlib.contextmanager
+def interrupted_says_so() -> Iterator[None]:
+    """Ctrl-C during a run: one line and status 130 (Typer turns a bare KeyboardInterrupt
+    into a silent 130, so the user could not tell an interrupted run from a crash)."""
+    try:
+        yield
+    except KeyboardInterrupt:
+        print("swarmex: interrupted; nothing written", file=sys.stderr)
+        raise typer.Exit(130) from None
+
+
 def mission_command(mission: Mission[Any, Any], surface: Surface) -> Callable[..., Any]:
     """Register ``swarmex <mission.command>`` on the app and return its function."""
     options = mission.params_type.options()
@@ -102,7 +115,7 @@ def mission_command(mission: Mission[Any, Any], surface: Surface) -> Callable[..
             mission, params, {**extra_values, "render": render}, json_path
         ):
             return None
-        with compile_notice(err_console):
+        with compile_notice(err_console), interrupted_says_so():
             world = mission.prepare(params)
             on_frame = surface.recorder(render) if surface.recorder and render else None
             small = surface.interpreted is not None and surface.interpreted(params, world)
