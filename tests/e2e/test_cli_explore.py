@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import io
 import json
+import sys
 
 import pytest
 
@@ -110,3 +112,33 @@ def test_routing_and_negotiation_options_reach_the_run(tmp_path):
     assert paused["conflict_yield"] is True and paused["plan_pause"] == 3
     assert made["paused"]["makespan"] > made["default"]["makespan"]
 
+
+
+class _Terminal(io.StringIO):
+    def isatty(self) -> bool:
+        return True
+
+
+@pytest.mark.parametrize("render", [None, "run.gif"])
+def test_a_long_run_shows_its_step_on_a_terminal_and_runs_the_same(render, tmp_path,
+                                                                     monkeypatch, capsys):
+    """An exploration printed nothing until its summary (20 robots on 40 × 40 m: 15 s). On a
+    terminal it now shows its step on stderr, erased at the end; the record is the same, and
+    nothing is shown in a pipe."""
+    from swarmex.cli.commands_exploration import StepTicker
+
+    base = ["explore", "--empty", "4x4", "--robots", "2", "--seed", "2"]
+    plain, shown = tmp_path / "plain.json", tmp_path / "shown.json"
+    extra = [] if render is None else ["--render", str(tmp_path / render)]
+    assert main([*base, "--json", str(plain), *extra]) == 0
+    assert "exploring" not in capsys.readouterr().err  # a pipe: nothing
+    term = _Terminal()
+    monkeypatch.setattr(sys, "stderr", term)
+    monkeypatch.setattr(StepTicker, "every", 0.0)
+    assert main([*base, "--json", str(shown), *extra]) == 0
+    text = term.getvalue()
+    assert "swarmex: exploring, step 1, 0 s" in text
+    assert text.endswith("\r")  # erased
+    a, b = json.loads(plain.read_text()), json.loads(shown.read_text())
+    a.pop("wall_seconds"), b.pop("wall_seconds")
+    assert a == b

@@ -59,6 +59,9 @@ class Surface:
     # (params, prepared world) -> whether this one-shot run is so small that its kernels
     # cost less interpreted than loading numba (swarmex._kernels.interpreted_while_cold)
     interpreted: Callable[[Any, Any], bool] | None = None
+    # (params, prepared world, on_frame) -> the frame callback to run with instead, e.g. one
+    # that also shows how far a long run is on a terminal; it may have ``close()``
+    watch: Callable[[Any, Any, FrameCallback | None], FrameCallback | None] | None = None
 
 
 def _annotation(info: OptionInfo) -> Any:
@@ -118,9 +121,16 @@ def mission_command(mission: Mission[Any, Any], surface: Surface) -> Callable[..
         with compile_notice(err_console), interrupted_says_so():
             world = mission.prepare(params)
             on_frame = surface.recorder(render) if surface.recorder and render else None
+            if surface.watch is not None:
+                on_frame = surface.watch(params, world, on_frame)
             small = surface.interpreted is not None and surface.interpreted(params, world)
-            with interpreted_while_cold(small):
-                outcome = mission.execute(params, world, on_frame)
+            try:
+                with interpreted_while_cold(small):
+                    outcome = mission.execute(params, world, on_frame)
+            finally:
+                close = getattr(on_frame, "close", None)
+                if close is not None:
+                    close()
         surface.report(outcome, params)
         if json_path is not None:
             from swarmex.engine.record import write_record
