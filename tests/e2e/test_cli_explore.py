@@ -142,3 +142,15 @@ def test_a_long_run_shows_its_step_on_a_terminal_and_runs_the_same(render, tmp_p
     a, b = json.loads(plain.read_text()), json.loads(shown.read_text())
     a.pop("wall_seconds"), b.pop("wall_seconds")
     assert a == b
+
+
+def test_ctrl_c_during_processes_says_so(monkeypatch, capsys):
+    """--processes is run beside the simulator's path; Ctrl-C there ended with a silent 130."""
+    import swarmex.cli.shared as shared
+
+    def stop(*_args, **_kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(shared, "run_mesh", stop)
+    assert main(["explore", "--empty", "3x3", "--robots", "1", "--processes"]) == 130
+    assert capsys.readouterr().err.endswith("swarmex: interrupted; nothing written\n")

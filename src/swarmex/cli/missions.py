@@ -114,10 +114,12 @@ def mission_command(mission: Mission[Any, Any], surface: Surface) -> Callable[..
         check_output(json_path, surface.json_flag)
         check_output(render, "--render", RENDER_SUFFIXES)
         params = mission.params({k: v for k, v in kwargs.items() if v is not None})
-        if surface.alternative is not None and surface.alternative(
-            mission, params, {**extra_values, "render": render}, json_path
-        ):
-            return None
+        if surface.alternative is not None:
+            with interrupted_says_so():
+                if surface.alternative(
+                    mission, params, {**extra_values, "render": render}, json_path
+                ):
+                    return None
         with compile_notice(err_console), interrupted_says_so():
             world = mission.prepare(params)
             on_frame = surface.recorder(render) if surface.recorder and render else None
