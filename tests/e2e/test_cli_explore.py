@@ -54,6 +54,7 @@ def test_explore_gif_and_starts(tmp_path):
         (["--empty", "3x3", "--robots", "1", "--seed", "-1"], "--seed"),
         (["--empty", "3x3", "--robots", "1", "--time-scale", "0.01"], "needs --processes"),
         (["--empty", "1000x1000", "--robots", "1"], "20000x20000 = 400,000,000 cells; at most"),
+        (["--empty", "3x3", "--robots", "1", "--comm-range", "nan"], "a number or inf, got"),
         (["--empty", "3x3", "--robots", "1", "--robot-radius", "2"],
          "fits in no free cell"),
     ],
