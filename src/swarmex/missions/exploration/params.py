@@ -112,7 +112,8 @@ class ExplorationParams(Params):
     laser_range: float = option(2.0, help="Laser range, metres.", parse=real(above=0))
     # inf: everyone hears everyone
     comm_range: float = option(
-        10.0, help="Radio range, metres.", parse=real(above=0, finite=False)
+        10.0, help="Radio range, metres (inf: every robot hears every other).",
+        parse=real(above=0, finite=False),
     )
     strategy: str = option(
         "greedy-exclusion",
