@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import io
 import json
+import sys
 
 import pytest
 
@@ -49,6 +51,12 @@ def test_explore_gif_and_starts(tmp_path):
         (["--empty", "3x3", "--robots", "1", "--render", "x.bmp"], "--render"),
         (["--empty", "3x3"], "--robots"),
         (["--empty", "3x3", "--robots", "many"], "robots"),
+        (["--empty", "3x3", "--robots", "1", "--seed", "-1"], "--seed"),
+        (["--empty", "3x3", "--robots", "1", "--time-scale", "0.01"], "needs --processes"),
+        (["--empty", "1000x1000", "--robots", "1"], "20000x20000 = 400,000,000 cells; at most"),
+        (["--empty", "3x3", "--robots", "1", "--comm-range", "nan"], "a number or inf, got"),
+        (["--empty", "3x3", "--robots", "1", "--robot-radius", "2"],
+         "fits in no free cell"),
     ],
 )
 def test_bad_input_exits_2_with_one_line(args, needle, capsys):
@@ -67,6 +75,23 @@ def test_unreadable_map_files(tmp_path, capsys):
     assert main(["explore", "--map", str(y), "--robots", "1"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "m.pgm" in err
+
+
+def test_maps_with_no_room_to_move(tmp_path, capsys):
+    """A map of walls only, and a map whose passages are narrower than the robot (a MovingAI
+    map read at the default 5 cm cells), are refused before the run: they used to raise a
+    traceback, or run zero steps and report the mission complete."""
+    walls = tmp_path / "walls.map"
+    walls.write_text("type octile\nheight 3\nwidth 3\nmap\n@@@\n@@@\n@@@\n")
+    assert main(["explore", "--map", str(walls), "--robots", "1"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "no free cell" in err and "Traceback" not in err
+    narrow = tmp_path / "narrow.map"  # one-cell corridors: 5 cm, for a robot 20 cm wide
+    narrow.write_text("type octile\nheight 5\nwidth 5\nmap\n@@@@@\n@...@\n@.@.@\n@...@\n@@@@@\n")
+    assert main(["explore", "--map", str(narrow), "--robots", "1"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--cell" in err and "Traceback" not in err
+    assert main(["explore", "--map", str(narrow), "--cell", "0.5", "--robots", "1"]) == 0
 
 
 def test_routing_and_negotiation_options_reach_the_run(tmp_path):
@@ -88,3 +113,45 @@ def test_routing_and_negotiation_options_reach_the_run(tmp_path):
     assert paused["conflict_yield"] is True and paused["plan_pause"] == 3
     assert made["paused"]["makespan"] > made["default"]["makespan"]
 
+
+
+class _Terminal(io.StringIO):
+    def isatty(self) -> bool:
+        return True
+
+
+@pytest.mark.parametrize("render", [None, "run.gif"])
+def test_a_long_run_shows_its_step_on_a_terminal_and_runs_the_same(render, tmp_path,
+                                                                     monkeypatch, capsys):
+    """An exploration printed nothing until its summary (20 robots on 40 × 40 m: 15 s). On a
+    terminal it now shows its step on stderr, erased at the end; the record is the same, and
+    nothing is shown in a pipe."""
+    from swarmex.cli.commands_exploration import StepTicker
+
+    base = ["explore", "--empty", "4x4", "--robots", "2", "--seed", "2"]
+    plain, shown = tmp_path / "plain.json", tmp_path / "shown.json"
+    extra = [] if render is None else ["--render", str(tmp_path / render)]
+    assert main([*base, "--json", str(plain), *extra]) == 0
+    assert "exploring" not in capsys.readouterr().err  # a pipe: nothing
+    term = _Terminal()
+    monkeypatch.setattr(sys, "stderr", term)
+    monkeypatch.setattr(StepTicker, "every", 0.0)
+    assert main([*base, "--json", str(shown), *extra]) == 0
+    text = term.getvalue()
+    assert "swarmex: exploring, step 1, 0 s" in text
+    assert text.endswith("\r")  # erased
+    a, b = json.loads(plain.read_text()), json.loads(shown.read_text())
+    a.pop("wall_seconds"), b.pop("wall_seconds")
+    assert a == b
+
+
+def test_ctrl_c_during_processes_says_so(monkeypatch, capsys):
+    """--processes is run beside the simulator's path; Ctrl-C there ended with a silent 130."""
+    import swarmex.cli.shared as shared
+
+    def stop(*_args, **_kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(shared, "run_mesh", stop)
+    assert main(["explore", "--empty", "3x3", "--robots", "1", "--processes"]) == 130
+    assert capsys.readouterr().err.endswith("swarmex: interrupted; nothing written\n")

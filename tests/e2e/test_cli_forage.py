@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import gc
 import json
+import os
 import re
 
 import pytest
@@ -99,3 +101,126 @@ def test_algorithm_names_are_the_builders(capsys):
         agents = "8" if name in ("modified-zigzag", "sector-loop") else "4"
         argv = ["forage", "--grid", "16", "--agents", agents, "--algorithm", name]
         assert main([*argv, "--food-units", "1"]) == 0, name
+
+
+UNWRITABLE = "/proc/swarmex-cannot-write"  # writable to os.access as root, yet no file
+
+
+@pytest.mark.skipif(not os.path.isdir("/proc"), reason="needs a /proc file system")
+@pytest.mark.parametrize(
+    ("command", "option", "suffix"),
+    [(c, o, s) for c in ("forage", "explore") for o, s in
+     [("--json", ".json"), ("--render", ".png"), ("--render", ".gif"), ("--render", ".mp4")]],
+)
+def test_an_output_that_cannot_be_created_exits_2_before_the_run(command, option, suffix,
+                                                                  capfd):
+    """os.access says yes to root everywhere; the PNG writer raised a traceback after the
+    run, the GIF writer printed a second one from imageio's finaliser, and MP4 exited 1."""
+    args = (["--grid", "8", "--agents", "4", "--algorithm", "sectors", "--food-units", "2"]
+            if command == "forage" else ["--empty", "2x2", "--robots", "1"])
+    assert main([command, *args, option, UNWRITABLE + suffix]) == 2
+    gc.collect()  # imageio's finaliser, if a writer was left open
+    out, err = capfd.readouterr()
+    assert err.count("\n") == 1 and "cannot write" in err and "Traceback" not in err
+    assert out == ""  # refused before the run: no summary
+
+
+@pytest.mark.skipif(not os.path.isdir("/proc"), reason="needs a /proc file system")
+@pytest.mark.parametrize("suffix", [".gif", ".mp4"])
+def test_a_failed_animation_write_is_one_input_error(suffix, capfd):
+    """Past the command's check (a full disk, a vanished mount) the writers still fail with
+    one InputError line and nothing more on stderr."""
+    import numpy as np
+
+    from swarmex.errors import InputError
+    from swarmex.viz.animation import write_animation
+
+    frames = [np.zeros((8, 8, 3), dtype=np.uint8)] * 2
+    with pytest.raises(InputError) as info:
+        write_animation(UNWRITABLE + suffix, frames, fps=4)
+    gc.collect()
+    assert "\n" not in str(info.value) and "cannot write" in str(info.value)
+    assert "Traceback" not in capfd.readouterr().err
+
+
+@pytest.mark.parametrize("study", ["foraging", "exploration"])
+def test_reproduce_bad_out_or_seed_exits_2_with_one_line(study, tmp_path, capsys):
+    """An --out that is a file or cannot be made, and a negative --seed, used to raise a
+    traceback (FileExistsError, FileNotFoundError, NumPy's 'expected non-negative integer')."""
+    a_file = tmp_path / "a_file"
+    a_file.write_text("")
+    cases = [(["--out", str(a_file)], "not a directory")]
+    if os.path.isdir("/proc"):
+        cases.append((["--out", "/proc/swarmex-no/dir"], "cannot write"))
+    if study == "foraging":
+        cases.append((["--out", str(tmp_path / "o"), "--seed", "-1"], "--seed"))
+    for args, needle in cases:
+        assert main(["reproduce", study, "--quick", *args]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and needle in err and "Traceback" not in err
+
+
+@pytest.mark.parametrize("study", ["foraging", "exploration"])
+def test_reproduce_interrupted_says_where_the_runs_are(study, tmp_path, capsys, monkeypatch):
+    """Ctrl-C used to end with status 130 and not a word (Typer swallows it)."""
+    import importlib
+
+    def stop(*_args, **_kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(importlib.import_module(f"swarmex.studies.{study}"), "reproduce", stop)
+    assert main(["reproduce", study, "--quick", "--out", str(tmp_path / "o")]) == 130
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "interrupted" in err and "runs.jsonl" in err
+
+
+def test_ctrl_c_inside_a_compiled_kernel_is_a_clean_interrupt(monkeypatch, capsys):
+    """Ctrl-C during a numba call surfaces as SystemError ('returned a result with an
+    exception set') caused by the KeyboardInterrupt: it used to print a traceback."""
+    import swarmex.cli as cli
+
+    def kernel(*_args, **_kwargs):
+        try:
+            raise KeyboardInterrupt
+        except KeyboardInterrupt as exc:
+            raise SystemError("CPUDispatcher returned a result with an exception set") from exc
+
+    monkeypatch.setattr(cli, "app", kernel)
+    assert cli.main(["explore", "--empty", "2x2", "--robots", "1"]) == 130
+    assert capsys.readouterr().err == "swarmex: interrupted\n"
+
+    def broken(*_args, **_kwargs):
+        raise SystemError("a real bug")
+
+    monkeypatch.setattr(cli, "app", broken)
+    with pytest.raises(SystemError):
+        cli.main(["explore", "--empty", "2x2", "--robots", "1"])
+
+
+def test_the_summary_fits_80_columns(capsys, monkeypatch):
+    """The phase table's headers were the metric names, cut to 'communicati…' and wrapped
+    over three lines in an 80-column terminal or a pipe."""
+    from swarmex.cli.app import console
+
+    monkeypatch.setattr(console, "_width", 80)
+    argv = ["forage", "--grid", "16", "--agents", "4", "--algorithm", "strips", "--seed", "1"]
+    assert main(argv) == 0
+    out = capsys.readouterr().out
+    assert "…" not in out
+    header = next(line for line in out.splitlines() if "exploration" in line)
+    for name in ("exploration", "communication", "COMM+TRANS", "transport", "total"):
+        assert name in header
+
+
+def test_ctrl_c_during_a_run_says_so(monkeypatch, capsys):
+    """Typer turns a KeyboardInterrupt into a silent status 130; the run now says it was
+    interrupted and that nothing was written."""
+    from swarmex.missions.foraging.mission import ForagingMission
+
+    def stop(*_args, **_kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(ForagingMission, "execute", stop)
+    argv = ["forage", "--grid", "8", "--agents", "4", "--algorithm", "sectors"]
+    assert main(argv) == 130
+    assert capsys.readouterr().err == "swarmex: interrupted; nothing written\n"

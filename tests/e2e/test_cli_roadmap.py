@@ -138,7 +138,7 @@ def test_ctrl_c_exits_130_with_one_line(env, tmp_path, capsys, monkeypatch):
 
     monkeypatch.setattr(type(get("roadmap")), "execute", ctrl_c)
     assert main(base(env)) == 130
-    assert capsys.readouterr().err == "swarmex: interrupted\n"
+    assert capsys.readouterr().err == "swarmex: interrupted; nothing written\n"
     monkeypatch.setattr(study, "reproduce", ctrl_c)
     assert main(["reproduce", "roadmap", "--quick", "--out", str(tmp_path / "rep")]) == 130
     err = capsys.readouterr().err

@@ -215,6 +215,18 @@ def test_bad_params_are_the_runs_input_errors():
         exploration_v0.parallel_env(render_mode="human", **SMALL)
     with pytest.raises(swarmex.InputError, match="invalid_action"):
         exploration_v0.parallel_env(invalid_action="ignore", **SMALL)
+    with pytest.raises(swarmex.InputError, match="--seed"):
+        exploration_v0.parallel_env(seed=-1, **SMALL)
+
+
+def test_reset_refuses_a_bad_seed_clearly():
+    """reset(seed=-1) used to fail deep in NumPy ("expected non-negative integer")."""
+    env = exploration_v0.parallel_env(**SMALL)
+    for bad in (-1, 2.5, "3", True):
+        with pytest.raises(swarmex.InputError, match="seed must be an integer >= 0"):
+            env.reset(seed=bad)
+    obs, _ = env.reset(seed=np.int64(4))
+    assert set(obs) == set(env.possible_agents)
 
 
 def test_bad_actions_raise_and_leave_the_world_as_it_was():

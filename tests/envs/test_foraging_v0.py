@@ -267,6 +267,16 @@ def test_bad_params_are_the_runs_input_errors():
             foraging_v0.parallel_env(**good, **extra)
 
 
+def test_reset_refuses_a_bad_seed_clearly():
+    """reset(seed=-1) used to fail deep in NumPy ("expected non-negative integer")."""
+    env = foraging_v0.parallel_env(**SMALL, algorithm="sectors")
+    for bad in (-1, 2.5, "3", True):
+        with pytest.raises(swarmex.InputError, match="seed must be an integer >= 0"):
+            env.reset(seed=bad)
+    obs, _ = env.reset(seed=np.int64(4))
+    assert set(obs) == set(env.possible_agents)
+
+
 def test_bad_actions_raise_and_leave_the_world_as_it_was():
     params = {**SMALL, "algorithm": "sectors"}
     env = foraging_v0.parallel_env(**params)

@@ -203,3 +203,26 @@ def test_a_stopped_driver_loses_no_finished_run(tmp_path, log, sig):
     assert out.reused + out.ran == 60
     assert not list(tmp_path.glob(".*spool*"))
 
+
+
+def test_the_bar_is_silent_when_not_drawn_on_a_terminal(tmp_path, log, capsys):
+    """In a pipe or a log the bar prints nothing: Rich used to print its last state on
+    standard output when it stopped (``swarmex reproduce foraging --quick | cat`` began with a
+    truncated bar); on a terminal it is drawn on standard error."""
+    from io import StringIO
+
+    from rich.console import Console
+
+    from swarmex.experiments.progress import runs_progress
+
+    done = run_jobs(jobs(3), square, key, workers=1, label="quiet", describe=key)
+    assert len(done.results) == 3
+    out, err = capsys.readouterr()
+    assert (out, err) == ("", "")
+    assert runs_progress("x").console.stderr
+    term = StringIO()
+    bar = runs_progress("drawn", Console(file=term, force_terminal=True, width=80))
+    bar.add_task("", total=1, completed=1)
+    bar.start()
+    bar.stop()
+    assert "drawn" in term.getvalue()

@@ -45,10 +45,29 @@ def main(argv: list[str] | None = None) -> int:
         return 130
     except SystemExit as exc:  # typer.Exit / broken pipes under standalone_mode=False
         return exc.code if isinstance(exc.code, int) else 0
+    except SystemError as exc:
+        # Ctrl-C while a compiled kernel is being called surfaces as numba's "returned a
+        # result with an exception set", with the KeyboardInterrupt as its cause
+        if not _interrupted(exc):
+            raise
+        print("swarmex: interrupted", file=sys.stderr)
+        return 130
     code = result if isinstance(result, int) else 0
     if code == 130 and not interrupt_told():  # Typer ended a Ctrl-C silently
         print("swarmex: interrupted", file=sys.stderr)
     return code
+
+
+def _interrupted(exc: BaseException) -> bool:
+    """Whether ``exc`` was caused, directly or down its chain, by a KeyboardInterrupt."""
+    seen: set[int] = set()
+    cur: BaseException | None = exc
+    while cur is not None and id(cur) not in seen:
+        if isinstance(cur, KeyboardInterrupt):
+            return True
+        seen.add(id(cur))
+        cur = cur.__cause__ or cur.__context__
+    return False
 
 
 def entry() -> None:

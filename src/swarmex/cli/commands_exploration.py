@@ -7,6 +7,7 @@ this module prints the summary line, draws the run, and adds the command-line-on
 
 from __future__ import annotations
 
+import time
 from pathlib import Path
 from typing import Any
 
@@ -14,6 +15,7 @@ import typer
 
 from swarmex.cli.app import console, reproduce_app
 from swarmex.cli.missions import Extra, Surface, mission_command
+from swarmex.cli.outputs import check_out_dir, interrupted_keeps
 from swarmex.errors import InputError
 from swarmex.missions.base import FrameCallback, Mission, Outcome
 from swarmex.missions.registry import get
@@ -41,6 +43,67 @@ def recorder(path: Path) -> FrameCallback | None:
     return FrameRecorder() if path.suffix.lower() in ANIMATIONS else None
 
 
+class StepTicker:
+    """On a terminal, a one-line "exploring, step t" on stderr while an exploration runs.
+
+    A run of 20 robots on 40 × 40 m takes about 15 s and printed nothing until its summary.
+    The exploration mission asks a callback's ``wants(t)`` every tick before it builds a
+    frame; the ticker answers for the recorder it wraps (an animation's), so no frame is
+    built that nobody keeps and the run is the same. Redrawn at most 5 times a second and
+    erased at the end; nothing at all when stderr is not a terminal (see :func:`watch`).
+    """
+
+    every = 0.2  # seconds between redraws
+
+    def __init__(self, inner: Any = None, stream: Any = None) -> None:
+        import sys
+
+        self.inner = inner
+        self.stream = sys.stderr if stream is None else stream
+        self.t0 = self.shown = time.perf_counter()
+        self.width = 0
+
+    def wants(self, t: int) -> bool:
+        now = time.perf_counter()
+        if now - self.shown >= self.every:
+            self.shown = now
+            line = f"\rswarmex: exploring, step {t}, {now - self.t0:.0f} s"
+            self.width = max(self.width, len(line) - 1)
+            self.stream.write(line)
+            self.stream.flush()
+        if self.inner is None:
+            return False
+        wants = getattr(self.inner, "wants", None)
+        return True if wants is None else bool(wants(t))
+
+    def __call__(self, frame: Any) -> None:
+        if self.inner is not None:
+            self.inner(frame)
+
+    @property
+    def frames(self) -> list[Any]:
+        return list(getattr(self.inner, "frames", ()))
+
+    def finish(self, run: Any) -> None:
+        if self.inner is not None and hasattr(self.inner, "finish"):
+            self.inner.finish(run)
+
+    def close(self) -> None:
+        if self.width:
+            self.stream.write("\r" + " " * self.width + "\r")
+            self.stream.flush()
+            self.width = 0
+
+
+def watch(params: Any, world: Any, on_frame: FrameCallback | None) -> FrameCallback | None:
+    """The ticker around ``on_frame`` when stderr is a terminal, else ``on_frame`` itself."""
+    import sys
+
+    if not sys.stderr.isatty():
+        return on_frame
+    return StepTicker(on_frame)
+
+
 def render(outcome: Outcome, path: Path, frames: list[Any]) -> None:
     from swarmex.viz.exploration import exploration_animation, exploration_png
 
@@ -57,6 +120,8 @@ def processes(
     if not extras["processes"]:
         if extras["inject_loss"]:
             raise InputError("--inject-loss needs --processes")
+        if extras["time_scale"] != 1.0:  # the simulator has no wall clock to scale
+            raise InputError("--time-scale needs --processes")
         return False
     if extras["render"] is not None:
         raise InputError("--render is not available with --processes (use swarmex monitor)")
@@ -90,6 +155,7 @@ explore = mission_command(
             ),
         ],
         alternative=processes,
+        watch=watch,
         render_help="Picture (.png) or animation (.gif, .mp4) of the run.",
     ),
 )
@@ -97,7 +163,9 @@ explore = mission_command(
 
 @reproduce_app.command("exploration")
 def reproduce_exploration(
-    out: Path = typer.Option(Path("out/reproduce-exploration"), "--out"),
+    out: Path = typer.Option(
+        Path("out/reproduce-exploration"), "--out", help="Output directory."
+    ),
     quick: bool = typer.Option(False, "--quick", help="A small sweep in about a minute."),
     workers: int = typer.Option(2, "--workers", help="Worker processes."),
 ) -> None:
@@ -106,5 +174,7 @@ def reproduce_exploration(
 
     if workers < 1:
         raise InputError(f"--workers must be at least 1, got {workers}")
-    report = reproduce(out, quick=quick, workers=workers, progress=console.print)
+    check_out_dir(out)
+    with interrupted_keeps(out / "runs.jsonl"):
+        report = reproduce(out, quick=quick, workers=workers, progress=console.print)
     console.print(f"report: {report}")

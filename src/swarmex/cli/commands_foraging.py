@@ -15,6 +15,7 @@ from rich.table import Table
 
 from swarmex.cli.app import console, reproduce_app
 from swarmex.cli.missions import Surface, mission_command
+from swarmex.cli.outputs import check_out_dir, interrupted_keeps
 from swarmex.errors import InputError
 from swarmex.missions.base import FrameList, Outcome
 from swarmex.missions.registry import get
@@ -25,11 +26,11 @@ def report(outcome: Outcome, params: Any) -> None:
     run = outcome.run
     m = run.metrics
     table = Table(title=f"foraging · {run.algorithm} · n={run.n} · g={run.g} · food {run.food}")
-    for key in ("exploration_time", "communication_time", "comm_transport_overlap"):
-        table.add_column(key.replace("_", " "))
-    table.add_column("transport time")
-    table.add_column("total")
-    table.add_column("delivered")
+    # the phases' short names (the thesis's COMM+TRANS): the long metric names were cut to
+    # "communicati…" and wrapped over three lines in an 80-column terminal or a pipe
+    for name in ("exploration", "communication", "COMM+TRANS", "transport", "total",
+                 "delivered"):
+        table.add_column(name, no_wrap=True)
     table.add_row(
         str(m["exploration_time"]),
         str(m["communication_time"]),
@@ -71,6 +72,10 @@ def reproduce_foraging(
 
     if workers < 1:
         raise InputError(f"--workers must be at least 1 (got {workers})")
+    if seed is not None and seed < 0:
+        raise InputError(f"--seed must be at least 0, got {seed}")
+    check_out_dir(out)
     chosen = {} if seed is None else {"seed": seed}  # the study owns its default seed
-    report = reproduce(out, quick=quick, workers=workers, **chosen)
+    with interrupted_keeps(out / "runs.jsonl"):
+        report = reproduce(out, quick=quick, workers=workers, **chosen)
     console.print(f"report → {report}")

@@ -11,8 +11,9 @@ from typing import Any
 
 import typer
 
-from swarmex.cli.app import console, interrupted, reproduce_app
+from swarmex.cli.app import console, reproduce_app
 from swarmex.cli.missions import Surface, mission_command
+from swarmex.cli.outputs import interrupted_keeps
 from swarmex.errors import InputError
 from swarmex.missions.base import FrameList, Outcome
 from swarmex.missions.registry import get
@@ -72,7 +73,5 @@ def reproduce_roadmap(
         out.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise InputError(f"--out: cannot create {out}: {exc.strerror}") from None
-    try:
+    with interrupted_keeps(out):  # every finished run is in the journal already
         reproduce(out, quick=quick, console=console)
-    except KeyboardInterrupt:  # every finished run is in the journal already
-        interrupted(f"finished runs are saved in {out} (run the same command again to resume)")

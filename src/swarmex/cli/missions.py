@@ -12,8 +12,9 @@ from the Params (``inspect.Signature``), which Typer honours like a hand-written
 
 from __future__ import annotations
 
+import contextlib
 import inspect
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -21,7 +22,7 @@ from typing import Any
 import typer
 
 from swarmex._kernels import interpreted_while_cold
-from swarmex.cli.app import app, console, err_console
+from swarmex.cli.app import app, console, err_console, interrupted
 from swarmex.cli.compiling import compile_notice
 from swarmex.cli.outputs import RENDER_SUFFIXES, check_output
 from swarmex.errors import InputError
@@ -57,6 +58,9 @@ class Surface:
     # (params, prepared world) -> whether this one-shot run is so small that its kernels
     # cost less interpreted than loading numba (swarmex._kernels.interpreted_while_cold)
     interpreted: Callable[[Any, Any], bool] | None = None
+    # (params, prepared world, on_frame) -> the frame callback to run with instead, e.g. one
+    # that also shows how far a long run is on a terminal; it may have ``close()``
+    watch: Callable[[Any, Any, FrameCallback | None], FrameCallback | None] | None = None
 
 
 def _annotation(info: OptionInfo) -> Any:
@@ -86,6 +90,16 @@ def _typer_option(info: OptionInfo) -> Any:
 COMMANDS: dict[str, Callable[..., Any]] = {}  # mission name -> its generated command
 
 
+@contextlib.contextmanager
+def interrupted_says_so() -> Iterator[None]:
+    """Ctrl-C during a run: one line and status 130 (Typer turns a bare KeyboardInterrupt
+    into a silent 130, so the user could not tell an interrupted run from a crash)."""
+    try:
+        yield
+    except KeyboardInterrupt:
+        interrupted("nothing written")
+
+
 def mission_command(mission: Mission[Any, Any], surface: Surface) -> Callable[..., Any]:
     """Register ``swarmex <mission.command>`` on the app and return its function."""
     options = mission.params_type.options()
@@ -98,16 +112,25 @@ def mission_command(mission: Mission[Any, Any], surface: Surface) -> Callable[..
         check_output(json_path, surface.json_flag)
         check_output(render, "--render", RENDER_SUFFIXES)
         params = mission.params({k: v for k, v in kwargs.items() if v is not None})
-        if surface.alternative is not None and surface.alternative(
-            mission, params, {**extra_values, "render": render}, json_path
-        ):
-            return None
-        with compile_notice(err_console):
+        if surface.alternative is not None:
+            with interrupted_says_so():
+                if surface.alternative(
+                    mission, params, {**extra_values, "render": render}, json_path
+                ):
+                    return None
+        with compile_notice(err_console), interrupted_says_so():
             world = mission.prepare(params)
             on_frame = surface.recorder(render) if surface.recorder and render else None
+            if surface.watch is not None:
+                on_frame = surface.watch(params, world, on_frame)
             small = surface.interpreted is not None and surface.interpreted(params, world)
-            with interpreted_while_cold(small):
-                outcome = mission.execute(params, world, on_frame)
+            try:
+                with interpreted_while_cold(small):
+                    outcome = mission.execute(params, world, on_frame)
+            finally:
+                close = getattr(on_frame, "close", None)
+                if close is not None:
+                    close()
         surface.report(outcome, params)
         if json_path is not None:
             from swarmex.engine.record import write_record

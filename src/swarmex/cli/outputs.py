@@ -7,13 +7,28 @@ command checks its output options here, so the messages read the same everywhere
 
 from __future__ import annotations
 
+import contextlib
 import os
+import secrets
+from collections.abc import Iterator
 from pathlib import Path
 
+from swarmex.cli.app import interrupted
 from swarmex.errors import InputError
 from swarmex.viz.animation import RENDER_SUFFIXES
 
-__all__ = ["RENDER_SUFFIXES", "check_output"]
+__all__ = ["RENDER_SUFFIXES", "check_out_dir", "check_output", "interrupted_keeps"]
+
+
+def check_out_dir(path: Path, option: str = "--out") -> None:
+    """Fail now, not after the first runs, if the output folder ``path`` cannot be made or
+    written (it exists as a file, or its first existing parent is not writable)."""
+    if path.exists() and not path.is_dir():
+        raise InputError(f"{option} {path} exists and is not a directory")
+    if path.is_dir():
+        check_output(path / "runs.jsonl", option)  # the probe: can a file be made in it?
+        return
+    check_output(path, option)
 
 
 def check_output(path: Path | None, option: str, suffixes: tuple[str, ...] = ()) -> None:
@@ -34,3 +49,21 @@ def check_output(path: Path | None, option: str, suffixes: tuple[str, ...] = ())
         raise InputError(f"{option}: cannot write {path}: {parent} is not a directory")
     if not os.access(parent, os.W_OK | os.X_OK):
         raise InputError(f"{option}: cannot write {path}: {parent} is not writable")
+    # os.access answers yes to root everywhere, and knows nothing of read-only mounts or
+    # pseudo file systems (/proc): creating a file there is the only sure test
+    probe = parent / f".swarmex-probe-{os.getpid()}-{secrets.token_hex(4)}"
+    try:
+        os.close(os.open(probe, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600))
+    except OSError as exc:
+        raise InputError(f"{option}: cannot write {path}: {exc.strerror or exc}") from None
+    probe.unlink(missing_ok=True)
+
+
+@contextlib.contextmanager
+def interrupted_keeps(store: Path) -> Iterator[None]:
+    """Ctrl-C in a resumable study: say where the finished runs are and how to resume, and
+    exit 130 (Typer turns a bare KeyboardInterrupt into a silent status 130)."""
+    try:
+        yield
+    except KeyboardInterrupt:
+        interrupted(f"finished runs are saved in {store} (run the same command again to resume)")

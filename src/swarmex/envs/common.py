@@ -74,6 +74,11 @@ class BrokerEpisodeMixin:
 
     def _begin_reset(self, seed: int | None) -> None:
         """End any run, take ``seed`` (if given), and clear the episode state."""
+        seed = plain_int(seed)
+        if seed is not None and (
+            isinstance(seed, bool) or not isinstance(seed, int) or seed < 0
+        ):  # checked here, not deep in NumPy's generator ("expected non-negative integer")
+            raise InputError(f"reset: seed must be an integer >= 0 or None, got {seed!r}")
         self.close()
         if seed is not None:
             self._next_seed = int(seed)

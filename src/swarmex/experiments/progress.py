@@ -44,7 +44,12 @@ def runs_progress(
     """The bar of a batch of runs: ``label``, bar, done/total, rate, elapsed, ETA.
 
     ``detail`` adds the task's description (e.g. the run in progress) after the counts.
+    The bar is drawn on standard error unless ``console`` says otherwise, and only when that
+    console is a terminal: Rich, told it is not one, still prints the bar's last state when it
+    stops, which put a truncated bar among a reproduction's report lines in a pipe or a log.
     """
+    console = console if console is not None else Console(stderr=True)
+    disable = disable or not console.is_terminal
     columns: list[ProgressColumn] = [
         TextColumn(f"[bold]{label}[/bold]"),
         BarColumn(),

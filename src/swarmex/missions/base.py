@@ -94,7 +94,8 @@ def real(
         except (TypeError, ValueError):
             raise InputError(f"{flag}: expected a number, got {value!r}") from None
         if math.isnan(out) or (finite and math.isinf(out)):
-            raise InputError(f"{flag} must be a finite number, got {value!r}")
+            what = "a finite number" if finite else "a number or inf"  # e.g. --comm-range
+            raise InputError(f"{flag} must be {what}, got {value!r}")
         if lo is not None and out < lo:
             raise InputError(f"{flag} must be at least {lo:g}, got {out:g}")
         if above is not None and not out > above:

@@ -13,11 +13,16 @@ writer because it shares one precomputed palette across hundreds of big frames f
 
 from __future__ import annotations
 
+import errno
+import os
+import secrets
 from collections.abc import Sequence
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
+from swarmex.engine.atomic import write_atomic
 from swarmex.errors import InputError, require
 
 ANIMATION_SUFFIXES = (".gif", ".mp4")
@@ -56,8 +61,9 @@ def write_animation(path: str | Path, frames: Sequence[np.ndarray], fps: float) 
             _write_mp4(path, frames, fps)
         else:
             _write_gif(path, frames, fps)
-    except OSError as exc:
-        raise InputError(f"cannot write {path}: {exc.strerror or exc}") from None
+    except OSError as exc:  # imageio's ffmpeg error appends the command and its log
+        reason = exc.strerror or str(exc).strip().splitlines()[0]
+        raise InputError(f"cannot write {path}: {reason}") from None
     return path
 
 
@@ -66,7 +72,10 @@ def _write_gif(path: Path, frames: Sequence[np.ndarray], fps: float) -> None:
 
     step = max(20, int(round(1000.0 / fps)))  # ms; browsers clamp shorter delays anyway
     durations = [step] * (len(frames) - 1) + [int(1000 * HOLD_SECONDS)]
-    iio.mimsave(path, list(frames), format="GIF", duration=durations, loop=0)
+    # encoded in memory, then written in one go: when imageio's writer fails to open the
+    # file it retries from its finaliser, which printed a second traceback after our message
+    data = iio.mimwrite("<bytes>", list(frames), format="GIF", duration=durations, loop=0)
+    write_atomic(path, data)
 
 
 def _write_mp4(path: Path, frames: Sequence[np.ndarray], fps: float) -> None:
@@ -82,6 +91,21 @@ def _write_mp4(path: Path, frames: Sequence[np.ndarray], fps: float) -> None:
     h, w = frames[0].shape[:2]
     pad = ((0, h % 2), (0, w % 2), (0, 0))
     hold = [frames[-1]] * int(round(HOLD_SECONDS * fps))
+    # ffmpeg picks the container by the suffix, so the temporary file keeps ".mp4"; it is
+    # renamed over ``path`` only if ffmpeg wrote it (a short video whose output ffmpeg could
+    # not open used to return as if written, leaving no file)
+    tmp = path.with_name(f".{path.stem}.{os.getpid()}.{secrets.token_hex(4)}{path.suffix}")
+    try:
+        _encode_mp4(iio, tmp, [*frames, *hold], pad, fps)
+        if not tmp.is_file():
+            raise OSError(errno.EIO, "the video encoder wrote no file")
+        os.replace(tmp, path)
+    finally:
+        tmp.unlink(missing_ok=True)
+
+
+def _encode_mp4(iio: Any, path: Path, frames: list[np.ndarray],
+                pad: tuple[tuple[int, int], ...], fps: float) -> None:
     writer = iio.get_writer(
         path,
         format="FFMPEG",
@@ -93,6 +117,6 @@ def _write_mp4(path: Path, frames: Sequence[np.ndarray], fps: float) -> None:
         ffmpeg_log_level="error",
     )
     with writer:
-        for f in [*frames, *hold]:
+        for f in frames:
             f = np.ascontiguousarray(f[..., :3], dtype=np.uint8)
             writer.append_data(np.pad(f, pad, constant_values=255) if any(pad[0] + pad[1]) else f)

@@ -78,7 +78,10 @@ def empty_metric(width_m: float, height_m: float, cell: float = DEFAULT_CELL) ->
             "need at least 3x3 (walls around a free cell)"
         )
     if w * h > 25_000_000:
-        raise InputError(f"--empty {width_m:g}x{height_m:g} m at {cell:g} m is too many cells")
+        raise InputError(
+            f"--empty {width_m:g}x{height_m:g} m at {cell:g} m is {w}x{h} = {w * h:,} cells;"
+            " at most 25,000,000 (a larger --cell or a smaller world)"
+        )
     free = np.zeros((h, w), dtype=bool)
     free[1:-1, 1:-1] = True
     return MetricGrid(GridWorld(free, source=f"empty {width_m:g}x{height_m:g} m"), cell)

@@ -112,7 +112,8 @@ class ExplorationParams(Params):
     laser_range: float = option(2.0, help="Laser range, metres.", parse=real(above=0))
     # inf: everyone hears everyone
     comm_range: float = option(
-        10.0, help="Radio range, metres.", parse=real(above=0, finite=False)
+        10.0, help="Radio range, metres (inf: every robot hears every other).",
+        parse=real(above=0, finite=False),
     )
     strategy: str = option(
         "greedy-exclusion",
@@ -125,7 +126,7 @@ class ExplorationParams(Params):
     starts: tuple[Cell, ...] | None = option(  # default: a group at the centre
         None, help="Start cells 'x,y;x,y;…'.", parse=start_cells()
     )
-    seed: int = option(0, help="Seed of every random choice.", parse=integer())
+    seed: int = option(0, help="Seed of every random choice.", parse=integer(lo=0))
     # default: generous, from the map size (see max_ticks_for)
     max_ticks: int | None = option(
         None, help="Stop after this many steps.", parse=optional(integer(lo=1))
@@ -215,10 +216,17 @@ def default_starts(grid: MetricGrid, n: int, radius_m: float) -> tuple[Cell, ...
     """``n`` cells around the traversable cell nearest the centre, a robot diameter apart."""
     from swarmex.missions.exploration.paths import distance_steps, footprint_offsets, inflate
 
+    if not grid.free.any():
+        raise InputError("the map has no free cell to start from")
     r = radius_m / grid.cell
     trav = grid.free & ~inflate(~grid.free, footprint_offsets(r))
     if not trav.any():
-        trav = grid.free
+        # the run would end at tick 0 with "complete" true and little explored: nobody can
+        # move (a MovingAI map read at the default 5 cm cells has passages of 5 cm)
+        raise InputError(
+            f"a robot of radius {radius_m:g} m fits in no free cell of this map at "
+            f"{grid.cell:g} m per cell: give a larger --cell or a smaller --robot-radius"
+        )
     h, w = grid.shape
     ys, xs = np.nonzero(trav)
     c = int(np.argmin((ys - (h - 1) / 2) ** 2 + (xs - (w - 1) / 2) ** 2))
@@ -233,4 +241,5 @@ def default_starts(grid: MetricGrid, n: int, radius_m: float) -> tuple[Cell, ...
             chosen.append((x, y))
             if len(chosen) == n:
                 return tuple(chosen)
-    raise InputError(f"the map has room for only {len(chosen)} robots, not {n}")
+    room = f"{len(chosen)} robot" + ("" if len(chosen) == 1 else "s")
+    raise InputError(f"the map has room for only {room}, not {n}")
