@@ -13,7 +13,6 @@ from pathlib import Path
 from types import TracebackType
 from typing import IO, Any
 
-from rich import get_console
 from rich.console import Console
 from rich.progress import (
     BarColumn,
@@ -61,11 +60,7 @@ def runs_progress(
     ]
     if detail:
         columns.append(TextColumn("{task.description}"))
-    # only on a terminal: Rich still prints a non-interactive bar's last state when it stops,
-    # a squashed "151/1… runs/s" line in a piped log or a CI transcript that says nothing the
-    # summary after it does not say better
-    shown = (console if console is not None else get_console()).is_terminal
-    return Progress(*columns, console=console, transient=False, disable=disable or not shown)
+    return Progress(*columns, console=console, transient=False, disable=disable)
 
 
 def read_journal(path: Path, key: str = "key") -> dict[Any, dict[str, Any]]:
