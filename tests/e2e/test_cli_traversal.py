@@ -241,6 +241,7 @@ BAD = {
     "negative delay": ["--grid", "5x5", "--agents", "2", "--delay", "-1"],
     "comm range": ["--grid", "5x5", "--agents", "2", "--comm-range", "0"],
     "job failure": ["--grid", "5x5", "--agents", "2", "--job-failure", "1"],
+    "negative seed": ["--grid", "5x5", "--agents", "2", "--seed", "-1"],
     "json unwritable": ["--grid", "5x5", "--agents", "2", "--json", "FILE:/out.json"],
     "json is a directory": ["--grid", "5x5", "--agents", "2", "--json", "DIR:"],
     "render unwritable": ["--grid", "5x5", "--agents", "2", "--render", "FILE:/x.png"],
@@ -290,6 +291,13 @@ def test_demo_writes_a_png(tmp_path, capsys):
     data = out.read_bytes()
     assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 10_000
     assert "demo.png" in stdout.replace("\n", "") and "complete" in stdout
+
+
+def test_demo_bad_seed_exits_2_with_one_line(tmp_path, capsys):
+    code, out, err = cli(["demo", "--seed", "-1", "--out", tmp_path / "d.png"], capsys)
+    assert code == 2, (out, err)
+    assert err.strip().splitlines() == ["swarmex: error: --seed must be at least 0, got -1"]
+    assert not (tmp_path / "d.png").exists()
 
 
 def test_run_example_scenario(tmp_path, capsys):

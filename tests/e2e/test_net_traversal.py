@@ -160,3 +160,17 @@ def test_killed_agent_is_replaced_by_a_spare(tmp_path):
     # every free cell done exactly once, counting the departed agent's finished jobs (its
     # unfinished one went back to not-done and was redone by someone else)
     replay({**net, "agents": net["agents"] + net["departed_agents"]}, free_mask(6, 6, OBSTACLES))
+
+
+@pytest.mark.parametrize(("seed", "says"), [
+    ("-1", "--seed must be at least 0, got -1"),
+    (str(2**64), f"--seed must be at most {2**64 - 1}"),
+])
+def test_serve_refuses_a_seed_the_run_or_the_wire_cannot_take(
+    seed: str, says: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from swarmex.cli import main
+
+    assert main(["serve", "--grid", "4x4", "--agents", "1", "--port", "0", "--seed", seed]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and says in err and "listen" not in err

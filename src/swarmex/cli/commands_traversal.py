@@ -136,6 +136,8 @@ def demo(
 
     out = out.resolve()  # say exactly where the picture went
     check_output(out, "--out", (".png",))
+    # the Params are built directly below, so the seed goes through its parser here
+    seed = TraversalParams.options()["seed"].parse(seed, "--seed")
     with compile_notice(err_console):
         prepared = demo_world()  # 16x16: interpreted, as small() says (no kernel runs here)
         world, agents = prepared.world, len(prepared.nests)

@@ -177,7 +177,9 @@ class TraversalParams(Params):
     job_failure: float = option(
         0.0, help="Probability a job fails and must be redone.", parse=real(lo=0, below=1)
     )
-    seed: int = option(0, help="Seed of every random choice.", parse=integer())
+    # numpy's generators take only seeds >= 0 (a negative one was a traceback from deep inside
+    # the run, after the world was built)
+    seed: int = option(0, help="Seed of every random choice.", parse=integer(lo=0))
     fleet: tuple[FleetRow, ...] | None = option(
         None,
         help="Per-agent values by id: a TOML file of [[agents]] tables or a CSV with columns "
