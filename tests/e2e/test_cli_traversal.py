@@ -440,3 +440,11 @@ def test_only_light_policies_run_interpreted_on_small_maps(algorithm):
     simulating = algorithm in ("madgta-r", "madgta-p", "madgta-k")
     assert POLICIES[algorithm].simulates is simulating
     assert small(params, prepared) is not simulating
+
+
+def test_help_prints_option_help_verbatim(capsys, monkeypatch):
+    """Typer reads option help as Rich markup: ``[[agents]]`` used to print as ``[]``."""
+    monkeypatch.setenv("COLUMNS", "400")  # one line per option: no wrapping inside words
+    code, out, _ = cli(["traverse", "--help"], capsys)
+    assert code == 0
+    assert "a TOML file of [[agents]] tables" in out

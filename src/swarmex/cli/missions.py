@@ -68,6 +68,19 @@ def _annotation(info: OptionInfo) -> Any:
     return kind
 
 
+def plain_help(text: str) -> str:
+    """``text`` as ``--help`` should print it. Typer renders option help as Rich markup
+    when Rich is installed, so a literal ``[[agents]]`` (TOML's array of tables) came out as
+    ``[]``: the Params' help is plain text, and the brackets are escaped here."""
+    from typer.core import DEFAULT_MARKUP_MODE
+
+    if DEFAULT_MARKUP_MODE != "rich":
+        return text
+    from rich.markup import escape
+
+    return escape(text)
+
+
 def _typer_option(info: OptionInfo) -> Any:
     flags = [info.flag if info.negation is None else f"{info.flag}/{info.negation}"]
     default: Any
@@ -77,7 +90,8 @@ def _typer_option(info: OptionInfo) -> Any:
         default = info.default
     else:
         default = None  # tuples, paths, None: the Params default applies
-    kw: dict[str, Any] = {"help": info.help, "show_default": default not in (None, ...)}
+    kw: dict[str, Any] = {"help": plain_help(info.help),
+                          "show_default": default not in (None, ...)}
     if info.metavar:
         kw["metavar"] = info.metavar
     return typer.Option(default, *flags, **kw)
@@ -137,7 +151,8 @@ def mission_command(mission: Mission[Any, Any], surface: Surface) -> Callable[..
                 e.name,
                 inspect.Parameter.KEYWORD_ONLY,
                 default=typer.Option(
-                    e.default, e.flag or "--" + e.name.replace("_", "-"), help=e.help
+                    e.default, e.flag or "--" + e.name.replace("_", "-"),
+                    help=plain_help(e.help),
                 ),
                 annotation=e.annotation,
             )
