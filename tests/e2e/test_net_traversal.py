@@ -174,3 +174,33 @@ def test_serve_refuses_a_seed_the_run_or_the_wire_cannot_take(
     assert main(["serve", "--grid", "4x4", "--agents", "1", "--port", "0", "--seed", seed]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and says in err and "listen" not in err
+
+
+def test_ctrl_c_on_the_server_writes_the_record_so_far_and_ends_the_agents(tmp_path):
+    """Ctrl-C used to end ``serve`` without its record (minutes of flight lost) and without
+    ``END``: the agents waited out ``--server-timeout`` and exited 3, "server gone"."""
+    rec_path = tmp_path / "net.json"
+    with Procs() as procs:
+        server = procs.start(
+            "server", "serve", *GRID, "--agents", 3, "--port", 0, "--time-scale", 0.05,
+            "--timeout", 60, "--json", rec_path,
+        )
+        address = endpoint(server)
+        viewer = Viewer(address)
+        agents = procs.start("agents", "agent", "--connect", address, "--count", 3,
+                             "--server-timeout", 30)
+        server.wait_line("mission started", 30)
+        end = time.monotonic() + 30.0
+        while sum(viewer.jobs_of(a) for a in (1, 2, 3)) < 4:
+            assert time.monotonic() < end, "no jobs done"
+            time.sleep(0.05)
+        server.popen.send_signal(signal.SIGINT)
+        assert server.wait(10) == 130, server.output
+        assert "Traceback" not in server.output
+        server.wait_line(r"interrupted", 1)
+        assert agents.wait(10) == 1, agents.output  # "the mission ended before I finished"
+        viewer.stop = True
+    net = json.loads(rec_path.read_text())
+    assert not net["complete"]
+    jobs = [(x, y) for a in net["agents"] for _t, x, y in a["jobs"]]
+    assert len(jobs) >= 4 and len(jobs) == len(set(jobs)) < 33
