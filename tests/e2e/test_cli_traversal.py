@@ -448,3 +448,18 @@ def test_help_prints_option_help_verbatim(capsys, monkeypatch):
     code, out, _ = cli(["traverse", "--help"], capsys)
     assert code == 0
     assert "a TOML file of [[agents]] tables" in out
+
+
+def test_ctrl_c_says_interrupted_and_exits_130(tmp_path, capsys, monkeypatch):
+    """Typer swallowed the KeyboardInterrupt into a silent exit 130."""
+    from swarmex.missions.registry import get
+
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(get("traversal"), "execute", interrupted)
+    code, out, err = cli(["traverse", "--grid", "5x5", "--agents", "2",
+                          "--json", tmp_path / "r.json"], capsys)
+    assert code == 130
+    assert err.strip().splitlines() == ["swarmex: interrupted"]
+    assert "Traceback" not in out + err and not (tmp_path / "r.json").exists()

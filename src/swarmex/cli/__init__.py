@@ -14,7 +14,7 @@ import typer
 
 # the command modules register their commands on the shared app when the command is first
 # looked up (swarmex.cli.app.LazyGroup), so `swarmex --help` imports none of them
-from swarmex.cli.app import app
+from swarmex.cli.app import Interrupted, app
 from swarmex.errors import InputError
 
 try:  # recent Typer vendors Click as typer._click; older releases use Click itself
@@ -39,7 +39,7 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     except typer.Exit as exc:
         return int(getattr(exc, "exit_code", getattr(exc, "code", 0)) or 0)
-    except KeyboardInterrupt:
+    except (KeyboardInterrupt, Interrupted):
         print("swarmex: interrupted", file=sys.stderr)
         return 130
     except SystemExit as exc:  # typer.Exit / broken pipes under standalone_mode=False

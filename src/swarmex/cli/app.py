@@ -106,6 +106,10 @@ def _loaded(entry: Entry) -> bool:
     return all(m in sys.modules for m in entry.modules)
 
 
+class Interrupted(Exception):  # noqa: N818 - a signal, not an error
+    """Ctrl-C inside a command (raised past Typer, which would swallow the interrupt)."""
+
+
 class _Listed(TyperCommand):
     """A command not imported yet: its name and help, for ``swarmex --help`` only."""
 
@@ -134,6 +138,16 @@ class LazyGroup(TyperGroup):
             super().format_help(ctx, formatter)
         finally:
             self._listing = False
+
+    def invoke(self, ctx: Any) -> Any:
+        """Run the command; Ctrl-C leaves as :class:`Interrupted`.
+
+        Why: Typer turns a ``KeyboardInterrupt`` into a silent ``Exit(130)`` before
+        :func:`swarmex.cli.main` can see it, so an interrupted run ended without a word."""
+        try:
+            return super().invoke(ctx)
+        except KeyboardInterrupt:
+            raise Interrupted from None
 
     def get_command(self, ctx: Any, cmd_name: str) -> Any:
         command = self.commands.get(cmd_name)
