@@ -463,3 +463,14 @@ def test_ctrl_c_says_interrupted_and_exits_130(tmp_path, capsys, monkeypatch):
     assert code == 130
     assert err.strip().splitlines() == ["swarmex: interrupted"]
     assert "Traceback" not in out + err and not (tmp_path / "r.json").exists()
+
+
+def test_readme_describes_the_demo_that_runs():
+    """The README said three agents; the demo runs DEMO_AGENTS."""
+    from swarmex.missions.traversal.mission import DEMO_AGENTS, demo_world
+
+    words = {3: "three", 4: "four", 5: "five", 6: "six"}
+    section = (REPO / "README.md").read_text().split("### `swarmex demo`")[1].split("###")[0]
+    world = demo_world().world
+    assert f"MADGTA with {words[DEMO_AGENTS]} agents" in section
+    assert f"{world.width}×{world.height}" in section
