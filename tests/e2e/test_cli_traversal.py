@@ -474,3 +474,29 @@ def test_readme_describes_the_demo_that_runs():
     world = demo_world().world
     assert f"MADGTA with {words[DEMO_AGENTS]} agents" in section
     assert f"{world.width}×{world.height}" in section
+
+
+def test_progress_bar_on_a_terminal_only_and_the_same_record(tmp_path, capsys, monkeypatch):
+    """A long traverse printed nothing until the end (madgta-k on den520d: 200 s). On a
+    terminal a bar counts the jobs; off one (here: capsys) nothing; the record is the same."""
+    import io
+
+    from rich.console import Console
+
+    from swarmex.cli import missions
+
+    argv = ["traverse", "--grid", "9x8", "--obstacles", "3,3;4,4", "--agents", "3",
+            "--seed", "4", "--render"]
+    code, _, err = cli([*argv, tmp_path / "a.png", "--json", tmp_path / "a.json"], capsys)
+    assert code == 0 and err == ""
+    screen = io.StringIO()
+    monkeypatch.setattr(missions, "err_console", Console(file=screen, force_terminal=True))
+    monkeypatch.setattr(missions.FrameProgress, "DELAY", 0.0)
+    monkeypatch.setattr(missions.FrameProgress, "EVERY", 0.0)
+    code, _, err = cli([*argv, tmp_path / "b.png", "--json", tmp_path / "b.json"], capsys)
+    assert code == 0
+    assert "jobs" in screen.getvalue() and "/70" in screen.getvalue()  # 9x8 minus 2 walls
+    a, b = (json.loads((tmp_path / f"{n}.json").read_text()) for n in "ab")
+    a.pop("wall_seconds"), b.pop("wall_seconds")
+    assert a == b
+    assert (tmp_path / "a.png").read_bytes() == (tmp_path / "b.png").read_bytes()
