@@ -27,6 +27,7 @@ Defaults of the timing options are the thesis's base agent (§5.1: 6.67 m edges 
 
 from __future__ import annotations
 
+import math
 import numbers
 import re
 from collections.abc import Mapping
@@ -257,6 +258,18 @@ class TraversalParams(Params):
             raise InputError(
                 f"--agents {self.agents} but the fleet lists {len(self.fleet)} agents"
             )
+        if self.algorithm == "optimal":
+            # the MILP plans offline with the whole map known: a radio or failing jobs never
+            # enter it, and the record used to list them as if they had been applied
+            offline = {"--loss": self.loss > 0, "--delay": self.delay > 0,
+                       "--comm-range": self.comm_range not in (None, math.inf),
+                       "--job-failure": self.job_failure > 0}
+            given = [flag for flag, on in offline.items() if on]
+            if given:
+                raise InputError(
+                    f"{', '.join(given)}: --algorithm optimal is an offline plan with a perfect"
+                    " radio and jobs that never fail; run a policy (e.g. madgta) for that"
+                )
         team = self.team
         if self.nests is not None:
             if not self.nests:
