@@ -204,3 +204,38 @@ def test_ctrl_c_on_the_server_writes_the_record_so_far_and_ends_the_agents(tmp_p
     assert not net["complete"]
     jobs = [(x, y) for a in net["agents"] for _t, x, y in a["jobs"]]
     assert len(jobs) >= 4 and len(jobs) == len(set(jobs)) < 33
+
+
+def test_ctrl_c_on_an_agent_process_hands_its_ids_back(tmp_path):
+    """Ctrl-C used to make agents vanish: the server noticed only after --dead-after, and a
+    real copter was left hovering in GUIDED mode. Now each agent hands its id back (RET,
+    as for a vehicle fault) and lands; the process exits 130."""
+    rec_path = tmp_path / "net.json"
+    with Procs() as procs:
+        server = procs.start(
+            "server", "serve", *GRID, "--agents", 3, "--port", 0, "--time-scale", 0.02,
+            "--dead-after", 30, "--heartbeat", 0.25, "--timeout", 60, "--json", rec_path,
+        )
+        address = endpoint(server)
+        viewer = Viewer(address)
+        pair = procs.start("pair", "agent", "--connect", address, "--count", 2)
+        third = procs.start("third", "agent", "--connect", address, "--id", 3)
+        server.wait_line("mission started", 30)
+        end = time.monotonic() + 30.0
+        while sum(viewer.jobs_of(a) for a in (1, 2)) < 3:
+            assert time.monotonic() < end, "no jobs done"
+            time.sleep(0.05)
+        pair.popen.send_signal(signal.SIGINT)
+        assert pair.wait(10) == 130, pair.output
+        assert "Traceback" not in pair.output
+        pair.wait_line(r"handing id \d back: interrupted \(Ctrl-C\)", 1)
+        # --dead-after is 30 s: only the hand-back can free the ids this fast
+        server.wait_line(r"agent [12] handed its id back", 10)
+        assert server.wait(60) == 0, server.output  # agent 3 finishes the mission alone
+        assert third.wait(15) == 0, third.output
+        viewer.stop = True
+    net = json.loads(rec_path.read_text())
+    assert net["complete"]
+    back = net["network"]["handed_back"]
+    assert sorted(h["id"] for h in back) == [1, 2]
+    assert {h["reason"] for h in back} == {"interrupted (Ctrl-C)"}
