@@ -320,14 +320,14 @@ def watch(
             if forwarder is not None:
                 forwarder.send(batch)
             view.update(batch)
-    finally:
+    finally:  # what was seen is saved even after Ctrl-C (it used to be lost)
         if forwarder is not None:
             forwarder.close()
         view.close()
-    if json_path is not None:
-        from swarmex.engine.record import write_json_atomic
+        if json_path is not None:
+            from swarmex.engine.record import write_json_atomic
 
-        write_json_atomic(saved, json_path)
+            write_json_atomic(saved, json_path)
     if not view.ended:
         console.print("swarmex watch: no mission end seen (server gone or timeout)")
         raise typer.Exit(1)
