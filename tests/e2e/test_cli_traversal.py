@@ -241,6 +241,15 @@ BAD = {
     "negative delay": ["--grid", "5x5", "--agents", "2", "--delay", "-1"],
     "comm range": ["--grid", "5x5", "--agents", "2", "--comm-range", "0"],
     "job failure": ["--grid", "5x5", "--agents", "2", "--job-failure", "1"],
+    "negative seed": ["--grid", "5x5", "--agents", "2", "--seed", "-1"],
+    "optimal with loss": ["--grid", "3x3", "--agents", "2", "--algorithm", "optimal",
+                          "--loss", "0.3"],
+    "optimal with delay": ["--grid", "3x3", "--agents", "2", "--algorithm", "optimal",
+                           "--delay", "1"],
+    "optimal with a range": ["--grid", "3x3", "--agents", "2", "--algorithm", "optimal",
+                             "--comm-range", "2"],
+    "optimal with job failures": ["--grid", "3x3", "--agents", "2", "--algorithm", "optimal",
+                                  "--job-failure", "0.2"],
     "json unwritable": ["--grid", "5x5", "--agents", "2", "--json", "FILE:/out.json"],
     "json is a directory": ["--grid", "5x5", "--agents", "2", "--json", "DIR:"],
     "render unwritable": ["--grid", "5x5", "--agents", "2", "--render", "FILE:/x.png"],
@@ -290,6 +299,13 @@ def test_demo_writes_a_png(tmp_path, capsys):
     data = out.read_bytes()
     assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 10_000
     assert "demo.png" in stdout.replace("\n", "") and "complete" in stdout
+
+
+def test_demo_bad_seed_exits_2_with_one_line(tmp_path, capsys):
+    code, out, err = cli(["demo", "--seed", "-1", "--out", tmp_path / "d.png"], capsys)
+    assert code == 2, (out, err)
+    assert err.strip().splitlines() == ["swarmex: error: --seed must be at least 0, got -1"]
+    assert not (tmp_path / "d.png").exists()
 
 
 def test_run_example_scenario(tmp_path, capsys):
@@ -432,3 +448,88 @@ def test_only_light_policies_run_interpreted_on_small_maps(algorithm):
     simulating = algorithm in ("madgta-r", "madgta-p", "madgta-k")
     assert POLICIES[algorithm].simulates is simulating
     assert small(params, prepared) is not simulating
+
+
+def test_help_prints_option_help_verbatim(capsys, monkeypatch):
+    """Typer reads option help as Rich markup: ``[[agents]]`` used to print as ``[]``."""
+    monkeypatch.setenv("COLUMNS", "400")  # one line per option: no wrapping inside words
+    code, out, _ = cli(["traverse", "--help"], capsys)
+    assert code == 0
+    assert "a TOML file of [[agents]] tables" in out
+
+
+def test_ctrl_c_says_interrupted_and_exits_130(tmp_path, capsys, monkeypatch):
+    """Typer swallowed the KeyboardInterrupt into a silent exit 130."""
+    from swarmex.missions.registry import get
+
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(get("traversal"), "execute", interrupted)
+    code, out, err = cli(["traverse", "--grid", "5x5", "--agents", "2",
+                          "--json", tmp_path / "r.json"], capsys)
+    assert code == 130
+    assert err.strip().splitlines() == ["swarmex: interrupted; nothing written"]
+    assert "Traceback" not in out + err and not (tmp_path / "r.json").exists()
+
+
+def test_readme_describes_the_demo_that_runs():
+    """The README said three agents; the demo runs DEMO_AGENTS."""
+    from swarmex.missions.traversal.mission import DEMO_AGENTS, demo_world
+
+    words = {3: "three", 4: "four", 5: "five", 6: "six"}
+    section = (REPO / "README.md").read_text().split("### `swarmex demo`")[1].split("###")[0]
+    world = demo_world().world
+    assert f"MADGTA with {words[DEMO_AGENTS]} agents" in section
+    assert f"{world.width}×{world.height}" in section
+
+
+def test_progress_bar_on_a_terminal_only_and_the_same_record(tmp_path, capsys, monkeypatch):
+    """A long traverse printed nothing until the end (madgta-k on den520d: 200 s). On a
+    terminal a bar counts the jobs; off one (here: capsys) nothing; the record is the same."""
+    import io
+
+    from rich.console import Console
+
+    from swarmex.cli import missions
+
+    argv = ["traverse", "--grid", "9x8", "--obstacles", "3,3;4,4", "--agents", "3",
+            "--seed", "4", "--render"]
+    code, _, err = cli([*argv, tmp_path / "a.png", "--json", tmp_path / "a.json"], capsys)
+    assert code == 0 and err == ""
+    screen = io.StringIO()
+    monkeypatch.setattr(missions, "err_console", Console(file=screen, force_terminal=True))
+    monkeypatch.setattr(missions.FrameProgress, "DELAY", 0.0)
+    monkeypatch.setattr(missions.FrameProgress, "EVERY", 0.0)
+    code, _, err = cli([*argv, tmp_path / "b.png", "--json", tmp_path / "b.json"], capsys)
+    assert code == 0
+    assert "jobs" in screen.getvalue() and "/70" in screen.getvalue()  # 9x8 minus 2 walls
+    a, b = (json.loads((tmp_path / f"{n}.json").read_text()) for n in "ab")
+    a.pop("wall_seconds"), b.pop("wall_seconds")
+    assert a == b
+    assert (tmp_path / "a.png").read_bytes() == (tmp_path / "b.png").read_bytes()
+
+
+def test_the_progress_bar_keeps_the_animation_frames(tmp_path, capsys, monkeypatch):
+    """On a terminal the bar wraps the --render recorder; the animation must still get every
+    frame (the render reads the recorder, not the wrapper), byte for byte as in a pipe."""
+    from rich.console import Console
+
+    import swarmex.cli.missions as missions
+
+    argv = ["traverse", "--grid", "8x8", "--agents", "3", "--seed", "1", "--render"]
+    assert cli([*argv, tmp_path / "pipe.gif"], capsys)[0] == 0
+    monkeypatch.setattr(missions, "err_console", Console(stderr=True, force_terminal=True))
+    monkeypatch.setattr(missions.FrameProgress, "DELAY", 0.0)
+    monkeypatch.setattr(missions.FrameProgress, "EVERY", 0.0)
+    started = []
+    real_call = missions.FrameProgress.__call__
+
+    def spy(self, frame):
+        real_call(self, frame)
+        started.append(self.started)
+
+    monkeypatch.setattr(missions.FrameProgress, "__call__", spy)
+    assert cli([*argv, tmp_path / "tty.gif"], capsys)[0] == 0
+    assert any(started)  # the bar really ran
+    assert (tmp_path / "tty.gif").read_bytes() == (tmp_path / "pipe.gif").read_bytes()

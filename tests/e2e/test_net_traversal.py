@@ -160,3 +160,82 @@ def test_killed_agent_is_replaced_by_a_spare(tmp_path):
     # every free cell done exactly once, counting the departed agent's finished jobs (its
     # unfinished one went back to not-done and was redone by someone else)
     replay({**net, "agents": net["agents"] + net["departed_agents"]}, free_mask(6, 6, OBSTACLES))
+
+
+@pytest.mark.parametrize(("seed", "says"), [
+    ("-1", "--seed must be at least 0, got -1"),
+    (str(2**64), f"--seed must be at most {2**64 - 1}"),
+])
+def test_serve_refuses_a_seed_the_run_or_the_wire_cannot_take(
+    seed: str, says: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from swarmex.cli import main
+
+    assert main(["serve", "--grid", "4x4", "--agents", "1", "--port", "0", "--seed", seed]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and says in err and "listen" not in err
+
+
+def test_ctrl_c_on_the_server_writes_the_record_so_far_and_ends_the_agents(tmp_path):
+    """Ctrl-C used to end ``serve`` without its record (minutes of flight lost) and without
+    ``END``: the agents waited out ``--server-timeout`` and exited 3, "server gone"."""
+    rec_path = tmp_path / "net.json"
+    with Procs() as procs:
+        server = procs.start(
+            "server", "serve", *GRID, "--agents", 3, "--port", 0, "--time-scale", 0.05,
+            "--timeout", 60, "--json", rec_path,
+        )
+        address = endpoint(server)
+        viewer = Viewer(address)
+        agents = procs.start("agents", "agent", "--connect", address, "--count", 3,
+                             "--server-timeout", 30)
+        server.wait_line("mission started", 30)
+        end = time.monotonic() + 30.0
+        while sum(viewer.jobs_of(a) for a in (1, 2, 3)) < 4:
+            assert time.monotonic() < end, "no jobs done"
+            time.sleep(0.05)
+        server.popen.send_signal(signal.SIGINT)
+        assert server.wait(10) == 130, server.output
+        assert "Traceback" not in server.output
+        server.wait_line(r"interrupted", 1)
+        assert agents.wait(10) == 1, agents.output  # "the mission ended before I finished"
+        viewer.stop = True
+    net = json.loads(rec_path.read_text())
+    assert not net["complete"]
+    jobs = [(x, y) for a in net["agents"] for _t, x, y in a["jobs"]]
+    assert len(jobs) >= 4 and len(jobs) == len(set(jobs)) < 33
+
+
+def test_ctrl_c_on_an_agent_process_hands_its_ids_back(tmp_path):
+    """Ctrl-C used to make agents vanish: the server noticed only after --dead-after, and a
+    real copter was left hovering in GUIDED mode. Now each agent hands its id back (RET,
+    as for a vehicle fault) and lands; the process exits 130."""
+    rec_path = tmp_path / "net.json"
+    with Procs() as procs:
+        server = procs.start(
+            "server", "serve", *GRID, "--agents", 3, "--port", 0, "--time-scale", 0.02,
+            "--dead-after", 30, "--heartbeat", 0.25, "--timeout", 60, "--json", rec_path,
+        )
+        address = endpoint(server)
+        viewer = Viewer(address)
+        pair = procs.start("pair", "agent", "--connect", address, "--count", 2)
+        third = procs.start("third", "agent", "--connect", address, "--id", 3)
+        server.wait_line("mission started", 30)
+        end = time.monotonic() + 30.0
+        while sum(viewer.jobs_of(a) for a in (1, 2)) < 3:
+            assert time.monotonic() < end, "no jobs done"
+            time.sleep(0.05)
+        pair.popen.send_signal(signal.SIGINT)
+        assert pair.wait(10) == 130, pair.output
+        assert "Traceback" not in pair.output
+        pair.wait_line(r"handing id \d back: interrupted \(Ctrl-C\)", 1)
+        # --dead-after is 30 s: only the hand-back can free the ids this fast
+        server.wait_line(r"agent [12] handed its id back", 10)
+        assert server.wait(60) == 0, server.output  # agent 3 finishes the mission alone
+        assert third.wait(15) == 0, third.output
+        viewer.stop = True
+    net = json.loads(rec_path.read_text())
+    assert net["complete"]
+    back = net["network"]["handed_back"]
+    assert sorted(h["id"] for h in back) == [1, 2]
+    assert {h["reason"] for h in back} == {"interrupted (Ctrl-C)"}

@@ -238,12 +238,25 @@ def test_bad_params_are_the_same_input_errors_as_swarmex_run():
         dict(grid="5x5", agents=0),
         dict(grid="5x5", agents=2, nests="9,9"),
         dict(grid="5x5", agents=2, colour=3),
+        dict(grid="5x5", agents=2, seed=-1),
     ):
         with pytest.raises(swarmex.InputError) as ours:
             traversal_v0.env(**bad)
         with pytest.raises(swarmex.InputError) as theirs:
             swarmex.run("traversal", **bad)
         assert str(ours.value) == str(theirs.value)
+
+
+def test_a_negative_reset_seed_is_an_input_error_and_the_env_still_works():
+    env = traversal_v0.env(grid="3x3", agents=1)
+    with pytest.raises(swarmex.InputError, match="seed must be at least 0, got -1"):
+        env.reset(seed=-1)
+    env.reset(seed=2)
+    for _agent in env.agent_iter():
+        obs, _, term, trunc, _ = env.last()
+        env.step(None if term or trunc else int(np.flatnonzero(obs["action_mask"])[0]))
+    assert _record(env)["seed"] == 2
+    env.close()
 
 
 def test_optimal_and_unknown_options_are_refused():

@@ -26,3 +26,23 @@ def test_terminal_view_shows_vehicle_kinds_and_a_spares():
     Console(file=table, width=120).print(view._table())
     assert "vehicle" in table.getvalue() and "simulated" in table.getvalue()
     view.close()
+
+
+def test_ctrl_c_keeps_the_events_seen_so_far(tmp_path, monkeypatch, capsys):
+    """``watch --events FILE`` wrote the file only after a mission's end: Ctrl-C lost it."""
+    import json
+
+    from swarmex.cli import main
+
+    hello = ev.hello("traversal", "madgta", [1, 2], "traversal", None)
+
+    def batches(address, timeout, stop=None):
+        yield [hello, ev.message(1.0, 1, "pos", 0.0, 0.0)]
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(ev, "viewer_batches", batches)
+    path = tmp_path / "events.json"
+    assert main(["watch", "--connect", "tcp://127.0.0.1:9", "--events", str(path)]) == 130
+    assert capsys.readouterr().err.strip() == "swarmex: interrupted"
+    saved = json.loads(path.read_text())
+    assert [e["type"] for e in saved] == ["hello", "message"]

@@ -14,7 +14,7 @@ import typer
 
 # the command modules register their commands on the shared app when the command is first
 # looked up (swarmex.cli.app.LazyGroup), so `swarmex --help` imports none of them
-from swarmex.cli.app import app, interrupt_told
+from swarmex.cli.app import Interrupted, app
 from swarmex.errors import InputError
 
 try:  # recent Typer vendors Click as typer._click; older releases use Click itself
@@ -26,7 +26,6 @@ _NO_ARGS = getattr(_cx, "NoArgsIsHelpError", getattr(_cx, "NoArgsIsHelp", ()))
 
 
 def main(argv: list[str] | None = None) -> int:
-    interrupt_told(reset=True)
     try:
         result = app(args=argv, prog_name="swarmex", standalone_mode=False)
     except InputError as exc:
@@ -40,7 +39,7 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     except typer.Exit as exc:
         return int(getattr(exc, "exit_code", getattr(exc, "code", 0)) or 0)
-    except KeyboardInterrupt:
+    except (KeyboardInterrupt, Interrupted):
         print("swarmex: interrupted", file=sys.stderr)
         return 130
     except SystemExit as exc:  # typer.Exit / broken pipes under standalone_mode=False
@@ -52,10 +51,7 @@ def main(argv: list[str] | None = None) -> int:
             raise
         print("swarmex: interrupted", file=sys.stderr)
         return 130
-    code = result if isinstance(result, int) else 0
-    if code == 130 and not interrupt_told():  # Typer ended a Ctrl-C silently
-        print("swarmex: interrupted", file=sys.stderr)
-    return code
+    return result if isinstance(result, int) else 0
 
 
 def _interrupted(exc: BaseException) -> bool:

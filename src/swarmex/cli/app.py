@@ -106,6 +106,10 @@ def _loaded(entry: Entry) -> bool:
     return all(m in sys.modules for m in entry.modules)
 
 
+class Interrupted(Exception):  # noqa: N818 - a signal, not an error
+    """Ctrl-C inside a command (raised past Typer, which would swallow the interrupt)."""
+
+
 class _Listed(TyperCommand):
     """A command not imported yet: its name and help, for ``swarmex --help`` only."""
 
@@ -134,6 +138,16 @@ class LazyGroup(TyperGroup):
             super().format_help(ctx, formatter)
         finally:
             self._listing = False
+
+    def invoke(self, ctx: Any) -> Any:
+        """Run the command; Ctrl-C leaves as :class:`Interrupted`.
+
+        Why: Typer turns a ``KeyboardInterrupt`` into a silent ``Exit(130)`` before
+        :func:`swarmex.cli.main` can see it, so an interrupted run ended without a word."""
+        try:
+            return super().invoke(ctx)
+        except KeyboardInterrupt:
+            raise Interrupted from None
 
     def get_command(self, ctx: Any, cmd_name: str) -> Any:
         command = self.commands.get(cmd_name)
@@ -171,27 +185,14 @@ app.add_typer(reproduce_app, name="reproduce")
 console = Console()
 err_console = Console(stderr=True)
 
-# whether a command has said what an interruption kept (see interrupted); main() says
-# "swarmex: interrupted" itself otherwise
-_interrupt_told = [False]
-
 
 def interrupted(detail: str) -> NoReturn:
     """End a command stopped by Ctrl-C with one line on stderr saying what was kept, and exit
     status 130.
 
-    Why here and not in main(): Typer turns a KeyboardInterrupt into a silent exit 130 before
-    main() sees it, so a command that keeps finished work (a sweep, a reproduction) must say so
-    itself; main() prints the plain "swarmex: interrupted" for the others.
+    A command that keeps finished work (a sweep, a reproduction) catches the interrupt and
+    says what it kept here; for the others, :class:`Interrupted` reaches main(), which prints
+    the plain "swarmex: interrupted".
     """
     err_console.print(f"swarmex: interrupted; {detail}", highlight=False, soft_wrap=True)
-    _interrupt_told[0] = True
     raise typer.Exit(130)
-
-
-def interrupt_told(reset: bool = False) -> bool:
-    """Whether :func:`interrupted` spoke since the last reset (``reset`` clears it)."""
-    told = _interrupt_told[0]
-    if reset:
-        _interrupt_told[0] = False
-    return told

@@ -80,14 +80,6 @@ class StepTicker:
         if self.inner is not None:
             self.inner(frame)
 
-    @property
-    def frames(self) -> list[Any]:
-        return list(getattr(self.inner, "frames", ()))
-
-    def finish(self, run: Any) -> None:
-        if self.inner is not None and hasattr(self.inner, "finish"):
-            self.inner.finish(run)
-
     def close(self) -> None:
         if self.width:
             self.stream.write("\r" + " " * self.width + "\r")

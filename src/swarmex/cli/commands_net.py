@@ -29,6 +29,9 @@ _TRAVERSAL = TraversalParams.options()
 #: what the networked runtime serves: not madgta-h (the Fig. 4.17 wire has no ``leave``
 #: command) nor the whole-mission MILP
 SERVED = tuple(a for a in ALGORITHMS if a not in ("madgta-h", "optimal"))
+#: msgpack's largest integer: C22's mission data carries the seed (a larger one was a
+#: traceback in the middle of the handshake, and the agents waited for their timeout)
+WIRE_SEED_MAX = 2**64 - 1
 _SAFETY = Safety()  # the vehicle limits' defaults (swarmex.net.vehicle)
 
 
@@ -117,6 +120,8 @@ def serve(
     json_path: Path | None = typer.Option(None, "--json", help="Write the result record here."),
 ) -> None:
     """Seed 000's mission server: ids, mission data, relay, monitor, result record."""
+    import zmq
+
     from swarmex.net.server import TraversalServer
     from swarmex.net.traversal import Mission
 
@@ -151,6 +156,9 @@ def serve(
             "nodes_on_edge": nodes_on_edge,
         }
     )
+    if tparams.seed > WIRE_SEED_MAX:
+        raise InputError(f"--seed must be at most {WIRE_SEED_MAX} (it travels in the mission"
+                         f" data as a 64-bit integer), got {tparams.seed}")
     if tparams.algorithm not in SERVED:
         raise InputError(
             f"--algorithm must be {', '.join(SERVED[:-1])} or {SERVED[-1]}, got {algorithm!r}"
@@ -175,7 +183,7 @@ def serve(
         server = TraversalServer(mission, bind, json_path, timeout, dead_after,
                                  spare_wait=spare_wait, monitor_url=monitor_url,
                                  say=_say, loss=inject_loss)
-    except Exception as exc:  # zmq.ZMQError: address in use, bad interface
+    except zmq.ZMQError as exc:  # address in use, bad interface
         raise InputError(f"cannot listen on {bind}: {exc}") from None
     code = server.run()
     raise typer.Exit(code)
@@ -312,14 +320,14 @@ def watch(
             if forwarder is not None:
                 forwarder.send(batch)
             view.update(batch)
-    finally:
+    finally:  # what was seen is saved even after Ctrl-C (it used to be lost)
         if forwarder is not None:
             forwarder.close()
         view.close()
-    if json_path is not None:
-        from swarmex.engine.record import write_json_atomic
+        if json_path is not None:
+            from swarmex.engine.record import write_json_atomic
 
-        write_json_atomic(saved, json_path)
+            write_json_atomic(saved, json_path)
     if not view.ended:
         console.print("swarmex watch: no mission end seen (server gone or timeout)")
         raise typer.Exit(1)

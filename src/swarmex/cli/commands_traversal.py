@@ -14,7 +14,7 @@ from rich.table import Table
 
 from swarmex.cli.app import app, console, err_console
 from swarmex.cli.compiling import compile_notice
-from swarmex.cli.missions import Surface, mission_command
+from swarmex.cli.missions import ProgressSpec, Surface, mission_command, progress_bar
 from swarmex.cli.outputs import check_output
 from swarmex.missions.base import FrameList, Outcome
 from swarmex.missions.registry import get
@@ -118,9 +118,17 @@ def small(params: Any, prepared: TraversalWorld) -> bool:
     return prepared.world.graph.n_nodes <= INTERPRETED_VERTICES
 
 
+def progress(params: Any, prepared: TraversalWorld) -> ProgressSpec | None:
+    """The bar of a long run: vertices with a job started, of the free cells (the exact
+    MILP has no frames to count)."""
+    if params.algorithm == "optimal":
+        return None
+    return ProgressSpec(prepared.world.free_cells, "jobs", lambda frame: frame.jobs_done)
+
+
 traverse = mission_command(
     get("traversal"),
-    Surface(report, render, recorder=recorder, interpreted=small,
+    Surface(report, render, recorder=recorder, interpreted=small, watch=progress_bar(progress),
             render_help="Draw the paths (.png) or animate the run (.gif, .mp4)."),
 )
 
@@ -136,6 +144,8 @@ def demo(
 
     out = out.resolve()  # say exactly where the picture went
     check_output(out, "--out", (".png",))
+    # the Params are built directly below, so the seed goes through its parser here
+    seed = TraversalParams.options()["seed"].parse(seed, "--seed")
     with compile_notice(err_console):
         prepared = demo_world()  # 16x16: interpreted, as small() says (no kernel runs here)
         world, agents = prepared.world, len(prepared.nests)

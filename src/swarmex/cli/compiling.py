@@ -53,16 +53,24 @@ def _listener_type() -> type:
                 if self.depth > 1:
                     return
                 if self.console.is_terminal:
+                    from rich.errors import LiveError
                     from rich.live import Live
                     from rich.spinner import Spinner
 
-                    self.live = Live(
+                    live = Live(
                         Spinner("dots", text=MESSAGE),
                         console=self.console,
                         transient=True,
                         refresh_per_second=8,
                     )
-                    self.live.start(refresh=True)
+                    try:
+                        live.start(refresh=True)
+                    except LiveError:  # a run's progress bar is up: one line above it
+                        if not _said:
+                            _said = True
+                            self.console.print(f"swarmex: {MESSAGE}", highlight=False)
+                    else:
+                        self.live = live
                 elif not _said:
                     _said = True
                     self.console.print(f"swarmex: {MESSAGE}", highlight=False, soft_wrap=True)

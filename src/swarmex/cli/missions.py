@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import contextlib
 import inspect
+import time
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -63,6 +64,83 @@ class Surface:
     watch: Callable[[Any, Any, FrameCallback | None], FrameCallback | None] | None = None
 
 
+@dataclass(frozen=True)
+class ProgressSpec:
+    """A run's progress as its frames tell it: ``count(frame)`` of ``total`` ``unit``."""
+
+    total: int
+    unit: str
+    count: Callable[[Any], int]
+
+
+class FrameProgress:
+    """The ``on_frame`` callback of a one-shot run on a terminal: a transient Rich bar
+    (done/total, elapsed) fed from the frames, around the run's own callback (``inner``:
+    the ``--render`` recorder, or None).
+
+    Why: a traversal of a large map runs for minutes (madgta-k on den520d: 200 s) and used
+    to print nothing until the end. The bar appears only after :attr:`DELAY` seconds (no
+    flash on the usual sub-second run), redraws at most :attr:`EVERY` seconds apart, and is
+    never made off a terminal (pipes and logs stay clean). The frames are the ones
+    ``swarmex.run(on_frame=...)`` gives: observing them changes nothing in the run.
+    """
+
+    DELAY = 0.5
+    EVERY = 0.1
+
+    def __init__(self, spec: ProgressSpec, console: Any, inner: Any = None) -> None:
+        from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeElapsedColumn
+
+        self.spec = spec
+        self.inner = inner
+        self.bar = Progress(
+            f"[bold]{spec.unit}[/bold]", BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
+            console=console, transient=True,
+        )
+        self.task = self.bar.add_task("", total=spec.total)
+        self.started = False
+        self.t0 = self.last = time.monotonic()
+
+    def __call__(self, frame: Any) -> None:
+        if self.inner is not None:
+            self.inner(frame)
+        now = time.monotonic()
+        if now - self.last < self.EVERY or now - self.t0 < self.DELAY:
+            return
+        self.last = now
+        if not self.started:
+            from rich.errors import LiveError
+
+            try:
+                self.bar.start()
+            except LiveError:  # the compile notice's spinner is up: try again later
+                return
+            self.started = True
+        self.bar.update(self.task, completed=self.spec.count(frame))
+
+    def close(self) -> None:
+        if self.started:
+            self.bar.stop()
+            self.started = False
+
+
+Watch = Callable[[Any, Any, FrameCallback | None], FrameCallback | None]
+
+
+def progress_bar(spec_of: Callable[[Any, Any], ProgressSpec | None]) -> Watch:
+    """A :attr:`Surface.watch` that shows a :class:`FrameProgress` bar on a terminal.
+
+    ``spec_of(params, prepared world)`` says what the bar counts (None: no bar)."""
+
+    def watch(params: Any, world: Any, on_frame: FrameCallback | None) -> FrameCallback | None:
+        spec = spec_of(params, world)
+        if spec is None or not err_console.is_terminal:
+            return on_frame
+        return FrameProgress(spec, err_console, on_frame)
+
+    return watch
+
+
 def _annotation(info: OptionInfo) -> Any:
     kind = info.kind
     if kind is bool:
@@ -70,6 +148,19 @@ def _annotation(info: OptionInfo) -> Any:
     if info.default is None or info.required:
         return kind | None
     return kind
+
+
+def plain_help(text: str) -> str:
+    """``text`` as ``--help`` should print it. Typer renders option help as Rich markup
+    when Rich is installed, so a literal ``[[agents]]`` (TOML's array of tables) came out as
+    ``[]``: the Params' help is plain text, and the brackets are escaped here."""
+    from typer.core import DEFAULT_MARKUP_MODE
+
+    if DEFAULT_MARKUP_MODE != "rich":
+        return text
+    from rich.markup import escape
+
+    return escape(text)
 
 
 def _typer_option(info: OptionInfo) -> Any:
@@ -81,7 +172,8 @@ def _typer_option(info: OptionInfo) -> Any:
         default = info.default
     else:
         default = None  # tuples, paths, None: the Params default applies
-    kw: dict[str, Any] = {"help": info.help, "show_default": default not in (None, ...)}
+    kw: dict[str, Any] = {"help": plain_help(info.help),
+                          "show_default": default not in (None, ...)}
     if info.metavar:
         kw["metavar"] = info.metavar
     return typer.Option(default, *flags, **kw)
@@ -120,9 +212,9 @@ def mission_command(mission: Mission[Any, Any], surface: Surface) -> Callable[..
                     return None
         with compile_notice(err_console), interrupted_says_so():
             world = mission.prepare(params)
-            on_frame = surface.recorder(render) if surface.recorder and render else None
-            if surface.watch is not None:
-                on_frame = surface.watch(params, world, on_frame)
+            recorder = surface.recorder(render) if surface.recorder and render else None
+            # the watch wraps the recorder; the render below reads the recorder itself
+            on_frame = surface.watch(params, world, recorder) if surface.watch else recorder
             small = surface.interpreted is not None and surface.interpreted(params, world)
             try:
                 with interpreted_while_cold(small):
@@ -138,9 +230,9 @@ def mission_command(mission: Mission[Any, Any], surface: Surface) -> Callable[..
             write_record(outcome.record, json_path)
             console.print(f"wrote {json_path}")
         if render is not None and surface.render is not None:
-            if on_frame is not None and hasattr(on_frame, "finish"):
-                on_frame.finish(outcome.run)
-            surface.render(outcome, render, list(getattr(on_frame, "frames", ())))
+            if recorder is not None and hasattr(recorder, "finish"):
+                recorder.finish(outcome.run)
+            surface.render(outcome, render, list(getattr(recorder, "frames", ())))
             console.print(f"wrote {render}")
         return None
 
@@ -160,7 +252,8 @@ def mission_command(mission: Mission[Any, Any], surface: Surface) -> Callable[..
                 e.name,
                 inspect.Parameter.KEYWORD_ONLY,
                 default=typer.Option(
-                    e.default, e.flag or "--" + e.name.replace("_", "-"), help=e.help
+                    e.default, e.flag or "--" + e.name.replace("_", "-"),
+                    help=plain_help(e.help),
                 ),
                 annotation=e.annotation,
             )
@@ -239,4 +332,4 @@ def _number(text: str, flag: str, kind: type) -> Any:
         raise InputError(f"{flag}: expected {what}, got {text!r}") from None
 
 
-__all__ = ["Extra", "Surface", "mission_command"]
+__all__ = ["Extra", "FrameProgress", "ProgressSpec", "Surface", "mission_command"]

@@ -222,6 +222,8 @@ class raw_env(AECEnv):  # noqa: N801 - PettingZoo's module convention
         if seed is not None:
             if isinstance(seed, bool) or not isinstance(seed, numbers.Integral):
                 raise InputError(f"traversal_v0: seed must be an integer, got {seed!r}")
+            if seed < 0:  # numpy's generators refuse it, from the simulator's thread
+                raise InputError(f"traversal_v0: seed must be at least 0, got {seed}")
             self._next_seed = int(seed)
         episode_seed, self._next_seed = self._next_seed, self._next_seed + 1
         p = dataclasses.replace(self.params, seed=episode_seed)

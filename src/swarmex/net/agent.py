@@ -33,6 +33,8 @@ link; an id it held was handed back).
 from __future__ import annotations
 
 import os
+import signal
+import threading
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -62,6 +64,7 @@ from swarmex.net.vehicle import (
 
 EXIT_OK, EXIT_UNFINISHED, EXIT_SERVER_GONE, EXIT_REFUSED, EXIT_DECLARED_GONE = 0, 1, 3, 4, 5
 EXIT_HANDED_BACK = 6
+EXIT_INTERRUPTED = 130  # Ctrl-C: ids handed back, vehicles brought down (see run_agents)
 #: states in which the vehicle is being readied or flown (its faults count)
 VEHICLE_STATES = ("prearm", "c02", "arming", "c03", "ready", "mission", "rtl", "landing")
 
@@ -363,6 +366,16 @@ class AgentClient:
         else:
             self.task = None
 
+    def interrupt(self, now: float) -> None:
+        """Ctrl-C: an agent holding an id hands it back and lands (:meth:`_hand_back`);
+        one still asking for an id, or a waiting spare, just leaves."""
+        if self.exit_code is not None:
+            return
+        if self.id and self.state in VEHICLE_STATES:
+            self._hand_back("interrupted (Ctrl-C)", now)
+        else:
+            self._done(EXIT_UNFINISHED, "interrupted (Ctrl-C)")
+
     def _grounding_tick(self, now: float) -> float:
         task, fault = self.task, self.vehicle.fault()
         if task is not None and task.running and fault is None:
@@ -598,9 +611,15 @@ def run_agents(
         poller.register(fd, zmq.POLLIN)
     by_sock = {a.sock: a for a in agents}
     deadline = time.monotonic() + timeout
+    stop = _Interrupt()
     try:
         while any(a.exit_code is None for a in agents):
             now = time.monotonic()
+            if stop.seen and not stop.handled:
+                stop.handled = True
+                for a in agents:
+                    a.interrupt(now)
+                continue
             if now > deadline:
                 for a in agents:
                     a._done(EXIT_SERVER_GONE, "timeout")
@@ -620,7 +639,36 @@ def run_agents(
                     if agent.state == "mission" and not agent.inflight:
                         break  # act as soon as it may be this agent's turn
     finally:
+        stop.restore()
         for a in agents:
             a.close()
         ctx.term()
+    if stop.seen:
+        return EXIT_INTERRUPTED
     return max(a.exit_code or 0 for a in agents)
+
+
+class _Interrupt:
+    """Ctrl-C (SIGINT) in :func:`run_agents` sets :attr:`seen`; the loop then hands every
+    agent's id back (``RET``) and brings its vehicle down, as for a vehicle fault, instead
+    of vanishing: the server frees the ids at once (not after ``--dead-after``) and a real
+    copter returns to launch rather than hovering until the autopilot's GCS failsafe.
+    A second Ctrl-C raises ``KeyboardInterrupt`` (leave now). The handler is installed only
+    in the main thread (a signal handler can live nowhere else)."""
+
+    def __init__(self) -> None:
+        self.seen = False
+        self.handled = False
+        self.previous: Any = None
+        if threading.current_thread() is threading.main_thread():
+            self.previous = signal.signal(signal.SIGINT, self._on_sigint)
+
+    def _on_sigint(self, signum: int, frame: Any) -> None:
+        if self.seen:
+            raise KeyboardInterrupt
+        self.seen = True
+
+    def restore(self) -> None:
+        if self.previous is not None:
+            signal.signal(signal.SIGINT, self.previous)
+            self.previous = None

@@ -27,6 +27,7 @@ Defaults of the timing options are the thesis's base agent (§5.1: 6.67 m edges 
 
 from __future__ import annotations
 
+import math
 import numbers
 import re
 from collections.abc import Mapping
@@ -177,7 +178,9 @@ class TraversalParams(Params):
     job_failure: float = option(
         0.0, help="Probability a job fails and must be redone.", parse=real(lo=0, below=1)
     )
-    seed: int = option(0, help="Seed of every random choice.", parse=integer())
+    # numpy's generators take only seeds >= 0 (a negative one was a traceback from deep inside
+    # the run, after the world was built)
+    seed: int = option(0, help="Seed of every random choice.", parse=integer(lo=0))
     fleet: tuple[FleetRow, ...] | None = option(
         None,
         help="Per-agent values by id: a TOML file of [[agents]] tables or a CSV with columns "
@@ -255,6 +258,18 @@ class TraversalParams(Params):
             raise InputError(
                 f"--agents {self.agents} but the fleet lists {len(self.fleet)} agents"
             )
+        if self.algorithm == "optimal":
+            # the MILP plans offline with the whole map known: a radio or failing jobs never
+            # enter it, and the record used to list them as if they had been applied
+            offline = {"--loss": self.loss > 0, "--delay": self.delay > 0,
+                       "--comm-range": self.comm_range not in (None, math.inf),
+                       "--job-failure": self.job_failure > 0}
+            given = [flag for flag, on in offline.items() if on]
+            if given:
+                raise InputError(
+                    f"{', '.join(given)}: --algorithm optimal is an offline plan with a perfect"
+                    " radio and jobs that never fail; run a policy (e.g. madgta) for that"
+                )
         team = self.team
         if self.nests is not None:
             if not self.nests:
