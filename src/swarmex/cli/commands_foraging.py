@@ -40,6 +40,14 @@ def report(outcome: Outcome, params: Any) -> None:
         f"{m['food_delivered']}/{run.units}",
     )
     console.print(table)
+    stalled = outcome.record.extra.get("stalled")
+    if stalled is not None:
+        console.print(
+            f"stalled: the team locked with {m['food_delivered']} of {run.units} units home; "
+            f"the run stopped at its round limit, {stalled} (a crowded End-to-End team, see "
+            "docs/foraging.md)",
+            soft_wrap=True,
+        )
 
 
 def render(outcome: Outcome, path: Path, frames: list[Any]) -> None:

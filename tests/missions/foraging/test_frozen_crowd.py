@@ -87,3 +87,34 @@ def test_the_cli_example_that_used_to_hang(capsys):
     extra = ["--food", "7,4", "--transport", "end-to-end", "--food-units", "48"]
     assert main([*argv, *extra]) == 0
     assert "48/48" in capsys.readouterr().out
+
+
+def test_a_locked_team_ends_as_an_incomplete_run_and_both_loops_agree(tmp_path, capsys):
+    """A crowd the side-step rule cannot free (24 robots on 7 x 7, End-to-End) cycles through
+    the same 60 states for ever. It used to raise NoProgress, a traceback that lost the run;
+    it now ends at the round limit as an incomplete run whose record says ``stalled``, the
+    same in the compiled loop and in the Python one."""
+    from swarmex.missions.foraging.sim import round_limit
+
+    plan = timed_plan("sectors", 7, 24)
+    fast = run_mission(plan, (6, 0), 13, "end-to-end", fast=True)
+    slow = run_mission(plan, (6, 0), 13, "end-to-end", fast=False)
+    limit = round_limit(fast.discovery, 7, 13)
+    for o in (fast, slow):
+        assert not o.complete and o.delivered == 5
+        assert o.makespan == limit and o.extra == {"stalled": limit}
+        assert len(o.positions) == limit + 1  # rows 0..makespan, as a finished run's
+    assert np.array_equal(fast.positions, slow.positions)
+    assert fast.jobs == slow.jobs and fast.handovers == slow.handovers
+
+    argv = ["forage", "--grid", "7", "--agents", "24", "--algorithm", "sectors",
+            "--transport", "end-to-end", "--food", "6,0", "--food-units", "13",
+            "--json", str(tmp_path / "r.json")]
+    assert main(argv) == 0
+    out = capsys.readouterr().out
+    assert f"stalled: the team locked with 5 of 13 units home; the run stopped at its round " \
+        f"limit, {limit}" in out
+    import json
+
+    record = json.loads((tmp_path / "r.json").read_text())
+    assert record["complete"] is False and record["stalled"] == limit

@@ -250,4 +250,5 @@ def to_record(run: ForageRun, seed: int, params: dict[str, Any]) -> ResultRecord
         metrics=run.metrics,
         agents=agents,
         wall_seconds=run.wall_seconds,
+        extra={"stalled": o.extra["stalled"]} if "stalled" in o.extra else {},
     )

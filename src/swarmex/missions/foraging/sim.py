@@ -82,8 +82,13 @@ EXPLORE, FOLLOW, COMM, TRANSPORT = 0, 1, 2, 3
 JOIN, RELAY, E2E, IDLE = 0, 1, 2, 3
 
 
-class NoProgress(RuntimeError):
-    """The round limit was hit: a livelock in the rules, never bad user input."""
+def round_limit(t: int, g: int, k: int) -> int:
+    """The last round of a run started at round ``t``.
+
+    Far beyond any run that finishes, so one that reaches it is locked for good (a crowded
+    End-to-End team, docs/foraging.md): it ends there as an incomplete run whose record says
+    ``stalled`` (the round), not as an exception that would lose the record."""
+    return t + 200 * g * (k + g) + 10_000
 
 
 @dataclass(frozen=True)
@@ -198,6 +203,7 @@ class Mission:
         self._last_key: tuple | None = None
         self._frozen = False
         self.stopped = False  # on_frame raised StopRun
+        self.stalled: int | None = None  # the round limit was reached then: a locked team
         self.hooked = hooked  # every Compute is handed out (module docstring)
 
     # ------------------------------------------------------------------ prediction
@@ -540,7 +546,7 @@ class Mission:
         and so it does at round ``stop_at`` (the same stop without a frame per round). A
         generator: a hooked run yields each Compute (module docstring); any other never
         yields."""
-        limit = limit or self.t + 200 * self.g * (self.k + self.g) + 10_000
+        limit = limit or round_limit(self.t, self.g, self.k)
         while True:
             if fast and all(m == TRANSPORT for m in self.mode):
                 if not self.hooked:
@@ -568,7 +574,8 @@ class Mission:
             if self.delivered >= self.k:
                 return
             if self.t >= limit:
-                raise NoProgress(f"no completion after {self.t} rounds")
+                self.stalled = self.t
+                return
             if self.hooked:
                 yield from self.hooked_step()
             else:
@@ -678,7 +685,8 @@ class Mission:
                 self.stopped = True
                 return True
             if status == fl.STALLED:
-                raise NoProgress(f"no completion after {self.t} rounds")
+                self.stalled = self.t
+                return True
             answer = yield Compute(self, self.t, builtin.copy(), pos.copy())
             moves[:] = answer
             state[fl.MOVED] = 1
@@ -742,7 +750,7 @@ class Mission:
             if status == fl.STOPPED:
                 self.stopped = True
             if status == fl.STALLED:
-                raise NoProgress(f"no completion after {self.t} rounds")
+                self.stalled = self.t
             if status != fl.GOING:
                 return
             answer = yield Compute(self, self.t, builtin.copy(), pos.copy())
@@ -788,12 +796,16 @@ class Mission:
         informed = np.asarray(self.informed, dtype=bool)
         while True:
             t = int(state[0])
+            # not past the limit: the last row is the Look of round ``limit``, where the Python
+            # loop stops a locked run (the kernel has made that round's Move as well: undone
+            # below; a locked team delivers nothing, so no job or count comes from it)
+            block = chunk[: max(1, min(len(chunk), limit - t + 1))]
             rows = transport_tail(
                 pos, carrying, tmode, pidx, join_at, state, path, path_of, nest, food, relay,
-                chunk, jobs, handovers, memo, self._cells,
+                block, jobs, handovers, memo, self._cells,
             )  # fmt: skip
             if record:
-                self.tail_chunks.append(chunk[:rows].astype(np.int32))
+                self.tail_chunks.append(block[:rows].astype(np.int32))
             if on_frame is not None:
                 # the round's Look is done (carrying, counts); its Move too unless it was the last
                 frame = Frame(
@@ -809,8 +821,11 @@ class Mission:
                     break
             if state[6]:
                 break
-            if state[0] >= limit:
-                raise NoProgress(f"no completion after {state[0]} rounds")
+            if state[0] > limit:
+                self.stalled = limit
+                state[0] = limit
+                pos[:] = block[rows - 1]
+                break
         self.t, self.units, self.delivered = int(state[0]), int(state[1]), int(state[2])
         self.pos = [(int(x), int(y)) for x, y in pos]
         self.carrying = [bool(c) for c in carrying]
@@ -882,7 +897,7 @@ def _outcome(
         makespan=m.t,
         delivered=m.delivered,
         complete=m.delivered >= units,
-        extra={"stopped": True} if m.stopped else {},
+        extra={"stopped": True} if m.stopped else {"stalled": m.stalled} if m.stalled else {},
     )
 
 
