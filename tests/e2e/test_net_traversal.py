@@ -239,3 +239,21 @@ def test_ctrl_c_on_an_agent_process_hands_its_ids_back(tmp_path):
     back = net["network"]["handed_back"]
     assert sorted(h["id"] for h in back) == [1, 2]
     assert {h["reason"] for h in back} == {"interrupted (Ctrl-C)"}
+
+
+def test_an_agent_that_never_got_an_id_says_so(tmp_path):
+    """Three agents for a two-agent mission: the third waits for a vacant id, none falls
+    vacant, and at END it used to exit 1 with "the mission ended before I finished", as if it
+    had failed its work. It never joined: exit 4, refused, saying why."""
+    with Procs() as procs:
+        server = procs.start(
+            "server", "serve", *GRID, "--agents", 2, "--port", 0, "--time-scale", 0.004,
+            "--timeout", 60,
+        )
+        address = endpoint(server)
+        trio = procs.start("trio", "agent", "--connect", address, "--count", 3,
+                           "--server-timeout", 20)
+        assert server.wait(75) == 0, server.output
+        assert trio.wait(15) == 4, trio.output
+        assert "refused: the mission ended with no vacant id for me" in trio.output
+        assert "ended before I finished" not in trio.output

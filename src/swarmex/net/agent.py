@@ -236,6 +236,8 @@ class AgentClient:
                 self._done(EXIT_OK)
             elif self.state == "hello" and self.want_id < 0:
                 self._done(EXIT_OK, "the mission ended without needing a spare")
+            elif self.state == "hello":  # never got an id: it did not join, it did not fail
+                self._done(EXIT_REFUSED, "refused: the mission ended with no vacant id for me")
             else:
                 self._done(EXIT_UNFINISHED, "the mission ended before I finished")
 
