@@ -22,7 +22,6 @@ same run. ``--no-pogema`` skips it.
 
 from __future__ import annotations
 
-import argparse
 import importlib
 import json
 import subprocess
@@ -33,6 +32,8 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+
+import _cli
 
 REPO = Path(__file__).resolve().parents[1]
 
@@ -162,13 +163,17 @@ def pogema(seconds: float, warmup: float = 1.0) -> dict[str, Any] | None:
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--seconds", type=float, default=5.0, help="timing window per case")
-    ap.add_argument("--warmup", type=float, default=1.0,
+    ap = _cli.Parser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--seconds", type=_cli.positive_float, default=5.0,
+                    help="timing window per case")
+    ap.add_argument("--warmup", type=_cli.nonneg_float, default=1.0,
                     help="seconds of the same loop before each timing window, not counted")
     ap.add_argument("--no-pogema", action="store_true")
     ap.add_argument("--only", default="", help="run only cases whose label contains this")
     args = ap.parse_args()
+    if args.only and not any(args.only in label for label, _, _ in CASES):
+        ap.error(f"--only {args.only!r} matches no case: "
+                 + "; ".join(label for label, _, _ in CASES))
     rows = []
     for label, module, params in CASES:
         if args.only and args.only not in label:
@@ -197,4 +202,4 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    main()
+    _cli.run(main)

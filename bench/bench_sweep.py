@@ -38,6 +38,8 @@ import tempfile
 import time
 from pathlib import Path
 
+import _cli
+
 TARGET_RATIO = 1.8
 TARGET_RSS_MIB = 1024
 
@@ -206,12 +208,13 @@ def rows(out: Path) -> list[dict]:
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--runs", type=int, default=1000)
-    ap.add_argument("--memory-runs", type=int, default=2000)
+    ap = _cli.Parser()
+    ap.add_argument("--runs", type=_cli.positive_int, default=1000)
+    ap.add_argument("--memory-runs", type=_cli.positive_int, default=2000)
     ap.add_argument("--workload", choices=sorted(WORKLOADS), default="issue")
     ap.add_argument("--no-ray", action="store_true")
-    ap.add_argument("--repeat", type=int, default=2, help="tries of each rate (best counts)")
+    ap.add_argument("--repeat", type=_cli.positive_int, default=2,
+                    help="tries of each rate (best counts)")
     ap.add_argument("--phase", nargs="+", help=argparse.SUPPRESS)
     args = ap.parse_args()
     if args.phase:
@@ -303,4 +306,4 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    main()
+    _cli.run(main)
