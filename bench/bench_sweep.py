@@ -4,8 +4,8 @@
    and the ratio (target >= 1.8x on 2 cores). The default workload is the issue's own example
    spec (madgta|nearest x 8x8|12x12 grid x 2|4 agents, 125 seeds, ~18 ms a run on 23 Nov,
    ~7 ms on 27 Nov); ``--workload tiny`` is 5x5 grids with 1-4 agents (~6 ms a run, ~4 ms
-   on 27 Nov), where the pool's fixed
-   start-up (about 0.9 s: numba's first kernel load) weighs most. Two rates each: end to end
+   on 27 Nov), where the pool's fixed start-up (about 0.9 s: numba's first kernel load)
+   weighs most. Two rates each: end to end
    (start-up included; the target) and steady state (the middle 80 % of the runs); best of
    --repeat tries, alternating.
 2. The same spec on Ray (unless --no-ray or Ray is missing), both started by ray.init() and as
