@@ -104,3 +104,14 @@ def test_run_turns_input_errors_into_one_line(capsys: pytest.CaptureFixture[str]
     with pytest.raises(SystemExit) as exc:
         _cli.run(lambda: 3)
     assert exc.value.code == 3
+
+
+def test_run_says_ctrl_c_in_one_line(capsys: pytest.CaptureFixture[str]):
+    def interrupted() -> int:
+        raise KeyboardInterrupt
+
+    with pytest.raises(SystemExit) as exc:
+        _cli.run(interrupted)
+    assert exc.value.code == 130
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "interrupted (Ctrl-C)" in err
