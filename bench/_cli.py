@@ -51,6 +51,15 @@ def positive_int(text: str) -> int:
     return value
 
 
+def paired_count(text: str) -> int:
+    """An integer >= 2: seeds or cells of a paired comparison (one gives no interval, only nan)."""
+    value = int(_number(text, int))
+    if value < 2:
+        raise argparse.ArgumentTypeError(
+            f"must be at least 2 (a 95 % interval needs two pairs), got {value}")
+    return value
+
+
 def nonneg_int(text: str) -> int:
     """An integer >= 0 (a first seed)."""
     value = int(_number(text, int))

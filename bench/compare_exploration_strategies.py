@@ -41,7 +41,7 @@ def one(job: dict[str, Any]) -> tuple[str, str, int, int, bool]:
 
 def main(argv: list[str] | None = None) -> int:
     ap = _cli.Parser(description=__doc__.splitlines()[0])
-    ap.add_argument("--seeds", type=_cli.positive_int, default=None,
+    ap.add_argument("--seeds", type=_cli.paired_count, default=None,
                     help="seeds per cell (10; --quick 3)")
     ap.add_argument("--first-seed", type=_cli.nonneg_int, default=0,
                     help="seeds run from here (20 with --seeds 20: the held-out seeds 20-39)")

@@ -348,7 +348,7 @@ def noise_free(rows: list[tuple[Task, float, dict[str, Any]]], ours: list[str]) 
 
 def main(argv: list[str] | None = None) -> int:
     ap = _cli.Parser(description=__doc__.splitlines()[0])
-    ap.add_argument("--per-band", type=_cli.positive_int, default=40)
+    ap.add_argument("--per-band", type=_cli.paired_count, default=40)
     ap.add_argument("--workers", type=_cli.positive_int, default=2)
     ap.add_argument("--ours", default="comb,sector-loop,loop-strips")
     ap.add_argument("--seed", type=_cli.nonneg_int, default=2015)

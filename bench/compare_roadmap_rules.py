@@ -87,7 +87,7 @@ def measure(job: tuple[Row, str, int]) -> tuple[Row, str, int, float]:
 
 def main(argv: list[str] | None = None) -> int:
     ap = _cli.Parser(description=__doc__.splitlines()[0])
-    ap.add_argument("--seeds", type=_cli.positive_int, default=None,
+    ap.add_argument("--seeds", type=_cli.paired_count, default=None,
                     help="seeds per row (30; --quick 5)")
     ap.add_argument("--quick", action="store_true", help="5 seeds, search at range r only")
     ap.add_argument("--jobs", type=_cli.positive_int, default=2, help="worker processes")

@@ -392,7 +392,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--section", choices=["variants", "comm", "both"], default="both")
     ap.add_argument("--maps", nargs="+", default=None, help=f"default: {' '.join(MAPS)}")
     ap.add_argument("--agents", nargs="+", type=_cli.positive_int, default=[4, 8, 16])
-    ap.add_argument("--seeds", type=_cli.positive_int, default=5)
+    ap.add_argument("--seeds", type=_cli.paired_count, default=5)
     ap.add_argument("--nests", nargs="+", choices=NEST_MODES, default=list(NEST_MODES))
     ap.add_argument("--algorithms", nargs="+", default=ALGORITHMS)
     ap.add_argument("--fleets", nargs="+", choices=FLEETS, default=["same"],
@@ -400,7 +400,7 @@ def main(argv: list[str] | None = None) -> int:
                     "(see fleet_for)")
     ap.add_argument("--comm-maps", nargs="+", default=COMM_MAPS)
     ap.add_argument("--comm-agents", type=_cli.positive_int, default=8)
-    ap.add_argument("--comm-seeds", type=_cli.positive_int, default=4)
+    ap.add_argument("--comm-seeds", type=_cli.paired_count, default=4)
     ap.add_argument("--comm-algorithms", nargs="+", default=["madgta", "madgta+"])
     ap.add_argument(
         "--without-obstacles",

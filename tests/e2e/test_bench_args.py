@@ -41,11 +41,13 @@ BAD = [
     ("bench_net.py", ["--grid", "0x0", "--agents", "2"], "--grid: width and height"),
     ("bench_distance_fields.py", ["--bogus"], "unrecognized arguments: --bogus"),
     ("bench_foraging.py", ["--bogus"], "unrecognized arguments: --bogus"),
-    ("compare_exploration_strategies.py", ["--seeds", "0"], "must be at least 1"),
+    ("compare_exploration_strategies.py", ["--seeds", "0"], "must be at least 2"),
     ("compare_exploration_strategies.py", ["--only", "9"], "index 9 out of range"),
     ("compare_exploration_strategies.py", ["--strategies", "nope"], "unknown nope"),
     ("compare_roadmap_rules.py", ["--jobs", "0"], "must be at least 1"),
-    ("compare_roadmap_rules.py", ["--seeds", "0"], "must be at least 1"),
+    ("compare_roadmap_rules.py", ["--seeds", "1"], "at least 2 (a 95 % interval needs two pairs)"),
+    ("compare_foraging_patterns.py", ["--per-band", "1"], "must be at least 2"),
+    ("compare_traversal_variants.py", ["--comm-seeds", "1"], "must be at least 2"),
     ("compare_foraging_patterns.py", ["--ours", "nope"], "--ours: unknown nope"),
     ("compare_foraging_patterns.py", ["--load", "/nonexistent/runs.json"],
      "cannot read /nonexistent/runs.json"),
@@ -115,3 +117,9 @@ def test_run_says_ctrl_c_in_one_line(capsys: pytest.CaptureFixture[str]):
     assert exc.value.code == 130
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "interrupted (Ctrl-C)" in err
+
+
+def test_paired_count():
+    assert _cli.paired_count("2") == 2
+    with pytest.raises(argparse.ArgumentTypeError, match="two pairs"):
+        _cli.paired_count("1")
