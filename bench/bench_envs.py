@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import importlib
 import json
+import shutil
 import subprocess
 import sys
 import time
@@ -153,11 +154,17 @@ def pogema(seconds: float, warmup: float = 1.0) -> dict[str, Any] | None:
     if not python.exists():
         print(f"making a virtual environment for POGEMA 1.4 in {home} ...", file=sys.stderr)
         venv.create(home, with_pip=True)
-        subprocess.run([str(python), "-m", "pip", "install", "-q", "pogema==1.4.*"], check=True)
+        got = subprocess.run([str(python), "-m", "pip", "install", "-q", "pogema==1.4.*"])
+        if got.returncode:  # offline, say: no traceback, and no half-made venv kept for later
+            shutil.rmtree(home, ignore_errors=True)
+            print("POGEMA skipped: pip install pogema==1.4.* failed (see above); "
+                  "--no-pogema leaves it out", file=sys.stderr)
+            return None
     out = subprocess.run([str(python), "-c", POGEMA_CODE, str(seconds), str(warmup)],
                          capture_output=True, text=True, timeout=600)
     if out.returncode:
-        print(out.stderr.strip().splitlines()[-1:], file=sys.stderr)
+        last = out.stderr.strip().splitlines()[-1:] or ["no message"]
+        print(f"POGEMA skipped: its run failed: {last[0]}", file=sys.stderr)
         return None
     return json.loads(out.stdout)  # type: ignore[no-any-return]
 

@@ -123,3 +123,20 @@ def test_paired_count():
     assert _cli.paired_count("2") == 2
     with pytest.raises(argparse.ArgumentTypeError, match="two pairs"):
         _cli.paired_count("1")
+
+
+def test_pogema_install_failure_is_a_skip(monkeypatch: pytest.MonkeyPatch, tmp_path: Path,
+                                          capsys: pytest.CaptureFixture[str]):
+    """Offline, bench_envs used to die in a CalledProcessError and keep the half-made venv,
+    so every later run skipped the install and printed a list's repr as its message."""
+    import bench_envs
+
+    monkeypatch.setattr(Path, "home", lambda: tmp_path)
+    monkeypatch.setattr(bench_envs.venv, "create", lambda home, with_pip: (home / "bin").mkdir(
+        parents=True))
+    monkeypatch.setattr(bench_envs.subprocess, "run",
+                        lambda *a, **k: subprocess.CompletedProcess(a, 1, "", "no network"))
+    assert bench_envs.pogema(0.1, 0.0) is None
+    assert not (tmp_path / ".cache" / "swarmex" / "bench-pogema").exists()
+    err = capsys.readouterr().err
+    assert "POGEMA skipped: pip install pogema==1.4.* failed" in err
