@@ -21,6 +21,7 @@ import argparse
 import math
 import sys
 from collections.abc import Callable
+from pathlib import Path
 from typing import NoReturn
 
 
@@ -98,6 +99,17 @@ def int_list(text: str) -> list[int]:
         return [positive_int(part.strip()) for part in text.split(",")]
     except argparse.ArgumentTypeError as exc:
         raise argparse.ArgumentTypeError(f"a comma-separated list of counts: {exc}") from None
+
+
+def out_file(text: str) -> Path:
+    """A file to write at the end: its folder must exist now, not after the runs are done."""
+    path = Path(text)
+    folder = path.resolve().parent
+    if not folder.is_dir():
+        raise argparse.ArgumentTypeError(f"cannot write {text}: folder {folder} does not exist")
+    if path.is_dir():
+        raise argparse.ArgumentTypeError(f"cannot write {text}: it is a folder")
+    return path
 
 
 def indices(text: str, count: int, what: str = "scenario") -> list[int]:

@@ -49,7 +49,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--only", help="comma-separated scenario indices (0-based)")
     ap.add_argument("--strategies", default=",".join(STRATEGY_ORDER))
     ap.add_argument("--jobs", type=_cli.positive_int, default=2)
-    ap.add_argument("--json", help="write every run's makespan here")
+    ap.add_argument("--json", type=_cli.out_file, help="write every run's makespan here")
     args = ap.parse_args(argv)
     seeds = args.seeds or (3 if args.quick else 10)
     seed_list = range(args.first_seed, args.first_seed + seeds)

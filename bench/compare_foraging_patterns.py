@@ -352,10 +352,11 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--workers", type=_cli.positive_int, default=2)
     ap.add_argument("--ours", default="comb,sector-loop,loop-strips")
     ap.add_argument("--seed", type=_cli.nonneg_int, default=2015)
-    ap.add_argument("--raw", help="write every run's metrics to this JSON file")
+    ap.add_argument("--raw", type=_cli.out_file, help="write every run's metrics to this JSON file")
     ap.add_argument("--load", help="read the runs' metrics from this --raw file instead")
-    ap.add_argument("--floors", help="Q_min and proven floors: read this JSON file if it "
-                    "exists, else compute them and write it")
+    ap.add_argument("--floors", type=_cli.out_file,
+                    help="Q_min and proven floors: read this JSON file if it exists, else "
+                    "compute them and write it")
     ap.add_argument("--floor-search", type=_cli.positive_int, default=40,
                     help="local-search runs per food cell and N for Q_min (after the formations)")
     a = ap.parse_args(argv)

@@ -91,7 +91,7 @@ def main(argv: list[str] | None = None) -> int:
                     help="seeds per row (30; --quick 5)")
     ap.add_argument("--quick", action="store_true", help="5 seeds, search at range r only")
     ap.add_argument("--jobs", type=_cli.positive_int, default=2, help="worker processes")
-    ap.add_argument("--json", help="write every run's value here")
+    ap.add_argument("--json", type=_cli.out_file, help="write every run's value here")
     args = ap.parse_args(argv)
     seeds = args.seeds or (5 if args.quick else 30)
     table = rows(args.quick)

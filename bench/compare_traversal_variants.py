@@ -411,7 +411,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--quick", action="store_true", help="small maps, 3 seeds")
     ap.add_argument("--jobs", type=_cli.positive_int, default=1,
                     help="worker processes (default 1)")
-    ap.add_argument("--json", type=Path, default=None, help="write every run's figures here")
+    ap.add_argument("--json", type=_cli.out_file, default=None,
+                    help="write every run's figures here")
     ap.add_argument(
         "--from-json",
         type=Path,

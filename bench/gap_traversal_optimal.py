@@ -441,7 +441,7 @@ def main() -> None:
                     help="--pareto: the mean makespan gap allowed (default 0.02, issue 17)")
     ap.add_argument("--kind", choices=["all", "identical", "mixed"], default="all",
                     help="--pareto: which agent type's instances to solve")
-    ap.add_argument("--json", help="also write the numbers to this file")
+    ap.add_argument("--json", type=_cli.out_file, help="also write the numbers to this file")
     args = ap.parse_args()
     check_algorithms(args.algorithms)
     if args.pareto is not None:
