@@ -68,6 +68,9 @@ def main() -> None:
     ap.add_argument("--src", type=Path, default=SRC,
                     help="the source tree to time (e.g. another checkout's src, to compare)")
     args = ap.parse_args()
+    if not (args.src / "swarmex" / "__init__.py").is_file():
+        # else the children import whatever swarmex is installed and time the wrong tree
+        ap.error(f"--src {args.src}: no swarmex package there (give a checkout's src folder)")
     env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
     env.update(PYTHONPATH=str(args.src.resolve()), COLUMNS="100")
     py = sys.executable

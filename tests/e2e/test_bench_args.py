@@ -33,6 +33,7 @@ BAD = [
     ("bench_envs.py", ["--seconds", "-1", "--no-pogema"], "must be a positive number"),
     ("bench_envs.py", ["--only", "nothing", "--no-pogema"], "matches no case"),
     ("bench_startup.py", ["--runs", "0"], "must be at least 1"),
+    ("bench_startup.py", ["--src", "/nonexistent"], "no swarmex package there"),
     ("bench_sweep.py", ["--runs", "0"], "must be at least 1"),
     ("bench_traversal_den520d.py", ["--runs", "0"], "must be at least 1"),
     ("bench_exploration.py", ["--robots", "0"], "must be at least 1"),
