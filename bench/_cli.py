@@ -77,6 +77,14 @@ def positive_float(text: str) -> float:
     return value
 
 
+def cap(text: str) -> float:
+    """A makespan cap as a multiple of the optimum: a finite number >= 1 (below, no plan)."""
+    value = _number(text, float)
+    if not (1 <= value < math.inf):
+        raise argparse.ArgumentTypeError(f"must be a number >= 1 (x optimal), got {text!r}")
+    return value
+
+
 def nonneg_float(text: str) -> float:
     """A finite number >= 0 (a warm-up that may be skipped)."""
     value = _number(text, float)

@@ -434,10 +434,10 @@ def main() -> None:
                     help="online algorithms (madgta-h@RHO: madgta-h with that rho; "
                     "madgta-r@K=V,... / madgta-p@K=V,...: with those keywords; "
                     "known:NAME: NAME with the whole map known from the start, a diagnostic)")
-    ap.add_argument("--pareto", nargs="*", type=float, metavar="CAP",
+    ap.add_argument("--pareto", nargs="*", type=_cli.cap, metavar="CAP",
                     help="instead: the least sum gap of plans with makespan <= CAP x optimal "
                     "(default caps 1 1.01 1.02 1.03 1.05 1.1 1.25 1.5 2)")
-    ap.add_argument("--budget", type=float, default=0.02,
+    ap.add_argument("--budget", type=_cli.nonneg_float, default=0.02,
                     help="--pareto: the mean makespan gap allowed (default 0.02, issue 17)")
     ap.add_argument("--kind", choices=["all", "identical", "mixed"], default="all",
                     help="--pareto: which agent type's instances to solve")

@@ -35,9 +35,10 @@ def maps_dir() -> Path:
 def main() -> int:
     ap = _cli.Parser(description=__doc__.splitlines()[0])
     ap.add_argument("--case", choices=("den520d", "empty"), default="den520d")
-    ap.add_argument("--side", type=int, default=512, help="empty grid side (--case empty)")
-    ap.add_argument("--agents", type=int, default=16)
-    ap.add_argument("--top", type=int, default=15, help="functions to list")
+    ap.add_argument("--side", type=_cli.positive_int, default=512,
+                    help="empty grid side (--case empty)")
+    ap.add_argument("--agents", type=_cli.positive_int, default=16)
+    ap.add_argument("--top", type=_cli.positive_int, default=15, help="functions to list")
     args = ap.parse_args()
     warm = random_obstacles(24, 24, 0.2, seed=0)
     run_traversal(warm, uniform_agents([int(np.flatnonzero(~warm.blocked)[0])] * 3, 1.0, 1.0))

@@ -56,6 +56,9 @@ BAD = [
     ("compare_traversal_fingerprints.py", ["--rev", "no-such-revision-xyz", "--seeds", "1"],
      "--rev no-such-revision-xyz"),
     ("gap_traversal_optimal.py", ["--instances", "0"], "must be at least 1"),
+    ("gap_traversal_optimal.py", ["--pareto", "0.5"], "must be a number >= 1 (x optimal)"),
+    ("gap_traversal_optimal.py", ["--budget", "-1"], "must be a number >= 0"),
+    ("profile_traversal.py", ["--case", "empty", "--side", "0"], "must be at least 1"),
     ("gap_traversal_optimal.py", ["--algorithms", "nope"], "unknown online algorithm"),
     ("gap_traversal_optimal.py", ["--algorithms", "madgta-r@nokey"], "algorithm 'madgta-r@nokey'"),
     ("exploration_bound.py", ["--only", "x"], "indices are integers"),
@@ -69,7 +72,7 @@ BAD = [
     ("exploration_fingerprints.py", ["--record", "/nonexistent/fp.json"], "does not exist"),
     ("exploration_fingerprints.py", ["--check", "/nonexistent/fp.json"],
      "cannot read /nonexistent/fp.json"),
-    ("profile_traversal.py", ["--case", "empty", "--agents", "0"], "at least one agent"),
+    ("profile_traversal.py", ["--case", "empty", "--agents", "0"], "must be at least 1"),
     ("endgame_headroom.py", ["--x", "0"], "must be at least 1"),
 ]
 
