@@ -18,13 +18,13 @@ absent. Prints, from one run:
 from __future__ import annotations
 
 import os
-import sys
 import time
 from pathlib import Path
 
 import networkx as nx
 import numpy as np
 
+import _cli
 from swarmex.planning.distance import (
     distance_field,
     distance_fields,
@@ -68,6 +68,8 @@ def per_call(fn, items, repeat: int = 1) -> float:
 
 
 def main() -> int:
+    # no options; parsed so that --help works and a stray argument is refused, not ignored
+    _cli.Parser(description=__doc__.split("\n\n")[0]).parse_args()
     path = maps_dir() / "den520d.map"
     if path.exists():
         world, name = load_movingai(path), "den520d.map"
@@ -137,4 +139,4 @@ def main() -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    _cli.run(main)

@@ -22,9 +22,9 @@ same run. ``--no-pogema`` skips it.
 
 from __future__ import annotations
 
-import argparse
 import importlib
 import json
+import shutil
 import subprocess
 import sys
 import time
@@ -33,6 +33,8 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+
+import _cli
 
 REPO = Path(__file__).resolve().parents[1]
 
@@ -152,23 +154,33 @@ def pogema(seconds: float, warmup: float = 1.0) -> dict[str, Any] | None:
     if not python.exists():
         print(f"making a virtual environment for POGEMA 1.4 in {home} ...", file=sys.stderr)
         venv.create(home, with_pip=True)
-        subprocess.run([str(python), "-m", "pip", "install", "-q", "pogema==1.4.*"], check=True)
+        got = subprocess.run([str(python), "-m", "pip", "install", "-q", "pogema==1.4.*"])
+        if got.returncode:  # offline, say: no traceback, and no half-made venv kept for later
+            shutil.rmtree(home, ignore_errors=True)
+            print("POGEMA skipped: pip install pogema==1.4.* failed (see above); "
+                  "--no-pogema leaves it out", file=sys.stderr)
+            return None
     out = subprocess.run([str(python), "-c", POGEMA_CODE, str(seconds), str(warmup)],
                          capture_output=True, text=True, timeout=600)
     if out.returncode:
-        print(out.stderr.strip().splitlines()[-1:], file=sys.stderr)
+        last = out.stderr.strip().splitlines()[-1:] or ["no message"]
+        print(f"POGEMA skipped: its run failed: {last[0]}", file=sys.stderr)
         return None
     return json.loads(out.stdout)  # type: ignore[no-any-return]
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--seconds", type=float, default=5.0, help="timing window per case")
-    ap.add_argument("--warmup", type=float, default=1.0,
+    ap = _cli.Parser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--seconds", type=_cli.positive_float, default=5.0,
+                    help="timing window per case")
+    ap.add_argument("--warmup", type=_cli.nonneg_float, default=1.0,
                     help="seconds of the same loop before each timing window, not counted")
     ap.add_argument("--no-pogema", action="store_true")
     ap.add_argument("--only", default="", help="run only cases whose label contains this")
     args = ap.parse_args()
+    if args.only and not any(args.only in label for label, _, _ in CASES):
+        ap.error(f"--only {args.only!r} matches no case: "
+                 + "; ".join(label for label, _, _ in CASES))
     rows = []
     for label, module, params in CASES:
         if args.only and args.only not in label:
@@ -197,4 +209,4 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    main()
+    _cli.run(main)

@@ -11,12 +11,12 @@ wall time also counts other people's jobs.
 
 from __future__ import annotations
 
-import argparse
 import cProfile
 import os
 import pstats
 import time
 
+import _cli
 from swarmex.missions.exploration import ExplorationParams, run_exploration
 from swarmex.worlds.metric import empty_metric
 
@@ -24,10 +24,10 @@ TARGET_SECONDS = 15.0
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--robots", type=int, default=10)
+    ap = _cli.Parser()
+    ap.add_argument("--robots", type=_cli.positive_int, default=10)
     ap.add_argument("--strategy", default="greedy-exclusion")
-    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--seed", type=_cli.nonneg_int, default=0)
     ap.add_argument("--profile", action="store_true")
     args = ap.parse_args()
     grid = empty_metric(20, 20, 0.05)
@@ -60,4 +60,4 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    main()
+    _cli.run(main)

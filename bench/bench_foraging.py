@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import time
 
+import _cli
 from swarmex.missions.foraging.sim import run_mission
 from swarmex.missions.foraging.timed import timed_plan
 from swarmex.studies.foraging.design import TABLE_CONFIGS, TRANSPORT_CONFIGS, food_cells
@@ -28,6 +29,8 @@ def timed_run(T, food, record, fast):
 
 
 def main() -> None:
+    # no options; parsed so that --help works and a stray argument is refused, not ignored
+    _cli.Parser(description=__doc__.split("\n\n")[0]).parse_args()
     foods = food_cells(2015, 4)["random"]
     warm = timed_plan("strips", G, 4)
     run_mission(warm, (3, 3), 2, "relay-food", record=False)  # compile (or load) the tail
@@ -62,4 +65,4 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    main()
+    _cli.run(main)

@@ -19,7 +19,6 @@ Usage: ``python bench/bench_net.py [--agents 10,50] [--grid 20x20] [--time-scale
 
 from __future__ import annotations
 
-import argparse
 import json
 import os
 import re
@@ -30,6 +29,8 @@ import time
 from pathlib import Path
 
 import numpy as np
+
+import _cli
 
 
 def run_network(grid: str, agents: int, scale: float, per_process: int, seed: int,
@@ -113,13 +114,13 @@ def mesh_rows(size: str, robots: int, scale: float, seed: int) -> list[dict]:
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--agents", default="10,50")
+    ap = _cli.Parser(description=__doc__.split("\n")[0])
+    ap.add_argument("--agents", type=_cli.int_list, default=[10, 50])
     ap.add_argument("--grid", default="20x20")
-    ap.add_argument("--time-scale", type=float, default=0.02)
-    ap.add_argument("--per-process", type=int, default=10)
-    ap.add_argument("--seed", type=int, default=1)
-    ap.add_argument("--timeout", type=float, default=900.0)
+    ap.add_argument("--time-scale", type=_cli.positive_float, default=0.02)
+    ap.add_argument("--per-process", type=_cli.positive_int, default=10)
+    ap.add_argument("--seed", type=_cli.nonneg_int, default=1)
+    ap.add_argument("--timeout", type=_cli.positive_float, default=900.0)
     ap.add_argument("--mesh", default="",
                     help="Also run exploration as processes: SIZExROBOTS, e.g. 5x5x5.")
     ap.add_argument("--no-done-lists", action="store_true",
@@ -127,7 +128,7 @@ def main() -> None:
     args = ap.parse_args()
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
-        for n in (int(v) for v in args.agents.split(",")):
+        for n in args.agents:
             sim = simulate(args.grid, n, args.seed)
             rec, wall = run_network(args.grid, n, args.time_scale, args.per_process,
                                     args.seed, Path(tmp) / f"net{n}.json", args.timeout,
@@ -202,4 +203,4 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    main()
+    _cli.run(main)

@@ -18,7 +18,6 @@ Usage: ``python bench/bench_net_loss.py [--loss 0.3] [--seeds 10]``.
 
 from __future__ import annotations
 
-import argparse
 import importlib
 import time
 from collections.abc import Callable
@@ -26,6 +25,7 @@ from typing import Any
 
 import numpy as np
 
+import _cli
 from swarmex.missions.traversal import uniform_agents
 from swarmex.net.traversal import Mission, run_inprocess
 from swarmex.worlds import random_obstacles, rooms
@@ -59,9 +59,9 @@ def one(world: Any, agents: int, seed: int, loss: float, mode: str) -> tuple[flo
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--loss", type=float, default=0.3)
-    ap.add_argument("--seeds", type=int, default=10)
+    ap = _cli.Parser()
+    ap.add_argument("--loss", type=_cli.probability, default=0.3)
+    ap.add_argument("--seeds", type=_cli.positive_int, default=10)
     args = ap.parse_args()
     families: list[tuple[str, int, Callable[[int], Any]]] = [
         ("random 10x10, 20 % walls", 4, lambda s: random_obstacles(10, 10, 0.2, seed=s)),
@@ -91,4 +91,4 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    main()
+    _cli.run(main)

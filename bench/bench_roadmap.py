@@ -14,7 +14,6 @@ costs, wall also counts other people's jobs.
 
 from __future__ import annotations
 
-import argparse
 import cProfile
 import math
 import os
@@ -23,6 +22,7 @@ import time
 
 import numpy as np
 
+import _cli
 from swarmex.missions.roadmap import run_roadmap
 from swarmex.missions.roadmap.starts import default_starts
 from swarmex.planning.prm import build_prm
@@ -49,8 +49,8 @@ def line(name: str, wall: float, cpu: float, goal: float | None, extra: str = ""
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--repeats", type=int, default=5)
+    ap = _cli.Parser()
+    ap.add_argument("--repeats", type=_cli.positive_int, default=5)
     ap.add_argument("--profile", action="store_true")
     args = ap.parse_args()
     w = world("fig8")
@@ -95,4 +95,4 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    main()
+    _cli.run(main)

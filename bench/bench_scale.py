@@ -43,6 +43,8 @@ from typing import Any
 
 import numpy as np
 
+import _cli
+
 HERE = Path(__file__).resolve().parent
 MISSIONS = ("traversal", "exploration", "foraging", "roadmap")
 SIZES: dict[str, list[Any]] = {
@@ -225,10 +227,10 @@ def write_readme(lines: list[str]) -> None:
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap = _cli.Parser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="the three smallest sizes")
     ap.add_argument("--missions", default=",".join(MISSIONS))
-    ap.add_argument("--timeout", type=float, default=900.0, help="seconds per case")
+    ap.add_argument("--timeout", type=_cli.positive_float, default=900.0, help="seconds per case")
     ap.add_argument("--write", action="store_true", help="update bench/README.md and scale.png")
     ap.add_argument("--sizes", help="sizes of the one mission of --missions, e.g. 64,128 "
                     "(traversal side, robots, nodes) or 256x64,512x256 (foraging grid x robots)")
@@ -273,4 +275,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    _cli.run(main)

@@ -25,7 +25,6 @@ Wall time suffers from other jobs on a shared machine; CPU time much less, so bo
 
 from __future__ import annotations
 
-import argparse
 import os
 import statistics
 import subprocess
@@ -33,6 +32,8 @@ import sys
 import tempfile
 import time
 from pathlib import Path
+
+import _cli
 
 SRC = Path(__file__).resolve().parents[1] / "src"
 GOALS = {"swarmex --help": 0.3, "swarmex demo (warm cache)": 1.0}
@@ -61,12 +62,15 @@ def measure(name: str, argv: list[str], runs: int, env: dict[str, str], cwd: str
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--runs", type=int, default=7, help="timed runs per command")
+    ap = _cli.Parser(description=__doc__.splitlines()[0])
+    ap.add_argument("--runs", type=_cli.positive_int, default=7, help="timed runs per command")
     ap.add_argument("--no-cold", action="store_true", help="skip the cold-cache demo")
     ap.add_argument("--src", type=Path, default=SRC,
                     help="the source tree to time (e.g. another checkout's src, to compare)")
     args = ap.parse_args()
+    if not (args.src / "swarmex" / "__init__.py").is_file():
+        # else the children import whatever swarmex is installed and time the wrong tree
+        ap.error(f"--src {args.src}: no swarmex package there (give a checkout's src folder)")
     env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
     env.update(PYTHONPATH=str(args.src.resolve()), COLUMNS="100")
     py = sys.executable
@@ -108,4 +112,4 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    main()
+    _cli.run(main)

@@ -2,9 +2,10 @@
 
 1. 1,000 small traversal runs with the local backend on 1 worker, then on 2: prints both rates
    and the ratio (target >= 1.8x on 2 cores). The default workload is the issue's own example
-   spec (madgta|nearest x 8x8|12x12 grid x 2|4 agents, 125 seeds, ~18 ms a run);
-   ``--workload tiny`` is 5x5 grids with 1-4 agents (~6 ms a run), where the pool's fixed
-   start-up (about 0.9 s: numba's first kernel load) weighs most. Two rates each: end to end
+   spec (madgta|nearest x 8x8|12x12 grid x 2|4 agents, 125 seeds, ~18 ms a run on 23 Nov,
+   ~7 ms on 27 Nov); ``--workload tiny`` is 5x5 grids with 1-4 agents (~6 ms a run, ~4 ms
+   on 27 Nov), where the pool's fixed start-up (about 0.9 s: numba's first kernel load)
+   weighs most. Two rates each: end to end
    (start-up included; the target) and steady state (the middle 80 % of the runs); best of
    --repeat tries, alternating.
 2. The same spec on Ray (unless --no-ray or Ray is missing), both started by ray.init() and as
@@ -37,6 +38,8 @@ import sys
 import tempfile
 import time
 from pathlib import Path
+
+import _cli
 
 TARGET_RATIO = 1.8
 TARGET_RSS_MIB = 1024
@@ -206,12 +209,13 @@ def rows(out: Path) -> list[dict]:
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--runs", type=int, default=1000)
-    ap.add_argument("--memory-runs", type=int, default=2000)
+    ap = _cli.Parser()
+    ap.add_argument("--runs", type=_cli.positive_int, default=1000)
+    ap.add_argument("--memory-runs", type=_cli.positive_int, default=2000)
     ap.add_argument("--workload", choices=sorted(WORKLOADS), default="issue")
     ap.add_argument("--no-ray", action="store_true")
-    ap.add_argument("--repeat", type=int, default=2, help="tries of each rate (best counts)")
+    ap.add_argument("--repeat", type=_cli.positive_int, default=2,
+                    help="tries of each rate (best counts)")
     ap.add_argument("--phase", nargs="+", help=argparse.SUPPRESS)
     args = ap.parse_args()
     if args.phase:
@@ -303,4 +307,4 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    main()
+    _cli.run(main)

@@ -14,15 +14,14 @@ without it the benchmark says so and exits 0.
 
 from __future__ import annotations
 
-import argparse
 import os
 import resource
-import sys
 import time
 from pathlib import Path
 
 import numpy as np
 
+import _cli
 from swarmex.missions.traversal import run_traversal, traversal_record, uniform_agents
 from swarmex.missions.traversal import sim as traversal_sim
 from swarmex.missions.traversal.metrics import run_fingerprint as fingerprint
@@ -47,8 +46,9 @@ def peak_rss_mb() -> float:
 
 
 def main() -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--runs", type=int, default=1, help="timed runs (the best is reported)")
+    ap = _cli.Parser(description=__doc__.splitlines()[0])
+    ap.add_argument("--runs", type=_cli.positive_int, default=1,
+                    help="timed runs (the best is reported)")
     ap.add_argument("--prefetch", action="store_true",
                     help="derive moving agents' fields on a worker thread (needs an idle core)")
     args = ap.parse_args()
@@ -105,4 +105,4 @@ def main() -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    _cli.run(main)

@@ -17,7 +17,6 @@ Maps are read from ``SWARMEX_MAPS`` (default ``../shared/maps``); an absent map 
 
 from __future__ import annotations
 
-import argparse
 import json
 import sys
 import time
@@ -26,7 +25,9 @@ from typing import Any
 
 import numpy as np
 
+import _cli
 from swarmex.engine.stats import summarize
+from swarmex.missions.exploration.strategies import STRATEGIES
 from swarmex.studies.exploration.design import SCENARIOS, STRATEGY_ORDER, maps_dir
 from swarmex.studies.exploration.runs import run_job
 
@@ -39,22 +40,26 @@ def one(job: dict[str, Any]) -> tuple[str, str, int, int, bool]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--seeds", type=int, default=None, help="seeds per cell (10; --quick 3)")
-    ap.add_argument("--first-seed", type=int, default=0,
+    ap = _cli.Parser(description=__doc__.splitlines()[0])
+    ap.add_argument("--seeds", type=_cli.paired_count, default=None,
+                    help="seeds per cell (10; --quick 3)")
+    ap.add_argument("--first-seed", type=_cli.nonneg_int, default=0,
                     help="seeds run from here (20 with --seeds 20: the held-out seeds 20-39)")
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--only", help="comma-separated scenario indices (0-based)")
     ap.add_argument("--strategies", default=",".join(STRATEGY_ORDER))
-    ap.add_argument("--jobs", type=int, default=2)
-    ap.add_argument("--json", help="write every run's makespan here")
+    ap.add_argument("--jobs", type=_cli.positive_int, default=2)
+    ap.add_argument("--json", type=_cli.out_file, help="write every run's makespan here")
     args = ap.parse_args(argv)
     seeds = args.seeds or (3 if args.quick else 10)
     seed_list = range(args.first_seed, args.first_seed + seeds)
     scenarios = SCENARIOS
     if args.only:
-        scenarios = [SCENARIOS[int(i)] for i in args.only.split(",")]
+        scenarios = [SCENARIOS[i] for i in _cli.indices(args.only, len(SCENARIOS))]
     strategies = args.strategies.split(",")
+    unknown = [st for st in strategies if st not in STRATEGIES]
+    if unknown:  # before the pool: the base strategy's runs would come first
+        ap.error(f"--strategies: unknown {', '.join(unknown)}; choose from {', '.join(STRATEGIES)}")
     if BASE not in strategies:
         strategies.insert(0, BASE)
     jobs = []
@@ -70,9 +75,11 @@ def main(argv: list[str] | None = None) -> int:
     with ProcessPoolExecutor(args.jobs) as pool:
         for i, (sc, st, seed, mk, ok) in enumerate(pool.map(one, jobs), 1):
             res.setdefault(sc, {}).setdefault(st, {})[seed] = (mk, ok)
-            print(f"\r{i}/{len(jobs)} runs, {time.perf_counter() - t0:.0f} s", end="",
-                  file=sys.stderr, flush=True)
-    print(file=sys.stderr)
+            if sys.stderr.isatty():  # a progress line, not a log of carriage returns
+                print(f"\r{i}/{len(jobs)} runs, {time.perf_counter() - t0:.0f} s", end="",
+                      file=sys.stderr, flush=True)
+    if sys.stderr.isatty():
+        print(file=sys.stderr)
     print(f"makespan in steps, mean ± sd over seeds {seed_list.start}-{seed_list.stop - 1}; "
           f"Δ = strategy − {BASE} on the same seed (mean [95 % CI])\n")
     print("| scenario | " + " | ".join(strategies) + " |")
@@ -97,4 +104,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    _cli.run(main)

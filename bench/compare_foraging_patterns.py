@@ -27,17 +27,17 @@ errors. The floors cost ≈ 170 s of CPU in this process (``--floors FILE`` keep
 
 from __future__ import annotations
 
-import argparse
 import json
 import os
-import sys
 import time
 from concurrent.futures import ProcessPoolExecutor
 from typing import Any
 
 import numpy as np
 
+import _cli
 from swarmex.engine.record import write_json_atomic
+from swarmex.missions.foraging.patterns import ALGORITHMS as FORAGING_ALGORITHMS
 from swarmex.studies.foraging.design import BAND_LABEL, BANDS, UNITS, G, food_cells
 
 SEED_PATTERNS = ("strips", "zigzag", "hilbert", "sectors", "spiral")
@@ -347,19 +347,24 @@ def noise_free(rows: list[tuple[Task, float, dict[str, Any]]], ours: list[str]) 
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--per-band", type=int, default=40)
-    ap.add_argument("--workers", type=int, default=2)
+    ap = _cli.Parser(description=__doc__.splitlines()[0])
+    ap.add_argument("--per-band", type=_cli.paired_count, default=40)
+    ap.add_argument("--workers", type=_cli.positive_int, default=2)
     ap.add_argument("--ours", default="comb,sector-loop,loop-strips")
-    ap.add_argument("--seed", type=int, default=2015)
-    ap.add_argument("--raw", help="write every run's metrics to this JSON file")
+    ap.add_argument("--seed", type=_cli.nonneg_int, default=2015)
+    ap.add_argument("--raw", type=_cli.out_file, help="write every run's metrics to this JSON file")
     ap.add_argument("--load", help="read the runs' metrics from this --raw file instead")
-    ap.add_argument("--floors", help="Q_min and proven floors: read this JSON file if it "
-                    "exists, else compute them and write it")
-    ap.add_argument("--floor-search", type=int, default=40,
+    ap.add_argument("--floors", type=_cli.out_file,
+                    help="Q_min and proven floors: read this JSON file if it exists, else "
+                    "compute them and write it")
+    ap.add_argument("--floor-search", type=_cli.positive_int, default=40,
                     help="local-search runs per food cell and N for Q_min (after the formations)")
     a = ap.parse_args(argv)
     ours = [p for p in a.ours.split(",") if p]
+    unknown = [p for p in ours if p not in FORAGING_ALGORITHMS]
+    if unknown:  # before the pool: the 1,920 seed runs come first
+        ap.error(f"--ours: unknown {', '.join(unknown)}; choose from "
+                 f"{', '.join(FORAGING_ALGORITHMS)}")
     foods = food_cells(a.seed, 40)  # the reproduction's cells; --per-band takes the first ones
     tasks: list[Task] = [
         (p, n, band, i, f)
@@ -415,4 +420,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    _cli.run(main)

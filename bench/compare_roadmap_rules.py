@@ -24,7 +24,6 @@ the interval lies above zero is a significant loss, below zero a significant gai
 
 from __future__ import annotations
 
-import argparse
 import json
 import sys
 import time
@@ -33,6 +32,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+import _cli
 from swarmex.engine.stats import summarize
 from swarmex.missions.registry import get
 from swarmex.studies.roadmap.design import (
@@ -86,11 +86,12 @@ def measure(job: tuple[Row, str, int]) -> tuple[Row, str, int, float]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--seeds", type=int, default=None, help="seeds per row (30; --quick 5)")
+    ap = _cli.Parser(description=__doc__.splitlines()[0])
+    ap.add_argument("--seeds", type=_cli.paired_count, default=None,
+                    help="seeds per row (30; --quick 5)")
     ap.add_argument("--quick", action="store_true", help="5 seeds, search at range r only")
-    ap.add_argument("--jobs", type=int, default=2, help="worker processes")
-    ap.add_argument("--json", help="write every run's value here")
+    ap.add_argument("--jobs", type=_cli.positive_int, default=2, help="worker processes")
+    ap.add_argument("--json", type=_cli.out_file, help="write every run's value here")
     args = ap.parse_args(argv)
     seeds = args.seeds or (5 if args.quick else 30)
     table = rows(args.quick)
@@ -100,10 +101,11 @@ def main(argv: list[str] | None = None) -> int:
     with ProcessPoolExecutor(args.jobs) as pool:
         for i, (row, rule, seed, v) in enumerate(pool.map(measure, jobs, chunksize=4), 1):
             values.setdefault((row, rule), {})[seed] = v
-            if i % 50 == 0 or i == len(jobs):
+            if sys.stderr.isatty() and (i % 50 == 0 or i == len(jobs)):  # a terminal's line
                 print(f"\r{i}/{len(jobs)} runs, {time.perf_counter() - t0:.0f} s", end="",
                       file=sys.stderr, flush=True)
-    print(file=sys.stderr)
+    if sys.stderr.isatty():
+        print(file=sys.stderr)
     print(f"{seeds} seeds per row, {AGENTS} agents; Δ = rule − wma-rrt on the same seed, "
           "mean and Student-t 95 % interval\n")
     print("| row | wma-rrt | takeover | ratio | Δ takeover | fairshare | ratio | Δ fairshare |")
@@ -125,4 +127,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    _cli.run(main)

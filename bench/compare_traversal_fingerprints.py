@@ -24,6 +24,8 @@ import tempfile
 from pathlib import Path
 from typing import Any
 
+import _cli
+
 HERE = Path(__file__).resolve().parent
 REPO = HERE.parent
 
@@ -102,10 +104,11 @@ def fingerprints(src: Path, todo: list[dict[str, Any]], cache: Path) -> list[str
 
 
 def main() -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap = _cli.Parser(description=__doc__.splitlines()[0])
     ap.add_argument("--rev", default="main", help="reference git revision (default main)")
-    ap.add_argument("--seeds", type=int, default=20, help="seeds per case (default 20)")
-    ap.add_argument("--den-events", type=int, default=60_000,
+    ap.add_argument("--seeds", type=_cli.positive_int, default=20,
+                    help="seeds per case (default 20)")
+    ap.add_argument("--den-events", type=_cli.positive_int, default=60_000,
                     help="events of each den520d run (default 60,000)")
     ap.add_argument("--child", help=argparse.SUPPRESS)
     args = ap.parse_args()
@@ -116,8 +119,12 @@ def main() -> int:
     with tempfile.TemporaryDirectory() as tmp:
         ref = Path(tmp) / "ref"
         ref.mkdir()
-        archive = subprocess.run(["git", "-C", str(REPO), "archive", args.rev, "src"],
-                                 capture_output=True, check=True).stdout
+        got = subprocess.run(["git", "-C", str(REPO), "archive", args.rev, "src"],
+                             capture_output=True)
+        if got.returncode:  # an unknown revision, or no git checkout: git's own words
+            why = got.stderr.decode(errors="replace").strip().splitlines()
+            ap.error(f"--rev {args.rev}: {why[0] if why else 'git archive failed'}")
+        archive = got.stdout
         subprocess.run(["tar", "-x", "-C", str(ref)], input=archive, check=True)
         new = fingerprints(REPO / "src", todo, Path(tmp) / "cache-new")
         old = fingerprints(ref / "src", todo, Path(tmp) / "cache-ref")
@@ -132,4 +139,4 @@ def main() -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    _cli.run(main)

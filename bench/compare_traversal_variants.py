@@ -35,7 +35,6 @@ with a message. den520d is left out by default (a run with 16 agents takes about
 
 from __future__ import annotations
 
-import argparse
 import json
 import os
 import sys
@@ -48,13 +47,19 @@ from pathlib import Path
 import numpy as np
 from scipy import ndimage
 
+import _cli
 from swarmex.comm.channel import Channel
 from swarmex.engine.stats import summarize
 from swarmex.missions.traversal import AgentSpec, run_metrics, run_traversal, uniform_agents
 from swarmex.worlds import GridWorld, load_movingai
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))  # when imported from elsewhere
-from gap_traversal_optimal import KNOWN, map_known, online_policy  # noqa: E402
+from gap_traversal_optimal import (  # noqa: E402
+    KNOWN,
+    check_algorithms,
+    map_known,
+    online_policy,
+)
 
 REPO = Path(__file__).resolve().parents[1]
 MAPS = [
@@ -383,19 +388,19 @@ def _cell_order(cell: tuple[str, int, str]) -> tuple:
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap = _cli.Parser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--section", choices=["variants", "comm", "both"], default="both")
     ap.add_argument("--maps", nargs="+", default=None, help=f"default: {' '.join(MAPS)}")
-    ap.add_argument("--agents", nargs="+", type=int, default=[4, 8, 16])
-    ap.add_argument("--seeds", type=int, default=5)
+    ap.add_argument("--agents", nargs="+", type=_cli.positive_int, default=[4, 8, 16])
+    ap.add_argument("--seeds", type=_cli.paired_count, default=5)
     ap.add_argument("--nests", nargs="+", choices=NEST_MODES, default=list(NEST_MODES))
     ap.add_argument("--algorithms", nargs="+", default=ALGORITHMS)
     ap.add_argument("--fleets", nargs="+", choices=FLEETS, default=["same"],
                     help="same: identical agents; mixed: 1-2 s per edge, 5-10 s per job "
                     "(see fleet_for)")
     ap.add_argument("--comm-maps", nargs="+", default=COMM_MAPS)
-    ap.add_argument("--comm-agents", type=int, default=8)
-    ap.add_argument("--comm-seeds", type=int, default=4)
+    ap.add_argument("--comm-agents", type=_cli.positive_int, default=8)
+    ap.add_argument("--comm-seeds", type=_cli.paired_count, default=4)
     ap.add_argument("--comm-algorithms", nargs="+", default=["madgta", "madgta+"])
     ap.add_argument(
         "--without-obstacles",
@@ -404,8 +409,10 @@ def main(argv: list[str] | None = None) -> int:
         "sender's obstacles (the simulator before 23 Nov 2026, see done_list_without_obstacles)",
     )
     ap.add_argument("--quick", action="store_true", help="small maps, 3 seeds")
-    ap.add_argument("--jobs", type=int, default=1, help="worker processes (default 1)")
-    ap.add_argument("--json", type=Path, default=None, help="write every run's figures here")
+    ap.add_argument("--jobs", type=_cli.positive_int, default=1,
+                    help="worker processes (default 1)")
+    ap.add_argument("--json", type=_cli.out_file, default=None,
+                    help="write every run's figures here")
     ap.add_argument(
         "--from-json",
         type=Path,
@@ -425,8 +432,7 @@ def main(argv: list[str] | None = None) -> int:
             print("\n## Imperfect channels\n")
             print("\n".join(comm_table(saved["comm"])))
         return 0
-    if args.seeds < 1 or args.comm_seeds < 1:
-        ap.error("--seeds and --comm-seeds must be >= 1")
+    check_algorithms([*args.algorithms, *args.comm_algorithms])
     maps = args.maps or (QUICK_MAPS if args.quick else MAPS)
     seeds = range(3 if args.quick else args.seeds)
     out: dict[str, list[dict]] = {}
@@ -475,4 +481,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    raise SystemExit(main())
+    _cli.run(main)

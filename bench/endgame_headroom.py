@@ -23,12 +23,13 @@ between the plan's and the bound's.
 
 from __future__ import annotations
 
-import argparse
 import sys
 import time
 from pathlib import Path
 
 import numpy as np
+
+import _cli
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from compare_traversal_variants import JOB, TRAVEL, fleet_for, load, nests_for  # noqa: E402
@@ -132,11 +133,11 @@ def plan(world, snap: dict, passes: int = 200) -> tuple[float, float]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap = _cli.Parser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--maps", nargs="+", default=MAPS)
-    ap.add_argument("--seeds", type=int, default=4)
-    ap.add_argument("--x", type=int, nargs="+", default=[100, 200, 400, 800])
-    ap.add_argument("--agents", type=int, default=16)
+    ap.add_argument("--seeds", type=_cli.positive_int, default=4)
+    ap.add_argument("--x", type=_cli.positive_int, nargs="+", default=[100, 200, 400, 800])
+    ap.add_argument("--agents", type=_cli.positive_int, default=16)
     args = ap.parse_args(argv)
     rows: dict[tuple[str, int], list[tuple[float, float]]] = {}
     cpu0 = time.process_time()
@@ -154,6 +155,9 @@ def main(argv: list[str] | None = None) -> int:
                     print(f"{name} {mode} seed {seed} X={x}: madgta {mk:.0f} plan {p:.0f} "
                           f"({100 * (p / mk - 1):+.2f} %) bound {lb:.0f} "
                           f"({100 * (lb / mk - 1):+.2f} %)", flush=True)
+    if not rows:
+        print("none of the maps was found; nothing to run", file=sys.stderr)
+        return 0
     print("\n| map | X | runs | plan vs MADGTA (mean, 95 % CI) | lower bound vs MADGTA |")
     print("|---|---|---|---|---|")
     for (name, x), vals in rows.items():
@@ -166,4 +170,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    raise SystemExit(main())
+    _cli.run(main)

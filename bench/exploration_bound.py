@@ -39,7 +39,6 @@ scenario, strategy and seed) and prints each strategy's mean, the bound and thei
 
 from __future__ import annotations
 
-import argparse
 import json
 import math
 import sys
@@ -380,9 +379,10 @@ def scenario_bound(world: dict[str, Any], robots: int, laser: float) -> Bound:
 
 
 def main(argv: list[str] | None = None) -> int:
+    import _cli  # here: the tests load this file without bench/ on sys.path
     from swarmex.studies.exploration.design import SCENARIOS, maps_dir
 
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap = _cli.Parser(description=__doc__.splitlines()[0])
     ap.add_argument("--json", help="makespans from compare_exploration_strategies.py --json")
     ap.add_argument("--only", help="comma-separated scenario indices (0-based)")
     args = ap.parse_args(argv)
@@ -392,7 +392,7 @@ def main(argv: list[str] | None = None) -> int:
             runs = json.load(fh)
     scenarios = SCENARIOS
     if args.only:
-        scenarios = [SCENARIOS[int(i)] for i in args.only.split(",")]
+        scenarios = [SCENARIOS[i] for i in _cli.indices(args.only, len(SCENARIOS))]
     strategies = sorted({st for by in runs.values() for st in by},
                         key=lambda s: (s != "greedy-exclusion", s))
     head = "| scenario | cells | Δ | sight | sweep | pair | bound |"
@@ -416,4 +416,6 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    import _cli
+
+    _cli.run(main)

@@ -19,13 +19,14 @@ if any record differs. ``--only`` picks cases by substring.
 
 from __future__ import annotations
 
-import argparse
 import json
 import sys
 import tempfile
 import time
 from pathlib import Path
 from typing import Any
+
+import _cli
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))  # the tests package, for the rooms map and digest
@@ -80,17 +81,20 @@ def run_all(only: str | None) -> dict[str, dict[str, Any]]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap = _cli.Parser(description=__doc__.splitlines()[0])
     group = ap.add_mutually_exclusive_group(required=True)
     group.add_argument("--record", type=Path, help="write this tree's fingerprints here")
     group.add_argument("--check", type=Path, help="compare with fingerprints written before")
     ap.add_argument("--only", help="run only the cases whose name contains this")
     args = ap.parse_args(argv)
+    # the files first: the runs take a minute, and a typo should not cost it
+    if args.record and not args.record.resolve().parent.is_dir():
+        ap.error(f"--record: folder {args.record.resolve().parent} does not exist")
+    old = json.loads(args.check.read_text()) if args.check else {}
     table = run_all(args.only)
     if args.record:
         args.record.write_text(json.dumps(table, indent=1, sort_keys=True) + "\n")
         return 0
-    old = json.loads(args.check.read_text())
     bad = 0
     cpu_old = cpu_new = 0.0
     for name, new in table.items():
@@ -112,4 +116,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    _cli.run(main)

@@ -13,16 +13,15 @@ Run it with another tree's ``src`` on ``PYTHONPATH`` to profile that code the sa
 
 from __future__ import annotations
 
-import argparse
 import cProfile
 import os
 import pstats
-import sys
 import time
 from pathlib import Path
 
 import numpy as np
 
+import _cli
 from swarmex.missions.traversal import run_traversal, uniform_agents
 from swarmex.missions.traversal.metrics import run_fingerprint
 from swarmex.worlds import empty_grid, load_movingai, random_obstacles
@@ -34,11 +33,12 @@ def maps_dir() -> Path:
 
 
 def main() -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap = _cli.Parser(description=__doc__.splitlines()[0])
     ap.add_argument("--case", choices=("den520d", "empty"), default="den520d")
-    ap.add_argument("--side", type=int, default=512, help="empty grid side (--case empty)")
-    ap.add_argument("--agents", type=int, default=16)
-    ap.add_argument("--top", type=int, default=15, help="functions to list")
+    ap.add_argument("--side", type=_cli.positive_int, default=512,
+                    help="empty grid side (--case empty)")
+    ap.add_argument("--agents", type=_cli.positive_int, default=16)
+    ap.add_argument("--top", type=_cli.positive_int, default=15, help="functions to list")
     args = ap.parse_args()
     warm = random_obstacles(24, 24, 0.2, seed=0)
     run_traversal(warm, uniform_agents([int(np.flatnonzero(~warm.blocked)[0])] * 3, 1.0, 1.0))
@@ -69,4 +69,4 @@ def main() -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    _cli.run(main)
