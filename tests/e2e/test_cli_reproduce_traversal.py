@@ -1,0 +1,34 @@
+"""``swarmex reproduce traversal``: bad ``--out`` and Ctrl-C end in one line, like the other
+reproductions (the run itself is tested in tests/studies/traversal)."""
+
+from __future__ import annotations
+
+import pytest
+
+from swarmex.cli import main
+
+
+@pytest.mark.parametrize("sub", ["afile/sub", "/proc/swarmex-no-such-dir"])
+def test_an_out_folder_that_cannot_be_made_is_one_line(tmp_path, capsys, sub):
+    # mkdir's NotADirectoryError / FileNotFoundError came out as a traceback (exit 1)
+    (tmp_path / "afile").write_text("")
+    out = sub if sub.startswith("/") else str(tmp_path / sub)
+    assert main(["reproduce", "traversal", "--quick", "--out", out]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("swarmex: error: --out: cannot write") and err.count("\n") == 1
+
+
+def test_ctrl_c_says_where_the_finished_runs_are(tmp_path, capsys, monkeypatch):
+    # the plain "swarmex: interrupted" did not say that the finished runs were kept, nor
+    # how to resume, as the other reproductions' messages do
+    import swarmex.studies.traversal as study
+
+    def ctrl_c(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(study, "reproduce", ctrl_c)
+    out = tmp_path / "rep"
+    assert main(["reproduce", "traversal", "--quick", "--out", str(out)]) == 130
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1
+    assert f"finished runs are saved in {out / 'traversal.json'}" in err and "resume" in err
