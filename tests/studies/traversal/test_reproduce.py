@@ -111,3 +111,46 @@ def test_results_do_not_depend_on_workers_and_sweeps_resume(tmp_path):
     _, n3 = sweep(tmp_path / "c.json", 1, specs[:2])
     _, n4 = sweep(tmp_path / "c.json", 1, specs)
     assert (n3, n4) == (2, 2)
+
+
+def test_rebuild_draws_the_plan_the_sweep_ran(quick_out, tmp_path):
+    # rebuild(DIR) assumed the full plan: a quick sweep's report came back titled "full plan,
+    # 9072 runs", with bars the quick plan does not draw
+    import shutil
+
+    from swarmex.studies.traversal.report import rebuild
+
+    shutil.copy(quick_out / "traversal.json", tmp_path / "traversal.json")
+    rebuild(tmp_path)
+    assert (tmp_path / "traversal.md").read_text() == (quick_out / "traversal.md").read_text()
+
+
+def test_a_rerun_that_runs_nothing_is_no_session(quick_out, tmp_path):
+    # the report counted it ("2 session(s)") while the JSON, not rewritten, kept one
+    import shutil
+
+    from swarmex.studies.traversal import reproduce
+
+    shutil.copy(quick_out / "traversal.json", tmp_path / "traversal.json")
+    assert reproduce(tmp_path, quick=True)["executed"] == 0
+    assert len(json.loads((tmp_path / "traversal.json").read_text())["sessions"]) == 1
+    assert "executed in 1 session(s)" in (tmp_path / "traversal.md").read_text()
+
+
+def test_runs_option_is_named_and_redrawn(tmp_path):
+    # a --runs sweep was reported as the "full" plan, and rebuild() drew the full plan
+    from swarmex.studies.traversal import reproduce
+    from swarmex.studies.traversal.report import rebuild
+
+    reproduce(tmp_path, reps=1)
+    report = (tmp_path / "traversal.md").read_text()
+    assert "`swarmex reproduce traversal --runs 1`" in report
+    assert "**full** plan with 1 run per table group and figure bar, 84 runs." in report
+    rebuild(tmp_path)
+    assert (tmp_path / "traversal.md").read_text() == report
+    # the JSON names the plan of the last report drawn, so rebuild() draws that one
+    reproduce(tmp_path, quick=True)
+    assert json.loads((tmp_path / "traversal.json").read_text())["plan"]["quick"] is True
+    quick_report = (tmp_path / "traversal.md").read_text()
+    rebuild(tmp_path)
+    assert (tmp_path / "traversal.md").read_text() == quick_report

@@ -34,15 +34,18 @@ def reproduce(
     workers = workers if workers is not None else (1 if quick else 2)
     plan = build_plan(quick, reps)
     specs = plan.run_specs()
+    drawn = plan_header(quick, reps)
     header = {
         "study": "traversal",
         "seed_file": "000_a5793bd95eb4b07a.txt",
         "format": 1,
         "swarmex_version": __version__,
         "agent_params": AGENT_PARAMS,
+        "plan": drawn,  # the plan the report is drawn for: rebuild() draws it again
     }
+    previous = _previous_header(out / "traversal.json")
+    sessions = list(previous.get("sessions", []))
     store = RunStore(out / "traversal.json", header)
-    sessions = _previous_sessions(out / "traversal.json")
     for key, cfg in plan.configs().items():
         store.add_config(key, cfg.params())
     already = sum(1 for s in specs if s.id in store)
@@ -70,17 +73,22 @@ def reproduce(
         # runs stored now and not before: also those that finished while an interrupted
         # session was stopping, and those a killed one left in the runner's spool
         executed = sum(1 for s in specs if s.id in store) - already
-        store.header["sessions"] = [
-            *sessions,
-            {
-                "mode": "quick" if quick else "full",
-                "workers": workers,
-                "runs_planned": len(specs),
-                "runs_executed": executed,
-                "elapsed_s": round(elapsed, 2),
-                "finished": all(s.id in store for s in specs),
-            },
-        ]
+        if executed:  # a rerun that ran nothing is no session of the sweep
+            sessions.append(
+                {
+                    "mode": "quick" if quick else "full",
+                    "workers": workers,
+                    "runs_planned": len(specs),
+                    "runs_executed": executed,
+                    "elapsed_s": round(elapsed, 2),
+                    "finished": all(s.id in store for s in specs),
+                }
+            )
+        store.header["sessions"] = sessions
+        if previous.get("plan") != drawn:
+            # the JSON must name the plan of the report beside it, even when no run was added
+            # (the store rewrites its JSON only when a run or configuration was)
+            store.flush()
         store.close()
     paths = write_outputs(plan, store.runs, out, store.header)
     return {
@@ -94,10 +102,18 @@ def reproduce(
     }
 
 
-def _previous_sessions(path: Path) -> list[dict[str, Any]]:
+def plan_header(quick: bool, reps: int | None) -> dict[str, Any]:
+    """How ``traversal.json`` names the plan its report was drawn for (see
+    :func:`.report.rebuild`)."""
+    return {"quick": bool(quick), "reps": reps}
+
+
+def _previous_header(path: Path) -> dict[str, Any]:
+    """The JSON's fields other than the runs (sessions, plan), or {} if there is none yet."""
     import json
 
     try:
-        return list(json.loads(path.read_text(encoding="utf-8")).get("sessions", []))
+        data = json.loads(path.read_text(encoding="utf-8"))
     except (OSError, ValueError):
-        return []
+        return {}
+    return {k: v for k, v in data.items() if k not in ("runs", "configs")}
