@@ -32,3 +32,25 @@ def test_ctrl_c_says_where_the_finished_runs_are(tmp_path, capsys, monkeypatch):
     err = capsys.readouterr().err
     assert err.count("\n") == 1
     assert f"finished runs are saved in {out / 'traversal.json'}" in err and "resume" in err
+
+
+def test_a_compile_says_so(tmp_path, capsys, monkeypatch):
+    # the first sweep after an install compiled its kernels for ~15-30 s without a word
+    import numba
+
+    import swarmex.studies.traversal as study
+    from swarmex.cli import compiling
+
+    @numba.njit  # a fresh dispatcher: its first call compiles
+    def twice(x):
+        return 2 * x
+
+    def compiles(out, **kwargs):
+        assert twice(3) == 6
+        return {"runs": 0, "executed": 0, "workers": 1, "elapsed_s": 0.0,
+                "report": out / "traversal.md", "figures": [], "json": out / "traversal.json"}
+
+    compiling._said = False
+    monkeypatch.setattr(study, "reproduce", compiles)
+    assert main(["reproduce", "traversal", "--quick", "--out", str(tmp_path)]) == 0
+    assert capsys.readouterr().err == f"swarmex: {compiling.MESSAGE}\n"

@@ -10,7 +10,8 @@ from pathlib import Path
 
 import typer
 
-from swarmex.cli.app import console, reproduce_app
+from swarmex.cli.app import console, err_console, reproduce_app
+from swarmex.cli.compiling import compile_notice
 from swarmex.cli.outputs import check_out_dir, interrupted_keeps
 from swarmex.errors import InputError
 
@@ -40,7 +41,8 @@ def reproduce_traversal(
     if runs is not None and runs < 1:
         raise InputError(f"--runs must be >= 1, got {runs}")
     check_out_dir(out)  # a folder that cannot be made was a mkdir traceback
-    with interrupted_keeps(out / "traversal.json"):  # was a bare "interrupted"
+    # the first sweep after an install compiles its kernels (~15 s): say so, or it looks hung
+    with interrupted_keeps(out / "traversal.json"), compile_notice(err_console):
         result = reproduce(out, quick=quick, workers=workers, reps=runs, console=console)
     console.print(
         f"{result['runs']} runs ({result['executed']} executed now, {result['workers']} "
