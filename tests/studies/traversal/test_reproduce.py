@@ -189,3 +189,19 @@ def test_the_driver_readies_every_kernel_before_the_workers_fork():
     ).stdout
     got = json.loads(out.splitlines()[-1])
     assert got["warmed"] and got["warmed"] == got["after"]
+
+
+def test_bad_counts_and_a_missing_json_are_clear(tmp_path):
+    # reps=-1 planned no run and wrote an empty report without a word; rebuild() of a folder
+    # without runs named only the .gz it had looked for last
+    from swarmex.errors import InputError
+    from swarmex.studies.traversal import reproduce
+    from swarmex.studies.traversal.report import rebuild
+
+    with pytest.raises(InputError, match="reps must be >= 1"):
+        reproduce(tmp_path / "a", reps=-1)
+    with pytest.raises(InputError, match="workers must be >= 1"):
+        reproduce(tmp_path / "a", workers=0)
+    assert not (tmp_path / "a").exists()
+    with pytest.raises(FileNotFoundError, match=r"no traversal\.json \(or traversal\.json\.gz\)"):
+        rebuild(tmp_path)

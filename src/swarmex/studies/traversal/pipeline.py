@@ -9,6 +9,7 @@ from pathlib import Path
 from typing import Any
 
 from swarmex import __version__
+from swarmex.errors import InputError
 from swarmex.experiments.runstore import RunStore
 from swarmex.studies.runner import run_jobs
 from swarmex.studies.traversal.design import AGENT_PARAMS, Config, RunSpec, build_plan
@@ -29,6 +30,11 @@ def reproduce(
     """
     from swarmex.studies.traversal.report import write_outputs
 
+    # a negative count planned no run at all and wrote an empty report without a word
+    if workers is not None and workers < 1:
+        raise InputError(f"workers must be >= 1, got {workers}")
+    if reps is not None and reps < 1:
+        raise InputError(f"reps must be >= 1, got {reps}")
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     workers = workers if workers is not None else (1 if quick else 2)

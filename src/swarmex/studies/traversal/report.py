@@ -81,6 +81,8 @@ def rebuild(out: Path, quick: bool | None = None, reps: int | None = None) -> di
     path = Path(out) / "traversal.json"
     if path.exists():
         data = json.loads(path.read_text(encoding="utf-8"))
+    elif not path.with_name("traversal.json.gz").exists():
+        raise FileNotFoundError(f"no traversal.json (or traversal.json.gz) in {out}")
     else:
         with gzip.open(path.with_name("traversal.json.gz"), "rt", encoding="utf-8") as fh:
             data = json.load(fh)
