@@ -1,5 +1,6 @@
 """``swarmex reproduce traversal``: bad ``--out`` and Ctrl-C end in one line, like the other
-reproductions (the run itself is tested in tests/studies/traversal)."""
+reproductions (the run itself is tested in tests/studies/traversal); every reproduction says
+when it compiles its kernels."""
 
 from __future__ import annotations
 
@@ -34,11 +35,15 @@ def test_ctrl_c_says_where_the_finished_runs_are(tmp_path, capsys, monkeypatch):
     assert f"finished runs are saved in {out / 'traversal.json'}" in err and "resume" in err
 
 
-def test_a_compile_says_so(tmp_path, capsys, monkeypatch):
-    # the first sweep after an install compiled its kernels for ~15-30 s without a word
+
+@pytest.mark.parametrize("name", ["traversal", "exploration", "foraging", "roadmap"])
+def test_a_compile_says_so(tmp_path, capsys, monkeypatch, name):
+    # the first reproduction after an install compiled its kernels for 8-15 s of CPU (on 2
+    # workers, each compiled them: ~30 s) without a word, so it looked hung
+    import importlib
+
     import numba
 
-    import swarmex.studies.traversal as study
     from swarmex.cli import compiling
 
     @numba.njit  # a fresh dispatcher: its first call compiles
@@ -51,6 +56,6 @@ def test_a_compile_says_so(tmp_path, capsys, monkeypatch):
                 "report": out / "traversal.md", "figures": [], "json": out / "traversal.json"}
 
     compiling._said = False
-    monkeypatch.setattr(study, "reproduce", compiles)
-    assert main(["reproduce", "traversal", "--quick", "--out", str(tmp_path)]) == 0
+    monkeypatch.setattr(importlib.import_module(f"swarmex.studies.{name}"), "reproduce", compiles)
+    assert main(["reproduce", name, "--quick", "--out", str(tmp_path)]) == 0
     assert capsys.readouterr().err == f"swarmex: {compiling.MESSAGE}\n"

@@ -10,9 +10,8 @@ from pathlib import Path
 
 import typer
 
-from swarmex.cli.app import console, err_console, reproduce_app
-from swarmex.cli.compiling import compile_notice
-from swarmex.cli.outputs import check_out_dir, interrupted_keeps
+from swarmex.cli.app import console, reproduce_app
+from swarmex.cli.outputs import check_out_dir, study
 from swarmex.errors import InputError
 
 
@@ -41,8 +40,7 @@ def reproduce_traversal(
     if runs is not None and runs < 1:
         raise InputError(f"--runs must be >= 1, got {runs}")
     check_out_dir(out)  # a folder that cannot be made was a mkdir traceback
-    # the first sweep after an install compiles its kernels (~15 s): say so, or it looks hung
-    with interrupted_keeps(out / "traversal.json"), compile_notice(err_console):
+    with study(out / "traversal.json"):  # Ctrl-C was a bare "interrupted"; compiles silent
         result = reproduce(out, quick=quick, workers=workers, reps=runs, console=console)
     console.print(
         f"{result['runs']} runs ({result['executed']} executed now, {result['workers']} "
