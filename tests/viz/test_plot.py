@@ -138,3 +138,19 @@ def test_traversal_mp4_render(tmp_path, capsys):
     assert not np.array_equal(frames[0], frames[-1])  # agents moved and jobs appeared
     with pytest.raises(InputError, match="must end in"):
         render_traversal(record, world, tmp_path / "run.avi")
+
+
+def test_time_metrics_carry_the_runs_time_unit():
+    # only makespan had its unit: total_time_all (s) or exploration_time (steps) had none
+    from swarmex.viz.plot import y_label
+
+    secs = [{"time_unit": "s"}]
+    assert y_label("makespan", secs) == "makespan (s)"
+    assert y_label("total_time_all", secs) == "total_time_all (s)"
+    assert y_label("max_total_time", secs) == "max_total_time (s)"
+    assert y_label("mission_end", secs) == "mission_end (s)"
+    assert y_label("exploration_time", [{"time_unit": "step"}]) == "exploration_time (step)"
+    assert y_label("nodes_done_all", secs) == "nodes_done_all"
+    assert y_label("timed_out", secs) == "timed_out"
+    assert y_label("makespan", [{"time_unit": "s"}, {"time_unit": "step"}]) == "makespan"
+    assert y_label("complete", secs) == "fraction complete"

@@ -15,7 +15,7 @@ import typer
 
 from swarmex.cli.app import console, reproduce_app
 from swarmex.cli.missions import Extra, Surface, mission_command
-from swarmex.cli.outputs import check_out_dir, interrupted_keeps
+from swarmex.cli.outputs import check_out_dir, study
 from swarmex.errors import InputError
 from swarmex.missions.base import FrameCallback, Mission, Outcome
 from swarmex.missions.registry import get
@@ -167,6 +167,6 @@ def reproduce_exploration(
     if workers < 1:
         raise InputError(f"--workers must be at least 1, got {workers}")
     check_out_dir(out)
-    with interrupted_keeps(out / "runs.jsonl"):
+    with study(out / "runs.jsonl"):
         report = reproduce(out, quick=quick, workers=workers, progress=console.print)
     console.print(f"report: {report}")

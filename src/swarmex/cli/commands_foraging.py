@@ -15,7 +15,7 @@ from rich.table import Table
 
 from swarmex.cli.app import console, reproduce_app
 from swarmex.cli.missions import Surface, mission_command
-from swarmex.cli.outputs import check_out_dir, interrupted_keeps
+from swarmex.cli.outputs import check_out_dir, study
 from swarmex.errors import InputError
 from swarmex.missions.base import FrameList, Outcome
 from swarmex.missions.registry import get
@@ -84,6 +84,6 @@ def reproduce_foraging(
         raise InputError(f"--seed must be at least 0, got {seed}")
     check_out_dir(out)
     chosen = {} if seed is None else {"seed": seed}  # the study owns its default seed
-    with interrupted_keeps(out / "runs.jsonl"):
+    with study(out / "runs.jsonl"):
         report = reproduce(out, quick=quick, workers=workers, **chosen)
     console.print(f"report → {report}")

@@ -11,6 +11,7 @@ from pathlib import Path
 import typer
 
 from swarmex.cli.app import console, reproduce_app
+from swarmex.cli.outputs import check_out_dir, study
 from swarmex.errors import InputError
 
 
@@ -38,9 +39,9 @@ def reproduce_traversal(
         raise InputError(f"--workers must be >= 1, got {workers}")
     if runs is not None and runs < 1:
         raise InputError(f"--runs must be >= 1, got {runs}")
-    if out.exists() and not out.is_dir():
-        raise InputError(f"--out {out} exists and is not a directory")
-    result = reproduce(out, quick=quick, workers=workers, reps=runs, console=console)
+    check_out_dir(out)  # a folder that cannot be made was a mkdir traceback
+    with study(out / "traversal.json"):  # Ctrl-C was a bare "interrupted"; compiles silent
+        result = reproduce(out, quick=quick, workers=workers, reps=runs, console=console)
     console.print(
         f"{result['runs']} runs ({result['executed']} executed now, {result['workers']} "
         f"worker(s), {result['elapsed_s']:.1f} s); report: {result['report']}; "

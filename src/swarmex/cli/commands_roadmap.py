@@ -13,7 +13,7 @@ import typer
 
 from swarmex.cli.app import console, reproduce_app
 from swarmex.cli.missions import Surface, mission_command
-from swarmex.cli.outputs import interrupted_keeps
+from swarmex.cli.outputs import study
 from swarmex.errors import InputError
 from swarmex.missions.base import FrameList, Outcome
 from swarmex.missions.registry import get
@@ -73,5 +73,5 @@ def reproduce_roadmap(
         out.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise InputError(f"--out: cannot create {out}: {exc.strerror}") from None
-    with interrupted_keeps(out):  # every finished run is in the journal already
+    with study(out):  # every finished run is in the journal already
         reproduce(out, quick=quick, console=console)

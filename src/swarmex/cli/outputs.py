@@ -13,11 +13,12 @@ import secrets
 from collections.abc import Iterator
 from pathlib import Path
 
-from swarmex.cli.app import interrupted
+from swarmex.cli.app import err_console, interrupted
+from swarmex.cli.compiling import compile_notice
 from swarmex.errors import InputError
 from swarmex.viz.animation import RENDER_SUFFIXES
 
-__all__ = ["RENDER_SUFFIXES", "check_out_dir", "check_output", "interrupted_keeps"]
+__all__ = ["RENDER_SUFFIXES", "check_out_dir", "check_output", "interrupted_keeps", "study"]
 
 
 def check_out_dir(path: Path, option: str = "--out") -> None:
@@ -67,3 +68,15 @@ def interrupted_keeps(store: Path) -> Iterator[None]:
         yield
     except KeyboardInterrupt:
         interrupted(f"finished runs are saved in {store} (run the same command again to resume)")
+
+
+@contextlib.contextmanager
+def study(store: Path) -> Iterator[None]:
+    """What every ``swarmex reproduce`` command runs its study in: Ctrl-C says where the
+    finished runs are (:func:`interrupted_keeps`), and a numba compile says so.
+
+    Why the notice: the first reproduction after an install compiles its kernels (8-15 s of
+    CPU) before the first run finishes, and without a word it looked hung.
+    """
+    with interrupted_keeps(store), compile_notice(err_console):
+        yield

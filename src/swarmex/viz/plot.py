@@ -88,9 +88,7 @@ def plot_sweep(
     elif len(xs) <= 12:  # the swept values themselves (no "2.25 agents" between them)
         ax.set_xticks([float(v) for v in xs], [_label(v) for v in xs])
     ax.set_xlabel(x)
-    units = {r.get("time_unit") for r in ok} - {None}
-    unit = f" ({units.pop()})" if y == "makespan" and len(units) == 1 else ""
-    ax.set_ylabel("fraction complete" if y == "complete" else f"{y}{unit}")
+    ax.set_ylabel(y_label(y, ok))
     runs_per = len(ok) / max(1, len(xs) * len(hues))
     ax.set_title(
         f"{meta.get('mission', 'sweep')}: {y} vs {x} · mean ± 95 % CI (≈{runs_per:.0f} runs/point)",
@@ -119,6 +117,22 @@ def plot_sweep(
         why = f"{blocker} is a file, not a folder" if blocker else exc.strerror or exc
         raise InputError(f"cannot write {path}: {why}") from None
     return path, note
+
+
+def y_label(y: str, rows: list[dict[str, Any]]) -> str:
+    """The y axis's label: the column, with the runs' time unit when it is a time.
+
+    Why: only ``makespan`` had its unit, so a traversal sweep's ``total_time_all`` (seconds)
+    or a foraging sweep's ``exploration_time`` (steps) was drawn without one. A time is a
+    metric named ``*_time*`` (``total_time_all``, ``max_total_time``, ``transport_time``) or
+    ``mission_end``; it is in the record's ``time_unit`` (the makespan's unit).
+    """
+    if y == "complete":
+        return "fraction complete"
+    words = y.rsplit(".", 1)[-1].split("_")
+    timed = y in ("makespan", "mission_end") or ("time" in words and y != "time_unit")
+    units = {r.get("time_unit") for r in rows} - {None}
+    return f"{y} ({units.pop()})" if timed and len(units) == 1 else y
 
 
 def series(

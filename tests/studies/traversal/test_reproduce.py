@@ -111,3 +111,97 @@ def test_results_do_not_depend_on_workers_and_sweeps_resume(tmp_path):
     _, n3 = sweep(tmp_path / "c.json", 1, specs[:2])
     _, n4 = sweep(tmp_path / "c.json", 1, specs)
     assert (n3, n4) == (2, 2)
+
+
+def test_rebuild_draws_the_plan_the_sweep_ran(quick_out, tmp_path):
+    # rebuild(DIR) assumed the full plan: a quick sweep's report came back titled "full plan,
+    # 9072 runs", with bars the quick plan does not draw
+    import shutil
+
+    from swarmex.studies.traversal.report import rebuild
+
+    shutil.copy(quick_out / "traversal.json", tmp_path / "traversal.json")
+    rebuild(tmp_path)
+    assert (tmp_path / "traversal.md").read_text() == (quick_out / "traversal.md").read_text()
+
+
+def test_a_rerun_that_runs_nothing_is_no_session(quick_out, tmp_path):
+    # the report counted it ("2 session(s)") while the JSON, not rewritten, kept one
+    import shutil
+
+    from swarmex.studies.traversal import reproduce
+
+    shutil.copy(quick_out / "traversal.json", tmp_path / "traversal.json")
+    assert reproduce(tmp_path, quick=True)["executed"] == 0
+    assert len(json.loads((tmp_path / "traversal.json").read_text())["sessions"]) == 1
+    assert "executed in 1 session(s)" in (tmp_path / "traversal.md").read_text()
+
+
+def test_runs_option_is_named_and_redrawn(tmp_path):
+    # a --runs sweep was reported as the "full" plan, and rebuild() drew the full plan
+    from swarmex.studies.traversal import reproduce
+    from swarmex.studies.traversal.report import rebuild
+
+    reproduce(tmp_path, reps=1)
+    report = (tmp_path / "traversal.md").read_text()
+    assert "`swarmex reproduce traversal --runs 1`" in report
+    assert "**full** plan with 1 run per table group and figure bar, 84 runs." in report
+    rebuild(tmp_path)
+    assert (tmp_path / "traversal.md").read_text() == report
+    # the JSON names the plan of the last report drawn, so rebuild() draws that one
+    reproduce(tmp_path, quick=True)
+    assert json.loads((tmp_path / "traversal.json").read_text())["plan"]["quick"] is True
+    quick_report = (tmp_path / "traversal.md").read_text()
+    rebuild(tmp_path)
+    assert (tmp_path / "traversal.md").read_text() == quick_report
+
+
+WARM_CHECK = """
+import json
+from swarmex import _kernels
+from swarmex.studies.traversal.design import build_plan
+from swarmex.studies.traversal.pipeline import warm_kernels
+from swarmex.studies.traversal.runs import execute
+
+def signatures():
+    return {f"{k.__module__}.{k.__qualname__}": len(k._dispatcher.signatures)
+            for k in _kernels._all if k._dispatcher is not None}
+
+warm_kernels()
+warmed = signatures()
+for spec in build_plan(quick=True).run_specs():  # every grid size, obstacles, uneven starts
+    execute(spec)
+print(json.dumps({"warmed": warmed, "after": signatures()}))
+"""
+
+
+def test_the_driver_readies_every_kernel_before_the_workers_fork():
+    # on a cold cache each worker compiled the same kernels itself (2 workers: 36.6 s wall,
+    # 28.8 s CPU for the first `--runs 1` sweep, and no notice); warm_kernels() compiles them
+    # once in the driver, so it must reach every kernel any run of the plan calls
+    import os
+    import subprocess
+    import sys
+
+    env = {**os.environ, "PYTHONPATH": str(Path(__file__).parents[3] / "src")}
+    out = subprocess.run(
+        [sys.executable, "-c", WARM_CHECK], capture_output=True, text=True, env=env, check=True
+    ).stdout
+    got = json.loads(out.splitlines()[-1])
+    assert got["warmed"] and got["warmed"] == got["after"]
+
+
+def test_bad_counts_and_a_missing_json_are_clear(tmp_path):
+    # reps=-1 planned no run and wrote an empty report without a word; rebuild() of a folder
+    # without runs named only the .gz it had looked for last
+    from swarmex.errors import InputError
+    from swarmex.studies.traversal import reproduce
+    from swarmex.studies.traversal.report import rebuild
+
+    with pytest.raises(InputError, match="reps must be >= 1"):
+        reproduce(tmp_path / "a", reps=-1)
+    with pytest.raises(InputError, match="workers must be >= 1"):
+        reproduce(tmp_path / "a", workers=0)
+    assert not (tmp_path / "a").exists()
+    with pytest.raises(FileNotFoundError, match=r"no traversal\.json \(or traversal\.json\.gz\)"):
+        rebuild(tmp_path)

@@ -189,6 +189,10 @@ class Plan:
     figures: list[FigureSpec]
     #: the table groups rerun with uneven client starts (see :func:`execute`)
     sensitivity: list[Group] = field(default_factory=list)
+    #: runs per table group / figure bar asked for (``--runs``); None: the plan's defaults.
+    #: Kept so the report names the plan it was drawn from, and :func:`.report.rebuild`
+    #: can draw it again
+    reps: int | None = None
 
     def run_specs(self) -> list[RunSpec]:
         """Every run of the plan once, however many tables/figures use it."""
@@ -432,4 +436,4 @@ def build_plan(quick: bool = False, reps: int | None = None) -> Plan:
         for j in jitters
         for g in (groups[:1] if quick else groups)
     ]
-    return Plan(quick, groups, figures, sensitivity)
+    return Plan(quick, groups, figures, sensitivity, reps)

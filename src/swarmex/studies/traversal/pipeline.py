@@ -9,9 +9,10 @@ from pathlib import Path
 from typing import Any
 
 from swarmex import __version__
+from swarmex.errors import InputError
 from swarmex.experiments.runstore import RunStore
 from swarmex.studies.runner import run_jobs
-from swarmex.studies.traversal.design import AGENT_PARAMS, RunSpec, build_plan
+from swarmex.studies.traversal.design import AGENT_PARAMS, Config, RunSpec, build_plan
 from swarmex.studies.traversal.runs import execute
 
 
@@ -29,20 +30,28 @@ def reproduce(
     """
     from swarmex.studies.traversal.report import write_outputs
 
+    # a negative count planned no run at all and wrote an empty report without a word
+    if workers is not None and workers < 1:
+        raise InputError(f"workers must be >= 1, got {workers}")
+    if reps is not None and reps < 1:
+        raise InputError(f"reps must be >= 1, got {reps}")
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     workers = workers if workers is not None else (1 if quick else 2)
     plan = build_plan(quick, reps)
     specs = plan.run_specs()
+    drawn = plan_header(quick, reps)
     header = {
         "study": "traversal",
         "seed_file": "000_a5793bd95eb4b07a.txt",
         "format": 1,
         "swarmex_version": __version__,
         "agent_params": AGENT_PARAMS,
+        "plan": drawn,  # the plan the report is drawn for: rebuild() draws it again
     }
+    previous = _previous_header(out / "traversal.json")
+    sessions = list(previous.get("sessions", []))
     store = RunStore(out / "traversal.json", header)
-    sessions = _previous_sessions(out / "traversal.json")
     for key, cfg in plan.configs().items():
         store.add_config(key, cfg.params())
     already = sum(1 for s in specs if s.id in store)
@@ -64,23 +73,29 @@ def reproduce(
         run_jobs(
             order, execute, lambda s: s.id, store=store, workers=workers, label="traversal",
             console=console, show=console is not None, on_result=tick if progress else None,
+            warm=warm_kernels,
         )
     finally:
         elapsed = time.perf_counter() - t0
         # runs stored now and not before: also those that finished while an interrupted
         # session was stopping, and those a killed one left in the runner's spool
         executed = sum(1 for s in specs if s.id in store) - already
-        store.header["sessions"] = [
-            *sessions,
-            {
-                "mode": "quick" if quick else "full",
-                "workers": workers,
-                "runs_planned": len(specs),
-                "runs_executed": executed,
-                "elapsed_s": round(elapsed, 2),
-                "finished": all(s.id in store for s in specs),
-            },
-        ]
+        if executed:  # a rerun that ran nothing is no session of the sweep
+            sessions.append(
+                {
+                    "mode": "quick" if quick else "full",
+                    "workers": workers,
+                    "runs_planned": len(specs),
+                    "runs_executed": executed,
+                    "elapsed_s": round(elapsed, 2),
+                    "finished": all(s.id in store for s in specs),
+                }
+            )
+        store.header["sessions"] = sessions
+        if previous.get("plan") != drawn:
+            # the JSON must name the plan of the report beside it, even when no run was added
+            # (the store rewrites its JSON only when a run or configuration was)
+            store.flush()
         store.close()
     paths = write_outputs(plan, store.runs, out, store.header)
     return {
@@ -94,10 +109,31 @@ def reproduce(
     }
 
 
-def _previous_sessions(path: Path) -> list[dict[str, Any]]:
+def warm_kernels() -> None:
+    """Compile (or load from numba's cache) every kernel a run uses, once, in the driver
+    before the workers are forked from it.
+
+    Why: on a cold cache each worker compiled the same ~115 kernels itself (about 14 s of
+    CPU each), silently, so the first sweep showed nothing for ~30 s and paid the compile
+    once per worker; compiled here, the compile notice is shown and the forked workers start
+    with the machine code. A 6x6 run with obstacles reaches every kernel any run of the plan
+    calls (its result is thrown away; runs do not depend on one another).
+    """
+    execute(RunSpec(Config(6, 40.0, 3, (1,), obstacles=4), 0))
+
+
+def plan_header(quick: bool, reps: int | None) -> dict[str, Any]:
+    """How ``traversal.json`` names the plan its report was drawn for (see
+    :func:`.report.rebuild`)."""
+    return {"quick": bool(quick), "reps": reps}
+
+
+def _previous_header(path: Path) -> dict[str, Any]:
+    """The JSON's fields other than the runs (sessions, plan), or {} if there is none yet."""
     import json
 
     try:
-        return list(json.loads(path.read_text(encoding="utf-8")).get("sessions", []))
+        data = json.loads(path.read_text(encoding="utf-8"))
     except (OSError, ValueError):
-        return []
+        return {}
+    return {k: v for k, v in data.items() if k not in ("runs", "configs")}
