@@ -15,7 +15,10 @@ A mission is three things:
 
 Why a dataclass of options rather than the CLI's signature: the Python API, TOML files and
 sweeps need the same names, defaults and checks as the command line, and a plain dataclass
-is what a library user can read, construct and ``dataclasses.replace``. The CLI generates
+is what a library user can read, compare, pickle and copy with changes (``params.replace(...)``,
+which parses and checks the changes; a Params built by its constructor or by
+``dataclasses.replace`` skips the parsers until :meth:`Mission.run` reruns them, see
+:meth:`Params.validated`). The CLI generates
 its options from these declarations (cli/missions.py), so the two cannot drift.
 
 Parsing is strict and names the parameter: ``agents="three"`` is an
@@ -31,9 +34,9 @@ import numbers
 import re
 from abc import ABC, abstractmethod
 from collections.abc import Callable, Iterable, Mapping, Sequence
-from dataclasses import MISSING, dataclass, field, fields
+from dataclasses import MISSING, dataclass, field, fields, replace
 from pathlib import Path
-from typing import Any, ClassVar, Generic, TypeVar
+from typing import Any, ClassVar, Generic, Self, TypeVar
 
 from swarmex.engine.record import ResultRecord
 from swarmex.errors import InputError
@@ -337,6 +340,9 @@ def option(
 
 
 P = TypeVar("P", bound="Params")
+# set on Params that went through the parsers and check() (not a field: equality, repr,
+# asdict and the record ignore it)
+_CHECKED = "_swarmex_checked"
 
 
 @dataclass(frozen=True)
@@ -394,10 +400,63 @@ class Params:
                 parsed[name] = info.default
         params = cls(**parsed)
         params.check()
+        object.__setattr__(params, _CHECKED, True)
         return params
 
     def check(self) -> None:
         """Cross-field rules that need no world; raise InputError naming the option."""
+
+    def replace(self, **changes: Any) -> Self:
+        """A copy with ``changes`` (option names, CLI strings or Python values) parsed and
+        checked as :meth:`from_values` does: ``params.replace(grid="12x12")``.
+
+        Why not ``dataclasses.replace``: it calls the constructor, which runs no parser, so a
+        CLI string stays a string where the run expects a tuple (:meth:`validated` catches it
+        when the run starts, this catches it here). Fields that are not options (the
+        simulator's own constants, e.g. exploration's ``plan_period``) are kept or replaced
+        as given.
+        """
+        opts = self.options()
+        own = {name: v for name, v in changes.items() if name.replace("-", "_") in opts}
+        keep = {f.name: getattr(self, f.name) for f in fields(self) if f.name not in opts}
+        other = {name: v for name, v in changes.items() if name not in own}
+        for name in other:
+            if name not in keep:
+                raise InputError(unknown_message(self.mission, name, opts))
+        values = {name: v for name, v in self.values().items() if v is not None}
+        for name, v in own.items():
+            values[name.replace("-", "_")] = v
+        out = type(self).from_values(values)
+        rest = {**keep, **other}
+        if rest:
+            out = replace(out, **rest)
+            object.__setattr__(out, _CHECKED, True)
+        return out
+
+    def validated(self) -> Self:
+        """These parameters with every option's parser rerun on the value it holds and
+        :meth:`check` applied: what :meth:`Mission.run` does before any work.
+
+        Params made by :meth:`from_values` or :meth:`replace` are already valid and come back
+        as they are. One built by its constructor or by ``dataclasses.replace`` skipped the
+        parsers: ``replace(p, grid="12x12")`` used to reach the simulator with a string and
+        fail there with "too many values to unpack"; now the string is parsed (to ``(12,
+        12)``) and a bad value is an :class:`~swarmex.errors.InputError` naming the option.
+        """
+        if self.__dict__.get(_CHECKED):
+            return self
+        parsed: dict[str, Any] = {}
+        for name, info in self.options().items():
+            value = getattr(self, name)
+            if value is None and info.required:
+                raise InputError(f"{self.mission}: {info.flag} is required")
+            if value is None and info.default is None:
+                continue  # an optional option left unset
+            parsed[name] = info.parse(value, info.flag)
+        out = replace(self, **parsed)
+        out.check()
+        object.__setattr__(out, _CHECKED, True)
+        return out
 
     def values(self) -> dict[str, Any]:
         """The parameters as a plain dict (option name -> typed value)."""
@@ -485,4 +544,5 @@ class Mission(ABC, Generic[P, W]):
     def run(
         self, params: P, on_frame: FrameCallback | None = None, *, trace: bool = True
     ) -> Outcome:
+        params = params.validated()  # Params built by their constructor skipped the parsers
         return self.execute(params, self.prepare(params), on_frame, trace=trace)
