@@ -28,7 +28,9 @@ if TYPE_CHECKING:
     from swarmex.engine.record import ResultRecord
 
 __version__ = "0.1.0"
-__all__ = ["InputError", "ResultRecord", "StopRun", "__version__", "missions", "run"]
+__all__ = [
+    "InputError", "ResultRecord", "StopRun", "__version__", "describe", "missions", "run"
+]
 
 
 def missions() -> list[str]:
@@ -53,15 +55,31 @@ def run(
 ) -> ResultRecord:
     """Run one mission and return its result record.
 
-    ``params`` are the mission command's options with ``-`` written ``_`` (``travel_time``,
-    ``food_units``, ``laser_range``, ...); values may be the CLI's strings or plain Python
-    values (``grid="12x12"`` or ``grid=(12, 12)``). Bad parameters raise :class:`InputError`
-    before any work starts. ``on_frame(frame)`` is called with the run's frames as they
-    happen; raising :class:`StopRun` from it ends the run early (the record is then
-    incomplete). ``record.to_dict()`` equals the JSON that ``swarmex COMMAND ... --json``
-    writes for the same options and seed, ``wall_seconds`` aside. ``trace=False`` leaves the
-    per-step trace (agents' trajectories and jobs) out of the record, for studies of many runs
-    that read only metrics; every team metric is the same.
+    ``mission`` is one of :func:`missions` (``"traversal"``, ``"foraging"``,
+    ``"exploration"``, ``"roadmap"``, and any installed plugin's). ``params`` are the mission
+    command's options with ``-`` written ``_`` (``travel_time``, ``food_units``,
+    ``laser_range``, ...); ``print(swarmex.describe("traversal"))`` lists a mission's
+    parameters with their defaults and meaning (docs/api.md has the same tables). Values may
+    be the CLI's strings or plain Python values (``grid="12x12"`` or ``grid=(12, 12)``,
+    ``nests=[(1, 2), (3, 4)]``, ``map=Path(...)``). For example::
+
+        rec = swarmex.run("traversal", grid="12x12", agents=4, seed=3)
+        rec.complete, rec.makespan, rec.metrics["total_time_all"]
+
+    ``seed`` (an integer >= 0) drives every random choice: the same parameters and seed give
+    the same record, ``wall_seconds`` aside. Bad parameters raise :class:`InputError` (a
+    ``ValueError``) naming the parameter, before any work starts; so do the checks that
+    need the world (a missing map file, a nest on an obstacle, more agents than free cells).
+
+    ``on_frame(frame)`` is called with the run's frames as they happen (what ``--render``
+    draws); raising :class:`StopRun` from it ends the run early (the record is then
+    incomplete, ``complete`` False). ``trace=False`` leaves the per-step trace (agents'
+    trajectories and jobs) out of the record, for studies of many runs that read only
+    metrics; every team metric is the same.
+
+    Returns a :class:`ResultRecord`; ``record.to_dict()`` equals the JSON that
+    ``swarmex COMMAND ... --json`` writes for the same options and seed, ``wall_seconds``
+    aside.
     """
     from swarmex.missions.registry import get
 
@@ -70,6 +88,33 @@ def run(
         raise InputError("give the seed once, as seed=")
     p = m.params({**params, "seed": seed})
     return m.run(p, on_frame=on_frame, trace=trace).record
+
+
+def describe(mission: str) -> str:
+    """A mission's summary and every parameter of :func:`run` for it, one per line: its
+    name, command-line flag, default and meaning (the tables of docs/api.md, as text).
+
+    Why a function: the parameters live in each mission's Params declarations, which
+    ``help(swarmex.run)`` cannot show without importing every mission.
+    """
+    from swarmex.missions.base import REQUIRED
+    from swarmex.missions.registry import get
+
+    m = get(mission)
+    lines = [f"{m.name} (swarmex {m.command}): {m.summary}", "parameters of swarmex.run:"]
+    for info in m.params_type.options().values():
+        if info.default is REQUIRED:
+            default = "required"
+        elif info.default is None or info.default == ():
+            default = "default: none"
+        else:
+            default = f"default {info.default!r}"
+        lines.append(f"  {info.name} ({info.flag}; {default}): {info.help}")
+    return "\n".join(lines)
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), "ResultRecord", "StopRun"})
 
 
 def __getattr__(name: str) -> Any:

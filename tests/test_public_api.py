@@ -1,0 +1,43 @@
+"""What a Python user sees of ``swarmex`` itself: help(swarmex.run) says what to pass,
+describe() lists a mission's parameters, dir() shows the lazy names, import stays light."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import pytest
+
+import swarmex
+from swarmex.missions.registry import get
+
+
+def test_run_docstring_names_the_missions_and_where_parameters_are_listed() -> None:
+    doc = swarmex.run.__doc__ or ""
+    for name in ("traversal", "foraging", "exploration", "roadmap", "describe", "InputError",
+                 "StopRun", "trace=False", "seed"):
+        assert name in doc
+
+
+@pytest.mark.parametrize("mission", swarmex.missions())
+def test_describe_lists_every_parameter_with_its_flag(mission: str) -> None:
+    text = swarmex.describe(mission)
+    for info in get(mission).params_type.options().values():
+        line = f"  {info.name} ({info.flag}; {'required' if info.required else 'default'}"
+        assert line in text
+
+
+def test_describe_refuses_an_unknown_mission_by_name() -> None:
+    with pytest.raises(swarmex.InputError, match="did you mean 'traversal'"):
+        swarmex.describe("travrsal")
+
+
+def test_dir_lists_the_lazy_public_names() -> None:
+    assert set(swarmex.__all__) <= set(dir(swarmex))
+
+
+def test_import_swarmex_loads_no_heavy_library() -> None:
+    code = ("import sys, swarmex; heavy = ('numba', 'numpy', 'matplotlib', 'scipy', 'networkx',"
+            " 'shapely'); print(sorted(m for m in heavy if m in sys.modules))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "[]"
