@@ -67,3 +67,14 @@ def test_validated_params_pickle_and_compare_as_before() -> None:
     q = pickle.loads(pickle.dumps(p))
     assert q == p and repr(q) == repr(p)
     assert "_swarmex" not in repr(p) and "_swarmex" not in str(dataclasses.asdict(p))
+
+
+@pytest.mark.parametrize(("kw", "message"), [
+    ({"on_frame": 5}, "on_frame must be a function of one frame"),
+    ({"trace": "false"}, "trace must be True or False"),
+    ({"trace": None}, "trace must be True or False"),
+])
+def test_run_refuses_a_bad_on_frame_or_trace_before_any_work(kw: dict, message: str) -> None:
+    # on_frame=5 was a TypeError from the first frame; trace="false" silently kept the trace
+    with pytest.raises(swarmex.InputError, match=message):
+        swarmex.run("traversal", grid="4x4", agents=1, **kw)

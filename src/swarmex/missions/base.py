@@ -485,6 +485,16 @@ class Outcome:
 FrameCallback = Callable[[Any], Any]
 
 
+def check_run_options(on_frame: Any, trace: Any) -> None:
+    """``on_frame`` and ``trace`` as :meth:`Mission.run` takes them, else an InputError before
+    any work. Why: ``on_frame=5`` was a TypeError from the first frame, after the world was
+    built, and ``trace="false"`` (truthy) silently kept the trace."""
+    if on_frame is not None and not callable(on_frame):
+        raise InputError(f"on_frame must be a function of one frame (or None), got {on_frame!r}")
+    if not isinstance(trace, bool):
+        raise InputError(f"trace must be True or False, got {trace!r}")
+
+
 class FrameList(list[Any]):
     """An ``on_frame`` callback that keeps every frame, in order: what ``--render`` draws
     (the same objects ``swarmex.run(..., on_frame=...)`` hands a notebook)."""
@@ -544,5 +554,6 @@ class Mission(ABC, Generic[P, W]):
     def run(
         self, params: P, on_frame: FrameCallback | None = None, *, trace: bool = True
     ) -> Outcome:
+        check_run_options(on_frame, trace)
         params = params.validated()  # Params built by their constructor skipped the parsers
         return self.execute(params, self.prepare(params), on_frame, trace=trace)
