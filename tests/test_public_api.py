@@ -41,3 +41,39 @@ def test_import_swarmex_loads_no_heavy_library() -> None:
             " 'shapely'); print(sorted(m for m in heavy if m in sys.modules))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "[]"
+
+
+USER_SCRIPT = '''
+import swarmex
+from swarmex import ResultRecord, StopRun
+
+
+class Enough(StopRun):
+    """Stop after the first frame."""
+
+
+def watch(frame: object) -> None:
+    raise Enough
+
+
+record: ResultRecord = swarmex.run("traversal", grid="4x4", agents=1, on_frame=watch)
+complete: bool = record.complete
+text: str = swarmex.describe("traversal")
+'''
+
+
+def test_a_users_strict_mypy_sees_the_public_types(tmp_path) -> None:
+    """py.typed: a user's ``mypy --strict`` knows ResultRecord and StopRun (StopRun was Any
+    through the lazy ``__getattr__``, and subclassing it was an error)."""
+    pytest.importorskip("mypy")
+    from pathlib import Path
+
+    script = tmp_path / "user.py"
+    script.write_text(USER_SCRIPT)
+    src = Path(swarmex.__file__).resolve().parents[1]
+    out = subprocess.run(
+        [sys.executable, "-m", "mypy", "--strict", "--follow-imports=silent",
+         "--no-incremental", "--cache-dir", str(tmp_path / "cache"), str(script)],
+        capture_output=True, text=True, cwd=tmp_path, env={"MYPYPATH": str(src), "PATH": ""},
+    )
+    assert out.returncode == 0, out.stdout + out.stderr

@@ -26,6 +26,7 @@ _ensure_cache_dir()  # before any kernel module imports numba: cache=True must n
 
 if TYPE_CHECKING:
     from swarmex.engine.record import ResultRecord
+    from swarmex.missions.base import StopRun
 
 __version__ = "0.1.0"
 __all__ = [
