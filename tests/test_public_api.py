@@ -77,3 +77,13 @@ def test_a_users_strict_mypy_sees_the_public_types(tmp_path) -> None:
         capture_output=True, text=True, cwd=tmp_path, env={"MYPYPATH": str(src), "PATH": ""},
     )
     assert out.returncode == 0, out.stdout + out.stderr
+
+
+@pytest.mark.parametrize("mission", swarmex.missions())
+def test_help_on_a_mission_and_its_params_lists_the_parameters(mission: str) -> None:
+    # the Params' docstring was the dataclass's generated signature, the Mission's None
+    m = get(mission)
+    for doc in (type(m).__doc__ or "", m.params_type.__doc__ or ""):
+        for name in m.params_type.options():
+            assert f"  {name} (--" in doc
+    assert "from_values" in (m.params_type.__doc__ or "")

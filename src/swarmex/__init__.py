@@ -98,20 +98,11 @@ def describe(mission: str) -> str:
     Why a function: the parameters live in each mission's Params declarations, which
     ``help(swarmex.run)`` cannot show without importing every mission.
     """
-    from swarmex.missions.base import REQUIRED
     from swarmex.missions.registry import get
 
     m = get(mission)
-    lines = [f"{m.name} (swarmex {m.command}): {m.summary}", "parameters of swarmex.run:"]
-    for info in m.params_type.options().values():
-        if info.default is REQUIRED:
-            default = "required"
-        elif info.default is None or info.default == ():
-            default = "default: none"
-        else:
-            default = f"default {info.default!r}"
-        lines.append(f"  {info.name} ({info.flag}; {default}): {info.help}")
-    return "\n".join(lines)
+    head = f"{m.name} (swarmex {m.command}): {m.summary}\nparameters of swarmex.run:\n"
+    return head + m.params_type.describe()
 
 
 def __dir__() -> list[str]:

@@ -458,6 +458,22 @@ class Params:
         object.__setattr__(out, _CHECKED, True)
         return out
 
+    @classmethod
+    def describe(cls) -> str:
+        """Every option, one per line: name, command-line flag, default (or "required") and
+        help. What ``swarmex.describe(mission)`` prints and the class's own docstring ends
+        with, so ``help(TraversalParams)`` shows what to pass."""
+        lines = []
+        for info in cls.options().values():
+            if info.required:
+                default = "required"
+            elif info.default is None or info.default == ():
+                default = "default: none"
+            else:
+                default = f"default {info.default!r}"
+            lines.append(f"  {info.name} ({info.flag}; {default}): {info.help}")
+        return "\n".join(lines)
+
     def values(self) -> dict[str, Any]:
         """The parameters as a plain dict (option name -> typed value)."""
         return {name: getattr(self, name) for name in self.options()}
@@ -532,7 +548,29 @@ class Mission(ABC, Generic[P, W]):
     params_type: ClassVar[type[Params]]
     time_unit: ClassVar[str]
 
+    def __init_subclass__(cls, **kw: Any) -> None:
+        """Give the mission and its Params docstrings that list the parameters, so that
+        ``help()`` on either tells a user what to pass (a dataclass's own docstring is only
+        its constructor's signature, which runs no parser)."""
+        super().__init_subclass__(**kw)
+        ptype = cls.__dict__.get("params_type")
+        if ptype is None or not hasattr(cls, "name"):
+            return
+        listing = (f"Parameters (``swarmex.run({cls.name!r}, ...)``, "
+                   f"``swarmex {cls.command}``):\n\n{ptype.describe()}")
+        if cls.__doc__ is None:
+            cls.__doc__ = (f"The {cls.name} mission (``swarmex {cls.command}``): "
+                           f"{cls.summary}\n\n{listing}")
+        own = ptype.__doc__ or ""
+        if own.startswith(ptype.__name__ + "("):  # the dataclass's generated signature
+            ptype.__doc__ = (f"Parameters of the {cls.name} mission: build them with "
+                             f"``{ptype.__name__}.from_values(...)`` (or "
+                             f"``registry.get({cls.name!r}).params(...)``), copy them with "
+                             f"``.replace(...)``; both parse and check.\n\n{listing}")
+
     def params(self, values: Mapping[str, Any] | None = None, **kw: Any) -> P:
+        """Parse and check ``values`` (CLI strings or Python values) into this mission's
+        frozen Params (:meth:`Params.from_values`); an InputError names a bad one."""
         return self.params_type.from_values(values, **kw)  # type: ignore[return-value]
 
     @abstractmethod
@@ -554,6 +592,8 @@ class Mission(ABC, Generic[P, W]):
     def run(
         self, params: P, on_frame: FrameCallback | None = None, *, trace: bool = True
     ) -> Outcome:
+        """Prepare the world and execute: the whole run, as ``swarmex.run`` does it. Params
+        that skipped the parsers (built by their constructor) are parsed and checked first."""
         check_run_options(on_frame, trace)
         params = params.validated()  # Params built by their constructor skipped the parsers
         return self.execute(params, self.prepare(params), on_frame, trace=trace)
