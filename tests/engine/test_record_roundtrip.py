@@ -50,3 +50,13 @@ def test_from_dict_reads_the_command_lines_json(tmp_path: Path) -> None:
 def test_from_dict_refuses_what_is_not_a_record(data: object, message: str) -> None:
     with pytest.raises(InputError, match=message):
         ResultRecord.from_dict(data)  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize("mission", sorted(RUNS))
+def test_records_in_memory_hold_plain_python_values(mission: str) -> None:
+    """What a user prints is what the JSON holds: no numpy scalars (traversal's per-agent
+    travel_time and total_time were np.float64)."""
+    record = swarmex.run(mission, seed=2, **RUNS[mission])
+    for metrics in [record.metrics, *(a.metrics for a in record.agents)]:
+        for key, value in metrics.items():
+            assert value is None or type(value) in (int, float, bool, str, list, dict), key
