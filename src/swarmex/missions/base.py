@@ -554,18 +554,20 @@ class Mission(ABC, Generic[P, W]):
         its constructor's signature, which runs no parser)."""
         super().__init_subclass__(**kw)
         ptype = cls.__dict__.get("params_type")
-        if ptype is None or not hasattr(cls, "name"):
-            return
-        listing = (f"Parameters (``swarmex.run({cls.name!r}, ...)``, "
-                   f"``swarmex {cls.command}``):\n\n{ptype.describe()}")
+        name = getattr(cls, "name", None)
+        if ptype is None or name is None:
+            return  # an abstract intermediate class, or a plugin that sets them later
+        command = getattr(cls, "command", name)
+        listing = (f"Parameters (``swarmex.run({name!r}, ...)``, "
+                   f"``swarmex {command}``):\n\n{ptype.describe()}")
         if cls.__doc__ is None:
-            cls.__doc__ = (f"The {cls.name} mission (``swarmex {cls.command}``): "
-                           f"{cls.summary}\n\n{listing}")
+            cls.__doc__ = (f"The {name} mission (``swarmex {command}``): "
+                           f"{getattr(cls, 'summary', '')}\n\n{listing}")
         own = ptype.__doc__ or ""
         if own.startswith(ptype.__name__ + "("):  # the dataclass's generated signature
-            ptype.__doc__ = (f"Parameters of the {cls.name} mission: build them with "
+            ptype.__doc__ = (f"Parameters of the {name} mission: build them with "
                              f"``{ptype.__name__}.from_values(...)`` (or "
-                             f"``registry.get({cls.name!r}).params(...)``), copy them with "
+                             f"``registry.get({name!r}).params(...)``), copy them with "
                              f"``.replace(...)``; both parse and check.\n\n{listing}")
 
     def params(self, values: Mapping[str, Any] | None = None, **kw: Any) -> P:
