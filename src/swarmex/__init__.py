@@ -87,6 +87,8 @@ def run(
     m = get(mission)
     if "seed" in params:
         raise InputError("give the seed once, as seed=")
+    if seed is None:  # numpy's "fresh entropy"; here it silently meant the default seed 0
+        raise InputError("seed=None: every swarmex run is reproducible; give an integer >= 0")
     p = m.params({**params, "seed": seed})
     return m.run(p, on_frame=on_frame, trace=trace).record
 

@@ -78,3 +78,9 @@ def test_run_refuses_a_bad_on_frame_or_trace_before_any_work(kw: dict, message: 
     # on_frame=5 was a TypeError from the first frame; trace="false" silently kept the trace
     with pytest.raises(swarmex.InputError, match=message):
         swarmex.run("traversal", grid="4x4", agents=1, **kw)
+
+
+def test_run_refuses_seed_none() -> None:
+    # seed=None (numpy's "fresh entropy") silently ran seed 0
+    with pytest.raises(swarmex.InputError, match="seed=None"):
+        swarmex.run("traversal", grid="4x4", agents=1, seed=None)  # type: ignore[arg-type]
