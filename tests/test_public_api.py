@@ -87,3 +87,22 @@ def test_help_on_a_mission_and_its_params_lists_the_parameters(mission: str) -> 
         for name in m.params_type.options():
             assert f"  {name} (--" in doc
     assert "from_values" in (m.params_type.__doc__ or "")
+
+
+def test_the_documented_dotted_names_under_swarmex_missions_resolve() -> None:
+    """``swarmex.missions`` is callable and is the subpackage too: the docs' dotted names
+    (``swarmex.missions.registry``, ``swarmex.missions.base.FrameList``,
+    ``swarmex.missions.traversal.run_traversal``) were AttributeErrors on a function."""
+    assert swarmex.missions() == ["exploration", "foraging", "roadmap", "traversal"]
+    assert swarmex.missions.registry.get("traversal").name == "traversal"
+    assert callable(swarmex.missions.base.FrameList())
+    assert callable(swarmex.missions.traversal.run_traversal)
+    with pytest.raises(AttributeError, match="no attribute or module 'nope'"):
+        _ = swarmex.missions.nope
+
+
+def test_import_as_of_a_missions_module_works() -> None:
+    code = ("import swarmex.missions.base as b, swarmex.missions.registry as r; "
+            "print(b.StopRun.__name__, r.get('foraging').name)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert out.stdout.strip() == "StopRun foraging", out.stderr

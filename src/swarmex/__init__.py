@@ -15,10 +15,11 @@ Heavy modules are imported only when a mission first runs, so ``import swarmex``
 
 from __future__ import annotations
 
+import importlib
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
-import swarmex.missions as _missions_package  # noqa: F401  (before the function below)
+import swarmex.missions as _missions_package  # before `missions` below
 from swarmex._jitcache import ensure_cache_dir as _ensure_cache_dir
 from swarmex.errors import InputError
 
@@ -34,16 +35,51 @@ __all__ = [
 ]
 
 
-def missions() -> list[str]:
-    """The registered mission names (built-in and from installed plugins), sorted.
+class _Missions:
+    """``swarmex.missions()``: the registered mission names (built-in and from installed
+    plugins), sorted. ``swarmex.missions.NAME``: the subpackage ``swarmex.missions``'s
+    module NAME (``swarmex.missions.registry``, ``swarmex.missions.base``,
+    ``swarmex.missions.traversal``), imported on first use.
 
-    (The subpackage ``swarmex.missions`` is imported above, first, so that this function and
-    not the subpackage is the package's ``missions`` attribute; import the subpackage's
-    modules by their full names, ``from swarmex.missions.base import Mission``.)
+    Why an object and not a plain function: the package's ``missions`` attribute cannot be
+    both the function and the subpackage, and as a function it hid the subpackage, so the
+    documented dotted names failed: ``swarmex.missions.registry.get`` was an AttributeError
+    ("'function' object has no attribute 'registry'") and ``import
+    swarmex.missions.base as b`` an ImportError, even after importing the module.
     """
-    from swarmex.missions.registry import names
 
-    return names()
+    __slots__ = ()
+
+    def __call__(self) -> list[str]:
+        from swarmex.missions.registry import names
+
+        return names()
+
+    def __getattr__(self, name: str) -> Any:
+        if name.startswith("__"):  # no dunder of the module (help, pickle, inspect probe them)
+            raise AttributeError(name)
+        try:
+            return getattr(_missions_package, name)
+        except AttributeError:
+            pass
+        try:
+            return importlib.import_module(f"swarmex.missions.{name}")
+        except ModuleNotFoundError as exc:
+            if exc.name != f"swarmex.missions.{name}":
+                raise  # the module exists and one of its imports is missing: say that
+        raise AttributeError(f"swarmex.missions has no attribute or module {name!r}")
+
+    def __dir__(self) -> list[str]:
+        return sorted(n for n in vars(_missions_package) if not n.startswith("_"))
+
+    def __repr__(self) -> str:
+        return "<swarmex.missions: call it for the mission names; attributes: the subpackage>"
+
+
+# the subpackage swarmex.missions is imported above, first, so that this object and not the
+# subpackage is the package's ``missions`` attribute (an import of a module already loaded
+# does not set its parent's attribute again)
+missions = _Missions()
 
 
 def run(
