@@ -479,7 +479,21 @@ class Params:
         return {name: getattr(self, name) for name in self.options()}
 
 
+# options of the mission commands that are outputs, not parameters of the run: a Python user
+# who tries them is told the Python way (``render`` used to get "did you mean 'center'?")
+COMMAND_ONLY = {
+    "json": "the command line's record file; in Python, swarmex.engine.write_record(record,"
+            " path) writes the same JSON",
+    "render": "the command line's drawing; in Python, keep the frames with"
+              " on_frame=swarmex.missions.base.FrameList() and draw them with swarmex.viz",
+}
+
+
 def unknown_message(mission: str, name: str, opts: Mapping[str, Any]) -> str:
+    """An unknown parameter's one line: the nearest valid name, or the valid names."""
+    if name in COMMAND_ONLY and name not in opts:
+        what = COMMAND_ONLY[name]
+        return f"{mission or 'mission'}: {name!r} is not a parameter of the run: {what}"
     close = difflib.get_close_matches(name, list(opts), n=1, cutoff=0.5)
     hint = f"; did you mean {close[0]!r}?" if close else f" (valid: {', '.join(sorted(opts))})"
     return f"{mission or 'mission'}: unknown parameter {name!r}{hint}"
