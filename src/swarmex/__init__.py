@@ -15,10 +15,11 @@ Heavy modules are imported only when a mission first runs, so ``import swarmex``
 
 from __future__ import annotations
 
+import importlib
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
-import swarmex.missions as _missions_package  # noqa: F401  (before the function below)
+import swarmex.missions as _missions_package  # before `missions` below
 from swarmex._jitcache import ensure_cache_dir as _ensure_cache_dir
 from swarmex.errors import InputError
 
@@ -26,21 +27,59 @@ _ensure_cache_dir()  # before any kernel module imports numba: cache=True must n
 
 if TYPE_CHECKING:
     from swarmex.engine.record import ResultRecord
+    from swarmex.missions.base import StopRun
 
 __version__ = "0.1.0"
-__all__ = ["InputError", "ResultRecord", "StopRun", "__version__", "missions", "run"]
+__all__ = [
+    "InputError", "ResultRecord", "StopRun", "__version__", "describe", "missions", "run"
+]
 
 
-def missions() -> list[str]:
-    """The registered mission names (built-in and from installed plugins), sorted.
+class _Missions:
+    """``swarmex.missions()``: the registered mission names (built-in and from installed
+    plugins), sorted. ``swarmex.missions.NAME``: the subpackage ``swarmex.missions``'s
+    module NAME (``swarmex.missions.registry``, ``swarmex.missions.base``,
+    ``swarmex.missions.traversal``), imported on first use.
 
-    (The subpackage ``swarmex.missions`` is imported above, first, so that this function and
-    not the subpackage is the package's ``missions`` attribute; import the subpackage's
-    modules by their full names, ``from swarmex.missions.base import Mission``.)
+    Why an object and not a plain function: the package's ``missions`` attribute cannot be
+    both the function and the subpackage, and as a function it hid the subpackage, so the
+    documented dotted names failed: ``swarmex.missions.registry.get`` was an AttributeError
+    ("'function' object has no attribute 'registry'") and ``import
+    swarmex.missions.base as b`` an ImportError, even after importing the module.
     """
-    from swarmex.missions.registry import names
 
-    return names()
+    __slots__ = ()
+
+    def __call__(self) -> list[str]:
+        from swarmex.missions.registry import names
+
+        return names()
+
+    def __getattr__(self, name: str) -> Any:
+        if name.startswith("__"):  # no dunder of the module (help, pickle, inspect probe them)
+            raise AttributeError(name)
+        try:
+            return getattr(_missions_package, name)
+        except AttributeError:
+            pass
+        try:
+            return importlib.import_module(f"swarmex.missions.{name}")
+        except ModuleNotFoundError as exc:
+            if exc.name != f"swarmex.missions.{name}":
+                raise  # the module exists and one of its imports is missing: say that
+        raise AttributeError(f"swarmex.missions has no attribute or module {name!r}")
+
+    def __dir__(self) -> list[str]:
+        return sorted(n for n in vars(_missions_package) if not n.startswith("_"))
+
+    def __repr__(self) -> str:
+        return "<swarmex.missions: call it for the mission names; attributes: the subpackage>"
+
+
+# the subpackage swarmex.missions is imported above, first, so that this object and not the
+# subpackage is the package's ``missions`` attribute (an import of a module already loaded
+# does not set its parent's attribute again)
+missions = _Missions()
 
 
 def run(
@@ -53,23 +92,59 @@ def run(
 ) -> ResultRecord:
     """Run one mission and return its result record.
 
-    ``params`` are the mission command's options with ``-`` written ``_`` (``travel_time``,
-    ``food_units``, ``laser_range``, ...); values may be the CLI's strings or plain Python
-    values (``grid="12x12"`` or ``grid=(12, 12)``). Bad parameters raise :class:`InputError`
-    before any work starts. ``on_frame(frame)`` is called with the run's frames as they
-    happen; raising :class:`StopRun` from it ends the run early (the record is then
-    incomplete). ``record.to_dict()`` equals the JSON that ``swarmex COMMAND ... --json``
-    writes for the same options and seed, ``wall_seconds`` aside. ``trace=False`` leaves the
-    per-step trace (agents' trajectories and jobs) out of the record, for studies of many runs
-    that read only metrics; every team metric is the same.
+    ``mission`` is one of :func:`missions` (``"traversal"``, ``"foraging"``,
+    ``"exploration"``, ``"roadmap"``, and any installed plugin's). ``params`` are the mission
+    command's options with ``-`` written ``_`` (``travel_time``, ``food_units``,
+    ``laser_range``, ...); ``print(swarmex.describe("traversal"))`` lists a mission's
+    parameters with their defaults and meaning (docs/api.md has the same tables). Values may
+    be the CLI's strings or plain Python values (``grid="12x12"`` or ``grid=(12, 12)``,
+    ``nests=[(1, 2), (3, 4)]``, ``map=Path(...)``). For example::
+
+        rec = swarmex.run("traversal", grid="12x12", agents=4, seed=3)
+        rec.complete, rec.makespan, rec.metrics["total_time_all"]
+
+    ``seed`` (an integer >= 0) drives every random choice: the same parameters and seed give
+    the same record, ``wall_seconds`` aside. Bad parameters raise :class:`InputError` (a
+    ``ValueError``) naming the parameter, before any work starts; so do the checks that
+    need the world (a missing map file, a nest on an obstacle, more agents than free cells).
+
+    ``on_frame(frame)`` is called with the run's frames as they happen (what ``--render``
+    draws); raising :class:`StopRun` from it ends the run early (the record is then
+    incomplete, ``complete`` False). ``trace=False`` leaves the per-step trace (agents'
+    trajectories and jobs) out of the record, for studies of many runs that read only
+    metrics; every team metric is the same.
+
+    Returns a :class:`ResultRecord`; ``record.to_dict()`` equals the JSON that
+    ``swarmex COMMAND ... --json`` writes for the same options and seed, ``wall_seconds``
+    aside.
     """
     from swarmex.missions.registry import get
 
     m = get(mission)
     if "seed" in params:
         raise InputError("give the seed once, as seed=")
+    if seed is None:  # numpy's "fresh entropy"; here it silently meant the default seed 0
+        raise InputError("seed=None: every swarmex run is reproducible; give an integer >= 0")
     p = m.params({**params, "seed": seed})
     return m.run(p, on_frame=on_frame, trace=trace).record
+
+
+def describe(mission: str) -> str:
+    """A mission's summary and every parameter of :func:`run` for it, one per line: its
+    name, command-line flag, default and meaning (the tables of docs/api.md, as text).
+
+    Why a function: the parameters live in each mission's Params declarations, which
+    ``help(swarmex.run)`` cannot show without importing every mission.
+    """
+    from swarmex.missions.registry import get
+
+    m = get(mission)
+    head = f"{m.name} (swarmex {m.command}): {m.summary}\nparameters of swarmex.run:\n"
+    return head + m.params_type.describe()
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), "ResultRecord", "StopRun"})
 
 
 def __getattr__(name: str) -> Any:

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import json
 import math
+from collections.abc import Mapping
 from dataclasses import asdict, dataclass, field, fields, is_dataclass
 from pathlib import Path
 from typing import Any, cast
@@ -75,6 +76,10 @@ def _plain_other(value: Any) -> Any:
 
 @dataclass
 class AgentRecord:
+    """One agent of a run: its id, its own metrics (the mission's names, e.g. traversal's
+    ``nodes_done``, ``total_time``), its ``trajectory`` as ``[t, x, y]`` rows and its
+    ``jobs`` as ``[t, x, y]`` rows (both empty in a ``trace=False`` run)."""
+
     id: int
     metrics: dict[str, Any] = field(default_factory=dict)
     trajectory: list[list[float]] = field(default_factory=list)
@@ -83,6 +88,20 @@ class AgentRecord:
 
 @dataclass
 class ResultRecord:
+    """The result of one run (DESIGN.md's record), what ``swarmex.run`` returns and
+    ``--json`` writes.
+
+    ``mission`` and ``algorithm`` name what ran; ``params`` every parameter as the run used
+    it (after defaults and derived values, e.g. each agent's nest); ``seed``; ``world`` the
+    world's kind, source, size and free cells; ``complete`` whether the mission finished
+    (False when stopped early by :class:`~swarmex.missions.base.StopRun` or a limit);
+    ``makespan`` in ``time_unit`` (``"s"`` or ``"step"``); ``metrics`` the team totals;
+    ``agents`` one :class:`AgentRecord` each; ``wall_seconds`` the run's wall time, the one
+    field that differs between two runs of the same seed; ``extra`` mission-specific
+    top-level keys. :meth:`to_dict` is the JSON, :meth:`from_dict` reads it back; records
+    pickle, so they cross process boundaries.
+    """
+
     mission: str
     algorithm: str
     params: dict[str, Any]
@@ -114,6 +133,38 @@ class ResultRecord:
                 out[f.name] = getattr(self, f.name)
         out.update(self.extra)
         return cast(dict[str, Any], plain(out))
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any]) -> ResultRecord:
+        """The record back from its JSON (:meth:`to_dict`, or a file ``--json`` wrote):
+        ``ResultRecord.from_dict(rec.to_dict()).to_dict() == rec.to_dict()``.
+
+        Why: a record written by the command line or a sweep is the input of later analysis
+        in Python, which wants ``record.metrics`` and ``record.agents[i].trajectory`` rather
+        than nested dict lookups. Keys that are not fields go back to ``extra``, in order, so
+        writing the record again gives the same JSON. A missing field or a malformed agent is
+        an :class:`~swarmex.errors.InputError` naming it.
+        """
+        if not isinstance(data, Mapping):
+            raise InputError(f"a record is a JSON object, got {type(data).__name__}")
+        names = [f.name for f in fields(cls) if f.name != "extra"]
+        optional = {"wall_seconds", "swarmex_version"}
+        missing = [n for n in names if n not in data and n not in optional]
+        if missing:
+            raise InputError(f"not a swarmex record: no {', '.join(map(repr, missing))}")
+        if not isinstance(data["agents"], list):
+            raise InputError("record: 'agents' must be a list of agent objects")
+        agents = []
+        for i, a in enumerate(data["agents"]):
+            if not isinstance(a, Mapping) or "id" not in a:
+                raise InputError(f"record: agents[{i}] is not an agent object with an 'id'")
+            agents.append(AgentRecord(
+                id=a["id"], metrics=dict(a.get("metrics") or {}),
+                trajectory=list(a.get("trajectory") or []), jobs=list(a.get("jobs") or []),
+            ))
+        given = {n: data[n] for n in names if n in data and n != "agents"}
+        extra = {k: v for k, v in data.items() if k not in names}
+        return cls(**given, agents=agents, extra=extra)
 
 
 def without_trace(record: ResultRecord, derived: tuple[str, ...] = ()) -> ResultRecord:
@@ -153,6 +204,8 @@ def write_record(record: ResultRecord, path: str | Path) -> Path:
 
 
 def read_record(path: str | Path) -> dict[str, Any]:
+    """A record file's JSON as a dict (``ResultRecord.from_dict`` makes it a record again);
+    a missing or malformed file is an InputError naming it."""
     try:
         return json.loads(Path(path).read_text(encoding="utf-8"))
     except FileNotFoundError:

@@ -15,7 +15,10 @@ A mission is three things:
 
 Why a dataclass of options rather than the CLI's signature: the Python API, TOML files and
 sweeps need the same names, defaults and checks as the command line, and a plain dataclass
-is what a library user can read, construct and ``dataclasses.replace``. The CLI generates
+is what a library user can read, compare, pickle and copy with changes (``params.replace(...)``,
+which parses and checks the changes; a Params built by its constructor or by
+``dataclasses.replace`` skips the parsers until :meth:`Mission.run` reruns them, see
+:meth:`Params.validated`). The CLI generates
 its options from these declarations (cli/missions.py), so the two cannot drift.
 
 Parsing is strict and names the parameter: ``agents="three"`` is an
@@ -31,9 +34,9 @@ import numbers
 import re
 from abc import ABC, abstractmethod
 from collections.abc import Callable, Iterable, Mapping, Sequence
-from dataclasses import MISSING, dataclass, field, fields
+from dataclasses import MISSING, dataclass, field, fields, replace
 from pathlib import Path
-from typing import Any, ClassVar, Generic, TypeVar
+from typing import Any, ClassVar, Generic, Self, TypeVar
 
 from swarmex.engine.record import ResultRecord
 from swarmex.errors import InputError
@@ -337,6 +340,9 @@ def option(
 
 
 P = TypeVar("P", bound="Params")
+# set on Params that went through the parsers and check() (not a field: equality, repr,
+# asdict and the record ignore it)
+_CHECKED = "_swarmex_checked"
 
 
 @dataclass(frozen=True)
@@ -394,17 +400,100 @@ class Params:
                 parsed[name] = info.default
         params = cls(**parsed)
         params.check()
+        object.__setattr__(params, _CHECKED, True)
         return params
 
     def check(self) -> None:
         """Cross-field rules that need no world; raise InputError naming the option."""
+
+    def replace(self, **changes: Any) -> Self:
+        """A copy with ``changes`` (option names, CLI strings or Python values) parsed and
+        checked as :meth:`from_values` does: ``params.replace(grid="12x12")``.
+
+        Why not ``dataclasses.replace``: it calls the constructor, which runs no parser, so a
+        CLI string stays a string where the run expects a tuple (:meth:`validated` catches it
+        when the run starts, this catches it here). Fields that are not options (the
+        simulator's own constants, e.g. exploration's ``plan_period``) are kept or replaced
+        as given.
+        """
+        opts = self.options()
+        own = {name: v for name, v in changes.items() if name.replace("-", "_") in opts}
+        keep = {f.name: getattr(self, f.name) for f in fields(self) if f.name not in opts}
+        other = {name: v for name, v in changes.items() if name not in own}
+        for name in other:
+            if name not in keep:
+                raise InputError(unknown_message(self.mission, name, opts))
+        values = {name: v for name, v in self.values().items() if v is not None}
+        for name, v in own.items():
+            values[name.replace("-", "_")] = v
+        out = type(self).from_values(values)
+        rest = {**keep, **other}
+        if rest:
+            out = replace(out, **rest)
+            object.__setattr__(out, _CHECKED, True)
+        return out
+
+    def validated(self) -> Self:
+        """These parameters with every option's parser rerun on the value it holds and
+        :meth:`check` applied: what :meth:`Mission.run` does before any work.
+
+        Params made by :meth:`from_values` or :meth:`replace` are already valid and come back
+        as they are. One built by its constructor or by ``dataclasses.replace`` skipped the
+        parsers: ``replace(p, grid="12x12")`` used to reach the simulator with a string and
+        fail there with "too many values to unpack"; now the string is parsed (to ``(12,
+        12)``) and a bad value is an :class:`~swarmex.errors.InputError` naming the option.
+        """
+        if self.__dict__.get(_CHECKED):
+            return self
+        parsed: dict[str, Any] = {}
+        for name, info in self.options().items():
+            value = getattr(self, name)
+            if value is None and info.required:
+                raise InputError(f"{self.mission}: {info.flag} is required")
+            if value is None and info.default is None:
+                continue  # an optional option left unset
+            parsed[name] = info.parse(value, info.flag)
+        out = replace(self, **parsed)
+        out.check()
+        object.__setattr__(out, _CHECKED, True)
+        return out
+
+    @classmethod
+    def describe(cls) -> str:
+        """Every option, one per line: name, command-line flag, default (or "required") and
+        help. What ``swarmex.describe(mission)`` prints and the class's own docstring ends
+        with, so ``help(TraversalParams)`` shows what to pass."""
+        lines = []
+        for info in cls.options().values():
+            if info.required:
+                default = "required"
+            elif info.default is None or info.default == ():
+                default = "default: none"
+            else:
+                default = f"default {info.default!r}"
+            lines.append(f"  {info.name} ({info.flag}; {default}): {info.help}")
+        return "\n".join(lines)
 
     def values(self) -> dict[str, Any]:
         """The parameters as a plain dict (option name -> typed value)."""
         return {name: getattr(self, name) for name in self.options()}
 
 
+# options of the mission commands that are outputs, not parameters of the run: a Python user
+# who tries them is told the Python way (``render`` used to get "did you mean 'center'?")
+COMMAND_ONLY = {
+    "json": "the command line's record file; in Python, swarmex.engine.write_record(record,"
+            " path) writes the same JSON",
+    "render": "the command line's drawing; in Python, keep the frames with"
+              " on_frame=swarmex.missions.base.FrameList() and draw them with swarmex.viz",
+}
+
+
 def unknown_message(mission: str, name: str, opts: Mapping[str, Any]) -> str:
+    """An unknown parameter's one line: the nearest valid name, or the valid names."""
+    if name in COMMAND_ONLY and name not in opts:
+        what = COMMAND_ONLY[name]
+        return f"{mission or 'mission'}: {name!r} is not a parameter of the run: {what}"
     close = difflib.get_close_matches(name, list(opts), n=1, cutoff=0.5)
     hint = f"; did you mean {close[0]!r}?" if close else f" (valid: {', '.join(sorted(opts))})"
     return f"{mission or 'mission'}: unknown parameter {name!r}{hint}"
@@ -424,6 +513,16 @@ class Outcome:
 
 
 FrameCallback = Callable[[Any], Any]
+
+
+def check_run_options(on_frame: Any, trace: Any) -> None:
+    """``on_frame`` and ``trace`` as :meth:`Mission.run` takes them, else an InputError before
+    any work. Why: ``on_frame=5`` was a TypeError from the first frame, after the world was
+    built, and ``trace="false"`` (truthy) silently kept the trace."""
+    if on_frame is not None and not callable(on_frame):
+        raise InputError(f"on_frame must be a function of one frame (or None), got {on_frame!r}")
+    if not isinstance(trace, bool):
+        raise InputError(f"trace must be True or False, got {trace!r}")
 
 
 class FrameList(list[Any]):
@@ -463,7 +562,31 @@ class Mission(ABC, Generic[P, W]):
     params_type: ClassVar[type[Params]]
     time_unit: ClassVar[str]
 
+    def __init_subclass__(cls, **kw: Any) -> None:
+        """Give the mission and its Params docstrings that list the parameters, so that
+        ``help()`` on either tells a user what to pass (a dataclass's own docstring is only
+        its constructor's signature, which runs no parser)."""
+        super().__init_subclass__(**kw)
+        ptype = cls.__dict__.get("params_type")
+        name = getattr(cls, "name", None)
+        if ptype is None or name is None:
+            return  # an abstract intermediate class, or a plugin that sets them later
+        command = getattr(cls, "command", name)
+        listing = (f"Parameters (``swarmex.run({name!r}, ...)``, "
+                   f"``swarmex {command}``):\n\n{ptype.describe()}")
+        if cls.__doc__ is None:
+            cls.__doc__ = (f"The {name} mission (``swarmex {command}``): "
+                           f"{getattr(cls, 'summary', '')}\n\n{listing}")
+        own = ptype.__doc__ or ""
+        if own.startswith(ptype.__name__ + "("):  # the dataclass's generated signature
+            ptype.__doc__ = (f"Parameters of the {name} mission: build them with "
+                             f"``{ptype.__name__}.from_values(...)`` (or "
+                             f"``registry.get({name!r}).params(...)``), copy them with "
+                             f"``.replace(...)``; both parse and check.\n\n{listing}")
+
     def params(self, values: Mapping[str, Any] | None = None, **kw: Any) -> P:
+        """Parse and check ``values`` (CLI strings or Python values) into this mission's
+        frozen Params (:meth:`Params.from_values`); an InputError names a bad one."""
         return self.params_type.from_values(values, **kw)  # type: ignore[return-value]
 
     @abstractmethod
@@ -485,4 +608,8 @@ class Mission(ABC, Generic[P, W]):
     def run(
         self, params: P, on_frame: FrameCallback | None = None, *, trace: bool = True
     ) -> Outcome:
+        """Prepare the world and execute: the whole run, as ``swarmex.run`` does it. Params
+        that skipped the parsers (built by their constructor) are parsed and checked first."""
+        check_run_options(on_frame, trace)
+        params = params.validated()  # Params built by their constructor skipped the parsers
         return self.execute(params, self.prepare(params), on_frame, trace=trace)

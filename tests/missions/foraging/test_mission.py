@@ -98,8 +98,9 @@ def test_registry_and_params():
     mission = get("foraging")
     assert isinstance(mission, ForagingMission)
     assert (mission.name, mission.command, mission.time_unit) == ("foraging", "forage", "step")
-    assert "foraging" in names()  # (swarmex.missions() is shadowed by the subpackage once
-    # swarmex.missions.* is imported: reported to the contract's owner)
+    assert "foraging" in names()
+    assert names() == swarmex.missions()  # callable, and the subpackage's names resolve too
+    assert swarmex.missions.foraging.mission.ForagingMission is ForagingMission
     opts = ForagingParams.options()
     assert list(opts) == [
         "grid", "agents", "algorithm", "transport", "comm", "food", "food_distance", "food_units",

@@ -32,9 +32,11 @@ def agent_metrics(log: AgentLog, unit_length: float) -> dict:
         "nodes_done": done,
         "nodes_traveled": traveled,
         "nodes_without_job": traveled - done,
-        "travel_time": log.travel_time,
-        "job_time": log.job_time,
-        "total_time": log.travel_time + log.job_time,
+        # plain floats: the sum of numpy step times printed as np.float64(...) in a
+        # record's metrics in Python (the JSON was the same; so is the value)
+        "travel_time": float(log.travel_time),
+        "job_time": float(log.job_time),
+        "total_time": float(log.travel_time + log.job_time),
         "additional_time": spec.takeoff_time + rtl + spec.landing_time,
         "failed_jobs": log.failed_jobs,
         "finished_at": log.finished_at,

@@ -58,7 +58,12 @@ def build_world(p: TraversalParams) -> Any:
         for x, y in _in_bounds(geo, p.obstacles, "--obstacles"):
             free[y, x] = False
         return geo.with_free(free)
-    if p.map is not None:
+    if isinstance(p.map, GridWorld):  # a world object from Python: its cells, our neighbours
+        given = p.map
+        base = given if given.connectivity == p.connectivity else GridWorld(
+            given.free, p.connectivity, source=given.source, terrain=given.terrain
+        )
+    elif p.map is not None:
         base = load_movingai(p.map, connectivity=p.connectivity)
     else:
         assert p.grid is not None
@@ -125,11 +130,14 @@ def record_params(p: TraversalParams, prepared: TraversalWorld) -> dict[str, Any
     """The record's ``params``: the map or grid, blocked cells, team and nests, then the
     remaining options in declaration order (the same for ``traverse`` and ``serve``)."""
     world = prepared.world
+    from swarmex.worlds import GridWorld
+
+    from_file = p.map is not None and not isinstance(p.map, GridWorld)  # a path
     out: dict[str, Any] = {
-        "map": None if p.map is None else str(p.map),
+        "map": str(p.map) if from_file else None,
         "grid": None if p.grid is None else f"{p.grid[0]}x{p.grid[1]}",
     }
-    if p.map is None and p.grid is None and p.center is None:  # generated (swarmex demo)
+    if not from_file and p.grid is None and p.center is None:  # swarmex demo, a GridWorld
         out["generated"] = world.source
     out["obstacles"] = [list(c) for c in p.obstacles]
     out["agents"] = len(prepared.nests)

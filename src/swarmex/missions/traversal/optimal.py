@@ -105,6 +105,9 @@ staggered start (the simulator starts clients 0.5 s apart, plus takeoff). Neithe
 
 from __future__ import annotations
 
+import os
+import sys
+import threading
 import time
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Literal
@@ -238,6 +241,48 @@ class _MilpResult:
     bound: float
 
 
+_FIRST_HIGHS = threading.Lock()
+_banner_muted = False
+
+
+def _highs() -> highspy.Highs:
+    """A silent HiGHS instance.
+
+    Why not ``highspy.Highs()`` then ``silent()``: the first instance in a process writes
+    HiGHS's two-line banner ("Running HiGHS 1.16.0 ...") from C++ straight to file
+    descriptor 1 while it is constructed, before any option can be set. That banner landed in
+    a library user's stdout (and before the summary of ``swarmex traverse --algorithm
+    optimal``, in a pipe too). So the first construction runs with descriptor 1 pointed at
+    the null device for its few microseconds; later ones print nothing.
+    """
+    global _banner_muted
+    with _FIRST_HIGHS:
+        if _banner_muted:
+            h = highspy.Highs()
+        else:
+            _banner_muted = True
+            h = _muted(highspy.Highs)
+    h.silent()
+    return h
+
+
+def _muted(make: Any) -> Any:
+    """``make()`` with file descriptor 1 sent to the null device (as is, if it cannot be)."""
+    try:
+        sys.stdout.flush()
+        saved = os.dup(1)
+    except (OSError, ValueError, AttributeError):
+        return make()  # no descriptor 1 (a closed or replaced stdout): nothing to protect
+    null = os.open(os.devnull, os.O_WRONLY)
+    try:
+        os.dup2(null, 1)
+        return make()
+    finally:
+        os.dup2(saved, 1)
+        os.close(saved)
+        os.close(null)
+
+
 def _run_milp(
     cost: np.ndarray,
     a_mat: sparse.csc_matrix,
@@ -272,8 +317,7 @@ def _run_milp(
     lp.integrality_ = [highspy.HighsVarType.kInteger] * n_int + [
         highspy.HighsVarType.kContinuous
     ] * (n_col - n_int)
-    h = highspy.Highs()
-    h.silent()
+    h = _highs()
     h.setOptionValue("random_seed", 0)
     h.setOptionValue("mip_rel_gap", 0.0)
     h.setOptionValue("mip_abs_gap", 1e-6)
@@ -1104,7 +1148,7 @@ def optimal_record(
         extra={
             "solver": {
                 "name": "HiGHS",
-                "version": highspy.Highs().version(),
+                "version": _highs().version(),
                 "formulation": plan.formulation,
                 "status": plan.status,
                 "secondary_status": plan.secondary_status,

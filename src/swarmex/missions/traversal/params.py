@@ -33,7 +33,7 @@ import re
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Any, Self
+from typing import TYPE_CHECKING, Any, Self
 
 from swarmex.errors import InputError
 from swarmex.missions.base import (
@@ -50,6 +50,9 @@ from swarmex.missions.base import (
 )
 from swarmex.missions.traversal.fleet import FleetRow, fleet, is_table_list
 from swarmex.worlds.geo import MAX_NODES_ON_EDGE, MAX_RADIUS, check_center
+
+if TYPE_CHECKING:
+    from swarmex.worlds.grid import GridWorld
 
 ALGORITHMS = (
     "madgta", "madgta+", "madgta-h", "madgta-r", "madgta-p", "madgta-k", "nearest", "optimal"
@@ -107,6 +110,26 @@ def lat_lon() -> Any:
     return parse
 
 
+def map_source() -> Any:
+    """A MovingAI file (str or Path), or a :class:`~swarmex.worlds.grid.GridWorld` passed
+    through as it is (a world built or generated in Python, as roadmap's ``env`` takes a
+    PolygonWorld). GridWorld is imported only for a value that is not a path, so the CLI's
+    options import no numpy."""
+    as_path = path()
+
+    def parse(value: Any, flag: str) -> Any:
+        if isinstance(value, str | Path):
+            return as_path(value, flag)
+        from swarmex.worlds.grid import GridWorld
+
+        if isinstance(value, GridWorld):
+            return value
+        raise InputError(f"{flag}: expected a .map file path or a GridWorld, got {value!r}")
+
+    parse.kind = Path  # type: ignore[attr-defined]
+    return parse
+
+
 def connectivity() -> Any:
     inner = integer()
 
@@ -124,8 +147,10 @@ def connectivity() -> Any:
 class TraversalParams(Params):
     mission = "traversal"
 
-    map: Path | None = option(
-        None, help="MovingAI .map file (or give --grid).", parse=optional(path())
+    map: Path | GridWorld | None = option(
+        None,
+        help="MovingAI .map file (or give --grid); from Python also a GridWorld.",
+        parse=optional(map_source()),
     )
     grid: tuple[int, int] | None = option(
         None, help="Empty WxH grid, e.g. 10x10 (or give --map).", parse=optional(grid_size())

@@ -1,0 +1,93 @@
+"""Params as a library user handles them: copied with changes, built by their constructor.
+
+``dataclasses.replace(params, grid="12x12")`` and ``TraversalParams(grid="8x8", ...)`` skip
+the parsers; the run used to get a string where it expects a tuple and fail deep inside with
+"too many values to unpack". ``Params.replace`` parses and checks, and ``Mission.run`` reruns
+the parsers on Params that did not go through them.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import pickle
+
+import pytest
+
+import swarmex
+from swarmex.missions.registry import get
+from swarmex.missions.traversal.params import TraversalParams
+
+
+def _key(record: swarmex.ResultRecord) -> dict:
+    data = record.to_dict()
+    data.pop("wall_seconds")
+    return data
+
+
+def test_dataclasses_replace_with_a_cli_string_runs_like_the_parsed_value() -> None:
+    m = get("traversal")
+    base = m.params(grid="8x8", agents=3)
+    via_replace = m.run(dataclasses.replace(base, grid="6x5")).record
+    parsed = m.run(m.params(grid="6x5", agents=3)).record
+    assert _key(via_replace) == _key(parsed)
+
+
+def test_constructor_params_are_parsed_and_checked_before_the_run() -> None:
+    m = get("traversal")
+    record = m.run(TraversalParams(grid="5x5", agents=2)).record  # type: ignore[arg-type]
+    assert record.params["grid"] == "5x5" and record.complete
+    with pytest.raises(swarmex.InputError, match="--algorithm must be one of"):
+        m.run(TraversalParams(grid=(5, 5), agents=2, algorithm="nearst"))
+    with pytest.raises(swarmex.InputError, match="exactly one of --map"):
+        m.run(TraversalParams(agents=2))
+    foraging = get("foraging")
+    good = foraging.params(grid=16, agents=4, algorithm="sectors")
+    with pytest.raises(swarmex.InputError, match="outside the 16×16 grid"):
+        foraging.run(dataclasses.replace(good, food=(99, 99)))
+
+
+def test_params_replace_parses_checks_and_keeps_the_rest() -> None:
+    m = get("traversal")
+    base = m.params(grid="8x8", agents=3, nests="0,0;1,1", travel_time=3)
+    copy = base.replace(grid="12x12", agents="4")
+    assert copy == m.params(grid=(12, 12), agents=4, nests=[(0, 0), (1, 1)], travel_time=3.0)
+    assert base.grid == (8, 8)  # frozen: the original is untouched
+    with pytest.raises(swarmex.InputError, match="--agents must be at least 1"):
+        base.replace(agents=0)
+    with pytest.raises(swarmex.InputError, match="did you mean 'agents'"):
+        base.replace(agnts=2)
+    exploration = get("exploration").params(empty="4x4", cell=0.1, robots=2)
+    changed = exploration.replace(robots=3, plan_period=10)  # plan_period: not an option
+    assert (changed.robots, changed.plan_period, changed.empty) == (3, 10, (4.0, 4.0))
+
+
+def test_validated_params_pickle_and_compare_as_before() -> None:
+    p = get("foraging").params(grid=16, agents=4, algorithm="sectors")
+    assert p.validated() is p  # from_values' Params are not parsed again
+    q = pickle.loads(pickle.dumps(p))
+    assert q == p and repr(q) == repr(p)
+    assert "_swarmex" not in repr(p) and "_swarmex" not in str(dataclasses.asdict(p))
+
+
+@pytest.mark.parametrize(("kw", "message"), [
+    ({"on_frame": 5}, "on_frame must be a function of one frame"),
+    ({"trace": "false"}, "trace must be True or False"),
+    ({"trace": None}, "trace must be True or False"),
+])
+def test_run_refuses_a_bad_on_frame_or_trace_before_any_work(kw: dict, message: str) -> None:
+    # on_frame=5 was a TypeError from the first frame; trace="false" silently kept the trace
+    with pytest.raises(swarmex.InputError, match=message):
+        swarmex.run("traversal", grid="4x4", agents=1, **kw)
+
+
+def test_run_refuses_seed_none() -> None:
+    # seed=None (numpy's "fresh entropy") silently ran seed 0
+    with pytest.raises(swarmex.InputError, match="seed=None"):
+        swarmex.run("traversal", grid="4x4", agents=1, seed=None)  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize(("key", "hint"), [("json", "write_record"), ("render", "FrameList")])
+def test_command_line_outputs_given_to_run_say_the_python_way(key: str, hint: str) -> None:
+    # render= was "unknown parameter 'render'; did you mean 'center'?"
+    with pytest.raises(swarmex.InputError, match=f"'{key}' is not a parameter of the run.*{hint}"):
+        swarmex.run("traversal", grid="4x4", agents=1, **{key: "out"})
