@@ -44,29 +44,26 @@ def _number(text: str, kind: Callable[[str], float]) -> float:
     return value
 
 
+def _int_at_least(text: str, lo: int, why: str = "") -> int:
+    value = int(_number(text, int))
+    if value < lo:
+        raise argparse.ArgumentTypeError(f"must be at least {lo}{why}, got {value}")
+    return value
+
+
 def positive_int(text: str) -> int:
     """An integer >= 1 (counts of runs, seeds, agents, workers)."""
-    value = int(_number(text, int))
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"must be at least 1, got {value}")
-    return value
+    return _int_at_least(text, 1)
 
 
 def paired_count(text: str) -> int:
     """An integer >= 2: seeds or cells of a paired comparison (one gives no interval, only nan)."""
-    value = int(_number(text, int))
-    if value < 2:
-        raise argparse.ArgumentTypeError(
-            f"must be at least 2 (a 95 % interval needs two pairs), got {value}")
-    return value
+    return _int_at_least(text, 2, " (a 95 % interval needs two pairs)")
 
 
 def nonneg_int(text: str) -> int:
     """An integer >= 0 (a first seed)."""
-    value = int(_number(text, int))
-    if value < 0:
-        raise argparse.ArgumentTypeError(f"must be at least 0, got {value}")
-    return value
+    return _int_at_least(text, 0)
 
 
 def positive_float(text: str) -> float:

@@ -155,6 +155,23 @@ def path() -> Parser:
     return parse
 
 
+def path_or(world_type: Callable[[], type], what: str) -> Parser:
+    """A file path (str or Path), or an object of ``world_type()`` passed through as it is
+    (a world built in Python). ``world_type`` imports its class only for a value that is not a
+    path, so the CLI's options import no numpy; ``what`` names both forms in the error."""
+    as_path = path()
+
+    def parse(value: Any, flag: str) -> Any:
+        if isinstance(value, str | Path):
+            return as_path(value, flag)
+        if isinstance(value, world_type()):
+            return value
+        raise InputError(f"{flag}: expected {what}, got {value!r}")
+
+    parse.kind = Path  # type: ignore[attr-defined]
+    return parse
+
+
 def plain_sequence(value: Any) -> Any:
     """A numpy array as the nested list it holds (users pass arrays of cells); else as is."""
     tolist = getattr(value, "tolist", None)

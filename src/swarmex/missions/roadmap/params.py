@@ -34,7 +34,7 @@ from swarmex.missions.base import (
     integer,
     option,
     optional,
-    path,
+    path_or,
     point,
     points,
     real,
@@ -123,21 +123,15 @@ def parse_range(value: str | float, step: float | None = None) -> float:
     return r.length(step if step is not None else 1.0)
 
 
+def _polygon_world() -> type:
+    from swarmex.worlds.polygon import PolygonWorld
+
+    return PolygonWorld
+
+
 def environment() -> Parser:
     """An environment file (str or Path), or a PolygonWorld passed through as it is."""
-    as_path = path()
-
-    def parse(value: Any, flag: str) -> Any:
-        if isinstance(value, str | Path):
-            return as_path(value, flag)
-        from swarmex.worlds.polygon import PolygonWorld
-
-        if isinstance(value, PolygonWorld):
-            return value
-        raise InputError(f"{flag}: expected an environment file or a PolygonWorld, got {value!r}")
-
-    parse.kind = Path  # type: ignore[attr-defined]
-    return parse
+    return path_or(_polygon_world, "an environment file or a PolygonWorld")
 
 
 @dataclass(frozen=True)

@@ -43,7 +43,7 @@ from swarmex.missions.base import (
     integer,
     option,
     optional,
-    path,
+    path_or,
     plain_sequence,
     real,
     text,
@@ -110,24 +110,17 @@ def lat_lon() -> Any:
     return parse
 
 
+def _grid_world() -> type:
+    from swarmex.worlds.grid import GridWorld
+
+    return GridWorld
+
+
 def map_source() -> Any:
     """A MovingAI file (str or Path), or a :class:`~swarmex.worlds.grid.GridWorld` passed
     through as it is (a world built or generated in Python, as roadmap's ``env`` takes a
-    PolygonWorld). GridWorld is imported only for a value that is not a path, so the CLI's
-    options import no numpy."""
-    as_path = path()
-
-    def parse(value: Any, flag: str) -> Any:
-        if isinstance(value, str | Path):
-            return as_path(value, flag)
-        from swarmex.worlds.grid import GridWorld
-
-        if isinstance(value, GridWorld):
-            return value
-        raise InputError(f"{flag}: expected a .map file path or a GridWorld, got {value!r}")
-
-    parse.kind = Path  # type: ignore[attr-defined]
-    return parse
+    PolygonWorld)."""
+    return path_or(_grid_world, "a .map file path or a GridWorld")
 
 
 def connectivity() -> Any:
