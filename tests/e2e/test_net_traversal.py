@@ -190,9 +190,11 @@ def test_ctrl_c_on_the_server_writes_the_record_so_far_and_ends_the_agents(tmp_p
         agents = procs.start("agents", "agent", "--connect", address, "--count", 3,
                              "--server-timeout", 30)
         server.wait_line("mission started", 30)
-        end = time.monotonic() + 30.0
-        while sum(viewer.jobs_of(a) for a in (1, 2, 3)) < 4:
-            assert time.monotonic() < end, "no jobs done"
+        # interrupt once the monitor has shown 4 jobs, or after 20 s of mission in any case
+        # (a loaded machine can starve the viewer thread; the record below is what counts:
+        # it must hold at least 4 jobs either way)
+        end = time.monotonic() + 20.0
+        while sum(viewer.jobs_of(a) for a in (1, 2, 3)) < 4 and time.monotonic() < end:
             time.sleep(0.05)
         server.popen.send_signal(signal.SIGINT)
         assert server.wait(10) == 130, server.output
