@@ -183,7 +183,7 @@ def test_ctrl_c_on_the_server_writes_the_record_so_far_and_ends_the_agents(tmp_p
     with Procs() as procs:
         server = procs.start(
             "server", "serve", *GRID, "--agents", 3, "--port", 0, "--time-scale", 0.05,
-            "--timeout", 60, "--json", rec_path,
+            "--dead-after", 60, "--timeout", 60, "--json", rec_path,
         )
         address = endpoint(server)
         viewer = Viewer(address)
