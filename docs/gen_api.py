@@ -1,4 +1,5 @@
-"""Regenerate the parameter tables of docs/api.md from the missions' Params.
+"""Regenerate the parameter and metric tables of docs/api.md from the missions' Params
+and their declared team metrics.
 
 Run from the repository root: ``python docs/gen_api.py`` (``--check`` exits 1 when the file
 is stale; tests/test_docs_api.py runs that check, so the tables always match the code).
@@ -38,6 +39,11 @@ def tables() -> str:
             flag = info.flag if info.negation is None else f"{info.flag}/{info.negation}"
             meaning = info.help.replace("|", "\\|")
             out.append(f"| `{info.name}` | `{flag}` | {_default(info.default)} | {meaning} |")
+        out += ["", "Team metrics of its records (`record.metrics`, sweep table columns):", "",
+                "| metric | meaning | mean over seeds |", "|---|---|---|"]
+        for key, metric in m.team_metrics().items():
+            meaning = metric.meaning.replace("|", "\\|")
+            out.append(f"| `{key}` | {meaning} | {'yes' if metric.numeric else 'no'} |")
         out.append("")
     return "\n".join(out)
 

@@ -131,7 +131,8 @@ def run(
 
 def describe(mission: str) -> str:
     """A mission's summary and every parameter of :func:`run` for it, one per line: its
-    name, command-line flag, default and meaning (the tables of docs/api.md, as text).
+    name, command-line flag, default and meaning; then the team metrics its records hold
+    (the tables of docs/api.md, as text).
 
     Why a function: the parameters live in each mission's Params declarations, which
     ``help(swarmex.run)`` cannot show without importing every mission.
@@ -140,7 +141,12 @@ def describe(mission: str) -> str:
 
     m = get(mission)
     head = f"{m.name} (swarmex {m.command}): {m.summary}\nparameters of swarmex.run:\n"
-    return head + m.params_type.describe()
+    metrics = m.team_metrics()
+    width = max((len(k) for k in metrics), default=0)
+    tail = "".join(f"  {k:<{width}}  {v.meaning}\n" for k, v in metrics.items())
+    if tail:
+        tail = "\nteam metrics of its records (record.metrics):\n" + tail
+    return head + m.params_type.describe() + tail
 
 
 def __dir__() -> list[str]:

@@ -69,6 +69,7 @@ def sweep(
 
     spec = load_sweep_spec(spec_file)
     shapes = mission_shapes(spec.mission, spec_file)
+    check_metrics(spec.mission, metric)  # a typo must stop the sweep before its runs
     out_dir = out if out is not None else Path(f"{spec_file.stem}-sweep")
     progress = runs_progress("sweep", err_console, detail=True)
     task: TaskID | None = None  # the bar, added once the sweep knows its total
@@ -134,6 +135,15 @@ def sweep(
         )
     if summary:
         print_summary(result.out_dir, metric)
+
+
+def check_metrics(mission: str, names: list[str]) -> None:
+    """Each ``--metric`` must name a number the mission's records hold (InputError if not)."""
+    from swarmex.missions.registry import get
+
+    m = get(mission)
+    for name in names:
+        m.check_metric(name)
 
 
 def _terminate(_signum: int, _frame: Any) -> None:

@@ -74,6 +74,20 @@ def _plain_other(value: Any) -> Any:
     return value
 
 
+@dataclass(frozen=True)
+class MetricInfo:
+    """What one team metric of a record means (a mission's ``metrics`` declaration).
+
+    Why declared: a sweep can then check a ``--metric`` name before hours of runs (a typo
+    used to surface only in the summary), and ``swarmex.describe`` and docs/api.md list every
+    metric from the one place that a test holds equal to what the runs write. ``numeric`` is
+    False for a metric that is a list or a table per run (it has no mean over seeds).
+    """
+
+    meaning: str
+    numeric: bool = True
+
+
 @dataclass
 class AgentRecord:
     """One agent of a run: its id, its own metrics (the mission's names, e.g. traversal's

@@ -38,7 +38,7 @@ from dataclasses import MISSING, dataclass, field, fields, replace
 from pathlib import Path
 from typing import Any, ClassVar, Generic, Self, TypeVar
 
-from swarmex.engine.record import ResultRecord
+from swarmex.engine.record import MetricInfo, ResultRecord
 from swarmex.errors import InputError
 
 Parser = Callable[[Any, str], Any]  # (raw value, "--flag") -> typed value, or InputError
@@ -554,6 +554,9 @@ class FrameList(list[Any]):
         return self
 W = TypeVar("W")
 
+#: Numbers every record has besides its mission's metrics (sweep table columns).
+RECORD_NUMBERS = ("complete", "makespan", "wall_seconds")
+
 
 class Mission(ABC, Generic[P, W]):
     """One mission behind the contract. Subclasses set the class attributes and implement
@@ -600,6 +603,39 @@ class Mission(ABC, Generic[P, W]):
                              f"``{ptype.__name__}.from_values(...)`` (or "
                              f"``registry.get({name!r}).params(...)``), copy them with "
                              f"``.replace(...)``; both parse and check.\n\n{listing}")
+
+    def team_metrics(self) -> Mapping[str, MetricInfo]:
+        """The team metrics this mission's records hold (``record.metrics``): name → meaning.
+
+        A method, not a class attribute, so that the declaration can live beside the code
+        that computes the metrics, imported only when asked for. Empty for a mission that
+        declares none (a plugin): then no name can be checked before a run.
+        """
+        return {}
+
+    def check_metric(self, name: str, where: str = "--metric") -> None:
+        """Raise InputError unless ``name`` is a numeric metric of this mission's records:
+        a team metric (or ``metrics.NAME``, the sweep column of one whose name a parameter
+        took), ``complete``, ``makespan`` or ``wall_seconds``. For checking a name before
+        any run; it checks nothing when the mission declares no metrics."""
+        declared = self.team_metrics()
+        if not declared:
+            return
+        info = declared.get(name.removeprefix("metrics."))
+        if name in RECORD_NUMBERS or (info is not None and info.numeric):
+            return
+        if info is not None:
+            raise InputError(
+                f"{where} {name!r}: a {self.name} record holds it as a list or a table per"
+                f" run, which has no mean; pick a number"
+            )
+        known = [*RECORD_NUMBERS, *(k for k, v in declared.items() if v.numeric)]
+        close = difflib.get_close_matches(name, known, n=1, cutoff=0.6)
+        hint = f"did you mean {close[0]!r}? " if close else ""
+        raise InputError(
+            f"{where} {name!r}: not a metric of {self.name} records ({hint}have:"
+            f" {', '.join(known)})"
+        )
 
     def params(self, values: Mapping[str, Any] | None = None, **kw: Any) -> P:
         """Parse and check ``values`` (CLI strings or Python values) into this mission's

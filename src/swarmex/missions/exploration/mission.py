@@ -14,9 +14,11 @@ ends the run at that tick.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from typing import Any
 
+from swarmex.engine.record import MetricInfo
 from swarmex.missions.base import FrameCallback, Mission, Outcome
 from swarmex.missions.exploration.params import (
     Cell,
@@ -52,6 +54,11 @@ class ExplorationMission(Mission[ExplorationParams, ExplorationWorld]):
     summary = "Explore an unknown world with a team of laser robots sharing scans over a mesh."
     params_type = ExplorationParams
     time_unit = "step"
+
+    def team_metrics(self) -> Mapping[str, MetricInfo]:
+        from swarmex.missions.exploration.record import TEAM_METRICS
+
+        return TEAM_METRICS
 
     def prepare(self, params: ExplorationParams) -> ExplorationWorld:
         grid = build_world(params)

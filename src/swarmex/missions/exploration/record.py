@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 
 from swarmex.comm.aodv import AodvStats
-from swarmex.engine.record import AgentRecord, ResultRecord
+from swarmex.engine.record import AgentRecord, MetricInfo, ResultRecord
 from swarmex.missions.exploration.params import TICK_SECONDS
 from swarmex.missions.exploration.sim import ExplorationRun
 
@@ -59,6 +59,36 @@ def unicast_stats(run: ExplorationRun) -> dict[str, int]:
                 out[k] += int(v)
     out["gap_requests"] = int(sum(r.stats.gap_requests for r in run.robots))
     return out
+
+
+#: The team metrics of an exploration record (``record.metrics``); a step is one tick of
+#: TICK_SECONDS. A test holds this equal to what the runs write.
+TEAM_METRICS: dict[str, MetricInfo] = {
+    "explored_fraction": MetricInfo("share of the reachable free cells the team's maps show free"),
+    "reachable_free_cells": MetricInfo("free cells reachable from a start (the area to explore)"),
+    "steps": MetricInfo("steps each robot ran until it finished", numeric=False),
+    "mean_steps": MetricInfo("mean of steps over the robots"),
+    "makespan_seconds": MetricInfo("the makespan in seconds (steps × tick)"),
+    "moves": MetricInfo("cell moves, all robots"),
+    "plans": MetricInfo("goal choices and path plans, all robots"),
+    "replans": MetricInfo("plans made again before the goal was reached, all robots"),
+    "replan_reasons": MetricInfo("replans counted by reason", numeric=False),
+    "conflicts": MetricInfo("goal conflicts between robots, all robots"),
+    "change_goals_sent": MetricInfo("CHANGE_GOAL messages sent"),
+    "blacklisted_regions": MetricInfo("frontier regions given up as unreachable, all robots"),
+    "messages_sent": MetricInfo("messages sent, relays included"),
+    "bytes_sent": MetricInfo("bytes sent, relays included"),
+    "messages_lost": MetricInfo("messages the radio dropped (range, loss)"),
+    "messages_by_kind": MetricInfo("messages and bytes per message kind", numeric=False),
+    "aodv_messages": MetricInfo("AODV route-discovery messages"),
+    "aodv_bytes": MetricInfo("bytes of those"),
+    "unicasts": MetricInfo("multi-hop unicast counters (sent, delivered, expired, …)",
+                           numeric=False),
+    "plan_intervals_avg": MetricInfo(
+        "steps between plans, averaged over the robots, plan by plan", numeric=False
+    ),
+    "finished_robots": MetricInfo("robots that ended because nothing was left to explore"),
+}
 
 
 def exploration_metrics(run: ExplorationRun) -> tuple[dict[str, Any], list[dict[str, Any]]]:

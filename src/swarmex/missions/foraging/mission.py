@@ -17,11 +17,13 @@ compiled transport loop then plays one round per call, so the record is the same
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
+from swarmex.engine.record import MetricInfo
 from swarmex.missions.base import FrameCallback, Mission, Outcome, Parser
 from swarmex.missions.foraging.grid import Cell, nest_of
 from swarmex.missions.foraging.params import ForagingParams, check_food
@@ -57,6 +59,11 @@ class ForagingMission(Mission[ForagingParams, ForagingWorld]):
     summary = "Find food on a g×g grid, spread the word, carry k units home (seed 002)."
     params_type = ForagingParams
     time_unit = "step"
+
+    def team_metrics(self) -> Mapping[str, MetricInfo]:
+        from swarmex.missions.foraging.run import TEAM_METRICS
+
+        return TEAM_METRICS
 
     def prepare(self, params: ForagingParams) -> ForagingWorld:
         from swarmex.missions.foraging.food import sample_food

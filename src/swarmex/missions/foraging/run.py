@@ -24,7 +24,7 @@ from typing import Any
 
 import numpy as np
 
-from swarmex.engine.record import AgentRecord, ResultRecord
+from swarmex.engine.record import AgentRecord, MetricInfo, ResultRecord
 from swarmex.missions.foraging.comm import SEED
 from swarmex.missions.foraging.grid import Cell
 from swarmex.missions.foraging.hook import drive
@@ -38,6 +38,29 @@ from swarmex.missions.foraging.sim import (
     run_mission,
 )
 from swarmex.missions.foraging.timed import Timed, timed_plan
+
+#: The team metrics of a foraging record (``record.metrics``), in rounds unless said; the
+#: four phases are seed 001's (§5): they add up to total_time. A test holds this equal to
+#: what the runs write.
+TEAM_METRICS: dict[str, MetricInfo] = {
+    "exploration_time": MetricInfo(
+        "rounds until a robot first stands on the food (None: stopped before)"
+    ),
+    "communication_time": MetricInfo(
+        "from the discovery until the first robot has passed the word on and transports"
+    ),
+    "comm_transport_overlap": MetricInfo(
+        "from then until the last robot does (communication and transport overlap)"
+    ),
+    "transport_time": MetricInfo("from then until the last unit is home"),
+    "total_time": MetricInfo("rounds of the whole run: the makespan"),
+    "food_delivered": MetricInfo("units carried into the nest (food_units when complete)"),
+    "deployment_time": MetricInfo(
+        "rounds until a synchronised pattern starts exploring (0: not synchronised)"
+    ),
+    "all_informed": MetricInfo("whether every robot learnt the food location"),
+    "cells_revisited": MetricInfo("cells walked again before the discovery (wasted search)"),
+}
 
 
 @dataclass

@@ -17,12 +17,13 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from swarmex.engine.record import MetricInfo
 from swarmex.errors import InputError
 from swarmex.missions.base import FrameCallback, Mission, Outcome
 from swarmex.missions.roadmap.params import RoadmapParams
 
 if TYPE_CHECKING:
-    from collections.abc import Callable
+    from collections.abc import Callable, Mapping
 
     import numpy as np
 
@@ -142,6 +143,11 @@ class RoadmapMission(Mission[RoadmapParams, RoadmapWorld]):
     summary = "Coverage or goal search by a team on a WMA-RRT (or PRM) roadmap."
     params_type = RoadmapParams
     time_unit = "step"
+
+    def team_metrics(self) -> Mapping[str, MetricInfo]:
+        from swarmex.missions.roadmap.record import TEAM_METRICS
+
+        return TEAM_METRICS
 
     def prepare(self, params: RoadmapParams) -> RoadmapWorld:
         import shapely

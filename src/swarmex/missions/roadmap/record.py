@@ -18,7 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from swarmex.engine.record import AgentRecord, ResultRecord
+from swarmex.engine.record import AgentRecord, MetricInfo, ResultRecord
 from swarmex.missions.roadmap.blackboard import PRMBoard, WMABoard
 from swarmex.missions.roadmap.sim import RoadmapRun
 
@@ -32,6 +32,37 @@ def legs(run: RoadmapRun) -> list[list[list[float]]]:
         pts = [rm.pos[b.anchor], *b.leg]
         out += [[a.tolist(), c.tolist()] for a, c in zip(pts[:-1], pts[1:], strict=True)]
     return out
+
+
+#: The team metrics of a roadmap record (``record.metrics``); lengths in world units, times
+#: in steps. The ``branch*`` and ``main_root_rule`` metrics are WMA-RRT's, ``edges_reachable``
+#: and ``agents_off_roadmap`` PRM's. A test holds this equal to what the runs write.
+TEAM_METRICS: dict[str, MetricInfo] = {
+    "coverage": MetricInfo("share of the free area the agents' sensors swept"),
+    "goal_found": MetricInfo("search: whether the goal was sighted"),
+    "goal_unreachable": MetricInfo("search: every branch ended without a sighting"),
+    "steps": MetricInfo("steps the run took"),
+    "path_length": MetricInfo("length walked, all agents"),
+    "path_length_max": MetricInfo("the longest agent's walk"),
+    "tree_nodes": MetricInfo("roadmap nodes"),
+    "tree_edges": MetricInfo("roadmap edges"),
+    "components": MetricInfo("connected components of the roadmap"),
+    "cycles": MetricInfo("independent cycles of the roadmap (E − V + C; 0 for a tree)"),
+    "edge_revisits": MetricInfo("edge traversals beyond two per edge"),
+    "edges_traversed": MetricInfo("edges walked at least once"),
+    "samples": MetricInfo("random samples drawn to build the roadmap"),
+    "found_step": MetricInfo("search: step of the first sighting (-1: none)"),
+    "found_by": MetricInfo("search: the agent that sighted the goal (-1: none)"),
+    "all_at_goal_step": MetricInfo("search: step when every agent stood at the goal (-1: never)"),
+    "step_budget": MetricInfo("the run's step limit"),
+    "budget_exhausted": MetricInfo("whether the run stopped at the step limit"),
+    "branches": MetricInfo("WMA-RRT: branches of the tree (one per agent)"),
+    "branches_completed": MetricInfo("WMA-RRT: branches finished"),
+    "branch_edges": MetricInfo("WMA-RRT: edges per branch", numeric=False),
+    "main_root_rule": MetricInfo("WMA-RRT: how the Main Root was placed", numeric=False),
+    "edges_reachable": MetricInfo("PRM: edges in the components the agents can enter"),
+    "agents_off_roadmap": MetricInfo("PRM: agents with no visible roadmap node to enter"),
+}
 
 
 def run_metrics(run: RoadmapRun) -> dict[str, Any]:

@@ -19,8 +19,37 @@ import json
 
 import numpy as np
 
-from swarmex.engine.record import AgentRecord, ResultRecord
+from swarmex.engine.record import AgentRecord, MetricInfo, ResultRecord
 from swarmex.missions.traversal.sim import AgentLog, TraversalRun
+
+#: The team metrics of a traversal record (``record.metrics``; ``optimal`` writes the same,
+#: and its four solver figures), in seconds unless said. A test holds this equal to what
+#: the runs write.
+TEAM_METRICS: dict[str, MetricInfo] = {
+    "total_time_all": MetricInfo(
+        "Σ of every agent's total_time (travel + jobs, s): the §3.1 objective"
+    ),
+    "nodes_without_job_all": MetricInfo("moves onto a vertex without doing its job, all agents"),
+    "nodes_done_all": MetricInfo("jobs done, all agents"),
+    "travel_time_all": MetricInfo("time spent moving, all agents (s)"),
+    "job_time_all": MetricInfo("time spent on jobs, all agents (s)"),
+    "additional_time_all": MetricInfo(
+        "takeoff + return to launch + landing, all agents (s; not in total_time)"
+    ),
+    "max_total_time": MetricInfo("the largest agent total_time (s): the makespan"),
+    "mission_end": MetricInfo(
+        "clock time of the last job or move, staggered starts included (s; None: no agent ended)"
+    ),
+    "reachable_nodes": MetricInfo("vertices reachable from a nest (the jobs to do)"),
+    "nodes_missed": MetricInfo("reachable vertices where no job was done"),
+    "duplicate_jobs": MetricInfo("jobs on a vertex already done (0 under a perfect broadcast)"),
+    "messages": MetricInfo("messages the agents sent"),
+    "message_bytes": MetricInfo("bytes of those messages"),
+    "objective_value": MetricInfo("optimal: the MILP objective of the plan found (s)"),
+    "lower_bound": MetricInfo("optimal: the solver's proven lower bound on it (s)"),
+    "mip_gap": MetricInfo("optimal: (value − bound) / value, 0 when proven optimal"),
+    "proven_optimal": MetricInfo("optimal: whether the solver proved the plan optimal"),
+}
 
 
 def agent_metrics(log: AgentLog, unit_length: float) -> dict:

@@ -14,11 +14,13 @@ second). A fleet's ``travel_speed`` is metres per second and needs that scale; i
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any, Literal
 
 import numpy as np
 
+from swarmex.engine.record import MetricInfo
 from swarmex.errors import InputError
 from swarmex.missions.base import FrameCallback, Mission, Outcome
 from swarmex.missions.traversal.fleet import FleetRow
@@ -225,6 +227,11 @@ class TraversalMission(Mission[TraversalParams, TraversalWorld]):
     summary = "Every agent does a job at every free cell (seed 000, MADGTA and baselines)."
     params_type = TraversalParams
     time_unit = "s"
+
+    def team_metrics(self) -> Mapping[str, MetricInfo]:
+        from swarmex.missions.traversal.metrics import TEAM_METRICS
+
+        return TEAM_METRICS
 
     def prepare(self, params: TraversalParams) -> TraversalWorld:
         world = build_world(params)

@@ -1,0 +1,93 @@
+"""Every mission declares the team metrics its records hold (``Mission.team_metrics``).
+
+The declaration feeds the sweep's ``--metric`` check, ``swarmex.describe`` and docs/api.md,
+so it must be exactly what the runs write: no metric a run writes is missing from it, and
+none it lists is never written (across configurations that reach every metric: optimal's
+solver figures, WMA-RRT's branches, PRM's reachable edges). ``numeric`` must match the
+values' types, since it decides what a summary may average.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+import swarmex
+from swarmex.cli import main
+from swarmex.errors import InputError
+from swarmex.missions.registry import get
+
+ROADMAP_ENV = {
+    "bounds": [0, 0, 200, 150],
+    "obstacles": [[[40, 30], [70, 30], [70, 60], [40, 60]]],
+    "goal": [175, 130],
+}
+
+
+def runs(mission: str, tmp_path: Path) -> list[dict[str, Any]]:
+    """Small runs that between them write every metric the mission has."""
+    if mission == "traversal":
+        cases = [dict(grid="5x4", agents=2), dict(grid="3x2", agents=2, algorithm="optimal")]
+    elif mission == "foraging":
+        cases = [dict(grid=16, agents=4, algorithm="strips"),
+                 dict(grid=16, agents=4, algorithm="sectors", transport="end-to-end")]
+    elif mission == "exploration":
+        cases = [dict(empty="6x6", robots=2)]
+    else:
+        env = tmp_path / "env.json"
+        env.write_text(json.dumps(ROADMAP_ENV), encoding="utf-8")
+        common = dict(env=env, agents=2, nodes=40, step=15, sensor_range="inf")
+        cases = [common, {**common, "task": "search"}, {**common, "planner": "prm"}]
+    return [swarmex.run(mission, seed=1, **kw).metrics for kw in cases]
+
+
+@pytest.mark.parametrize("mission", ["traversal", "foraging", "exploration", "roadmap"])
+def test_declared_metrics_are_exactly_the_written_ones(mission: str, tmp_path: Path) -> None:
+    declared = get(mission).team_metrics()
+    written = runs(mission, tmp_path)
+    seen: set[str] = set()
+    for metrics in written:
+        assert set(metrics) <= set(declared), set(metrics) - set(declared)
+        seen |= set(metrics)
+    assert seen == set(declared), set(declared) - seen
+    for name, info in declared.items():
+        values = [m[name] for m in written if m.get(name) is not None]
+        number = all(isinstance(v, int | float) for v in values)  # bools are ints
+        assert number == info.numeric, (name, values[:2])
+        assert info.meaning and "|" not in info.meaning
+
+
+def test_check_metric_accepts_numbers_and_names_what_is_wrong() -> None:
+    traversal = get("traversal")
+    for name in ("total_time_all", "metrics.total_time_all", "makespan", "wall_seconds"):
+        traversal.check_metric(name)
+    with pytest.raises(InputError, match="did you mean 'total_time_all'"):
+        traversal.check_metric("total_time_al")
+    with pytest.raises(InputError, match="not a metric of traversal records"):
+        traversal.check_metric("coverage")
+    with pytest.raises(InputError, match="list or a table per run"):
+        get("exploration").check_metric("steps")
+
+
+def test_describe_lists_the_metrics_with_their_meaning() -> None:
+    text = swarmex.describe("foraging")
+    assert "team metrics of its records" in text
+    assert "exploration_time" in text and "until a robot first stands on the food" in text
+
+
+def test_a_misspelt_sweep_metric_stops_before_any_run(tmp_path: Path, capsys) -> None:
+    spec = tmp_path / "s.toml"
+    spec.write_text(
+        'mission = "traversal"\ngrid = "4x4"\nagents = [1, 2]\nseeds = [0, 1]\n',
+        encoding="utf-8",
+    )
+    out = tmp_path / "out"
+    code = main(["sweep", str(spec), "--backend", "serial", "--out", str(out),
+                 "--summary", "--metric", "total_time_al"])
+    err = capsys.readouterr().err
+    assert code == 2
+    assert "did you mean 'total_time_all'" in err and "Traceback" not in err
+    assert not out.exists()  # nothing ran, nothing written
