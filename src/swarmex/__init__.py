@@ -6,6 +6,7 @@ The public API is small and explicit::
     swarmex.missions()                 # ['exploration', 'foraging', 'roadmap', 'traversal']
     rec = swarmex.run("foraging", grid=128, agents=16, algorithm="sectors", seed=3)
     rec.to_dict()                      # == the JSON of `swarmex forage ... --seed 3 --json`
+    swarmex.rerun(rec)                 # the same record again (also from a record file)
 
 The package is organised as a simulation core (``worlds``, ``sensing``, ``planning``,
 ``comm``, ``engine``), the four missions behind one contract (``missions``), and the
@@ -16,7 +17,8 @@ Heavy modules are imported only when a mission first runs, so ``import swarmex``
 from __future__ import annotations
 
 import importlib
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
+from os import PathLike, fspath
 from typing import TYPE_CHECKING, Any
 
 import swarmex.missions as _missions_package  # before `missions` below
@@ -31,7 +33,8 @@ if TYPE_CHECKING:
 
 __version__ = "0.1.0"
 __all__ = [
-    "InputError", "ResultRecord", "StopRun", "__version__", "describe", "missions", "run"
+    "InputError", "ResultRecord", "StopRun", "__version__", "describe", "missions", "rerun",
+    "run",
 ]
 
 
@@ -127,6 +130,33 @@ def run(
         raise InputError("seed=None: every swarmex run is reproducible; give an integer >= 0")
     p = m.params({**params, "seed": seed})
     return m.run(p, on_frame=on_frame, trace=trace).record
+
+
+def rerun(
+    record: ResultRecord | Mapping[str, Any] | str | PathLike[str],
+    *,
+    on_frame: Callable[[Any], Any] | None = None,
+    trace: bool = True,
+    **overrides: Any,
+) -> ResultRecord:
+    """Run a record again: the same mission, parameters and seed, so the same record
+    (``wall_seconds`` aside) when the same swarmex version made it.
+
+    ``record`` is a :class:`ResultRecord`, its ``to_dict()``, or a record JSON file (what
+    ``--json`` and the sweeps write). ``overrides`` change parameters, as in :func:`run`
+    (``swarmex.rerun(rec, agents=8)``), or give the world again when the record could not
+    name it (``map=world`` for a run on a world object). ``swarmex rerun FILE`` does this
+    from the shell and says whether the record came out the same.
+    """
+    from swarmex.engine.record import ResultRecord, read_record
+    from swarmex.missions.registry import get
+
+    if isinstance(record, str | PathLike):
+        record = read_record(fspath(record))
+    rec = record if isinstance(record, ResultRecord) else ResultRecord.from_dict(record)
+    m = get(rec.mission)
+    values = {**m.rerun_values(rec, given=overrides.keys()), **overrides}
+    return run(rec.mission, seed=rec.seed, on_frame=on_frame, trace=trace, **values)
 
 
 def describe(mission: str) -> str:

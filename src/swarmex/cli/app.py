@@ -78,6 +78,10 @@ INDEX: dict[str, Entry] = {
         (_C + "commands_run",),
         "Run any mission from a scenario file (options after the file override it).",
     ),
+    "rerun": Entry(
+        (_C + "commands_rerun",),
+        "Run a record again (same mission, parameters, seed); exit 1 if it comes out different.",
+    ),
     "sweep": Entry(
         (_C + "commands_sweep",),
         "Run the product of a spec's parameter lists and seeds; resumable; one Parquet table.",

@@ -33,7 +33,7 @@ import math
 import numbers
 import re
 from abc import ABC, abstractmethod
-from collections.abc import Callable, Iterable, Mapping, Sequence
+from collections.abc import Callable, Collection, Iterable, Mapping, Sequence
 from dataclasses import MISSING, dataclass, field, fields, replace
 from pathlib import Path
 from typing import Any, ClassVar, Generic, Self, TypeVar
@@ -603,6 +603,25 @@ class Mission(ABC, Generic[P, W]):
                              f"``{ptype.__name__}.from_values(...)`` (or "
                              f"``registry.get({name!r}).params(...)``), copy them with "
                              f"``.replace(...)``; both parse and check.\n\n{listing}")
+
+    def rerun_values(
+        self, record: ResultRecord, given: Collection[str] = ()
+    ) -> dict[str, Any]:
+        """The parameters that run ``record`` again (with its seed): its ``params`` that are
+        options of this mission, seed aside. ``given`` names the parameters the caller
+        passes itself (they win, and need not be recoverable from the record).
+
+        Why a hook: a record's params are what the run *used*, which is not always what a
+        user passes (derived values, other units, the world kept in ``record.world``);
+        a mission whose record differs from its options translates here. A record whose
+        world was given as an object cannot name it: then an InputError asks for it.
+        """
+        opts = self.params_type.options()
+        return {
+            k: v
+            for k, v in record.params.items()
+            if k in opts and k != "seed" and k not in given
+        }
 
     def team_metrics(self) -> Mapping[str, MetricInfo]:
         """The team metrics this mission's records hold (``record.metrics``): name → meaning.

@@ -14,11 +14,12 @@ ends the run at that tick.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+import re
+from collections.abc import Collection, Mapping
 from dataclasses import dataclass, replace
 from typing import Any
 
-from swarmex.engine.record import MetricInfo
+from swarmex.engine.record import MetricInfo, ResultRecord
 from swarmex.missions.base import FrameCallback, Mission, Outcome
 from swarmex.missions.exploration.params import (
     Cell,
@@ -54,6 +55,23 @@ class ExplorationMission(Mission[ExplorationParams, ExplorationWorld]):
     summary = "Explore an unknown world with a team of laser robots sharing scans over a mesh."
     params_type = ExplorationParams
     time_unit = "step"
+
+    def rerun_values(self, record: ResultRecord, given: Collection[str] = ()) -> dict[str, Any]:
+        """The world back from ``record.world`` (an ``--empty`` size or the map file; the
+        record's params leave it out), and an infinite radio back from the record's None."""
+        values = super().rerun_values(record, given)
+        if "comm_range" in values and values["comm_range"] is None:
+            values["comm_range"] = "inf"
+        if not {"map", "empty"} & set(given):
+            source = str(record.world.get("source", ""))
+            size = re.fullmatch(r"empty (\S+)x(\S+) m", source)
+            if size:
+                values["empty"] = f"{size[1]}x{size[2]}"
+            else:
+                values["map"] = source
+                if source.lower().endswith((".yaml", ".yml", ".pgm")):
+                    values.pop("cell", None)  # a ROS map brings its own resolution
+        return values
 
     def team_metrics(self) -> Mapping[str, MetricInfo]:
         from swarmex.missions.exploration.record import TEAM_METRICS

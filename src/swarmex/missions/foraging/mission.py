@@ -17,13 +17,13 @@ compiled transport loop then plays one round per call, so the record is the same
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Collection, Mapping
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
-from swarmex.engine.record import MetricInfo
+from swarmex.engine.record import MetricInfo, ResultRecord
 from swarmex.missions.base import FrameCallback, Mission, Outcome, Parser
 from swarmex.missions.foraging.grid import Cell, nest_of
 from swarmex.missions.foraging.params import ForagingParams, check_food
@@ -59,6 +59,13 @@ class ForagingMission(Mission[ForagingParams, ForagingWorld]):
     summary = "Find food on a g×g grid, spread the word, carry k units home (seed 002)."
     params_type = ForagingParams
     time_unit = "step"
+
+    def rerun_values(self, record: ResultRecord, given: Collection[str] = ()) -> dict[str, Any]:
+        """A food band drawn again from the seed, not its drawn cell (the record has both)."""
+        values = super().rerun_values(record, given)
+        if values.get("food_distance") is not None and "food" not in given:
+            values.pop("food", None)
+        return values
 
     def team_metrics(self) -> Mapping[str, MetricInfo]:
         from swarmex.missions.foraging.run import TEAM_METRICS

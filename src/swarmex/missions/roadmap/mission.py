@@ -17,13 +17,13 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from swarmex.engine.record import MetricInfo
+from swarmex.engine.record import MetricInfo, ResultRecord
 from swarmex.errors import InputError
 from swarmex.missions.base import FrameCallback, Mission, Outcome
 from swarmex.missions.roadmap.params import RoadmapParams
 
 if TYPE_CHECKING:
-    from collections.abc import Callable, Mapping
+    from collections.abc import Callable, Collection, Mapping
 
     import numpy as np
 
@@ -143,6 +143,13 @@ class RoadmapMission(Mission[RoadmapParams, RoadmapWorld]):
     summary = "Coverage or goal search by a team on a WMA-RRT (or PRM) roadmap."
     params_type = RoadmapParams
     time_unit = "step"
+
+    def rerun_values(self, record: ResultRecord, given: Collection[str] = ()) -> dict[str, Any]:
+        """The raster's size back under its option's name (the record says raster_cells)."""
+        values = super().rerun_values(record, given)
+        if "raster" not in given and "raster_cells" in record.params:
+            values["raster"] = record.params["raster_cells"]
+        return values
 
     def team_metrics(self) -> Mapping[str, MetricInfo]:
         from swarmex.missions.roadmap.record import TEAM_METRICS

@@ -14,13 +14,13 @@ second). A fleet's ``travel_speed`` is metres per second and needs that scale; i
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Collection, Mapping
 from dataclasses import dataclass
 from typing import Any, Literal
 
 import numpy as np
 
-from swarmex.engine.record import MetricInfo
+from swarmex.engine.record import MetricInfo, ResultRecord
 from swarmex.errors import InputError
 from swarmex.missions.base import FrameCallback, Mission, Outcome
 from swarmex.missions.traversal.fleet import FleetRow
@@ -227,6 +227,17 @@ class TraversalMission(Mission[TraversalParams, TraversalWorld]):
     summary = "Every agent does a job at every free cell (seed 000, MADGTA and baselines)."
     params_type = TraversalParams
     time_unit = "s"
+
+    def rerun_values(self, record: ResultRecord, given: Collection[str] = ()) -> dict[str, Any]:
+        """A run on a world object (``map=GridWorld``, ``swarmex demo``) cannot be named by
+        its record: ask for the world, rather than fail on "give one of --map, --grid"."""
+        values = super().rerun_values(record, given)
+        if "generated" in record.params and not {"map", "grid", "center"} & set(given):
+            raise InputError(
+                f"this record's world was given as an object ({record.params['generated']}):"
+                " pass it again, e.g. swarmex.rerun(record, map=world)"
+            )
+        return values
 
     def team_metrics(self) -> Mapping[str, MetricInfo]:
         from swarmex.missions.traversal.metrics import TEAM_METRICS

@@ -1,0 +1,83 @@
+"""``swarmex rerun RECORD.json``: run a record's mission again and say whether it came out
+the same.
+
+Why a command: a record is the unit a paper, a sweep or a bug report hands on, and the first
+question about one is "does it still come out like this?". It answers with one line and its
+exit status (0 the same record, ``wall_seconds`` aside; 1 it differs, with the first
+differences), so a script or CI can check a set of records against the current code. The
+run itself is :func:`swarmex.rerun`.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import typer
+
+from swarmex.cli.app import app, console
+from swarmex.cli.outputs import check_output
+
+#: How many differences the line names (the rest are counted).
+SHOWN = 4
+
+
+@app.command()
+def rerun(
+    record_file: Path = typer.Argument(..., help="A record JSON (--json, or a sweep's runs/)."),
+    json_out: Path | None = typer.Option(
+        None, "--json", help="Write the new record here.", show_default=False
+    ),
+) -> None:
+    """Run a record again (same mission, parameters, seed); exit 1 if it comes out different."""
+    import swarmex
+    from swarmex.engine.record import ResultRecord, read_record, write_record
+
+    check_output(json_out, "--json", (".json",))
+    old = ResultRecord.from_dict(read_record(record_file)).to_dict()
+    new_record = swarmex.rerun(old)
+    if json_out is not None:
+        write_record(new_record, json_out)
+    new = new_record.to_dict()
+    for rec in (old, new):
+        rec.pop("wall_seconds", None)
+    what = f"{old['mission']} {old['algorithm']}, seed {old['seed']}"
+    versions = (old.pop("swarmex_version", None), new.pop("swarmex_version", None))
+    made = "" if versions[0] == versions[1] else f" (recorded by swarmex {versions[0]})"
+    diffs = differences(old, new)
+    if not diffs:
+        console.print(f"rerun {what}: the same record{made}", soft_wrap=True, highlight=False)
+        return
+    more = f" and {len(diffs) - SHOWN} more" if len(diffs) > SHOWN else ""
+    console.print(
+        f"rerun {what}: differs{made} in {'; '.join(diffs[:SHOWN])}{more}",
+        soft_wrap=True,
+        highlight=False,
+    )
+    raise typer.Exit(1)
+
+
+def differences(old: Any, new: Any, path: str = "") -> list[str]:
+    """Where two JSON values differ, as ``path: old → new`` for numbers and words and as the
+    bare path for lists and objects of another length or shape."""
+    if isinstance(old, dict) and isinstance(new, dict):
+        out: list[str] = []
+        for key in [*old, *(k for k in new if k not in old)]:
+            sub = f"{path}.{key}" if path else str(key)
+            if key not in old or key not in new:
+                out.append(f"{sub} ({'new' if key not in old else 'gone'})")
+            else:
+                out += differences(old[key], new[key], sub)
+        return out
+    if isinstance(old, list) and isinstance(new, list) and len(old) == len(new):
+        if all(not isinstance(v, dict | list) for v in old + new):
+            return [] if old == new else [path]  # a row or a trajectory point: the path alone
+        out = []
+        for i, (a, b) in enumerate(zip(old, new, strict=True)):
+            out += differences(a, b, f"{path}[{i}]")
+        return out
+    if old == new:
+        return []
+    if isinstance(old, dict | list) or isinstance(new, dict | list):
+        return [path]
+    return [f"{path}: {old!r} → {new!r}"]

@@ -1,0 +1,111 @@
+"""``swarmex.rerun`` and ``swarmex rerun``: a record runs again into the same record.
+
+The check is independent of the mission code's own bookkeeping: the first run's whole JSON
+(trajectories, jobs, every metric) must come back byte for byte, ``wall_seconds`` aside,
+from nothing but the record. The cases are the ones where a record's params are not the
+options a user passes (derived nests and starts, a drawn food cell, an ``--empty`` world kept
+only in ``record.world``, a radio range of None, ``raster_cells``, a fleet, GPS worlds).
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+import swarmex
+from swarmex.cli import main
+from swarmex.errors import InputError
+
+MAPS = Path(__file__).resolve().parents[2] / "shared" / "maps"
+ENV = {"bounds": [0, 0, 200, 150], "obstacles": [[[40, 30], [70, 30], [70, 60], [40, 60]]],
+       "goal": [175, 130]}
+MIXED = [{"id": 1, "travel_time": 1.0, "job_time": 5.0},
+         {"id": 2, "travel_time": 2.0, "job_time": 10.0}]
+
+CASES: list[tuple[str, dict[str, Any]]] = [
+    ("traversal", dict(grid="5x4", agents=2)),
+    ("traversal", dict(grid="6x6", agents=2, obstacles="1,1;2,2", nests="0,0;5,5",
+                       comm_range=3, loss=0.2)),
+    ("traversal", dict(grid="6x5", fleet=MIXED, algorithm="madgta-h")),
+    ("traversal", dict(grid="3x3", agents=2, algorithm="optimal")),
+    ("traversal", dict(center="43.2,-79.9", radius=50, nodes_on_edge=3, agents=2)),
+    ("foraging", dict(grid=16, agents=4, algorithm="strips")),
+    ("foraging", dict(grid=16, agents=4, algorithm="sectors", food_distance="20-40")),
+    ("exploration", dict(empty="6x6", robots=2)),
+    ("exploration", dict(empty="5x4", robots=2, comm_range="inf", cell=0.1)),
+    ("roadmap", dict(agents=2, nodes=40, step=15, sensor_range="inf", raster=64)),
+    ("roadmap", dict(agents=2, nodes=40, step=15, sensor_range=20, task="search")),
+]
+
+
+def same(a: swarmex.ResultRecord, b: swarmex.ResultRecord) -> bool:
+    x, y = a.to_dict(), b.to_dict()
+    x.pop("wall_seconds")
+    y.pop("wall_seconds")
+    return json.dumps(x, sort_keys=True) == json.dumps(y, sort_keys=True)
+
+
+@pytest.mark.parametrize(("mission", "kw"), CASES, ids=[f"{m}-{i}" for i, (m, _) in
+                                                        enumerate(CASES)])
+def test_a_record_runs_again_into_itself(mission: str, kw: dict[str, Any],
+                                         tmp_path: Path) -> None:
+    if mission == "roadmap":
+        env = tmp_path / "env.json"
+        env.write_text(json.dumps(ENV), encoding="utf-8")
+        kw = {**kw, "env": env}
+    if "center" in kw:
+        pytest.importorskip("pyproj", reason="GPS worlds need the geo extra")
+    first = swarmex.run(mission, seed=3, **kw)
+    assert same(swarmex.rerun(first), first)
+
+
+def test_a_map_file_record_and_a_record_file(tmp_path: Path) -> None:
+    if not (MAPS / "room-32-32-4.map").exists():
+        pytest.skip(f"benchmark maps not found in {MAPS}")
+    first = swarmex.run("exploration", seed=1, map=str(MAPS / "room-32-32-4.map"), cell=0.25,
+                        robots=2, max_ticks=40)
+    path = tmp_path / "rec.json"
+    path.write_text(json.dumps(first.to_dict()), encoding="utf-8")
+    assert same(swarmex.rerun(path), first)
+    assert same(swarmex.rerun(str(path)), first)
+
+
+def test_overrides_change_the_run_and_name_a_world_object() -> None:
+    from swarmex.worlds import random_obstacles
+
+    first = swarmex.run("traversal", seed=0, grid="5x4", agents=2)
+    more = swarmex.rerun(first, agents=3)
+    assert len(more.agents) == 3 and more.seed == 0
+
+    world = random_obstacles(6, 6, 0.1, seed=1)
+    on_object = swarmex.run("traversal", seed=2, map=world, agents=2)
+    with pytest.raises(InputError, match="pass it again"):
+        swarmex.rerun(on_object)
+    assert same(swarmex.rerun(on_object, map=world), on_object)
+
+
+def test_cli_says_same_or_where_it_differs(tmp_path: Path, capsys) -> None:
+    rec = tmp_path / "r.json"
+    assert main(["traverse", "--grid", "5x5", "--agents", "2", "--seed", "4",
+                 "--json", str(rec)]) == 0
+    capsys.readouterr()
+    out = tmp_path / "again.json"
+    assert main(["rerun", str(rec), "--json", str(out)]) == 0
+    assert "the same record" in capsys.readouterr().out
+    assert json.loads(out.read_text())["metrics"] == json.loads(rec.read_text())["metrics"]
+
+    data = json.loads(rec.read_text())
+    data["metrics"]["total_time_all"] += 1
+    data["agents"][0]["trajectory"][1][0] += 1
+    tampered = tmp_path / "t.json"
+    tampered.write_text(json.dumps(data), encoding="utf-8")
+    assert main(["rerun", str(tampered)]) == 1
+    line = capsys.readouterr().out
+    assert "differs" in line and "metrics.total_time_all" in line
+    assert "agents[0].trajectory[1]" in line
+
+    assert main(["rerun", str(tmp_path / "missing.json")]) == 2
+    assert "record not found" in capsys.readouterr().err
