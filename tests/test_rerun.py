@@ -86,6 +86,12 @@ def test_overrides_change_the_run_and_name_a_world_object() -> None:
         swarmex.rerun(on_object)
     assert same(swarmex.rerun(on_object, map=world), on_object)
 
+    explored = swarmex.run("exploration", seed=2, map=world, cell=0.25, robots=2,
+                           max_ticks=40)
+    with pytest.raises(InputError, match="pass it again"):
+        swarmex.rerun(explored)
+    assert same(swarmex.rerun(explored, map=world), explored)
+
 
 def test_cli_says_same_or_where_it_differs(tmp_path: Path, capsys) -> None:
     rec = tmp_path / "r.json"

@@ -155,7 +155,7 @@ def path() -> Parser:
     return parse
 
 
-def path_or(world_type: Callable[[], type], what: str) -> Parser:
+def path_or(world_type: Callable[[], type | tuple[type, ...]], what: str) -> Parser:
     """A file path (str or Path), or an object of ``world_type()`` passed through as it is
     (a world built in Python). ``world_type`` imports its class only for a value that is not a
     path, so the CLI's options import no numpy; ``what`` names both forms in the error."""

@@ -209,3 +209,30 @@ def test_frame_recorder_keeps_at_most_its_limit_evenly_spaced() -> None:
     ticks = [f.t for f in rec.frames]
     assert len(ticks) <= 9 and ticks[0] == 0 and ticks[-1] == outcome.run.makespan
     assert len({b - a for a, b in zip(ticks[:-2], ticks[1:-1], strict=True)}) == 1
+
+
+def test_map_takes_a_world_object_and_runs_as_its_file(tmp_path) -> None:
+    """A GridWorld read at `cell`, or a MetricGrid, gives the run the file gives (only the
+    record's params say "generated"); a MetricGrid's own cell size is not overridden."""
+    import swarmex
+    from swarmex.errors import InputError
+    from swarmex.worlds import load_movingai
+    from swarmex.worlds.generators import random_obstacles
+    from swarmex.worlds.metric import MetricGrid
+
+    world = random_obstacles(24, 20, 0.15, seed=2)
+    path = tmp_path / "w.map"
+    rows = ["".join("." if f else "@" for f in row) for row in world.free]
+    path.write_text(f"type octile\nheight {len(rows)}\nwidth {len(rows[0])}\nmap\n"
+                    + "\n".join(rows) + "\n", encoding="utf-8")
+    assert (load_movingai(path).free == world.free).all()
+    kw = dict(seed=1, robots=2, max_ticks=60)
+    from_file = swarmex.run("exploration", map=path, cell=0.25, **kw).to_dict()
+    for given in (dict(map=world, cell=0.25), dict(map=MetricGrid(world, 0.25))):
+        rec = swarmex.run("exploration", **given, **kw).to_dict()
+        assert rec["agents"] == from_file["agents"] and rec["metrics"] == from_file["metrics"]
+        assert rec["params"]["generated"] == world.source
+    with pytest.raises(InputError, match="has 0.25 m cells"):
+        swarmex.run("exploration", map=MetricGrid(world, 0.25), cell=0.1, **kw)
+    with pytest.raises(InputError, match="expected a map file path, a GridWorld"):
+        swarmex.run("exploration", map=3, **kw)

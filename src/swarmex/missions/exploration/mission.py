@@ -14,12 +14,14 @@ ends the run at that tick.
 
 from __future__ import annotations
 
+import math
 import re
 from collections.abc import Collection, Mapping
 from dataclasses import dataclass, replace
 from typing import Any
 
 from swarmex.engine.record import MetricInfo, ResultRecord
+from swarmex.errors import InputError
 from swarmex.missions.base import FrameCallback, Mission, Outcome
 from swarmex.missions.exploration.params import (
     Cell,
@@ -27,6 +29,7 @@ from swarmex.missions.exploration.params import (
     default_starts,
     validate,
 )
+from swarmex.worlds.grid import GridWorld
 from swarmex.worlds.metric import DEFAULT_CELL, MetricGrid, empty_metric, load_metric
 
 
@@ -39,13 +42,22 @@ class ExplorationWorld:
 
 
 def build_world(p: ExplorationParams) -> MetricGrid:
-    """The metric grid of ``map`` or ``empty`` (``cell`` metres per cell; a ROS map has its
-    own resolution, which ``cell`` may only repeat)."""
+    """The metric grid of ``map`` or ``empty`` (``cell`` metres per cell; a ROS map or a
+    MetricGrid has its own resolution, which ``cell`` may only repeat)."""
     if p.empty is not None:
         return empty_metric(*p.empty, DEFAULT_CELL if p.cell is None else p.cell)
     if p.map is None:
         p.check()  # names the missing option
     assert p.map is not None
+    if isinstance(p.map, MetricGrid):  # a world object from Python, with its own cell size
+        if p.cell is not None and not math.isclose(p.cell, p.map.cell, rel_tol=1e-9):
+            raise InputError(
+                f"--cell {p.cell:g}: the MetricGrid given as map has {p.map.cell:g} m cells"
+                " (omit cell, or pass its GridWorld)"
+            )
+        return p.map
+    if isinstance(p.map, GridWorld):
+        return MetricGrid(p.map, DEFAULT_CELL if p.cell is None else p.cell)
     return load_metric(p.map, p.cell)
 
 
@@ -62,6 +74,11 @@ class ExplorationMission(Mission[ExplorationParams, ExplorationWorld]):
         values = super().rerun_values(record, given)
         if "comm_range" in values and values["comm_range"] is None:
             values["comm_range"] = "inf"
+        if "generated" in record.params and not {"map", "empty"} & set(given):
+            raise InputError(
+                f"this record's world was given as an object ({record.params['generated']}):"
+                " pass it again, e.g. swarmex.rerun(record, map=world)"
+            )
         if not {"map", "empty"} & set(given):
             source = str(record.world.get("source", ""))
             size = re.fullmatch(r"empty (\S+)x(\S+) m", source)

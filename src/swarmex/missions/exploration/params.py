@@ -12,8 +12,9 @@ dispersion, Fig. 4.3(a), part of the run).
 Conventions (also in ``swarmex explore --help``):
 
 * the world is exactly one of ``map`` (a MovingAI ``.map`` read at ``cell`` metres per cell,
-  or a ROS ``.yaml``/``.pgm`` map at its own resolution) and ``empty`` (a walled rectangle of
-  ``"WxH"`` or ``(W, H)`` metres at ``cell``, default 0.05 m);
+  or a ROS ``.yaml``/``.pgm`` map at its own resolution; from Python also a ``GridWorld``
+  read at ``cell``, or a ``MetricGrid`` with its own cell size) and ``empty`` (a walled
+  rectangle of ``"WxH"`` or ``(W, H)`` metres at ``cell``, default 0.05 m);
 * lengths are metres (``laser_range``, ``comm_range``, ``robot_radius``; ``comm_range`` may be
   ``inf``); times are steps of 100 ms (``max_ticks``, ``plan_pause``);
 * ``starts`` are cells ``x,y`` (x the column, y the row, row 0 the first map row), one per
@@ -31,9 +32,9 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass, fields
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -47,12 +48,15 @@ from swarmex.missions.base import (
     integer,
     option,
     optional,
-    path,
+    path_or,
     real,
     text,
 )
 from swarmex.missions.exploration.strategies import STRATEGIES
 from swarmex.worlds.metric import MetricGrid, parse_size
+
+if TYPE_CHECKING:
+    from swarmex.worlds.grid import GridWorld
 
 Cell = tuple[int, int]
 TICK_SECONDS = 0.1
@@ -93,12 +97,22 @@ def start_cells() -> Parser:
     return parse
 
 
+def _world_types() -> tuple[type, ...]:
+    """The world objects ``map`` takes (imported on use: the CLI's options need no numpy)."""
+    from swarmex.worlds.grid import GridWorld
+
+    return (GridWorld, MetricGrid)
+
+
 @dataclass(frozen=True)
 class ExplorationParams(Params):
     mission = "exploration"
 
-    map: Path | None = option(
-        None, help="MovingAI .map or ROS map (.yaml beside its .pgm).", parse=optional(path())
+    map: Path | GridWorld | MetricGrid | None = option(
+        None,
+        help="MovingAI .map or ROS map (.yaml beside its .pgm); from Python also a GridWorld"
+        " or MetricGrid.",
+        parse=optional(path_or(_world_types, "a map file path, a GridWorld or a MetricGrid")),
     )
     empty: tuple[float, float] | None = option(
         None, help="Empty walled world WxH in metres.", parse=optional(metric_size())
@@ -173,7 +187,8 @@ class ExplorationParams(Params):
 
     def as_dict(self) -> dict:
         """The simulator's parameters (the record's ``params``, the mesh's scenario)."""
-        d = {k: v for k, v in asdict(self).items() if k not in WORLD_OPTIONS}
+        # not asdict: it would deep-copy a world object given as ``map``, only to drop it
+        d = {f.name: getattr(self, f.name) for f in fields(self) if f.name not in WORLD_OPTIONS}
         d["starts"] = None if self.starts is None else [list(s) for s in self.starts]
         d["comm_range"] = None if math.isinf(self.comm_range) else self.comm_range
         return d

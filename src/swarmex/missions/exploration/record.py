@@ -15,6 +15,7 @@ says honestly what is missing.
 from __future__ import annotations
 
 from dataclasses import asdict, fields
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -153,6 +154,8 @@ def exploration_record(run: ExplorationRun) -> ResultRecord:
     params = run.params.as_dict()
     params["starts"] = [list(s) for s in run.starts]
     params["cell"] = run.grid.cell
+    if run.params.map is not None and not isinstance(run.params.map, str | Path):
+        params["generated"] = run.grid.world.source  # a world object: no file to name
     agents = [
         AgentRecord(
             id=r.id,
