@@ -205,3 +205,30 @@ def test_bad_counts_and_a_missing_json_are_clear(tmp_path):
     assert not (tmp_path / "a").exists()
     with pytest.raises(FileNotFoundError, match=r"no traversal\.json \(or traversal\.json\.gz\)"):
         rebuild(tmp_path)
+
+
+def test_a_killed_session_is_counted_with_its_runs(tmp_path):
+    # SIGKILL skipped the session's final bookkeeping: the report said "1 session(s)" and
+    # gave the killed session's runs to the next one (or to none)
+    import multiprocessing
+    import os
+
+    from swarmex.studies.traversal import reproduce
+
+    def killed_at_50() -> None:
+        def progress(done: int, _total: int) -> None:
+            if done == 50:
+                os._exit(9)  # no finally, no flush: as a SIGKILL leaves it
+
+        reproduce(tmp_path, quick=True, progress=progress)
+
+    child = multiprocessing.get_context("fork").Process(target=killed_at_50)
+    child.start()
+    child.join(120)
+    assert child.exitcode == 9
+    summary = reproduce(tmp_path, quick=True)
+    sessions = json.loads((tmp_path / "traversal.json").read_text())["sessions"]
+    assert [s["finished"] for s in sessions] == [False, True]
+    assert [s["runs_executed"] for s in sessions] == [50, summary["runs"] - 50]
+    assert summary["executed"] == summary["runs"] - 50
+    assert "executed in 2 session(s)" in (tmp_path / "traversal.md").read_text()

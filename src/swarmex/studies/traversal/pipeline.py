@@ -55,6 +55,7 @@ def reproduce(
     for key, cfg in plan.configs().items():
         store.add_config(key, cfg.params())
     already = sum(1 for s in specs if s.id in store)
+    _credit_killed_session(sessions, already)
     # costly and cheap configurations mixed evenly (deterministically), so the progress rate
     # is steady and the ETA honest; the order cannot change results (each run has its seed)
     order = list(specs)
@@ -62,35 +63,45 @@ def reproduce(
     t0 = time.perf_counter()
 
     stored = already
+    # this session, on disk from its first run on (a killed session must still count; see
+    # _credit_killed_session) and kept current at every periodic rewrite of the JSON
+    session: dict[str, Any] = {
+        "mode": "quick" if quick else "full",
+        "workers": workers,
+        "runs_planned": len(specs),
+        "runs_executed": 0,
+        "elapsed_s": 0.0,
+        "finished": False,
+    }
 
     def tick(_spec: RunSpec, _rec: dict[str, Any]) -> None:
         nonlocal stored
         stored += 1
+        session["runs_executed"] = stored - already
+        session["elapsed_s"] = round(time.perf_counter() - t0, 2)
+        if stored == already + 1:  # a rerun that runs nothing is no session of the sweep
+            store.header["sessions"] = [*sessions, session]
+            store.flush()
         if progress:
             progress(stored, len(specs))
 
     try:
         run_jobs(
             order, execute, lambda s: s.id, store=store, workers=workers, label="traversal",
-            console=console, show=console is not None, on_result=tick if progress else None,
-            warm=warm_kernels,
+            console=console, show=console is not None, on_result=tick, warm=warm_kernels,
         )
     finally:
         elapsed = time.perf_counter() - t0
         # runs stored now and not before: also those that finished while an interrupted
         # session was stopping, and those a killed one left in the runner's spool
         executed = sum(1 for s in specs if s.id in store) - already
-        if executed:  # a rerun that ran nothing is no session of the sweep
-            sessions.append(
-                {
-                    "mode": "quick" if quick else "full",
-                    "workers": workers,
-                    "runs_planned": len(specs),
-                    "runs_executed": executed,
-                    "elapsed_s": round(elapsed, 2),
-                    "finished": all(s.id in store for s in specs),
-                }
+        if executed:
+            session.update(
+                runs_executed=executed,
+                elapsed_s=round(elapsed, 2),
+                finished=all(s.id in store for s in specs),
             )
+            sessions.append(session)
         store.header["sessions"] = sessions
         if previous.get("plan") != drawn:
             # the JSON must name the plan of the report beside it, even when no run was added
@@ -107,6 +118,19 @@ def reproduce(
         "elapsed_s": elapsed,
         "workers": workers,
     }
+
+
+def _credit_killed_session(sessions: list[dict[str, Any]], stored: int) -> None:
+    """Give a killed session the runs it stored after the JSON's last rewrite.
+
+    A session is written to the JSON at its first run and kept current at each periodic
+    rewrite; a SIGKILL skips the final update, so the runs it journalled since then (the store
+    recovers them) are counted by no session. They are the last session's: every earlier one
+    ended with a final count.
+    """
+    missing = stored - sum(int(x.get("runs_executed", 0)) for x in sessions)
+    if sessions and missing > 0:
+        sessions[-1]["runs_executed"] = int(sessions[-1].get("runs_executed", 0)) + missing
 
 
 def warm_kernels() -> None:
