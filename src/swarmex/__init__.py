@@ -17,7 +17,7 @@ Heavy modules are imported only when a mission first runs, so ``import swarmex``
 from __future__ import annotations
 
 import importlib
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from os import PathLike, fspath
 from typing import TYPE_CHECKING, Any
 
@@ -34,7 +34,7 @@ if TYPE_CHECKING:
 __version__ = "0.1.0"
 __all__ = [
     "InputError", "ResultRecord", "StopRun", "__version__", "describe", "missions", "rerun",
-    "run",
+    "run", "sweep",
 ]
 
 
@@ -157,6 +157,78 @@ def rerun(
     m = get(rec.mission)
     values = {**m.rerun_values(rec, given=overrides.keys()), **overrides}
     return run(rec.mission, seed=rec.seed, on_frame=on_frame, trace=trace, **values)
+
+
+def sweep(
+    mission: str,
+    *,
+    out: str | PathLike[str],
+    seeds: int | Sequence[int] = 1,
+    fixed: Mapping[str, Any] | None = None,
+    backend: str = "local",
+    workers: int | None = None,
+    retry_failed: bool = False,
+    **axes: Any,
+) -> Any:
+    """Run the product of parameter lists over seeds, as ``swarmex sweep SPEC.toml`` does,
+    and return the results table (a ``pyarrow.Table``, one row per run; ``.to_pandas()``).
+
+    Each keyword is a parameter of :func:`run`: a list (or range) is an axis, anything else,
+    a tuple included (``grid=(8, 8)``), a value every run shares; ``fixed`` holds shared
+    values that are themselves lists (``nests=[[0, 0], [5, 5]]``). ``seeds``
+    is a count (the first N) or a list. ``out`` is the sweep's folder: every run's record is
+    written there as it finishes, with ``results.parquet``; calling again with the same
+    arguments resumes (finished runs are skipped), and an interrupted call loses no finished
+    run. ``backend`` is ``"local"`` (a process pool of ``workers``, default all cores),
+    ``"serial"`` (this process) or ``"ray"``. A run that fails is a row with its ``error``;
+    bad parameters raise :class:`InputError` before any run. For example::
+
+        table = swarmex.sweep("traversal", out="runs", algorithm=["madgta", "nearest"],
+                              grid="8x8", agents=[2, 4], seeds=5)
+        table.group_by(["algorithm", "agents"]).aggregate([("makespan", "mean")])
+
+    Why the folder is required: a sweep is the long, resumable unit of work; its records are
+    the data, and the table is rebuilt from them (docs/sweeps.md).
+    """
+    from pathlib import Path
+
+    from swarmex.experiments.scenario import mission_shapes
+    from swarmex.experiments.sweep import read_results, run_sweep
+    from swarmex.experiments.sweep_spec import parse_sweep_spec
+
+    data: dict[str, Any] = {"mission": mission, "seeds": _spec_value(seeds, "seeds")}
+    shared = {k: _spec_value(v, k) for k, v in (fixed or {}).items()}
+    for key, value in axes.items():
+        if isinstance(value, tuple):  # one value that is a sequence: grid=(8, 8)
+            shared[key] = _spec_value(value, key)
+        else:
+            data[key] = _spec_value(value, key)
+    if shared:
+        data["fixed"] = shared
+    spec = parse_sweep_spec(data, Path("swarmex.sweep"))
+    result = run_sweep(
+        spec, mission_shapes(mission), Path(fspath(out)), backend=backend, workers=workers,
+        retry_failed=retry_failed,
+    )
+    return read_results(result.out_dir)[0]
+
+
+def _spec_value(value: Any, key: str) -> Any:
+    """A Python value as a sweep spec holds it (TOML's types): paths as text, tuples and
+    ranges as lists. A world object cannot be swept: runs are named by their values' JSON."""
+    if isinstance(value, PathLike):
+        return fspath(value)
+    if isinstance(value, tuple | list | range):
+        return [_spec_value(v, key) for v in value]
+    if isinstance(value, str | int | float | bool):
+        return value
+    tolist = getattr(value, "tolist", None)  # numpy scalars and arrays
+    if callable(tolist):
+        return _spec_value(tolist(), key)
+    raise InputError(
+        f"swarmex.sweep: {key}={value!r} cannot be swept (give a file path, or use swarmex.run"
+        " for a world object)"
+    )
 
 
 def describe(mission: str) -> str:
