@@ -59,7 +59,7 @@ INDEX: dict[str, Entry] = {
     ),
     "agent": Entry(
         (_C + "commands_net",),
-        "One traversal UAV as a client of ``swarmex serve`` (seed 000's client.py).",
+        "One traversal UAV as a client of 'swarmex serve' (seed 000's client.py).",
     ),
     "watch": Entry(
         (_C + "commands_net",),
@@ -67,7 +67,7 @@ INDEX: dict[str, Entry] = {
     ),
     "mesh": Entry(
         (_C + "commands_net",),
-        "``swarmex explore --processes`` under another name (one process per robot).",
+        "'swarmex explore --processes' under another name (one process per robot).",
         hidden=True,
     ),
     "roadmap": Entry(

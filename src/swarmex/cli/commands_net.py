@@ -253,7 +253,7 @@ def agent(
         help="Vehicle: seconds without telemetry before the link counts as lost.",
     ),
 ) -> None:
-    """One traversal UAV as a client of ``swarmex serve`` (seed 000's client.py)."""
+    """One traversal UAV as a client of 'swarmex serve' (seed 000's client.py)."""
     from swarmex.net.agent import Faults, run_agents
 
     address = _address(connect)
@@ -372,7 +372,7 @@ def mesh(
     monitor_url: str = typer.Option(None, "--monitor", help="ws://…/ingest of a monitor."),
     json_path: Path = typer.Option(None, "--json", help="Write the result record here."),
 ) -> None:
-    """``swarmex explore --processes`` under another name (one process per robot)."""
+    """'swarmex explore --processes' under another name (one process per robot)."""
     from swarmex.missions.registry import get
 
     exploration = get("exploration")
