@@ -32,6 +32,12 @@ CASES: list[tuple[str, dict[str, Any]]] = [
     ("traversal", dict(grid="6x5", fleet=MIXED, algorithm="madgta-h")),
     ("traversal", dict(grid="3x3", agents=2, algorithm="optimal")),
     ("traversal", dict(center="43.2,-79.9", radius=50, nodes_on_edge=3, agents=2)),
+    # a metric fleet: the record fills in both travel_time and travel_speed per row, and
+    # 5 / (5 / 4.9) is not 4.9, so the row's given field must be the one passed back
+    ("traversal", dict(grid="6x6", edge_length=5.0, fleet=[
+        {"id": 1, "travel_speed": 3.0}, {"id": 2, "travel_time": 4.9}, {"id": 3}])),
+    ("traversal", dict(center="43.2,-79.9", radius=50, nodes_on_edge=3, agents=2,
+                       fleet=[{"id": 1, "travel_speed": 3.0}, {"id": 2, "travel_time": 7.0}])),
     ("foraging", dict(grid=16, agents=4, algorithm="strips")),
     ("foraging", dict(grid=16, agents=4, algorithm="sectors", food_distance="20-40")),
     ("exploration", dict(empty="6x6", robots=2)),

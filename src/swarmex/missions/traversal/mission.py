@@ -221,6 +221,33 @@ def agent_specs(p: TraversalParams, prepared: TraversalWorld) -> list[Any]:
     return specs
 
 
+def _edge_m(params: Mapping[str, Any]) -> float | None:
+    """Metres per grid edge of a record's run, computed as :class:`TraversalWorld` does
+    (``edge_length``, or a GPS grid's nominal 2R / (K - 1)); None without a metric scale."""
+    if params.get("center") is not None:
+        return 2.0 * float(params["radius"]) / (int(params["nodes_on_edge"]) - 1)
+    edge = params.get("edge_length")
+    return None if edge is None else float(edge)
+
+
+def _fleet_row_again(row: Any, edge_m: float | None) -> Any:
+    """A record's fleet row as a fleet row to run again: the record fills in both
+    ``travel_time`` (s per edge) and, with a metric scale, ``travel_speed`` (m/s), and a
+    fleet may give only one. Keep the one that gives back both recorded numbers exactly:
+    the speed, unless the row's time was given (the speed then was edge / time, and edge /
+    speed need not round back to the time)."""
+    if not isinstance(row, dict) or row.get("travel_speed") is None:
+        return row
+    if row.get("travel_time") is None or edge_m is None:
+        return row
+    out = dict(row)
+    if edge_m / row["travel_speed"] == row["travel_time"]:
+        out.pop("travel_time")
+    else:
+        out.pop("travel_speed")
+    return out
+
+
 class TraversalMission(Mission[TraversalParams, TraversalWorld]):
     name = "traversal"
     command = "traverse"
@@ -237,6 +264,9 @@ class TraversalMission(Mission[TraversalParams, TraversalWorld]):
                 f"this record's world was given as an object ({record.params['generated']}):"
                 " pass it again, e.g. swarmex.rerun(record, map=world)"
             )
+        if isinstance(values.get("fleet"), list):
+            values["fleet"] = [_fleet_row_again(row, _edge_m(record.params))
+                               for row in values["fleet"]]
         return values
 
     def team_metrics(self) -> Mapping[str, MetricInfo]:
