@@ -121,3 +121,37 @@ def test_cli_says_same_or_where_it_differs(tmp_path: Path, capsys) -> None:
 
     assert main(["rerun", str(tmp_path / "missing.json")]) == 2
     assert "record not found" in capsys.readouterr().err
+
+
+def test_overrides_replace_the_recorded_alternatives_and_derived_values(tmp_path: Path) -> None:
+    """An override of the world or the team must not keep what the record derived from the
+    old one (per-agent nests and starts, a drawn food cell), nor pass the record's ``grid``
+    beside a new ``map``: ``swarmex.rerun(rec, agents=8)`` is the documented use."""
+    mapfile = tmp_path / "m.map"
+    mapfile.write_text("type octile\nheight 3\nwidth 4\nmap\n@...\n....\n....\n",
+                       encoding="utf-8")
+    on_grid = swarmex.run("traversal", seed=1, grid="5x5", agents=2)
+    on_map = swarmex.rerun(on_grid, map=mapfile)
+    assert on_map.params["grid"] is None and on_map.world["width"] == 4
+    assert on_map.params["nests"] == [[1, 0], [1, 0]]  # the new map's first free cell
+    assert swarmex.rerun(on_map, grid="3x3").world["source"] == "grid 3x3"
+
+    fleet = [{"id": 1, "job_time": 4.0}, {"id": 2}]
+    mixed = swarmex.run("traversal", seed=1, grid="5x5", fleet=fleet, edge_length=2.0)
+    slower = swarmex.rerun(mixed, job_time=20.0)
+    assert [r["job_time"] for r in slower.params["fleet"]] == [4.0, 20.0]
+
+    drawn = swarmex.run("foraging", seed=2, grid=16, agents=4, algorithm="strips",
+                        food_distance="20-40")
+    assert swarmex.rerun(drawn, food=(3, 3)).params["food"] == [3, 3]
+    placed = swarmex.rerun(drawn, food=(3, 3))
+    assert swarmex.rerun(placed, food_distance="20-40").params["food"] == drawn.params["food"]
+
+    explored = swarmex.run("exploration", seed=1, empty="5x5", robots=2, max_ticks=20)
+    assert len(swarmex.rerun(explored, robots=3).agents) == 3
+
+    env = tmp_path / "env.json"
+    env.write_text(json.dumps(ENV), encoding="utf-8")
+    road = swarmex.run("roadmap", seed=1, env=env, agents=2, nodes=30, step=15,
+                       sensor_range="inf", raster=64)
+    assert len(swarmex.rerun(road, agents=3).agents) == 3

@@ -581,6 +581,13 @@ class Mission(ABC, Generic[P, W]):
     summary: ClassVar[str]  # one line for --help
     params_type: ClassVar[type[Params]]
     time_unit: ClassVar[str]
+    #: For :meth:`rerun_values`: a recorded parameter -> the parameters whose override
+    #: makes it stale. A record holds what the run used, derived values included (nests and
+    #: starts per agent, a drawn food cell) and one of each set of alternatives (``map`` or
+    #: ``grid``): overriding the world or the team must not keep the old world's starts, nor
+    #: pass ``grid`` beside a new ``map``. A stale value is left out (its default, derived
+    #: again), unless the caller gives it too.
+    rerun_replaces: ClassVar[Mapping[str, Collection[str]]] = {}
 
     def __init_subclass__(cls, **kw: Any) -> None:
         """Give the mission and its Params docstrings that list the parameters, so that
@@ -609,7 +616,8 @@ class Mission(ABC, Generic[P, W]):
     ) -> dict[str, Any]:
         """The parameters that run ``record`` again (with its seed): its ``params`` that are
         options of this mission, seed aside. ``given`` names the parameters the caller
-        passes itself (they win, and need not be recoverable from the record).
+        passes itself (they win, and need not be recoverable from the record); a recorded
+        value they make stale (:attr:`rerun_replaces`) is left out.
 
         Why a hook: a record's params are what the run *used*, which is not always what a
         user passes (derived values, other units, the world kept in ``record.world``);
@@ -617,10 +625,12 @@ class Mission(ABC, Generic[P, W]):
         world was given as an object cannot name it: then an InputError asks for it.
         """
         opts = self.params_type.options()
+        overridden = set(given)
+        stale = {k for k, inputs in self.rerun_replaces.items() if overridden & set(inputs)}
         return {
             k: v
             for k, v in record.params.items()
-            if k in opts and k != "seed" and k not in given
+            if k in opts and k != "seed" and k not in overridden and k not in stale
         }
 
     def team_metrics(self) -> Mapping[str, MetricInfo]:
