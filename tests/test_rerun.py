@@ -155,3 +155,41 @@ def test_overrides_replace_the_recorded_alternatives_and_derived_values(tmp_path
     road = swarmex.run("roadmap", seed=1, env=env, agents=2, nodes=30, step=15,
                        sensor_range="inf", raster=64)
     assert len(swarmex.rerun(road, agents=3).agents) == 3
+
+
+def test_a_record_with_a_relative_map_reruns_from_another_folder(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys
+) -> None:
+    """A record names its map as the run was given it, relative to the folder the run
+    started in (``swarmex run`` and sweeps too); rerun from elsewhere, the record file's
+    folder and those above it are searched, and the new record still names it the same."""
+    project = tmp_path / "project"
+    (project / "maps").mkdir(parents=True)
+    (project / "out").mkdir()
+    (project / "maps" / "m.map").write_text(
+        "type octile\nheight 4\nwidth 5\nmap\n.....\n.@@..\n.....\n.....\n", encoding="utf-8")
+    monkeypatch.chdir(project)
+    first = swarmex.run("traversal", seed=2, map="maps/m.map", agents=2)
+    record = project / "out" / "rec.json"
+    record.write_text(json.dumps(first.to_dict()), encoding="utf-8")
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    monkeypatch.chdir(elsewhere)
+    assert same(swarmex.rerun(record), first)
+    assert main(["rerun", str(record)]) == 0
+    assert "the same record" in capsys.readouterr().out
+    with pytest.raises(InputError, match="'maps/m.map' is not found from here"):
+        swarmex.rerun(first)  # no file, so no folder to search: say where it was looked for
+
+
+def test_a_roadmap_on_a_world_object_asks_for_it() -> None:
+    from shapely import box
+
+    from swarmex.worlds.polygon import PolygonWorld
+
+    world = PolygonWorld((0, 0, 200, 150), [box(40, 30, 70, 60)])
+    first = swarmex.run("roadmap", seed=1, env=world, agents=2, nodes=30, step=15,
+                        sensor_range="inf", raster=64)
+    with pytest.raises(InputError, match=r"env=world"):
+        swarmex.rerun(first)
+    assert same(swarmex.rerun(first, env=world), first)

@@ -148,15 +148,60 @@ def rerun(
     name it (``map=world`` for a run on a world object). ``swarmex rerun FILE`` does this
     from the shell and says whether the record came out the same.
     """
+    from pathlib import Path
+
     from swarmex.engine.record import ResultRecord, read_record
     from swarmex.missions.registry import get
 
+    folder = None
     if isinstance(record, str | PathLike):
+        folder = Path(fspath(record)).absolute().parent
         record = read_record(fspath(record))
     rec = record if isinstance(record, ResultRecord) else ResultRecord.from_dict(record)
     m = get(rec.mission)
-    values = {**m.rerun_values(rec, given=overrides.keys()), **overrides}
-    return run(rec.mission, seed=rec.seed, on_frame=on_frame, trace=trace, **values)
+    values = m.rerun_values(rec, given=overrides.keys())
+    moved = _find_inputs(m, values, folder)
+    new = run(rec.mission, seed=rec.seed, on_frame=on_frame, trace=trace,
+              **{**values, **overrides})
+    for recorded, found in moved.items():  # the record names the file as the first run did
+        for part in (new.params, new.world):
+            for key, value in part.items():
+                if value == found:
+                    part[key] = recorded
+    return new
+
+
+def _find_inputs(m: Any, values: dict[str, Any], folder: Any) -> dict[str, str]:
+    """Find the input files (maps, environments) a record names by a relative path.
+
+    A relative path in a record is relative to the folder the run started in, which a record
+    does not hold (``swarmex run`` and sweeps write paths relative to it too). Rerun from
+    elsewhere, the file is looked for from here, then from the record file's folder and each
+    folder above it (a record usually lies below where its run started). Changes ``values``
+    in place and returns recorded -> found, to respell the new record as the old one.
+    Raises InputError, naming the file and what to do, when it is nowhere."""
+    from pathlib import Path
+
+    moved: dict[str, str] = {}
+    for name, info in m.params_type.options().items():
+        value = values.get(name)
+        if info.kind is not Path or not isinstance(value, str) or not value:
+            continue
+        given = Path(value).expanduser()
+        if given.is_absolute() or given.exists():
+            continue
+        places = [folder, *folder.parents] if folder is not None else []
+        found = next((d / given for d in places if (d / given).exists()), None)
+        if found is None:
+            where = " or from the record's folder and those above it" if places else ""
+            raise InputError(
+                f"the record's {name} {value!r} is not found from here{where} (a relative"
+                f" path is taken from the folder its run started in: rerun there, or give"
+                f" {name}= again; a world given as an object: {name}=world)"
+            )
+        values[name] = str(found)
+        moved[value] = str(found)
+    return moved
 
 
 def sweep(

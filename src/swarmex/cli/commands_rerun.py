@@ -35,7 +35,7 @@ def rerun(
 
     check_output(json_out, "--json", (".json",))
     old = ResultRecord.from_dict(read_record(record_file)).to_dict()
-    new_record = swarmex.rerun(old)
+    new_record = swarmex.rerun(record_file)  # the file: its folder helps find relative maps
     if json_out is not None:
         write_record(new_record, json_out)
     new = new_record.to_dict()
