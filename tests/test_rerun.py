@@ -193,3 +193,29 @@ def test_a_roadmap_on_a_world_object_asks_for_it() -> None:
     with pytest.raises(InputError, match=r"env=world"):
         swarmex.rerun(first)
     assert same(swarmex.rerun(first, env=world), first)
+
+
+def test_cli_on_a_networked_record_compares_what_the_simulator_has(tmp_path: Path,
+                                                                   capsys) -> None:
+    """A ``swarmex serve`` record with ``--rng shared`` is the simulated run plus the wire's
+    own parts (docs/net.md): the rerun, which is the simulator's, must not be called a
+    difference for those, and a networked run that is another run must say why."""
+    sim = swarmex.run("traversal", seed=0, grid="5x5", agents=2).to_dict()
+    served = {**sim, "params": {**sim["params"], "network": {"time_scale": 0.01,
+                                                             "rng": "shared"}},
+              "metrics": {**sim["metrics"], "message_bytes": 8444},
+              "departed_agents": [], "vehicles": [{"id": 1, "kind": "simulated"}],
+              "network": {"transport": "zeromq", "rng_mode": "shared", "left": [],
+                          "joined": [], "inject_loss": 0.0}}
+    path = tmp_path / "served.json"
+    path.write_text(json.dumps(served), encoding="utf-8")
+    assert main(["rerun", str(path)]) == 0
+    assert "the simulator's run is the same" in capsys.readouterr().out
+
+    served["network"]["rng_mode"] = "own"
+    served["agents"][0]["jobs"][1][0] += 1
+    path.write_text(json.dumps(served), encoding="utf-8")
+    assert main(["rerun", str(path)]) == 1
+    line = capsys.readouterr().out
+    assert "agents[0].jobs[1]" in line and "--rng own" in line
+    assert "network" not in line.split("(")[0]  # the network's parts are not differences
