@@ -10,6 +10,7 @@ only in ``record.world``, a radio range of None, ``raster_cells``, a fleet, GPS 
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
 from typing import Any
 
@@ -219,3 +220,22 @@ def test_cli_on_a_networked_record_compares_what_the_simulator_has(tmp_path: Pat
     line = capsys.readouterr().out
     assert "agents[0].jobs[1]" in line and "--rng own" in line
     assert "network" not in line.split("(")[0]  # the network's parts are not differences
+
+
+@pytest.mark.parametrize(("key", "value", "message"), [
+    ("params", "abc", "'params' must be a JSON object"),
+    ("metrics", [1], "'metrics' must be a JSON object"),
+    ("mission", 3, "'mission' must be a string"),
+    ("agents", [{"id": 1, "metrics": "x"}], r"agents\[0\] needs an object 'metrics'"),
+])
+def test_cli_on_a_malformed_record_says_one_line(key: str, value: object, message: str,
+                                                 tmp_path: Path, capsys) -> None:
+    """A hand-edited record with a field of the wrong kind is bad input (status 2, one
+    line), not a traceback from deep in the rerun ('str' object has no attribute 'items')."""
+    data = swarmex.run("traversal", seed=0, grid="4x4", agents=2).to_dict()
+    data[key] = value
+    path = tmp_path / "bad.json"
+    path.write_text(json.dumps(data), encoding="utf-8")
+    assert main(["rerun", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert re.search(message, err) and "Traceback" not in err and err.count("\n") == 1

@@ -168,10 +168,22 @@ class ResultRecord:
             raise InputError(f"not a swarmex record: no {', '.join(map(repr, missing))}")
         if not isinstance(data["agents"], list):
             raise InputError("record: 'agents' must be a list of agent objects")
+        for key in ("params", "world", "metrics"):  # read as tables later: say it here
+            if not isinstance(data[key], Mapping):
+                raise InputError(f"record: {key!r} must be a JSON object, got"
+                                 f" {type(data[key]).__name__}")
+        for key in ("mission", "algorithm"):
+            if not isinstance(data[key], str):
+                raise InputError(f"record: {key!r} must be a string, got {data[key]!r}")
         agents = []
         for i, a in enumerate(data["agents"]):
             if not isinstance(a, Mapping) or "id" not in a:
                 raise InputError(f"record: agents[{i}] is not an agent object with an 'id'")
+            if not isinstance(a.get("metrics") or {}, Mapping) or not all(
+                isinstance(a.get(k) or [], list) for k in ("trajectory", "jobs")
+            ):
+                raise InputError(f"record: agents[{i}] needs an object 'metrics' and lists"
+                                 " 'trajectory' and 'jobs'")
             agents.append(AgentRecord(
                 id=a["id"], metrics=dict(a.get("metrics") or {}),
                 trajectory=list(a.get("trajectory") or []), jobs=list(a.get("jobs") or []),
