@@ -122,6 +122,11 @@ def test_cli_says_same_or_where_it_differs(tmp_path: Path, capsys) -> None:
 
     assert main(["rerun", str(tmp_path / "missing.json")]) == 2
     assert "record not found" in capsys.readouterr().err
+    binary = tmp_path / "bin.json"
+    binary.write_bytes(b"\x7fELF\x02\x01\x01\x00\xd0\xc0")
+    for path, said in ((tmp_path, "is a folder"), (binary, "not UTF-8 text")):
+        assert main(["rerun", str(path)]) == 2  # was a traceback (IsADirectory, Unicode)
+        assert said in capsys.readouterr().err
 
 
 def test_overrides_replace_the_recorded_alternatives_and_derived_values(tmp_path: Path) -> None:

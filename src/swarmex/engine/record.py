@@ -236,5 +236,11 @@ def read_record(path: str | Path) -> dict[str, Any]:
         return json.loads(Path(path).read_text(encoding="utf-8"))
     except FileNotFoundError:
         raise InputError(f"record not found: {path}") from None
+    except IsADirectoryError:
+        raise InputError(f"{path} is a folder, not a record file") from None
+    except OSError as exc:  # unreadable: permissions, a device
+        raise InputError(f"cannot read the record {path}: {exc.strerror or exc}") from None
+    except UnicodeDecodeError:
+        raise InputError(f"{path} is not a JSON record: not UTF-8 text") from None
     except json.JSONDecodeError as exc:
         raise InputError(f"{path} is not a JSON record: {exc.msg} at line {exc.lineno}") from None
