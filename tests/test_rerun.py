@@ -244,3 +244,18 @@ def test_cli_on_a_malformed_record_says_one_line(key: str, value: object, messag
     assert main(["rerun", str(path)]) == 2
     err = capsys.readouterr().err
     assert re.search(message, err) and "Traceback" not in err and err.count("\n") == 1
+
+
+@pytest.mark.parametrize(("mission", "kw"), [CASES[0], CASES[8]], ids=["traversal", "foraging"])
+def test_a_record_without_its_trace_reruns_without_it(mission: str, kw: dict[str, Any],
+                                                      tmp_path: Path, capsys) -> None:
+    """``trace=False`` records (the reproduction studies') are the same run without the
+    trajectories and jobs (foraging's per-agent ``moves`` is None): rerun as they were made,
+    not called different for the trace they never had."""
+    first = swarmex.run(mission, seed=1, trace=False, **kw)
+    assert same(swarmex.rerun(first), first)
+    assert swarmex.rerun(first, trace=True).agents[0].trajectory  # asked for: the trace
+    path = tmp_path / "r.json"
+    path.write_text(json.dumps(first.to_dict()), encoding="utf-8")
+    assert main(["rerun", str(path)]) == 0
+    assert "the same record" in capsys.readouterr().out

@@ -136,7 +136,7 @@ def rerun(
     record: ResultRecord | Mapping[str, Any] | str | PathLike[str],
     *,
     on_frame: Callable[[Any], Any] | None = None,
-    trace: bool = True,
+    trace: bool | None = None,
     **overrides: Any,
 ) -> ResultRecord:
     """Run a record again: the same mission, parameters and seed, so the same record
@@ -145,8 +145,10 @@ def rerun(
     ``record`` is a :class:`ResultRecord`, its ``to_dict()``, or a record JSON file (what
     ``--json`` and the sweeps write). ``overrides`` change parameters, as in :func:`run`
     (``swarmex.rerun(rec, agents=8)``), or give the world again when the record could not
-    name it (``map=world`` for a run on a world object). ``swarmex rerun FILE`` does this
-    from the shell and says whether the record came out the same.
+    name it (``map=world`` for a run on a world object). ``trace`` is the record's own by
+    default: a record made with ``trace=False`` (no agent has a trajectory or a job) runs
+    again without its trace, so that it too comes back the same. ``swarmex rerun FILE``
+    does this from the shell and says whether the record came out the same.
     """
     from pathlib import Path
 
@@ -161,6 +163,8 @@ def rerun(
     m = get(rec.mission)
     values = m.rerun_values(rec, given=overrides.keys())
     moved = _find_inputs(m, values, folder)
+    if trace is None:  # as the record was made: trace=False leaves every agent's trace empty
+        trace = not rec.agents or any(a.trajectory or a.jobs for a in rec.agents)
     new = run(rec.mission, seed=rec.seed, on_frame=on_frame, trace=trace,
               **{**values, **overrides})
     for recorded, found in moved.items():  # the record names the file as the first run did
