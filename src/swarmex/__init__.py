@@ -248,6 +248,8 @@ def sweep(
     data: dict[str, Any] = {"mission": mission, "seeds": _spec_value(seeds, "seeds")}
     shared = {k: _spec_value(v, k) for k, v in (fixed or {}).items()}
     for key, value in axes.items():
+        if value is None:  # as in swarmex.run: the parameter's default
+            continue
         if isinstance(value, tuple):  # one value that is a sequence: grid=(8, 8)
             shared[key] = _spec_value(value, key)
         else:
@@ -269,8 +271,18 @@ def _spec_value(value: Any, key: str) -> Any:
         return fspath(value)
     if isinstance(value, tuple | list | range):
         return [_spec_value(v, key) for v in value]
+    if isinstance(value, Mapping):  # a spec value is never a table (runs are named by them)
+        raise InputError(
+            f"swarmex.sweep: {key}: a dict cannot be a sweep value; give it as a file (a"
+            f" fleet: fleet='fleet.toml', its [[agents]] tables)"
+        )
     if isinstance(value, str | int | float | bool):
         return value
+    if value is None:
+        raise InputError(
+            f"swarmex.sweep: {key}: None cannot be one of a sweep's values (a spec is TOML,"
+            " which has no null); leave the parameter out for its default"
+        )
     tolist = getattr(value, "tolist", None)  # numpy scalars and arrays
     if callable(tolist):
         return _spec_value(tolist(), key)
