@@ -91,3 +91,15 @@ def test_a_misspelt_sweep_metric_stops_before_any_run(tmp_path: Path, capsys) ->
     assert code == 2
     assert "did you mean 'total_time_all'" in err and "Traceback" not in err
     assert not out.exists()  # nothing ran, nothing written
+
+
+def test_foraging_all_informed_means_finished_communicating() -> None:
+    """``all_informed`` is false when a robot has not finished communicating when the last
+    unit is home, even though every robot knows the food (each has an ``informed_at``):
+    its stated meaning ("every robot learnt the food location") said the opposite here."""
+    rec = swarmex.run("foraging", seed=25, grid=16, agents=4, algorithm="strips",
+                      food_units=1, trace=False)
+    assert all(a.metrics["informed_at"] is not None for a in rec.agents)
+    assert rec.metrics["all_informed"] is False
+    meaning = get("foraging").team_metrics()["all_informed"].meaning
+    assert "finished communicating" in meaning and "learnt" not in meaning
