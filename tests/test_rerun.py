@@ -86,6 +86,8 @@ def test_overrides_change_the_run_and_name_a_world_object() -> None:
     first = swarmex.run("traversal", seed=0, grid="5x4", agents=2)
     more = swarmex.rerun(first, agents=3)
     assert len(more.agents) == 3 and more.seed == 0
+    other = swarmex.rerun(first, seed=5)  # was a TypeError: seed given twice to run
+    assert same(other, swarmex.run("traversal", seed=5, grid="5x4", agents=2))
 
     world = random_obstacles(6, 6, 0.1, seed=1)
     on_object = swarmex.run("traversal", seed=2, map=world, agents=2)

@@ -144,7 +144,7 @@ def rerun(
 
     ``record`` is a :class:`ResultRecord`, its ``to_dict()``, or a record JSON file (what
     ``--json`` and the sweeps write). ``overrides`` change parameters, as in :func:`run`
-    (``swarmex.rerun(rec, agents=8)``), or give the world again when the record could not
+    (``swarmex.rerun(rec, agents=8)``, ``seed=5`` included), or give the world again when the record could not
     name it (``map=world`` for a run on a world object). ``trace`` is the record's own by
     default: a record made with ``trace=False`` (no agent has a trajectory or a job) runs
     again without its trace, so that it too comes back the same. ``swarmex rerun FILE``
@@ -161,11 +161,12 @@ def rerun(
         record = read_record(fspath(record))
     rec = record if isinstance(record, ResultRecord) else ResultRecord.from_dict(record)
     m = get(rec.mission)
+    seed = overrides.pop("seed", rec.seed)  # another seed: the same setting, drawn again
     values = m.rerun_values(rec, given=overrides.keys())
     moved = _find_inputs(m, values, folder)
     if trace is None:  # as the record was made: trace=False leaves every agent's trace empty
         trace = not rec.agents or any(a.trajectory or a.jobs for a in rec.agents)
-    new = run(rec.mission, seed=rec.seed, on_frame=on_frame, trace=trace,
+    new = run(rec.mission, seed=seed, on_frame=on_frame, trace=trace,
               **{**values, **overrides})
     for recorded, found in moved.items():  # the record names the file as the first run did
         for part in (new.params, new.world):
