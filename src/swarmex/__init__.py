@@ -147,8 +147,9 @@ def rerun(
     (``swarmex.rerun(rec, agents=8)``, ``seed=5`` included), or give the world again when
     the record could not name it (``map=world`` for a run on a world object). ``trace`` is
     the record's own by default: a record made with ``trace=False`` (no agent has a
-    trajectory or a job) runs again without its trace, so that it too comes back the same. ``swarmex rerun FILE``
-    does this from the shell and says whether the record came out the same.
+    trajectory or a job) runs again without its trace, so that it too comes back the same.
+    ``swarmex rerun FILE`` does this from the shell and says whether the record came out the
+    same.
     """
     from pathlib import Path
 
