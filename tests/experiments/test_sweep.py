@@ -337,6 +337,10 @@ def test_summary_metric_names_checked_before_are_columns_after(tmp_path, capsys)
     assert "total_time_all" in text
     assert main(["sweep", str(spec), "--backend", "serial", "--out", str(out), "--summary",
                  "--metric", "total_tim"]) == 2  # a typo still stops before any run
+    capsys.readouterr()
+    assert main(["sweep", str(spec), "--backend", "serial", "--out", str(out),
+                 "--metric", "nodes_done_all"]) == 0  # --metric alone: its summary is shown
+    assert "nodes_done_all" in capsys.readouterr().out
 
 
 def test_killed_driver_loses_no_finished_run(tmp_path):

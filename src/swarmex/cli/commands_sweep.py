@@ -60,7 +60,7 @@ def sweep(
         False, "--summary", help="Print means and 95 % CIs per configuration."
     ),
     metric: list[str] = typer.Option(
-        [], "--metric", help="A metric to add to the summary (repeatable)."
+        [], "--metric", help="A metric to add to the summary (repeatable; implies --summary)."
     ),
 ) -> None:
     """Run the product of a spec's parameter lists and seeds; resumable; one Parquet table."""
@@ -70,6 +70,7 @@ def sweep(
     spec = load_sweep_spec(spec_file)
     shapes = mission_shapes(spec.mission, spec_file)
     check_metrics(spec.mission, metric)  # a typo must stop the sweep before its runs
+    summary = summary or bool(metric)  # a metric asked for was silently never shown
     out_dir = out if out is not None else Path(f"{spec_file.stem}-sweep")
     progress = runs_progress("sweep", err_console, detail=True)
     task: TaskID | None = None  # the bar, added once the sweep knows its total
