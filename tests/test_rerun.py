@@ -126,7 +126,12 @@ def test_cli_says_same_or_where_it_differs(tmp_path: Path, capsys) -> None:
     assert "record not found" in capsys.readouterr().err
     binary = tmp_path / "bin.json"
     binary.write_bytes(b"\x7fELF\x02\x01\x01\x00\xd0\xc0")
-    for path, said in ((tmp_path, "is a folder"), (binary, "not UTF-8 text")):
+    failed = tmp_path / "0123.error.json"  # what a sweep writes for a failed run
+    failed.write_text(json.dumps({"run": "0123", "mission": "traversal", "params": {},
+                                  "seed": 0, "error": "40 agents but the map has only 9",
+                                  "traceback": "..."}), encoding="utf-8")
+    for path, said in ((tmp_path, "is a folder"), (binary, "not UTF-8 text"),
+                       (failed, "failed sweep run's error file")):
         assert main(["rerun", str(path)]) == 2  # was a traceback (IsADirectory, Unicode)
         assert said in capsys.readouterr().err
 

@@ -164,6 +164,12 @@ class ResultRecord:
         names = [f.name for f in fields(cls) if f.name != "extra"]
         optional = {"wall_seconds", "swarmex_version"}
         missing = [n for n in names if n not in data and n not in optional]
+        if missing and "error" in data and "traceback" in data:  # a sweep's runs/ID.error.json
+            raise InputError(
+                f"not a record but a failed sweep run's error file (it failed with:"
+                f" {str(data['error']).splitlines()[0] if data['error'] else '?'}); run it"
+                " again with swarmex sweep SPEC --retry-failed"
+            )
         if missing:
             raise InputError(f"not a swarmex record: no {', '.join(map(repr, missing))}")
         if not isinstance(data["agents"], list):
