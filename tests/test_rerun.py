@@ -266,3 +266,20 @@ def test_a_record_without_its_trace_reruns_without_it(mission: str, kw: dict[str
     path.write_text(json.dumps(first.to_dict()), encoding="utf-8")
     assert main(["rerun", str(path)]) == 0
     assert "the same record" in capsys.readouterr().out
+
+
+def test_cli_on_a_record_its_caller_stopped_says_why_it_differs(tmp_path: Path,
+                                                                capsys) -> None:
+    """A run stopped by ``StopRun`` from ``on_frame`` is an incomplete record whose
+    parameters do not say where it stopped: its rerun completes, and the line says so."""
+    def stop(frame: Any) -> None:
+        if frame.t > 20:
+            raise swarmex.StopRun
+
+    partial = swarmex.run("traversal", seed=1, grid="5x5", agents=2, on_frame=stop)
+    assert not partial.complete
+    path = tmp_path / "partial.json"
+    path.write_text(json.dumps(partial.to_dict()), encoding="utf-8")
+    assert main(["rerun", str(path)]) == 1
+    line = capsys.readouterr().out
+    assert "complete: False → True" in line and "stopped early by its caller" in line

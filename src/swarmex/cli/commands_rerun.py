@@ -57,6 +57,11 @@ def rerun(
         return
     more = f" and {len(diffs) - SHOWN} more" if len(diffs) > SHOWN else ""
     why = "" if networked is None else f" ({networked})"
+    if not why and old.get("complete") is False and new.get("complete") is True:
+        # a run its caller stopped (StopRun from on_frame) ends where no parameter says
+        why = (" (the record's run ended incomplete and the rerun completed: a run stopped"
+               " early by its caller, e.g. StopRun from on_frame, cannot be rerun to that"
+               " point)")
     console.print(
         f"rerun {what}: differs{made} in {'; '.join(diffs[:SHOWN])}{more}{why}",
         soft_wrap=True,
