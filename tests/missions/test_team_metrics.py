@@ -68,8 +68,11 @@ def test_check_metric_accepts_numbers_and_names_what_is_wrong() -> None:
         traversal.check_metric("total_time_al")
     with pytest.raises(InputError, match="not a metric of traversal records"):
         traversal.check_metric("coverage")
-    with pytest.raises(InputError, match="list or a table per run"):
+    with pytest.raises(InputError, match="an exploration record holds it as a list"):
         get("exploration").check_metric("steps")
+    # a table metric's entries are numeric sweep columns (unicasts.sent): accepted
+    for name in ("unicasts.sent", "messages_by_kind.SCAN.bytes"):
+        get("exploration").check_metric(name)
 
 
 def test_describe_lists_the_metrics_with_their_meaning() -> None:

@@ -645,18 +645,26 @@ class Mission(ABC, Generic[P, W]):
     def check_metric(self, name: str, where: str = "--metric") -> None:
         """Raise InputError unless ``name`` is a numeric metric of this mission's records:
         a team metric (or ``metrics.NAME``, the sweep column of one whose name a parameter
-        took), ``complete``, ``makespan`` or ``wall_seconds``. For checking a name before
-        any run; it checks nothing when the mission declares no metrics."""
+        took), ``complete``, ``makespan`` or ``wall_seconds``, or an entry ``NAME.KEY`` of a
+        table metric (a sweep flattens tables into such columns: ``unicasts.sent``; its keys
+        are known only once a run wrote them). For checking a name before any run; it
+        checks nothing when the mission declares no metrics."""
         declared = self.team_metrics()
         if not declared:
             return
-        info = declared.get(name.removeprefix("metrics."))
+        bare = name.removeprefix("metrics.")
+        info = declared.get(bare)
         if name in RECORD_NUMBERS or (info is not None and info.numeric):
             return
+        table = declared.get(bare.split(".", 1)[0])
+        if "." in bare and table is not None and not table.numeric:
+            return
         if info is not None:
+            article = "an" if self.name[:1] in "aeiou" else "a"
             raise InputError(
-                f"{where} {name!r}: a {self.name} record holds it as a list or a table per"
-                f" run, which has no mean; pick a number"
+                f"{where} {name!r}: {article} {self.name} record holds it as a list or a"
+                f" table per run, which has no mean; pick a number (a table's entries are"
+                f" sweep columns {bare}.KEY)"
             )
         known = [*RECORD_NUMBERS, *(k for k, v in declared.items() if v.numeric)]
         close = difflib.get_close_matches(name, known, n=1, cutoff=0.6)
