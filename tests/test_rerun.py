@@ -10,6 +10,7 @@ only in ``record.world``, a radio range of None, ``raster_cells``, a fleet, GPS 
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
 from typing import Any
 
@@ -32,6 +33,12 @@ CASES: list[tuple[str, dict[str, Any]]] = [
     ("traversal", dict(grid="6x5", fleet=MIXED, algorithm="madgta-h")),
     ("traversal", dict(grid="3x3", agents=2, algorithm="optimal")),
     ("traversal", dict(center="43.2,-79.9", radius=50, nodes_on_edge=3, agents=2)),
+    # a metric fleet: the record fills in both travel_time and travel_speed per row, and
+    # 5 / (5 / 4.9) is not 4.9, so the row's given field must be the one passed back
+    ("traversal", dict(grid="6x6", edge_length=5.0, fleet=[
+        {"id": 1, "travel_speed": 3.0}, {"id": 2, "travel_time": 4.9}, {"id": 3}])),
+    ("traversal", dict(center="43.2,-79.9", radius=50, nodes_on_edge=3, agents=2,
+                       fleet=[{"id": 1, "travel_speed": 3.0}, {"id": 2, "travel_time": 7.0}])),
     ("foraging", dict(grid=16, agents=4, algorithm="strips")),
     ("foraging", dict(grid=16, agents=4, algorithm="sectors", food_distance="20-40")),
     ("exploration", dict(empty="6x6", robots=2)),
@@ -79,6 +86,8 @@ def test_overrides_change_the_run_and_name_a_world_object() -> None:
     first = swarmex.run("traversal", seed=0, grid="5x4", agents=2)
     more = swarmex.rerun(first, agents=3)
     assert len(more.agents) == 3 and more.seed == 0
+    other = swarmex.rerun(first, seed=5)  # was a TypeError: seed given twice to run
+    assert same(other, swarmex.run("traversal", seed=5, grid="5x4", agents=2))
 
     world = random_obstacles(6, 6, 0.1, seed=1)
     on_object = swarmex.run("traversal", seed=2, map=world, agents=2)
@@ -115,3 +124,162 @@ def test_cli_says_same_or_where_it_differs(tmp_path: Path, capsys) -> None:
 
     assert main(["rerun", str(tmp_path / "missing.json")]) == 2
     assert "record not found" in capsys.readouterr().err
+    binary = tmp_path / "bin.json"
+    binary.write_bytes(b"\x7fELF\x02\x01\x01\x00\xd0\xc0")
+    failed = tmp_path / "0123.error.json"  # what a sweep writes for a failed run
+    failed.write_text(json.dumps({"run": "0123", "mission": "traversal", "params": {},
+                                  "seed": 0, "error": "40 agents but the map has only 9",
+                                  "traceback": "..."}), encoding="utf-8")
+    for path, said in ((tmp_path, "is a folder"), (binary, "not UTF-8 text"),
+                       (failed, "failed sweep run's error file")):
+        assert main(["rerun", str(path)]) == 2  # was a traceback (IsADirectory, Unicode)
+        assert said in capsys.readouterr().err
+
+
+def test_overrides_replace_the_recorded_alternatives_and_derived_values(tmp_path: Path) -> None:
+    """An override of the world or the team must not keep what the record derived from the
+    old one (per-agent nests and starts, a drawn food cell), nor pass the record's ``grid``
+    beside a new ``map``: ``swarmex.rerun(rec, agents=8)`` is the documented use."""
+    mapfile = tmp_path / "m.map"
+    mapfile.write_text("type octile\nheight 3\nwidth 4\nmap\n@...\n....\n....\n",
+                       encoding="utf-8")
+    on_grid = swarmex.run("traversal", seed=1, grid="5x5", agents=2)
+    on_map = swarmex.rerun(on_grid, map=mapfile)
+    assert on_map.params["grid"] is None and on_map.world["width"] == 4
+    assert on_map.params["nests"] == [[1, 0], [1, 0]]  # the new map's first free cell
+    assert swarmex.rerun(on_map, grid="3x3").world["source"] == "grid 3x3"
+
+    fleet = [{"id": 1, "job_time": 4.0}, {"id": 2}]
+    mixed = swarmex.run("traversal", seed=1, grid="5x5", fleet=fleet, edge_length=2.0)
+    slower = swarmex.rerun(mixed, job_time=20.0)
+    assert [r["job_time"] for r in slower.params["fleet"]] == [4.0, 20.0]
+
+    drawn = swarmex.run("foraging", seed=2, grid=16, agents=4, algorithm="strips",
+                        food_distance="20-40")
+    assert swarmex.rerun(drawn, food=(3, 3)).params["food"] == [3, 3]
+    placed = swarmex.rerun(drawn, food=(3, 3))
+    assert swarmex.rerun(placed, food_distance="20-40").params["food"] == drawn.params["food"]
+
+    explored = swarmex.run("exploration", seed=1, empty="5x5", robots=2, max_ticks=20)
+    assert len(swarmex.rerun(explored, robots=3).agents) == 3
+
+    env = tmp_path / "env.json"
+    env.write_text(json.dumps(ENV), encoding="utf-8")
+    road = swarmex.run("roadmap", seed=1, env=env, agents=2, nodes=30, step=15,
+                       sensor_range="inf", raster=64)
+    assert len(swarmex.rerun(road, agents=3).agents) == 3
+
+
+def test_a_record_with_a_relative_map_reruns_from_another_folder(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys
+) -> None:
+    """A record names its map as the run was given it, relative to the folder the run
+    started in (``swarmex run`` and sweeps too); rerun from elsewhere, the record file's
+    folder and those above it are searched, and the new record still names it the same."""
+    project = tmp_path / "project"
+    (project / "maps").mkdir(parents=True)
+    (project / "out").mkdir()
+    (project / "maps" / "m.map").write_text(
+        "type octile\nheight 4\nwidth 5\nmap\n.....\n.@@..\n.....\n.....\n", encoding="utf-8")
+    monkeypatch.chdir(project)
+    first = swarmex.run("traversal", seed=2, map="maps/m.map", agents=2)
+    record = project / "out" / "rec.json"
+    record.write_text(json.dumps(first.to_dict()), encoding="utf-8")
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    monkeypatch.chdir(elsewhere)
+    assert same(swarmex.rerun(record), first)
+    assert main(["rerun", str(record)]) == 0
+    assert "the same record" in capsys.readouterr().out
+    with pytest.raises(InputError, match="'maps/m.map' is not found from here"):
+        swarmex.rerun(first)  # no file, so no folder to search: say where it was looked for
+
+
+def test_a_roadmap_on_a_world_object_asks_for_it() -> None:
+    from shapely import box
+
+    from swarmex.worlds.polygon import PolygonWorld
+
+    world = PolygonWorld((0, 0, 200, 150), [box(40, 30, 70, 60)])
+    first = swarmex.run("roadmap", seed=1, env=world, agents=2, nodes=30, step=15,
+                        sensor_range="inf", raster=64)
+    with pytest.raises(InputError, match=r"env=world"):
+        swarmex.rerun(first)
+    assert same(swarmex.rerun(first, env=world), first)
+
+
+def test_cli_on_a_networked_record_compares_what_the_simulator_has(tmp_path: Path,
+                                                                   capsys) -> None:
+    """A ``swarmex serve`` record with ``--rng shared`` is the simulated run plus the wire's
+    own parts (docs/net.md): the rerun, which is the simulator's, must not be called a
+    difference for those, and a networked run that is another run must say why."""
+    sim = swarmex.run("traversal", seed=0, grid="5x5", agents=2).to_dict()
+    served = {**sim, "params": {**sim["params"], "network": {"time_scale": 0.01,
+                                                             "rng": "shared"}},
+              "metrics": {**sim["metrics"], "message_bytes": 8444},
+              "departed_agents": [], "vehicles": [{"id": 1, "kind": "simulated"}],
+              "network": {"transport": "zeromq", "rng_mode": "shared", "left": [],
+                          "joined": [], "inject_loss": 0.0}}
+    path = tmp_path / "served.json"
+    path.write_text(json.dumps(served), encoding="utf-8")
+    assert main(["rerun", str(path)]) == 0
+    assert "the simulator's run is the same" in capsys.readouterr().out
+
+    served["network"]["rng_mode"] = "own"
+    served["agents"][0]["jobs"][1][0] += 1
+    path.write_text(json.dumps(served), encoding="utf-8")
+    assert main(["rerun", str(path)]) == 1
+    line = capsys.readouterr().out
+    assert "agents[0].jobs[1]" in line and "--rng own" in line
+    assert "network" not in line.split("(")[0]  # the network's parts are not differences
+
+
+@pytest.mark.parametrize(("key", "value", "message"), [
+    ("params", "abc", "'params' must be a JSON object"),
+    ("metrics", [1], "'metrics' must be a JSON object"),
+    ("mission", 3, "'mission' must be a string"),
+    ("agents", [{"id": 1, "metrics": "x"}], r"agents\[0\] needs an object 'metrics'"),
+])
+def test_cli_on_a_malformed_record_says_one_line(key: str, value: object, message: str,
+                                                 tmp_path: Path, capsys) -> None:
+    """A hand-edited record with a field of the wrong kind is bad input (status 2, one
+    line), not a traceback from deep in the rerun ('str' object has no attribute 'items')."""
+    data = swarmex.run("traversal", seed=0, grid="4x4", agents=2).to_dict()
+    data[key] = value
+    path = tmp_path / "bad.json"
+    path.write_text(json.dumps(data), encoding="utf-8")
+    assert main(["rerun", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert re.search(message, err) and "Traceback" not in err and err.count("\n") == 1
+
+
+@pytest.mark.parametrize(("mission", "kw"), [CASES[0], CASES[8]], ids=["traversal", "foraging"])
+def test_a_record_without_its_trace_reruns_without_it(mission: str, kw: dict[str, Any],
+                                                      tmp_path: Path, capsys) -> None:
+    """``trace=False`` records (the reproduction studies') are the same run without the
+    trajectories and jobs (foraging's per-agent ``moves`` is None): rerun as they were made,
+    not called different for the trace they never had."""
+    first = swarmex.run(mission, seed=1, trace=False, **kw)
+    assert same(swarmex.rerun(first), first)
+    assert swarmex.rerun(first, trace=True).agents[0].trajectory  # asked for: the trace
+    path = tmp_path / "r.json"
+    path.write_text(json.dumps(first.to_dict()), encoding="utf-8")
+    assert main(["rerun", str(path)]) == 0
+    assert "the same record" in capsys.readouterr().out
+
+
+def test_cli_on_a_record_its_caller_stopped_says_why_it_differs(tmp_path: Path,
+                                                                capsys) -> None:
+    """A run stopped by ``StopRun`` from ``on_frame`` is an incomplete record whose
+    parameters do not say where it stopped: its rerun completes, and the line says so."""
+    def stop(frame: Any) -> None:
+        if frame.t > 20:
+            raise swarmex.StopRun
+
+    partial = swarmex.run("traversal", seed=1, grid="5x5", agents=2, on_frame=stop)
+    assert not partial.complete
+    path = tmp_path / "partial.json"
+    path.write_text(json.dumps(partial.to_dict()), encoding="utf-8")
+    assert main(["rerun", str(path)]) == 1
+    line = capsys.readouterr().out
+    assert "complete: False → True" in line and "stopped early by its caller" in line

@@ -323,6 +323,26 @@ def test_cli_summary_prints_means_and_cis(tmp_path, capsys):
     assert _mean_ci(1234.5, 0.5) == "1,234 ± 0.5" and _mean_ci(12.34, 5.678) == "12.3 ± 5.68"
 
 
+def test_summary_metric_names_checked_before_are_columns_after(tmp_path, capsys):
+    """``--metric metrics.NAME`` and a declared metric no run wrote (the solver figures
+    without an ``optimal`` run) pass the check before the runs, so the summary after them
+    must show them, not exit 2 once the whole sweep has run."""
+    spec = write_spec(tmp_path, 'mission = "traversal"\ngrid = "3x3"\nagents = [1, 2]\n')
+    out = tmp_path / "out"
+    code = main(["sweep", str(spec), "--backend", "serial", "--out", str(out), "--summary",
+                 "--metric", "metrics.total_time_all", "--metric", "objective_value"])
+    text = capsys.readouterr().out
+    assert code == 0
+    assert "objective_value" in text and "—" in text
+    assert "total_time_all" in text
+    assert main(["sweep", str(spec), "--backend", "serial", "--out", str(out), "--summary",
+                 "--metric", "total_tim"]) == 2  # a typo still stops before any run
+    capsys.readouterr()
+    assert main(["sweep", str(spec), "--backend", "serial", "--out", str(out),
+                 "--metric", "nodes_done_all"]) == 0  # --metric alone: its summary is shown
+    assert "nodes_done_all" in capsys.readouterr().out
+
+
 def test_killed_driver_loses_no_finished_run(tmp_path):
     """SIGKILL the CLI mid-sweep: every record it wrote is kept, and the rerun skips them."""
     import signal

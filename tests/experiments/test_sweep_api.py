@@ -50,3 +50,21 @@ def test_bad_input_fails_before_any_run(tmp_path: Path) -> None:
     with pytest.raises(InputError, match="cannot be swept"):
         swarmex.sweep("traversal", out=tmp_path / "b", map=object(), agents=2)
     assert not (tmp_path / "a").exists() and not (tmp_path / "b").exists()
+
+
+def test_bad_values_stop_before_any_run_and_none_is_the_default(tmp_path: Path) -> None:
+    """A value its option refuses fails every run it is in the same way: InputError before
+    any run (docs promise it), not a folder of error rows. ``None`` is the default, as in
+    ``swarmex.run``; a dict (a fleet's rows) is named as what it is, not "cannot be swept"."""
+    out = tmp_path / "s"
+    for kw, said in ((dict(agents=[2, "three"]), "--agents: expected an integer"),
+                     (dict(agents=2, loss=[0.1, 1.5]), "--loss must be less than 1"),
+                     (dict(agents=2, comm_range=[None, 2]), "None cannot be one of"),
+                     (dict(agents=2, fleet=[{"id": 1}, {"id": 2}]), "a dict cannot be")):
+        with pytest.raises(InputError, match=said):
+            swarmex.sweep("traversal", out=out, grid="4x4", backend="serial", **kw)
+        assert not out.exists()
+    table = swarmex.sweep("traversal", out=out, grid="4x4", agents=2, comm_range=None,
+                          backend="serial")
+    assert table.num_rows == 1 and table.column("error").to_pylist() == [None]
+    assert "comm_range" not in table.column_names

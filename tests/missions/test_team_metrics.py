@@ -68,8 +68,11 @@ def test_check_metric_accepts_numbers_and_names_what_is_wrong() -> None:
         traversal.check_metric("total_time_al")
     with pytest.raises(InputError, match="not a metric of traversal records"):
         traversal.check_metric("coverage")
-    with pytest.raises(InputError, match="list or a table per run"):
+    with pytest.raises(InputError, match="an exploration record holds it as a list"):
         get("exploration").check_metric("steps")
+    # a table metric's entries are numeric sweep columns (unicasts.sent): accepted
+    for name in ("unicasts.sent", "messages_by_kind.SCAN.bytes"):
+        get("exploration").check_metric(name)
 
 
 def test_describe_lists_the_metrics_with_their_meaning() -> None:
@@ -91,3 +94,15 @@ def test_a_misspelt_sweep_metric_stops_before_any_run(tmp_path: Path, capsys) ->
     assert code == 2
     assert "did you mean 'total_time_all'" in err and "Traceback" not in err
     assert not out.exists()  # nothing ran, nothing written
+
+
+def test_foraging_all_informed_means_finished_communicating() -> None:
+    """``all_informed`` is false when a robot has not finished communicating when the last
+    unit is home, even though every robot knows the food (each has an ``informed_at``):
+    its stated meaning ("every robot learnt the food location") said the opposite here."""
+    rec = swarmex.run("foraging", seed=25, grid=16, agents=4, algorithm="strips",
+                      food_units=1, trace=False)
+    assert all(a.metrics["informed_at"] is not None for a in rec.agents)
+    assert rec.metrics["all_informed"] is False
+    meaning = get("foraging").team_metrics()["all_informed"].meaning
+    assert "finished communicating" in meaning and "learnt" not in meaning

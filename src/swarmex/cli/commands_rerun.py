@@ -35,7 +35,7 @@ def rerun(
 
     check_output(json_out, "--json", (".json",))
     old = ResultRecord.from_dict(read_record(record_file)).to_dict()
-    new_record = swarmex.rerun(old)
+    new_record = swarmex.rerun(record_file)  # the file: its folder helps find relative maps
     if json_out is not None:
         write_record(new_record, json_out)
     new = new_record.to_dict()
@@ -44,17 +44,61 @@ def rerun(
     what = f"{old['mission']} {old['algorithm']}, seed {old['seed']}"
     versions = (old.pop("swarmex_version", None), new.pop("swarmex_version", None))
     made = "" if versions[0] == versions[1] else f" (recorded by swarmex {versions[0]})"
+    networked = networked_reason(old)  # before differences: it drops the network's parts
+    if networked is not None:
+        new.get("metrics", {}).pop("message_bytes", None)
     diffs = differences(old, new)
     if not diffs:
-        console.print(f"rerun {what}: the same record{made}", soft_wrap=True, highlight=False)
+        same = "the same record" if networked is None else (
+            "the simulator's run is the same (paths, jobs and every metric; the record's"
+            " network block, departures, vehicles and message bytes are the wire's own)"
+        )
+        console.print(f"rerun {what}: {same}{made}", soft_wrap=True, highlight=False)
         return
     more = f" and {len(diffs) - SHOWN} more" if len(diffs) > SHOWN else ""
+    why = "" if networked is None else f" ({networked})"
+    if not why and old.get("complete") is False and new.get("complete") is True:
+        # a run its caller stopped (StopRun from on_frame) ends where no parameter says
+        why = (" (the record's run ended incomplete and the rerun completed: a run stopped"
+               " early by its caller, e.g. StopRun from on_frame, cannot be rerun to that"
+               " point)")
     console.print(
-        f"rerun {what}: differs{made} in {'; '.join(diffs[:SHOWN])}{more}",
+        f"rerun {what}: differs{made} in {'; '.join(diffs[:SHOWN])}{more}{why}",
         soft_wrap=True,
         highlight=False,
     )
     raise typer.Exit(1)
+
+
+def networked_reason(old: dict[str, Any]) -> str | None:
+    """For a record of ``swarmex serve`` (its params have a ``network`` block): drop the
+    parts only a networked run has and say why its rerun, which is the simulator's, may
+    differ; None for any other record.
+
+    Why: a networked run with ``--rng shared`` is the simulated run (docs/net.md), so paths,
+    jobs and every metric but the wire's ``message_bytes`` can be compared; claiming a
+    difference for the network block the simulator never writes would be wrong. With
+    ``--rng own``, departures or injected loss the networked run is another run, and the
+    line says so rather than only that it differs."""
+    params = old.get("params")
+    if not isinstance(params, dict) or "network" not in params:
+        return None
+    params.pop("network")
+    block = old.pop("network", None)
+    net = block if isinstance(block, dict) else {}
+    departed = old.pop("departed_agents", None)
+    old.pop("vehicles", None)
+    if isinstance(old.get("metrics"), dict):
+        old["metrics"].pop("message_bytes", None)
+    reasons = []
+    if net.get("rng_mode") not in (None, "shared"):
+        reasons.append(f"--rng {net.get('rng_mode')}: each agent drew from its own generator")
+    if departed or net.get("left") or net.get("joined"):
+        reasons.append("agents left or joined the networked run")
+    if net.get("inject_loss"):
+        reasons.append("the server dropped messages (--inject-loss)")
+    cause = "; ".join(reasons) or "its events or messages did not follow the simulator's"
+    return f"a networked record, rerun in the simulator: {cause}"
 
 
 def differences(old: Any, new: Any, path: str = "") -> list[str]:

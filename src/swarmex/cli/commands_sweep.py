@@ -60,7 +60,7 @@ def sweep(
         False, "--summary", help="Print means and 95 % CIs per configuration."
     ),
     metric: list[str] = typer.Option(
-        [], "--metric", help="A metric to add to the summary (repeatable)."
+        [], "--metric", help="A metric to add to the summary (repeatable; implies --summary)."
     ),
 ) -> None:
     """Run the product of a spec's parameter lists and seeds; resumable; one Parquet table."""
@@ -70,6 +70,7 @@ def sweep(
     spec = load_sweep_spec(spec_file)
     shapes = mission_shapes(spec.mission, spec_file)
     check_metrics(spec.mission, metric)  # a typo must stop the sweep before its runs
+    summary = summary or bool(metric)  # a metric asked for was silently never shown
     out_dir = out if out is not None else Path(f"{spec_file.stem}-sweep")
     progress = runs_progress("sweep", err_console, detail=True)
     task: TaskID | None = None  # the bar, added once the sweep knows its total
@@ -161,13 +162,11 @@ def print_summary(out_dir: Path, extra_metrics: list[str]) -> None:
     by = [p for p in meta.get("axes", []) if p in columns] or [
         p for p in meta.get("params", []) if p in columns
     ]
-    for m in extra_metrics:
-        if m not in columns:
-            raise InputError(f"--metric: no column {m!r} (have: {', '.join(table.column_names)})")
+    extra = [metric_column(m, columns, meta.get("mission")) for m in extra_metrics]
     metrics = [
         "complete",
         "makespan",
-        *[m for m in extra_metrics if m not in ("complete", "makespan")],
+        *[m for m in extra if m not in ("complete", "makespan")],
     ]
     groups = summarize_groups(rows, by, metrics)
     out = Table(
@@ -200,6 +199,31 @@ def print_summary(out_dir: Path, extra_metrics: list[str]) -> None:
 
 def _value(v: Any) -> str:
     return f"{v:g}" if isinstance(v, float) else str(v)
+
+
+def metric_column(name: str, columns: set[str], mission: Any) -> str:
+    """The table column of ``--metric NAME``.
+
+    ``metrics.NAME`` is accepted before the runs (the column of a metric whose name a
+    parameter took) but is the plain ``NAME`` column when no parameter took it; and a metric
+    the mission declares may be in no row (traversal's solver figures when no run was
+    ``optimal``): its column then shows no value rather than failing after the whole sweep
+    has run. A name that is neither is an InputError listing the columns."""
+    if name in columns:
+        return name
+    bare = name.removeprefix("metrics.")
+    if bare != name and bare in columns:
+        return bare
+    if isinstance(mission, str):
+        from swarmex.missions.registry import get
+
+        try:
+            declared = get(mission).team_metrics()
+        except InputError:  # a plugin mission no longer installed: check nothing more
+            declared = {}
+        if bare in declared:
+            return name  # no row has it: shown as "—"
+    raise InputError(f"--metric: no column {name!r} (have: {', '.join(sorted(columns))})")
 
 
 def _mean_ci(mean: float, half: float) -> str:

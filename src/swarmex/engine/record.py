@@ -164,14 +164,32 @@ class ResultRecord:
         names = [f.name for f in fields(cls) if f.name != "extra"]
         optional = {"wall_seconds", "swarmex_version"}
         missing = [n for n in names if n not in data and n not in optional]
+        if missing and "error" in data and "traceback" in data:  # a sweep's runs/ID.error.json
+            raise InputError(
+                f"not a record but a failed sweep run's error file (it failed with:"
+                f" {str(data['error']).splitlines()[0] if data['error'] else '?'}); run it"
+                " again with swarmex sweep SPEC --retry-failed"
+            )
         if missing:
             raise InputError(f"not a swarmex record: no {', '.join(map(repr, missing))}")
         if not isinstance(data["agents"], list):
             raise InputError("record: 'agents' must be a list of agent objects")
+        for key in ("params", "world", "metrics"):  # read as tables later: say it here
+            if not isinstance(data[key], Mapping):
+                raise InputError(f"record: {key!r} must be a JSON object, got"
+                                 f" {type(data[key]).__name__}")
+        for key in ("mission", "algorithm"):
+            if not isinstance(data[key], str):
+                raise InputError(f"record: {key!r} must be a string, got {data[key]!r}")
         agents = []
         for i, a in enumerate(data["agents"]):
             if not isinstance(a, Mapping) or "id" not in a:
                 raise InputError(f"record: agents[{i}] is not an agent object with an 'id'")
+            if not isinstance(a.get("metrics") or {}, Mapping) or not all(
+                isinstance(a.get(k) or [], list) for k in ("trajectory", "jobs")
+            ):
+                raise InputError(f"record: agents[{i}] needs an object 'metrics' and lists"
+                                 " 'trajectory' and 'jobs'")
             agents.append(AgentRecord(
                 id=a["id"], metrics=dict(a.get("metrics") or {}),
                 trajectory=list(a.get("trajectory") or []), jobs=list(a.get("jobs") or []),
@@ -224,5 +242,11 @@ def read_record(path: str | Path) -> dict[str, Any]:
         return json.loads(Path(path).read_text(encoding="utf-8"))
     except FileNotFoundError:
         raise InputError(f"record not found: {path}") from None
+    except IsADirectoryError:
+        raise InputError(f"{path} is a folder, not a record file") from None
+    except OSError as exc:  # unreadable: permissions, a device
+        raise InputError(f"cannot read the record {path}: {exc.strerror or exc}") from None
+    except UnicodeDecodeError:
+        raise InputError(f"{path} is not a JSON record: not UTF-8 text") from None
     except json.JSONDecodeError as exc:
         raise InputError(f"{path} is not a JSON record: {exc.msg} at line {exc.lineno}") from None

@@ -247,6 +247,29 @@ def read_results(out_dir: str | Path):
 # ---------------------------------------------------------------------------- running
 
 
+def check_values(spec: SweepSpec, runs: list[dict[str, Any]]) -> None:
+    """Parse every distinct value of every parameter with its option's parser, before any
+    run: a value the option refuses (``agents = "three"``, a negative ``loss``) would fail
+    every run it is in the same way, one error row and file each, after the sweep started.
+    Rules that tie parameters together (``Params.check``) and the world's checks stay per
+    run: a bad combination of good values is a failed row, as docs/sweeps.md says."""
+    from swarmex.missions.registry import get
+
+    opts = get(spec.mission).params_type.options()
+    seen: set[tuple[str, str]] = set()
+    for values in runs:
+        for name, value in values.items():
+            info = opts.get(name)
+            key = (name, repr(value))
+            if info is None or value is None or key in seen:
+                continue
+            seen.add(key)
+            try:
+                info.parse(value, info.flag)
+            except InputError as exc:
+                raise InputError(f"{spec.path}: {exc}") from None
+
+
 def run_sweep(
     spec: SweepSpec,
     shapes: dict[str, OptionShape],
@@ -280,6 +303,7 @@ def run_sweep(
     runs = spec.runs()
     by_id = {r.run_id: r for r in runs}
     tasks = {r.run_id: Task(r.index, r.run_id, spec.mission, spec.values(r, shapes)) for r in runs}
+    check_values(spec, [t.values for t in tasks.values()])
     store = SweepStore(out_dir)
     outcomes = store.finished(runs, retry_failed)
     skipped = len(outcomes)

@@ -581,6 +581,13 @@ class Mission(ABC, Generic[P, W]):
     summary: ClassVar[str]  # one line for --help
     params_type: ClassVar[type[Params]]
     time_unit: ClassVar[str]
+    #: For :meth:`rerun_values`: a recorded parameter -> the parameters whose override
+    #: makes it stale. A record holds what the run used, derived values included (nests and
+    #: starts per agent, a drawn food cell) and one of each set of alternatives (``map`` or
+    #: ``grid``): overriding the world or the team must not keep the old world's starts, nor
+    #: pass ``grid`` beside a new ``map``. A stale value is left out (its default, derived
+    #: again), unless the caller gives it too.
+    rerun_replaces: ClassVar[Mapping[str, Collection[str]]] = {}
 
     def __init_subclass__(cls, **kw: Any) -> None:
         """Give the mission and its Params docstrings that list the parameters, so that
@@ -609,7 +616,8 @@ class Mission(ABC, Generic[P, W]):
     ) -> dict[str, Any]:
         """The parameters that run ``record`` again (with its seed): its ``params`` that are
         options of this mission, seed aside. ``given`` names the parameters the caller
-        passes itself (they win, and need not be recoverable from the record).
+        passes itself (they win, and need not be recoverable from the record); a recorded
+        value they make stale (:attr:`rerun_replaces`) is left out.
 
         Why a hook: a record's params are what the run *used*, which is not always what a
         user passes (derived values, other units, the world kept in ``record.world``);
@@ -617,10 +625,12 @@ class Mission(ABC, Generic[P, W]):
         world was given as an object cannot name it: then an InputError asks for it.
         """
         opts = self.params_type.options()
+        overridden = set(given)
+        stale = {k for k, inputs in self.rerun_replaces.items() if overridden & set(inputs)}
         return {
             k: v
             for k, v in record.params.items()
-            if k in opts and k != "seed" and k not in given
+            if k in opts and k != "seed" and k not in overridden and k not in stale
         }
 
     def team_metrics(self) -> Mapping[str, MetricInfo]:
@@ -635,18 +645,26 @@ class Mission(ABC, Generic[P, W]):
     def check_metric(self, name: str, where: str = "--metric") -> None:
         """Raise InputError unless ``name`` is a numeric metric of this mission's records:
         a team metric (or ``metrics.NAME``, the sweep column of one whose name a parameter
-        took), ``complete``, ``makespan`` or ``wall_seconds``. For checking a name before
-        any run; it checks nothing when the mission declares no metrics."""
+        took), ``complete``, ``makespan`` or ``wall_seconds``, or an entry ``NAME.KEY`` of a
+        table metric (a sweep flattens tables into such columns: ``unicasts.sent``; its keys
+        are known only once a run wrote them). For checking a name before any run; it
+        checks nothing when the mission declares no metrics."""
         declared = self.team_metrics()
         if not declared:
             return
-        info = declared.get(name.removeprefix("metrics."))
+        bare = name.removeprefix("metrics.")
+        info = declared.get(bare)
         if name in RECORD_NUMBERS or (info is not None and info.numeric):
             return
+        table = declared.get(bare.split(".", 1)[0])
+        if "." in bare and table is not None and not table.numeric:
+            return
         if info is not None:
+            article = "an" if self.name[:1] in "aeiou" else "a"
             raise InputError(
-                f"{where} {name!r}: a {self.name} record holds it as a list or a table per"
-                f" run, which has no mean; pick a number"
+                f"{where} {name!r}: {article} {self.name} record holds it as a list or a"
+                f" table per run, which has no mean; pick a number (a table's entries are"
+                f" sweep columns {bare}.KEY)"
             )
         known = [*RECORD_NUMBERS, *(k for k, v in declared.items() if v.numeric)]
         close = difflib.get_close_matches(name, known, n=1, cutoff=0.6)

@@ -67,6 +67,7 @@ class ExplorationMission(Mission[ExplorationParams, ExplorationWorld]):
     summary = "Explore an unknown world with a team of laser robots sharing scans over a mesh."
     params_type = ExplorationParams
     time_unit = "step"
+    rerun_replaces = {"starts": ("robots", "map", "empty", "cell")}  # one per robot, in cells
 
     def rerun_values(self, record: ResultRecord, given: Collection[str] = ()) -> dict[str, Any]:
         """The world back from ``record.world`` (an ``--empty`` size or the map file; the

@@ -81,7 +81,9 @@ TEAM_METRICS: dict[str, MetricInfo] = {
     "bytes_sent": MetricInfo("bytes sent, relays included"),
     "messages_lost": MetricInfo("messages the radio dropped (range, loss)"),
     "messages_by_kind": MetricInfo("messages and bytes per message kind", numeric=False),
-    "aodv_messages": MetricInfo("AODV route-discovery messages"),
+    "aodv_messages": MetricInfo(
+        "AODV routing control messages (RREQ, RREP, RERR; also in messages_sent)"
+    ),
     "aodv_bytes": MetricInfo("bytes of those"),
     "unicasts": MetricInfo("multi-hop unicast counters (sent, delivered, expired, …)",
                            numeric=False),

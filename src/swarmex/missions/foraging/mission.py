@@ -59,6 +59,8 @@ class ForagingMission(Mission[ForagingParams, ForagingWorld]):
     summary = "Find food on a g×g grid, spread the word, carry k units home (seed 002)."
     params_type = ForagingParams
     time_unit = "step"
+    # the food cell was drawn from the seed on that grid unless given: draw it again
+    rerun_replaces = {"food": ("food_distance", "grid"), "food_distance": ("food",)}
 
     def rerun_values(self, record: ResultRecord, given: Collection[str] = ()) -> dict[str, Any]:
         """A food band drawn again from the seed, not its drawn cell (the record has both)."""

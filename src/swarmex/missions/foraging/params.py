@@ -122,7 +122,12 @@ class ForagingParams(Params):
         "(knows who already knows; before 25 Nov 2026).",
         parse=text(COMM_RULES, lower=True),
     )
-    food: Cell | None = option(None, help="Food cell x,y.", parse=optional(cell()))
+    food: Cell | None = option(
+        None,
+        help="Food cell x,y (default: drawn from the seed anywhere but the nest, or in"
+        " --food-distance's band).",
+        parse=optional(cell()),
+    )
     food_distance: str | None = option(
         None, help="Band LO-HI (percent of the corner–nest distance).", parse=optional(band())
     )

@@ -58,8 +58,14 @@ TEAM_METRICS: dict[str, MetricInfo] = {
     "deployment_time": MetricInfo(
         "rounds until a synchronised pattern starts exploring (0: not synchronised)"
     ),
-    "all_informed": MetricInfo("whether every robot learnt the food location"),
-    "cells_revisited": MetricInfo("cells walked again before the discovery (wasted search)"),
+    "all_informed": MetricInfo(
+        "whether every robot finished communicating (reached transport) before the last unit"
+        " was home; a robot may know the food and still be false"
+    ),
+    "cells_revisited": MetricInfo(
+        "entries of exploring robots into cells already explored, up to the discovery"
+        " (wasted search; deployment walks excluded)"
+    ),
 }
 
 

@@ -143,6 +143,8 @@ class RoadmapMission(Mission[RoadmapParams, RoadmapWorld]):
     summary = "Coverage or goal search by a team on a WMA-RRT (or PRM) roadmap."
     params_type = RoadmapParams
     time_unit = "step"
+    # one start per agent, and an environment's own goal, belong to the recorded env
+    rerun_replaces = {"starts": ("agents", "env"), "goal": ("env",)}
 
     def rerun_values(self, record: ResultRecord, given: Collection[str] = ()) -> dict[str, Any]:
         """The raster's size back under its option's name (the record says raster_cells)."""

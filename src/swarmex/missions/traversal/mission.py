@@ -221,12 +221,67 @@ def agent_specs(p: TraversalParams, prepared: TraversalWorld) -> list[Any]:
     return specs
 
 
+#: The parameters that make the world; overriding one makes the recorded nests stale.
+_WORLD_KEYS = ("map", "grid", "center", "radius", "nodes_on_edge", "obstacles")
+#: Fleet fields that the record fills in from the option of the same name.
+_FLEET_OPTIONS = ("altitude", "travel_time", "job_time", "up_speed", "down_speed")
+
+
+def _edge_m(params: Mapping[str, Any]) -> float | None:
+    """Metres per grid edge of a record's run, computed as :class:`TraversalWorld` does
+    (``edge_length``, or a GPS grid's nominal 2R / (K - 1)); None without a metric scale."""
+    if params.get("center") is not None:
+        return 2.0 * float(params["radius"]) / (int(params["nodes_on_edge"]) - 1)
+    edge = params.get("edge_length")
+    return None if edge is None else float(edge)
+
+
+def _fleet_row_again(
+    row: Any, edge_m: float | None, params: Mapping[str, Any], given: Collection[str]
+) -> Any:
+    """A record's fleet row as a fleet row to run again.
+
+    The record fills in every field, ``travel_time`` (s per edge) and, with a metric scale,
+    ``travel_speed`` (m/s) both, and a fleet may give only one: keep the one that gives back
+    both recorded numbers exactly (the speed, unless the row's time was given: the speed
+    then was edge / time, and edge / speed need not round back to the time). A field filled
+    in from an option the caller overrides (its value is the option's recorded one) is left
+    out so that it takes the new value, and so is the nest when the world is overridden.
+    """
+    if not isinstance(row, dict):
+        return row
+    out = dict(row)
+    if set(given) & set(_WORLD_KEYS):
+        out.pop("nest", None)
+    for key in _FLEET_OPTIONS:
+        if key in given and key in out and out[key] == params.get(key):
+            out.pop(key)
+            if key == "travel_time":
+                out.pop("travel_speed", None)
+    if out.get("travel_speed") is None or out.get("travel_time") is None or edge_m is None:
+        return out
+    if edge_m / out["travel_speed"] == out["travel_time"]:
+        out.pop("travel_time")
+    else:
+        out.pop("travel_speed")
+    return out
+
+
 class TraversalMission(Mission[TraversalParams, TraversalWorld]):
     name = "traversal"
     command = "traverse"
     summary = "Every agent does a job at every free cell (seed 000, MADGTA and baselines)."
     params_type = TraversalParams
     time_unit = "s"
+    rerun_replaces = {
+        "map": ("grid", "center"),
+        "grid": ("map", "center"),
+        "center": ("map", "grid"),
+        "radius": ("map", "grid"),
+        "nodes_on_edge": ("map", "grid"),
+        "edge_length": ("center",),
+        "nests": _WORLD_KEYS,  # the default nest is the world's first free cell
+    }
 
     def rerun_values(self, record: ResultRecord, given: Collection[str] = ()) -> dict[str, Any]:
         """A run on a world object (``map=GridWorld``, ``swarmex demo``) cannot be named by
@@ -237,6 +292,11 @@ class TraversalMission(Mission[TraversalParams, TraversalWorld]):
                 f"this record's world was given as an object ({record.params['generated']}):"
                 " pass it again, e.g. swarmex.rerun(record, map=world)"
             )
+        if isinstance(values.get("fleet"), list):
+            values["fleet"] = [
+                _fleet_row_again(row, _edge_m(record.params), record.params, given)
+                for row in values["fleet"]
+            ]
         return values
 
     def team_metrics(self) -> Mapping[str, MetricInfo]:
