@@ -27,6 +27,13 @@ the agent's own belief only, and keeps each agent to its own part:
    the same place (a shared nest before it disperses: their parts would be arbitrary), gives
    MADGTA's own decision.
 3. **The end game** is madgta-p's, unchanged (its fallbacks are MADGTA, not the partition).
+4. **Optional size gate** (``tip_per_agent``, off by default, screened at 60; selected in
+   the benches as ``madgta-k@tip_per_agent=60``): while the belief holds more than
+   ``tip_per_agent`` x (agents + 1) vacant vertices the sweep is MADGTA with the dead-end
+   tip rule (:meth:`PartSweep.tip_decision`) instead of the partition. It only acts on
+   large maps (random-64-64-20, the warehouse), where the partition does nothing
+   measurable and MADGTA leaves the tips of dead ends behind; on the 32 x 32 and 16 x 16
+   maps the gate never opens and the runs are madgta-k's.
 
 Choices, and why (screened on 16 identical agents, both nest modes, seeds 0-3 of
 docs/traversal-variants.md §1 on empty-16-16, random-32-32-20 and room-32-32-4: 24 runs,
