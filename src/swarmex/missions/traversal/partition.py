@@ -69,7 +69,12 @@ both nest modes, 80 paired runs): makespan -1.95 % ± 0.53 % against MADGTA (mad
 and nest row. The gain is on the small crowded maps (against madgta-p: random-32-32-20
 -0.96 %, room-32-32-4 -1.43 %); on random-64-64-20 and the warehouse it is noise (+0.13 %,
 +0.01 %). Issue 17's -3 % is not reached. On the 32 gap instances (at most 16 vertices,
-always the end game) it is madgta-p, run for run.
+always the end game) it is madgta-p, run for run. With the size gate
+(``tip_per_agent=60``; the same 80 runs, the small maps' runs unchanged): -2.23 % ± 0.50 %
+against MADGTA and -0.27 % ± 0.15 % against madgta-k (random-64-64-20 -1.01 %, warehouse
+-0.36 %), no map and nest row above MADGTA. A truly balanced partition (a capacitated
+assignment instead of the weights) was as good as the weights, not better, at 2-3 times
+the CPU on the large maps (docs/traversal-variants.md §6, "Tried and not kept").
 
 Cost
 ----
@@ -78,7 +83,10 @@ already keeps) and up to 40 rounds over (vacant vertices x agents). CPU per run 
 agents: 0.95 s on empty-16-16, 3.0 s on random-32-32-20, 3.5 s on room-32-32-4, 17 s on
 random-64-64-20 and 40 s on warehouse-10-20-10-2-1 in the results' bench (madgta-p:
 0.95-7.4 s); with the costs gathered once per decision (the same runs, bit for bit) 12 s
-and 28.5 s on the two large maps (4 runs each). No message is added.
+and 28.5 s on the two large maps (4 runs each). With the size gate the partition runs
+less often: 6.2 s and 8.9 s per run there (madgta-k in the same bench: 14.4 s, 28.0 s);
+the tip rule itself looks at the neighbours of the few vacant neighbours. No message is
+added.
 """
 
 from __future__ import annotations
