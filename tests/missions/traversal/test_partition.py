@@ -158,3 +158,96 @@ def test_compiled_and_interpreted_give_the_same_run(tmp_path):
     print(json.dumps([run.path_strings(), run_metrics(run, 1.0)[0]["max_total_time"]]))
     """
     jit_and_python_agree(code, tmp_path)
+
+
+# ---------------------------------------------------------------- the size gate (tip rule)
+
+
+def _dead_end_belief():
+    """A 4 x 3 grid (vertex = 4y + x), wall 0 known; agent 1 at 5 has done 5, 1 and 9;
+    agent 2 stands at 8, done. Agent 1's vacant neighbours are 4 and 6. Vertex 4 is a tip
+    (besides 5 its neighbours are the wall 0 and the done 8: no vacant one); 6 is not (2
+    and 7 are vacant). Vacant in the belief: 2, 3, 4, 6, 7, 10, 11 (seven)."""
+    from swarmex.missions.traversal.belief import TraversalBelief
+    from swarmex.planning.fieldcache import KnownGraph
+    from swarmex.worlds import empty_grid
+
+    world = empty_grid(4, 3)
+    belief = TraversalBelief(1, 2, KnownGraph(world.graph), np.array([0.0, 2.0, 2.0]),
+                             np.array([0.0, 9.0, 9.0]))
+    belief.see_obstacles([0])
+    for v, by in ((5, 1), (1, 1), (9, 1), (8, 2)):
+        belief.mark_done(v, by)
+    belief.loc[1], belief.loc[2] = 5, 8
+    return belief
+
+
+def test_tip_rule_takes_the_dead_end_where_madgta_spreads_away():
+    """MADGTA's max-min: 4 is 1 hop from the rival, 6 is 3 (8-9-10-6), both 1 from agent 1,
+    so util(4) = 0 and util(6) = 2 x 2 s: MADGTA moves to 6. With the gate open (7 vacant
+    > 2 x 3 rows), the tip rule keeps only 4. At 3 per agent (9 >= 7) the gate is shut and
+    the decision is madgta-k's partition sweep's, as without the option."""
+    from swarmex.missions.traversal.policies import Madgta
+
+    rng = np.random.default_rng(0)
+    assert Madgta().decide(_dead_end_belief(), rng) == pt.Decision("move", 6, 6, 2)
+    tip = pt.PartSweep(tip_per_agent=2)
+    assert tip.decide(_dead_end_belief(), rng) == pt.Decision("move", 4, 4, 2)
+    assert tip.tipped == 1 and tip.parted == 0
+    shut = pt.PartSweep(tip_per_agent=3)
+    assert (shut.decide(_dead_end_belief(), rng)
+            == pt.PartSweep().decide(_dead_end_belief(), rng))
+    assert shut.tipped == 0 and shut.parted == 1
+
+
+def test_tip_rule_leaves_madgta_alone_when_every_or_no_neighbour_is_a_tip():
+    """If 6 is a tip too (2 and 7 done: one vacant neighbour left, 10), both neighbours are
+    tips and MADGTA decides (6). With no wall known (an open lattice) the rule is off."""
+    belief = _dead_end_belief()
+    belief.mark_done(2, 1)
+    belief.mark_done(7, 1)
+    tip = pt.PartSweep(tip_per_agent=0)
+    assert tip.decide(belief, np.random.default_rng(0)) == pt.Decision("move", 6, 6, 2)
+    assert tip.tipped == 0
+    # no wall known: corner 0 would be a tip for an agent at 1 (its only other neighbour
+    # is 4), but on an open lattice the rule does not apply
+    from swarmex.missions.traversal.belief import TraversalBelief
+    from swarmex.planning.fieldcache import KnownGraph
+    from swarmex.worlds import empty_grid
+
+    open_ = TraversalBelief(1, 1, KnownGraph(empty_grid(4, 3).graph), np.array([0.0, 2.0]),
+                            np.array([0.0, 9.0]))
+    open_.loc[1] = 1
+    open_.mark_done(1, 1)
+    tip.decide(open_, np.random.default_rng(0))
+    assert tip.tipped == 0
+    open_.see_obstacles([11])  # a wall far away: now the rule applies and takes 0
+    assert tip.decide(open_, np.random.default_rng(0)) == pt.Decision("move", 0, 0, 2)
+    assert tip.tipped == 1
+
+
+def test_tip_gate_option_selects_and_defaults_off():
+    assert pt.MadgtaK().sweep.tip_per_agent is None
+    assert pt.MadgtaK(tip_per_agent=60).sweep.tip_per_agent == 60
+    with pytest.raises(ValueError):
+        pt.MadgtaK(tip_per_agent=-1)
+
+
+class _TipGate(pt.PartSweep):
+    """The sweep with the gate always open on a small map (checking() builds it bare)."""
+
+    def __init__(self) -> None:
+        super().__init__(tip_per_agent=0)
+
+
+def test_tip_gate_completes_and_is_deterministic():
+    world = random_obstacles(14, 14, 0.25, seed=4)
+    free = np.nonzero(~world.blocked)[0]
+    spy = checking(_TipGate, 60)
+    run = run_traversal(world, uniform_agents([int(v) for v in free[:50:10]], 2.0, 9.0), spy,
+                        seed=4)
+    assert run.complete and spy.checked > 20 and spy.tipped > 0
+    assert np.all(run.job_count[run.reachable] >= 1)
+    again = run_traversal(world, uniform_agents([int(v) for v in free[:50:10]], 2.0, 9.0),
+                          _TipGate(), seed=4)
+    assert again.path_strings() == run.path_strings()

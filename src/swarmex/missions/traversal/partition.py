@@ -27,6 +27,13 @@ the agent's own belief only, and keeps each agent to its own part:
    the same place (a shared nest before it disperses: their parts would be arbitrary), gives
    MADGTA's own decision.
 3. **The end game** is madgta-p's, unchanged (its fallbacks are MADGTA, not the partition).
+4. **Optional size gate** (``tip_per_agent``, off by default, screened at 60; selected in
+   the benches as ``madgta-k@tip_per_agent=60``): while the belief holds more than
+   ``tip_per_agent`` x (agents + 1) vacant vertices the sweep is MADGTA with the dead-end
+   tip rule (:meth:`PartSweep.tip_decision`) instead of the partition. It only acts on
+   large maps (random-64-64-20, the warehouse), where the partition does nothing
+   measurable and MADGTA leaves the tips of dead ends behind; on the 32 x 32 and 16 x 16
+   maps the gate never opens and the runs are madgta-k's.
 
 Choices, and why (screened on 16 identical agents, both nest modes, seeds 0-3 of
 docs/traversal-variants.md §1 on empty-16-16, random-32-32-20 and room-32-32-4: 24 runs,
@@ -62,7 +69,12 @@ both nest modes, 80 paired runs): makespan -1.95 % ± 0.53 % against MADGTA (mad
 and nest row. The gain is on the small crowded maps (against madgta-p: random-32-32-20
 -0.96 %, room-32-32-4 -1.43 %); on random-64-64-20 and the warehouse it is noise (+0.13 %,
 +0.01 %). Issue 17's -3 % is not reached. On the 32 gap instances (at most 16 vertices,
-always the end game) it is madgta-p, run for run.
+always the end game) it is madgta-p, run for run. With the size gate
+(``tip_per_agent=60``; the same 80 runs, the small maps' runs unchanged): -2.23 % ± 0.50 %
+against MADGTA and -0.27 % ± 0.15 % against madgta-k (random-64-64-20 -1.01 %, warehouse
+-0.36 %), no map and nest row above MADGTA. A truly balanced partition (a capacitated
+assignment instead of the weights) was as good as the weights, not better, at 2-3 times
+the CPU on the large maps (docs/traversal-variants.md §6, "Tried and not kept").
 
 Cost
 ----
@@ -71,7 +83,10 @@ already keeps) and up to 40 rounds over (vacant vertices x agents). CPU per run 
 agents: 0.95 s on empty-16-16, 3.0 s on random-32-32-20, 3.5 s on room-32-32-4, 17 s on
 random-64-64-20 and 40 s on warehouse-10-20-10-2-1 in the results' bench (madgta-p:
 0.95-7.4 s); with the costs gathered once per decision (the same runs, bit for bit) 12 s
-and 28.5 s on the two large maps (4 runs each). No message is added.
+and 28.5 s on the two large maps (4 runs each). With the size gate the partition runs
+less often: 6.2 s and 8.9 s per run there (madgta-k in the same bench: 14.4 s, 28.0 s);
+the tip rule itself looks at the neighbours of the few vacant neighbours. No message is
+added.
 """
 
 from __future__ import annotations
@@ -81,7 +96,14 @@ from numpy.typing import NDArray
 
 from swarmex._kernels import kernel
 from swarmex.missions.traversal.belief import TraversalBelief
-from swarmex.missions.traversal.policies import POLICIES, Decision, Madgta, _pick
+from swarmex.missions.traversal.policies import (
+    POLICIES,
+    Decision,
+    Madgta,
+    _pick,
+    _sorted_unique,
+    get_best_node,
+)
 from swarmex.missions.traversal.teamplan import MadgtaP
 
 #: the hop count standing for "unreachable" in the partition's costs
@@ -186,20 +208,28 @@ def parts(
 class PartSweep(Madgta):
     """MADGTA kept to the agent's own part of a balanced partition of the vacant vertices,
     recomputed from the belief at every decision (the sweep of ``madgta-k``; see the module
-    docstring). ``rounds``: of the weight balancing."""
+    docstring). ``rounds``: of the weight balancing. ``tip_per_agent``: the size gate (see
+    :meth:`tip_decision`; None, the default: off)."""
 
     name = "madgta-k-sweep"
 
-    def __init__(self, rounds: int = 40) -> None:
+    def __init__(self, rounds: int = 40, tip_per_agent: int | None = None) -> None:
         if rounds < 1:
             raise ValueError(f"rounds must be >= 1, got {rounds}")
+        if tip_per_agent is not None and tip_per_agent < 0:
+            raise ValueError(f"tip_per_agent must be >= 0 or None, got {tip_per_agent}")
         self.rounds = rounds
+        self.tip_per_agent = tip_per_agent
         self.parted = 0  # decisions taken in the agent's own part (for the benches)
+        self.tipped = 0  # decisions the dead-end tip rule made (for the benches)
 
     def decide(self, belief: TraversalBelief, rng: np.random.Generator) -> Decision:
         here = belief.here
         if not belief.in_km(here):
             return Decision("job", here, here, 1)
+        gate = self.tip_per_agent
+        if gate is not None and int((~belief.km_mask()).sum()) > gate * belief.loc.size:
+            return self.tip_decision(belief, rng)
         places = _places(belief)
         src = places[1]
         if np.unique(src).size < src.size:  # agents at one place: arbitrary parts
@@ -227,21 +257,75 @@ class PartSweep(Madgta):
         steps = known.first_steps(known.slot(here), f)
         return Decision("move", _pick(steps, rng), f, 3)
 
+    def tip_decision(self, belief: TraversalBelief, rng: np.random.Generator) -> Decision:
+        """MADGTA with the dead-end tip rule in front of branch 2: the sweep above the size
+        gate (``tip_per_agent``; docs/traversal-variants.md §6).
+
+        A *tip* is a vacant neighbour with at most one vacant neighbour of its own besides
+        the agent's vertex (unknown cells count as vacant, known walls and KM do not): the
+        end of a dead end or of a 1-wide spur. When some but not all of the vacant
+        neighbours are tips, MADGTA's max-min chooses among the tips (the same utilities
+        and draws); otherwise MADGTA decides as it always does. Why: on the large maps
+        MADGTA leaves such cells behind, and an agent comes back for each later (a trip of
+        many moves without a job); taking them while passing removes 90-180 of those moves
+        per run. Why only while the belief holds more than ``tip_per_agent`` x (agents + 1)
+        vacant vertices (not done, not claimed by a rival, unknown cells counted; the
+        screening wrote it as the rows of ``belief.loc``, 1020 for 16 agents with 60): the
+        rule breaks MADGTA's spreading away from the rivals, which is what matters on the
+        small crowded maps and later on, where madgta-k's partition does the work; on
+        the 32 x 32 and 16 x 16 maps the gate never opens. Not on an open lattice (no wall
+        known yet): the rule was screened that way, and there the only tips are the grid's
+        own corners.
+        """
+        known = belief.known
+        here = belief.here
+        if not known.open_lattice:
+            g = belief.graph
+            nbrs = g.neighbors(here)
+            vac = nbrs[~belief.km_at(nbrs)]
+            if vac.size > 1:
+                vac = _sorted_unique(vac)
+                keep = np.zeros(vac.size, dtype=bool)
+                for i, c in enumerate(vac.tolist()):
+                    around = g.neighbors(c)
+                    around = around[around != here]
+                    keep[i] = int((~belief.km_at(around)).sum()) <= 1
+                tips = vac[keep]
+                if 0 < tips.size < vac.size:
+                    self.tipped += 1
+                    if tips.size == 1:
+                        v = int(tips[0])
+                    elif known.uniform:  # the compiled utilities, as branch 2's own
+                        util = self._utility_matrix(belief, tips, belief.rivals(),
+                                                    float(belief.job_time[belief.me]))
+                        v = get_best_node(tips, util, rng)
+                    else:
+                        v = self.best(belief, tips, rng)
+                    return Decision("move", v, v, 2)
+        return Madgta.decide(self, belief, rng)
+
 
 class MadgtaK(MadgtaP):
     """:class:`PartSweep` before the end game, madgta-p in it (see the module docstring).
 
-    ``rounds``: of the partition's weight balancing. Every other keyword is madgta-p's
-    (``max_vacant``, ``passes``, ...) and madgta-r's.
+    ``rounds``: of the partition's weight balancing. ``tip_per_agent``: the size gate of
+    :meth:`PartSweep.tip_decision` (MADGTA with the dead-end tip rule instead of the
+    partition while more than ``tip_per_agent`` x (agents + 1) vertices are vacant; None,
+    the default, keeps madgta-k's runs as they were; 60 is the screened value). It is a
+    keyword, not a new algorithm name, because it is one constant fitted to two map sizes
+    (docs/traversal-variants.md §6) and the benches select it as
+    ``madgta-k@tip_per_agent=60``. Every other keyword is madgta-p's (``max_vacant``,
+    ``passes``, ...) and madgta-r's.
     """
 
     name = "madgta-k"
 
-    def __init__(self, rounds: int = 40, **teamplan: object) -> None:
+    def __init__(self, rounds: int = 40, tip_per_agent: int | None = None,
+                 **teamplan: object) -> None:
         super().__init__(**teamplan)  # type: ignore[arg-type]
         # madgta-r's own gate hands every decision before the end game to the sweep; its
         # other fallbacks (an end game with too few candidates) stay MADGTA
-        self.sweep: PartSweep = PartSweep(rounds)
+        self.sweep: PartSweep = PartSweep(rounds, tip_per_agent)
 
 
 POLICIES[MadgtaK.name] = MadgtaK
