@@ -598,6 +598,17 @@ def warm_up() -> None:
     free[1, 1:3] = False
     world = GridWorld(free, 4, source="warm-up")
     run_inprocess(Mission(world, uniform_agents([0, 0, 15], 1.0, 1.0), seed=1))
+    # and a team leaving one nest on an open grid: branch 3's far choice on the lattice
+    # (its block tree), which the walled 4x4 never reaches; compiled at the first far
+    # decision, it silenced every agent of a mission for ~3 s on a cold cache
+    open_world = GridWorld(np.ones((6, 6), dtype=bool), 4, source="warm-up")
+    run_inprocess(Mission(open_world, uniform_agents([0, 0, 0], 2.0, 9.0), seed=1))
+    # and walls found late by agents from their own nests: the field cache's repair of a
+    # tiled distance row (tests/net/test_warm_up.py checks that nothing is left to compile)
+    walled = np.ones((6, 6), dtype=bool)
+    walled[[2, 3, 1], [2, 3, 4]] = False
+    run_inprocess(Mission(GridWorld(walled, 4, source="warm-up"),
+                          uniform_agents([0, 5, 30], 2.0, 9.0), seed=1))
 
 
 # ---------------------------------------------------------------------------- server side
