@@ -28,9 +28,16 @@ def _exponent(xs: list[float], ys: list[float]) -> float:
 
 
 def _cpu_per_step(mission: str, steps, **kw) -> float:
-    t = time.process_time()
-    rec = swarmex.run(mission, trace=False, **kw)
-    return (time.process_time() - t) / max(steps(rec), 1)
+    """The least of two runs' CPU per step. One CI run measured the largest roadmap at 3x
+    the others' cost per step (a false exponent of 0.77) and did not repeat it; a one-off
+    cost inside the process (a kernel compiled on first use, a garbage collection of an
+    earlier test's objects) lands in one run, and the least of two is the run's own cost."""
+    costs = []
+    for _ in range(2):
+        t = time.process_time()
+        rec = swarmex.run(mission, trace=False, **kw)
+        costs.append((time.process_time() - t) / max(steps(rec), 1))
+    return min(costs)
 
 
 def test_traversal_fields_per_job_do_not_grow_with_the_map():
