@@ -6,7 +6,9 @@ On a fresh install (a cold cache) the far choice of MADGTA's branch 3 compiled a
 far decision (~3 s of CPU) and every agent of a hybrid mission "fell silent". The check runs
 in a child with an empty numba cache, so kernels this test process already compiled cannot
 hide a gap: after ``warm_up()``, missions of the shapes the tests and docs fly (walls, an
-open grid, one shared nest, own nests) must compile nothing.
+open grid, one shared nest, own nests) must compile nothing, under every served algorithm
+(an agent learns the algorithm only after it connects; madgta-r used to compile ~8 s of
+kernels at its first end-game decision, madgta-p ~5 s).
 """
 
 from __future__ import annotations
@@ -47,6 +49,12 @@ for x, y in [(2, 2), (3, 3), (4, 1)]:
 for free, nests in ((walls, [0, 0, 0]), (np.ones((8, 7), dtype=bool), [0, 0, 0, 0]),
                     (walls, [0, 5, 30])):
     run_inprocess(Mission(GridWorld(free), uniform_agents(nests, 2.22, 10.0), seed=7))
+big = np.ones((16, 16), dtype=bool)  # 256 vertices: madgta-k's sweep before its end game
+big[5, 3:12] = False
+for algorithm in ("madgta+", "madgta-r", "madgta-p", "madgta-k", "nearest"):
+    for free in (walls, big):
+        run_inprocess(Mission(GridWorld(free), uniform_agents([0, 0, 0], 2.22, 10.0), seed=7,
+                              algorithm=algorithm))
 print(json.dumps(compiled[before:]))
 """
 

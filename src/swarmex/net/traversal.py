@@ -588,6 +588,11 @@ def run_inprocess(
     return cores, recorder
 
 
+#: the served algorithms other than MADGTA (madgta-h is not served): each has kernels of
+#: its own, or calls MADGTA's with other types
+WARMED_POLICIES = ("madgta+", "madgta-r", "madgta-p", "madgta-k", "nearest")
+
+
 def warm_up() -> None:
     """A tiny mission in process, so the compiled kernels of every MADGTA branch are loaded
     before this process talks to anyone (a first call can take seconds, long enough to miss
@@ -609,6 +614,26 @@ def warm_up() -> None:
     walled[[2, 3, 1], [2, 3, 4]] = False
     run_inprocess(Mission(GridWorld(walled, 4, source="warm-up"),
                           uniform_agents([0, 5, 30], 2.0, 9.0), seed=1))
+    # the agent learns the mission's algorithm only after it connects, so the served
+    # policies with kernels of their own are warmed too: every one on the walled 6x6 (all
+    # end game for the rollouts and team plans), and on a 10x10 with a wall (hop rows read
+    # through the field cache, not the lattice's closed form) madgta+, nearest and madgta-k's
+    # sweep, with a short end game to keep this cheap. On a cold cache madgta-r compiled
+    # ~8 s of kernels at its first end-game decision and madgta-p ~5 s, holding the GIL
+    from swarmex.missions.traversal.policies import POLICIES
+    from swarmex.missions.traversal.sim import run_traversal
+
+    for name in WARMED_POLICIES:
+        run_inprocess(Mission(GridWorld(walled, 4, source="warm-up"),
+                              uniform_agents([0, 0, 0], 2.0, 9.0), seed=1, algorithm=name))
+    big = np.ones((10, 10), dtype=bool)
+    big[4, 2:8] = False
+    world = GridWorld(big, 4, source="warm-up")
+    for name in ("madgta+", "nearest"):
+        run_inprocess(Mission(world, uniform_agents([0, 0, 0], 2.0, 9.0), seed=1,
+                              algorithm=name))
+    sweep = POLICIES["madgta-k"](max_vacant=20)  # type: ignore[call-arg]
+    run_traversal(world, uniform_agents([0, 0, 0], 2.0, 9.0), algorithm=sweep, seed=1)
 
 
 # ---------------------------------------------------------------------------- server side
