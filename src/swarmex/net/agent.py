@@ -51,6 +51,7 @@ from swarmex.net.traversal import (
     catch_up,
     check_broadcast,
     ends_step,
+    warm_policy,
     warm_up,
 )
 from swarmex.net.vehicle import (
@@ -249,6 +250,9 @@ class AgentClient:
         mission = Mission.from_wire(data)
         if not 1 <= self.id <= mission.n_agents:
             raise wire.EncodingError("mission data without my id")
+        # the algorithm's own kernels, now that it is known and before C01: the server
+        # allows an agent not yet armed its init timeout, not --dead-after
+        warm_policy(mission.algorithm)
         self.mission = mission
         self.core = AgentCore(mission, self.id)
         self.replica = Replica(mission)

@@ -70,6 +70,7 @@ done from the next list it hears instead of doing it again.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field, replace
 from typing import Any
@@ -588,11 +589,6 @@ def run_inprocess(
     return cores, recorder
 
 
-#: the served algorithms other than MADGTA (madgta-h is not served): each has kernels of
-#: its own, or calls MADGTA's with other types
-WARMED_POLICIES = ("madgta+", "madgta-r", "madgta-p", "madgta-k", "nearest")
-
-
 def warm_up() -> None:
     """A tiny mission in process, so the compiled kernels of every MADGTA branch are loaded
     before this process talks to anyone (a first call can take seconds, long enough to miss
@@ -614,26 +610,42 @@ def warm_up() -> None:
     walled[[2, 3, 1], [2, 3, 4]] = False
     run_inprocess(Mission(GridWorld(walled, 4, source="warm-up"),
                           uniform_agents([0, 5, 30], 2.0, 9.0), seed=1))
-    # the agent learns the mission's algorithm only after it connects, so the served
-    # policies with kernels of their own are warmed too: every one on the walled 6x6 (all
-    # end game for the rollouts and team plans), and on a 10x10 with a wall (hop rows read
-    # through the field cache, not the lattice's closed form) madgta+, nearest and madgta-k's
-    # sweep, with a short end game to keep this cheap. On a cold cache madgta-r compiled
-    # ~8 s of kernels at its first end-game decision and madgta-p ~5 s, holding the GIL
+
+
+@functools.cache
+def warm_policy(algorithm: str) -> None:
+    """The kernels of a served algorithm other than MADGTA, compiled or loaded once per
+    process. The agent calls it when the mission data names the algorithm, before it
+    answers (C01): the server gives an agent that is not yet armed ``init_timeout`` (60 s),
+    not ``--dead-after`` (2 s). On a cold cache madgta-r compiled ~8 s of kernels at its
+    first end-game decision and madgta-p ~5 s, holding the GIL, so the server declared the
+    agents gone; compiling every algorithm's kernels before connecting instead doubled the
+    first start of every agent (tests/net/test_warm_up.py checks both warm-ups).
+
+    The walled 6x6 is all end game for the rollouts and team plans; the 10x10 with a wall
+    reads hop rows through the field cache (not the lattice's closed form), where madgta+
+    and nearest call kernels of their own, and gives madgta-k's sweep a turn before a short
+    end game.
+    """
+    if algorithm == "madgta":
+        return
+    from swarmex.missions.traversal.agents import uniform_agents
     from swarmex.missions.traversal.policies import POLICIES
     from swarmex.missions.traversal.sim import run_traversal
 
-    for name in WARMED_POLICIES:
-        run_inprocess(Mission(GridWorld(walled, 4, source="warm-up"),
-                              uniform_agents([0, 0, 0], 2.0, 9.0), seed=1, algorithm=name))
+    team = uniform_agents([0, 0, 0], 2.0, 9.0)
+    walled = np.ones((6, 6), dtype=bool)
+    walled[[2, 3, 1], [2, 3, 4]] = False
+    run_inprocess(Mission(GridWorld(walled, 4, source="warm-up"), team, seed=1,
+                          algorithm=algorithm))
     big = np.ones((10, 10), dtype=bool)
     big[4, 2:8] = False
     world = GridWorld(big, 4, source="warm-up")
-    for name in ("madgta+", "nearest"):
-        run_inprocess(Mission(world, uniform_agents([0, 0, 0], 2.0, 9.0), seed=1,
-                              algorithm=name))
-    sweep = POLICIES["madgta-k"](max_vacant=20)  # type: ignore[call-arg]
-    run_traversal(world, uniform_agents([0, 0, 0], 2.0, 9.0), algorithm=sweep, seed=1)
+    if algorithm == "madgta-k":
+        sweep = POLICIES["madgta-k"](max_vacant=20)  # type: ignore[call-arg]
+        run_traversal(world, team, algorithm=sweep, seed=1)
+    elif algorithm in ("madgta+", "nearest"):
+        run_inprocess(Mission(world, team, seed=1, algorithm=algorithm))
 
 
 # ---------------------------------------------------------------------------- server side
