@@ -121,13 +121,13 @@ def run(
     ``swarmex COMMAND ... --json`` writes for the same options and seed, ``wall_seconds``
     aside.
     """
+    from swarmex.missions.base import check_seed
     from swarmex.missions.registry import get
 
     m = get(mission)
     if "seed" in params:
         raise InputError("give the seed once, as seed=")
-    if seed is None:  # numpy's "fresh entropy"; here it silently meant the default seed 0
-        raise InputError("seed=None: every swarmex run is reproducible; give an integer >= 0")
+    check_seed(seed)
     p = m.params({**params, "seed": seed})
     return m.run(p, on_frame=on_frame, trace=trace).record
 
@@ -151,63 +151,10 @@ def rerun(
     ``swarmex rerun FILE`` does this from the shell and says whether the record came out the
     same.
     """
-    from pathlib import Path
+    from swarmex.experiments.rerun import load_record, rerun_record
 
-    from swarmex.engine.record import ResultRecord, read_record
-    from swarmex.missions.registry import get
-
-    folder = None
-    if isinstance(record, str | PathLike):
-        folder = Path(fspath(record)).absolute().parent
-        record = read_record(fspath(record))
-    rec = record if isinstance(record, ResultRecord) else ResultRecord.from_dict(record)
-    m = get(rec.mission)
-    seed = overrides.pop("seed", rec.seed)  # another seed: the same setting, drawn again
-    values = m.rerun_values(rec, given=overrides.keys())
-    moved = _find_inputs(m, values, folder)
-    if trace is None:  # as the record was made: trace=False leaves every agent's trace empty
-        trace = not rec.agents or any(a.trajectory or a.jobs for a in rec.agents)
-    new = run(rec.mission, seed=seed, on_frame=on_frame, trace=trace,
-              **{**values, **overrides})
-    for recorded, found in moved.items():  # the record names the file as the first run did
-        for part in (new.params, new.world):
-            for key, value in part.items():
-                if value == found:
-                    part[key] = recorded
-    return new
-
-
-def _find_inputs(m: Any, values: dict[str, Any], folder: Any) -> dict[str, str]:
-    """Find the input files (maps, environments) a record names by a relative path.
-
-    A relative path in a record is relative to the folder the run started in, which a record
-    does not hold (``swarmex run`` and sweeps write paths relative to it too). Rerun from
-    elsewhere, the file is looked for from here, then from the record file's folder and each
-    folder above it (a record usually lies below where its run started). Changes ``values``
-    in place and returns recorded -> found, to respell the new record as the old one.
-    Raises InputError, naming the file and what to do, when it is nowhere."""
-    from pathlib import Path
-
-    moved: dict[str, str] = {}
-    for name, info in m.params_type.options().items():
-        value = values.get(name)
-        if info.kind is not Path or not isinstance(value, str) or not value:
-            continue
-        given = Path(value).expanduser()
-        if given.is_absolute() or given.exists():
-            continue
-        places = [folder, *folder.parents] if folder is not None else []
-        found = next((d / given for d in places if (d / given).exists()), None)
-        if found is None:
-            where = " or from the record's folder and those above it" if places else ""
-            raise InputError(
-                f"the record's {name} {value!r} is not found from here{where} (a relative"
-                f" path is taken from the folder its run started in: rerun there, or give"
-                f" {name}= again; a world given as an object: {name}=world)"
-            )
-        values[name] = str(found)
-        moved[value] = str(found)
-    return moved
+    rec, folder = load_record(record)
+    return rerun_record(rec, folder, overrides, on_frame=on_frame, trace=trace)
 
 
 def sweep(
@@ -245,53 +192,14 @@ def sweep(
 
     from swarmex.experiments.scenario import mission_shapes
     from swarmex.experiments.sweep import read_results, run_sweep
-    from swarmex.experiments.sweep_spec import parse_sweep_spec
+    from swarmex.experiments.sweep_spec import spec_from_keywords
 
-    data: dict[str, Any] = {"mission": mission, "seeds": _spec_value(seeds, "seeds")}
-    shared = {k: _spec_value(v, k) for k, v in (fixed or {}).items()}
-    for key, value in axes.items():
-        if value is None:  # as in swarmex.run: the parameter's default
-            continue
-        if isinstance(value, tuple):  # one value that is a sequence: grid=(8, 8)
-            shared[key] = _spec_value(value, key)
-        else:
-            data[key] = _spec_value(value, key)
-    if shared:
-        data["fixed"] = shared
-    spec = parse_sweep_spec(data, Path("swarmex.sweep"))
+    spec = spec_from_keywords(mission, seeds, fixed or {}, axes)
     result = run_sweep(
         spec, mission_shapes(mission), Path(fspath(out)), backend=backend, workers=workers,
         retry_failed=retry_failed,
     )
     return read_results(result.out_dir)[0]
-
-
-def _spec_value(value: Any, key: str) -> Any:
-    """A Python value as a sweep spec holds it (TOML's types): paths as text, tuples and
-    ranges as lists. A world object cannot be swept: runs are named by their values' JSON."""
-    if isinstance(value, PathLike):
-        return fspath(value)
-    if isinstance(value, tuple | list | range):
-        return [_spec_value(v, key) for v in value]
-    if isinstance(value, Mapping):  # a spec value is never a table (runs are named by them)
-        raise InputError(
-            f"swarmex.sweep: {key}: a dict cannot be a sweep value; give it as a file (a"
-            f" fleet: fleet='fleet.toml', its [[agents]] tables)"
-        )
-    if isinstance(value, str | int | float | bool):
-        return value
-    if value is None:
-        raise InputError(
-            f"swarmex.sweep: {key}: None cannot be one of a sweep's values (a spec is TOML,"
-            " which has no null); leave the parameter out for its default"
-        )
-    tolist = getattr(value, "tolist", None)  # numpy scalars and arrays
-    if callable(tolist):
-        return _spec_value(tolist(), key)
-    raise InputError(
-        f"swarmex.sweep: {key}={value!r} cannot be swept (give a file path, or use swarmex.run"
-        " for a world object)"
-    )
 
 
 def describe(mission: str) -> str:

@@ -30,17 +30,18 @@ def rerun(
     ),
 ) -> None:
     """Run a record again (same mission, parameters, seed); exit 1 if it comes out different."""
-    import swarmex
-    from swarmex.engine.record import ResultRecord, read_record, write_record
+    from swarmex.engine.record import write_record
+    from swarmex.experiments.rerun import load_record, rerun_record
 
     check_output(json_out, "--json", (".json",))
-    old = ResultRecord.from_dict(read_record(record_file)).to_dict()
-    new_record = swarmex.rerun(record_file)  # the file: its folder helps find relative maps
+    record, folder = load_record(record_file)  # its folder helps find relative maps
+    old = record.to_dict()
+    new_record = rerun_record(record, folder, {})
     if json_out is not None:
         write_record(new_record, json_out)
     new = new_record.to_dict()
-    for rec in (old, new):
-        rec.pop("wall_seconds", None)
+    for d in (old, new):
+        d.pop("wall_seconds", None)
     what = f"{old['mission']} {old['algorithm']}, seed {old['seed']}"
     versions = (old.pop("swarmex_version", None), new.pop("swarmex_version", None))
     made = "" if versions[0] == versions[1] else f" (recorded by swarmex {versions[0]})"

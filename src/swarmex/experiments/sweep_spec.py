@@ -29,7 +29,9 @@ from __future__ import annotations
 import hashlib
 import itertools
 import json
+from collections.abc import Mapping
 from dataclasses import dataclass
+from os import PathLike, fspath
 from pathlib import Path
 from typing import Any
 
@@ -230,3 +232,54 @@ def _check_names(path: Path, keys: list[str]) -> None:
         if name in seen:
             raise InputError(f"{path}: option {name!r} is given twice ({seen[name]!r}, {key!r})")
         seen[name] = key
+
+
+def spec_from_keywords(
+    mission: str, seeds: Any, fixed: Mapping[str, Any], axes: Mapping[str, Any]
+) -> SweepSpec:
+    """The spec of :func:`swarmex.sweep`'s keywords, as a TOML spec would hold them: a list
+    (or range) is an axis, a tuple one shared value (``grid=(8, 8)``), None the default (left
+    out, as in :func:`swarmex.run`); ``fixed`` holds shared values that are lists. Checked by
+    :func:`parse_sweep_spec`, errors named ``swarmex.sweep``."""
+    data: dict[str, Any] = {"mission": mission, "seeds": _spec_value(seeds, "seeds")}
+    shared = {k: _spec_value(v, k) for k, v in fixed.items()}
+    for key, value in axes.items():
+        if value is None:
+            continue
+        if isinstance(value, tuple):
+            shared[key] = _spec_value(value, key)
+        else:
+            data[key] = _spec_value(value, key)
+    if shared:
+        data["fixed"] = shared
+    return parse_sweep_spec(data, Path("swarmex.sweep"))
+
+
+def _spec_value(value: Any, key: str) -> Any:
+    """A Python value as a sweep spec holds it (TOML's types): paths as text, tuples and
+    ranges as lists. A world object cannot be swept: runs are named by their values' JSON."""
+    if isinstance(value, PathLike):
+        return fspath(value)
+    if isinstance(value, tuple | list | range):
+        return [_spec_value(v, key) for v in value]
+    if isinstance(value, Mapping):  # a spec value is never a table (runs are named by them)
+        raise InputError(
+            f"swarmex.sweep: {key}: a dict cannot be a sweep value; give it as a file (a"
+            f" fleet: fleet='fleet.toml', its [[agents]] tables)"
+        )
+    if isinstance(value, str | int | float | bool):
+        return value
+    if value is None:
+        raise InputError(
+            f"swarmex.sweep: {key}: None cannot be one of a sweep's values (a spec is TOML,"
+            " which has no null); leave the parameter out for its default"
+        )
+    tolist = getattr(value, "tolist", None)  # numpy scalars and arrays
+    if callable(tolist):
+        return _spec_value(tolist(), key)
+    raise InputError(
+        f"swarmex.sweep: {key}={value!r} cannot be swept (give a file path, or use swarmex.run"
+        " for a world object)"
+    )
+
+

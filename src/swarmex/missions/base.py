@@ -532,6 +532,13 @@ class Outcome:
 FrameCallback = Callable[[Any], Any]
 
 
+def check_seed(seed: Any) -> None:
+    """A run's seed must be given: ``None`` is numpy's "fresh entropy", and the seed
+    option's parser would silently read it as its default 0."""
+    if seed is None:
+        raise InputError("seed=None: every swarmex run is reproducible; give an integer >= 0")
+
+
 def check_run_options(on_frame: Any, trace: Any) -> None:
     """``on_frame`` and ``trace`` as :meth:`Mission.run` takes them, else an InputError before
     any work. Why: ``on_frame=5`` was a TypeError from the first frame, after the world was
@@ -588,6 +595,10 @@ class Mission(ABC, Generic[P, W]):
     #: pass ``grid`` beside a new ``map``. A stale value is left out (its default, derived
     #: again), unless the caller gives it too.
     rerun_replaces: ClassVar[Mapping[str, Collection[str]]] = {}
+    #: The options that name the world. A record whose params say ``"generated"`` (the
+    #: world was given as an object, which no record can name) reruns only with one of them
+    #: given again; :meth:`rerun_values` asks for it.
+    world_options: ClassVar[tuple[str, ...]] = ()
 
     def __init_subclass__(cls, **kw: Any) -> None:
         """Give the mission and its Params docstrings that list the parameters, so that
@@ -626,6 +637,13 @@ class Mission(ABC, Generic[P, W]):
         """
         opts = self.params_type.options()
         overridden = set(given)
+        if "generated" in record.params and self.world_options and not (
+            overridden & set(self.world_options)
+        ):
+            raise InputError(
+                f"this record's world was given as an object ({record.params['generated']}):"
+                f" pass it again, e.g. swarmex.rerun(record, {self.world_options[0]}=world)"
+            )
         stale = {k for k, inputs in self.rerun_replaces.items() if overridden & set(inputs)}
         return {
             k: v

@@ -606,10 +606,14 @@ def warm_up() -> None:
     run_inprocess(Mission(open_world, uniform_agents([0, 0, 0], 2.0, 9.0), seed=1))
     # and walls found late by agents from their own nests: the field cache's repair of a
     # tiled distance row (tests/net/test_warm_up.py checks that nothing is left to compile)
-    walled = np.ones((6, 6), dtype=bool)
-    walled[[2, 3, 1], [2, 3, 4]] = False
-    run_inprocess(Mission(GridWorld(walled, 4, source="warm-up"),
-                          uniform_agents([0, 5, 30], 2.0, 9.0), seed=1))
+    run_inprocess(Mission(_walled_6x6(), uniform_agents([0, 5, 30], 2.0, 9.0), seed=1))
+
+
+def _walled_6x6() -> GridWorld:
+    """The warm-ups' small world with walls (three blocked cells)."""
+    free = np.ones((6, 6), dtype=bool)
+    free[[2, 3, 1], [2, 3, 4]] = False
+    return GridWorld(free, 4, source="warm-up")
 
 
 @functools.cache
@@ -634,10 +638,7 @@ def warm_policy(algorithm: str) -> None:
     from swarmex.missions.traversal.sim import run_traversal
 
     team = uniform_agents([0, 0, 0], 2.0, 9.0)
-    walled = np.ones((6, 6), dtype=bool)
-    walled[[2, 3, 1], [2, 3, 4]] = False
-    run_inprocess(Mission(GridWorld(walled, 4, source="warm-up"), team, seed=1,
-                          algorithm=algorithm))
+    run_inprocess(Mission(_walled_6x6(), team, seed=1, algorithm=algorithm))
     big = np.ones((10, 10), dtype=bool)
     big[4, 2:8] = False
     world = GridWorld(big, 4, source="warm-up")

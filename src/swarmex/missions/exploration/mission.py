@@ -68,6 +68,7 @@ class ExplorationMission(Mission[ExplorationParams, ExplorationWorld]):
     params_type = ExplorationParams
     time_unit = "step"
     rerun_replaces = {"starts": ("robots", "map", "empty", "cell")}  # one per robot, in cells
+    world_options = ("map", "empty")
 
     def rerun_values(self, record: ResultRecord, given: Collection[str] = ()) -> dict[str, Any]:
         """The world back from ``record.world`` (an ``--empty`` size or the map file; the
@@ -75,11 +76,6 @@ class ExplorationMission(Mission[ExplorationParams, ExplorationWorld]):
         values = super().rerun_values(record, given)
         if "comm_range" in values and values["comm_range"] is None:
             values["comm_range"] = "inf"
-        if "generated" in record.params and not {"map", "empty"} & set(given):
-            raise InputError(
-                f"this record's world was given as an object ({record.params['generated']}):"
-                " pass it again, e.g. swarmex.rerun(record, map=world)"
-            )
         if not {"map", "empty"} & set(given):
             source = str(record.world.get("source", ""))
             size = re.fullmatch(r"empty (\S+)x(\S+) m", source)

@@ -227,15 +227,6 @@ _WORLD_KEYS = ("map", "grid", "center", "radius", "nodes_on_edge", "obstacles")
 _FLEET_OPTIONS = ("altitude", "travel_time", "job_time", "up_speed", "down_speed")
 
 
-def _edge_m(params: Mapping[str, Any]) -> float | None:
-    """Metres per grid edge of a record's run, computed as :class:`TraversalWorld` does
-    (``edge_length``, or a GPS grid's nominal 2R / (K - 1)); None without a metric scale."""
-    if params.get("center") is not None:
-        return 2.0 * float(params["radius"]) / (int(params["nodes_on_edge"]) - 1)
-    edge = params.get("edge_length")
-    return None if edge is None else float(edge)
-
-
 def _fleet_row_again(
     row: Any, edge_m: float | None, params: Mapping[str, Any], given: Collection[str]
 ) -> Any:
@@ -282,20 +273,16 @@ class TraversalMission(Mission[TraversalParams, TraversalWorld]):
         "edge_length": ("center",),
         "nests": _WORLD_KEYS,  # the default nest is the world's first free cell
     }
+    world_options = ("map", "grid", "center")
 
     def rerun_values(self, record: ResultRecord, given: Collection[str] = ()) -> dict[str, Any]:
-        """A run on a world object (``map=GridWorld``, ``swarmex demo``) cannot be named by
-        its record: ask for the world, rather than fail on "give one of --map, --grid"."""
+        """A recorded fleet as a fleet to run again (:func:`_fleet_row_again`)."""
         values = super().rerun_values(record, given)
-        if "generated" in record.params and not {"map", "grid", "center"} & set(given):
-            raise InputError(
-                f"this record's world was given as an object ({record.params['generated']}):"
-                " pass it again, e.g. swarmex.rerun(record, map=world)"
-            )
         if isinstance(values.get("fleet"), list):
+            # metres per edge of the run: a GPS grid's (its world says it), else edge_length
+            edge_m = record.world.get("edge_m", record.params.get("edge_length"))
             values["fleet"] = [
-                _fleet_row_again(row, _edge_m(record.params), record.params, given)
-                for row in values["fleet"]
+                _fleet_row_again(row, edge_m, record.params, given) for row in values["fleet"]
             ]
         return values
 

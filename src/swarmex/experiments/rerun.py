@@ -1,0 +1,101 @@
+"""Running a record again (:func:`swarmex.rerun`, ``swarmex rerun``): from a record back to
+the parameters, seed and trace setting that made it.
+
+Why a module of its own: a record holds what a run *used*, not what its caller passed, so
+going back takes three steps, each with its reason: each mission's
+:meth:`~swarmex.missions.base.Mission.rerun_values` translates its params (derived values,
+other units, the world kept in ``record.world``); input files named by a relative path are
+looked for where the record lies (:func:`find_inputs`); and the new record names those files
+as the old one did (:func:`respell`), so that the two compare equal.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from os import PathLike, fspath
+from pathlib import Path
+from typing import Any
+
+from swarmex.engine.record import ResultRecord, read_record
+from swarmex.errors import InputError
+
+
+def load_record(
+    source: ResultRecord | Mapping[str, Any] | str | PathLike[str],
+) -> tuple[ResultRecord, Path | None]:
+    """The record, and the folder of its file when it was given as one."""
+    if isinstance(source, str | PathLike):
+        path = fspath(source)
+        return ResultRecord.from_dict(read_record(path)), Path(path).absolute().parent
+    if isinstance(source, ResultRecord):
+        return source, None
+    return ResultRecord.from_dict(source), None
+
+
+def rerun_record(
+    rec: ResultRecord,
+    folder: Path | None,
+    overrides: Mapping[str, Any],
+    *,
+    on_frame: Any = None,
+    trace: bool | None = None,
+) -> ResultRecord:
+    """Run ``rec`` again (:func:`swarmex.rerun`), with ``overrides`` applied (``seed`` among
+    them: the same setting, drawn again). ``folder`` is the record file's, where relative
+    input paths are also looked for. ``trace`` None is the record's own: a ``trace=False``
+    record (no agent has a trajectory or a job) runs again without it."""
+    from swarmex.missions.base import check_seed
+    from swarmex.missions.registry import get
+
+    given = dict(overrides)
+    seed = given.pop("seed", rec.seed)
+    check_seed(seed)
+    m = get(rec.mission)
+    values = m.rerun_values(rec, given=given.keys())
+    moved = find_inputs(m, values, folder)
+    if trace is None:
+        trace = not rec.agents or any(a.trajectory or a.jobs for a in rec.agents)
+    params = m.params({**values, **given, "seed": seed})
+    new = m.run(params, on_frame=on_frame, trace=trace).record
+    respell(new, moved)
+    return new
+
+
+def respell(new: ResultRecord, moved: Mapping[str, str]) -> None:
+    """Name the input files in ``new`` as the first run's record did (in place)."""
+    for recorded, found in moved.items():
+        for part in (new.params, new.world):
+            for key, value in part.items():
+                if value == found:
+                    part[key] = recorded
+
+
+def find_inputs(m: Any, values: dict[str, Any], folder: Path | None) -> dict[str, str]:
+    """Find the input files (maps, environments) a record names by a relative path.
+
+    A relative path in a record is relative to the folder the run started in, which a record
+    does not hold (``swarmex run`` and sweeps write paths relative to it too). Rerun from
+    elsewhere, the file is looked for from here, then from the record file's folder and each
+    folder above it (a record usually lies below where its run started). Changes ``values``
+    in place and returns recorded -> found, to respell the new record as the old one.
+    Raises InputError, naming the file and what to do, when it is nowhere."""
+    moved: dict[str, str] = {}
+    for name, info in m.params_type.options().items():
+        value = values.get(name)
+        if info.kind is not Path or not isinstance(value, str) or not value:
+            continue
+        given = Path(value).expanduser()
+        if given.is_absolute() or given.exists():
+            continue
+        places = [folder, *folder.parents] if folder is not None else []
+        found = next((d / given for d in places if (d / given).exists()), None)
+        if found is None:
+            where = " or from the record's folder and those above it" if places else ""
+            raise InputError(
+                f"the record's {name} {value!r} is not found from here{where} (a relative"
+                f" path is taken from the folder its run started in: rerun there, or give"
+                f" {name}= again; a world given as an object: {name}=world)"
+            )
+        values[name] = str(found)
+        moved[value] = str(found)
+    return moved
