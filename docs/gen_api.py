@@ -43,7 +43,10 @@ def tables() -> str:
                 "| metric | meaning | mean over seeds |", "|---|---|---|"]
         for key, metric in m.team_metrics().items():
             meaning = metric.meaning.replace("|", "\\|")
-            out.append(f"| `{key}` | {meaning} | {'yes' if metric.numeric else 'no'} |")
+            mean = "yes" if metric.numeric else "no"
+            if metric.keys:  # a table: its entries are the sweep columns
+                mean = "each entry: " + ", ".join(f"`{key}.{k}`" for k in metric.keys)
+            out.append(f"| `{key}` | {meaning} | {mean} |")
         out.append("")
     return "\n".join(out)
 

@@ -18,6 +18,7 @@ import pytest
 import swarmex
 from swarmex.cli import main
 from swarmex.errors import InputError
+from swarmex.experiments.sweep_worker import flat_scalars
 from swarmex.missions.registry import get
 
 ROADMAP_ENV = {
@@ -35,7 +36,7 @@ def runs(mission: str, tmp_path: Path) -> list[dict[str, Any]]:
         cases = [dict(grid=16, agents=4, algorithm="strips"),
                  dict(grid=16, agents=4, algorithm="sectors", transport="end-to-end")]
     elif mission == "exploration":
-        cases = [dict(empty="6x6", robots=2)]
+        cases = [dict(empty="6x6", robots=2), dict(empty="8x8", robots=3, comm_range=2.0)]
     else:
         env = tmp_path / "env.json"
         env.write_text(json.dumps(ROADMAP_ENV), encoding="utf-8")
@@ -58,6 +59,11 @@ def test_declared_metrics_are_exactly_the_written_ones(mission: str, tmp_path: P
         number = all(isinstance(v, int | float) for v in values)  # bools are ints
         assert number == info.numeric, (name, values[:2])
         assert info.meaning and "|" not in info.meaning
+        tables = [v for v in values if isinstance(v, dict)]
+        assert bool(tables) == bool(info.keys), name  # every table declares its entries
+        for table in tables:
+            written_keys = set(flat_scalars(table))
+            assert written_keys <= set(info.keys), (name, written_keys - set(info.keys))
 
 
 def test_check_metric_accepts_numbers_and_names_what_is_wrong() -> None:
@@ -71,8 +77,16 @@ def test_check_metric_accepts_numbers_and_names_what_is_wrong() -> None:
     with pytest.raises(InputError, match="an exploration record holds it as a list"):
         get("exploration").check_metric("steps")
     # a table metric's entries are numeric sweep columns (unicasts.sent): accepted
-    for name in ("unicasts.sent", "messages_by_kind.SCAN.bytes"):
+    for name in ("unicasts.sent", "messages_by_kind.SCAN.bytes", "replan_reasons.blocked",
+                 "messages_by_kind.RREQ.messages", "metrics.unicasts.gap_requests"):
         get("exploration").check_metric(name)
+    # ... and a misspelt entry is caught before the runs, with the nearest one
+    with pytest.raises(InputError, match="unicasts has no entry 'delivred'.*'unicasts.delivered'"):
+        get("exploration").check_metric("unicasts.delivred")
+    with pytest.raises(InputError, match="messages_by_kind has no entry 'SCAN.byte'"):
+        get("exploration").check_metric("messages_by_kind.SCAN.byte")
+    with pytest.raises(InputError, match="replan_reasons has no entry 'nope'"):
+        get("exploration").check_metric("replan_reasons.nope")
 
 
 def test_describe_lists_the_metrics_with_their_meaning() -> None:

@@ -82,10 +82,14 @@ class MetricInfo:
     used to surface only in the summary), and ``swarmex.describe`` and docs/api.md list every
     metric from the one place that a test holds equal to what the runs write. ``numeric`` is
     False for a metric that is a list or a table per run (it has no mean over seeds).
+    ``keys`` are the entries a table can hold, each a sweep column ``NAME.KEY`` (nested
+    tables joined with dots), so a misspelt entry is caught before the runs too; empty when
+    they are not known in advance (or the metric is a list).
     """
 
     meaning: str
     numeric: bool = True
+    keys: tuple[str, ...] = ()
 
 
 @dataclass

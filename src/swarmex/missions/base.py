@@ -665,7 +665,7 @@ class Mission(ABC, Generic[P, W]):
         a team metric (or ``metrics.NAME``, the sweep column of one whose name a parameter
         took), ``complete``, ``makespan`` or ``wall_seconds``, or an entry ``NAME.KEY`` of a
         table metric (a sweep flattens tables into such columns: ``unicasts.sent``; its keys
-        are known only once a run wrote them). For checking a name before any run; it
+        are checked when the mission declares them). For checking a name before any run; it
         checks nothing when the mission declares no metrics."""
         declared = self.team_metrics()
         if not declared:
@@ -674,9 +674,17 @@ class Mission(ABC, Generic[P, W]):
         info = declared.get(bare)
         if name in RECORD_NUMBERS or (info is not None and info.numeric):
             return
-        table = declared.get(bare.split(".", 1)[0])
-        if "." in bare and table is not None and not table.numeric:
-            return
+        head, _, key = bare.partition(".")
+        table = declared.get(head)
+        if key and table is not None and not table.numeric:
+            if not table.keys or key in table.keys:
+                return
+            close = difflib.get_close_matches(key, table.keys, n=1, cutoff=0.6)
+            hint = f"did you mean '{head}.{close[0]}'? " if close else ""
+            raise InputError(
+                f"{where} {name!r}: {head} has no entry {key!r} ({hint}have:"
+                f" {', '.join(table.keys)})"
+            )
         if info is not None:
             article = "an" if self.name[:1] in "aeiou" else "a"
             raise InputError(

@@ -20,9 +20,11 @@ from typing import Any
 
 import numpy as np
 
-from swarmex.comm.aodv import AodvStats
+from swarmex.comm.aodv import CONTROL_KINDS, AodvStats
 from swarmex.engine.record import AgentRecord, MetricInfo, ResultRecord
+from swarmex.missions.exploration.messages import KINDS
 from swarmex.missions.exploration.params import TICK_SECONDS
+from swarmex.missions.exploration.robot import REPLAN_REASONS
 from swarmex.missions.exploration.sim import ExplorationRun
 
 
@@ -73,20 +75,26 @@ TEAM_METRICS: dict[str, MetricInfo] = {
     "moves": MetricInfo("cell moves, all robots"),
     "plans": MetricInfo("goal choices and path plans, all robots"),
     "replans": MetricInfo("plans made again before the goal was reached, all robots"),
-    "replan_reasons": MetricInfo("replans counted by reason", numeric=False),
+    "replan_reasons": MetricInfo("replans counted by reason", numeric=False,
+                                 keys=REPLAN_REASONS),
     "conflicts": MetricInfo("goal conflicts between robots, all robots"),
     "change_goals_sent": MetricInfo("CHANGE_GOAL messages sent"),
     "blacklisted_regions": MetricInfo("frontier regions given up as unreachable, all robots"),
     "messages_sent": MetricInfo("messages sent, relays included"),
     "bytes_sent": MetricInfo("bytes sent, relays included"),
     "messages_lost": MetricInfo("messages the radio dropped (range, loss)"),
-    "messages_by_kind": MetricInfo("messages and bytes per message kind", numeric=False),
+    "messages_by_kind": MetricInfo(
+        "messages and bytes per message kind", numeric=False,
+        keys=tuple(f"{k}.{v}" for k in (*KINDS, *CONTROL_KINDS) for v in ("messages", "bytes")),
+    ),
     "aodv_messages": MetricInfo(
         "AODV routing control messages (RREQ, RREP, RERR; also in messages_sent)"
     ),
     "aodv_bytes": MetricInfo("bytes of those"),
-    "unicasts": MetricInfo("multi-hop unicast counters (sent, delivered, expired, …)",
-                           numeric=False),
+    "unicasts": MetricInfo(
+        "multi-hop unicast counters (sent, delivered, expired, …)", numeric=False,
+        keys=(*(f.name for f in fields(AodvStats)), "gap_requests"),
+    ),
     "plan_intervals_avg": MetricInfo(
         "steps between plans, averaged over the robots, plan by plan", numeric=False
     ),

@@ -119,6 +119,10 @@ RADIO = -1  # destination of a radio broadcast (heartbeats)
 # neighbours, in id order: a flood relay or a GOAL; one entry whatever their number)
 Out = list[tuple[int | Fanout, Message]]
 UNICASTS = (NeedMap, MapMsg, ChangeGoal)  # the messages addressed to one robot
+#: Why a robot plans before its goal is reached (the record's ``replan_reasons`` keys): a
+#: CHANGE_GOAL received, a goal conflict lost, its path blocked, its goal reached, its goal
+#: seen (no longer a frontier).
+REPLAN_REASONS = ("change_goal", "conflict", "blocked", "reached", "seen")
 FAR = np.iinfo(np.int32).max  # steps to a reachable cell a bounded search did not reach
 FIELDS_UP_TO = 8  # candidates up to which a plan uses fields from them (shared per map state)
 
@@ -242,6 +246,7 @@ class ExplorerRobot:
         return cast(Out, self.aodv.send_failed(dst, msg, t, self._lifetime(msg)))
 
     def _request(self, reason: str) -> None:
+        assert reason in REPLAN_REASONS, reason  # the record's declared replan_reasons keys
         if self.request is None:
             self.request = reason
 
