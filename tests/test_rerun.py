@@ -130,10 +130,48 @@ def test_cli_says_same_or_where_it_differs(tmp_path: Path, capsys) -> None:
     failed.write_text(json.dumps({"run": "0123", "mission": "traversal", "params": {},
                                   "seed": 0, "error": "40 agents but the map has only 9",
                                   "traceback": "..."}), encoding="utf-8")
-    for path, said in ((tmp_path, "is a folder"), (binary, "not UTF-8 text"),
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    for path, said in ((empty, "a folder with no record"), (binary, "not UTF-8 text"),
                        (failed, "failed sweep run's error file")):
         assert main(["rerun", str(path)]) == 2  # was a traceback (IsADirectory, Unicode)
         assert said in capsys.readouterr().err
+
+
+def test_cli_checks_several_records_and_a_sweep_folder(tmp_path: Path, capsys) -> None:
+    """``swarmex rerun A.json B.json`` and ``swarmex rerun SWEEP/runs``: one line per record,
+    a count, exit 1 if any differs; every file is read before the first run, so a bad one
+    stops the check before any work; a failed run's error file in a sweep folder is skipped."""
+    spec = tmp_path / "s.toml"
+    spec.write_text('mission = "traversal"\ngrid = "4x4"\nagents = [1, 2]\nseeds = [0, 1]\n',
+                    encoding="utf-8")
+    out = tmp_path / "sweep"
+    assert main(["sweep", str(spec), "--backend", "serial", "--out", str(out)]) == 0
+    runs = out / "runs"
+    (runs / "0123.error.json").write_text(json.dumps({"run": "0123", "error": "x"}),
+                                          encoding="utf-8")
+    capsys.readouterr()
+    assert main(["rerun", str(runs)]) == 0
+    lines = capsys.readouterr().out.strip().splitlines()
+    assert len(lines) == 5 and lines[-1] == "4 of 4 records the same"
+    assert all("the same record" in line and ".json: rerun traversal" in line
+               for line in lines[:4])
+
+    files = sorted(runs.glob("????????????????.json"))
+    data = json.loads(files[1].read_text())
+    data["metrics"]["total_time_all"] += 1
+    tampered = tmp_path / "t.json"
+    tampered.write_text(json.dumps(data), encoding="utf-8")
+    assert main(["rerun", str(files[0]), str(tampered)]) == 1
+    lines = capsys.readouterr().out.strip().splitlines()
+    assert "the same record" in lines[0] and "differs" in lines[1]
+    assert lines[-1] == "1 of 2 records the same"
+
+    assert main(["rerun", str(files[0]), str(files[1]), "--json", str(tmp_path / "o.json")]) == 2
+    assert "--json writes one record; 2 records were given" in capsys.readouterr().err
+    assert main(["rerun", str(files[0]), str(tmp_path / "missing.json")]) == 2
+    captured = capsys.readouterr()
+    assert "record not found" in captured.err and "rerun traversal" not in captured.out
 
 
 def test_overrides_replace_the_recorded_alternatives_and_derived_values(tmp_path: Path) -> None:

@@ -80,7 +80,7 @@ INDEX: dict[str, Entry] = {
     ),
     "rerun": Entry(
         (_C + "commands_rerun",),
-        "Run a record again (same mission, parameters, seed); exit 1 if it comes out different.",
+        "Run records again (same mission, parameters, seed); exit 1 if any comes out different.",
     ),
     "sweep": Entry(
         (_C + "commands_sweep",),

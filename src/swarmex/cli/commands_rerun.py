@@ -1,11 +1,12 @@
-"""``swarmex rerun RECORD.json``: run a record's mission again and say whether it came out
+"""``swarmex rerun RECORD.json…``: run records' missions again and say whether each came out
 the same.
 
 Why a command: a record is the unit a paper, a sweep or a bug report hands on, and the first
-question about one is "does it still come out like this?". It answers with one line and its
-exit status (0 the same record, ``wall_seconds`` aside; 1 it differs, with the first
-differences), so a script or CI can check a set of records against the current code. The
-run itself is :func:`swarmex.rerun`.
+question about one is "does it still come out like this?". It answers with one line per
+record and its exit status (0 every record the same, ``wall_seconds`` aside; 1 some differ,
+each with its first differences), so a script or CI can check a set of records (a sweep's
+``runs/`` folder) against the current code. Every file is read before the first run, so a
+bad one stops the check before any work. The run itself is :func:`swarmex.rerun`.
 """
 
 from __future__ import annotations
@@ -17,6 +18,7 @@ import typer
 
 from swarmex.cli.app import app, console
 from swarmex.cli.outputs import check_output
+from swarmex.errors import InputError
 
 #: How many differences the line names (the rest are counted).
 SHOWN = 4
@@ -24,22 +26,56 @@ SHOWN = 4
 
 @app.command()
 def rerun(
-    record_file: Path = typer.Argument(..., help="A record JSON (--json, or a sweep's runs/)."),
+    record_files: list[Path] = typer.Argument(
+        ..., help="Record JSONs (--json, or a sweep's runs/), or folders of them."
+    ),
     json_out: Path | None = typer.Option(
-        None, "--json", help="Write the new record here.", show_default=False
+        None, "--json", help="Write the new record here (one record only).", show_default=False
     ),
 ) -> None:
-    """Run a record again (same mission, parameters, seed); exit 1 if it comes out different."""
+    """Run records again (same mission, parameters, seed); exit 1 if any comes out different."""
     from swarmex.engine.record import write_record
     from swarmex.experiments.rerun import load_record, rerun_record
 
     check_output(json_out, "--json", (".json",))
-    record, folder = load_record(record_file)  # its folder helps find relative maps
-    old = record.to_dict()
-    new_record = rerun_record(record, folder, {})
-    if json_out is not None:
-        write_record(new_record, json_out)
-    new = new_record.to_dict()
+    files = record_paths(record_files)
+    if json_out is not None and len(files) > 1:
+        raise InputError(f"--json writes one record; {len(files)} records were given")
+    loaded = [(path, *load_record(path)) for path in files]  # folders find relative maps
+    same = 0
+    for path, record, folder in loaded:
+        new_record = rerun_record(record, folder, {})
+        if json_out is not None:
+            write_record(new_record, json_out)
+        name = f"{path}: " if len(files) > 1 else ""
+        line, ok = verdict(record.to_dict(), new_record.to_dict())
+        console.print(f"{name}{line}", soft_wrap=True, highlight=False)
+        same += ok
+    if len(files) > 1:
+        console.print(f"{same} of {len(files)} records the same", highlight=False)
+    if same < len(files):
+        raise typer.Exit(1)
+
+
+def record_paths(given: list[Path]) -> list[Path]:
+    """The record files: each file as given, each folder's ``*.json`` files in name order
+    (a sweep's ``runs/``, its failed runs' error files left out); an InputError names a
+    folder with none."""
+    out: list[Path] = []
+    for path in given:
+        if path.is_dir():  # a failed sweep run's <id>.error.json holds no record: skipped
+            inside = sorted(p for p in path.glob("*.json") if not p.name.endswith(".error.json"))
+            if not inside:
+                raise InputError(f"{path}: a folder with no record (.json) in it")
+            out += inside
+        else:
+            out.append(path)  # a missing one: load_record names it
+    return out
+
+
+def verdict(old: dict[str, Any], new: dict[str, Any]) -> tuple[str, bool]:
+    """The line for one record (``rerun MISSION ALGORITHM, seed S: …``) and whether it came
+    out the same."""
     for d in (old, new):
         d.pop("wall_seconds", None)
     what = f"{old['mission']} {old['algorithm']}, seed {old['seed']}"
@@ -54,8 +90,7 @@ def rerun(
             "the simulator's run is the same (paths, jobs and every metric; the record's"
             " network block, departures, vehicles and message bytes are the wire's own)"
         )
-        console.print(f"rerun {what}: {same}{made}", soft_wrap=True, highlight=False)
-        return
+        return f"rerun {what}: {same}{made}", True
     more = f" and {len(diffs) - SHOWN} more" if len(diffs) > SHOWN else ""
     why = "" if networked is None else f" ({networked})"
     if not why and old.get("complete") is False and new.get("complete") is True:
@@ -63,12 +98,7 @@ def rerun(
         why = (" (the record's run ended incomplete and the rerun completed: a run stopped"
                " early by its caller, e.g. StopRun from on_frame, cannot be rerun to that"
                " point)")
-    console.print(
-        f"rerun {what}: differs{made} in {'; '.join(diffs[:SHOWN])}{more}{why}",
-        soft_wrap=True,
-        highlight=False,
-    )
-    raise typer.Exit(1)
+    return f"rerun {what}: differs{made} in {'; '.join(diffs[:SHOWN])}{more}{why}", False
 
 
 def networked_reason(old: dict[str, Any]) -> str | None:
