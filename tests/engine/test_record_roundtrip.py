@@ -60,3 +60,24 @@ def test_records_in_memory_hold_plain_python_values(mission: str) -> None:
     for metrics in [record.metrics, *(a.metrics for a in record.agents)]:
         for key, value in metrics.items():
             assert value is None or type(value) in (int, float, bool, str, list, dict), key
+
+
+def test_repr_is_one_line_that_does_not_grow_with_the_trace() -> None:
+    """A REPL or notebook shows a record by its repr: the dataclass's printed every
+    trajectory row (hundreds of MB for a 1024² run). It must stay one short line naming the
+    run, however long the trace, and the notebook view a table of the team metrics."""
+    small = swarmex.run("traversal", grid="4x4", agents=2, seed=1)
+    large = swarmex.run("traversal", grid="24x24", agents=2, seed=1)
+    assert sum(len(a.trajectory) for a in large.agents) > 500
+    for rec in (small, large):
+        text = repr(rec)
+        assert "\n" not in text and len(text) < 400
+        assert text.startswith("<ResultRecord traversal madgta, seed 1: complete, makespan ")
+        assert f"makespan {rec.makespan:.4g} s, 2 agents" in text
+        assert f"total_time_all={rec.metrics['total_time_all']:.4g}" in text
+        rows = len(rec.agents[0].trajectory)
+        assert f"trajectory=<{rows} rows>" in repr(rec.agents[0])
+        html = rec._repr_html_()
+        assert html.count("<tr>") == sum(
+            not isinstance(v, list | dict) for v in rec.metrics.values())
+    assert "steps" in repr(swarmex.run("foraging", grid=16, agents=4, algorithm="strips", seed=1))

@@ -12,6 +12,7 @@ import json
 import math
 from collections.abc import Mapping
 from dataclasses import asdict, dataclass, field, fields, is_dataclass
+from html import escape
 from pathlib import Path
 from typing import Any, cast
 
@@ -74,6 +75,17 @@ def _plain_other(value: Any) -> Any:
     return value
 
 
+#: How many team metrics a record's one-line repr names (the rest are counted).
+MAX_SHOWN = 6
+
+
+def _short(value: Any) -> str:
+    """A number as a REPL line shows it: 4 significant digits for floats."""
+    if isinstance(value, float) and not isinstance(value, bool):
+        return f"{value:.4g}"
+    return str(value)
+
+
 @dataclass(frozen=True)
 class MetricInfo:
     """What one team metric of a record means (a mission's ``metrics`` declaration).
@@ -102,6 +114,10 @@ class AgentRecord:
     metrics: dict[str, Any] = field(default_factory=dict)
     trajectory: list[list[float]] = field(default_factory=list)
     jobs: list[list[float]] = field(default_factory=list)
+
+    def __repr__(self) -> str:  # the trace can hold millions of rows: count them instead
+        return (f"AgentRecord(id={self.id}, metrics={self.metrics!r},"
+                f" trajectory=<{len(self.trajectory)} rows>, jobs=<{len(self.jobs)} rows>)")
 
 
 @dataclass
@@ -133,6 +149,31 @@ class ResultRecord:
     wall_seconds: float = 0.0
     extra: dict[str, Any] = field(default_factory=dict)
     swarmex_version: str = __version__
+
+    def __repr__(self) -> str:
+        """One line a REPL can show: what ran and how it ended, the team metrics by name.
+        Why not the dataclass's: it printed every trajectory row (5 kB for 2 agents on 8x8,
+        hundreds of MB for a 1024² run, which froze a notebook that displayed the record)."""
+        state = "complete" if self.complete else "incomplete"
+        numbers = [f"{k}={_short(v)}" for k, v in self.metrics.items()
+                   if isinstance(v, int | float) and not isinstance(v, bool)][:MAX_SHOWN]
+        more = len(self.metrics) - len(numbers)
+        tail = f", … {more} more" if more > 0 else ""
+        unit = "steps" if self.time_unit == "step" else self.time_unit
+        return (f"<ResultRecord {self.mission} {self.algorithm}, seed {self.seed}: {state},"
+                f" makespan {_short(self.makespan)} {unit}, {len(self.agents)} agents;"
+                f" metrics {', '.join(numbers)}{tail}>")
+
+    def _repr_html_(self) -> str:
+        """A notebook's view: the run in a heading, the team metrics in a table."""
+        state = "complete" if self.complete else "incomplete"
+        rows = "".join(
+            f"<tr><td><code>{escape(str(k))}</code></td><td>{escape(_short(v))}</td></tr>"
+            for k, v in self.metrics.items() if not isinstance(v, list | dict)
+        )
+        return (f"<b>{escape(self.mission)} {escape(self.algorithm)}</b>, seed {self.seed}:"
+                f" {state}, makespan {_short(self.makespan)} {escape(self.time_unit)},"
+                f" {len(self.agents)} agents<table>{rows}</table>")
 
     def to_dict(self) -> dict[str, Any]:
         """The record as JSON-ready values: the version first, then the fields in order,
