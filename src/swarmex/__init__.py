@@ -7,6 +7,7 @@ The public API is small and explicit::
     rec = swarmex.run("foraging", grid=128, agents=16, algorithm="sectors", seed=3)
     rec.to_dict()                      # == the JSON of `swarmex forage ... --seed 3 --json`
     swarmex.rerun(rec)                 # the same record again (also from a record file)
+    swarmex.render(rec, "run.gif")     # draw it: .png picture, .gif/.mp4 animation
 
 The package is organised as a simulation core (``worlds``, ``sensing``, ``planning``,
 ``comm``, ``engine``), the four missions behind one contract (``missions``), and the
@@ -19,6 +20,7 @@ from __future__ import annotations
 import importlib
 from collections.abc import Callable, Mapping, Sequence
 from os import PathLike, fspath
+from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import swarmex.missions as _missions_package  # before `missions` below
@@ -33,8 +35,8 @@ if TYPE_CHECKING:
 
 __version__ = "0.1.0"
 __all__ = [
-    "InputError", "ResultRecord", "StopRun", "__version__", "describe", "missions", "rerun",
-    "run", "sweep",
+    "InputError", "ResultRecord", "StopRun", "__version__", "describe", "missions", "render",
+    "rerun", "run", "sweep",
 ]
 
 
@@ -155,6 +157,35 @@ def rerun(
 
     rec, folder = load_record(record)
     return rerun_record(rec, folder, overrides, on_frame=on_frame, trace=trace)
+
+
+def render(
+    record: ResultRecord | Mapping[str, Any] | str | PathLike[str],
+    path: str | PathLike[str],
+) -> Path:
+    """Draw a run: a picture (``.png``) or an animation (``.gif``; ``.mp4`` needs the
+    ``video`` extra) of ``record``'s run, what ``--render`` draws. Returns the path.
+
+    ``record`` is what :func:`run` returned, its ``to_dict()``, or a record file. The run is
+    made again from the record, keeping the frames the drawing needs (a record holds paths,
+    not frames), so drawing costs the run's time once more. If that run no longer comes out
+    as the record (another swarmex version), the drawing is of today's run and a
+    ``RuntimeWarning`` says so. ``swarmex render RECORD.json OUT.png`` does this from the
+    shell.
+    """
+    import warnings
+
+    from swarmex.experiments.rerun import render_record
+
+    out, same = render_record(record, path)
+    if not same:
+        warnings.warn(
+            f"{out}: the record's run came out differently today (another swarmex version, or"
+            " a networked record); the drawing is of today's run",
+            RuntimeWarning,
+            stacklevel=2,
+        )
+    return out
 
 
 def sweep(

@@ -86,7 +86,9 @@ def test_run_refuses_seed_none() -> None:
         swarmex.run("traversal", grid="4x4", agents=1, seed=None)  # type: ignore[arg-type]
 
 
-@pytest.mark.parametrize(("key", "hint"), [("json", "write_record"), ("render", "FrameList")])
+@pytest.mark.parametrize(
+    ("key", "hint"), [("json", "write_record"), ("render", r"swarmex\.render\(record, path\)")]
+)
 def test_command_line_outputs_given_to_run_say_the_python_way(key: str, hint: str) -> None:
     # render= was "unknown parameter 'render'; did you mean 'center'?"
     with pytest.raises(swarmex.InputError, match=f"'{key}' is not a parameter of the run.*{hint}"):

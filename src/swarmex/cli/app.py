@@ -82,6 +82,10 @@ INDEX: dict[str, Entry] = {
         (_C + "commands_rerun",),
         "Run records again (same mission, parameters, seed); exit 1 if any comes out different.",
     ),
+    "render": Entry(
+        (_C + "commands_rerun",),
+        "Draw a record's run: a .png picture or a .gif/.mp4 animation (it runs it again).",
+    ),
     "sweep": Entry(
         (_C + "commands_sweep",),
         "Run the product of a spec's parameter lists and seeds; resumable; one Parquet table.",

@@ -20,8 +20,6 @@ from swarmex.errors import InputError
 from swarmex.missions.base import FrameCallback, Mission, Outcome
 from swarmex.missions.registry import get
 
-ANIMATIONS = (".gif", ".mp4")
-
 
 def report(outcome: Outcome, params: Any) -> None:
     run, grid = outcome.run, outcome.world
@@ -34,13 +32,6 @@ def report(outcome: Outcome, params: Any) -> None:
         f"replans {m['replans']}, messages {m['messages_sent']} ({m['bytes_sent']} B), "
         f"{run.wall_seconds:.2f} s"
     )
-
-
-def recorder(path: Path) -> FrameCallback | None:
-    """Animations keep up to 200 evenly spaced frames; a picture needs none."""
-    from swarmex.missions.exploration.frames import FrameRecorder
-
-    return FrameRecorder() if path.suffix.lower() in ANIMATIONS else None
 
 
 class StepTicker:
@@ -96,15 +87,6 @@ def watch(params: Any, world: Any, on_frame: FrameCallback | None) -> FrameCallb
     return StepTicker(on_frame)
 
 
-def render(outcome: Outcome, path: Path, frames: list[Any]) -> None:
-    from swarmex.viz.exploration import exploration_animation, exploration_png
-
-    if path.suffix.lower() in ANIMATIONS:
-        exploration_animation(frames, outcome.run, path)
-    else:
-        exploration_png(outcome.run, path)
-
-
 def processes(
     mission: Mission[Any, Any], params: Any, extras: dict[str, Any], json_path: Path | None
 ) -> bool:
@@ -130,8 +112,6 @@ explore = mission_command(
     get("exploration"),
     Surface(
         report,
-        render,
-        recorder=recorder,
         extras=[
             Extra(
                 "processes",

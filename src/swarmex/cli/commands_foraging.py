@@ -17,7 +17,7 @@ from swarmex.cli.app import console, reproduce_app
 from swarmex.cli.missions import Surface, mission_command
 from swarmex.cli.outputs import check_out_dir, study
 from swarmex.errors import InputError
-from swarmex.missions.base import FrameList, Outcome
+from swarmex.missions.base import Outcome
 from swarmex.missions.registry import get
 
 
@@ -50,18 +50,7 @@ def report(outcome: Outcome, params: Any) -> None:
         )
 
 
-def render(outcome: Outcome, path: Path, frames: list[Any]) -> None:
-    """Draw the run from its frames (the objects ``on_frame`` got)."""
-    from swarmex.viz.foraging import render_run
-
-    render_run(outcome.record.to_dict(), path, frames)
-
-
-def recorder(path: Path) -> FrameList:
-    return FrameList()
-
-
-forage = mission_command(get("foraging"), Surface(report, render, recorder=recorder))
+forage = mission_command(get("foraging"), Surface(report))
 
 
 @reproduce_app.command("foraging")

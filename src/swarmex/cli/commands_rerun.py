@@ -1,5 +1,5 @@
 """``swarmex rerun RECORD.json…``: run records' missions again and say whether each came out
-the same.
+the same; ``swarmex render RECORD.json OUT``: draw a record's run (it runs it again).
 
 Why a command: a record is the unit a paper, a sweep or a bug report hands on, and the first
 question about one is "does it still come out like this?". It answers with one line per
@@ -16,8 +16,8 @@ from typing import Any
 
 import typer
 
-from swarmex.cli.app import app, console
-from swarmex.cli.outputs import check_output
+from swarmex.cli.app import app, console, err_console
+from swarmex.cli.outputs import RENDER_SUFFIXES, check_output
 from swarmex.errors import InputError
 
 #: How many differences the line names (the rest are counted).
@@ -55,6 +55,29 @@ def rerun(
         console.print(f"{same} of {len(files)} records the same", highlight=False)
     if same < len(files):
         raise typer.Exit(1)
+
+
+@app.command("render")
+def render(
+    record_file: Path = typer.Argument(..., help="A record JSON (--json, or a sweep's runs/)."),
+    out: Path = typer.Argument(..., help="The drawing: .png, .gif or .mp4."),
+) -> None:
+    """Draw a record's run: a .png picture or a .gif/.mp4 animation (it runs it again).
+
+    The record's run is made again from its parameters and seed, keeping the frames the
+    drawing needs (the record holds paths, not frames), so it takes the run's time once more.
+    """
+    from swarmex.experiments.rerun import render_record
+
+    check_output(out, "OUT", RENDER_SUFFIXES)
+    path, same = render_record(record_file, out)
+    console.print(f"wrote {path}", highlight=False, soft_wrap=True)
+    if not same:
+        err_console.print(
+            "note: the record's run came out differently today (another swarmex version, or a"
+            " networked record; swarmex rerun says where): the drawing is of today's run",
+            highlight=False, soft_wrap=True,
+        )
 
 
 def record_paths(given: list[Path]) -> list[Path]:

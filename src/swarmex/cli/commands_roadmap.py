@@ -15,7 +15,7 @@ from swarmex.cli.app import console, reproduce_app
 from swarmex.cli.missions import Surface, mission_command
 from swarmex.cli.outputs import study
 from swarmex.errors import InputError
-from swarmex.missions.base import FrameList, Outcome
+from swarmex.missions.base import Outcome
 from swarmex.missions.registry import get
 
 
@@ -40,21 +40,9 @@ def report(outcome: Outcome, params: Any) -> None:
     console.print(summary_line(outcome.record.to_dict()), highlight=False, soft_wrap=True)
 
 
-def render(outcome: Outcome, path: Path, frames: list[Any]) -> None:
-    """Draw the run from its frames (the objects ``on_frame`` got)."""
-    from swarmex.viz.roadmap_plot import render as draw
-    from swarmex.viz.roadmap_plot import run_from_frames
-
-    draw(run_from_frames(outcome.run, frames), path)
-
-
-def recorder(path: Path) -> FrameList:
-    return FrameList()
-
-
 roadmap = mission_command(
     get("roadmap"),
-    Surface(report, render, recorder=recorder,
+    Surface(report,
             render_help="Write a .png, .gif or .mp4 of the run."),
 )
 

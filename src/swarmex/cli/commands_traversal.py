@@ -90,17 +90,6 @@ def report(outcome: Outcome, params: Any) -> None:
     print_summary(outcome.record.to_dict())
 
 
-def render(outcome: Outcome, path: Path, frames: list[Any]) -> None:
-    """Draw the run from its frames (the objects ``on_frame`` got)."""
-    from swarmex.viz.traversal import render_traversal
-
-    render_traversal(outcome.record.to_dict(), outcome.world, path, frames)
-
-
-def recorder(path: Path) -> FrameList:
-    return FrameList()
-
-
 #: one-shot runs on at most this many vertices run their kernels interpreted while numba is
 #: not loaded (swarmex._kernels): 16x16 with 4 agents costs 0.23 s of CPU so against 0.65 s
 #: compiled, most of it numba's loading; the two break even near 24x24 (576 vertices), and
@@ -128,7 +117,7 @@ def progress(params: Any, prepared: TraversalWorld) -> ProgressSpec | None:
 
 traverse = mission_command(
     get("traversal"),
-    Surface(report, render, recorder=recorder, interpreted=small, watch=progress_bar(progress),
+    Surface(report, interpreted=small, watch=progress_bar(progress),
             render_help="Draw the paths (.png) or animate the run (.gif, .mp4)."),
 )
 
@@ -159,5 +148,7 @@ def demo(
         with interpreted_while_cold(small(params, prepared)):
             outcome = get("traversal").execute(params, prepared, frames)
     report(outcome, params)
-    render(outcome, out, frames)
+    from swarmex.viz.render import draw
+
+    draw("traversal", outcome, out, frames)
     console.print(f"wrote {out}")

@@ -46,9 +46,8 @@ class Surface:
     """How the CLI shows one mission: its summary printer and renderer."""
 
     report: Callable[[Outcome, Any], None]
-    render: Callable[[Outcome, Path, list[Any]], None] | None = None
-    # a frame collector for animations: (render path) -> on_frame callback, or None
-    recorder: Callable[[Path], FrameCallback | None] | None = None
+    # --render draws the run (swarmex.viz.render: the frames it keeps, the drawing)
+    drawn: bool = True
     extras: Sequence[Extra] = ()
     # runs instead of the simulator when an extra asks for it (e.g. explore --processes)
     alternative: Callable[[Mission[Any, Any], Any, dict[str, Any], Path | None], bool] | None = (
@@ -200,6 +199,9 @@ def mission_command(mission: Mission[Any, Any], surface: Surface) -> Callable[..
     def command(**kwargs: Any) -> Any:
         json_path: Path | None = kwargs.pop("json_path")
         render: Path | None = kwargs.pop("render")
+        drawn = surface.drawn and render is not None
+        if drawn:
+            from swarmex.viz.render import draw, frame_recorder
         extra_values = {name: kwargs.pop(name) for name in extras}
         check_output(json_path, surface.json_flag)
         check_output(render, "--render", RENDER_SUFFIXES)
@@ -212,7 +214,7 @@ def mission_command(mission: Mission[Any, Any], surface: Surface) -> Callable[..
                     return None
         with compile_notice(err_console), interrupted_says_so():
             world = mission.prepare(params)
-            recorder = surface.recorder(render) if surface.recorder and render else None
+            recorder = frame_recorder(mission.name, str(render)) if drawn else None
             # the watch wraps the recorder; the render below reads the recorder itself
             on_frame = surface.watch(params, world, recorder) if surface.watch else recorder
             small = surface.interpreted is not None and surface.interpreted(params, world)
@@ -229,10 +231,8 @@ def mission_command(mission: Mission[Any, Any], surface: Surface) -> Callable[..
 
             write_record(outcome.record, json_path)
             console.print(f"wrote {json_path}")
-        if render is not None and surface.render is not None:
-            if recorder is not None and hasattr(recorder, "finish"):
-                recorder.finish(outcome.run)
-            surface.render(outcome, render, list(getattr(recorder, "frames", ())))
+        if drawn:
+            draw(mission.name, outcome, str(render), recorder)
             console.print(f"wrote {render}")
         return None
 

@@ -14,10 +14,13 @@ from __future__ import annotations
 from collections.abc import Mapping
 from os import PathLike, fspath
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from swarmex.engine.record import ResultRecord, read_record
 from swarmex.errors import InputError
+
+if TYPE_CHECKING:
+    from swarmex.missions.base import Outcome
 
 
 def load_record(
@@ -32,18 +35,15 @@ def load_record(
     return ResultRecord.from_dict(source), None
 
 
-def rerun_record(
+def rerun_outcome(
     rec: ResultRecord,
     folder: Path | None,
     overrides: Mapping[str, Any],
     *,
     on_frame: Any = None,
     trace: bool | None = None,
-) -> ResultRecord:
-    """Run ``rec`` again (:func:`swarmex.rerun`), with ``overrides`` applied (``seed`` among
-    them: the same setting, drawn again). ``folder`` is the record file's, where relative
-    input paths are also looked for. ``trace`` None is the record's own: a ``trace=False``
-    record (no agent has a trajectory or a job) runs again without it."""
+) -> Outcome:
+    """:func:`rerun_record`, returning the run's whole Outcome (what the drawings read)."""
     from swarmex.missions.base import check_seed
     from swarmex.missions.registry import get
 
@@ -56,9 +56,52 @@ def rerun_record(
     if trace is None:
         trace = not rec.agents or any(a.trajectory or a.jobs for a in rec.agents)
     params = m.params({**values, **given, "seed": seed})
-    new = m.run(params, on_frame=on_frame, trace=trace).record
-    respell(new, moved)
-    return new
+    outcome = m.run(params, on_frame=on_frame, trace=trace)
+    respell(outcome.record, moved)
+    return outcome
+
+
+def rerun_record(
+    rec: ResultRecord,
+    folder: Path | None,
+    overrides: Mapping[str, Any],
+    *,
+    on_frame: Any = None,
+    trace: bool | None = None,
+) -> ResultRecord:
+    """Run ``rec`` again (:func:`swarmex.rerun`), with ``overrides`` applied (``seed`` among
+    them: the same setting, drawn again). ``folder`` is the record file's, where relative
+    input paths are also looked for. ``trace`` None is the record's own: a ``trace=False``
+    record (no agent has a trajectory or a job) runs again without it."""
+    return rerun_outcome(rec, folder, overrides, on_frame=on_frame, trace=trace).record
+
+
+def render_record(
+    source: ResultRecord | Mapping[str, Any] | str | PathLike[str], path: str | PathLike[str]
+) -> tuple[Path, bool]:
+    """Draw a record's run to ``path`` (:func:`swarmex.render`): run it again keeping the
+    frames the drawing needs (a record holds paths, not every frame or the final maps), and
+    say whether that run came out as the record (``wall_seconds`` and the version aside).
+
+    Why a rerun and not the record alone: every mission's drawing reads the run's frames or
+    its in-memory state, and a run is reproducible from its record, so drawing one costs the
+    run once more rather than frames stored in every record."""
+    from swarmex.viz.animation import check_suffix
+    from swarmex.viz.render import draw, frame_recorder
+
+    out = Path(fspath(path))
+    check_suffix(out, option="swarmex.render's path")
+    rec, folder = load_record(source)
+    recorder = frame_recorder(rec.mission, out)
+    outcome = rerun_outcome(rec, folder, {}, on_frame=recorder)
+    draw(rec.mission, outcome, out, recorder)
+    return out, comparable(outcome.record.to_dict()) == comparable(rec.to_dict())
+
+
+def comparable(record: dict[str, Any]) -> dict[str, Any]:
+    """A record's JSON without what two runs of it may differ in: ``wall_seconds`` and the
+    version of swarmex that wrote it."""
+    return {k: v for k, v in record.items() if k not in ("wall_seconds", "swarmex_version")}
 
 
 def respell(new: ResultRecord, moved: Mapping[str, str]) -> None:

@@ -501,8 +501,8 @@ class Params:
 COMMAND_ONLY = {
     "json": "the command line's record file; in Python, swarmex.engine.write_record(record,"
             " path) writes the same JSON",
-    "render": "the command line's drawing; in Python, keep the frames with"
-              " on_frame=swarmex.missions.base.FrameList() and draw them with swarmex.viz",
+    "render": "the command line's drawing; in Python, swarmex.render(record, path) draws"
+              " the run a record holds",
 }
 
 

@@ -30,8 +30,11 @@ RENDER_SUFFIXES = (".png", *ANIMATION_SUFFIXES)
 HOLD_SECONDS = 2.0  # the final state stays on screen this long before the loop restarts
 
 
-def check_suffix(path: Path, suffixes: Sequence[str] = RENDER_SUFFIXES) -> str:
-    """The lower-case suffix of ``path``, or an InputError naming the allowed ones.
+def check_suffix(
+    path: Path, suffixes: Sequence[str] = RENDER_SUFFIXES, option: str = "--render"
+) -> str:
+    """The lower-case suffix of ``path``, or an InputError naming the allowed ones (and
+    ``option``, what the caller called the path).
 
     Called before a run starts so a typo in ``--render`` costs nothing.
     """
@@ -40,7 +43,7 @@ def check_suffix(path: Path, suffixes: Sequence[str] = RENDER_SUFFIXES) -> str:
         allowed = " or ".join(
             [", ".join(suffixes[:-1]), suffixes[-1]] if suffixes[:-1] else suffixes
         )
-        raise InputError(f"--render must end in {allowed}, got {path.name!r}")
+        raise InputError(f"{option} must end in {allowed}, got {path.name!r}")
     return suffix
 
 
