@@ -93,3 +93,15 @@ def test_command_line_outputs_given_to_run_say_the_python_way(key: str, hint: st
     # render= was "unknown parameter 'render'; did you mean 'center'?"
     with pytest.raises(swarmex.InputError, match=f"'{key}' is not a parameter of the run.*{hint}"):
         swarmex.run("traversal", grid="4x4", agents=1, **{key: "out"})
+
+
+def test_every_missing_required_parameter_is_named_at_once() -> None:
+    # roadmap needs five; a Python user used to learn them one error at a time
+    with pytest.raises(swarmex.InputError, match=r"^roadmap: --env, --agents, --nodes, --step"
+                                                 r" and --sensor-range are required$"):
+        swarmex.run("roadmap")
+    with pytest.raises(swarmex.InputError, match=r"^roadmap: --agents and --sensor-range are"
+                                                 r" required$"):
+        swarmex.run("roadmap", env="e.json", nodes=5, step=1)
+    with pytest.raises(swarmex.InputError, match=r"^foraging: --algorithm is required$"):
+        swarmex.run("foraging", grid=16, agents=4)

@@ -407,12 +407,18 @@ class Params:
             if name in given:
                 raise InputError(f"{opts[name].flag} is given twice")
             given[name] = value
+        # every missing one in one line: roadmap's three used to come one error at a time
+        missing = [info.flag for name, info in opts.items()
+                   if info.required and given.get(name) is None]
+        if missing:
+            listed = ", ".join(missing[:-1]) + " and " + missing[-1] if missing[1:] else missing[0]
+            raise InputError(
+                f"{cls.mission}: {listed} {'are' if missing[1:] else 'is'} required"
+            )
         parsed: dict[str, Any] = {}
         for name, info in opts.items():
             if name in given and given[name] is not None:
                 parsed[name] = info.parse(given[name], info.flag)
-            elif info.required:
-                raise InputError(f"{cls.mission}: {info.flag} is required")
             else:
                 parsed[name] = info.default
         params = cls(**parsed)
