@@ -197,6 +197,7 @@ def sweep(
     backend: str = "local",
     workers: int | None = None,
     retry_failed: bool = False,
+    progress: bool = True,
     **axes: Any,
 ) -> Any:
     """Run the product of parameter lists over seeds, as ``swarmex sweep SPEC.toml`` does,
@@ -210,7 +211,9 @@ def sweep(
     arguments resumes (finished runs are skipped), and an interrupted call loses no finished
     run. ``backend`` is ``"local"`` (a process pool of ``workers``, default all cores),
     ``"serial"`` (this process) or ``"ray"``. A run that fails is a row with its ``error``;
-    bad parameters raise :class:`InputError` before any run. For example::
+    bad parameters raise :class:`InputError` before any run. ``progress`` shows the command
+    line's bar (done/total, runs per second, ETA) on standard error when that is a terminal
+    or a notebook's output. For example::
 
         table = swarmex.sweep("traversal", out="runs", algorithm=["madgta", "nearest"],
                               grid="8x8", agents=[2, 4], seeds=5)
@@ -221,15 +224,21 @@ def sweep(
     """
     from pathlib import Path
 
+    from swarmex.experiments.progress import SweepBar
     from swarmex.experiments.scenario import mission_shapes
     from swarmex.experiments.sweep import read_results, run_sweep
     from swarmex.experiments.sweep_spec import spec_from_keywords
 
     spec = spec_from_keywords(mission, seeds, fixed or {}, axes)
-    result = run_sweep(
-        spec, mission_shapes(mission), Path(fspath(out)), backend=backend, workers=workers,
-        retry_failed=retry_failed,
-    )
+    bar = SweepBar(disable=not progress)
+    try:
+        result = run_sweep(
+            spec, mission_shapes(mission), Path(fspath(out)), backend=backend,
+            workers=workers, retry_failed=retry_failed, on_start=bar.on_start,
+            on_outcome=bar.on_outcome,
+        )
+    finally:
+        bar.stop()
     return read_results(result.out_dir)[0]
 
 

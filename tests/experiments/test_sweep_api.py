@@ -68,3 +68,20 @@ def test_bad_values_stop_before_any_run_and_none_is_the_default(tmp_path: Path) 
                           backend="serial")
     assert table.num_rows == 1 and table.column("error").to_pylist() == [None]
     assert "comm_range" not in table.column_names
+
+
+@pytest.mark.parametrize("progress", [True, False])
+def test_the_bar_of_the_command_line_unless_turned_off(progress: bool, tmp_path: Path,
+                                                       monkeypatch, capfd) -> None:
+    """A sweep from Python used to show nothing however long it ran. On a terminal (forced
+    here: Rich reads FORCE_COLOR) it shows the command line's bar, counting every run and
+    the failed ones; ``progress=False`` keeps standard error silent."""
+    monkeypatch.setenv("FORCE_COLOR", "1")
+    monkeypatch.setenv("COLUMNS", "200")
+    swarmex.sweep("traversal", out=tmp_path / "s", grid="5x5", agents=[1, 2, 30], seeds=1,
+                  backend="serial", progress=progress)
+    err = capfd.readouterr().err
+    if progress:
+        assert "sweep" in err and "3/3" in err and "(1 failed)" in err  # 30 agents > 25 cells
+    else:
+        assert err == ""

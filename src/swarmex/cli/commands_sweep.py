@@ -15,12 +15,11 @@ from typing import Any
 import typer
 from rich.console import Console
 from rich.measure import Measurement
-from rich.progress import TaskID
 from rich.table import Table
 
 from swarmex.cli.app import app, console, err_console, interrupted
 from swarmex.errors import InputError
-from swarmex.experiments.progress import runs_progress
+from swarmex.experiments.progress import SweepBar
 
 
 def mission_shapes(mission: str, where: Path):
@@ -72,28 +71,14 @@ def sweep(
     check_metrics(spec.mission, metric)  # a typo must stop the sweep before its runs
     summary = summary or bool(metric)  # a metric asked for was silently never shown
     out_dir = out if out is not None else Path(f"{spec_file.stem}-sweep")
-    progress = runs_progress("sweep", err_console, detail=True)
-    task: TaskID | None = None  # the bar, added once the sweep knows its total
-    failed = 0
-
-    def on_start(total: int, finished: int) -> None:
-        todo = total - finished
+    def announce(total: int, finished: int) -> None:
         console.print(
             f"sweep: {total} runs of swarmex {spec.command} ({finished} finished before,"
-            f" {todo} to run) → {out_dir}",
+            f" {total - finished} to run) → {out_dir}",
             soft_wrap=True,  # one line each, whatever the width: paths stay whole in logs
         )
-        nonlocal task
-        task = progress.add_task("", total=total, completed=finished)
-        progress.start()  # its drawing thread starts only now, after the workers are forked
 
-    def on_outcome(outcome: Any) -> None:
-        nonlocal failed
-        assert task is not None  # run_sweep calls on_start before any outcome
-        if not outcome.ok:
-            failed += 1
-            progress.update(task, description=f"({failed} failed)")
-        progress.advance(task)
+    bar = SweepBar(err_console, announce=announce)
 
     # SIGTERM (a scheduler, `kill`) stops the sweep as cleanly as Ctrl-C: table written
     try:
@@ -110,12 +95,11 @@ def sweep(
                 workers=workers,
                 ray_address=ray_address,
                 retry_failed=retry_failed,
-                on_start=on_start,
-                on_outcome=on_outcome,
+                on_start=bar.on_start,
+                on_outcome=bar.on_outcome,
             )
         finally:
-            if task is not None:  # a bar never started would print a blank line
-                progress.stop()
+            bar.stop()
     except KeyboardInterrupt:
         interrupted(
             f"finished runs are saved in {out_dir} (run the same command again to resume)"

@@ -44,11 +44,12 @@ def runs_progress(
 
     ``detail`` adds the task's description (e.g. the run in progress) after the counts.
     The bar is drawn on standard error unless ``console`` says otherwise, and only when that
-    console is a terminal: Rich, told it is not one, still prints the bar's last state when it
-    stops, which put a truncated bar among a reproduction's report lines in a pipe or a log.
+    console is a terminal (or a notebook's output): Rich, told it is not one, still prints
+    the bar's last state when it stops, which put a truncated bar among a reproduction's
+    report lines in a pipe or a log.
     """
     console = console if console is not None else Console(stderr=True)
-    disable = disable or not console.is_terminal
+    disable = disable or not (console.is_terminal or console.is_jupyter)
     columns: list[ProgressColumn] = [
         TextColumn(f"[bold]{label}[/bold]"),
         BarColumn(),
@@ -128,3 +129,37 @@ class Journal:
         tb: TracebackType | None,
     ) -> None:
         self.close()
+
+
+class SweepBar:
+    """A sweep's bar as ``run_sweep``'s callbacks: ``on_start(total, finished)`` adds it
+    (after the workers are forked: Rich's drawing thread must not be forked with them),
+    ``on_outcome(outcome)`` advances it and counts failed runs, :meth:`stop` ends it.
+
+    Why one class: ``swarmex sweep`` and ``swarmex.sweep`` show the same bar; the Python
+    call showed nothing for a sweep of an hour. ``announce(total, finished)``, if given, is
+    called first (the command line prints its "N runs … → DIR" line there).
+    """
+
+    def __init__(self, console: Console | None = None, disable: bool = False,
+                 announce: Any = None) -> None:
+        self.progress = runs_progress("sweep", console, disable=disable, detail=True)
+        self.announce = announce
+        self.task: Any = None
+        self.failed = 0
+
+    def on_start(self, total: int, finished: int) -> None:
+        if self.announce is not None:
+            self.announce(total, finished)
+        self.task = self.progress.add_task("", total=total, completed=finished)
+        self.progress.start()
+
+    def on_outcome(self, outcome: Any) -> None:
+        if not outcome.ok:
+            self.failed += 1
+            self.progress.update(self.task, description=f"({self.failed} failed)")
+        self.progress.advance(self.task)
+
+    def stop(self) -> None:
+        if self.task is not None:  # a bar never started would print a blank line
+            self.progress.stop()
