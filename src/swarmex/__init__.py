@@ -93,6 +93,7 @@ def run(
     seed: int = 0,
     on_frame: Callable[[Any], Any] | None = None,
     trace: bool = True,
+    progress: bool = False,
     **params: Any,
 ) -> ResultRecord:
     """Run one mission and return its result record.
@@ -117,7 +118,10 @@ def run(
     draws); raising :class:`StopRun` from it ends the run early (the record is then
     incomplete, ``complete`` False). ``trace=False`` leaves the per-step trace (agents'
     trajectories and jobs) out of the record, for studies of many runs that read only
-    metrics; every team metric is the same.
+    metrics; every team metric is the same. ``progress=True`` shows the command line's bar
+    of a run that lasts more than half a second (traversal: jobs started of the free cells)
+    on standard error, when that is a terminal or a notebook's output; it reads the run's
+    frames, which costs some time (a traversal's frames about half its CPU again).
 
     Returns a :class:`ResultRecord`; ``record.to_dict()`` equals the JSON that
     ``swarmex COMMAND ... --json`` writes for the same options and seed, ``wall_seconds``
@@ -131,7 +135,11 @@ def run(
         raise InputError("give the seed once, as seed=")
     check_seed(seed)
     p = m.params({**params, "seed": seed})
-    return m.run(p, on_frame=on_frame, trace=trace).record
+    if not progress:
+        return m.run(p, on_frame=on_frame, trace=trace).record
+    from swarmex.experiments.progress import run_with_progress
+
+    return run_with_progress(m, p, on_frame, trace).record
 
 
 def rerun(

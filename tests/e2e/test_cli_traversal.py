@@ -492,6 +492,7 @@ def test_progress_bar_on_a_terminal_only_and_the_same_record(tmp_path, capsys, m
     from rich.console import Console
 
     from swarmex.cli import missions
+    from swarmex.experiments.progress import FrameProgress
 
     argv = ["traverse", "--grid", "9x8", "--obstacles", "3,3;4,4", "--agents", "3",
             "--seed", "4", "--render"]
@@ -499,8 +500,8 @@ def test_progress_bar_on_a_terminal_only_and_the_same_record(tmp_path, capsys, m
     assert code == 0 and err == ""
     screen = io.StringIO()
     monkeypatch.setattr(missions, "err_console", Console(file=screen, force_terminal=True))
-    monkeypatch.setattr(missions.FrameProgress, "DELAY", 0.0)
-    monkeypatch.setattr(missions.FrameProgress, "EVERY", 0.0)
+    monkeypatch.setattr(FrameProgress, "DELAY", 0.0)
+    monkeypatch.setattr(FrameProgress, "EVERY", 0.0)
     code, _, err = cli([*argv, tmp_path / "b.png", "--json", tmp_path / "b.json"], capsys)
     assert code == 0
     assert "jobs" in screen.getvalue() and "/70" in screen.getvalue()  # 9x8 minus 2 walls
@@ -516,20 +517,21 @@ def test_the_progress_bar_keeps_the_animation_frames(tmp_path, capsys, monkeypat
     from rich.console import Console
 
     import swarmex.cli.missions as missions
+    from swarmex.experiments.progress import FrameProgress
 
     argv = ["traverse", "--grid", "8x8", "--agents", "3", "--seed", "1", "--render"]
     assert cli([*argv, tmp_path / "pipe.gif"], capsys)[0] == 0
     monkeypatch.setattr(missions, "err_console", Console(stderr=True, force_terminal=True))
-    monkeypatch.setattr(missions.FrameProgress, "DELAY", 0.0)
-    monkeypatch.setattr(missions.FrameProgress, "EVERY", 0.0)
+    monkeypatch.setattr(FrameProgress, "DELAY", 0.0)
+    monkeypatch.setattr(FrameProgress, "EVERY", 0.0)
     started = []
-    real_call = missions.FrameProgress.__call__
+    real_call = FrameProgress.__call__
 
     def spy(self, frame):
         real_call(self, frame)
         started.append(self.started)
 
-    monkeypatch.setattr(missions.FrameProgress, "__call__", spy)
+    monkeypatch.setattr(FrameProgress, "__call__", spy)
     assert cli([*argv, tmp_path / "tty.gif"], capsys)[0] == 0
     assert any(started)  # the bar really ran
     assert (tmp_path / "tty.gif").read_bytes() == (tmp_path / "pipe.gif").read_bytes()

@@ -85,3 +85,4 @@ def test_the_bar_of_the_command_line_unless_turned_off(progress: bool, tmp_path:
         assert "sweep" in err and "3/3" in err and "(1 failed)" in err  # 30 agents > 25 cells
     else:
         assert err == ""
+

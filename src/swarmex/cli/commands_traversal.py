@@ -14,7 +14,7 @@ from rich.table import Table
 
 from swarmex.cli.app import app, console, err_console
 from swarmex.cli.compiling import compile_notice
-from swarmex.cli.missions import ProgressSpec, Surface, mission_command, progress_bar
+from swarmex.cli.missions import Surface, mission_command, progress_bar
 from swarmex.cli.outputs import check_output
 from swarmex.missions.base import FrameList, Outcome
 from swarmex.missions.registry import get
@@ -107,17 +107,9 @@ def small(params: Any, prepared: TraversalWorld) -> bool:
     return prepared.world.graph.n_nodes <= INTERPRETED_VERTICES
 
 
-def progress(params: Any, prepared: TraversalWorld) -> ProgressSpec | None:
-    """The bar of a long run: vertices with a job started, of the free cells (the exact
-    MILP has no frames to count)."""
-    if params.algorithm == "optimal":
-        return None
-    return ProgressSpec(prepared.world.free_cells, "jobs", lambda frame: frame.jobs_done)
-
-
 traverse = mission_command(
     get("traversal"),
-    Surface(report, interpreted=small, watch=progress_bar(progress),
+    Surface(report, interpreted=small, watch=progress_bar(get("traversal")),
             render_help="Draw the paths (.png) or animate the run (.gif, .mp4)."),
 )
 

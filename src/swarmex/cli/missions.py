@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import contextlib
 import inspect
-import time
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -63,78 +62,20 @@ class Surface:
     watch: Callable[[Any, Any, FrameCallback | None], FrameCallback | None] | None = None
 
 
-@dataclass(frozen=True)
-class ProgressSpec:
-    """A run's progress as its frames tell it: ``count(frame)`` of ``total`` ``unit``."""
-
-    total: int
-    unit: str
-    count: Callable[[Any], int]
-
-
-class FrameProgress:
-    """The ``on_frame`` callback of a one-shot run on a terminal: a transient Rich bar
-    (done/total, elapsed) fed from the frames, around the run's own callback (``inner``:
-    the ``--render`` recorder, or None).
-
-    Why: a traversal of a large map runs for minutes (madgta-k on den520d: 200 s) and used
-    to print nothing until the end. The bar appears only after :attr:`DELAY` seconds (no
-    flash on the usual sub-second run), redraws at most :attr:`EVERY` seconds apart, and is
-    never made off a terminal (pipes and logs stay clean). The frames are the ones
-    ``swarmex.run(on_frame=...)`` gives: observing them changes nothing in the run.
-    """
-
-    DELAY = 0.5
-    EVERY = 0.1
-
-    def __init__(self, spec: ProgressSpec, console: Any, inner: Any = None) -> None:
-        from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeElapsedColumn
-
-        self.spec = spec
-        self.inner = inner
-        self.bar = Progress(
-            f"[bold]{spec.unit}[/bold]", BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
-            console=console, transient=True,
-        )
-        self.task = self.bar.add_task("", total=spec.total)
-        self.started = False
-        self.t0 = self.last = time.monotonic()
-
-    def __call__(self, frame: Any) -> None:
-        if self.inner is not None:
-            self.inner(frame)
-        now = time.monotonic()
-        if now - self.last < self.EVERY or now - self.t0 < self.DELAY:
-            return
-        self.last = now
-        if not self.started:
-            from rich.errors import LiveError
-
-            try:
-                self.bar.start()
-            except LiveError:  # the compile notice's spinner is up: try again later
-                return
-            self.started = True
-        self.bar.update(self.task, completed=self.spec.count(frame))
-
-    def close(self) -> None:
-        if self.started:
-            self.bar.stop()
-            self.started = False
-
-
 Watch = Callable[[Any, Any, FrameCallback | None], FrameCallback | None]
 
 
-def progress_bar(spec_of: Callable[[Any, Any], ProgressSpec | None]) -> Watch:
-    """A :attr:`Surface.watch` that shows a :class:`FrameProgress` bar on a terminal.
-
-    ``spec_of(params, prepared world)`` says what the bar counts (None: no bar)."""
+def progress_bar(mission: Mission[Any, Any]) -> Watch:
+    """A :attr:`Surface.watch` that shows a :class:`~swarmex.experiments.progress.
+    FrameProgress` bar on a terminal, counting what ``mission.progress`` says (None: no
+    bar)."""
 
     def watch(params: Any, world: Any, on_frame: FrameCallback | None) -> FrameCallback | None:
-        spec = spec_of(params, world)
+        spec = mission.progress(params, world)
         if spec is None or not err_console.is_terminal:
             return on_frame
+        from swarmex.experiments.progress import FrameProgress
+
         return FrameProgress(spec, err_console, on_frame)
 
     return watch
@@ -332,4 +273,4 @@ def _number(text: str, flag: str, kind: type) -> Any:
         raise InputError(f"{flag}: expected {what}, got {text!r}") from None
 
 
-__all__ = ["Extra", "FrameProgress", "ProgressSpec", "Surface", "mission_command"]
+__all__ = ["Extra", "Surface", "mission_command", "progress_bar"]

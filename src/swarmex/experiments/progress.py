@@ -9,6 +9,7 @@ torn last line; both live here so they look and behave the same everywhere.
 from __future__ import annotations
 
 import json
+import time
 from pathlib import Path
 from types import TracebackType
 from typing import IO, Any
@@ -163,3 +164,72 @@ class SweepBar:
     def stop(self) -> None:
         if self.task is not None:  # a bar never started would print a blank line
             self.progress.stop()
+
+
+class FrameProgress:
+    """The ``on_frame`` callback of one long run: a transient Rich bar (done/total, elapsed)
+    fed from the frames, around the run's own callback (``inner``, or None).
+
+    Why: a traversal of a large map runs for minutes (madgta-k on den520d: 200 s) and used
+    to print nothing until the end. The bar appears only after :attr:`DELAY` seconds (no
+    flash on the usual sub-second run) and redraws at most :attr:`EVERY` seconds apart. The
+    frames are the ones ``swarmex.run(on_frame=...)`` gives: observing them changes nothing
+    in the run. ``swarmex traverse`` shows it on a terminal, ``swarmex.run(progress=True)``
+    on a terminal or in a notebook.
+    """
+
+    DELAY = 0.5
+    EVERY = 0.1
+
+    def __init__(self, spec: Any, console: Console, inner: Any = None) -> None:
+        self.spec = spec  # a swarmex.missions.base.ProgressSpec
+        self.inner = inner
+        self.bar = Progress(
+            f"[bold]{spec.unit}[/bold]", BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
+            console=console, transient=True,
+        )
+        self.task = self.bar.add_task("", total=spec.total)
+        self.started = False
+        self.t0 = self.last = time.monotonic()
+
+    def __call__(self, frame: Any) -> Any:
+        result = self.inner(frame) if self.inner is not None else None
+        now = time.monotonic()
+        if now - self.last < self.EVERY or now - self.t0 < self.DELAY:
+            return result
+        self.last = now
+        if not self.started:
+            from rich.errors import LiveError
+
+            try:
+                self.bar.start()
+            except LiveError:  # the compile notice's spinner is up: try again later
+                return result
+            self.started = True
+        self.bar.update(self.task, completed=self.spec.count(frame))
+        return result
+
+    def close(self) -> None:
+        if self.started:
+            self.bar.stop()
+            self.started = False
+
+
+def run_with_progress(mission: Any, params: Any, on_frame: Any, trace: bool) -> Any:
+    """``mission.run(params, on_frame, trace=trace)`` with a :class:`FrameProgress` bar on
+    standard error (a terminal or a notebook's output) counting what ``mission.progress``
+    says; a mission that says nothing, or a pipe, runs as it would without the bar."""
+    from swarmex.missions.base import check_run_options
+
+    check_run_options(on_frame, trace)
+    params = params.validated()
+    world = mission.prepare(params)
+    spec = mission.progress(params, world)
+    console = Console(stderr=True)
+    if spec is None or not (console.is_terminal or console.is_jupyter):
+        return mission.execute(params, world, on_frame, trace=trace)
+    bar = FrameProgress(spec, console, on_frame)
+    try:
+        return mission.execute(params, world, bar, trace=trace)
+    finally:
+        bar.close()

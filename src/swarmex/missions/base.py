@@ -555,6 +555,15 @@ def check_run_options(on_frame: Any, trace: Any) -> None:
         raise InputError(f"trace must be True or False, got {trace!r}")
 
 
+@dataclass(frozen=True)
+class ProgressSpec:
+    """A run's progress as its frames tell it: ``count(frame)`` of ``total`` ``unit``."""
+
+    total: int
+    unit: str
+    count: Callable[[Any], int]
+
+
 class FrameList(list[Any]):
     """An ``on_frame`` callback that keeps every frame, in order: what ``--render`` draws
     (the same objects ``swarmex.run(..., on_frame=...)`` hands a notebook)."""
@@ -656,6 +665,11 @@ class Mission(ABC, Generic[P, W]):
             for k, v in record.params.items()
             if k in opts and k != "seed" and k not in overridden and k not in stale
         }
+
+    def progress(self, params: P, world: W) -> ProgressSpec | None:
+        """What a progress bar of a run on ``world`` counts, from its frames (None: no bar;
+        the default). The command line's bar and ``swarmex.run(progress=True)`` read it."""
+        return None
 
     def team_metrics(self) -> Mapping[str, MetricInfo]:
         """The team metrics this mission's records hold (``record.metrics``): name → meaning.

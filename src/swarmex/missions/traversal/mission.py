@@ -22,7 +22,7 @@ import numpy as np
 
 from swarmex.engine.record import MetricInfo, ResultRecord
 from swarmex.errors import InputError
-from swarmex.missions.base import FrameCallback, Mission, Outcome
+from swarmex.missions.base import FrameCallback, Mission, Outcome, ProgressSpec
 from swarmex.missions.traversal.fleet import FleetRow
 from swarmex.missions.traversal.params import TraversalParams
 
@@ -274,6 +274,12 @@ class TraversalMission(Mission[TraversalParams, TraversalWorld]):
         "nests": _WORLD_KEYS,  # the default nest is the world's first free cell
     }
     world_options = ("map", "grid", "center")
+
+    def progress(self, params: TraversalParams, world: TraversalWorld) -> ProgressSpec | None:
+        """Vertices with a job started, of the free cells (the exact MILP has no frames)."""
+        if params.algorithm == "optimal":
+            return None
+        return ProgressSpec(world.world.free_cells, "jobs", lambda frame: frame.jobs_done)
 
     def rerun_values(self, record: ResultRecord, given: Collection[str] = ()) -> dict[str, Any]:
         """A recorded fleet as a fleet to run again (:func:`_fleet_row_again`)."""
