@@ -8,6 +8,7 @@ The public API is small and explicit::
     rec.to_dict()                      # == the JSON of `swarmex forage ... --seed 3 --json`
     swarmex.rerun(rec)                 # the same record again (also from a record file)
     swarmex.render(rec, "run.gif")     # draw it: .png picture, .gif/.mp4 animation
+    swarmex.compare(table, {"algorithm": "madgta"})  # a sweep's paired differences
 
 The package is organised as a simulation core (``worlds``, ``sensing``, ``planning``,
 ``comm``, ``engine``), the four missions behind one contract (``missions``), and the
@@ -35,8 +36,8 @@ if TYPE_CHECKING:
 
 __version__ = "0.1.0"
 __all__ = [
-    "InputError", "ResultRecord", "StopRun", "__version__", "describe", "missions", "render",
-    "rerun", "run", "sweep",
+    "InputError", "ResultRecord", "StopRun", "__version__", "compare", "describe", "missions",
+    "render", "rerun", "run", "sweep",
 ]
 
 
@@ -248,6 +249,42 @@ def sweep(
     finally:
         bar.stop()
     return read_results(result.out_dir)[0]
+
+
+def compare(
+    results: Any,
+    baseline: Mapping[str, Any],
+    metrics: Sequence[str] = ("makespan",),
+) -> Any:
+    """Paired comparisons of a sweep: every other value of one parameter against a baseline
+    value, run by run on the same configuration and seed. Returns a ``pyarrow.Table``.
+
+    ``results`` is the table :func:`sweep` returned or a sweep folder; ``baseline`` names
+    the compared parameter and its baseline value (``{"algorithm": "madgta"}``); ``metrics``
+    are table columns. One row per variant value, group of the other varied parameters and
+    metric, plus a pooled row per variant and metric (its group columns null) when there
+    are several groups: ``pairs``, ``baseline_mean``, ``mean``, the mean difference ``diff``
+    with its Student-t 95 % interval ``diff_low``/``diff_high``, the mean ratio − 1
+    ``relative`` (a fraction) with ``relative_low``/``relative_high``, and the pairs where
+    the variant is lower or higher (``lower_in``, ``higher_in``). Failed runs leave their
+    pair out. ``swarmex sweep SPEC --baseline algorithm=madgta`` prints the same. For
+    example::
+
+        table = swarmex.sweep("traversal", out="runs", algorithm=["madgta", "madgta+"],
+                              grid="12x12", agents=4, seeds=10)
+        swarmex.compare(table, {"algorithm": "madgta"}, ["makespan", "total_time_all"])
+    """
+    from swarmex.experiments.compare import as_table, comparisons, load
+
+    if not isinstance(baseline, Mapping) or len(baseline) != 1:
+        raise InputError(f"baseline must name one parameter and its value, such as"
+                         f" {{'algorithm': 'madgta'}}, got {baseline!r}")
+    if isinstance(metrics, str):
+        metrics = [metrics]
+    table, meta = load(results)
+    ((name, value),) = baseline.items()
+    found = comparisons(table, meta, name, value, list(metrics))
+    return as_table(found, name, [a for a in meta.get("axes", []) if a in table.column_names])
 
 
 def describe(mission: str) -> str:

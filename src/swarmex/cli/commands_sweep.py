@@ -61,6 +61,13 @@ def sweep(
     metric: list[str] = typer.Option(
         [], "--metric", help="A metric to add to the summary (repeatable; implies --summary)."
     ),
+    baseline: str | None = typer.Option(
+        None,
+        "--baseline",
+        help="PARAM=VALUE: compare every other value of PARAM with it, paired by"
+        " configuration and seed (Δ and relative Δ with 95 % CIs).",
+        show_default=False,
+    ),
 ) -> None:
     """Run the product of a spec's parameter lists and seeds; resumable; one Parquet table."""
     from swarmex.experiments.sweep import run_sweep
@@ -69,6 +76,12 @@ def sweep(
     spec = load_sweep_spec(spec_file)
     shapes = mission_shapes(spec.mission, spec_file)
     check_metrics(spec.mission, metric)  # a typo must stop the sweep before its runs
+    compared = None
+    if baseline is not None:
+        from swarmex.experiments.compare import check_baseline, parse_baseline
+
+        compared = parse_baseline(baseline)
+        check_baseline(spec.axes, *compared)
     summary = summary or bool(metric)  # a metric asked for was silently never shown
     out_dir = out if out is not None else Path(f"{spec_file.stem}-sweep")
     def announce(total: int, finished: int) -> None:
@@ -120,6 +133,8 @@ def sweep(
         )
     if summary:
         print_summary(result.out_dir, metric)
+    if compared is not None:
+        print_paired(result.out_dir, *compared, metric)
 
 
 def check_metrics(mission: str, names: list[str]) -> None:
@@ -179,6 +194,41 @@ def print_summary(out_dir: Path, extra_metrics: list[str]) -> None:
         no_color=console.no_color,
     )
     wide.print(out)
+
+
+def print_paired(out_dir: Path, name: str, value: str, extra_metrics: list[str]) -> None:
+    """A Rich table of ``--baseline``: each other value of ``name`` against ``value``, per
+    configuration and pooled, on makespan and the ``--metric`` metrics."""
+    from swarmex.experiments.compare import comparisons
+    from swarmex.experiments.sweep import read_results
+
+    table, meta = read_results(out_dir)
+    columns = set(table.column_names)
+    extra = [metric_column(m, columns, meta.get("mission")) for m in extra_metrics]
+    metrics = ["makespan", *[m for m in extra if m != "makespan" and m in columns]]
+    results = comparisons(table, meta, name, value, metrics)
+    groups = [a for a in meta.get("axes", []) if a in columns and a != name]
+    out = Table(
+        title=f"paired against {name} = {value} · same configuration and seed · mean Δ and"
+              " relative Δ with 95 % CIs (Student t over the pairs); lower/higher: pairs",
+        title_justify="left",
+    )
+    for column in (name, *groups, "metric", "pairs", f"{value} mean", "mean", "Δ",
+                   "relative Δ", "lower", "higher"):
+        out.add_column(column, justify="left" if column in (name, *groups, "metric")
+                       else "right")
+    for r in results:
+        pooled = not any(g in r.config for g in groups) and bool(groups)
+        cells = [_value(r.config[name]),
+                 *("all" if pooled else _value(r.config[g]) for g in groups),
+                 r.metric, str(r.pairs), _num(r.baseline_mean), _num(r.variant_mean),
+                 _mean_ci(r.diff.mean, r.diff.half_width),
+                 _mean_ci(100 * r.relative.mean, 100 * r.relative.half_width) + " %",
+                 str(r.lower), str(r.higher)]
+        out.add_row(*cells)
+    natural = Measurement.get(console, console.options.update_width(10_000), out).maximum
+    Console(file=console.file, width=max(console.width, natural),
+            force_terminal=console.is_terminal, no_color=console.no_color).print(out)
 
 
 def _value(v: Any) -> str:

@@ -211,6 +211,93 @@ def summarize_groups(
     return out
 
 
+@dataclass
+class PairedComparison:
+    """One variant against the baseline on one metric, paired run by run: the same
+    configuration otherwise and the same seed (so the same world, starts and draws).
+
+    ``config`` is the variant's value of the compared parameter and the group's other
+    parameters (empty of them for the pooled row); ``pairs`` the runs with both sides'
+    values; ``diff`` summarises variant − baseline per pair, ``relative`` variant / baseline
+    − 1 (a pair whose baseline is 0 is left out of it); ``lower`` and ``higher`` count the
+    pairs where the variant's value is below or above the baseline's (which is better
+    depends on the metric: makespan lower, coverage higher)."""
+
+    config: dict[str, Any]
+    metric: str
+    pairs: int
+    baseline_mean: float
+    variant_mean: float
+    diff: Summary
+    relative: Summary
+    lower: int
+    higher: int
+
+
+def paired_comparisons(
+    rows: list[dict[str, Any]],
+    axis: str,
+    baseline: Any,
+    by: list[str],
+    metrics: list[str],
+    confidence: float = CONFIDENCE,
+) -> list[PairedComparison]:
+    """Every other value of the ``axis`` column against ``baseline``, per group of the ``by``
+    columns (without ``axis``) and pooled over the groups when there are several.
+
+    A pair is two runs that differ only in ``axis``: equal ``by`` columns and ``seed``.
+    Failed runs (an ``error``) and missing values leave their pair out. The intervals are
+    Student's t over the pairs, the comparisons the docs' tables make by hand (a paired
+    interval cancels the spread between seeds, which an unpaired one keeps). Values compare
+    as text, so ``agents=4`` finds the integer 4 of a table."""
+    key_cols = [c for c in by if c != axis]
+    base: dict[tuple, dict[str, Any]] = {}
+    variants: dict[Any, list[dict[str, Any]]] = {}
+    for row in rows:
+        if row.get("error"):
+            continue
+        if str(row.get(axis)) == str(baseline):
+            base[(*(row.get(c) for c in key_cols), row.get("seed"))] = row
+        else:
+            variants.setdefault(row.get(axis), []).append(row)
+    out: list[PairedComparison] = []
+    for value, members in variants.items():
+        for metric in metrics:
+            groups: dict[tuple, list[tuple[float, float]]] = {}
+            for row in members:
+                group = tuple(row.get(c) for c in key_cols)
+                other = base.get((*group, row.get("seed")))
+                a = _number(other.get(metric)) if other is not None else None
+                b = _number(row.get(metric))
+                if a is not None and b is not None and math.isfinite(a) and math.isfinite(b):
+                    groups.setdefault(group, []).append((a, b))
+            pooled = [p for pairs in groups.values() for p in pairs]
+            cases = [(dict(zip(key_cols, g, strict=True)), pairs) for g, pairs in groups.items()]
+            if len(groups) > 1:
+                cases.append(({}, pooled))
+            for config, pairs in cases:
+                out.append(_paired({axis: value, **config}, metric, pairs, confidence))
+    return out
+
+
+def _paired(config: dict[str, Any], metric: str, pairs: list[tuple[float, float]],
+            confidence: float) -> PairedComparison:
+    a = np.array([p[0] for p in pairs], dtype=float)
+    b = np.array([p[1] for p in pairs], dtype=float)
+    nonzero = a != 0
+    return PairedComparison(
+        config=config,
+        metric=metric,
+        pairs=len(pairs),
+        baseline_mean=float(a.mean()) if len(a) else math.nan,
+        variant_mean=float(b.mean()) if len(b) else math.nan,
+        diff=summarize(b - a, confidence),
+        relative=summarize(b[nonzero] / a[nonzero] - 1.0, confidence),
+        lower=int((b < a).sum()),
+        higher=int((b > a).sum()),
+    )
+
+
 def _number(v: Any) -> float | None:
     if isinstance(v, bool | int | float):
         return float(v)

@@ -1,0 +1,101 @@
+"""``swarmex.compare`` and ``swarmex sweep --baseline``: paired differences of a sweep.
+
+Checked by an independent route: the pairs are rebuilt from ``swarmex.run`` (one run per
+algorithm, grid and seed) and their interval is SciPy's paired t-test interval
+(``ttest_rel(...).confidence_interval()``), not swarmex's statistics code."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+from scipy import stats
+
+import swarmex
+from swarmex.cli import main
+from swarmex.errors import InputError
+
+GRIDS, SEEDS = ["6x6", "7x5"], [0, 1, 2, 3]
+
+
+@pytest.fixture(scope="module")
+def table(tmp_path_factory):
+    out = tmp_path_factory.mktemp("cmp") / "s"
+    return swarmex.sweep("traversal", out=out, algorithm=["madgta", "nearest", "madgta+"],
+                         grid=GRIDS, agents=2, seeds=SEEDS, backend="serial", progress=False)
+
+
+def makespans(algorithm: str, grid: str) -> np.ndarray:
+    return np.array([swarmex.run("traversal", seed=s, algorithm=algorithm, grid=grid,
+                                 agents=2).makespan for s in SEEDS])
+
+
+def test_pairs_match_runs_and_scipys_paired_interval(table) -> None:
+    rows = swarmex.compare(table, {"algorithm": "madgta"}, ["makespan"]).to_pylist()
+    assert [(r["algorithm"], r["grid"]) for r in rows] == [
+        ("nearest", "6x6"), ("nearest", "7x5"), ("nearest", None),
+        ("madgta+", "6x6"), ("madgta+", "7x5"), ("madgta+", None),
+    ]
+    checked = 0
+    for r in rows:
+        grids = GRIDS if r["grid"] is None else [r["grid"]]
+        a = np.concatenate([makespans("madgta", g) for g in grids])
+        b = np.concatenate([makespans(r["algorithm"], g) for g in grids])
+        assert r["pairs"] == len(a) and r["metric"] == "makespan"
+        assert r["baseline_mean"] == pytest.approx(a.mean())
+        assert r["mean"] == pytest.approx(b.mean())
+        assert r["diff"] == pytest.approx((b - a).mean())
+        assert (r["lower_in"], r["higher_in"]) == (int((b < a).sum()), int((b > a).sum()))
+        ratios = b / a - 1
+        assert r["relative"] == pytest.approx(ratios.mean())
+        if np.ptp(b - a) > 0:
+            low, high = stats.ttest_rel(b, a).confidence_interval()
+            assert (r["diff_low"], r["diff_high"]) == pytest.approx((low, high))
+            low, high = stats.ttest_1samp(ratios, 0).confidence_interval()
+            assert (r["relative_low"], r["relative_high"]) == pytest.approx((low, high))
+            checked += 1
+    assert checked >= 3  # the intervals, not only the means, were checked
+
+
+def test_failed_runs_leave_their_pairs_out(tmp_path: Path) -> None:
+    table = swarmex.sweep("traversal", out=tmp_path / "s", algorithm=["madgta", "nearest"],
+                          grid="5x5", agents=[2, 30], seeds=2, backend="serial", progress=False)
+    rows = swarmex.compare(table, {"algorithm": "madgta"}, ["makespan"]).to_pylist()
+    assert [(r["agents"], r["pairs"]) for r in rows] == [(2, 2)]  # 30 agents > 25 cells
+
+
+def test_python_bad_input_is_one_clear_error(table) -> None:
+    for baseline, said in (({"algorithm": "nope"}, "has no value 'nope'"),
+                           ({"agents": 2}, "'agents' is not a parameter the sweep varies"),
+                           ({"algorithm": "madgta", "grid": "6x6"}, "must name one parameter")):
+        with pytest.raises(InputError, match=said):
+            swarmex.compare(table, baseline)
+    with pytest.raises(InputError, match="metric 'speed': no such column"):
+        swarmex.compare(table, {"algorithm": "madgta"}, ["speed"])
+    with pytest.raises(InputError, match="expected a sweep folder"):
+        swarmex.compare(42, {"algorithm": "madgta"})
+
+
+def test_the_command_line_prints_the_table_and_checks_before_running(tmp_path: Path,
+                                                                      capsys) -> None:
+    spec = tmp_path / "s.toml"
+    spec.write_text('mission = "traversal"\ngrid = "6x6"\nagents = 2\n'
+                    'algorithm = ["madgta", "nearest"]\nseeds = [0, 1, 2]\n', encoding="utf-8")
+    out = tmp_path / "out"
+    for bad, said in (("algorithm=nope", "has no value 'nope' in this sweep (its values:"
+                                         " madgta, nearest)"),
+                      ("grid=6x6", "'grid' is not a parameter the sweep varies"),
+                      ("algorithm", "expected PARAM=VALUE")):
+        assert main(["sweep", str(spec), "--backend", "serial", "--out", str(out),
+                     "--baseline", bad]) == 2
+        assert said in capsys.readouterr().err
+        assert not out.exists()  # nothing ran
+    assert main(["sweep", str(spec), "--backend", "serial", "--out", str(out),
+                 "--baseline", "algorithm=madgta", "--metric", "total_time_all"]) == 0
+    text = capsys.readouterr().out
+    assert "paired against algorithm = madgta" in text
+    row = next(r for r in swarmex.compare(out, {"algorithm": "madgta"}).to_pylist())
+    line = next(ln for ln in text.splitlines() if "nearest" in ln and "makespan" in ln)
+    assert f"{100 * row['relative']:.3g}"[:4] in line and not math.isnan(row["diff"])
