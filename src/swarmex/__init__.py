@@ -37,7 +37,7 @@ if TYPE_CHECKING:
 __version__ = "0.1.0"
 __all__ = [
     "InputError", "ResultRecord", "StopRun", "__version__", "compare", "describe", "missions",
-    "render", "rerun", "run", "sweep",
+    "plot", "render", "rerun", "run", "sweep",
 ]
 
 
@@ -285,6 +285,44 @@ def compare(
     ((name, value),) = baseline.items()
     found = comparisons(table, meta, name, value, list(metrics))
     return as_table(found, name, [a for a in meta.get("axes", []) if a in table.column_names])
+
+
+def plot(
+    results: Any,
+    x: str,
+    y: str,
+    *,
+    hue: str | None = None,
+    where: Mapping[str, Any] | None = None,
+    kind: str = "auto",
+    out: str | PathLike[str] | None = None,
+) -> Any:
+    """A sweep's metric ``y`` against the parameter ``x``, as ``swarmex plot`` draws it:
+    means over the seeds with Student-t 95 % bands (a numeric ``x``) or grouped bars with
+    whiskers (a categorical one; ``kind`` "line" or "bar" chooses), one series per ``hue``
+    value. ``results`` is the table :func:`sweep` returned or a sweep folder; ``where``
+    keeps the rows with these values (``{"grid": "8x8"}``). Returns the matplotlib
+    ``Figure`` (a notebook shows it), also written to ``out`` (.png or .svg) when given.
+    Varied parameters that are neither ``x`` nor ``hue`` are pooled, with a
+    ``UserWarning`` saying so."""
+    import warnings
+
+    from swarmex.experiments.compare import load
+    from swarmex.viz.plot import SUFFIXES, sweep_figure
+
+    table, meta = load(results)
+    filters = [f"{k}={v}" for k, v in (where or {}).items()]
+    fig, note = sweep_figure(table.to_pylist(), meta, x, y, hue, filters, kind)
+    if note:
+        note = note.removeprefix("note: ").replace("--hue or --where", "hue= or where=")
+        warnings.warn(note, UserWarning, stacklevel=2)
+    if out is not None:
+        path = Path(fspath(out))
+        if path.suffix.lower() not in SUFFIXES:
+            raise InputError(f"out: {path} must end in .png or .svg")
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fig.savefig(path, format=path.suffix.lower()[1:])
+    return fig
 
 
 def describe(mission: str) -> str:

@@ -113,6 +113,27 @@ def test_cli_plot_of_a_real_sweep(tmp_path, capsys):
                      f"wrote {deep}"]
 
 
+def test_python_plot_is_the_command_lines_figure(tmp_path, capsys):
+    """``swarmex.plot`` returns the figure ``swarmex plot`` writes (the same PNG bytes), on
+    the table ``swarmex.sweep`` returned; ``where`` filters, a pooled axis warns."""
+    import swarmex
+
+    out = tmp_path / "sw"
+    table = swarmex.sweep("traversal", out=out, grid=["4x4", "5x4"], agents=[1, 2], seeds=2,
+                          backend="serial", progress=False)
+    assert main(["plot", str(out), "--x", "agents", "--y", "makespan", "--hue", "grid",
+                 "--out", str(tmp_path / "cli.png")]) == 0
+    fig = swarmex.plot(table, "agents", "makespan", hue="grid", out=tmp_path / "lib.png")
+    assert (tmp_path / "lib.png").read_bytes() == (tmp_path / "cli.png").read_bytes()
+    assert [line.get_label() for line in fig.axes[0].get_lines()] == ["4x4", "5x4"]
+    fig = swarmex.plot(out, "agents", "makespan", where={"grid": "5x4"})  # no pooling: no warning
+    assert len(fig.axes[0].get_lines()) == 1
+    with pytest.warns(UserWarning, match="pooled over grid .use hue= or where="):
+        swarmex.plot(table, "agents", "makespan")
+    with pytest.raises(InputError, match="must end in .png or .svg"):
+        swarmex.plot(table, "agents", "makespan", hue="grid", out=tmp_path / "x.jpg")
+
+
 def test_traversal_mp4_render(tmp_path, capsys):
     """`--render .mp4` support of the traversal drawing: H.264 frames of the same animation."""
     pytest.importorskip("imageio_ffmpeg", reason="imageio-ffmpeg is not installed")

@@ -42,6 +42,28 @@ def plot_sweep(
     path = Path(path)
     if path.suffix.lower() not in SUFFIXES:
         raise InputError(f"--out: {path} must end in .png or .svg")
+    fig, note = sweep_figure(rows, meta, x, y, hue, where, kind)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fig.savefig(path, format=path.suffix.lower()[1:])
+    except OSError as exc:
+        blocker = next((a for a in path.parents if a.exists() and not a.is_dir()), None)
+        why = f"{blocker} is a file, not a folder" if blocker else exc.strerror or exc
+        raise InputError(f"cannot write {path}: {why}") from None
+    return path, note
+
+
+def sweep_figure(
+    rows: list[dict[str, Any]],
+    meta: dict[str, Any],
+    x: str,
+    y: str,
+    hue: str | None = None,
+    where: list[str] | None = None,
+    kind: str = "auto",
+) -> tuple[Figure, str | None]:
+    """The figure of :func:`plot_sweep`, not saved (``swarmex.plot`` returns it), and the
+    note on what it pools."""
     if kind not in KINDS:
         raise InputError(f"--kind must be one of {', '.join(KINDS)}, got {kind!r}")
     columns = list(rows[0]) if rows else []
@@ -109,14 +131,7 @@ def plot_sweep(
         if pooled
         else None
     )
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        fig.savefig(path, format=path.suffix.lower()[1:])
-    except OSError as exc:
-        blocker = next((a for a in path.parents if a.exists() and not a.is_dir()), None)
-        why = f"{blocker} is a file, not a folder" if blocker else exc.strerror or exc
-        raise InputError(f"cannot write {path}: {why}") from None
-    return path, note
+    return fig, note
 
 
 def y_label(y: str, rows: list[dict[str, Any]]) -> str:
