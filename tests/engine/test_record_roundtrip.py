@@ -81,3 +81,16 @@ def test_repr_is_one_line_that_does_not_grow_with_the_trace() -> None:
         assert html.count("<tr>") == sum(
             not isinstance(v, list | dict) for v in rec.metrics.values())
     assert "steps" in repr(swarmex.run("foraging", grid=16, agents=4, algorithm="strips", seed=1))
+
+
+def test_read_and_write_are_the_command_lines_json(tmp_path: Path) -> None:
+    rec = swarmex.run("traversal", grid="5x4", agents=2, seed=3)
+    assert rec.write(tmp_path / "py.json") == tmp_path / "py.json"
+    assert main(["traverse", "--grid", "5x4", "--agents", "2", "--seed", "3",
+                 "--json", str(tmp_path / "cli.json")]) == 0
+    a, b = (json.loads((tmp_path / n).read_text()) for n in ("py.json", "cli.json"))
+    a.pop("wall_seconds"), b.pop("wall_seconds")
+    assert a == b
+    assert ResultRecord.read(tmp_path / "py.json").to_dict() == rec.to_dict()
+    with pytest.raises(InputError, match="record not found"):
+        ResultRecord.read(tmp_path / "none.json")

@@ -87,7 +87,8 @@ def test_run_refuses_seed_none() -> None:
 
 
 @pytest.mark.parametrize(
-    ("key", "hint"), [("json", "write_record"), ("render", r"swarmex\.render\(record, path\)")]
+    ("key", "hint"),
+    [("json", r"record\.write\(path\)"), ("render", r"swarmex\.render\(record, path\)")],
 )
 def test_command_line_outputs_given_to_run_say_the_python_way(key: str, hint: str) -> None:
     # render= was "unknown parameter 'render'; did you mean 'center'?"

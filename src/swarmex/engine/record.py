@@ -194,6 +194,16 @@ class ResultRecord:
         return cast(dict[str, Any], plain(out))
 
     @classmethod
+    def read(cls, path: str | Path) -> ResultRecord:
+        """The record of a file ``--json``, a sweep or :meth:`write` wrote (an InputError
+        names a missing or malformed one)."""
+        return cls.from_dict(read_record(path))
+
+    def write(self, path: str | Path) -> Path:
+        """Write the record's JSON to ``path`` atomically (what ``--json`` writes)."""
+        return write_record(self, path)
+
+    @classmethod
     def from_dict(cls, data: Mapping[str, Any]) -> ResultRecord:
         """The record back from its JSON (:meth:`to_dict`, or a file ``--json`` wrote):
         ``ResultRecord.from_dict(rec.to_dict()).to_dict() == rec.to_dict()``.

@@ -505,8 +505,8 @@ class Params:
 # options of the mission commands that are outputs, not parameters of the run: a Python user
 # who tries them is told the Python way (``render`` used to get "did you mean 'center'?")
 COMMAND_ONLY = {
-    "json": "the command line's record file; in Python, swarmex.engine.write_record(record,"
-            " path) writes the same JSON",
+    "json": "the command line's record file; in Python, record.write(path) writes the same"
+            " JSON",
     "render": "the command line's drawing; in Python, swarmex.render(record, path) draws"
               " the run a record holds",
 }
