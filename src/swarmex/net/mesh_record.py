@@ -32,7 +32,6 @@ def _by_origin(scans: dict) -> dict[str, int]:
     return dict(sorted(out.items()))
 
 
-
 class RecordSource(Protocol):
     """What the record is assembled from: the display process's state at the end of a run
     (a protocol, so that this module does not import the display's sockets)."""
