@@ -26,10 +26,12 @@ from swarmex.planning import distance, hop_shift
 
 SRC = Path(swarmex.__file__).resolve().parents[1]
 KERNEL_MODULES = (
-    "swarmex.planning.distance", "swarmex.planning.fieldcache", "swarmex.sensing.visibility",
+    "swarmex.planning.distance", "swarmex.planning.hop_shift", "swarmex.planning.hop_repair",
+    "swarmex.planning.fieldcache", "swarmex.sensing.visibility",
     "swarmex.sensing.laser", "swarmex.sensing.frontiers", "swarmex.sensing.occupancy",
     "swarmex.missions.traversal.policies", "swarmex.missions.traversal.lattice",
-    "swarmex.missions.traversal.rollout", "swarmex.missions.traversal.teamplan",
+    "swarmex.missions.traversal.rollout", "swarmex.missions.traversal.rollout_sim",
+    "swarmex.missions.traversal.teamplan",
     "swarmex.missions.traversal.partition",
     "swarmex.missions.foraging.fastloop", "swarmex.missions.exploration.paths",
 )
