@@ -91,7 +91,8 @@ def mesh_rows(size: str, robots: int, scale: float, seed: int) -> list[dict]:
     the process run is asynchronous, so its steps differ run to run)."""
     from swarmex.missions.exploration import ExplorationParams, run_exploration
     from swarmex.missions.exploration.record import exploration_record
-    from swarmex.net.mesh import MeshOptions, run_processes
+    from swarmex.net.mesh import run_processes
+    from swarmex.net.mesh_scenario import MeshOptions
     from swarmex.worlds.metric import empty_metric, parse_size
 
     grid = empty_metric(*parse_size(size))

@@ -35,7 +35,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from compare_traversal_variants import JOB, TRAVEL, fleet_for, load, nests_for  # noqa: E402
 from swarmex.missions.traversal import run_metrics, run_traversal  # noqa: E402
 from swarmex.missions.traversal import sim as simmod  # noqa: E402
-from swarmex.missions.traversal.rollout import _fill_rows  # noqa: E402
+from swarmex.missions.traversal.rollout_sim import _fill_rows  # noqa: E402
 from swarmex.missions.traversal.teamplan import _improve, _route_end  # noqa: E402
 from swarmex.planning.distance import distance_field  # noqa: E402
 

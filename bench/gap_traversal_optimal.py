@@ -302,7 +302,8 @@ def pareto(n_instances: int, caps: list[float], time_limit: float, budget: float
     bound of the true one). From the floors, :mod:`~swarmex.missions.traversal.pareto`
     bounds the least mean sum gap of any method whose mean makespan gap is at most
     ``budget``."""
-    from swarmex.missions.traversal import optimal as exact
+    from swarmex.missions.traversal.optimal_instance import _prepare
+    from swarmex.missions.traversal.optimal_partition import _assign, _class_costs, _partition_sum
     from swarmex.missions.traversal.pareto import least_mean_sum_gap, staircase
 
     res: dict = {c: {"identical": [], "mixed": []} for c in caps}
@@ -317,15 +318,15 @@ def pareto(n_instances: int, caps: list[float], time_limit: float, budget: float
         opt_mk = solve_optimal(world, agents, "makespan", time_limit=time_limit)
         if not opt_sum.proven_optimal:  # then a floor of 0 % is no longer a floor
             print(f"  instance {i}: the optimal sum is not proven; its floors are not either")
-        inst, _ = exact._prepare(world, agents, 1.0, 16, "makespan")
-        cost, _ = exact._class_costs(inst)
+        inst, _ = _prepare(world, agents, 1.0, 16, "makespan")
+        cost, _ = _class_costs(inst)
         incumbent = [[inst.verts.index(v) for v in p.jobs] for p in opt_mk.agents]
         row = []
         for c in caps:
             cap = np.full(len(inst.classes), opt_mk.value * c * (1 + 1e-9) + 1e-9)
-            milp, picks, _ = exact._partition_sum(inst, cost, cap, incumbent, time_limit)
+            milp, picks, _ = _partition_sum(inst, cost, cap, incumbent, time_limit)
             unproven[c] += not milp.optimal  # a time-out: the plan is feasible, maybe not least
-            routes = exact._assign(inst, picks)
+            routes = _assign(inst, picks)
             total = sum(inst.route_cost(a, r) for a, r in enumerate(routes))
             res[c][kind].append(total / opt_sum.value - 1)
             bound = milp.bound if np.isfinite(milp.bound) else -np.inf

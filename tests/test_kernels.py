@@ -22,14 +22,16 @@ import pytest
 
 import swarmex
 from swarmex import _kernels
-from swarmex.planning import distance
+from swarmex.planning import distance, hop_shift
 
 SRC = Path(swarmex.__file__).resolve().parents[1]
 KERNEL_MODULES = (
-    "swarmex.planning.distance", "swarmex.planning.fieldcache", "swarmex.sensing.visibility",
+    "swarmex.planning.distance", "swarmex.planning.hop_shift", "swarmex.planning.hop_repair",
+    "swarmex.planning.fieldcache", "swarmex.sensing.visibility",
     "swarmex.sensing.laser", "swarmex.sensing.frontiers", "swarmex.sensing.occupancy",
     "swarmex.missions.traversal.policies", "swarmex.missions.traversal.lattice",
-    "swarmex.missions.traversal.rollout", "swarmex.missions.traversal.teamplan",
+    "swarmex.missions.traversal.rollout", "swarmex.missions.traversal.rollout_sim",
+    "swarmex.missions.traversal.teamplan",
     "swarmex.missions.traversal.partition",
     "swarmex.missions.foraging.fastloop", "swarmex.missions.exploration.paths",
 )
@@ -189,7 +191,7 @@ def test_cone_share_is_the_free_share_of_the_half_plane():
                 vy, vx = np.divmod(np.flatnonzero(free), width)
                 nearer = np.abs(vy - y - dy) + np.abs(vx - x - dx) < np.abs(vy - y) + np.abs(vx - x)
                 want = nearer.sum() / free.sum() if free.any() else 0.0
-                assert distance._cone_share(width, a, b, col_free, row_free) == want
+                assert hop_shift._cone_share(width, a, b, col_free, row_free) == want
                 checked += 1
     assert checked > 500
 

@@ -17,7 +17,8 @@ import pytest
 from swarmex.missions.exploration import ExplorationParams
 from swarmex.missions.exploration.sim import legal_step
 from swarmex.net.events import viewer_batches
-from swarmex.net.mesh import MeshOptions, run_processes
+from swarmex.net.mesh import run_processes
+from swarmex.net.mesh_scenario import MeshOptions
 from swarmex.worlds.metric import empty_metric
 
 pytestmark = pytest.mark.timeout(120)

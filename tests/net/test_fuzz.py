@@ -174,7 +174,7 @@ def _radio_frames() -> list[bytes]:
         ScanMsg,
         ScanRecord,
     )
-    from swarmex.net.mesh import encode_radio
+    from swarmex.net.mesh_frames import encode_radio
     from swarmex.sensing.occupancy import rasterise
 
     ranges = np.full(16, 3.0)
@@ -196,7 +196,7 @@ RADIO = _radio_frames()
 
 
 def _mesh_decoders(frame: bytes) -> None:
-    from swarmex.net.mesh import decode_control, decode_radio
+    from swarmex.net.mesh_frames import decode_control, decode_radio
 
     for decode in (lambda f: decode_radio(f, (12, 12)), decode_control):
         with contextlib.suppress(wire.WireError):
@@ -204,7 +204,7 @@ def _mesh_decoders(frame: bytes) -> None:
 
 
 def test_mesh_frames_decode():
-    from swarmex.net.mesh import decode_radio
+    from swarmex.net.mesh_frames import decode_radio
 
     kinds = [decode_radio(f, (12, 12))[2].kind for f in RADIO]
     assert kinds == ["SCAN", "HEARTBEAT", "NEED_MAP", "GOAL", "CHANGE_GOAL", "RREQ", "RERR",

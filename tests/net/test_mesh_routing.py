@@ -15,14 +15,9 @@ from swarmex.comm.aodv import Rerr, Routed, Rrep, Rreq
 from swarmex.missions.exploration import ExplorationParams
 from swarmex.missions.exploration.messages import ChangeGoal, MapMsg, NeedMap, ScanRecord
 from swarmex.net import wire
-from swarmex.net.mesh import (
-    MeshOptions,
-    RobotProcess,
-    decode_control,
-    decode_radio,
-    encode_radio,
-    write_scenario,
-)
+from swarmex.net.mesh_frames import decode_control, decode_radio, encode_radio
+from swarmex.net.mesh_robot import RobotProcess
+from swarmex.net.mesh_scenario import MeshOptions, write_scenario
 from swarmex.net.routing import LinkFeedback, wants_feedback
 from swarmex.sensing.occupancy import rasterise
 from swarmex.worlds.metric import empty_metric

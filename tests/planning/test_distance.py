@@ -8,9 +8,8 @@ import pytest
 from scipy.sparse import csr_matrix
 from scipy.sparse.csgraph import dijkstra
 
-from swarmex.planning import distance
+from swarmex.planning import hop_shift
 from swarmex.planning.distance import (
-    BLOCKED,
     distance_field,
     distance_fields,
     hop_field,
@@ -22,6 +21,7 @@ from swarmex.planning.distance import (
     step_length,
     steps_towards,
 )
+from swarmex.planning.kernel_arrays import BLOCKED
 from swarmex.worlds import GraphWorld, GridWorld
 from swarmex.worlds.generators import random_obstacles
 
@@ -226,11 +226,11 @@ def test_in_place_shift_equals_a_shift_into_another_row(seed):
         t = nbrs[int(rng.integers(len(nbrs)))]
         apart = np.empty_like(row)
         if step % 2:
-            distance._shift_source_lattice(width, mask, row, apart, t, queue)
-            distance._shift_source_lattice(width, mask, row, row, t, queue)
+            hop_shift._shift_source_lattice(width, mask, row, apart, t, queue)
+            hop_shift._shift_source_lattice(width, mask, row, row, t, queue)
         else:
-            distance._shift_by_complement_bits(width, mask, row, apart, t, s, queue)
-            distance._shift_by_complement_bits(width, mask, row, row, t, s, queue)
+            hop_shift._shift_by_complement_bits(width, mask, row, apart, t, s, queue)
+            hop_shift._shift_by_complement_bits(width, mask, row, row, t, s, queue)
         np.testing.assert_array_equal(row, apart)
         np.testing.assert_array_equal(np.maximum(row, -1), hop_field(g, t, blocked))
         s = t

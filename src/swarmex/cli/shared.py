@@ -30,7 +30,8 @@ def run_mesh(grid, params, time_scale: float = 1.0, loss: float = 0.0,
              timeout: float = 600.0, json_path: Path | None = None,
              monitor_url: str | None = None) -> dict:
     """``explore --processes``: validate the network options, run, print the summary line."""
-    from swarmex.net.mesh import MeshOptions, run_processes
+    from swarmex.net.mesh import run_processes
+    from swarmex.net.mesh_scenario import MeshOptions
 
     _positive(time_scale, "--time-scale")
     _positive(timeout, "--timeout")

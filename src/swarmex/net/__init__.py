@@ -4,7 +4,8 @@
 * :mod:`~swarmex.net.traversal`, :mod:`~swarmex.net.server`, :mod:`~swarmex.net.agent` —
   seed 000's server and UAV clients (``swarmex serve`` / ``swarmex agent``);
 * :mod:`~swarmex.net.mesh` — seed 003's robots and display as processes on a mesh
-  (``swarmex explore --processes``);
+  (``swarmex explore --processes``; its parts in ``mesh_*``: scenario, frames, node,
+  robot, display, record);
 * :mod:`~swarmex.net.events`, :mod:`~swarmex.net.watch` — the live monitor stream.
 
 docs/net.md says how and why.

@@ -49,6 +49,18 @@ from numpy.typing import NDArray
 
 from swarmex._kernels import kernel
 from swarmex.planning.distance import (
+    _bfs_hops_csr,
+    _bfs_hops_lattice,
+    _first_steps,
+    distance_field,
+    free_counts,
+    lattice_structure,
+    max_hop_of,
+    step_length,
+)
+from swarmex.planning.hop_repair import _repair_hops
+from swarmex.planning.hop_shift import _shift_lattice
+from swarmex.planning.kernel_arrays import (
     BLOCKED,
     UNREACHED,
     Field,
@@ -58,16 +70,6 @@ from swarmex.planning.distance import (
     Mask,
     Vertices,
     Weights,
-    _bfs_hops_csr,
-    _bfs_hops_lattice,
-    _first_steps,
-    _repair_hops,
-    _shift_lattice,
-    distance_field,
-    free_counts,
-    lattice_structure,
-    max_hop_of,
-    step_length,
 )
 from swarmex.planning.tiles import Tiling, raise_tile_max, tile_range, tile_range_lattice
 from swarmex.worlds.nodegraph import NodeGraph

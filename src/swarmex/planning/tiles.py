@@ -23,7 +23,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from swarmex._kernels import kernel
-from swarmex.planning.distance import Hops
+from swarmex.planning.kernel_arrays import Hops
 
 #: side of a lattice tile (cells)
 TILE_SIDE = 8

@@ -21,14 +21,8 @@ from swarmex.missions.traversal import (
     uniform_agents,
 )
 from swarmex.missions.traversal.policies import POLICIES, Madgta
-from swarmex.missions.traversal.rollout import (
-    ABSENT,
-    FREE,
-    NEAR,
-    MadgtaR,
-    _fill_rows,
-    _simulate,
-)
+from swarmex.missions.traversal.rollout import MadgtaR
+from swarmex.missions.traversal.rollout_sim import ABSENT, FREE, NEAR, _fill_rows, _simulate
 from swarmex.worlds import GridWorld, random_obstacles
 from swarmex.worlds.nodegraph import NodeGraph
 

@@ -26,7 +26,8 @@ from swarmex.missions.traversal import (
 )
 from swarmex.missions.traversal import teamplan as tp
 from swarmex.missions.traversal.policies import POLICIES
-from swarmex.missions.traversal.rollout import MadgtaR, _fill_rows
+from swarmex.missions.traversal.rollout import MadgtaR
+from swarmex.missions.traversal.rollout_sim import _fill_rows
 from swarmex.worlds import random_obstacles
 from swarmex.worlds.nodegraph import NodeGraph
 

@@ -67,14 +67,14 @@ from numpy.typing import NDArray
 from swarmex._kernels import kernel
 from swarmex.missions.traversal.belief import TraversalBelief
 from swarmex.missions.traversal.policies import POLICIES, Decision, _pick
-from swarmex.missions.traversal.rollout import (
+from swarmex.missions.traversal.rollout import MadgtaR
+from swarmex.missions.traversal.rollout_sim import (
     ABSENT,
     DECIDE,
     FAR,
     MOVING,
     NEAR,
     WORKING,
-    MadgtaR,
     _madgta_step,
     _next_agent,
     _Rows,

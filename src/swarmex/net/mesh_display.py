@@ -1,0 +1,353 @@
+"""The display process of the mesh: a router that explores nothing, watches and records.
+
+Thesis §3.2: "the router, but it does not carry out the exploration". It joins the radio
+(heartbeats, relays floods, routes AODV unicasts, asks new neighbours for their maps and keeps
+its own map), runs the experiment on the control link (start barrier, GO, liveness from
+STATUS, STOP, the robots' REPORTs), serves live monitor events and writes the result record
+(assembled by :mod:`swarmex.net.mesh_record`).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import time
+from collections.abc import Callable, Iterable
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import zmq
+
+from swarmex.comm.aodv import AodvMessage, Routed
+from swarmex.comm.message import PackedMessage
+from swarmex.net import events as ev
+from swarmex.net import wire
+from swarmex.net.mesh_frames import (
+    DISPLAY,
+    RADIO_KIND,
+    control_message,
+    encode_radio,
+    radio_message,
+)
+from swarmex.net.mesh_node import Node
+from swarmex.net.mesh_record import build_record
+from swarmex.net.mesh_scenario import read_scenario
+from swarmex.net.routing import ROUTED_PAYLOADS, wants_feedback
+
+if TYPE_CHECKING:  # imported where used: each process loads only what it needs
+    from swarmex.missions.exploration.messages import Message
+
+BEAT_WALL = 0.5  # the display's keep-alive on the control link
+
+
+class DisplayProcess(Node):
+    """The display application: a non-exploring mesh router that watches and records."""
+
+    def __init__(self, run_dir: Path, view_bind: str = "tcp://127.0.0.1:*",
+                 monitor_url: str | None = None) -> None:
+        from swarmex.comm.aodv import AodvNode, AodvTiming
+        from swarmex.comm.mesh import MeshNode
+        from swarmex.missions.exploration.belief import ExplorationBelief
+        from swarmex.missions.exploration.robot import RobotConfig
+        from swarmex.missions.exploration.sim import reachable_free
+
+        grid, params, options, json_path = read_scenario(run_dir)
+        super().__init__(DISPLAY, run_dir, options, params.seed)
+        self.grid = grid
+        self.params = params
+        self.json_path = None if json_path is None else Path(json_path)
+        assert params.starts is not None  # a scenario's starts are always filled in
+        self.starts = params.starts
+        self.cell = options.display_cell or self.starts[0]
+        self.belief = ExplorationBelief(grid.shape, self.cell)
+        self.mesh = MeshNode(DISPLAY, params.heartbeat_period, params.neighbour_timeout)
+        # the thesis's display is "the router": with AODV on, it routes unicasts too
+        self.aodv = AodvNode(
+            DISPLAY, self.mesh.relay_targets,
+            AodvTiming.for_mesh(params.heartbeat_period, params.neighbour_timeout),
+        ) if params.aodv else None
+        self.lifetime = RobotConfig.unicast_lifetime  # what a robot's NEED_MAP / MAP gets
+        self.reachable = reachable_free(grid.free, self.starts)
+        self.robots: dict[int, dict[str, Any]] = {}
+        self.reports: dict[int, dict] = {}
+        self.t = 0
+        self.view = self.ctx.socket(zmq.ROUTER)
+        self.view.setsockopt(zmq.LINGER, 0)
+        self.view.bind(view_bind)
+        self.view_endpoint = self.view.getsockopt_string(zmq.LAST_ENDPOINT)
+        self.viewers: set[bytes] = set()
+        self.viewer_beat = 0.0
+        self.events: list[dict] = []
+        self.pending: list[dict] = []
+        self.forwarder = ev.IngestForwarder(monitor_url) if monitor_url else None
+        self.record: dict[str, Any] | None = None
+
+    # ---- radio
+    def on_radio(self, obj: list[Any]) -> None:
+        from swarmex.missions.exploration.messages import Heartbeat, NeedMap
+
+        try:
+            src, where, msg = radio_message(obj, self.grid.shape)
+        except wire.WireError:
+            self.traffic.bad_frames += 1
+            return
+        if not self.in_range(self.cell, where, self.grid.cell, self.params.comm_range):
+            self.traffic.out_of_range += 1
+            self.refuse(obj, src)
+            return
+        if self.lost():
+            self.traffic.lost_injected += 1
+            return
+        aodv = self.aodv
+        if isinstance(msg, Heartbeat):
+            new = self.mesh.hear(src, self.t)
+            if aodv is not None:
+                self.send_out(aodv.hello(src, self.t))
+            if new:
+                self.unicast(src, NeedMap(DISPLAY, self.belief.archive.summary()))
+            return
+        if self.mesh.hear(src, self.t) and aodv is not None:  # the reverse connection
+            self.send_out(aodv.hello(src, self.t))
+        if aodv is not None and isinstance(msg, (AodvMessage, Routed)):
+            self.arrived(msg)
+            sent, delivered = aodv.receive(src, msg, self.t)
+            self.send_out(sent)
+            for orig, payload in delivered:  # a multi-hop unicast for the display
+                self._application(orig, None, payload)
+            return
+        if aodv is not None and msg.kind in ROUTED_PAYLOADS:
+            aodv.delivered_direct()
+        self._application(src, src, msg)  # type: ignore[arg-type]
+
+    def _application(self, sender: int, via: int | None, msg: Message) -> None:
+        """An exploration message from ``sender`` (through neighbour ``via``; None: over
+        several hops), handled as a router that keeps a map and explores nothing."""
+        from swarmex.missions.exploration.messages import Goal, MapMsg, NeedMap, ScanMsg
+
+        if isinstance(msg, ScanMsg):  # SCAN and MAP: integrate, relay as a router does
+            new = tuple(r for r in msg.scans if self.mesh.first_time(r.key))
+            for r in new:
+                self.belief.integrate(r)
+            if new:
+                fwd = ScanMsg(DISPLAY, new)
+                for n in self.mesh.relay_targets(via):
+                    self.radio(n, fwd)
+        elif isinstance(msg, NeedMap):
+            missing = self.belief.archive.missing_for(msg.have)
+            if missing:
+                self.unicast(sender, MapMsg(DISPLAY, tuple(missing)))
+        elif isinstance(msg, Goal) and sender in self.robots:
+            self.robots[sender]["goal"] = msg.goal
+
+    def radio(self, dst: int, msg: PackedMessage) -> None:
+        self.send_frame(dst, encode_radio(DISPLAY, self.cell, msg), msg.kind)
+
+    def unicast(self, dst: int, msg: Message) -> None:
+        """The display's own unicast (``NEED_MAP``, ``MAP``): by AODV when routing is on."""
+        if self.aodv is None:
+            self.radio(dst, msg)
+        else:
+            self.send_out(self.aodv.send(dst, msg, self.t, self.lifetime))
+
+    def send_out(self, out: Iterable[tuple[int, Any]]) -> None:
+        """AODV's transmissions; a unicast that cannot be sent breaks the link (as a robot's)."""
+        assert self.aodv is not None
+        for dst, msg in out:
+            if not wants_feedback(msg):
+                self.radio(dst, msg)
+            elif not self.unicast_frame(dst, msg, self.cell, self.t):
+                self._failed(dst, msg)
+
+    def _failed(self, dst: int, msg: Any) -> None:
+        assert self.aodv is not None
+        self.send_out(self.aodv.send_failed(dst, msg, self.t, self.lifetime))
+
+    def heartbeat(self) -> None:
+        from swarmex.missions.exploration.messages import Heartbeat
+
+        frame = encode_radio(DISPLAY, self.cell, Heartbeat(DISPLAY, *self.cell))
+        for nid in sorted(self.scan_air()):
+            self.send_frame(nid, frame, "HEARTBEAT")
+        for gone in self.mesh.expire(self.t):
+            if self.aodv is not None:
+                self.send_out(self.aodv.link_broken(gone, self.t))
+
+    def route_tick(self) -> None:
+        """AODV's queue (expiries, discovery retries) and the link feedback's memory."""
+        if self.aodv is not None:
+            self.send_out(self.aodv.tick(self.t))
+        self.link.prune(self.t)
+
+    # ---- control
+    def on_control(self, obj: list[Any], now: float) -> None:
+        cmd, rid = obj[0], int(obj[1])
+        if rid >= self.params.robots:
+            self.traffic.bad_frames += 1
+            return
+        info = self.robots.setdefault(rid, {"seen": now, "finished": False, "t": 0,
+                                            "pos": tuple(self.starts[rid]),
+                                            "trajectory": [], "goal": None,
+                                            "alive": True})
+        info["seen"] = now
+        if cmd == "HELLO":
+            self.air[rid] = str(obj[2])
+        elif cmd == "STATUS":
+            d = obj[2]
+            try:
+                info["t"] = int(d["t"])
+                info["finished"] = bool(d["finished"])
+                info["stopped"] = bool(d.get("stopped"))
+                info["pos"] = (int(d["x"]), int(d["y"]))
+                moves = [[int(t), int(x), int(y)] for t, x, y in d["moves"]]
+            except (KeyError, TypeError, ValueError):
+                self.traffic.bad_frames += 1
+                return
+            info["trajectory"].extend(moves)
+            for t, x, y in moves:
+                self._emit(ev.move(float(t), rid, float(x), float(y)))
+        elif cmd == "REPORT":
+            self.reports[rid] = obj[2]
+
+    def broadcast_control(self, obj: list[Any]) -> None:
+        frame = wire.pack(obj)
+        for rid in sorted(self.robots):
+            self.send_frame(rid, frame, obj[0])
+
+    # ---- events
+    def _emit(self, *events: ev.Event) -> None:
+        self.pending.extend(events)
+
+    def _flush(self) -> None:
+        for _ in range(1000):
+            try:
+                ident, frame = self.view.recv_multipart(flags=zmq.NOBLOCK)[:2]
+            except (zmq.Again, ValueError):
+                break
+            try:
+                msg = wire.unpack(frame)
+            except wire.WireError:
+                continue
+            if msg == ["MON"] and ident not in self.viewers:
+                self.viewers.add(ident)
+                if self.events:
+                    self.view.send_multipart([ident, wire.pack(["EV", ev.dumps(self.events)])])
+        now = time.monotonic()
+        if now >= self.viewer_beat and self.viewers:  # viewers time out on silence
+            self.viewer_beat = now + 1.0
+            beat = wire.pack(["HB", float(self.t)])
+            for ident in self.viewers:
+                with contextlib.suppress(zmq.ZMQError):
+                    self.view.send_multipart([ident, beat], flags=zmq.NOBLOCK)
+        if not self.pending:
+            return
+        batch, self.pending = self.pending, []
+        batch.sort(key=lambda e: e.get("t", -1.0))
+        self.events.extend(batch)
+        text = wire.pack(["EV", ev.dumps(batch)])
+        for ident in self.viewers:
+            with contextlib.suppress(zmq.ZMQError):
+                self.view.send_multipart([ident, text], flags=zmq.NOBLOCK)
+        if self.forwarder is not None:
+            self.forwarder.send(batch)
+
+    # ---- run
+    def run(self, say: Callable[[str], object] = print) -> int:
+        opts = self.options
+        n = self.params.robots
+        say(f"swarmex mesh display: view on {self.view_endpoint}, waiting for {n} robots")
+        start = time.monotonic()
+        deadline = start + opts.timeout
+        w = self.grid.world
+        self._emit(
+            ev.hello("exploration", self.params.strategy, list(range(n)),
+                     f"exploration · {self.params.strategy} · {w.source} · processes",
+                     None, "step"),
+            ev.world(w.free, w.width, w.height, w.source),
+        )
+        # start barrier: every robot said HELLO (or the start timeout passed)
+        while len(self.robots) < n and time.monotonic() - start < opts.start_timeout:
+            self._pump(time.monotonic())
+        self.broadcast_control(["GO"])
+        say(f"swarmex mesh display: {len(self.robots)} robots started")
+        t0 = time.monotonic()
+        tick_wall = 0.1 * opts.time_scale
+        finished_since: float | None = None
+        next_tick = t0
+        next_beat = t0
+        code = 0
+        while True:
+            now = time.monotonic()
+            if now > deadline:
+                say("swarmex mesh display: timeout")
+                code = 3
+                break
+            if now >= next_beat:  # robots leave when the experiment is gone
+                self.broadcast_control(["BEAT"])
+                next_beat = now + BEAT_WALL
+            if now >= next_tick:
+                if self.mesh.heartbeat_due(self.t):
+                    self.heartbeat()
+                self.route_tick()
+                self.t += 1
+                next_tick += tick_wall
+                if next_tick < now - 1.0:
+                    next_tick = now
+            for rid, info in self.robots.items():
+                if info["alive"] and now - info["seen"] > opts.dead_after:
+                    info["alive"] = False
+                    self._emit(ev.message(float(info["t"]), rid, "left"))
+                    say(f"swarmex mesh display: robot {rid} fell silent; the others go on")
+            live = [i for i in self.robots.values() if i["alive"]]
+            if live and all(i["finished"] or i.get("stopped") for i in live):
+                if finished_since is None:
+                    finished_since = now
+                if now - finished_since >= opts.settle_ticks * tick_wall:
+                    break
+            else:
+                finished_since = None
+            if not live and self.robots:
+                say("swarmex mesh display: no robot left")
+                code = 1
+                break
+            self._pump(now, max(0.0, next_tick - time.monotonic()))
+        # stop everyone and collect the reports
+        self.broadcast_control(["STOP"])
+        wait_until = time.monotonic() + max(3.0, 2 * opts.dead_after)
+        live_ids = {r for r, i in self.robots.items() if i["alive"]}
+        while set(self.reports) < live_ids and time.monotonic() < wait_until:
+            self._pump(time.monotonic(), 0.05)
+        self.record = self.build_record(time.monotonic() - t0, code == 0)
+        self._emit(ev.end(self.record, self.events + self.pending))
+        self._flush()
+        if self.json_path is not None:
+            from swarmex.engine.record import write_json_atomic
+
+            write_json_atomic(self.record, self.json_path)
+        with contextlib.suppress(OSError):
+            (self.run_dir / "record.json").write_text(ev.dumps([self.record]))
+        if self.forwarder is not None:
+            self.forwarder.close()
+        return code
+
+    def _pump(self, now: float, wait: float = 0.05) -> None:
+        self._flush()
+        if self.pull.poll(int(min(wait, 0.05) * 1000)):
+            for frame in self.recv_all():
+                try:
+                    obj = wire.unpack(frame)
+                    if isinstance(obj, list) and obj and obj[0] == RADIO_KIND:
+                        self.on_radio(obj)
+                        continue
+                    obj = control_message(obj)
+                except wire.WireError:
+                    self.traffic.bad_frames += 1
+                    continue
+                if obj[0] == "NACK":  # a unicast of ours was out of the receiver's range
+                    msg = self.link.refused(int(obj[1]), int(obj[2]))
+                    if msg is not None and self.aodv is not None:
+                        self._failed(int(obj[1]), msg)
+                elif obj[0] in ("HELLO", "STATUS", "REPORT"):
+                    self.on_control(obj, now)
+
+    def build_record(self, wall: float, ended: bool) -> dict[str, Any]:
+        """The run's result record (:func:`swarmex.net.mesh_record.build_record`)."""
+        return build_record(self, wall, ended)

@@ -1,0 +1,168 @@
+"""One mesh member's sockets and radio emulation, shared by the robot and display processes.
+
+A :class:`Node` binds a PULL socket, publishes its endpoint in the *air* (the run directory)
+and sends through one PUSH socket per peer with a send timeout, so a dead peer never stalls
+it; it applies the receiver-side radio model (range and injected loss), the AODV link
+feedback (NACK of an out-of-range unicast) and counts its :class:`Traffic`. The robot
+(:mod:`swarmex.net.mesh_robot`) and the display (:mod:`swarmex.net.mesh_display`) add what
+each does with the frames.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import zmq
+
+from swarmex.comm.aodv import Routed
+from swarmex.comm.message import PackedMessage
+from swarmex.net import wire
+from swarmex.net.mesh_frames import encode_radio, radio_link
+from swarmex.net.mesh_scenario import MeshOptions
+from swarmex.net.routing import LinkFeedback
+
+
+@dataclass
+class Traffic:
+    frames_out: int = 0
+    bytes_out: int = 0
+    send_timeouts: int = 0  # PUSH sends that timed out: dropped (the thesis's nanomsg rule)
+    frames_in: int = 0
+    bytes_in: int = 0
+    out_of_range: int = 0
+    lost_injected: int = 0
+    bad_frames: int = 0
+    by_kind: dict[str, list[int]] = field(default_factory=dict)
+
+    def count_out(self, kind: str, nbytes: int) -> None:
+        self.frames_out += 1
+        self.bytes_out += nbytes
+        row = self.by_kind.setdefault(kind, [0, 0])
+        row[0] += 1
+        row[1] += nbytes
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "frames_out": self.frames_out, "bytes_out": self.bytes_out,
+            "send_timeouts": self.send_timeouts, "frames_in": self.frames_in,
+            "bytes_in": self.bytes_in, "out_of_range": self.out_of_range,
+            "lost_injected": self.lost_injected, "bad_frames": self.bad_frames,
+            "by_kind": {k: {"messages": m, "bytes": b} for k, (m, b) in
+                        sorted(self.by_kind.items())},
+        }
+
+
+class Node:
+    """One mesh member: a PULL socket bound on loopback, PUSH sockets to peers on demand."""
+
+    def __init__(self, node_id: int, run_dir: Path, options: MeshOptions, seed: int) -> None:
+        self.id = node_id
+        self.run_dir = run_dir
+        self.options = options
+        self.ctx: zmq.Context[zmq.Socket[bytes]] = zmq.Context.instance()
+        self.pull = self.ctx.socket(zmq.PULL)
+        self.pull.setsockopt(zmq.LINGER, 0)
+        self.pull.bind("tcp://127.0.0.1:*")
+        self.endpoint = self.pull.getsockopt_string(zmq.LAST_ENDPOINT)
+        self.push: dict[int, zmq.Socket] = {}
+        self.air: dict[int, str] = {}
+        self.traffic = Traffic()
+        self.loss_rng = np.random.default_rng([seed, node_id, 7])
+        self.link = LinkFeedback()
+        self.multihop_in: dict[str, int] = {}  # routed payloads delivered here, by kind
+        self._publish()
+
+    def _publish(self) -> None:
+        """Announce this node's endpoint in the air (atomic: write, then rename)."""
+        tmp = self.run_dir / f".node-{self.id}.tmp"
+        tmp.write_text(self.endpoint)
+        tmp.rename(self.run_dir / f"node-{self.id}.addr")
+
+    def scan_air(self) -> dict[int, str]:
+        for p in self.run_dir.glob("node-*.addr"):
+            try:
+                nid = int(p.stem.split("-", 1)[1])
+                if nid != self.id and nid not in self.air:
+                    self.air[nid] = p.read_text().strip()
+            except (ValueError, OSError):
+                continue
+        return self.air
+
+    def _socket_to(self, nid: int) -> zmq.Socket | None:
+        sock = self.push.get(nid)
+        if sock is None:
+            addr = self.air.get(nid) or self.scan_air().get(nid)
+            if addr is None:
+                return None
+            sock = self.ctx.socket(zmq.PUSH)
+            sock.setsockopt(zmq.LINGER, 0)
+            sock.setsockopt(zmq.SNDTIMEO, self.options.send_timeout_ms)
+            sock.setsockopt(zmq.SNDHWM, 200)
+            sock.connect(addr)
+            self.push[nid] = sock
+        return sock
+
+    def send_frame(self, nid: int, frame: bytes, kind: str) -> bool:
+        sock = self._socket_to(nid)
+        if sock is None:
+            return False
+        try:
+            sock.send(frame)
+        except zmq.Again:  # the send timeout: the peer is gone or stuck; drop it
+            self.traffic.send_timeouts += 1
+            return False
+        self.traffic.count_out(kind, len(frame))
+        return True
+
+    def recv_all(self, limit: int = 10_000) -> list[bytes]:
+        frames = []
+        for _ in range(limit):
+            try:
+                frames.append(self.pull.recv(flags=zmq.NOBLOCK))
+            except zmq.Again:
+                break
+        for f in frames:
+            self.traffic.frames_in += 1
+            self.traffic.bytes_in += len(f)
+        return frames
+
+    def in_range(self, mine: tuple[int, int], theirs: tuple[int, int], cell: float,
+                 comm_range: float) -> bool:
+        if math.isinf(comm_range):
+            return True
+        dx = (mine[0] - theirs[0]) * cell
+        dy = (mine[1] - theirs[1]) * cell
+        return dx * dx + dy * dy <= comm_range * comm_range
+
+    def lost(self) -> bool:
+        return self.options.loss > 0 and self.loss_rng.random() < self.options.loss
+
+    def unicast_frame(self, dst: int, msg: PackedMessage | Routed, pos: tuple[int, int],
+                      t: int) -> bool:
+        """Send a unicast that AODV wants feedback on (stamped with a link sequence
+        number); False if the send itself failed (the peer is gone: the send timeout)."""
+        seq = self.link.stamp(dst, msg, t)
+        if self.send_frame(dst, encode_radio(self.id, pos, msg, seq), msg.kind):
+            return True
+        self.link.sent.pop(seq, None)
+        return False
+
+    def refuse(self, obj: list[Any], src: int) -> None:
+        """An out-of-range frame was dropped: if its sender asked for feedback, NACK it."""
+        seq = radio_link(obj)
+        if seq is not None:
+            self.send_frame(src, wire.pack(["NACK", self.id, seq]), "NACK")
+
+    def arrived(self, msg: Any) -> None:
+        """Count a routed payload that ends here (the wire's own view of multi-hop delivery)."""
+        if isinstance(msg, Routed) and msg.dest == self.id:
+            self.multihop_in[msg.kind] = self.multihop_in.get(msg.kind, 0) + 1
+
+    def close(self) -> None:
+        for s in self.push.values():
+            s.close()  # each socket's own linger (0, or longer for a last report)
+        self.pull.close(0)
