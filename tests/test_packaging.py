@@ -1,0 +1,45 @@
+"""What a user gets from ``pip install swarmex`` (a wheel, no extras), not from the editable
+install with every extra that the rest of the suite runs in.
+
+Why here and not by building a wheel: ``pip wheel`` takes seconds and the network-free
+suite should not; so these tests check the declarations a wheel is built from (pyproject's
+package data, version) and what the installed CLI says about itself.
+"""
+
+from __future__ import annotations
+
+import fnmatch
+import tomllib
+from pathlib import Path
+
+import swarmex
+from swarmex.cli import main
+from swarmex.cli.app import installed_version
+
+ROOT = Path(swarmex.__file__).resolve().parents[2]
+PACKAGE = ROOT / "src" / "swarmex"
+PYPROJECT = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))
+
+
+def test_version_option_prints_the_installed_version(capsys):
+    assert main(["--version"]) == 0
+    out = capsys.readouterr().out
+    assert out == f"swarmex {installed_version()}\n"
+
+
+def test_source_version_is_pyprojects():
+    """``swarmex.__version__`` (written into every record) is the version pip installs."""
+    assert swarmex.__version__ == PYPROJECT["project"]["version"]
+
+
+def test_every_data_file_of_the_package_goes_into_the_wheel():
+    """A file under src/swarmex that is not Python is read at run time (reference tables,
+    py.typed); setuptools ships it only when pyproject's package-data names it, and a wheel
+    without it fails only for users (the editable install reads the source tree)."""
+    globs = PYPROJECT["tool"]["setuptools"]["package-data"]["swarmex"]
+    data = [p.relative_to(PACKAGE).as_posix() for p in PACKAGE.rglob("*")
+            if p.is_file() and p.suffix not in (".py", ".pyc") and "__pycache__" not in p.parts
+            and p.suffix not in (".nbi", ".nbc")]
+    assert "py.typed" in data
+    missing = [f for f in data if not any(fnmatch.fnmatch(f, g) for g in globs)]
+    assert missing == [], f"add to [tool.setuptools.package-data]: {missing}"
