@@ -39,3 +39,17 @@ def test_missing_extra_is_one_line(module, argv, extra, tmp_path, capsys, monkey
     err = capsys.readouterr().err
     assert code == 2
     assert err.count("\n") == 1 and f"pip install 'swarmex[{extra}]'" in err, err
+
+
+def test_missing_envs_extra_is_an_import_error(monkeypatch):
+    """From Python, a missing extra is an ImportError naming the extra: ``try: import
+    swarmex.envs except ImportError`` is how a caller falls back (an InputError alone, a
+    ValueError, slipped past that ``except`` as a traceback)."""
+    import importlib
+
+    monkeypatch.setitem(sys.modules, "pettingzoo", None)
+    for name in [m for m in sys.modules if m == "swarmex.envs" or m.startswith("swarmex.envs.")]:
+        monkeypatch.delitem(sys.modules, name)
+    with pytest.raises(ImportError, match=r"pip install 'swarmex\[envs\]'") as info:
+        importlib.import_module("swarmex.envs.foraging_v0")
+    assert info.value.name == "pettingzoo"
