@@ -29,6 +29,13 @@ from swarmex.cli import main
         ("pymavlink",
          ["agent", "--connect", "tcp://127.0.0.1:9", "--vehicle", "udp:127.0.0.1:14550"],
          "uav"),
+        ("websockets",
+         ["watch", "--connect", "tcp://127.0.0.1:9", "--forward", "ws://127.0.0.1:9/ingest",
+          "--timeout", "1"],
+         "monitor"),
+        ("websockets",
+         ["mesh", "--empty", "4x4", "--robots", "1", "--monitor", "ws://127.0.0.1:9/ingest"],
+         "monitor"),
     ],
 )
 def test_missing_extra_is_one_line(module, argv, extra, tmp_path, capsys, monkeypatch):
@@ -53,3 +60,14 @@ def test_missing_envs_extra_is_an_import_error(monkeypatch):
     with pytest.raises(ImportError, match=r"pip install 'swarmex\[envs\]'") as info:
         importlib.import_module("swarmex.envs.foraging_v0")
     assert info.value.name == "pettingzoo"
+
+
+def test_ingest_forwarder_without_the_extra_fails_in_the_caller(monkeypatch):
+    """The forwarder's sender thread imported websockets: without it, the thread died with
+    a traceback and the events were dropped; the constructor now says which extra."""
+    from swarmex.net.events import IngestForwarder
+
+    monkeypatch.setitem(sys.modules, "websockets", None)
+    monkeypatch.setitem(sys.modules, "websockets.sync.client", None)
+    with pytest.raises(ImportError, match=r"pip install 'swarmex\[monitor\]'"):
+        IngestForwarder("ws://127.0.0.1:9/ingest", connect_timeout=0.1)
