@@ -71,3 +71,18 @@ def test_ingest_forwarder_without_the_extra_fails_in_the_caller(monkeypatch):
     monkeypatch.setitem(sys.modules, "websockets.sync.client", None)
     with pytest.raises(ImportError, match=r"pip install 'swarmex\[monitor\]'"):
         IngestForwarder("ws://127.0.0.1:9/ingest", connect_timeout=0.1)
+
+
+@pytest.mark.parametrize("command", [
+    ["traverse", "--grid", "3x3", "--agents", "1"],
+    ["forage", "--grid", "8", "--agents", "4", "--algorithm", "strips"],
+])
+def test_mp4_without_the_video_extra_fails_before_the_run(command, tmp_path, capsys,
+                                                           monkeypatch):
+    """The video extra is checked with the other output options: the run used to go to the
+    end (its summary printed) and only then fail, with nothing written."""
+    monkeypatch.setitem(sys.modules, "imageio_ffmpeg", None)
+    code = main([*command, "--render", str(tmp_path / "a.mp4")])
+    out, err = capsys.readouterr()
+    assert code == 2 and "swarmex[video]" in err
+    assert out == ""  # no run, no summary
