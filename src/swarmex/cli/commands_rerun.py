@@ -15,7 +15,8 @@ from typing import Any
 
 import typer
 
-from swarmex.cli.app import app, console
+from swarmex.cli.app import app, console, err_console
+from swarmex.cli.compiling import compile_notice
 from swarmex.cli.outputs import check_output
 
 #: How many differences the line names (the rest are counted).
@@ -36,7 +37,10 @@ def rerun(
     check_output(json_out, "--json", (".json",))
     record, folder = load_record(record_file)  # its folder helps find relative maps
     old = record.to_dict()
-    new_record = rerun_record(record, folder, {})
+    # the one line while numba compiles: a rerun runs compiled (unlike the small runs its
+    # record may come from), so on a cold cache a 6x6 traversal took 7-12 s without a word
+    with compile_notice(err_console):
+        new_record = rerun_record(record, folder, {})
     if json_out is not None:
         write_record(new_record, json_out)
     new = new_record.to_dict()
