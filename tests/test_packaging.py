@@ -43,3 +43,12 @@ def test_every_data_file_of_the_package_goes_into_the_wheel():
     assert "py.typed" in data
     missing = [f for f in data if not any(fnmatch.fnmatch(f, g) for g in globs)]
     assert missing == [], f"add to [tool.setuptools.package-data]: {missing}"
+
+
+def test_license_is_an_spdx_expression_and_the_backend_can_read_it():
+    """``license = { text = ... }`` is deprecated by setuptools, which warns that builds with
+    it will fail after 2027-02-18: the SPDX string (PEP 639) needs setuptools >= 77."""
+    assert isinstance(PYPROJECT["project"]["license"], str)
+    requires = PYPROJECT["build-system"]["requires"]
+    floor = next(r for r in requires if r.startswith("setuptools"))
+    assert tuple(int(p) for p in floor.split(">=")[1].split(".")) >= (77,)
