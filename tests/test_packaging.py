@@ -52,3 +52,30 @@ def test_license_is_an_spdx_expression_and_the_backend_can_read_it():
     requires = PYPROJECT["build-system"]["requires"]
     floor = next(r for r in requires if r.startswith("setuptools"))
     assert tuple(int(p) for p in floor.split(">=")[1].split(".")) >= (77,)
+
+
+#: Floors measured by installing the wheel with each base dependency at a lower version
+#: (docs: README "Installing"); a floor below these lets pip build a broken environment.
+MEASURED_FLOORS = {
+    # 0.12.0: `int | None` options raise "Type not yet supported" and typer.core has no
+    # DEFAULT_MARKUP_MODE; 0.13-0.15.3 do not cap click, and with click >= 8.2 every
+    # mission's --help fails (Parameter.make_metavar() missing 'ctx')
+    "typer": (0, 15, 4),
+    # 14.0.x does not cap numpy, installs beside numpy 2 and fails to import
+    # ("numpy.core.multiarray failed to import"); 15.x caps numpy < 2; 16 supports numpy 2
+    "pyarrow": (16,),
+}
+
+
+def _floors() -> dict[str, tuple[int, ...]]:
+    out = {}
+    for req in PYPROJECT["project"]["dependencies"]:
+        name, _, floor = req.partition(">=")
+        out[name.strip().lower()] = tuple(int(p) for p in floor.split(",")[0].split("."))
+    return out
+
+
+def test_dependency_floors_are_at_least_the_measured_ones():
+    floors = _floors()
+    low = {n: floors.get(n) for n, v in MEASURED_FLOORS.items() if floors.get(n, ()) < v}
+    assert low == {}, f"floors below what was measured to work: {low}"
