@@ -64,6 +64,14 @@ MEASURED_FLOORS = {
     # 14.0.x does not cap numpy, installs beside numpy 2 and fails to import
     # ("numpy.core.multiarray failed to import"); 15.x caps numpy < 2; 16 supports numpy 2
     "pyarrow": (16,),
+    # pyarrow 26 declares no numpy requirement and refuses numpy 1.x at import ("pyarrow
+    # requires NumPy 2.0 or newer"): with numpy 1.26 kept, pip installed it and sweeps failed
+    "numpy": (2, 0),
+    # the first releases that declare numpy 2 support (older ones cap numpy < 2)
+    "numba": (0, 60),
+    "scipy": (1, 13),
+    "matplotlib": (3, 8, 4),
+    "shapely": (2, 0, 4),
 }
 
 
