@@ -321,3 +321,26 @@ def test_cli_on_a_record_its_caller_stopped_says_why_it_differs(tmp_path: Path,
     assert main(["rerun", str(path)]) == 1
     line = capsys.readouterr().out
     assert "complete: False → True" in line and "stopped early by its caller" in line
+
+
+def test_cli_rerun_says_when_it_compiles(tmp_path: Path, capsys, monkeypatch) -> None:
+    """``swarmex rerun`` runs inside the compile notice, as every mission command does: a
+    first rerun after an install compiled its kernels for seconds without a word."""
+    import contextlib
+
+    import swarmex.cli.commands_rerun as cmd
+
+    entered: list[bool] = []
+
+    @contextlib.contextmanager
+    def notice(console: Any):
+        entered.append(True)
+        yield
+
+    monkeypatch.setattr(cmd, "compile_notice", notice)
+    from swarmex.engine.record import write_record
+
+    path = write_record(swarmex.run("traversal", grid="3x3", agents=1), tmp_path / "r.json")
+    assert main(["rerun", str(path)]) == 0
+    assert entered == [True]
+    assert "the same record" in capsys.readouterr().out

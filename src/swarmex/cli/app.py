@@ -187,6 +187,40 @@ app = typer.Typer(
     add_completion=False,
     pretty_exceptions_enable=False,
 )
+
+
+def installed_version() -> str:
+    """The version pip installed (the wheel's metadata), else the source tree's.
+
+    Why the metadata first: it is what ``pip show swarmex`` and a bug report's "which
+    version?" mean; a source checkout run with ``PYTHONPATH=src`` has no metadata and falls
+    back to ``swarmex.__version__`` (kept equal to pyproject's by a test)."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("swarmex")
+    except PackageNotFoundError:
+        from swarmex import __version__
+
+        return __version__
+
+
+def _print_version(value: bool) -> None:
+    if value:
+        print(f"swarmex {installed_version()}")
+        raise typer.Exit(0)
+
+
+@app.callback()
+def _root(
+    version: bool = typer.Option(
+        False, "--version", help="Print swarmex's version and exit.", is_eager=True,
+        callback=_print_version,
+    ),
+) -> None:
+    """Teams of agents that explore, cover and search unknown environments."""
+
+
 reproduce_app = typer.Typer(help="Rerun a seed's experiments and compare with its tables.")
 app.add_typer(reproduce_app, name="reproduce")
 

@@ -310,6 +310,8 @@ def watch(
     check_output(json_path, "--events")
     if forward is not None and not forward.startswith(("ws://", "wss://")):
         raise InputError(f"--forward: expected ws://HOST:PORT/ingest, got {forward!r}")
+    if forward is not None:  # before connecting, not as a traceback in the sender's thread
+        require("websockets", "monitor", "--forward")
     forwarder = IngestForwarder(forward) if forward else None
     view = TerminalView(console, live=sys.stdout.isatty(), quiet=forwarder is not None)
     saved: list = []
@@ -374,6 +376,9 @@ def mesh(
 ) -> None:
     """'swarmex explore --processes' under another name (one process per robot)."""
     from swarmex.missions.registry import get
+
+    if monitor_url is not None:  # the display process forwards to it: check here, in one line
+        require("websockets", "monitor", "--monitor")
 
     exploration = get("exploration")
     params = exploration.params(

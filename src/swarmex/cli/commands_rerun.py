@@ -17,6 +17,7 @@ from typing import Any
 import typer
 
 from swarmex.cli.app import app, console, err_console
+from swarmex.cli.compiling import compile_notice
 from swarmex.cli.outputs import RENDER_SUFFIXES, check_output
 from swarmex.errors import InputError
 
@@ -44,7 +45,10 @@ def rerun(
     loaded = [(path, *load_record(path)) for path in files]  # folders find relative maps
     same = 0
     for path, record, folder in loaded:
-        new_record = rerun_record(record, folder, {})
+        # the one line while numba compiles: a rerun runs compiled (unlike the small runs its
+        # record may come from), so on a cold cache a 6x6 traversal took 7-12 s without a word
+        with compile_notice(err_console):
+            new_record = rerun_record(record, folder, {})
         if json_out is not None:
             write_record(new_record, json_out)
         name = f"{path}: " if len(files) > 1 else ""
@@ -70,7 +74,8 @@ def render(
     from swarmex.experiments.rerun import render_record
 
     check_output(out, "OUT", RENDER_SUFFIXES)
-    path, same = render_record(record_file, out)
+    with compile_notice(err_console):
+        path, same = render_record(record_file, out)
     console.print(f"wrote {path}", highlight=False, soft_wrap=True)
     if not same:
         err_console.print(

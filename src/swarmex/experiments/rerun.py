@@ -86,11 +86,12 @@ def render_record(
     Why a rerun and not the record alone: every mission's drawing reads the run's frames or
     its in-memory state, and a run is reproducible from its record, so drawing one costs the
     run once more rather than frames stored in every record."""
-    from swarmex.viz.animation import check_suffix
+    from swarmex.viz.animation import check_suffix, require_writer
     from swarmex.viz.render import draw, frame_recorder
 
     out = Path(fspath(path))
     check_suffix(out, option="swarmex.render's path")
+    require_writer(out)  # a missing video extra costs one line now, not the run
     rec, folder = load_record(source)
     recorder = frame_recorder(rec.mission, out)
     outcome = rerun_outcome(rec, folder, {}, on_frame=recorder)

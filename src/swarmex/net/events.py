@@ -120,6 +120,10 @@ class IngestForwarder:
     """
 
     def __init__(self, url: str, connect_timeout: float = 5.0) -> None:
+        from swarmex.errors import require
+
+        # here, not in the thread: without the extra its import failed there as a traceback
+        require("websockets", "monitor", "a monitor's ingest URL")
         self.url = url
         self.connect_timeout = connect_timeout
         self.queue: queue.Queue[str | None] = queue.Queue()

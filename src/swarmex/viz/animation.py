@@ -47,6 +47,17 @@ def check_suffix(
     return suffix
 
 
+def require_writer(path: Path) -> None:
+    """Fail in one line naming the extra when writing ``path`` needs a missing one (.mp4:
+    ``swarmex[video]``'s ffmpeg binary).
+
+    Why a function of its own: the CLI calls it with its other output checks, before the
+    run; checked only when writing, an MP4 asked for without the extra cost the whole run
+    and then ended with exit 2 and no file."""
+    if path.suffix.lower() == ".mp4":
+        require("imageio_ffmpeg", "video", "--render .mp4")
+
+
 def write_animation(path: str | Path, frames: Sequence[np.ndarray], fps: float) -> Path:
     """Write RGB uint8 ``frames`` (all the same shape) as a GIF or an MP4 by ``path``'s suffix.
 
@@ -88,7 +99,7 @@ def _write_mp4(path: Path, frames: Sequence[np.ndarray], fps: float) -> None:
     white to even sizes, which yuv420p requires (instead of imageio's default resize to
     multiples of 16, which would blur grids drawn one pixel per cell).
     """
-    require("imageio_ffmpeg", "video", "--render .mp4")  # the plugin's binary
+    require_writer(path)  # the plugin's binary
     import imageio.v2 as iio
 
     h, w = frames[0].shape[:2]

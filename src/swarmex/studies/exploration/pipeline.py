@@ -17,7 +17,9 @@ from swarmex.studies.exploration.design import (
     TEAM_VARIANTS,
     THESIS_SNAPSHOT_STEPS,
     job_key,
+    missing_maps,
     picture_jobs,
+    skipped_note,
     strategy_jobs,
     sweep_jobs,
     team_jobs,
@@ -40,6 +42,9 @@ def reproduce(
     runs_file = out / "runs.jsonl"
     sweep = sweep_jobs(d)
     strat = strategy_jobs(scenarios, 1 if quick else 3)
+    skipped = missing_maps(scenarios)
+    if skipped:
+        progress(skipped_note(skipped))
     teams = [j for j in team_jobs(d, quick) if j["kind"] == "teamsize"]
     jobs = sweep + teams + strat
     with Journal(runs_file) as journal:
@@ -150,7 +155,7 @@ def reproduce(
             )
     report = write_report(
         out, d, sweep_res, strat_rows, figures, rows, quick, time.perf_counter() - t0,
-        len(results) + len(pics), team_res,
+        len(results) + len(pics), team_res, skipped_maps=skipped,
     )
     for c in rows:
         progress(f"{'PASS' if c['holds'] else 'FAIL'}: {c['trend']} — {c['evidence']}")

@@ -9,7 +9,7 @@ import numpy as np
 
 from swarmex.engine.stats import summarize
 from swarmex.studies.exploration.analysis import fastest_size, steps_table
-from swarmex.studies.exploration.design import STRATEGY_ORDER, TEAM_VARIANTS, Design
+from swarmex.studies.exploration.design import STRATEGY_ORDER, TEAM_VARIANTS, Design, skipped_note
 
 
 def team_section(team_res: dict[str, dict[int, list[dict[str, Any]]]], d: Design) -> list[str]:
@@ -67,6 +67,7 @@ def _fmt(vals: list[float]) -> str:
 def write_report(
     out: Path, d: Design, results, strat_rows, figures, check_rows, quick: bool, wall: float,
     n_runs: int, team_res: dict[str, dict[int, list[dict[str, Any]]]] | None = None,
+    skipped_maps: list[str] | None = None,
 ) -> Path:
     tab = steps_table(results, d)
     lines = [
@@ -135,6 +136,10 @@ def write_report(
         "exploration time (Fig. 4.1's measure); messages and megabytes sent include "
         "relays and heartbeats.",
         "",
+    ]
+    if skipped_maps:
+        lines += [f"Note: {skipped_note(skipped_maps)}.", ""]
+    lines += [
         "| scenario | strategy | makespan | mean steps | explored | plans | messages | MB sent |",
         "|---|---|---|---|---|---|---|---|",
     ]
