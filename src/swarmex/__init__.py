@@ -171,6 +171,7 @@ def rerun(
 def render(
     record: ResultRecord | Mapping[str, Any] | str | PathLike[str],
     path: str | PathLike[str],
+    **world: Any,
 ) -> Path:
     """Draw a run: a picture (``.png``) or an animation (``.gif``; ``.mp4`` needs the
     ``video`` extra) of ``record``'s run, what ``--render`` draws. Returns the path.
@@ -179,14 +180,16 @@ def render(
     made again from the record, keeping the frames the drawing needs (a record holds paths,
     not frames), so drawing costs the run's time once more. If that run no longer comes out
     as the record (another swarmex version), the drawing is of today's run and a
-    ``RuntimeWarning`` says so. ``swarmex render RECORD.json OUT.png`` does this from the
-    shell.
+    ``RuntimeWarning`` says so. ``world`` gives the world again when the record cannot name
+    it, as for :func:`rerun`: ``swarmex.render(rec, "run.png", map=world)`` for a run on a
+    world object (only world and input-file parameters: any other would draw another run).
+    ``swarmex render RECORD.json OUT.png`` does this from the shell.
     """
     import warnings
 
     from swarmex.experiments.rerun import render_record
 
-    out, same = render_record(record, path)
+    out, same = render_record(record, path, world)
     if not same:
         warnings.warn(
             f"{out}: the record's run came out differently today (another swarmex version, or"

@@ -86,3 +86,24 @@ def test_a_record_that_comes_out_differently_is_drawn_with_a_warning(tmp_path: P
     assert main(["render", str(path), str(tmp_path / "b.png")]) == 0
     assert "came out differently today" in capsys.readouterr().err
     assert (tmp_path / "b.png").read_bytes() == (tmp_path / "a.png").read_bytes()
+
+
+def test_a_run_on_a_world_object_is_drawn_with_the_world_given_again(tmp_path: Path) -> None:
+    """A record of a run on a GridWorld cannot name its world: the error says how to give it
+    to render (not only to rerun), and render takes it (it used to take no world at all, so
+    such a record could not be drawn). Other parameters are refused: they would draw another
+    run than the record's."""
+    import warnings
+
+    from swarmex.worlds.generators import random_obstacles
+
+    world = random_obstacles(6, 6, 0.1, seed=1)
+    rec = swarmex.run("traversal", seed=2, map=world, agents=2)
+    with pytest.raises(InputError, match=r"swarmex\.render\(record, out, map=world\)"):
+        swarmex.render(rec, tmp_path / "a.png")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # the same run: no "came out differently" warning
+        assert swarmex.render(rec, tmp_path / "a.png", map=world).stat().st_size > 0
+    with pytest.raises(InputError, match="only the world again .*not 'agents'"):
+        swarmex.render(rec, tmp_path / "b.png", map=world, agents=3)
+    assert not (tmp_path / "b.png").exists()

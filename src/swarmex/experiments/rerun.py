@@ -77,7 +77,9 @@ def rerun_record(
 
 
 def render_record(
-    source: ResultRecord | Mapping[str, Any] | str | PathLike[str], path: str | PathLike[str]
+    source: ResultRecord | Mapping[str, Any] | str | PathLike[str],
+    path: str | PathLike[str],
+    world: Mapping[str, Any] | None = None,
 ) -> tuple[Path, bool]:
     """Draw a record's run to ``path`` (:func:`swarmex.render`): run it again keeping the
     frames the drawing needs (a record holds paths, not every frame or the final maps), and
@@ -85,7 +87,12 @@ def render_record(
 
     Why a rerun and not the record alone: every mission's drawing reads the run's frames or
     its in-memory state, and a run is reproducible from its record, so drawing one costs the
-    run once more rather than frames stored in every record."""
+    run once more rather than frames stored in every record.
+
+    ``world`` gives the world again (``map=world``, ``env=...``) when the record cannot name
+    it (a run on a world object, a map file moved): only world and input-file options, since
+    anything else would draw another run than the record's."""
+    from swarmex.missions.registry import get
     from swarmex.viz.animation import check_suffix, require_writer
     from swarmex.viz.render import draw, frame_recorder
 
@@ -93,8 +100,19 @@ def render_record(
     check_suffix(out, option="swarmex.render's path")
     require_writer(out)  # a missing video extra costs one line now, not the run
     rec, folder = load_record(source)
+    given = dict(world or {})
+    if given:
+        m = get(rec.mission)
+        opts = m.params_type.options()
+        allowed = set(m.world_options) | {k for k, o in opts.items() if o.kind is Path}
+        other = sorted(set(given) - allowed)
+        if other:
+            raise InputError(
+                f"swarmex.render draws the record's own run: it takes only the world again"
+                f" ({', '.join(sorted(allowed)) or 'none for ' + rec.mission}), not {other[0]!r}"
+            )
     recorder = frame_recorder(rec.mission, out)
-    outcome = rerun_outcome(rec, folder, {}, on_frame=recorder)
+    outcome = rerun_outcome(rec, folder, given, on_frame=recorder)
     draw(rec.mission, outcome, out, recorder)
     return out, comparable(outcome.record.to_dict()) == comparable(rec.to_dict())
 

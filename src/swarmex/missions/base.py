@@ -657,7 +657,10 @@ class Mission(ABC, Generic[P, W]):
         ):
             raise InputError(
                 f"this record's world was given as an object ({record.params['generated']}):"
-                f" pass it again, e.g. swarmex.rerun(record, {self.world_options[0]}=world)"
+                f" pass it again from Python, e.g. swarmex.rerun(record,"
+                f" {self.world_options[0]}=world) or swarmex.render(record, out,"
+                f" {self.world_options[0]}=world) (from the shell: save the world to a file"
+                f" and run on that)"
             )
         stale = {k for k, inputs in self.rerun_replaces.items() if overridden & set(inputs)}
         return {
