@@ -277,7 +277,7 @@ def compare(
                               grid="12x12", agents=4, seeds=10)
         swarmex.compare(table, {"algorithm": "madgta"}, ["makespan", "total_time_all"])
     """
-    from swarmex.experiments.compare import as_table, comparisons, load
+    from swarmex.experiments.compare import as_table, axis_name, comparisons, load
 
     if not isinstance(baseline, Mapping) or len(baseline) != 1:
         raise InputError(f"baseline must name one parameter and its value, such as"
@@ -286,8 +286,9 @@ def compare(
         metrics = [metrics]
     table, meta = load(results)
     ((name, value),) = baseline.items()
-    found = comparisons(table, meta, name, value, list(metrics))
-    return as_table(found, name, [a for a in meta.get("axes", []) if a in table.column_names])
+    axes = [a for a in meta.get("axes", []) if a in table.column_names]
+    name = axis_name(axes, str(name))
+    return as_table(comparisons(table, meta, name, value, list(metrics)), name, axes)
 
 
 def plot(
