@@ -135,3 +135,12 @@ def test_metrics_spelt_as_the_command_line_does_and_non_numbers(table) -> None:
     assert spelt.equals(plain) and plain.num_rows > 0
     with pytest.raises(InputError, match="metric 'grid': not a number"):
         swarmex.compare(table, {"algorithm": "madgta"}, ["grid"])
+
+
+def test_a_table_without_swarmex_metadata_still_names_its_axes(table) -> None:
+    """A table written back through another tool keeps the columns but loses the schema
+    metadata that named the axes: compare said "'algorithm' is not a parameter the sweep
+    varies (it varies: none)". The layout (parameters between ``run`` and ``seed``) says."""
+    bare = table.replace_schema_metadata(None)
+    got = swarmex.compare(bare, {"algorithm": "madgta"})
+    assert got.equals(swarmex.compare(table, {"algorithm": "madgta"}))

@@ -153,18 +153,14 @@ def as_table(results: list[PairedComparison], name: str, axes: Sequence[str]) ->
 def load(results: Any) -> tuple[Any, dict[str, Any]]:
     """A sweep's table and metadata from its folder (or results file), or from the table
     ``swarmex.sweep`` returned (its schema metadata names the axes)."""
-    import json
-
-    from swarmex.experiments.sweep import METADATA_KEY, read_results
+    from swarmex.experiments.sweep import read_results, table_meta
 
     if isinstance(results, str | Path):
         return read_results(results)
-    schema = getattr(results, "schema", None)
-    if schema is None:
+    if getattr(results, "schema", None) is None:
         raise InputError(f"expected a sweep folder or the table swarmex.sweep returned, got"
                          f" {type(results).__name__}")
-    raw = (schema.metadata or {}).get(METADATA_KEY)
-    return results, (json.loads(raw) if raw else {})
+    return results, table_meta(results)
 
 
 def _plain(value: Any) -> Any:
