@@ -312,8 +312,11 @@ def plot(
     import warnings
 
     from swarmex.experiments.compare import load
-    from swarmex.viz.plot import SUFFIXES, sweep_figure
+    from swarmex.viz.plot import SUFFIXES, save_figure, sweep_figure
 
+    if where is not None and not isinstance(where, Mapping):
+        raise InputError(f"where must be a dict of parameter values, such as {{'agents': 4}},"
+                         f" got {where!r}")
     table, meta = load(results)
     filters = [f"{k}={v}" for k, v in (where or {}).items()]
     fig, note = sweep_figure(table.to_pylist(), meta, x, y, hue, filters, kind)
@@ -324,8 +327,7 @@ def plot(
         path = Path(fspath(out))
         if path.suffix.lower() not in SUFFIXES:
             raise InputError(f"out: {path} must end in .png or .svg")
-        path.parent.mkdir(parents=True, exist_ok=True)
-        fig.savefig(path, format=path.suffix.lower()[1:])
+        save_figure(fig, path)
     return fig
 
 
