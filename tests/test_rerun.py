@@ -344,3 +344,16 @@ def test_cli_rerun_says_when_it_compiles(tmp_path: Path, capsys, monkeypatch) ->
     assert main(["rerun", str(path)]) == 0
     assert entered == [True]
     assert "the same record" in capsys.readouterr().out
+
+
+def test_a_bad_record_among_several_is_named(tmp_path: Path, capsys) -> None:
+    """``swarmex rerun A.json B.json`` with B not a record said "not a swarmex record: no
+    'mission', …" without saying which file; ``ResultRecord.read`` now names it."""
+    good = tmp_path / "good.json"
+    swarmex.run("traversal", seed=0, grid="4x4", agents=1).write(good)
+    bad = tmp_path / "bad.json"
+    bad.write_text("{}", encoding="utf-8")
+    assert main(["rerun", str(good), str(bad)]) == 2
+    assert f"{bad}: not a swarmex record" in capsys.readouterr().err
+    with pytest.raises(InputError, match="bad.json: not a swarmex record"):
+        swarmex.ResultRecord.read(bad)

@@ -196,8 +196,12 @@ class ResultRecord:
     @classmethod
     def read(cls, path: str | Path) -> ResultRecord:
         """The record of a file ``--json``, a sweep or :meth:`write` wrote (an InputError
-        names a missing or malformed one)."""
-        return cls.from_dict(read_record(path))
+        names a missing or malformed one, and the file)."""
+        data = read_record(path)
+        try:
+            return cls.from_dict(data)
+        except InputError as exc:  # among several files, which one is what matters
+            raise InputError(f"{path}: {exc}") from None
 
     def write(self, path: str | Path) -> Path:
         """Write the record's JSON to ``path`` atomically (what ``--json`` writes)."""

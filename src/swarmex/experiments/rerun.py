@@ -16,7 +16,7 @@ from os import PathLike, fspath
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from swarmex.engine.record import ResultRecord, read_record
+from swarmex.engine.record import ResultRecord
 from swarmex.errors import InputError
 
 if TYPE_CHECKING:
@@ -29,7 +29,7 @@ def load_record(
     """The record, and the folder of its file when it was given as one."""
     if isinstance(source, str | PathLike):
         path = fspath(source)
-        return ResultRecord.from_dict(read_record(path)), Path(path).absolute().parent
+        return ResultRecord.read(path), Path(path).absolute().parent
     if isinstance(source, ResultRecord):
         return source, None
     return ResultRecord.from_dict(source), None
