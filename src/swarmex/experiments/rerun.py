@@ -114,13 +114,22 @@ def render_record(
     recorder = frame_recorder(rec.mission, out)
     outcome = rerun_outcome(rec, folder, given, on_frame=recorder)
     draw(rec.mission, outcome, out, recorder)
-    return out, comparable(outcome.record.to_dict()) == comparable(rec.to_dict())
+    return out, same_run(rec.to_dict(), outcome.record.to_dict())
 
 
-def comparable(record: dict[str, Any]) -> dict[str, Any]:
-    """A record's JSON without what two runs of it may differ in: ``wall_seconds`` and the
-    version of swarmex that wrote it."""
-    return {k: v for k, v in record.items() if k not in ("wall_seconds", "swarmex_version")}
+def same_run(old: dict[str, Any], new: dict[str, Any]) -> bool:
+    """Whether a rerun (``new``) came out as its record (``old``), as ``swarmex rerun``
+    judges it: ``wall_seconds`` and the version aside, and for a record of ``swarmex serve``
+    without the parts only the network writes (:func:`networked_reason`). Changes both
+    dicts. Why not plain equality: a networked ``--rng shared`` record is the simulator's
+    run, and its drawing was announced as "came out differently" although ``swarmex rerun``
+    called it the same."""
+    for d in (old, new):
+        d.pop("wall_seconds", None)
+        d.pop("swarmex_version", None)
+    if networked_reason(old) is not None and isinstance(new.get("metrics"), dict):
+        new["metrics"].pop("message_bytes", None)
+    return not differences(old, new)
 
 
 def respell(new: ResultRecord, moved: Mapping[str, str]) -> None:
@@ -161,3 +170,60 @@ def find_inputs(m: Any, values: dict[str, Any], folder: Path | None) -> dict[str
         values[name] = str(found)
         moved[value] = str(found)
     return moved
+
+
+def networked_reason(old: dict[str, Any]) -> str | None:
+    """For a record of ``swarmex serve`` (its params have a ``network`` block): drop the
+    parts only a networked run has and say why its rerun, which is the simulator's, may
+    differ; None for any other record.
+
+    Why: a networked run with ``--rng shared`` is the simulated run (docs/net.md), so paths,
+    jobs and every metric but the wire's ``message_bytes`` can be compared; claiming a
+    difference for the network block the simulator never writes would be wrong. With
+    ``--rng own``, departures or injected loss the networked run is another run, and the
+    line says so rather than only that it differs."""
+    params = old.get("params")
+    if not isinstance(params, dict) or "network" not in params:
+        return None
+    params.pop("network")
+    block = old.pop("network", None)
+    net = block if isinstance(block, dict) else {}
+    departed = old.pop("departed_agents", None)
+    old.pop("vehicles", None)
+    if isinstance(old.get("metrics"), dict):
+        old["metrics"].pop("message_bytes", None)
+    reasons = []
+    if net.get("rng_mode") not in (None, "shared"):
+        reasons.append(f"--rng {net.get('rng_mode')}: each agent drew from its own generator")
+    if departed or net.get("left") or net.get("joined"):
+        reasons.append("agents left or joined the networked run")
+    if net.get("inject_loss"):
+        reasons.append("the server dropped messages (--inject-loss)")
+    cause = "; ".join(reasons) or "its events or messages did not follow the simulator's"
+    return f"a networked record, rerun in the simulator: {cause}"
+
+
+def differences(old: Any, new: Any, path: str = "") -> list[str]:
+    """Where two JSON values differ, as ``path: old → new`` for numbers and words and as the
+    bare path for lists and objects of another length or shape."""
+    if isinstance(old, dict) and isinstance(new, dict):
+        out: list[str] = []
+        for key in [*old, *(k for k in new if k not in old)]:
+            sub = f"{path}.{key}" if path else str(key)
+            if key not in old or key not in new:
+                out.append(f"{sub} ({'new' if key not in old else 'gone'})")
+            else:
+                out += differences(old[key], new[key], sub)
+        return out
+    if isinstance(old, list) and isinstance(new, list) and len(old) == len(new):
+        if all(not isinstance(v, dict | list) for v in old + new):
+            return [] if old == new else [path]  # a row or a trajectory point: the path alone
+        out = []
+        for i, (a, b) in enumerate(zip(old, new, strict=True)):
+            out += differences(a, b, f"{path}[{i}]")
+        return out
+    if old == new:
+        return []
+    if isinstance(old, dict | list) or isinstance(new, dict | list):
+        return [path]
+    return [f"{path}: {old!r} → {new!r}"]
