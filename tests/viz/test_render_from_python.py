@@ -107,3 +107,24 @@ def test_a_run_on_a_world_object_is_drawn_with_the_world_given_again(tmp_path: P
     with pytest.raises(InputError, match="only the world again .*not 'agents'"):
         swarmex.render(rec, tmp_path / "b.png", map=world, agents=3)
     assert not (tmp_path / "b.png").exists()
+
+
+def test_an_output_that_cannot_be_made_fails_before_the_rerun(tmp_path: Path,
+                                                               monkeypatch) -> None:
+    """``swarmex.render(rec, "file.json/x.png")`` ran the whole record again and then said
+    "cannot write …: File exists"; it must fail first, naming the file in the way."""
+    import swarmex.experiments.rerun as rerun_module
+
+    rec = swarmex.run("traversal", seed=0, grid="4x4", agents=1)
+    blocker = tmp_path / "rec.json"
+    rec.write(blocker)
+
+    def no_run(*args, **kwargs):
+        raise AssertionError("the run started")
+
+    monkeypatch.setattr(rerun_module, "rerun_outcome", no_run)
+    with pytest.raises(InputError, match=r"rec\.json is a file, not a folder"):
+        swarmex.render(rec, blocker / "sub" / "x.png")
+    (tmp_path / "d.png").mkdir()
+    with pytest.raises(InputError, match="it is a folder"):
+        swarmex.render(rec, tmp_path / "d.png")

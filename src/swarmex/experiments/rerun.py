@@ -99,6 +99,7 @@ def render_record(
     out = Path(fspath(path))
     check_suffix(out, option="swarmex.render's path")
     require_writer(out)  # a missing video extra costs one line now, not the run
+    check_writable(out)  # as must a path below a file: the rerun may take minutes
     rec, folder = load_record(source)
     given = dict(world or {})
     if given:
@@ -115,6 +116,19 @@ def render_record(
     outcome = rerun_outcome(rec, folder, given, on_frame=recorder)
     draw(rec.mission, outcome, out, recorder)
     return out, same_run(rec.to_dict(), outcome.record.to_dict())
+
+
+def check_writable(out: Path) -> None:
+    """An InputError now, before the rerun, when ``out`` cannot be made: a folder of that
+    name, or a file where one of its folders should be (the drawing's writer makes the
+    missing folders below the first existing one)."""
+    if out.is_dir():
+        raise InputError(f"cannot write {out}: it is a folder")
+    parent = out.parent
+    while not parent.exists() and parent != parent.parent:
+        parent = parent.parent
+    if not parent.is_dir():
+        raise InputError(f"cannot write {out}: {parent} is a file, not a folder")
 
 
 def same_run(old: dict[str, Any], new: dict[str, Any]) -> bool:
