@@ -62,7 +62,15 @@ def rerun(
         raise typer.Exit(1)
 
 
-@app.command("render")
+@app.command(
+    "render",
+    # the help as one paragraph per line: Rich keeps a docstring's line breaks, which cut
+    # the second paragraph mid-sentence in --help
+    help="Draw a record's run: a .png picture or a .gif/.mp4 animation (it runs it again).\n\n"
+    "The record's run is made again from its parameters and seed, keeping the frames the"
+    " drawing needs (the record holds paths, not frames), so it takes the run's time once"
+    " more.",
+)
 def render(
     record_file: Path = typer.Argument(..., help="A record JSON (--json, or a sweep's runs/)."),
     out: Path = typer.Argument(..., help="The drawing: .png, .gif or .mp4."),
