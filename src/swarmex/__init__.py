@@ -136,6 +136,8 @@ def run(
         raise InputError("give the seed once, as seed=")
     check_seed(seed)
     p = m.params({**params, "seed": seed})
+    if not isinstance(progress, bool):  # "no" is truthy: it would have shown the bar
+        raise InputError(f"progress must be True or False, got {progress!r}")
     if not progress:
         return m.run(p, on_frame=on_frame, trace=trace).record
     from swarmex.experiments.progress import run_with_progress
@@ -284,6 +286,10 @@ def compare(
                          f" {{'algorithm': 'madgta'}}, got {baseline!r}")
     if isinstance(metrics, str):
         metrics = [metrics]
+    if (not isinstance(metrics, Sequence) or not metrics
+            or not all(isinstance(m, str) for m in metrics)):
+        raise InputError(f"metrics must be a column name or a non-empty list of them, such as"
+                         f" ['makespan', 'total_time_all'], got {metrics!r}")
     table, meta = load(results)
     ((name, value),) = baseline.items()
     axes = [a for a in meta.get("axes", []) if a in table.column_names]
@@ -314,6 +320,9 @@ def plot(
     from swarmex.experiments.compare import load
     from swarmex.viz.plot import SUFFIXES, save_figure, sweep_figure
 
+    for label, name in (("x", x), ("y", y), ("hue", hue)):
+        if not isinstance(name, str) and not (label == "hue" and name is None):
+            raise InputError(f"{label} must be a column name (a str), got {name!r}")
     if where is not None and not isinstance(where, Mapping):
         raise InputError(f"where must be a dict of parameter values, such as {{'agents': 4}},"
                          f" got {where!r}")

@@ -96,6 +96,9 @@ def render_record(
     from swarmex.viz.animation import check_suffix, require_writer
     from swarmex.viz.render import draw, frame_recorder
 
+    if not isinstance(path, str | PathLike):
+        raise InputError(f"swarmex.render's path must be a file name (.png, .gif or .mp4),"
+                         f" got {path!r}")
     out = Path(fspath(path))
     check_suffix(out, option="swarmex.render's path")
     require_writer(out)  # a missing video extra costs one line now, not the run
