@@ -144,3 +144,15 @@ def test_a_table_without_swarmex_metadata_still_names_its_axes(table) -> None:
     bare = table.replace_schema_metadata(None)
     got = swarmex.compare(bare, {"algorithm": "madgta"})
     assert got.equals(swarmex.compare(table, {"algorithm": "madgta"}))
+
+
+def test_no_pairs_at_all_is_said_in_one_line(tmp_path: Path, capsys) -> None:
+    """Every baseline run failed (30 agents on 25 cells): the command printed an empty
+    table, headers only."""
+    spec = tmp_path / "s.toml"
+    spec.write_text('mission = "traversal"\ngrid = "5x5"\nagents = [2, 30]\nseeds = [0]\n',
+                    encoding="utf-8")
+    assert main(["sweep", str(spec), "--backend", "serial", "--out", str(tmp_path / "o"),
+                 "--baseline", "agents=30"]) == 0
+    out = capsys.readouterr().out
+    assert "paired against agents = 30: no pairs" in out and "┏" not in out.split("no pairs")[1]

@@ -206,6 +206,11 @@ def print_paired(out_dir: Path, name: str, value: Any, extra_metrics: list[str])
     extra = [metric_column(m, columns, meta.get("mission")) for m in extra_metrics]
     metrics = ["makespan", *[m for m in extra if m != "makespan" and m in columns]]
     results = comparisons(table, meta, name, value, metrics)
+    if not results:  # an empty table with headers only said nothing of why
+        console.print(f"paired against {name} = {_value(value)}: no pairs (every run with"
+                      f" that value, or every run it would pair with, failed: see the"
+                      f" table's error column)", highlight=False, soft_wrap=True)
+        return
     groups = [a for a in meta.get("axes", []) if a in columns and a != name]
     out = Table(
         title=f"paired against {name} = {_value(value)} · same configuration and seed · mean Δ and"
