@@ -128,3 +128,17 @@ def test_an_output_that_cannot_be_made_fails_before_the_rerun(tmp_path: Path,
     (tmp_path / "d.png").mkdir()
     with pytest.raises(InputError, match="it is a folder"):
         swarmex.render(rec, tmp_path / "d.png")
+
+
+def test_a_roadmap_on_a_polygon_world_object_says_so(tmp_path: Path) -> None:
+    """Its record says ``"env": "generated"``: the error was "the record's env 'generated'
+    is not found from here (a relative path is …)", as if a file had moved."""
+    from shapely.geometry import Polygon
+
+    from swarmex.worlds.polygon import PolygonWorld
+
+    world = PolygonWorld((0, 0, 200, 150), [Polygon([(40, 30), (70, 30), (70, 60), (40, 60)])])
+    rec = swarmex.run("roadmap", env=world, agents=2, nodes=30, step=15, sensor_range="2eps")
+    with pytest.raises(InputError, match=r"env was given as an object .*env=world"):
+        swarmex.render(rec, tmp_path / "a.png")
+    assert swarmex.render(rec, tmp_path / "a.png", env=world).exists()

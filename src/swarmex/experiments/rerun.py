@@ -177,6 +177,12 @@ def find_inputs(m: Any, values: dict[str, Any], folder: Path | None) -> dict[str
             continue
         places = [folder, *folder.parents] if folder is not None else []
         found = next((d / given for d in places if (d / given).exists()), None)
+        if found is None and value == "generated":  # how a record names a world object
+            raise InputError(
+                f"this record's {name} was given as an object (generated): pass it again"
+                f" from Python, e.g. swarmex.rerun(record, {name}=world) or"
+                f" swarmex.render(record, out, {name}=world)"
+            )
         if found is None:
             where = " or from the record's folder and those above it" if places else ""
             raise InputError(
