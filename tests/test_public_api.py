@@ -106,3 +106,25 @@ def test_import_as_of_a_missions_module_works() -> None:
             "print(b.StopRun.__name__, r.get('foraging').name)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert out.stdout.strip() == "StopRun foraging", out.stderr
+
+
+def test_wrong_types_are_input_errors_not_tracebacks(tmp_path) -> None:
+    """Each was a TypeError or AttributeError from deep inside (``metrics=[1]``: 'int' object
+    has no attribute 'removeprefix'), or silently wrong (``progress="no"`` showed the bar)."""
+    import pytest
+
+    import swarmex
+
+    table = swarmex.sweep("traversal", out=tmp_path / "s", grid="3x3", agents=[1, 2],
+                          seeds=1, backend="serial", progress=False)
+    for call, said in (
+        (lambda: swarmex.compare(table, {"agents": 1}, None), "metrics must be"),
+        (lambda: swarmex.compare(table, {"agents": 1}, [1]), "metrics must be"),
+        (lambda: swarmex.compare(table, {"agents": 1}, []), "metrics must be"),
+        (lambda: swarmex.plot(table, "agents", None), "y must be a column name"),
+        (lambda: swarmex.run("traversal", grid="3x3", agents=1, progress="no"),
+         "progress must be True or False"),
+        (lambda: swarmex.render({}, None), "path must be a file name"),
+    ):
+        with pytest.raises(swarmex.InputError, match=said):
+            call()

@@ -272,6 +272,26 @@ def test_cli_on_a_networked_record_compares_what_the_simulator_has(tmp_path: Pat
     assert "network" not in line.split("(")[0]  # the network's parts are not differences
 
 
+def test_render_of_a_networked_record_warns_only_when_rerun_would_differ(tmp_path: Path,
+                                                                         capsys) -> None:
+    """``swarmex render`` of a ``--rng shared`` serve record said "came out differently"
+    while ``swarmex rerun`` said "the simulator's run is the same": render compared the
+    network's own parts too."""
+    sim = swarmex.run("traversal", seed=0, grid="5x5", agents=2).to_dict()
+    served = {**sim, "params": {**sim["params"], "network": {"rng": "shared"}},
+              "metrics": {**sim["metrics"], "message_bytes": 8444},
+              "departed_agents": [], "vehicles": [{"id": 1, "kind": "simulated"}],
+              "network": {"transport": "zeromq", "rng_mode": "shared"}}
+    path = tmp_path / "served.json"
+    path.write_text(json.dumps(served), encoding="utf-8")
+    assert main(["render", str(path), str(tmp_path / "a.png")]) == 0
+    assert "came out differently" not in capsys.readouterr().err
+    served["metrics"]["total_time_all"] += 1
+    path.write_text(json.dumps(served), encoding="utf-8")
+    with pytest.warns(RuntimeWarning, match="came out differently"):
+        swarmex.render(path, tmp_path / "b.png")
+
+
 @pytest.mark.parametrize(("key", "value", "message"), [
     ("params", "abc", "'params' must be a JSON object"),
     ("metrics", [1], "'metrics' must be a JSON object"),
@@ -344,3 +364,16 @@ def test_cli_rerun_says_when_it_compiles(tmp_path: Path, capsys, monkeypatch) ->
     assert main(["rerun", str(path)]) == 0
     assert entered == [True]
     assert "the same record" in capsys.readouterr().out
+
+
+def test_a_bad_record_among_several_is_named(tmp_path: Path, capsys) -> None:
+    """``swarmex rerun A.json B.json`` with B not a record said "not a swarmex record: no
+    'mission', …" without saying which file; ``ResultRecord.read`` now names it."""
+    good = tmp_path / "good.json"
+    swarmex.run("traversal", seed=0, grid="4x4", agents=1).write(good)
+    bad = tmp_path / "bad.json"
+    bad.write_text("{}", encoding="utf-8")
+    assert main(["rerun", str(good), str(bad)]) == 2
+    assert f"{bad}: not a swarmex record" in capsys.readouterr().err
+    with pytest.raises(InputError, match="bad.json: not a swarmex record"):
+        swarmex.ResultRecord.read(bad)

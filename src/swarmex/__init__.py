@@ -136,6 +136,8 @@ def run(
         raise InputError("give the seed once, as seed=")
     check_seed(seed)
     p = m.params({**params, "seed": seed})
+    if not isinstance(progress, bool):  # "no" is truthy: it would have shown the bar
+        raise InputError(f"progress must be True or False, got {progress!r}")
     if not progress:
         return m.run(p, on_frame=on_frame, trace=trace).record
     from swarmex.experiments.progress import run_with_progress
@@ -171,6 +173,7 @@ def rerun(
 def render(
     record: ResultRecord | Mapping[str, Any] | str | PathLike[str],
     path: str | PathLike[str],
+    **world: Any,
 ) -> Path:
     """Draw a run: a picture (``.png``) or an animation (``.gif``; ``.mp4`` needs the
     ``video`` extra) of ``record``'s run, what ``--render`` draws. Returns the path.
@@ -179,14 +182,16 @@ def render(
     made again from the record, keeping the frames the drawing needs (a record holds paths,
     not frames), so drawing costs the run's time once more. If that run no longer comes out
     as the record (another swarmex version), the drawing is of today's run and a
-    ``RuntimeWarning`` says so. ``swarmex render RECORD.json OUT.png`` does this from the
-    shell.
+    ``RuntimeWarning`` says so. ``world`` gives the world again when the record cannot name
+    it, as for :func:`rerun`: ``swarmex.render(rec, "run.png", map=world)`` for a run on a
+    world object (only world and input-file parameters: any other would draw another run).
+    ``swarmex render RECORD.json OUT.png`` does this from the shell.
     """
     import warnings
 
     from swarmex.experiments.rerun import render_record
 
-    out, same = render_record(record, path)
+    out, same = render_record(record, path, world)
     if not same:
         warnings.warn(
             f"{out}: the record's run came out differently today (another swarmex version, or"
@@ -274,17 +279,22 @@ def compare(
                               grid="12x12", agents=4, seeds=10)
         swarmex.compare(table, {"algorithm": "madgta"}, ["makespan", "total_time_all"])
     """
-    from swarmex.experiments.compare import as_table, comparisons, load
+    from swarmex.experiments.compare import as_table, axis_name, comparisons, load
 
     if not isinstance(baseline, Mapping) or len(baseline) != 1:
         raise InputError(f"baseline must name one parameter and its value, such as"
                          f" {{'algorithm': 'madgta'}}, got {baseline!r}")
     if isinstance(metrics, str):
         metrics = [metrics]
+    if (not isinstance(metrics, Sequence) or not metrics
+            or not all(isinstance(m, str) for m in metrics)):
+        raise InputError(f"metrics must be a column name or a non-empty list of them, such as"
+                         f" ['makespan', 'total_time_all'], got {metrics!r}")
     table, meta = load(results)
     ((name, value),) = baseline.items()
-    found = comparisons(table, meta, name, value, list(metrics))
-    return as_table(found, name, [a for a in meta.get("axes", []) if a in table.column_names])
+    axes = [a for a in meta.get("axes", []) if a in table.column_names]
+    name = axis_name(axes, str(name))
+    return as_table(comparisons(table, meta, name, value, list(metrics)), name, axes)
 
 
 def plot(
@@ -308,8 +318,14 @@ def plot(
     import warnings
 
     from swarmex.experiments.compare import load
-    from swarmex.viz.plot import SUFFIXES, sweep_figure
+    from swarmex.viz.plot import SUFFIXES, save_figure, sweep_figure
 
+    for label, name in (("x", x), ("y", y), ("hue", hue)):
+        if not isinstance(name, str) and not (label == "hue" and name is None):
+            raise InputError(f"{label} must be a column name (a str), got {name!r}")
+    if where is not None and not isinstance(where, Mapping):
+        raise InputError(f"where must be a dict of parameter values, such as {{'agents': 4}},"
+                         f" got {where!r}")
     table, meta = load(results)
     filters = [f"{k}={v}" for k, v in (where or {}).items()]
     fig, note = sweep_figure(table.to_pylist(), meta, x, y, hue, filters, kind)
@@ -320,8 +336,7 @@ def plot(
         path = Path(fspath(out))
         if path.suffix.lower() not in SUFFIXES:
             raise InputError(f"out: {path} must end in .png or .svg")
-        path.parent.mkdir(parents=True, exist_ok=True)
-        fig.savefig(path, format=path.suffix.lower()[1:])
+        save_figure(fig, path)
     return fig
 
 

@@ -47,7 +47,7 @@ def test_explore_gif_and_starts(tmp_path):
         (["--empty", "3x3", "--robots", "1", "--cell", "0"], "--cell"),
         (["--empty", "3x3", "--robots", "1", "--strategy", "auction"], "--strategy"),
         (["--map", "/no/such.map", "--robots", "1"], "not found"),
-        (["--robots", "1"], "exactly one of --map"),
+        (["--robots", "1"], "--map (or --empty) is required"),
         (["--empty", "3x3", "--robots", "1", "--render", "x.bmp"], "--render"),
         (["--empty", "3x3"], "--robots"),
         (["--empty", "3x3", "--robots", "many"], "robots"),

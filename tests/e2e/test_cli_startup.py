@@ -233,6 +233,7 @@ def test_console_entry_leaves_with_its_output_and_status(tmp_path):
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout.rstrip().endswith(f"wrote {out}")
     assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and out.stat().st_size > 1000
-    bad = subprocess.run([sys.executable, "-m", "swarmex", "traverse", "--grid", "0x3"],
+    bad = subprocess.run([sys.executable, "-m", "swarmex", "traverse", "--grid", "0x3",
+                          "--agents", "1"],
                          capture_output=True, text=True, env=env, timeout=120, cwd=tmp_path)
     assert bad.returncode == 2 and bad.stderr.count("\n") == 1 and "--grid" in bad.stderr

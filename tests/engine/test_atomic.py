@@ -95,3 +95,18 @@ def test_cli_json_record_and_png_share_a_mode(tmp_path):
     finally:
         os.umask(old)
     assert _mode(js) == _mode(png) == 0o644
+
+
+def test_a_folder_or_a_file_in_the_way_is_named(tmp_path):
+    """``record.write("runs")`` with ``runs`` a folder raised IsADirectoryError (a
+    traceback, after the whole write); a path below a file said only "File exists"."""
+    import swarmex
+
+    rec = swarmex.run("traversal", grid="3x3", agents=1, seed=0)
+    (tmp_path / "runs").mkdir()
+    with pytest.raises(InputError, match="runs: it is a folder"):
+        rec.write(tmp_path / "runs")
+    assert list((tmp_path / "runs").iterdir()) == [] and len(list(tmp_path.iterdir())) == 1
+    (tmp_path / "f.json").write_text("{}", encoding="utf-8")
+    with pytest.raises(InputError, match=r"f\.json is a file, not a folder"):
+        rec.write(tmp_path / "f.json" / "sub" / "r.json")

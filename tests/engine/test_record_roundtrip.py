@@ -78,9 +78,28 @@ def test_repr_is_one_line_that_does_not_grow_with_the_trace() -> None:
         rows = len(rec.agents[0].trajectory)
         assert f"trajectory=<{rows} rows>" in repr(rec.agents[0])
         html = rec._repr_html_()
-        assert html.count("<tr>") == sum(
-            not isinstance(v, list | dict) for v in rec.metrics.values())
+        assert html.count("<tr>") == len(rec.metrics)
     assert "steps" in repr(swarmex.run("foraging", grid=16, agents=4, algorithm="strips", seed=1))
+
+
+def test_notebook_view_shows_every_metric_and_escapes_it() -> None:
+    """The notebook table left out a table metric (exploration's ``unicasts``) without a
+    word, said "makespan 69 step" where the repr says "steps", and "1 agents"; a record with
+    no metrics printed "metrics >"."""
+    rec = swarmex.run("exploration", empty="3x3", robots=1, seed=1)
+    html = rec._repr_html_()
+    assert html.count("<tr>") == len(rec.metrics)
+    assert "<code>unicasts</code></td><td>sent=" in html
+    assert " steps, 1 agent<table>" in html and " steps, 1 agent;" in repr(rec)
+    data = rec.to_dict()
+    data["algorithm"] = "<b>&"
+    data["metrics"] = {"<k>": {"a<": "<v>"}, "series": [1, 2, 3]}
+    odd = swarmex.ResultRecord.from_dict(data)
+    html = odd._repr_html_()
+    assert "&lt;b&gt;&amp;" in html and "a&lt;=&lt;v&gt;" in html and "[3 values]" in html
+    assert "<k>" not in html and repr(odd).endswith("metrics 2 not numbers>")
+    data["metrics"] = {}
+    assert repr(swarmex.ResultRecord.from_dict(data)).endswith("; metrics none>")
 
 
 def test_read_and_write_are_the_command_lines_json(tmp_path: Path) -> None:

@@ -99,3 +99,60 @@ def test_the_command_line_prints_the_table_and_checks_before_running(tmp_path: P
     row = next(r for r in swarmex.compare(out, {"algorithm": "madgta"}).to_pylist())
     line = next(ln for ln in text.splitlines() if "nearest" in ln and "makespan" in ln)
     assert f"{100 * row['relative']:.3g}"[:4] in line and not math.isnan(row["diff"])
+
+
+def test_a_dashed_axis_and_values_of_another_type_are_found(tmp_path: Path, capsys) -> None:
+    """A spec key keeps its dashes (``travel-time``) while ``--baseline`` wrote
+    ``travel_time`` and refused every dashed axis; a float axis written ``2`` and a TOML
+    boolean written ``true`` were "no value" because values compared as text only."""
+    spec = tmp_path / "s.toml"
+    spec.write_text('mission = "traversal"\ngrid = "5x5"\nagents = 2\n'
+                    'travel-time = [2, 2.5]\nseeds = [0, 1]\n', encoding="utf-8")
+    out = tmp_path / "out"
+    assert main(["sweep", str(spec), "--backend", "serial", "--out", str(out),
+                 "--baseline", "travel-time=2"]) == 0
+    assert "paired against travel-time = 2 " in capsys.readouterr().out
+    for name, value in (("travel_time", 2), ("travel-time", 2.0), ("travel_time", "2")):
+        rows = swarmex.compare(out, {name: value}).to_pylist()
+        assert [(r["travel-time"], r["pairs"]) for r in rows] == [(2.5, 2)]
+    assert main(["sweep", str(spec), "--backend", "serial", "--out", str(out),
+                 "--baseline", "travel-time=3"]) == 2
+    assert "has no value '3'" in capsys.readouterr().err
+
+    flags = tmp_path / "b.toml"
+    flags.write_text('mission = "exploration"\nempty = "4x4"\nrobots = 2\n'
+                     'aodv = [true, false]\nseeds = [0]\n', encoding="utf-8")
+    assert main(["sweep", str(flags), "--backend", "serial", "--out", str(tmp_path / "b"),
+                 "--baseline", "aodv=true"]) == 0
+    assert "paired against aodv = True" in capsys.readouterr().out
+
+
+def test_metrics_spelt_as_the_command_line_does_and_non_numbers(table) -> None:
+    """``metrics.NAME`` is what ``--metric`` accepts: compare took it for a missing column.
+    A text column (``grid``) gave an empty table rather than an error."""
+    plain = swarmex.compare(table, {"algorithm": "madgta"}, ["total_time_all"])
+    spelt = swarmex.compare(table, {"algorithm": "madgta"}, ["metrics.total_time_all"])
+    assert spelt.equals(plain) and plain.num_rows > 0
+    with pytest.raises(InputError, match="metric 'grid': not a number"):
+        swarmex.compare(table, {"algorithm": "madgta"}, ["grid"])
+
+
+def test_a_table_without_swarmex_metadata_still_names_its_axes(table) -> None:
+    """A table written back through another tool keeps the columns but loses the schema
+    metadata that named the axes: compare said "'algorithm' is not a parameter the sweep
+    varies (it varies: none)". The layout (parameters between ``run`` and ``seed``) says."""
+    bare = table.replace_schema_metadata(None)
+    got = swarmex.compare(bare, {"algorithm": "madgta"})
+    assert got.equals(swarmex.compare(table, {"algorithm": "madgta"}))
+
+
+def test_no_pairs_at_all_is_said_in_one_line(tmp_path: Path, capsys) -> None:
+    """Every baseline run failed (30 agents on 25 cells): the command printed an empty
+    table, headers only."""
+    spec = tmp_path / "s.toml"
+    spec.write_text('mission = "traversal"\ngrid = "5x5"\nagents = [2, 30]\nseeds = [0]\n',
+                    encoding="utf-8")
+    assert main(["sweep", str(spec), "--backend", "serial", "--out", str(tmp_path / "o"),
+                 "--baseline", "agents=30"]) == 0
+    out = capsys.readouterr().out
+    assert "paired against agents = 30: no pairs" in out and "┏" not in out.split("no pairs")[1]

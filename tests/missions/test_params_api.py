@@ -106,3 +106,13 @@ def test_every_missing_required_parameter_is_named_at_once() -> None:
         swarmex.run("roadmap", env="e.json", nodes=5, step=1)
     with pytest.raises(swarmex.InputError, match=r"^foraging: --algorithm is required$"):
         swarmex.run("foraging", grid=16, agents=4)
+    # a world is one of several options: it was asked for only after the rest was fixed
+    # (exploration: "--robots is required", then "give exactly one of --map and --empty")
+    with pytest.raises(swarmex.InputError, match=r"^exploration: --robots and --map \(or"
+                                                 r" --empty\) are required$"):
+        swarmex.run("exploration")
+    with pytest.raises(swarmex.InputError, match=r"^traversal: --map \(or --grid, --center\)"
+                                                 r" and --agents \(or --fleet\) are required$"):
+        get("traversal").params_type.from_values({})
+    with pytest.raises(swarmex.InputError, match="give exactly one of --map FILE and --empty"):
+        swarmex.run("exploration", robots=2, map="x.map", empty="4x4")  # two: still refused

@@ -175,3 +175,26 @@ def test_time_metrics_carry_the_runs_time_unit():
     assert y_label("timed_out", secs) == "timed_out"
     assert y_label("makespan", [{"time_unit": "s"}, {"time_unit": "step"}]) == "makespan"
     assert y_label("complete", secs) == "fraction complete"
+
+
+def test_python_plot_names_and_bad_input(tmp_path):
+    """From Python: a dashed spec key is named with underscores (``travel_time`` for the
+    ``travel-time`` column), ``metrics.NAME`` is the ``NAME`` column, a ``where`` that is
+    not a dict and an ``out`` below a file are one InputError each (they were an
+    AttributeError and an OSError traceback)."""
+    import swarmex
+
+    spec = tmp_path / "s.toml"
+    spec.write_text('mission = "traversal"\ngrid = "4x4"\nagents = 2\n'
+                    'travel-time = [2, 2.5]\nseeds = [0, 1]\n', encoding="utf-8")
+    out = tmp_path / "sw"
+    assert main(["sweep", str(spec), "--backend", "serial", "--out", str(out)]) == 0
+    fig = swarmex.plot(out, "travel_time", "metrics.total_time_all",
+                       where={"travel_time": 2.5})
+    assert fig.axes[0].get_xlabel().startswith("travel-time")
+    with pytest.raises(InputError, match="where must be a dict"):
+        swarmex.plot(out, "travel_time", "makespan", where="travel_time=2")  # type: ignore[arg-type]
+    blocker = tmp_path / "file"
+    blocker.write_text("x", encoding="utf-8")
+    with pytest.raises(InputError, match="file is a file, not a folder"):
+        swarmex.plot(out, "travel_time", "makespan", out=blocker / "p.png")

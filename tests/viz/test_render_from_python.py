@@ -86,3 +86,59 @@ def test_a_record_that_comes_out_differently_is_drawn_with_a_warning(tmp_path: P
     assert main(["render", str(path), str(tmp_path / "b.png")]) == 0
     assert "came out differently today" in capsys.readouterr().err
     assert (tmp_path / "b.png").read_bytes() == (tmp_path / "a.png").read_bytes()
+
+
+def test_a_run_on_a_world_object_is_drawn_with_the_world_given_again(tmp_path: Path) -> None:
+    """A record of a run on a GridWorld cannot name its world: the error says how to give it
+    to render (not only to rerun), and render takes it (it used to take no world at all, so
+    such a record could not be drawn). Other parameters are refused: they would draw another
+    run than the record's."""
+    import warnings
+
+    from swarmex.worlds.generators import random_obstacles
+
+    world = random_obstacles(6, 6, 0.1, seed=1)
+    rec = swarmex.run("traversal", seed=2, map=world, agents=2)
+    with pytest.raises(InputError, match=r"swarmex\.render\(record, out, map=world\)"):
+        swarmex.render(rec, tmp_path / "a.png")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # the same run: no "came out differently" warning
+        assert swarmex.render(rec, tmp_path / "a.png", map=world).stat().st_size > 0
+    with pytest.raises(InputError, match="only the world again .*not 'agents'"):
+        swarmex.render(rec, tmp_path / "b.png", map=world, agents=3)
+    assert not (tmp_path / "b.png").exists()
+
+
+def test_an_output_that_cannot_be_made_fails_before_the_rerun(tmp_path: Path,
+                                                               monkeypatch) -> None:
+    """``swarmex.render(rec, "file.json/x.png")`` ran the whole record again and then said
+    "cannot write …: File exists"; it must fail first, naming the file in the way."""
+    import swarmex.experiments.rerun as rerun_module
+
+    rec = swarmex.run("traversal", seed=0, grid="4x4", agents=1)
+    blocker = tmp_path / "rec.json"
+    rec.write(blocker)
+
+    def no_run(*args, **kwargs):
+        raise AssertionError("the run started")
+
+    monkeypatch.setattr(rerun_module, "rerun_outcome", no_run)
+    with pytest.raises(InputError, match=r"rec\.json is a file, not a folder"):
+        swarmex.render(rec, blocker / "sub" / "x.png")
+    (tmp_path / "d.png").mkdir()
+    with pytest.raises(InputError, match="it is a folder"):
+        swarmex.render(rec, tmp_path / "d.png")
+
+
+def test_a_roadmap_on_a_polygon_world_object_says_so(tmp_path: Path) -> None:
+    """Its record says ``"env": "generated"``: the error was "the record's env 'generated'
+    is not found from here (a relative path is …)", as if a file had moved."""
+    from shapely.geometry import Polygon
+
+    from swarmex.worlds.polygon import PolygonWorld
+
+    world = PolygonWorld((0, 0, 200, 150), [Polygon([(40, 30), (70, 30), (70, 60), (40, 60)])])
+    rec = swarmex.run("roadmap", env=world, agents=2, nodes=30, step=15, sensor_range="2eps")
+    with pytest.raises(InputError, match=r"env was given as an object .*env=world"):
+        swarmex.render(rec, tmp_path / "a.png")
+    assert swarmex.render(rec, tmp_path / "a.png", env=world).exists()

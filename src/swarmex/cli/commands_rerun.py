@@ -20,6 +20,7 @@ from swarmex.cli.app import app, console, err_console
 from swarmex.cli.compiling import compile_notice
 from swarmex.cli.outputs import RENDER_SUFFIXES, check_output
 from swarmex.errors import InputError
+from swarmex.experiments.rerun import differences, networked_reason
 
 #: How many differences the line names (the rest are counted).
 SHOWN = 4
@@ -61,7 +62,15 @@ def rerun(
         raise typer.Exit(1)
 
 
-@app.command("render")
+@app.command(
+    "render",
+    # the help as one paragraph per line: Rich keeps a docstring's line breaks, which cut
+    # the second paragraph mid-sentence in --help
+    help="Draw a record's run: a .png picture or a .gif/.mp4 animation (it runs it again).\n\n"
+    "The record's run is made again from its parameters and seed, keeping the frames the"
+    " drawing needs (the record holds paths, not frames), so it takes the run's time once"
+    " more.",
+)
 def render(
     record_file: Path = typer.Argument(..., help="A record JSON (--json, or a sweep's runs/)."),
     out: Path = typer.Argument(..., help="The drawing: .png, .gif or .mp4."),
@@ -127,60 +136,3 @@ def verdict(old: dict[str, Any], new: dict[str, Any]) -> tuple[str, bool]:
                " early by its caller, e.g. StopRun from on_frame, cannot be rerun to that"
                " point)")
     return f"rerun {what}: differs{made} in {'; '.join(diffs[:SHOWN])}{more}{why}", False
-
-
-def networked_reason(old: dict[str, Any]) -> str | None:
-    """For a record of ``swarmex serve`` (its params have a ``network`` block): drop the
-    parts only a networked run has and say why its rerun, which is the simulator's, may
-    differ; None for any other record.
-
-    Why: a networked run with ``--rng shared`` is the simulated run (docs/net.md), so paths,
-    jobs and every metric but the wire's ``message_bytes`` can be compared; claiming a
-    difference for the network block the simulator never writes would be wrong. With
-    ``--rng own``, departures or injected loss the networked run is another run, and the
-    line says so rather than only that it differs."""
-    params = old.get("params")
-    if not isinstance(params, dict) or "network" not in params:
-        return None
-    params.pop("network")
-    block = old.pop("network", None)
-    net = block if isinstance(block, dict) else {}
-    departed = old.pop("departed_agents", None)
-    old.pop("vehicles", None)
-    if isinstance(old.get("metrics"), dict):
-        old["metrics"].pop("message_bytes", None)
-    reasons = []
-    if net.get("rng_mode") not in (None, "shared"):
-        reasons.append(f"--rng {net.get('rng_mode')}: each agent drew from its own generator")
-    if departed or net.get("left") or net.get("joined"):
-        reasons.append("agents left or joined the networked run")
-    if net.get("inject_loss"):
-        reasons.append("the server dropped messages (--inject-loss)")
-    cause = "; ".join(reasons) or "its events or messages did not follow the simulator's"
-    return f"a networked record, rerun in the simulator: {cause}"
-
-
-def differences(old: Any, new: Any, path: str = "") -> list[str]:
-    """Where two JSON values differ, as ``path: old → new`` for numbers and words and as the
-    bare path for lists and objects of another length or shape."""
-    if isinstance(old, dict) and isinstance(new, dict):
-        out: list[str] = []
-        for key in [*old, *(k for k in new if k not in old)]:
-            sub = f"{path}.{key}" if path else str(key)
-            if key not in old or key not in new:
-                out.append(f"{sub} ({'new' if key not in old else 'gone'})")
-            else:
-                out += differences(old[key], new[key], sub)
-        return out
-    if isinstance(old, list) and isinstance(new, list) and len(old) == len(new):
-        if all(not isinstance(v, dict | list) for v in old + new):
-            return [] if old == new else [path]  # a row or a trajectory point: the path alone
-        out = []
-        for i, (a, b) in enumerate(zip(old, new, strict=True)):
-            out += differences(a, b, f"{path}[{i}]")
-        return out
-    if old == new:
-        return []
-    if isinstance(old, dict | list) or isinstance(new, dict | list):
-        return [path]
-    return [f"{path}: {old!r} → {new!r}"]

@@ -80,8 +80,7 @@ def sweep(
     if baseline is not None:
         from swarmex.experiments.compare import check_baseline, parse_baseline
 
-        compared = parse_baseline(baseline)
-        check_baseline(spec.axes, *compared)
+        compared = check_baseline(spec.axes, *parse_baseline(baseline))
     summary = summary or bool(metric)  # a metric asked for was silently never shown
     out_dir = out if out is not None else Path(f"{spec_file.stem}-sweep")
     def announce(total: int, finished: int) -> None:
@@ -196,7 +195,7 @@ def print_summary(out_dir: Path, extra_metrics: list[str]) -> None:
     wide.print(out)
 
 
-def print_paired(out_dir: Path, name: str, value: str, extra_metrics: list[str]) -> None:
+def print_paired(out_dir: Path, name: str, value: Any, extra_metrics: list[str]) -> None:
     """A Rich table of ``--baseline``: each other value of ``name`` against ``value``, per
     configuration and pooled, on makespan and the ``--metric`` metrics."""
     from swarmex.experiments.compare import comparisons
@@ -207,13 +206,18 @@ def print_paired(out_dir: Path, name: str, value: str, extra_metrics: list[str])
     extra = [metric_column(m, columns, meta.get("mission")) for m in extra_metrics]
     metrics = ["makespan", *[m for m in extra if m != "makespan" and m in columns]]
     results = comparisons(table, meta, name, value, metrics)
+    if not results:  # an empty table with headers only said nothing of why
+        console.print(f"paired against {name} = {_value(value)}: no pairs (every run with"
+                      f" that value, or every run it would pair with, failed: see the"
+                      f" table's error column)", highlight=False, soft_wrap=True)
+        return
     groups = [a for a in meta.get("axes", []) if a in columns and a != name]
     out = Table(
-        title=f"paired against {name} = {value} · same configuration and seed · mean Δ and"
+        title=f"paired against {name} = {_value(value)} · same configuration and seed · mean Δ and"
               " relative Δ with 95 % CIs (Student t over the pairs); lower/higher: pairs",
         title_justify="left",
     )
-    for column in (name, *groups, "metric", "pairs", f"{value} mean", "mean", "Δ",
+    for column in (name, *groups, "metric", "pairs", f"{_value(value)} mean", "mean", "Δ",
                    "relative Δ", "lower", "higher"):
         out.add_column(column, justify="left" if column in (name, *groups, "metric")
                        else "right")

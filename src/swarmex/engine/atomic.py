@@ -36,10 +36,17 @@ def _temp_beside(path: Path) -> Path:
 
 
 def _make_parent(path: Path) -> None:
+    """Make ``path``'s folder, or say in one line why it cannot be written: a folder by
+    that name (the rename would fail with IsADirectoryError after the whole write), or a
+    file where a folder should be (mkdir's bare "File exists" did not say which)."""
+    if path.is_dir():
+        raise InputError(f"cannot write {path}: it is a folder")
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
-        raise InputError(f"cannot write {path}: {exc.strerror or exc}") from None
+        blocker = next((p for p in path.parents if p.exists() and not p.is_dir()), None)
+        why = f"{blocker} is a file, not a folder" if blocker else exc.strerror or exc
+        raise InputError(f"cannot write {path}: {why}") from None
 
 
 @contextlib.contextmanager

@@ -86,6 +86,17 @@ def _short(value: Any) -> str:
     return str(value)
 
 
+def _cell(value: Any) -> str:
+    """A metric as one table cell: a table metric's entries ``key=value`` (the first
+    :data:`MAX_SHOWN`), a list by its length, anything else as :func:`_short` shows it."""
+    if isinstance(value, dict):
+        items = [f"{k}={_short(v)}" for k, v in list(value.items())[:MAX_SHOWN]]
+        return ", ".join(items) + (", …" if len(value) > MAX_SHOWN else "")
+    if isinstance(value, list):
+        return f"[{len(value)} values]"
+    return _short(value)
+
+
 @dataclass(frozen=True)
 class MetricInfo:
     """What one team metric of a record means (a mission's ``metrics`` declaration).
@@ -158,22 +169,28 @@ class ResultRecord:
         numbers = [f"{k}={_short(v)}" for k, v in self.metrics.items()
                    if isinstance(v, int | float) and not isinstance(v, bool)][:MAX_SHOWN]
         more = len(self.metrics) - len(numbers)
-        tail = f", … {more} more" if more > 0 else ""
-        unit = "steps" if self.time_unit == "step" else self.time_unit
+        shown = ", ".join(numbers) + (f", … {more} more" if numbers and more > 0 else
+                                      f"{more} not numbers" if more > 0 else "none")
         return (f"<ResultRecord {self.mission} {self.algorithm}, seed {self.seed}: {state},"
-                f" makespan {_short(self.makespan)} {unit}, {len(self.agents)} agents;"
-                f" metrics {', '.join(numbers)}{tail}>")
+                f" {self._headline()}; metrics {shown}>")
+
+    def _headline(self) -> str:
+        """"makespan 69 steps, 2 agents": the unit and the count read as words, the same in
+        the repr and the notebook view."""
+        unit = "steps" if self.time_unit == "step" else self.time_unit
+        count = len(self.agents)
+        return f"makespan {_short(self.makespan)} {unit}, {count} agent{'s' * (count != 1)}"
 
     def _repr_html_(self) -> str:
-        """A notebook's view: the run in a heading, the team metrics in a table."""
+        """A notebook's view: the run in a heading, every team metric in a table (a table
+        metric, e.g. exploration's ``unicasts``, as its entries; a list as its length)."""
         state = "complete" if self.complete else "incomplete"
         rows = "".join(
-            f"<tr><td><code>{escape(str(k))}</code></td><td>{escape(_short(v))}</td></tr>"
-            for k, v in self.metrics.items() if not isinstance(v, list | dict)
+            f"<tr><td><code>{escape(str(k))}</code></td><td>{escape(_cell(v))}</td></tr>"
+            for k, v in self.metrics.items()
         )
         return (f"<b>{escape(self.mission)} {escape(self.algorithm)}</b>, seed {self.seed}:"
-                f" {state}, makespan {_short(self.makespan)} {escape(self.time_unit)},"
-                f" {len(self.agents)} agents<table>{rows}</table>")
+                f" {state}, {escape(self._headline())}<table>{rows}</table>")
 
     def to_dict(self) -> dict[str, Any]:
         """The record as JSON-ready values: the version first, then the fields in order,
@@ -196,8 +213,12 @@ class ResultRecord:
     @classmethod
     def read(cls, path: str | Path) -> ResultRecord:
         """The record of a file ``--json``, a sweep or :meth:`write` wrote (an InputError
-        names a missing or malformed one)."""
-        return cls.from_dict(read_record(path))
+        names a missing or malformed one, and the file)."""
+        data = read_record(path)
+        try:
+            return cls.from_dict(data)
+        except InputError as exc:  # among several files, which one is what matters
+            raise InputError(f"{path}: {exc}") from None
 
     def write(self, path: str | Path) -> Path:
         """Write the record's JSON to ``path`` atomically (what ``--json`` writes)."""

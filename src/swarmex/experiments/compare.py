@@ -12,7 +12,7 @@ overlapping intervals of two means hide is resolved. The project's own compariso
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -33,36 +33,101 @@ def parse_baseline(text: str) -> tuple[str, str]:
 
 
 def check_baseline(axes: Mapping[str, Sequence[Any]], name: str, value: Any,
-                   option: str = "--baseline") -> None:
+                   option: str = "--baseline") -> tuple[str, Any]:
     """The compared parameter must be an axis of the sweep with at least two values, one of
-    them the baseline's (an InputError naming what is wrong, before any run)."""
+    them the baseline's (an InputError naming what is wrong, before any run). Returns the
+    axis and the value as the sweep spells them (:func:`axis_name`, :func:`axis_value`)."""
     varying = {k: v for k, v in axes.items() if len(v) > 1}
+    name = axis_name(varying, name)
     if name not in varying:
         have = ", ".join(varying) or "none"
         raise InputError(f"{option}: {name!r} is not a parameter the sweep varies (it varies:"
                          f" {have})")
-    values = [str(v) for v in varying[name]]
-    if str(value) not in values:
+    found = axis_value(varying[name], value)
+    if found is None:
+        values = [str(v) for v in varying[name]]
         raise InputError(f"{option}: {name} has no value {value!r} in this sweep (its values:"
                          f" {', '.join(values)})")
+    return name, found
+
+
+def axis_name(axes: Iterable[str], name: str) -> str:
+    """The axis ``name`` means, as the sweep spells it: a spec key keeps its dashes
+    (``travel-time``) while ``--baseline`` and Python write ``travel_time``; both name the
+    same option. ``name`` itself when no axis matches."""
+    wanted = name.replace("-", "_")
+    return next((a for a in axes if a.replace("-", "_") == wanted), name)
+
+
+def axis_value(values: Iterable[Any], value: Any) -> Any:
+    """The sweep's own value that ``value`` names, or None: the same text, or the same
+    number (``2`` for ``2.0``, ``"2"`` for the integer 2) or boolean (``"true"`` for a
+    TOML ``true``), since a value typed on the command line is text and one from Python may
+    be of another numeric type than the table's column."""
+    values = list(values)
+    for v in values:
+        if str(v) == str(value):
+            return v
+    for v in values:
+        if isinstance(v, bool) or isinstance(value, bool):
+            if isinstance(v, bool) and _as_bool(value) is v:
+                return v
+            continue
+        if isinstance(v, int | float) and _as_float(value) == v:
+            return v
+    return None
+
+
+def _as_bool(value: Any) -> bool | None:
+    if isinstance(value, bool):
+        return value
+    text = str(value).strip().lower()
+    return True if text == "true" else False if text == "false" else None
+
+
+def _as_float(value: Any) -> float | None:
+    if isinstance(value, bool):
+        return None
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        return None
 
 
 def comparisons(table: Any, meta: Mapping[str, Any], name: str, value: Any,
                 metrics: Sequence[str]) -> list[PairedComparison]:
     """The paired comparisons of a sweep ``table`` (its metadata names the axes)."""
     axes = [a for a in meta.get("axes", []) if a in table.column_names]
+    name = axis_name(axes, name)
     if name not in axes:
         raise InputError(f"baseline: {name!r} is not a parameter the sweep varies (it varies:"
                          f" {', '.join(axes) or 'none'})")
-    present = {str(v) for v in table.column(name).to_pylist()}
-    if str(value) not in present:
+    present = table.column(name).unique().to_pylist()
+    found = axis_value(present, value)
+    if found is None:
         raise InputError(f"baseline: {name} has no value {value!r} in this sweep (its values:"
-                         f" {', '.join(sorted(present))})")
-    missing = [m for m in metrics if m not in table.column_names]
-    if missing:
-        raise InputError(f"metric {missing[0]!r}: no such column (have:"
-                         f" {', '.join(table.column_names)})")
-    return paired_comparisons(table.to_pylist(), name, value, axes, list(metrics))
+                         f" {', '.join(sorted(str(v) for v in present))})")
+    metrics = [metric_name(table, m) for m in metrics]
+    return paired_comparisons(table.to_pylist(), name, found, axes, metrics)
+
+
+def metric_name(table: Any, metric: str) -> str:
+    """The numeric column ``metric`` names: itself, or ``metrics.NAME``'s plain ``NAME``
+    column (what ``--metric`` accepts); an InputError for a missing or non-numeric column,
+    which would otherwise give no pairs at all rather than an error."""
+    import pyarrow.types as pt
+
+    columns = table.column_names
+    name = metric
+    if name not in columns and name.removeprefix("metrics.") in columns:
+        name = name.removeprefix("metrics.")
+    if name not in columns:
+        raise InputError(f"metric {metric!r}: no such column (have: {', '.join(columns)})")
+    kind = table.schema.field(name).type
+    if not (pt.is_integer(kind) or pt.is_floating(kind) or pt.is_boolean(kind)
+            or pt.is_null(kind)):
+        raise InputError(f"metric {metric!r}: not a number (its column holds {kind})")
+    return name
 
 
 def as_table(results: list[PairedComparison], name: str, axes: Sequence[str]) -> Any:
@@ -88,18 +153,14 @@ def as_table(results: list[PairedComparison], name: str, axes: Sequence[str]) ->
 def load(results: Any) -> tuple[Any, dict[str, Any]]:
     """A sweep's table and metadata from its folder (or results file), or from the table
     ``swarmex.sweep`` returned (its schema metadata names the axes)."""
-    import json
-
-    from swarmex.experiments.sweep import METADATA_KEY, read_results
+    from swarmex.experiments.sweep import read_results, table_meta
 
     if isinstance(results, str | Path):
         return read_results(results)
-    schema = getattr(results, "schema", None)
-    if schema is None:
+    if getattr(results, "schema", None) is None:
         raise InputError(f"expected a sweep folder or the table swarmex.sweep returned, got"
                          f" {type(results).__name__}")
-    raw = (schema.metadata or {}).get(METADATA_KEY)
-    return results, (json.loads(raw) if raw else {})
+    return results, table_meta(results)
 
 
 def _plain(value: Any) -> Any:

@@ -16,7 +16,7 @@ from os import PathLike, fspath
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from swarmex.engine.record import ResultRecord, read_record
+from swarmex.engine.record import ResultRecord
 from swarmex.errors import InputError
 
 if TYPE_CHECKING:
@@ -29,7 +29,7 @@ def load_record(
     """The record, and the folder of its file when it was given as one."""
     if isinstance(source, str | PathLike):
         path = fspath(source)
-        return ResultRecord.from_dict(read_record(path)), Path(path).absolute().parent
+        return ResultRecord.read(path), Path(path).absolute().parent
     if isinstance(source, ResultRecord):
         return source, None
     return ResultRecord.from_dict(source), None
@@ -77,7 +77,9 @@ def rerun_record(
 
 
 def render_record(
-    source: ResultRecord | Mapping[str, Any] | str | PathLike[str], path: str | PathLike[str]
+    source: ResultRecord | Mapping[str, Any] | str | PathLike[str],
+    path: str | PathLike[str],
+    world: Mapping[str, Any] | None = None,
 ) -> tuple[Path, bool]:
     """Draw a record's run to ``path`` (:func:`swarmex.render`): run it again keeping the
     frames the drawing needs (a record holds paths, not every frame or the final maps), and
@@ -85,24 +87,66 @@ def render_record(
 
     Why a rerun and not the record alone: every mission's drawing reads the run's frames or
     its in-memory state, and a run is reproducible from its record, so drawing one costs the
-    run once more rather than frames stored in every record."""
+    run once more rather than frames stored in every record.
+
+    ``world`` gives the world again (``map=world``, ``env=...``) when the record cannot name
+    it (a run on a world object, a map file moved): only world and input-file options, since
+    anything else would draw another run than the record's."""
+    from swarmex.missions.registry import get
     from swarmex.viz.animation import check_suffix, require_writer
     from swarmex.viz.render import draw, frame_recorder
 
+    if not isinstance(path, str | PathLike):
+        raise InputError(f"swarmex.render's path must be a file name (.png, .gif or .mp4),"
+                         f" got {path!r}")
     out = Path(fspath(path))
     check_suffix(out, option="swarmex.render's path")
     require_writer(out)  # a missing video extra costs one line now, not the run
+    check_writable(out)  # as must a path below a file: the rerun may take minutes
     rec, folder = load_record(source)
+    given = dict(world or {})
+    if given:
+        m = get(rec.mission)
+        opts = m.params_type.options()
+        allowed = set(m.world_options) | {k for k, o in opts.items() if o.kind is Path}
+        other = sorted(set(given) - allowed)
+        if other:
+            raise InputError(
+                f"swarmex.render draws the record's own run: it takes only the world again"
+                f" ({', '.join(sorted(allowed)) or 'none for ' + rec.mission}), not {other[0]!r}"
+            )
     recorder = frame_recorder(rec.mission, out)
-    outcome = rerun_outcome(rec, folder, {}, on_frame=recorder)
+    outcome = rerun_outcome(rec, folder, given, on_frame=recorder)
     draw(rec.mission, outcome, out, recorder)
-    return out, comparable(outcome.record.to_dict()) == comparable(rec.to_dict())
+    return out, same_run(rec.to_dict(), outcome.record.to_dict())
 
 
-def comparable(record: dict[str, Any]) -> dict[str, Any]:
-    """A record's JSON without what two runs of it may differ in: ``wall_seconds`` and the
-    version of swarmex that wrote it."""
-    return {k: v for k, v in record.items() if k not in ("wall_seconds", "swarmex_version")}
+def check_writable(out: Path) -> None:
+    """An InputError now, before the rerun, when ``out`` cannot be made: a folder of that
+    name, or a file where one of its folders should be (the drawing's writer makes the
+    missing folders below the first existing one)."""
+    if out.is_dir():
+        raise InputError(f"cannot write {out}: it is a folder")
+    parent = out.parent
+    while not parent.exists() and parent != parent.parent:
+        parent = parent.parent
+    if not parent.is_dir():
+        raise InputError(f"cannot write {out}: {parent} is a file, not a folder")
+
+
+def same_run(old: dict[str, Any], new: dict[str, Any]) -> bool:
+    """Whether a rerun (``new``) came out as its record (``old``), as ``swarmex rerun``
+    judges it: ``wall_seconds`` and the version aside, and for a record of ``swarmex serve``
+    without the parts only the network writes (:func:`networked_reason`). Changes both
+    dicts. Why not plain equality: a networked ``--rng shared`` record is the simulator's
+    run, and its drawing was announced as "came out differently" although ``swarmex rerun``
+    called it the same."""
+    for d in (old, new):
+        d.pop("wall_seconds", None)
+        d.pop("swarmex_version", None)
+    if networked_reason(old) is not None and isinstance(new.get("metrics"), dict):
+        new["metrics"].pop("message_bytes", None)
+    return not differences(old, new)
 
 
 def respell(new: ResultRecord, moved: Mapping[str, str]) -> None:
@@ -133,6 +177,12 @@ def find_inputs(m: Any, values: dict[str, Any], folder: Path | None) -> dict[str
             continue
         places = [folder, *folder.parents] if folder is not None else []
         found = next((d / given for d in places if (d / given).exists()), None)
+        if found is None and value == "generated":  # how a record names a world object
+            raise InputError(
+                f"this record's {name} was given as an object (generated): pass it again"
+                f" from Python, e.g. swarmex.rerun(record, {name}=world) or"
+                f" swarmex.render(record, out, {name}=world)"
+            )
         if found is None:
             where = " or from the record's folder and those above it" if places else ""
             raise InputError(
@@ -143,3 +193,60 @@ def find_inputs(m: Any, values: dict[str, Any], folder: Path | None) -> dict[str
         values[name] = str(found)
         moved[value] = str(found)
     return moved
+
+
+def networked_reason(old: dict[str, Any]) -> str | None:
+    """For a record of ``swarmex serve`` (its params have a ``network`` block): drop the
+    parts only a networked run has and say why its rerun, which is the simulator's, may
+    differ; None for any other record.
+
+    Why: a networked run with ``--rng shared`` is the simulated run (docs/net.md), so paths,
+    jobs and every metric but the wire's ``message_bytes`` can be compared; claiming a
+    difference for the network block the simulator never writes would be wrong. With
+    ``--rng own``, departures or injected loss the networked run is another run, and the
+    line says so rather than only that it differs."""
+    params = old.get("params")
+    if not isinstance(params, dict) or "network" not in params:
+        return None
+    params.pop("network")
+    block = old.pop("network", None)
+    net = block if isinstance(block, dict) else {}
+    departed = old.pop("departed_agents", None)
+    old.pop("vehicles", None)
+    if isinstance(old.get("metrics"), dict):
+        old["metrics"].pop("message_bytes", None)
+    reasons = []
+    if net.get("rng_mode") not in (None, "shared"):
+        reasons.append(f"--rng {net.get('rng_mode')}: each agent drew from its own generator")
+    if departed or net.get("left") or net.get("joined"):
+        reasons.append("agents left or joined the networked run")
+    if net.get("inject_loss"):
+        reasons.append("the server dropped messages (--inject-loss)")
+    cause = "; ".join(reasons) or "its events or messages did not follow the simulator's"
+    return f"a networked record, rerun in the simulator: {cause}"
+
+
+def differences(old: Any, new: Any, path: str = "") -> list[str]:
+    """Where two JSON values differ, as ``path: old → new`` for numbers and words and as the
+    bare path for lists and objects of another length or shape."""
+    if isinstance(old, dict) and isinstance(new, dict):
+        out: list[str] = []
+        for key in [*old, *(k for k in new if k not in old)]:
+            sub = f"{path}.{key}" if path else str(key)
+            if key not in old or key not in new:
+                out.append(f"{sub} ({'new' if key not in old else 'gone'})")
+            else:
+                out += differences(old[key], new[key], sub)
+        return out
+    if isinstance(old, list) and isinstance(new, list) and len(old) == len(new):
+        if all(not isinstance(v, dict | list) for v in old + new):
+            return [] if old == new else [path]  # a row or a trajectory point: the path alone
+        out = []
+        for i, (a, b) in enumerate(zip(old, new, strict=True)):
+            out += differences(a, b, f"{path}[{i}]")
+        return out
+    if old == new:
+        return []
+    if isinstance(old, dict | list) or isinstance(new, dict | list):
+        return [path]
+    return [f"{path}: {old!r} → {new!r}"]

@@ -239,9 +239,24 @@ def read_results(out_dir: str | Path):
         table = pq.read_table(path)
     except Exception as exc:  # pyarrow raises several types for a damaged file
         raise InputError(f"{path}: not a readable Parquet file: {exc}") from None
+    return table, table_meta(table)
+
+
+def table_meta(table: Any) -> dict[str, Any]:
+    """A sweep table's metadata (mission, params, axes, metrics), from its schema.
+
+    A table whose schema lost it (written back through pandas, or rebuilt by another tool)
+    still has :func:`build_table`'s layout: the parameters are the columns between ``run``
+    and ``seed``, and the axes those of them with more than one value. Without this the
+    comparisons and the pooling note saw no axis at all ("it varies: none")."""
     raw = (table.schema.metadata or {}).get(METADATA_KEY)
-    meta = json.loads(raw) if raw else {}
-    return table, meta
+    meta: dict[str, Any] = json.loads(raw) if raw else {}
+    names = list(table.column_names)
+    if "axes" not in meta and "run" in names and "seed" in names:
+        params = names[names.index("run") + 1 : names.index("seed")]
+        meta.setdefault("params", params)
+        meta["axes"] = [p for p in params if len(table.column(p).unique()) > 1]
+    return meta
 
 
 # ---------------------------------------------------------------------------- running

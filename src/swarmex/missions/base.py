@@ -371,6 +371,9 @@ class Params:
     """
 
     mission: ClassVar[str] = ""
+    #: groups of options of which one must be given (``(("map", "empty"),)``): checked with
+    #: the required options, so that every missing one is named in the same line
+    required_one_of: ClassVar[tuple[tuple[str, ...], ...]] = ()
 
     @classmethod
     def options(cls) -> dict[str, OptionInfo]:
@@ -410,6 +413,11 @@ class Params:
         # every missing one in one line: roadmap's three used to come one error at a time
         missing = [info.flag for name, info in opts.items()
                    if info.required and given.get(name) is None]
+        missing += [
+            opts[group[0]].flag + f" (or {', '.join(opts[n].flag for n in group[1:])})"
+            for group in cls.required_one_of
+            if all(given.get(n) is None for n in group)
+        ]
         if missing:
             listed = ", ".join(missing[:-1]) + " and " + missing[-1] if missing[1:] else missing[0]
             raise InputError(
@@ -657,7 +665,10 @@ class Mission(ABC, Generic[P, W]):
         ):
             raise InputError(
                 f"this record's world was given as an object ({record.params['generated']}):"
-                f" pass it again, e.g. swarmex.rerun(record, {self.world_options[0]}=world)"
+                f" pass it again from Python, e.g. swarmex.rerun(record,"
+                f" {self.world_options[0]}=world) or swarmex.render(record, out,"
+                f" {self.world_options[0]}=world) (from the shell: save the world to a file"
+                f" and run on that)"
             )
         stale = {k for k, inputs in self.rerun_replaces.items() if overridden & set(inputs)}
         return {

@@ -43,6 +43,14 @@ def plot_sweep(
     if path.suffix.lower() not in SUFFIXES:
         raise InputError(f"--out: {path} must end in .png or .svg")
     fig, note = sweep_figure(rows, meta, x, y, hue, where, kind)
+    save_figure(fig, path)
+    return path, note
+
+
+def save_figure(fig: Figure, path: Path) -> None:
+    """Write ``fig`` to ``path`` (.png or .svg), making its folder: a path that cannot be
+    written (a file where a folder should be, no permission) is one InputError line, from
+    the command line and from ``swarmex.plot`` alike."""
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
         fig.savefig(path, format=path.suffix.lower()[1:])
@@ -50,7 +58,21 @@ def plot_sweep(
         blocker = next((a for a in path.parents if a.exists() and not a.is_dir()), None)
         why = f"{blocker} is a file, not a folder" if blocker else exc.strerror or exc
         raise InputError(f"cannot write {path}: {why}") from None
-    return path, note
+
+
+def column_name(columns: list[str], name: str) -> str:
+    """The column ``name`` means: itself, else the one spelt with dashes for underscores or
+    the reverse (a spec key keeps its dashes, ``travel-time``, while Python writes
+    ``travel_time``), else ``metrics.NAME``'s plain ``NAME`` column (what ``--metric``
+    accepts). ``name`` when none matches, for the caller's error."""
+    if name in columns:
+        return name
+    wanted = name.replace("-", "_")
+    alike = [c for c in columns if c.replace("-", "_") == wanted]
+    if len(alike) == 1:
+        return alike[0]
+    bare = name.removeprefix("metrics.")
+    return bare if bare != name and bare in columns else name
 
 
 def sweep_figure(
@@ -67,6 +89,8 @@ def sweep_figure(
     if kind not in KINDS:
         raise InputError(f"--kind must be one of {', '.join(KINDS)}, got {kind!r}")
     columns = list(rows[0]) if rows else []
+    x, y = column_name(columns, x), column_name(columns, y)
+    hue = None if hue is None else column_name(columns, hue)
     for option, name in (("--x", x), ("--y", y), ("--hue", hue)):
         if name is not None and name not in columns:
             raise InputError(f"{option}: no column {name!r} (have: {', '.join(columns)})")
@@ -171,7 +195,7 @@ def series(
 def _filter(rows: list[dict[str, Any]], where: list[str], columns: list[str]) -> list[dict]:
     for cond in where:
         key, sep, value = cond.partition("=")
-        key = key.strip()
+        key = column_name(columns, key.strip())
         if not sep or key not in columns:
             raise InputError(f"--where: expected PARAM=VALUE with a known PARAM, got {cond!r}")
         rows = [r for r in rows if _matches(r.get(key), value.strip())]

@@ -117,7 +117,7 @@ def test_defaults_live_in_the_params() -> None:
         ({"empty": "3x3", "robots": 1, "aodv": "maybe"}, "--aodv"),
         ({"empty": "3x3", "robots": 1, "starts": "a;b"}, "--starts"),
         ({"empty": "3x3", "robots": 2, "starts": "5,5"}, "--starts gives 1 cells for 2 robots"),
-        ({"robots": 1}, "exactly one of --map"),
+        ({"robots": 1}, r"--map \(or --empty\) is required"),
         ({"empty": "3x3", "map": "x.map", "robots": 1}, "exactly one of --map"),
         ({"empty": "3x3"}, "--robots"),
         ({"empty": "3x3", "robots": 1, "laser": 2}, "laser_range"),  # the nearest name

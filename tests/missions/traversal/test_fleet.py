@@ -173,7 +173,7 @@ def test_bad_toml_rows_and_fleet_conflicts() -> None:
         swarmex.run("traversal", grid=(4, 4), agents=3, fleet=[{"id": 1}, {"id": 2}])
     with pytest.raises(InputError, match="travel_speed \\(m/s\\) needs a length scale"):
         swarmex.run("traversal", grid=(4, 4), fleet=[{"id": 1, "travel_speed": 3}])
-    with pytest.raises(InputError, match="--agents is required"):
+    with pytest.raises(InputError, match=r"--agents \(or --fleet\) is required"):
         swarmex.run("traversal", grid=(4, 4))
     with pytest.raises(InputError, match="not both"):
         swarmex.run("traversal", grid=(4, 4), agents=[{"id": 1}], fleet=[{"id": 1}])

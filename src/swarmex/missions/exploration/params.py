@@ -107,6 +107,7 @@ def _world_types() -> tuple[type, ...]:
 @dataclass(frozen=True)
 class ExplorationParams(Params):
     mission = "exploration"
+    required_one_of = (("map", "empty"),)
 
     map: Path | GridWorld | MetricGrid | None = option(
         None,

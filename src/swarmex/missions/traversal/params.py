@@ -139,6 +139,7 @@ def connectivity() -> Any:
 @dataclass(frozen=True)
 class TraversalParams(Params):
     mission = "traversal"
+    required_one_of = (("map", "grid", "center"), ("agents", "fleet"))
 
     map: Path | GridWorld | None = option(
         None,
