@@ -116,3 +116,17 @@ def test_every_missing_required_parameter_is_named_at_once() -> None:
         get("traversal").params_type.from_values({})
     with pytest.raises(swarmex.InputError, match="give exactly one of --map FILE and --empty"):
         swarmex.run("exploration", robots=2, map="x.map", empty="4x4")  # two: still refused
+
+
+def test_the_command_line_names_every_missing_option_at_once(capsys) -> None:
+    """Typer's own required check named one missing option per try; the Params name all,
+    and --help still marks them required."""
+    from swarmex.cli import main
+
+    assert main(["forage"]) == 2
+    err = capsys.readouterr().err
+    assert err == "swarmex: error: foraging: --grid, --agents and --algorithm are required\n"
+    assert main(["roadmap", "--agents", "2"]) == 2
+    assert "--env, --nodes, --step and --sensor-range are required" in capsys.readouterr().err
+    assert main(["forage", "--help"]) == 0
+    assert "Number of robots n. (required)" in capsys.readouterr().out

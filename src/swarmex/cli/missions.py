@@ -107,14 +107,16 @@ def plain_help(text: str) -> str:
 def _typer_option(info: OptionInfo) -> Any:
     flags = [info.flag if info.negation is None else f"{info.flag}/{info.negation}"]
     default: Any
+    text = plain_help(info.help)
     if info.required:
-        default = ...
+        # checked by the Params, not by Typer: Typer names one missing option per try,
+        # the Params every missing one in one line
+        default, text = None, f"{text} (required)"
     elif isinstance(info.default, int | float | bool | str):
         default = info.default
     else:
         default = None  # tuples, paths, None: the Params default applies
-    kw: dict[str, Any] = {"help": plain_help(info.help),
-                          "show_default": default not in (None, ...)}
+    kw: dict[str, Any] = {"help": text, "show_default": default is not None}
     if info.metavar:
         kw["metavar"] = info.metavar
     return typer.Option(default, *flags, **kw)
