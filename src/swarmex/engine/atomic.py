@@ -35,18 +35,25 @@ def _temp_beside(path: Path) -> Path:
     return path.with_name(f".{path.name}.{os.getpid()}.{secrets.token_hex(4)}.tmp")
 
 
-def _make_parent(path: Path) -> None:
-    """Make ``path``'s folder, or say in one line why it cannot be written: a folder by
-    that name (the rename would fail with IsADirectoryError after the whole write), or a
-    file where a folder should be (mkdir's bare "File exists" did not say which)."""
+def check_writable(path: Path) -> None:
+    """An InputError naming why ``path`` cannot be written, without writing anything: a
+    folder by that name (a rename over it fails with IsADirectoryError after the whole
+    write), or a file where one of its folders should be (mkdir's bare "File exists" did
+    not say which). For a caller that must know before long work (a rerun to draw)."""
     if path.is_dir():
         raise InputError(f"cannot write {path}: it is a folder")
+    blocker = next((p for p in path.parents if p.exists() and not p.is_dir()), None)
+    if blocker is not None:
+        raise InputError(f"cannot write {path}: {blocker} is a file, not a folder")
+
+
+def _make_parent(path: Path) -> None:
+    """Make ``path``'s folder, or say in one line why it cannot be written."""
+    check_writable(path)
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
-        blocker = next((p for p in path.parents if p.exists() and not p.is_dir()), None)
-        why = f"{blocker} is a file, not a folder" if blocker else exc.strerror or exc
-        raise InputError(f"cannot write {path}: {why}") from None
+        raise InputError(f"cannot write {path}: {exc.strerror or exc}") from None
 
 
 @contextlib.contextmanager

@@ -92,6 +92,7 @@ def render_record(
     ``world`` gives the world again (``map=world``, ``env=...``) when the record cannot name
     it (a run on a world object, a map file moved): only world and input-file options, since
     anything else would draw another run than the record's."""
+    from swarmex.engine.atomic import check_writable
     from swarmex.missions.registry import get
     from swarmex.viz.animation import check_suffix, require_writer
     from swarmex.viz.render import draw, frame_recorder
@@ -119,19 +120,6 @@ def render_record(
     outcome = rerun_outcome(rec, folder, given, on_frame=recorder)
     draw(rec.mission, outcome, out, recorder)
     return out, same_run(rec.to_dict(), outcome.record.to_dict())
-
-
-def check_writable(out: Path) -> None:
-    """An InputError now, before the rerun, when ``out`` cannot be made: a folder of that
-    name, or a file where one of its folders should be (the drawing's writer makes the
-    missing folders below the first existing one)."""
-    if out.is_dir():
-        raise InputError(f"cannot write {out}: it is a folder")
-    parent = out.parent
-    while not parent.exists() and parent != parent.parent:
-        parent = parent.parent
-    if not parent.is_dir():
-        raise InputError(f"cannot write {out}: {parent} is a file, not a folder")
 
 
 def same_run(old: dict[str, Any], new: dict[str, Any]) -> bool:

@@ -51,13 +51,13 @@ def save_figure(fig: Figure, path: Path) -> None:
     """Write ``fig`` to ``path`` (.png or .svg), making its folder: a path that cannot be
     written (a file where a folder should be, no permission) is one InputError line, from
     the command line and from ``swarmex.plot`` alike."""
+    from swarmex.engine.atomic import atomic_path
+
     try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        fig.savefig(path, format=path.suffix.lower()[1:])
-    except OSError as exc:
-        blocker = next((a for a in path.parents if a.exists() and not a.is_dir()), None)
-        why = f"{blocker} is a file, not a folder" if blocker else exc.strerror or exc
-        raise InputError(f"cannot write {path}: {why}") from None
+        with atomic_path(path) as tmp:  # its folder made, or one line on why it cannot be
+            fig.savefig(tmp, format=path.suffix.lower()[1:])
+    except OSError as exc:  # no permission in the folder
+        raise InputError(f"cannot write {path}: {exc.strerror or exc}") from None
 
 
 def column_name(columns: list[str], name: str) -> str:
