@@ -98,15 +98,8 @@ def comparisons(table: Any, meta: Mapping[str, Any], name: str, value: Any,
                 metrics: Sequence[str]) -> list[PairedComparison]:
     """The paired comparisons of a sweep ``table`` (its metadata names the axes)."""
     axes = [a for a in meta.get("axes", []) if a in table.column_names]
-    name = axis_name(axes, name)
-    if name not in axes:
-        raise InputError(f"baseline: {name!r} is not a parameter the sweep varies (it varies:"
-                         f" {', '.join(axes) or 'none'})")
-    present = table.column(name).unique().to_pylist()
-    found = axis_value(present, value)
-    if found is None:
-        raise InputError(f"baseline: {name} has no value {value!r} in this sweep (its values:"
-                         f" {', '.join(sorted(str(v) for v in present))})")
+    values = {a: table.column(a).unique().to_pylist() for a in axes}
+    name, found = check_baseline(values, name, value, option="baseline")
     metrics = [metric_name(table, m) for m in metrics]
     return paired_comparisons(table.to_pylist(), name, found, axes, metrics)
 
