@@ -17,7 +17,7 @@ import inspect
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 import typer
 
@@ -72,12 +72,10 @@ def progress_bar(mission: Mission[Any, Any]) -> Watch:
     bar)."""
 
     def watch(params: Any, world: Any, on_frame: FrameCallback | None) -> FrameCallback | None:
-        spec = mission.progress(params, world)
-        if spec is None or not err_console.is_terminal:
-            return on_frame
-        from swarmex.experiments.progress import FrameProgress
+        from swarmex.experiments.progress import frame_progress
 
-        return FrameProgress(spec, err_console, on_frame)
+        return cast(FrameCallback | None,
+                    frame_progress(mission, params, world, err_console, on_frame))
 
     return watch
 

@@ -215,21 +215,29 @@ class FrameProgress:
             self.started = False
 
 
+def frame_progress(mission: Any, params: Any, world: Any, console: Console,
+                   on_frame: Any) -> Any:
+    """The ``on_frame`` callback of a run on ``world`` with a :class:`FrameProgress` bar
+    around ``on_frame`` counting what ``mission.progress`` says, on ``console`` when that is
+    a terminal or a notebook's output; else ``on_frame`` itself. The command line's bar
+    and ``swarmex.run(progress=True)`` are this one."""
+    spec = mission.progress(params, world)
+    if spec is None or not (console.is_terminal or console.is_jupyter):
+        return on_frame
+    return FrameProgress(spec, console, on_frame)
+
+
 def run_with_progress(mission: Any, params: Any, on_frame: Any, trace: bool) -> Any:
-    """``mission.run(params, on_frame, trace=trace)`` with a :class:`FrameProgress` bar on
-    standard error (a terminal or a notebook's output) counting what ``mission.progress``
-    says; a mission that says nothing, or a pipe, runs as it would without the bar."""
+    """``mission.run(params, on_frame, trace=trace)`` with :func:`frame_progress`'s bar on
+    standard error; a mission that says nothing, or a pipe, runs as it would without it."""
     from swarmex.missions.base import check_run_options
 
     check_run_options(on_frame, trace)
     params = params.validated()
     world = mission.prepare(params)
-    spec = mission.progress(params, world)
-    console = Console(stderr=True)
-    if spec is None or not (console.is_terminal or console.is_jupyter):
-        return mission.execute(params, world, on_frame, trace=trace)
-    bar = FrameProgress(spec, console, on_frame)
+    callback = frame_progress(mission, params, world, Console(stderr=True), on_frame)
     try:
-        return mission.execute(params, world, bar, trace=trace)
+        return mission.execute(params, world, callback, trace=trace)
     finally:
-        bar.close()
+        if isinstance(callback, FrameProgress):
+            callback.close()
