@@ -184,15 +184,7 @@ def print_summary(out_dir: Path, extra_metrics: list[str]) -> None:
             scale = 100.0 if m == "complete" else 1.0
             cells.append(_mean_ci(s.mean * scale, s.half_width * scale))
         out.add_row(*cells)
-    # never wrap "mean ± CI" cells: a table wider than the terminal stays one line per row
-    natural = Measurement.get(console, console.options.update_width(10_000), out).maximum
-    wide = Console(
-        file=console.file,
-        width=max(console.width, natural),
-        force_terminal=console.is_terminal,
-        no_color=console.no_color,
-    )
-    wide.print(out)
+    print_wide(out)
 
 
 def print_paired(out_dir: Path, name: str, value: Any, extra_metrics: list[str]) -> None:
@@ -230,6 +222,12 @@ def print_paired(out_dir: Path, name: str, value: Any, extra_metrics: list[str])
                  _mean_ci(100 * r.relative.mean, 100 * r.relative.half_width) + " %",
                  str(r.lower), str(r.higher)]
         out.add_row(*cells)
+    print_wide(out)
+
+
+def print_wide(out: Table) -> None:
+    """Print a table at its natural width: "mean ± CI" cells are never wrapped, so a table
+    wider than the terminal stays one line per row."""
     natural = Measurement.get(console, console.options.update_width(10_000), out).maximum
     Console(file=console.file, width=max(console.width, natural),
             force_terminal=console.is_terminal, no_color=console.no_color).print(out)
