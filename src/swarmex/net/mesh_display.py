@@ -90,12 +90,7 @@ class DisplayProcess(Node):
         except wire.WireError:
             self.traffic.bad_frames += 1
             return
-        if not self.in_range(self.cell, where, self.grid.cell, self.params.comm_range):
-            self.traffic.out_of_range += 1
-            self.refuse(obj, src)
-            return
-        if self.lost():
-            self.traffic.lost_injected += 1
+        if not self.admitted(obj, src, self.cell, where, self.grid.cell, self.params.comm_range):
             return
         aodv = self.aodv
         if isinstance(msg, Heartbeat):

@@ -141,6 +141,20 @@ class Node:
     def lost(self) -> bool:
         return self.options.loss > 0 and self.loss_rng.random() < self.options.loss
 
+    def admitted(self, obj: list[Any], src: int, mine: tuple[int, int],
+                 theirs: tuple[int, int], cell: float, comm_range: float) -> bool:
+        """Whether a radio frame from ``theirs`` reaches this node at ``mine``: out of range,
+        it is counted and NACKed (:meth:`refuse`); in range, the injected loss may drop it
+        (counted). The one admission rule of the robots' and the display's radios."""
+        if not self.in_range(mine, theirs, cell, comm_range):
+            self.traffic.out_of_range += 1
+            self.refuse(obj, src)
+            return False
+        if self.lost():
+            self.traffic.lost_injected += 1
+            return False
+        return True
+
     def unicast_frame(self, dst: int, msg: PackedMessage | Routed, pos: tuple[int, int],
                       t: int) -> bool:
         """Send a unicast that AODV wants feedback on (stamped with a link sequence

@@ -120,12 +120,7 @@ class RobotProcess(Node):
             return
         if src == self.id:
             return
-        if not self.in_range(self.pos(), where, self.grid.cell, self.params.comm_range):
-            self.traffic.out_of_range += 1
-            self.refuse(obj, src)
-            return
-        if self.lost():
-            self.traffic.lost_injected += 1
+        if not self.admitted(obj, src, self.pos(), where, self.grid.cell, self.params.comm_range):
             return
         if src == DISPLAY and isinstance(msg, Heartbeat):
             self.robot.mesh.hear(DISPLAY, self.t)  # the display is a router, not a teammate
