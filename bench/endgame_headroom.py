@@ -42,7 +42,11 @@ from compare_traversal_variants import JOB, TRAVEL, fleet_for, load, nests_for  
 from swarmex.missions.traversal import run_metrics, run_traversal  # noqa: E402
 from swarmex.missions.traversal import sim as simmod  # noqa: E402
 from swarmex.missions.traversal.rollout_sim import _fill_rows  # noqa: E402
-from swarmex.missions.traversal.teamplan import _improve, _route_end  # noqa: E402
+from swarmex.missions.traversal.teamplan import (  # noqa: E402
+    _improve,
+    _iterated_search,
+    _route_end,
+)
 from swarmex.planning.distance import distance_field  # noqa: E402
 
 MAPS = ["empty-16-16", "random-32-32-20", "room-32-32-4", "random-64-64-20",
@@ -102,7 +106,7 @@ def plan(world, snap: dict, passes: int = 200, ils: int = 0,
          seed: int = 0) -> tuple[float, float]:
     """(plan makespan, lower bound) from a snapshot, on the true map; with ``ils`` > 0 the
     local search's plan is then improved by that many rounds of ruin and recreate
-    (:func:`_ils`)."""
+    (madgta-p's own compiled ``_iterated_search``, clusters of 12 vertices)."""
     g = world.graph
     m = len(snap["agents"])
     vacant = {int(v) for v in snap["vacant"]}
@@ -137,7 +141,7 @@ def plan(world, snap: dict, passes: int = 200, ils: int = 0,
     _improve(base, pos, active, routes, lens, edge, jt, table, row_of, passes)
     state = (base, pos, active, routes, lens, edge, jt, table, row_of)
     if ils > 0:
-        _ils(state, ils, np.random.default_rng(seed))
+        _iterated_search(*state, ils, 12, 50, seed)
     makespan = float(_ends(state).max())
     bound = max(base[1:].max(), (base[1:].sum() + vac.size * (JOB + TRAVEL)) / m)
     return float(makespan), float(bound)
@@ -147,63 +151,6 @@ def _ends(state: tuple) -> np.ndarray:
     base, pos, active, routes, lens, edge, jt, table, row_of = state
     return np.array([_route_end(a, base, pos, routes, lens, edge, jt, table, row_of)
                      for a in range(1, len(base))])
-
-
-def _ruin_recreate(state: tuple, rng: np.random.Generator, k: int) -> None:
-    """Take out a random planned vertex and its ``k`` - 1 nearest planned vertices (a
-    spatial cluster), then put each back, in random order, where it ends its route
-    soonest."""
-    base, pos, active, routes, lens, edge, jt, table, row_of = state
-    m = len(base) - 1
-    planned = np.concatenate([routes[a, :lens[a]] for a in range(1, m + 1)])
-    if planned.size == 0:
-        return
-    centre = planned[rng.integers(planned.size)]
-    hops = table[row_of[planned], centre]  # symmetric hops: from the centre to each
-    removed = set(planned[np.argsort(hops, kind="stable")[:k]].tolist())
-    for a in range(1, m + 1):
-        keep = [v for v in routes[a, :lens[a]] if v not in removed]
-        routes[a, :] = -1
-        routes[a, :len(keep)] = keep
-        lens[a] = len(keep)
-    ends = _ends(state)
-    for v in rng.permutation(sorted(removed)):
-        best = (np.inf, 0, 0)
-        for a in range(1, m + 1):
-            seq = [pos[a], *routes[a, :lens[a]]]
-            for i in range(lens[a] + 1):
-                add = table[row_of[v], seq[i]] * edge[a] + jt[a]
-                if i < lens[a]:
-                    nxt = seq[i + 1]
-                    add += (table[row_of[nxt], v] - table[row_of[nxt], seq[i]]) * edge[a]
-                if ends[a - 1] + add < best[0]:
-                    best = (ends[a - 1] + add, a, i)
-        end, a, i = best
-        n = lens[a]
-        routes[a, i + 1:n + 1] = routes[a, i:n].copy()
-        routes[a, i] = v
-        lens[a] = n + 1
-        ends[a - 1] = end
-
-
-def _ils(state: tuple, rounds: int, rng: np.random.Generator, k: int = 12,
-         passes: int = 50) -> None:
-    """Iterated local search: ruin and recreate a cluster, run the local search again, keep
-    the plan if it lowers (makespan, sum) and go back to the best one otherwise."""
-    base, pos, active, routes, lens, edge, jt, table, row_of = state
-    ends = _ends(state)
-    best = (ends.max(), ends.sum())
-    kept = (routes.copy(), lens.copy())
-    for _ in range(rounds):
-        _ruin_recreate(state, rng, k)
-        _improve(base, pos, active, routes, lens, edge, jt, table, row_of, passes)
-        ends = _ends(state)
-        if (ends.max(), ends.sum()) < best:
-            best = (ends.max(), ends.sum())
-            kept = (routes.copy(), lens.copy())
-        else:
-            routes[:] = kept[0]
-            lens[:] = kept[1]
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -163,7 +163,8 @@ def _mixed(world, m: int, seed: int) -> list[AgentSpec]:
 
 
 @pytest.mark.parametrize("options", [dict(), dict(follow=True), dict(follow=True, commit=True),
-                                     dict(passes=0)])
+                                     dict(passes=0), dict(ils=5, ruin=4),
+                                     dict(ils=5, follow=True)])
 @pytest.mark.parametrize("fleet", ["same", "mixed"])
 def test_completes_every_job_once(options, fleet):
     world = random_obstacles(12, 12, 0.2, seed=1)
@@ -216,11 +217,26 @@ def test_the_start_plan_is_madgtas_simulated_routes():
         1, 0.0, g.indptr, g.indices, np.zeros(n, dtype=bool), status,
         np.zeros(n, dtype=np.int32), vacant, table, row_of, loc, loc.copy(), tfree, mode,
         np.full(3, -1), np.full(3, -1), np.array([0.0, 2.0, 2.0]), np.array([0.0, 9.0, 9.0]),
-        1.0, np.arange(n, dtype=np.int64), 50, routes, lens,
+        1.0, np.arange(n, dtype=np.int64), 50, routes, lens, 0, 12,
     )
     assert first == 1
     assert routes[1, :lens[1]].tolist() == [1, 2]
     assert routes[2, :lens[2]].tolist() == [3]
+
+
+@pytest.mark.parametrize("bad", [dict(ils=-1), dict(ruin=0)])
+def test_bad_ruin_and_recreate_settings_are_refused(bad):
+    with pytest.raises(ValueError, match=next(iter(bad))):
+        tp.MadgtaP(**bad)
+
+
+def test_ruin_and_recreate_is_deterministic_per_run():
+    world = random_obstacles(12, 12, 0.2, seed=4)
+    free = np.nonzero(~world.blocked)[0]
+    agents = uniform_agents([int(v) for v in free[:5]], 2.0, 9.0)
+    runs = [run_traversal(world, agents, tp.MadgtaP(ils=5, follow=True), seed=4)
+            for _ in range(2)]
+    assert runs[0].path_strings() == runs[1].path_strings()
 
 
 def test_never_writes_the_belief_and_is_deterministic():
@@ -246,3 +262,42 @@ def test_compiled_and_interpreted_give_the_same_run(tmp_path):
     print(json.dumps([run.path_strings(), run_metrics(run, 1.0)[0]["max_total_time"]]))
     """
     jit_and_python_agree(code, tmp_path)
+
+
+def test_iterated_search_reaches_the_brute_force_optimum_where_the_local_search_stops():
+    """Ruin and recreate (``ils``) starts from the local search's plan, so it is never worse,
+    and on the tiny instances it closes the local search's gap to the min-max optimum; the
+    same seed gives the same plan, and every vertex stays planned exactly once. 16
+    instances: the local search alone is optimal on 13, with ruin and recreate on 15 (the
+    16th stays 0.24 s above: a cluster of 3 of the 5 vertices put back greedily does not
+    reach the optimum's split, a cluster of all 5 does)."""
+    edge = np.array([0.0, 2.0, 2.0])
+    jt = np.array([0.0, 9.0, 9.0])
+    active = np.array([False, True, True])
+    tried = optimal = local_optimal = 0
+    for seed in range(16):
+        inst = _tiny(seed)
+        if inst is None:
+            continue
+        base, pos, vac, table, row_of = inst
+        routes = np.full((3, vac.size + 1), -1, dtype=np.int64)
+        routes[1, :vac.size] = vac
+        lens = np.array([0, vac.size, 0])
+        tp._improve(base, pos, active, routes, lens, edge, jt, table, row_of, 100)
+        local = max(_ends(base, pos, routes, lens, edge, jt, table, row_of))
+        best = _brute_force(base, pos, vac, edge, jt, table, row_of)
+        local_optimal += local <= best + 1e-9
+        plans = []
+        for _ in range(2):
+            r, n = routes.copy(), lens.copy()
+            tp._iterated_search(base, pos, active, r, n, edge, jt, table, row_of, 40, 3, 50,
+                                seed)
+            plans.append((r, n))
+        (r, n), (r2, n2) = plans
+        assert np.array_equal(r, r2) and np.array_equal(n, n2)
+        assert sorted(r[1, :n[1]].tolist() + r[2, :n[2]].tolist()) == vac.tolist()
+        got = max(_ends(base, pos, r, n, edge, jt, table, row_of))
+        assert best - 1e-9 <= got <= local + 1e-9
+        tried += 1
+        optimal += got <= best + 1e-9
+    assert tried >= 12 and optimal >= tried - 1 and optimal > local_optimal

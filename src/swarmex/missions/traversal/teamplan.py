@@ -45,6 +45,17 @@ Choices, and why
 * **MADGTA's routes as the start plan.** A cold start (insertion of the farthest vertex at
   its cheapest place, min-max) was 2-12 % worse than MADGTA's own rest in the oracle, and
   the local search did not recover it.
+* **No ruin and recreate by default** (``ils=0``). ``ils=N`` improves the local search's
+  plan by N rounds of iterated local search (:func:`_iterated_search`: a random planned
+  vertex and its ``ruin`` - 1 nearest planned vertices taken out, put back one by one where
+  each ends its route soonest, the local search again, the plan kept if it lowers
+  (makespan, sum)); its generator is seeded by the belief (vacant count, time), so the same
+  belief still gives the same plan. On the true map it adds 1.2-1.5 points to the oracle's
+  gain (bench/endgame_headroom.py), but in the missions it bought nothing pooled
+  (docs/traversal-variants.md §5, "Ruin and recreate"): as a rollout candidate
+  (madgta-k with ``ils=10``) -0.08 % ± 0.37 % against madgta-k; followed (``follow=True``)
+  -0.5 % on random-32-32-20 and room-32-32-4 but +1.1 % on empty-16-16, -0.08 % ± 0.60 %
+  over the three small maps with ``ils=30``, at 5-10x the CPU.
 * **Only the end game** (``max_vacant=200``, as madgta-r): 400 gives -1.53 % ± 0.48 % on
   the real maps, noise, at 3-5x the CPU. ``outside="madgta+"`` gives -1.53 % ± 0.50 %, but
   it loses the warehouse (-0.02 % ± 0.42 %), as it did for madgta-r.
@@ -382,6 +393,146 @@ def _swap_tails(
 
 
 @kernel(cache=True, nogil=True)
+def _next_random(rs: NDArray[np.uint64], n: int) -> int:  # pragma: no cover - compiled
+    """A draw in [0, n) from the xorshift64 state ``rs[0]`` (advanced, never 0): the plan's
+    own generator, so that it depends on the belief only, not on the agent's stream.
+    Shifts and xors only, so that run interpreted it gives the same draws and no overflow
+    warnings."""
+    x = rs[0]
+    x ^= x << np.uint64(13)
+    x ^= x >> np.uint64(7)
+    x ^= x << np.uint64(17)
+    rs[0] = x
+    return int(x >> np.uint64(11)) % n
+
+
+@kernel(cache=True, nogil=True)
+def _ruin_recreate(
+    base: NDArray[np.float64], pos: NDArray[np.int64], active: NDArray[np.bool_],
+    routes: NDArray[np.int64], lens: NDArray[np.int64], edge: NDArray[np.float64],
+    jt: NDArray[np.float64], table: NDArray[np.int32], row_of: NDArray[np.int64],
+    ends: NDArray[np.float64], size: int, rs: NDArray[np.uint64],
+) -> None:  # pragma: no cover - compiled
+    """Take out a random planned vertex and its ``size`` - 1 nearest planned vertices (a
+    spatial cluster), then put each back, in random order, where it ends its route soonest
+    (ties: the lowest agent and place). ``ends`` is kept up to date."""
+    m1 = base.shape[0]
+    total = 0
+    for a in range(1, m1):
+        total += lens[a]
+    if total == 0:
+        return
+    planned = np.empty(total, dtype=np.int64)
+    t = 0
+    for a in range(1, m1):
+        for i in range(lens[a]):
+            planned[t] = routes[a, i]
+            t += 1
+    centre = planned[_next_random(rs, total)]
+    hops = np.empty(total)
+    for t in range(total):
+        hops[t] = _d(centre, planned[t], table, row_of)
+    order = np.argsort(hops, kind="mergesort")
+    size = min(size, total)
+    out = np.zeros(row_of.shape[0], dtype=np.bool_)
+    removed = np.empty(size, dtype=np.int64)
+    for t in range(size):
+        removed[t] = planned[order[t]]
+        out[removed[t]] = True
+    for a in range(1, m1):
+        n = 0
+        for i in range(lens[a]):
+            v = routes[a, i]
+            if not out[v]:
+                routes[a, n] = v
+                n += 1
+        routes[a, n:lens[a]] = -1
+        lens[a] = n
+        if active[a]:
+            ends[a] = _route_end(a, base, pos, routes, lens, edge, jt, table, row_of)
+    for t in range(size - 1, 0, -1):  # Fisher-Yates: the order they go back in
+        u = _next_random(rs, t + 1)
+        tmp = removed[t]
+        removed[t] = removed[u]
+        removed[u] = tmp
+    for t in range(size):
+        v = removed[t]
+        best = np.inf
+        best_a = -1
+        best_i = 0
+        for a in range(1, m1):
+            if not active[a]:
+                continue
+            prev = pos[a]
+            for i in range(lens[a] + 1):
+                add = edge[a] * _d(prev, v, table, row_of) + jt[a]
+                if i < lens[a]:
+                    nx = routes[a, i]
+                    add += edge[a] * (_d(v, nx, table, row_of) - _d(prev, nx, table, row_of))
+                    prev = nx
+                if ends[a] + add < best - 1e-9:
+                    best = ends[a] + add
+                    best_a = a
+                    best_i = i
+        a = best_a
+        for i in range(lens[a], best_i, -1):
+            routes[a, i] = routes[a, i - 1]
+        routes[a, best_i] = v
+        lens[a] += 1
+        ends[a] = best
+
+
+@kernel(cache=True, nogil=True)
+def _iterated_search(
+    base: NDArray[np.float64], pos: NDArray[np.int64], active: NDArray[np.bool_],
+    routes: NDArray[np.int64], lens: NDArray[np.int64], edge: NDArray[np.float64],
+    jt: NDArray[np.float64], table: NDArray[np.int32], row_of: NDArray[np.int64],
+    rounds: int, size: int, passes: int, seed: int,
+) -> int:  # pragma: no cover - compiled
+    """Iterated local search on a locally optimal plan, in place: ``rounds`` times ruin and
+    recreate a cluster of ``size`` vertices (:func:`_ruin_recreate`), run the local search
+    again (at most ``passes`` rounds) and keep the plan if it lowers (makespan, sum), else
+    go back to the best one. Returns how many rounds improved the plan."""
+    m1 = base.shape[0]
+    ends = np.zeros(m1)
+    best_m = 0.0
+    best_s = 0.0
+    for a in range(1, m1):
+        if active[a]:
+            ends[a] = _route_end(a, base, pos, routes, lens, edge, jt, table, row_of)
+            best_m = max(best_m, ends[a])
+            best_s += ends[a]
+    kept = routes.copy()
+    kept_lens = lens.copy()
+    rs = np.full(1, np.uint64(seed) ^ np.uint64(0x9E3779B97F4A7C15))  # never 0: seed >= 0
+    won = 0
+    for _ in range(rounds):
+        _ruin_recreate(base, pos, active, routes, lens, edge, jt, table, row_of, ends, size,
+                       rs)
+        _improve(base, pos, active, routes, lens, edge, jt, table, row_of, passes)
+        mk = 0.0
+        sm = 0.0
+        for a in range(1, m1):
+            if active[a]:
+                ends[a] = _route_end(a, base, pos, routes, lens, edge, jt, table, row_of)
+                mk = max(mk, ends[a])
+                sm += ends[a]
+        if mk < best_m - 1e-9 or (mk <= best_m + 1e-9 and sm < best_s - 1e-9):
+            best_m = mk
+            best_s = sm
+            kept[:] = routes
+            kept_lens[:] = lens
+            won += 1
+        else:
+            routes[:] = kept
+            lens[:] = kept_lens
+            for a in range(1, m1):
+                if active[a]:
+                    ends[a] = _route_end(a, base, pos, routes, lens, edge, jt, table, row_of)
+    return won
+
+
+@kernel(cache=True, nogil=True)
 def _team_plan(
     me: int, now: float, indptr: NDArray[np.int64], indices: NDArray[np.int32],
     blocked: NDArray[np.bool_], st: NDArray[np.int32], rs: NDArray[np.int32],
@@ -390,9 +541,12 @@ def _team_plan(
     mode: NDArray[np.int64], intent: NDArray[np.int64], resv: NDArray[np.int64],
     tpu: NDArray[np.float64], jt: NDArray[np.float64], step: float,
     prio: NDArray[np.int64], passes: int, routes: NDArray[np.int64], lens: NDArray[np.int64],
+    ils: int, ruin: int,
 ) -> int:  # pragma: no cover - compiled
     """The team plan from the state (the caller's copies; overwritten): MADGTA's routes,
-    then :func:`_improve`. Returns the first vertex of ``me``'s route (-1: none)."""
+    then :func:`_improve`, then ``ils`` rounds of :func:`_iterated_search` (seeded by the
+    number of vacant vertices and the time, so the same belief gives the same plan).
+    Returns the first vertex of ``me``'s route (-1: none)."""
     m1 = loc.shape[0]
     base = tfree.copy()
     pos = loc.copy()
@@ -421,6 +575,10 @@ def _team_plan(
             lens[a] -= 1
             base[a] += jt[a]
     _improve(base, pos, active, routes, lens, edge, jt, table, row_of, passes)
+    if ils > 0:
+        seed = vacant.shape[0] * 1_000_003 + int(now * 1000.0)
+        _iterated_search(base, pos, active, routes, lens, edge, jt, table, row_of, ils, ruin,
+                         passes, seed)
     return routes[me, 0] if lens[me] > 0 else -1
 
 
@@ -429,6 +587,8 @@ class MadgtaP(MadgtaR):
     docstring).
 
     ``passes``: rounds of local search per plan (0: MADGTA's simulated routes as they are).
+    ``ils``: rounds of ruin and recreate after it (0: none; measured, not kept), each
+    taking out a cluster of ``ruin`` planned vertices.
     ``follow``: go to the plan's first vertex instead of rolling it out (not kept, for the
     benches); ``commit`` (with ``follow``): keep heading for a distant first vertex until
     it is reached or taken. Every other keyword is madgta-r's (``max_vacant``, ``k``, ...).
@@ -437,10 +597,16 @@ class MadgtaP(MadgtaR):
     name = "madgta-p"
 
     def __init__(self, passes: int = 50, follow: bool = False, commit: bool = False,
-                 **rollout: object) -> None:
+                 ils: int = 0, ruin: int = 12, **rollout: object) -> None:
         super().__init__(**rollout)  # type: ignore[arg-type]
         if passes < 0:
             raise ValueError(f"passes must be >= 0, got {passes}")
+        if ils < 0:
+            raise ValueError(f"ils must be >= 0, got {ils}")
+        if ruin < 1:
+            raise ValueError(f"ruin must be >= 1, got {ruin}")
+        self.ils = ils
+        self.ruin = ruin
         if commit and not follow:
             raise ValueError("commit needs follow=True")
         self.passes = passes
@@ -486,6 +652,7 @@ class MadgtaP(MadgtaR):
             belief.reserved.copy(), vacant, table, row_of, loc.copy(), dest.copy(),
             tfree.copy(), mode.copy(), intent.copy(), resv.copy(), belief.time_per_unit,
             belief.job_time, known.step, self._ids(g.n_nodes), self.passes, routes, lens,
+            self.ils, self.ruin,
         )
         if self.hybrid:  # the plan's vertex as one more candidate of madgta-r's rollout
             cands, kinds = self._candidates(belief, vacant, table, row_of, state)
