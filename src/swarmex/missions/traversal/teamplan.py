@@ -51,11 +51,12 @@ Choices, and why
   each ends its route soonest, the local search again, the plan kept if it lowers
   (makespan, sum)); its generator is seeded by the belief (vacant count, time), so the same
   belief still gives the same plan. On the true map it adds 1.2-1.5 points to the oracle's
-  gain (bench/endgame_headroom.py), but in the missions it bought nothing pooled
-  (docs/traversal-variants.md §5, "Ruin and recreate"): as a rollout candidate
-  (madgta-k with ``ils=10``) -0.08 % ± 0.37 % against madgta-k; followed (``follow=True``)
-  -0.5 % on random-32-32-20 and room-32-32-4 but +1.1 % on empty-16-16, -0.08 % ± 0.60 %
-  over the three small maps with ``ils=30``, at 5-10x the CPU.
+  gain (bench/endgame_headroom.py), but in the missions it bought too little for its cost
+  (docs/traversal-variants.md §5, "Ruin and recreate in the missions"; 16 agents, seeds 0-3):
+  as a rollout candidate (madgta-k with ``ils=10``) -0.24 % ± 0.30 % against madgta-k;
+  followed (``ils=30, follow=True``) -0.56 % on random-32-32-20 and -0.98 % on
+  room-32-32-4, but +0.61 % on empty-16-16 and nothing on the two large maps (ils=10), at 10-30x
+  madgta-k's CPU on the small maps.
 * **Only the end game** (``max_vacant=200``, as madgta-r): 400 gives -1.53 % ± 0.48 % on
   the real maps, noise, at 3-5x the CPU. ``outside="madgta+"`` gives -1.53 % ± 0.50 %, but
   it loses the warehouse (-0.02 % ± 0.42 %), as it did for madgta-r.
