@@ -127,14 +127,13 @@ def _tiny(seed: int) -> tuple | None:
     return base, pos, vac, table, row_of
 
 
-def test_local_search_against_the_brute_force_optimum_on_tiny_instances():
-    """A local search, not an exact solver: from the worst start (everything on agent 1) it
-    reaches the min-max optimum on most tiny instances and stays about one edge above it on
-    the others (16 instances: 13 optimal, 3 at 2.0-2.9 s above; the tail exchange was added
-    for instance 3, which relocations and swaps left one edge above the optimum)."""
-    edge = np.array([0.0, 2.0, 2.0])
-    jt = np.array([0.0, 9.0, 9.0])
-    optimal = tried = 0
+_EDGE = np.array([0.0, 2.0, 2.0])  # the tiny instances' seconds per edge and per job
+_JOB = np.array([0.0, 9.0, 9.0])
+
+
+def _tiny_plans():
+    """Per tiny instance: (instance, routes, lens, makespan, optimum), the routes being the
+    local search's plan from the worst start (every vertex on agent 1)."""
     for seed in range(16):
         inst = _tiny(seed)
         if inst is None:
@@ -143,10 +142,20 @@ def test_local_search_against_the_brute_force_optimum_on_tiny_instances():
         routes = np.full((3, vac.size + 1), -1, dtype=np.int64)
         routes[1, :vac.size] = vac
         lens = np.array([0, vac.size, 0])
-        tp._improve(base, pos, np.array([False, True, True]), routes, lens, edge, jt, table,
-                    row_of, 100)
-        got = max(_ends(base, pos, routes, lens, edge, jt, table, row_of))
-        best = _brute_force(base, pos, vac, edge, jt, table, row_of)
+        tp._improve(base, pos, np.array([False, True, True]), routes, lens, _EDGE, _JOB,
+                    table, row_of, 100)
+        got = max(_ends(base, pos, routes, lens, _EDGE, _JOB, table, row_of))
+        yield inst, routes, lens, got, _brute_force(base, pos, vac, _EDGE, _JOB, table, row_of)
+
+
+def test_local_search_against_the_brute_force_optimum_on_tiny_instances():
+    """A local search, not an exact solver: from the worst start (everything on agent 1) it
+    reaches the min-max optimum on most tiny instances and stays about one edge above it on
+    the others (16 instances: 13 optimal, 3 at 2.0-2.9 s above; the tail exchange was added
+    for instance 3, which relocations and swaps left one edge above the optimum)."""
+    optimal = tried = 0
+    for inst, routes, lens, got, best in _tiny_plans():
+        base, pos, vac, table, row_of = inst
         assert best - 1e-9 <= got <= best + 3.0
         assert sorted(routes[1, :lens[1]].tolist() + routes[2, :lens[2]].tolist()) == \
             vac.tolist()
@@ -271,21 +280,11 @@ def test_iterated_search_reaches_the_brute_force_optimum_where_the_local_search_
     instances: the local search alone is optimal on 13, with ruin and recreate on 15 (the
     16th stays 0.24 s above: a cluster of 3 of the 5 vertices put back greedily does not
     reach the optimum's split, a cluster of all 5 does)."""
-    edge = np.array([0.0, 2.0, 2.0])
-    jt = np.array([0.0, 9.0, 9.0])
+    edge, jt = _EDGE, _JOB
     active = np.array([False, True, True])
     tried = optimal = local_optimal = 0
-    for seed in range(16):
-        inst = _tiny(seed)
-        if inst is None:
-            continue
+    for seed, (inst, routes, lens, local, best) in enumerate(_tiny_plans()):
         base, pos, vac, table, row_of = inst
-        routes = np.full((3, vac.size + 1), -1, dtype=np.int64)
-        routes[1, :vac.size] = vac
-        lens = np.array([0, vac.size, 0])
-        tp._improve(base, pos, active, routes, lens, edge, jt, table, row_of, 100)
-        local = max(_ends(base, pos, routes, lens, edge, jt, table, row_of))
-        best = _brute_force(base, pos, vac, edge, jt, table, row_of)
         local_optimal += local <= best + 1e-9
         plans = []
         for _ in range(2):

@@ -183,6 +183,17 @@ def _shift(routes: NDArray[np.int64], a: int, i: int, q: int, n: int) -> None:
 
 
 @kernel(cache=True, nogil=True)
+def _insert_at(
+    routes: NDArray[np.int64], lens: NDArray[np.int64], a: int, q: int, v: int,
+) -> None:  # pragma: no cover - compiled
+    """Put vertex ``v`` at position ``q`` of route ``a`` (the rest moves one place on)."""
+    for t in range(lens[a], q, -1):
+        routes[a, t] = routes[a, t - 1]
+    routes[a, q] = v
+    lens[a] += 1
+
+
+@kernel(cache=True, nogil=True)
 def _improve(
     base: NDArray[np.float64], pos: NDArray[np.int64], active: NDArray[np.bool_],
     routes: NDArray[np.int64], lens: NDArray[np.int64], edge: NDArray[np.float64],
@@ -284,10 +295,7 @@ def _improve(
                         routes[a, t] = routes[a, t + 1]
                     lens[a] -= 1
                     b = best_b
-                    for t in range(lens[b], best_q, -1):
-                        routes[b, t] = routes[b, t - 1]
-                    routes[b, best_q] = v
-                    lens[b] += 1
+                    _insert_at(routes, lens, b, best_q, v)
                     ends[a] = new_a
                     ends[b] = best_nb
                     better = True
@@ -475,12 +483,26 @@ def _ruin_recreate(
                     best = ends[a] + add
                     best_a = a
                     best_i = i
-        a = best_a
-        for i in range(lens[a], best_i, -1):
-            routes[a, i] = routes[a, i - 1]
-        routes[a, best_i] = v
-        lens[a] += 1
-        ends[a] = best
+        _insert_at(routes, lens, best_a, best_i, v)
+        ends[best_a] = best
+
+
+@kernel(cache=True, nogil=True)
+def _plan_ends(
+    base: NDArray[np.float64], pos: NDArray[np.int64], active: NDArray[np.bool_],
+    routes: NDArray[np.int64], lens: NDArray[np.int64], edge: NDArray[np.float64],
+    jt: NDArray[np.float64], table: NDArray[np.int32], row_of: NDArray[np.int64],
+    ends: NDArray[np.float64],
+) -> tuple[float, float]:  # pragma: no cover - compiled
+    """Every active agent's route end into ``ends``; returns the plan's (makespan, sum)."""
+    mk = 0.0
+    sm = 0.0
+    for a in range(1, base.shape[0]):
+        if active[a]:
+            ends[a] = _route_end(a, base, pos, routes, lens, edge, jt, table, row_of)
+            mk = max(mk, ends[a])
+            sm += ends[a]
+    return mk, sm
 
 
 @kernel(cache=True, nogil=True)
@@ -494,15 +516,8 @@ def _iterated_search(
     recreate a cluster of ``size`` vertices (:func:`_ruin_recreate`), run the local search
     again (at most ``passes`` rounds) and keep the plan if it lowers (makespan, sum), else
     go back to the best one. Returns how many rounds improved the plan."""
-    m1 = base.shape[0]
-    ends = np.zeros(m1)
-    best_m = 0.0
-    best_s = 0.0
-    for a in range(1, m1):
-        if active[a]:
-            ends[a] = _route_end(a, base, pos, routes, lens, edge, jt, table, row_of)
-            best_m = max(best_m, ends[a])
-            best_s += ends[a]
+    ends = np.zeros(base.shape[0])
+    best_m, best_s = _plan_ends(base, pos, active, routes, lens, edge, jt, table, row_of, ends)
     kept = routes.copy()
     kept_lens = lens.copy()
     rs = np.full(1, np.uint64(seed) ^ np.uint64(0x9E3779B97F4A7C15))  # never 0: seed >= 0
@@ -511,13 +526,7 @@ def _iterated_search(
         _ruin_recreate(base, pos, active, routes, lens, edge, jt, table, row_of, ends, size,
                        rs)
         _improve(base, pos, active, routes, lens, edge, jt, table, row_of, passes)
-        mk = 0.0
-        sm = 0.0
-        for a in range(1, m1):
-            if active[a]:
-                ends[a] = _route_end(a, base, pos, routes, lens, edge, jt, table, row_of)
-                mk = max(mk, ends[a])
-                sm += ends[a]
+        mk, sm = _plan_ends(base, pos, active, routes, lens, edge, jt, table, row_of, ends)
         if mk < best_m - 1e-9 or (mk <= best_m + 1e-9 and sm < best_s - 1e-9):
             best_m = mk
             best_s = sm
@@ -527,9 +536,7 @@ def _iterated_search(
         else:
             routes[:] = kept
             lens[:] = kept_lens
-            for a in range(1, m1):
-                if active[a]:
-                    ends[a] = _route_end(a, base, pos, routes, lens, edge, jt, table, row_of)
+            _plan_ends(base, pos, active, routes, lens, edge, jt, table, row_of, ends)
     return won
 
 
