@@ -173,7 +173,8 @@ def _mixed(world, m: int, seed: int) -> list[AgentSpec]:
 
 @pytest.mark.parametrize("options", [dict(), dict(follow=True), dict(follow=True, commit=True),
                                      dict(passes=0), dict(ils=5, ruin=4),
-                                     dict(ils=5, follow=True)])
+                                     dict(ils=5, follow=True),
+                                     dict(ils=5, follow=True, keep=True)])
 @pytest.mark.parametrize("fleet", ["same", "mixed"])
 def test_completes_every_job_once(options, fleet):
     world = random_obstacles(12, 12, 0.2, seed=1)
@@ -227,6 +228,7 @@ def test_the_start_plan_is_madgtas_simulated_routes():
         np.zeros(n, dtype=np.int32), vacant, table, row_of, loc, loc.copy(), tfree, mode,
         np.full(3, -1), np.full(3, -1), np.array([0.0, 2.0, 2.0]), np.array([0.0, 9.0, 9.0]),
         1.0, np.arange(n, dtype=np.int64), 50, routes, lens, 0, 12,
+        np.full((3, 1), -1, dtype=np.int64), np.zeros(3, dtype=np.int64),
     )
     assert first == 1
     assert routes[1, :lens[1]].tolist() == [1, 2]
@@ -300,3 +302,33 @@ def test_iterated_search_reaches_the_brute_force_optimum_where_the_local_search_
         tried += 1
         optimal += got <= best + 1e-9
     assert tried >= 12 and optimal >= tried - 1 and optimal > local_optimal
+
+
+def test_warm_start_keeps_the_better_plan_and_every_vertex_once():
+    """The previous plan (``keep``) replaces the current one only when it is better after the
+    local search, and whatever it holds, the plan covers exactly the vertices to plan:
+    stale vertices (done since) are dropped and new ones inserted."""
+    active = np.array([False, True, True])
+    for inst, routes, lens, local, _ in _tiny_plans():
+        base, pos, vac, table, row_of = inst
+        ends = np.zeros(3)
+        # the optimum-seeking ruin and recreate gives a plan at least as good: as the warm
+        # plan, it must be taken (or tie) and change nothing worse
+        good, glens = routes.copy(), lens.copy()
+        tp._iterated_search(base, pos, active, good, glens, _EDGE, _JOB, table, row_of, 40, 3,
+                            50, 1)
+        r, n = routes.copy(), lens.copy()
+        tp._warm_start(base, pos, active, r, n, _EDGE, _JOB, table, row_of, good, glens, 50)
+        assert sorted(r[1, :n[1]].tolist() + r[2, :n[2]].tolist()) == vac.tolist()
+        got = tp._plan_ends(base, pos, active, r, n, _EDGE, _JOB, table, row_of, ends)
+        best = tp._plan_ends(base, pos, active, good, glens, _EDGE, _JOB, table, row_of, ends)
+        assert got[0] <= best[0] + 1e-9
+        # a stale warm plan: one vertex no longer to plan, one unknown to it
+        stale = np.full((3, vac.size + 2), -1, dtype=np.int64)
+        stale[1, :2] = [vac[0], 10_000 % row_of.size]
+        stale[2, :1] = [vac[1]]
+        r, n = routes.copy(), lens.copy()
+        tp._warm_start(base, pos, active, r, n, _EDGE, _JOB, table, row_of, stale,
+                       np.array([0, 2, 1]), 50)
+        assert sorted(r[1, :n[1]].tolist() + r[2, :n[2]].tolist()) == vac.tolist()
+        assert max(_ends(base, pos, r, n, _EDGE, _JOB, table, row_of)) <= local + 1e-9

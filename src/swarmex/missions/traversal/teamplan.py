@@ -541,6 +541,73 @@ def _iterated_search(
 
 
 @kernel(cache=True, nogil=True)
+def _warm_start(
+    base: NDArray[np.float64], pos: NDArray[np.int64], active: NDArray[np.bool_],
+    routes: NDArray[np.int64], lens: NDArray[np.int64], edge: NDArray[np.float64],
+    jt: NDArray[np.float64], table: NDArray[np.int32], row_of: NDArray[np.int64],
+    warm: NDArray[np.int64], warm_lens: NDArray[np.int64], passes: int,
+) -> bool:  # pragma: no cover - compiled
+    """Replace the plan (``routes``) by the agent's previous plan brought up to date, if
+    that is better after the local search: each route keeps its previous vertices still to
+    be planned, in order; the others go where they end their route soonest. Returns
+    whether it replaced the plan."""
+    m1 = base.shape[0]
+    n = row_of.shape[0]
+    todo = np.zeros(n, dtype=np.bool_)
+    total = 0
+    for a in range(1, m1):
+        for i in range(lens[a]):
+            todo[routes[a, i]] = True
+            total += 1
+    cand = np.full_like(routes, -1)
+    clens = np.zeros_like(lens)
+    for a in range(1, min(m1, warm.shape[0])):
+        if not active[a]:
+            continue
+        for i in range(warm_lens[a]):
+            v = warm[a, i]
+            if v >= 0 and v < n and todo[v]:
+                cand[a, clens[a]] = v
+                clens[a] += 1
+                todo[v] = False
+    ends = np.zeros(m1)
+    _plan_ends(base, pos, active, cand, clens, edge, jt, table, row_of, ends)
+    for a in range(1, m1):
+        for i in range(lens[a]):
+            v = routes[a, i]
+            if not todo[v]:
+                continue
+            todo[v] = False
+            best = np.inf
+            best_a = -1
+            best_i = 0
+            for b in range(1, m1):
+                if not active[b]:
+                    continue
+                prev = pos[b]
+                for q in range(clens[b] + 1):
+                    add = edge[b] * _d(prev, v, table, row_of) + jt[b]
+                    if q < clens[b]:
+                        nx = cand[b, q]
+                        add += edge[b] * (_d(v, nx, table, row_of) - _d(prev, nx, table, row_of))
+                        prev = nx
+                    if ends[b] + add < best - 1e-9:
+                        best = ends[b] + add
+                        best_a = b
+                        best_i = q
+            _insert_at(cand, clens, best_a, best_i, v)
+            ends[best_a] = best
+    _improve(base, pos, active, cand, clens, edge, jt, table, row_of, passes)
+    m_old, s_old = _plan_ends(base, pos, active, routes, lens, edge, jt, table, row_of, ends)
+    m_new, s_new = _plan_ends(base, pos, active, cand, clens, edge, jt, table, row_of, ends)
+    if m_new < m_old - 1e-9 or (m_new <= m_old + 1e-9 and s_new < s_old - 1e-9):
+        routes[:] = cand
+        lens[:] = clens
+        return True
+    return False
+
+
+@kernel(cache=True, nogil=True)
 def _team_plan(
     me: int, now: float, indptr: NDArray[np.int64], indices: NDArray[np.int32],
     blocked: NDArray[np.bool_], st: NDArray[np.int32], rs: NDArray[np.int32],
@@ -549,11 +616,13 @@ def _team_plan(
     mode: NDArray[np.int64], intent: NDArray[np.int64], resv: NDArray[np.int64],
     tpu: NDArray[np.float64], jt: NDArray[np.float64], step: float,
     prio: NDArray[np.int64], passes: int, routes: NDArray[np.int64], lens: NDArray[np.int64],
-    ils: int, ruin: int,
+    ils: int, ruin: int, warm: NDArray[np.int64], warm_lens: NDArray[np.int64],
 ) -> int:  # pragma: no cover - compiled
     """The team plan from the state (the caller's copies; overwritten): MADGTA's routes,
     then :func:`_improve`, then ``ils`` rounds of :func:`_iterated_search` (seeded by the
     number of vacant vertices and the time, so the same belief gives the same plan).
+    With a previous plan (``warm_lens`` not all 0) that plan, brought up to date, replaces
+    MADGTA's if it is better (:func:`_warm_start`), before the ruin and recreate.
     Returns the first vertex of ``me``'s route (-1: none)."""
     m1 = loc.shape[0]
     base = tfree.copy()
@@ -583,6 +652,9 @@ def _team_plan(
             lens[a] -= 1
             base[a] += jt[a]
     _improve(base, pos, active, routes, lens, edge, jt, table, row_of, passes)
+    if warm_lens.sum() > 0:
+        _warm_start(base, pos, active, routes, lens, edge, jt, table, row_of, warm, warm_lens,
+                    passes)
     if ils > 0:
         seed = vacant.shape[0] * 1_000_003 + int(now * 1000.0)
         _iterated_search(base, pos, active, routes, lens, edge, jt, table, row_of, ils, ruin,
@@ -596,7 +668,9 @@ class MadgtaP(MadgtaR):
 
     ``passes``: rounds of local search per plan (0: MADGTA's simulated routes as they are).
     ``ils``: rounds of ruin and recreate after it (0: none; measured, not kept), each
-    taking out a cluster of ``ruin`` planned vertices.
+    taking out a cluster of ``ruin`` planned vertices. ``keep``: start also from the
+    agent's previous plan, brought up to date, when it is better than MADGTA's (so the
+    rounds add up from decision to decision).
     ``follow``: go to the plan's first vertex instead of rolling it out (not kept, for the
     benches); ``commit`` (with ``follow``): keep heading for a distant first vertex until
     it is reached or taken. Every other keyword is madgta-r's (``max_vacant``, ``k``, ...).
@@ -605,7 +679,8 @@ class MadgtaP(MadgtaR):
     name = "madgta-p"
 
     def __init__(self, passes: int = 50, follow: bool = False, commit: bool = False,
-                 ils: int = 0, ruin: int = 12, **rollout: object) -> None:
+                 ils: int = 0, ruin: int = 12, keep: bool = False,
+                 **rollout: object) -> None:
         super().__init__(**rollout)  # type: ignore[arg-type]
         if passes < 0:
             raise ValueError(f"passes must be >= 0, got {passes}")
@@ -615,6 +690,8 @@ class MadgtaP(MadgtaR):
             raise ValueError(f"ruin must be >= 1, got {ruin}")
         self.ils = ils
         self.ruin = ruin
+        self.keep = keep
+        self._kept: dict[int, tuple[np.ndarray, np.ndarray]] = {}
         if commit and not follow:
             raise ValueError("commit needs follow=True")
         self.passes = passes
@@ -660,8 +737,10 @@ class MadgtaP(MadgtaR):
             belief.reserved.copy(), vacant, table, row_of, loc.copy(), dest.copy(),
             tfree.copy(), mode.copy(), intent.copy(), resv.copy(), belief.time_per_unit,
             belief.job_time, known.step, self._ids(g.n_nodes), self.passes, routes, lens,
-            self.ils, self.ruin,
+            self.ils, self.ruin, *self._warm(me, loc.size),
         )
+        if self.keep:
+            self._kept[me] = (routes, lens)
         if self.hybrid:  # the plan's vertex as one more candidate of madgta-r's rollout
             cands, kinds = self._candidates(belief, vacant, table, row_of, state)
             if not cands:
@@ -686,6 +765,13 @@ class MadgtaP(MadgtaR):
             return self._plain.decide(belief, rng)
         self.plans += 1
         return self._towards(belief, int(f), rng)
+
+    def _warm(self, me: int, rows: int) -> tuple[np.ndarray, np.ndarray]:
+        """The agent's previous plan (``keep``), or none (all lengths 0)."""
+        kept = self._kept.get(me) if self.keep else None
+        if kept is None or kept[1].size != rows:
+            return np.full((rows, 1), -1, dtype=np.int64), np.zeros(rows, dtype=np.int64)
+        return kept
 
     def _towards(self, belief: TraversalBelief, f: int, rng: np.random.Generator) -> Decision:
         """To ``f``: directly if it is a neighbour, else one hop on a shortest path."""
