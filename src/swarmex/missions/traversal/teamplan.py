@@ -56,7 +56,10 @@ Choices, and why
   as a rollout candidate (madgta-k with ``ils=10``) -0.24 % ± 0.30 % against madgta-k;
   followed (``ils=30, follow=True``) -0.56 % on random-32-32-20 and -0.98 % on
   room-32-32-4, but +0.61 % on empty-16-16 and nothing on the two large maps (ils=10), at 10-30x
-  madgta-k's CPU on the small maps.
+  madgta-k's CPU on the small maps. With ``keep=True`` (the previous plan, brought up to
+  date, as a second start, so the rounds add up between decisions) the followed plan gains
+  -1.49 % on random-32-32-20 and -0.86 % on room-32-32-4, still loses on empty-16-16
+  (+0.90 %), at about 20x madgta-k's CPU: kept as options for the next step, not defaults.
 * **Only the end game** (``max_vacant=200``, as madgta-r): 400 gives -1.53 % ± 0.48 % on
   the real maps, noise, at 3-5x the CPU. ``outside="madgta+"`` gives -1.53 % ± 0.50 %, but
   it loses the warehouse (-0.02 % ± 0.42 %), as it did for madgta-r.
