@@ -419,6 +419,35 @@ def _next_random(rs: NDArray[np.uint64], n: int) -> int:  # pragma: no cover - c
 
 
 @kernel(cache=True, nogil=True)
+def _insert_soonest(
+    v: int, pos: NDArray[np.int64], active: NDArray[np.bool_], routes: NDArray[np.int64],
+    lens: NDArray[np.int64], edge: NDArray[np.float64], jt: NDArray[np.float64],
+    table: NDArray[np.int32], row_of: NDArray[np.int64], ends: NDArray[np.float64],
+) -> None:  # pragma: no cover - compiled
+    """Put ``v`` where it ends its route soonest (ties: the lowest agent and place);
+    ``ends`` (each active route's end) is kept up to date."""
+    best = np.inf
+    best_a = -1
+    best_i = 0
+    for a in range(1, pos.shape[0]):
+        if not active[a]:
+            continue
+        prev = pos[a]
+        for i in range(lens[a] + 1):
+            add = edge[a] * _d(prev, v, table, row_of) + jt[a]
+            if i < lens[a]:
+                nx = routes[a, i]
+                add += edge[a] * (_d(v, nx, table, row_of) - _d(prev, nx, table, row_of))
+                prev = nx
+            if ends[a] + add < best - 1e-9:
+                best = ends[a] + add
+                best_a = a
+                best_i = i
+    _insert_at(routes, lens, best_a, best_i, v)
+    ends[best_a] = best
+
+
+@kernel(cache=True, nogil=True)
 def _ruin_recreate(
     base: NDArray[np.float64], pos: NDArray[np.int64], active: NDArray[np.bool_],
     routes: NDArray[np.int64], lens: NDArray[np.int64], edge: NDArray[np.float64],
@@ -468,26 +497,7 @@ def _ruin_recreate(
         removed[t] = removed[u]
         removed[u] = tmp
     for t in range(size):
-        v = removed[t]
-        best = np.inf
-        best_a = -1
-        best_i = 0
-        for a in range(1, m1):
-            if not active[a]:
-                continue
-            prev = pos[a]
-            for i in range(lens[a] + 1):
-                add = edge[a] * _d(prev, v, table, row_of) + jt[a]
-                if i < lens[a]:
-                    nx = routes[a, i]
-                    add += edge[a] * (_d(v, nx, table, row_of) - _d(prev, nx, table, row_of))
-                    prev = nx
-                if ends[a] + add < best - 1e-9:
-                    best = ends[a] + add
-                    best_a = a
-                    best_i = i
-        _insert_at(routes, lens, best_a, best_i, v)
-        ends[best_a] = best
+        _insert_soonest(removed[t], pos, active, routes, lens, edge, jt, table, row_of, ends)
 
 
 @kernel(cache=True, nogil=True)
@@ -581,25 +591,7 @@ def _warm_start(
             if not todo[v]:
                 continue
             todo[v] = False
-            best = np.inf
-            best_a = -1
-            best_i = 0
-            for b in range(1, m1):
-                if not active[b]:
-                    continue
-                prev = pos[b]
-                for q in range(clens[b] + 1):
-                    add = edge[b] * _d(prev, v, table, row_of) + jt[b]
-                    if q < clens[b]:
-                        nx = cand[b, q]
-                        add += edge[b] * (_d(v, nx, table, row_of) - _d(prev, nx, table, row_of))
-                        prev = nx
-                    if ends[b] + add < best - 1e-9:
-                        best = ends[b] + add
-                        best_a = b
-                        best_i = q
-            _insert_at(cand, clens, best_a, best_i, v)
-            ends[best_a] = best
+            _insert_soonest(v, pos, active, cand, clens, edge, jt, table, row_of, ends)
     _improve(base, pos, active, cand, clens, edge, jt, table, row_of, passes)
     m_old, s_old = _plan_ends(base, pos, active, routes, lens, edge, jt, table, row_of, ends)
     m_new, s_new = _plan_ends(base, pos, active, cand, clens, edge, jt, table, row_of, ends)
