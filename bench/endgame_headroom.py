@@ -45,7 +45,7 @@ from swarmex.missions.traversal.rollout_sim import _fill_rows  # noqa: E402
 from swarmex.missions.traversal.teamplan import (  # noqa: E402
     _improve,
     _iterated_search,
-    _route_end,
+    _plan_ends,
 )
 from swarmex.planning.distance import distance_field  # noqa: E402
 
@@ -142,15 +142,9 @@ def plan(world, snap: dict, passes: int = 200, ils: int = 0,
     state = (base, pos, active, routes, lens, edge, jt, table, row_of)
     if ils > 0:
         _iterated_search(*state, ils, 12, 50, seed)
-    makespan = float(_ends(state).max())
+    makespan = _plan_ends(*state, np.zeros(m + 1))[0]
     bound = max(base[1:].max(), (base[1:].sum() + vac.size * (JOB + TRAVEL)) / m)
     return float(makespan), float(bound)
-
-
-def _ends(state: tuple) -> np.ndarray:
-    base, pos, active, routes, lens, edge, jt, table, row_of = state
-    return np.array([_route_end(a, base, pos, routes, lens, edge, jt, table, row_of)
-                     for a in range(1, len(base))])
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -323,9 +323,11 @@ def test_warm_start_keeps_the_better_plan_and_every_vertex_once():
         got = tp._plan_ends(base, pos, active, r, n, _EDGE, _JOB, table, row_of, ends)
         best = tp._plan_ends(base, pos, active, good, glens, _EDGE, _JOB, table, row_of, ends)
         assert got[0] <= best[0] + 1e-9
-        # a stale warm plan: one vertex no longer to plan, one unknown to it
+        # a stale warm plan: a vertex done since (not to plan any more), and none of
+        # vac[2:], which are new to it
+        done = int(np.setdiff1d(np.arange(row_of.size), vac)[0])
         stale = np.full((3, vac.size + 2), -1, dtype=np.int64)
-        stale[1, :2] = [vac[0], 10_000 % row_of.size]
+        stale[1, :2] = [vac[0], done]
         stale[2, :1] = [vac[1]]
         r, n = routes.copy(), lens.copy()
         tp._warm_start(base, pos, active, r, n, _EDGE, _JOB, table, row_of, stale,

@@ -162,14 +162,19 @@ def _route_end(
 
 
 @kernel(cache=True, nogil=True)
+def _lex_lower(new_m: float, new_s: float, old_m: float, old_s: float) -> bool:
+    """Whether (makespan, sum) ``(new_m, new_s)`` is lower than ``(old_m, old_s)``: a lower
+    makespan, or the same one and a lower sum (1e-9 s apart)."""
+    if new_m < old_m - 1e-9:
+        return True
+    return new_m <= old_m + 1e-9 and new_s < old_s - 1e-9
+
+
+@kernel(cache=True, nogil=True)
 def _gain(old_a: float, old_b: float, new_a: float, new_b: float) -> bool:
     """A change of two routes is kept when it lowers their later end, or keeps it and
     lowers their sum (so the team's sorted ends fall: makespan first, then total)."""
-    om = max(old_a, old_b)
-    nm = max(new_a, new_b)
-    if nm < om - 1e-9:
-        return True
-    return nm <= om + 1e-9 and new_a + new_b < old_a + old_b - 1e-9
+    return _lex_lower(max(new_a, new_b), new_a + new_b, max(old_a, old_b), old_a + old_b)
 
 
 @kernel(cache=True, nogil=True)
@@ -540,7 +545,7 @@ def _iterated_search(
                        rs)
         _improve(base, pos, active, routes, lens, edge, jt, table, row_of, passes)
         mk, sm = _plan_ends(base, pos, active, routes, lens, edge, jt, table, row_of, ends)
-        if mk < best_m - 1e-9 or (mk <= best_m + 1e-9 and sm < best_s - 1e-9):
+        if _lex_lower(mk, sm, best_m, best_s):
             best_m = mk
             best_s = sm
             kept[:] = routes
@@ -567,11 +572,9 @@ def _warm_start(
     m1 = base.shape[0]
     n = row_of.shape[0]
     todo = np.zeros(n, dtype=np.bool_)
-    total = 0
     for a in range(1, m1):
         for i in range(lens[a]):
             todo[routes[a, i]] = True
-            total += 1
     cand = np.full_like(routes, -1)
     clens = np.zeros_like(lens)
     for a in range(1, min(m1, warm.shape[0])):
@@ -595,7 +598,7 @@ def _warm_start(
     _improve(base, pos, active, cand, clens, edge, jt, table, row_of, passes)
     m_old, s_old = _plan_ends(base, pos, active, routes, lens, edge, jt, table, row_of, ends)
     m_new, s_new = _plan_ends(base, pos, active, cand, clens, edge, jt, table, row_of, ends)
-    if m_new < m_old - 1e-9 or (m_new <= m_old + 1e-9 and s_new < s_old - 1e-9):
+    if _lex_lower(m_new, s_new, m_old, s_old):
         routes[:] = cand
         lens[:] = clens
         return True
