@@ -28,7 +28,7 @@ from swarmex.missions.traversal import teamplan as tp
 from swarmex.missions.traversal.policies import POLICIES
 from swarmex.missions.traversal.rollout import MadgtaR
 from swarmex.missions.traversal.rollout_sim import _fill_rows
-from swarmex.worlds import random_obstacles
+from swarmex.worlds import empty_grid, random_obstacles
 from swarmex.worlds.nodegraph import NodeGraph
 
 from .checking import checking, jit_and_python_agree
@@ -265,7 +265,7 @@ def test_compiled_and_interpreted_give_the_same_run(tmp_path):
     import numpy as np
     from swarmex.missions.traversal import run_traversal, run_metrics, uniform_agents
     from swarmex.missions.traversal.teamplan import MadgtaP
-    from swarmex.worlds import random_obstacles
+    from swarmex.worlds import empty_grid, random_obstacles
     world = random_obstacles(9, 9, 0.2, seed=2)
     free = np.nonzero(~world.blocked)[0]
     run = run_traversal(world, uniform_agents([int(free[0])] * 4, 2.0, 9.0), MadgtaP(),
@@ -334,3 +334,103 @@ def test_warm_start_keeps_the_better_plan_and_every_vertex_once():
                        np.array([0, 2, 1]), 50)
         assert sorted(r[1, :n[1]].tolist() + r[2, :n[2]].tolist()) == vac.tolist()
         assert max(_ends(base, pos, r, n, _EDGE, _JOB, table, row_of)) <= local + 1e-9
+
+
+def _planned(seed: int, agents: int = 4, cells: int = 28):
+    """A local optimum of a larger random instance (``agents`` agents, ``cells`` vacant
+    vertices on a 12 x 12 random map), for the search's shortcuts to be checked on."""
+    rng = np.random.default_rng(seed)
+    world = random_obstacles(12, 12, 0.15, seed=seed)
+    g = world.graph
+    n = g.n_nodes
+    free = np.nonzero(~world.blocked)[0]
+    pick = rng.choice(free, agents + cells, replace=False)
+    pos = np.r_[-1, pick[:agents]].astype(np.int64)
+    vac = np.sort(pick[agents:]).astype(np.int64)
+    table = np.empty((vac.size, n), dtype=np.int32)
+    row_of = np.full(n, -1, dtype=np.int64)
+    row_of[vac] = np.arange(vac.size)
+    _fill_rows(g.indptr, g.indices, world.blocked, vac, row_of[vac], table,
+               np.empty(n, dtype=np.int32))
+    base = np.r_[0.0, rng.uniform(0, 10, agents)]
+    edge = np.r_[0.0, rng.choice([1.0, 2.0], agents)]
+    jt = np.r_[0.0, rng.choice([5.0, 9.0], agents)]
+    active = np.r_[False, np.ones(agents, dtype=bool)]
+    routes = np.full((agents + 1, vac.size + 1), -1, dtype=np.int64)
+    lens = np.zeros(agents + 1, dtype=np.int64)
+    for t, v in enumerate(vac.tolist()):  # round robin, then the local search
+        a = 1 + t % agents
+        routes[a, lens[a]] = v
+        lens[a] += 1
+    state = (base, pos, active, routes, lens, edge, jt, table, row_of)
+    assert tp._improve(*state, 200) < 200  # a local optimum
+    return state
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_spliced_route_end_from_hop_prefixes_is_the_walked_end(seed):
+    """The tail exchange prices a[:i] + b[j:] from the routes' hop prefixes; checked against
+    walking the spliced route, for every i and j (a route may be unreachable: _FAR hops)."""
+    base, pos, _, routes, lens, edge, jt, table, row_of = _planned(seed)
+    hp = np.empty((routes.shape[0], routes.shape[1] + 1))
+    for a in range(1, routes.shape[0]):
+        tp._hop_prefix(a, pos, routes, lens, table, row_of, hp[a])
+    for a, b in ((1, 2), (2, 1), (3, 4)):
+        for i in range(lens[a] + 1):
+            for j in range(lens[b] + 1):
+                walked = np.full((routes.shape[0], lens[a] + lens[b] + 1), -1, dtype=np.int64)
+                seq = routes[a, :i].tolist() + routes[b, j:lens[b]].tolist()
+                walked[a, :len(seq)] = seq
+                wl = np.zeros_like(lens)
+                wl[a] = len(seq)
+                want = tp._route_end(a, base, pos, walked, wl, edge, jt, table, row_of)
+                got = tp._spliced_end(a, base, pos, routes, i, b, j, lens, edge, jt, table,
+                                      row_of, hp[a], hp[b])
+                assert got == pytest.approx(want, abs=1e-9)
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_search_from_the_changed_routes_takes_the_moves_of_a_full_search(seed):
+    """After a ruin and recreate of a locally optimal plan, the search that prices only
+    moves touching a changed route (what the iterated search runs) ends at exactly the plan
+    of the full search, on instances with mixed edge and job times."""
+    base, pos, active, routes, lens, edge, jt, table, row_of = _planned(seed)
+    rs = np.array([np.uint64(seed + 1) ^ np.uint64(0x9E3779B97F4A7C15)], dtype=np.uint64)
+    ends = np.zeros(base.size)
+    checked = 0
+    for _ in range(8):
+        before, before_lens = routes.copy(), lens.copy()
+        tp._plan_ends(base, pos, active, routes, lens, edge, jt, table, row_of, ends)
+        tp._ruin_recreate(base, pos, active, routes, lens, edge, jt, table, row_of, ends, 6, rs)
+        dirty = np.array([lens[a] != before_lens[a]
+                          or not np.array_equal(routes[a, :lens[a]], before[a, :lens[a]])
+                          for a in range(base.size)])
+        full, full_lens = routes.copy(), lens.copy()
+        tp._improve(base, pos, active, full, full_lens, edge, jt, table, row_of, 200)
+        tp._improve_from(base, pos, active, routes, lens, edge, jt, table, row_of, 200, dirty)
+        assert np.array_equal(routes, full) and np.array_equal(lens, full_lens)
+        checked += int(dirty.sum() < active.sum())  # some routes really were skipped
+    assert checked > 0
+
+
+def test_follow_walls_is_the_rollout_on_an_open_lattice_and_follows_behind_walls():
+    """``follow="walls"``: on a lattice with no wall known the decisions are exactly
+    madgta-p's rollout (the search options unused), behind walls the plan is followed (the
+    run differs from the rollout's and completes every job once)."""
+    open_world = empty_grid(8, 8)
+    agents = uniform_agents([0] * 5, 2.0, 9.0)
+    plain = run_traversal(open_world, agents, tp.MadgtaP(), seed=3)
+    walls = tp.MadgtaP(follow="walls", ils=5, keep=True)
+    run = run_traversal(open_world, agents, walls, seed=3)
+    assert walls.plans > 0 and run.path_strings() == plain.path_strings()
+    world = random_obstacles(12, 12, 0.2, seed=1)
+    free = np.nonzero(~world.blocked)[0]
+    agents = uniform_agents([int(v) for v in free[:5]], 2.0, 9.0)
+    walls = tp.MadgtaP(follow="walls", ils=5, keep=True)
+    run = run_traversal(world, agents, walls, seed=1)
+    followed = run_traversal(world, agents, tp.MadgtaP(follow=True, ils=5, keep=True), seed=1)
+    rollout = run_traversal(world, agents, tp.MadgtaP(), seed=1)
+    assert run.complete and run_metrics(run, 1.0)[0]["duplicate_jobs"] == 0
+    assert run.path_strings() == followed.path_strings() != rollout.path_strings()
+    with pytest.raises(ValueError, match="follow"):
+        tp.MadgtaP(follow="always")

@@ -211,17 +211,39 @@ def _improve(
     """Min-max local search on the routes in place (2-opt and or-opt inside a route,
     relocation to another route, swaps and tail exchanges between routes), at most
     ``passes`` rounds; returns the rounds that changed something."""
+    return _improve_from(base, pos, active, routes, lens, edge, jt, table, row_of, passes,
+                         np.ones(base.shape[0], dtype=np.bool_))
+
+
+@kernel(cache=True, nogil=True)
+def _improve_from(
+    base: NDArray[np.float64], pos: NDArray[np.int64], active: NDArray[np.bool_],
+    routes: NDArray[np.int64], lens: NDArray[np.int64], edge: NDArray[np.float64],
+    jt: NDArray[np.float64], table: NDArray[np.int32], row_of: NDArray[np.int64],
+    passes: int, dirty: NDArray[np.bool_],
+) -> int:  # pragma: no cover - compiled
+    """:func:`_improve` when only the routes marked ``dirty`` may have changed since the
+    plan was last locally optimal. A move is priced only if one of its routes changed in
+    this round or the one before (``seen``): every other one was priced on the same
+    routes a round ago and refused, and a move's worth depends on its own routes alone,
+    so the search takes the same moves as a full one, at a fraction of the cost."""
     m1 = base.shape[0]
+    seen = np.full(m1, -2, dtype=np.int64)  # the last round a route changed in
+    for a in range(m1):
+        if dirty[a]:
+            seen[a] = 0
     ends = np.zeros(m1)
     for a in range(1, m1):
         if active[a]:
             ends[a] = _route_end(a, base, pos, routes, lens, edge, jt, table, row_of)
+    hp_a = np.empty(routes.shape[1] + 1)
+    hp_b = np.empty(routes.shape[1] + 1)
     changed = 0
-    for _ in range(passes):
+    for r in range(1, passes + 1):
         better = False
         # 2-opt inside each route: reverse routes[a, i..j]
         for a in range(1, m1):
-            if not active[a]:
+            if not active[a] or seen[a] < r - 1:
                 continue
             n = lens[a]
             for i in range(n):
@@ -242,10 +264,11 @@ def _improve(
                             lo += 1
                             hi -= 1
                         ends[a] += edge[a] * delta
+                        seen[a] = r
                         better = True
         # move one vertex elsewhere in its own route (or-opt of one)
         for a in range(1, m1):
-            if not active[a]:
+            if not active[a] or seen[a] < r - 1:
                 continue
             n = lens[a]
             for i in range(n):
@@ -256,6 +279,7 @@ def _improve(
                     e = _route_end(a, base, pos, routes, lens, edge, jt, table, row_of)
                     if e < ends[a] - 1e-9:
                         ends[a] = e
+                        seen[a] = r
                         better = True
                     else:
                         _shift(routes, a, q, i, n)
@@ -278,7 +302,7 @@ def _improve(
                 best_s = np.inf
                 best_nb = 0.0
                 for b in range(1, m1):
-                    if not active[b] or b == a:
+                    if not active[b] or b == a or (seen[a] < r - 1 and seen[b] < r - 1):
                         continue
                     q_prev = pos[b]
                     for q in range(lens[b] + 1):
@@ -306,6 +330,8 @@ def _improve(
                     _insert_at(routes, lens, b, best_q, v)
                     ends[a] = new_a
                     ends[b] = best_nb
+                    seen[a] = r
+                    seen[b] = r
                     better = True
                 else:
                     i += 1
@@ -314,7 +340,7 @@ def _improve(
             if not active[a]:
                 continue
             for b in range(a + 1, m1):
-                if not active[b]:
+                if not active[b] or (seen[a] < r - 1 and seen[b] < r - 1):
                     continue
                 for i in range(lens[a]):
                     va = routes[a, i]
@@ -338,29 +364,36 @@ def _improve(
                             ends[a] = new_a
                             ends[b] = new_b
                             va = vb
+                            seen[a] = r
+                            seen[b] = r
                             better = True
-        # exchange the tails of two routes (2-opt*): a[:i] + b[j:] and b[:j] + a[i:]
+        # exchange the tails of two routes (2-opt*): a[:i] + b[j:] and b[:j] + a[i:],
+        # each candidate priced in O(1) from the routes' hop prefixes
         for a in range(1, m1):
             if not active[a]:
                 continue
             for b in range(a + 1, m1):
-                if not active[b]:
+                if not active[b] or (seen[a] < r - 1 and seen[b] < r - 1):
                     continue
                 found = True
                 while found:
                     found = False
+                    _hop_prefix(a, pos, routes, lens, table, row_of, hp_a)
+                    _hop_prefix(b, pos, routes, lens, table, row_of, hp_b)
                     for i in range(lens[a] + 1):
                         for j in range(lens[b] + 1):
                             if (i == lens[a] and j == lens[b]) or (i == 0 and j == 0):
                                 continue
-                            new_a = _spliced_end(a, base, pos, routes, a, i, b, j, lens, edge,
-                                                 jt, table, row_of)
-                            new_b = _spliced_end(b, base, pos, routes, b, j, a, i, lens, edge,
-                                                 jt, table, row_of)
+                            new_a = _spliced_end(a, base, pos, routes, i, b, j, lens, edge, jt,
+                                                 table, row_of, hp_a, hp_b)
+                            new_b = _spliced_end(b, base, pos, routes, j, a, i, lens, edge, jt,
+                                                 table, row_of, hp_b, hp_a)
                             if _gain(ends[a], ends[b], new_a, new_b):
                                 _swap_tails(routes, lens, a, i, b, j)
                                 ends[a] = new_a
                                 ends[b] = new_b
+                                seen[a] = r
+                                seen[b] = r
                                 better = True
                                 found = True
                                 break
@@ -373,23 +406,34 @@ def _improve(
 
 
 @kernel(cache=True, nogil=True)
+def _hop_prefix(
+    a: int, pos: NDArray[np.int64], routes: NDArray[np.int64], lens: NDArray[np.int64],
+    table: NDArray[np.int32], row_of: NDArray[np.int64], hp: NDArray[np.float64],
+) -> None:  # pragma: no cover - compiled
+    """``hp[i]``: hops from agent ``a``'s place through ``routes[a, :i]`` (``hp[0] = 0``)."""
+    hp[0] = 0.0
+    prev = pos[a]
+    for i in range(lens[a]):
+        v = routes[a, i]
+        hp[i + 1] = hp[i] + _d(prev, v, table, row_of)
+        prev = v
+
+
+@kernel(cache=True, nogil=True)
 def _spliced_end(
-    who: int, base: NDArray[np.float64], pos: NDArray[np.int64], routes: NDArray[np.int64],
-    a: int, i: int, b: int, j: int, lens: NDArray[np.int64], edge: NDArray[np.float64],
+    a: int, base: NDArray[np.float64], pos: NDArray[np.int64], routes: NDArray[np.int64],
+    i: int, b: int, j: int, lens: NDArray[np.int64], edge: NDArray[np.float64],
     jt: NDArray[np.float64], table: NDArray[np.int32], row_of: NDArray[np.int64],
+    hp_a: NDArray[np.float64], hp_b: NDArray[np.float64],
 ) -> float:  # pragma: no cover - compiled
-    """When agent ``who`` ends the route ``routes[a, :i]`` + ``routes[b, j:]``."""
-    c = base[who]
-    prev = pos[who]
-    for t in range(i):
-        v = routes[a, t]
-        c += edge[who] * _d(prev, v, table, row_of) + jt[who]
-        prev = v
-    for t in range(j, lens[b]):
-        v = routes[b, t]
-        c += edge[who] * _d(prev, v, table, row_of) + jt[who]
-        prev = v
-    return c
+    """When agent ``a`` ends the route ``routes[a, :i]`` + ``routes[b, j:]``, from the two
+    routes' hop prefixes (:func:`_hop_prefix`): a route's end is its start plus its hops
+    times the agent's edge time plus its jobs, so the spliced route costs O(1), not O(n)."""
+    hops = hp_a[i]
+    if j < lens[b]:
+        prev = pos[a] if i == 0 else routes[a, i - 1]
+        hops += _d(prev, routes[b, j], table, row_of) + hp_b[lens[b]] - hp_b[j + 1]
+    return base[a] + edge[a] * hops + jt[a] * (i + lens[b] - j)
 
 
 @kernel(cache=True, nogil=True)
@@ -530,26 +574,42 @@ def _iterated_search(
     jt: NDArray[np.float64], table: NDArray[np.int32], row_of: NDArray[np.int64],
     rounds: int, size: int, passes: int, seed: int,
 ) -> int:  # pragma: no cover - compiled
-    """Iterated local search on a locally optimal plan, in place: ``rounds`` times ruin and
-    recreate a cluster of ``size`` vertices (:func:`_ruin_recreate`), run the local search
-    again (at most ``passes`` rounds) and keep the plan if it lowers (makespan, sum), else
-    go back to the best one. Returns how many rounds improved the plan."""
-    ends = np.zeros(base.shape[0])
+    """Iterated local search on a plan, in place: ``rounds`` times ruin and recreate a
+    cluster of ``size`` vertices (:func:`_ruin_recreate`), run the local search again (at
+    most ``passes`` rounds) and keep the plan if it lowers (makespan, sum), else go back to
+    the best one. Returns how many rounds improved the plan.
+
+    The local search first makes sure the plan is locally optimal (one round when it is
+    already); after that, while the kept plan is locally optimal, a round's search starts
+    from the routes the ruin and recreate changed (:func:`_improve_from`), which gives the
+    same plan as a full search."""
+    m1 = base.shape[0]
+    optimal = _improve(base, pos, active, routes, lens, edge, jt, table, row_of, passes) < passes
+    ends = np.zeros(m1)
     best_m, best_s = _plan_ends(base, pos, active, routes, lens, edge, jt, table, row_of, ends)
     kept = routes.copy()
     kept_lens = lens.copy()
     rs = np.full(1, np.uint64(seed) ^ np.uint64(0x9E3779B97F4A7C15))  # never 0: seed >= 0
+    dirty = np.ones(m1, dtype=np.bool_)
     won = 0
     for _ in range(rounds):
         _ruin_recreate(base, pos, active, routes, lens, edge, jt, table, row_of, ends, size,
                        rs)
-        _improve(base, pos, active, routes, lens, edge, jt, table, row_of, passes)
+        for a in range(m1):
+            dirty[a] = not optimal or lens[a] != kept_lens[a]
+            for i in range(lens[a]):
+                if dirty[a]:
+                    break
+                dirty[a] = routes[a, i] != kept[a, i]
+        settled = _improve_from(base, pos, active, routes, lens, edge, jt, table, row_of,
+                                passes, dirty) < passes
         mk, sm = _plan_ends(base, pos, active, routes, lens, edge, jt, table, row_of, ends)
         if _lex_lower(mk, sm, best_m, best_s):
             best_m = mk
             best_s = sm
             kept[:] = routes
             kept_lens[:] = lens
+            optimal = settled
             won += 1
         else:
             routes[:] = kept
@@ -670,16 +730,20 @@ class MadgtaP(MadgtaR):
     agent's previous plan, brought up to date, when it is better than MADGTA's (so the
     rounds add up from decision to decision).
     ``follow``: go to the plan's first vertex instead of rolling it out (not kept, for the
-    benches); ``commit`` (with ``follow``): keep heading for a distant first vertex until
-    it is reached or taken. Every other keyword is madgta-r's (``max_vacant``, ``k``, ...).
+    benches); ``"walls"``: only once a wall is known (on an open lattice the decision is
+    the rollout's, without ``ils`` or ``keep``, because there a followed plan lost);
+    ``commit`` (with ``follow``): keep heading for a distant first vertex until it is
+    reached or taken. Every other keyword is madgta-r's (``max_vacant``, ``k``, ...).
     """
 
     name = "madgta-p"
 
-    def __init__(self, passes: int = 50, follow: bool = False, commit: bool = False,
+    def __init__(self, passes: int = 50, follow: bool | str = False, commit: bool = False,
                  ils: int = 0, ruin: int = 12, keep: bool = False,
                  **rollout: object) -> None:
         super().__init__(**rollout)  # type: ignore[arg-type]
+        if follow not in (False, True, "walls"):
+            raise ValueError(f"follow must be True, False or 'walls', got {follow!r}")
         if passes < 0:
             raise ValueError(f"passes must be >= 0, got {passes}")
         if ils < 0:
@@ -693,7 +757,7 @@ class MadgtaP(MadgtaR):
         if commit and not follow:
             raise ValueError("commit needs follow=True")
         self.passes = passes
-        self.hybrid = not follow
+        self.follow = follow
         self.commit = commit
         self._target: dict[int, int] = {}
         self.plans = 0  # decisions planned (for the benches)
@@ -728,6 +792,10 @@ class MadgtaP(MadgtaR):
         loc, dest, tfree, mode, intent, resv = state
         if vacant.size == 0:
             return self._plain.decide(belief, rng)
+        following = self.follow is True or (self.follow == "walls" and not known.open_lattice)
+        # with follow="walls" the search and the kept plan serve the followed plan only,
+        # so that on an open lattice the decision is exactly the rollout's
+        searched = self.follow != "walls" or following
         routes = np.full((loc.size, vacant.size + 1), -1, dtype=np.int64)
         lens = np.zeros(loc.size, dtype=np.int64)
         f = _team_plan(
@@ -735,11 +803,12 @@ class MadgtaP(MadgtaR):
             belief.reserved.copy(), vacant, table, row_of, loc.copy(), dest.copy(),
             tfree.copy(), mode.copy(), intent.copy(), resv.copy(), belief.time_per_unit,
             belief.job_time, known.step, self._ids(g.n_nodes), self.passes, routes, lens,
-            self.ils, self.ruin, *self._warm(me, loc.size),
+            self.ils if searched else 0, self.ruin,
+            *self._warm(me, loc.size if searched else 0),
         )
-        if self.keep:
+        if self.keep and searched:
             self._kept[me] = (routes, lens)
-        if self.hybrid:  # the plan's vertex as one more candidate of madgta-r's rollout
+        if not following:  # the plan's vertex as one more candidate of madgta-r's rollout
             cands, kinds = self._candidates(belief, vacant, table, row_of, state)
             if not cands:
                 return self._plain.decide(belief, rng)
