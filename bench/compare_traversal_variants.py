@@ -31,6 +31,12 @@ with a message. den520d is left out by default (a run with 16 agents takes about
     .venv/bin/python bench/compare_traversal_variants.py --section variants --seeds 10
     .venv/bin/python bench/compare_traversal_variants.py --quick         # small maps only
     .venv/bin/python bench/compare_traversal_variants.py --json out.json --jobs 2
+    .venv/bin/python bench/compare_traversal_variants.py --section variants --agents 16 \
+        --algorithms madgta madgta-k madgta-f --reference madgta-k --runs runs.jsonl
+
+``--runs`` keeps every finished run in a JSON-lines file and reuses the runs already there,
+so an interrupted bench loses nothing and a larger bench grows a smaller one;
+``--reference`` adds the paired tables against another algorithm of the same runs.
 """
 
 from __future__ import annotations
@@ -39,9 +45,9 @@ import json
 import os
 import sys
 import time
-from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures import ProcessPoolExecutor, as_completed
 from contextlib import contextmanager
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from pathlib import Path
 
 import numpy as np
@@ -198,21 +204,46 @@ def run_one(job: Job) -> dict:
     }
 
 
-def run_all(jobs: list[Job], workers: int) -> list[dict]:
-    done: list[dict] = []
+def _job_key(row: dict) -> tuple:
+    """What identifies a run (a Job's fields), for reusing saved runs."""
+    return tuple(row[f.name] for f in fields(Job))
+
+
+def run_all(jobs: list[Job], workers: int, runs: Path | None = None) -> list[dict]:
+    """Every job's figures, in the jobs' order. With ``runs`` (a JSON-lines file), each
+    finished run is appended to it at once and runs already there are reused, not run
+    again: an interrupted bench loses no finished run, and a larger one grows a smaller."""
+    saved: dict[tuple, dict] = {}
+    if runs is not None and runs.exists():
+        for line in runs.read_text().splitlines():
+            if line.strip():
+                row = json.loads(line)
+                saved[_job_key(row)] = row
+    todo = [j for j in dict.fromkeys(jobs) if _job_key(j.__dict__) not in saved]
+    if runs is not None:
+        print(f"  {len(jobs) - len(todo)} of {len(jobs)} runs reused from {runs}",
+              file=sys.stderr)
+
+    def finished(row: dict) -> None:
+        saved[_job_key(row)] = row
+        if runs is not None:
+            with runs.open("a") as f:
+                f.write(json.dumps(row) + "\n")
+
     t0 = time.perf_counter()
     if workers <= 1:
-        for i, job in enumerate(jobs, 1):
-            done.append(run_one(job))
-            _progress(i, len(jobs), t0)
-    else:
+        for i, job in enumerate(todo, 1):
+            finished(run_one(job))
+            _progress(i, len(todo), t0)
+    elif todo:
         with ProcessPoolExecutor(workers) as pool:
-            for i, res in enumerate(pool.map(run_one, jobs), 1):
-                done.append(res)
-                _progress(i, len(jobs), t0)
+            futures = [pool.submit(run_one, job) for job in todo]
+            for i, fut in enumerate(as_completed(futures), 1):
+                finished(fut.result())
+                _progress(i, len(todo), t0)
     if sys.stderr.isatty():
         print(file=sys.stderr)
-    return done
+    return [saved[_job_key(j.__dict__)] for j in jobs]
 
 
 def _progress(i: int, n: int, t0: float) -> None:
@@ -233,11 +264,12 @@ def select(rows: list[dict], **key) -> list[dict]:
     return sorted(out, key=lambda r: r["seed"])
 
 
-def variants_table(rows: list[dict], algorithms: list[str], variant: str = "madgta+") -> list[str]:
+def variants_table(rows: list[dict], algorithms: list[str], variant: str = "madgta+",
+                   ref: str = "madgta") -> list[str]:
     lines = [
         "| map | agents | nests | "
         + " | ".join(f"{a} makespan" for a in algorithms)
-        + f" | {variant} / madgta | paired Δ (95 % CI) | "
+        + f" | {variant} / {ref} | paired Δ (95 % CI) | "
         + " | ".join(f"{a} total_time_all" for a in algorithms)
         + " | "
         + " | ".join(f"{a} moves w/o job" for a in algorithms)
@@ -248,7 +280,7 @@ def variants_table(rows: list[dict], algorithms: list[str], variant: str = "madg
     for mp, m, mode in cells:
         means = {a: select(rows, map=mp, agents=m, mode=mode, algorithm=a) for a in algorithms}
         mk = {a: np.array([r["makespan"] for r in v]) for a, v in means.items()}
-        base, plus = mk.get("madgta"), mk.get(variant)
+        base, plus = mk.get(ref), mk.get(variant)
         if base is not None and plus is not None and base.size == plus.size and base.size:
             d, half = paired_ci(plus, base)
             ratio = f"{plus.mean() / base.mean():.3f}"
@@ -270,12 +302,12 @@ def variants_table(rows: list[dict], algorithms: list[str], variant: str = "madg
 
 
 def pooled_summary(rows: list[dict], by: str, variant: str = "madgta+",
-                   metric: str = "makespan") -> list[str]:
-    """Paired relative difference ``variant`` vs madgta, pooled per ``by`` ("map" or
+                   metric: str = "makespan", ref: str = "madgta") -> list[str]:
+    """Paired relative difference ``variant`` vs ``ref``, pooled per ``by`` ("map" or
     "agents"), of ``metric`` (``makespan`` or ``total_time_all``).
 
-    Each run of the variant is paired with madgta's run on the same map, agents, nests and
-    seed; the mean of ``variant / madgta − 1`` gets a 95 % Student-t interval.
+    Each run of the variant is paired with ``ref``'s run on the same map, agents, nests and
+    seed; the mean of ``variant / ref − 1`` gets a 95 % Student-t interval.
     """
     lines = [
         f"| {by} | runs | mean {metric} ratio | paired relative Δ (95 % CI) | better in |",
@@ -288,7 +320,7 @@ def pooled_summary(rows: list[dict], by: str, variant: str = "madgta+",
         for mp, m, mode in cells:
             if key is not None and {"map": mp, "agents": m}[by] != key:
                 continue
-            base = select(rows, map=mp, agents=m, mode=mode, algorithm="madgta")
+            base = select(rows, map=mp, agents=m, mode=mode, algorithm=ref)
             plus = select(rows, map=mp, agents=m, mode=mode, algorithm=variant)
             if len(base) != len(plus) or not base:
                 continue
@@ -341,22 +373,24 @@ def comm_table(rows: list[dict]) -> list[str]:
     return lines
 
 
-def print_summaries(rows: list[dict], variant: str = "madgta+") -> None:
+def print_summaries(rows: list[dict], variant: str = "madgta+", ref: str = "madgta") -> None:
     for metric in ("makespan", "total_time_all"):
         if metric == "total_time_all" and variant == "madgta+":
             continue  # madgta+ aims at the makespan; madgta-h at the sum as well
-        v = f"{variant} / madgta, {metric}"
+        v = f"{variant} / {ref}, {metric}"
         print(f"\n## {v} per map (agent counts and nests pooled)\n")
-        print("\n".join(pooled_summary(rows, "map", variant, metric)))
+        print("\n".join(pooled_summary(rows, "map", variant, metric, ref)))
         print(f"\n## {v} per agent count (maps and nests pooled)\n")
-        print("\n".join(pooled_summary(rows, "agents", variant, metric)))
+        print("\n".join(pooled_summary(rows, "agents", variant, metric, ref)))
         crowded = [r for r in rows if r["agents"] == max(x["agents"] for x in rows)]
         print(f"\n## {v} per map, {crowded[0]['agents']} agents only\n")
-        print("\n".join(pooled_summary(crowded, "map", variant, metric)))
+        print("\n".join(pooled_summary(crowded, "map", variant, metric, ref)))
 
 
-def print_variant_tables(rows: list[dict], algorithms: list[str]) -> None:
-    """Per fleet: the mean table and the paired summaries of each variant against madgta."""
+def print_variant_tables(rows: list[dict], algorithms: list[str],
+                         references: tuple[str, ...] = ()) -> None:
+    """Per fleet: the mean table and the paired summaries of each variant against madgta,
+    and against each of ``references`` (other algorithms of the same runs)."""
     for fleet in FLEETS:
         part = [r for r in rows if r.get("fleet", "same") == fleet]
         if not part:
@@ -367,6 +401,10 @@ def print_variant_tables(rows: list[dict], algorithms: list[str]) -> None:
             print("\n".join(variants_table(part, algs, variant)))
             if "madgta" in algs:
                 print_summaries(part, variant)
+            for ref in [r for r in references if r in algs and r != variant]:
+                print(f"\n## {fleet} agents: {variant} against {ref} (mean over seeds)\n")
+                print("\n".join(variants_table(part, algs, variant, ref)))
+                print_summaries(part, variant, ref)
         print(f"\n## {fleet} agents: CPU seconds per run (mean over the runs above)\n")
         print("| algorithm | " + " | ".join(sorted({r['map'] for r in part}, key=_map_order))
               + " |")
@@ -413,6 +451,12 @@ def main(argv: list[str] | None = None) -> int:
                     help="worker processes (default 1)")
     ap.add_argument("--json", type=_cli.out_file, default=None,
                     help="write every run's figures here")
+    ap.add_argument("--runs", type=Path, default=None,
+                    help="a JSON-lines file: each finished run is appended to it, and runs "
+                    "already in it are reused (an interrupted bench loses no finished run)")
+    ap.add_argument("--reference", nargs="+", default=[],
+                    help="also pair every variant with these algorithms of the same runs "
+                    "(e.g. madgta-k), besides madgta")
     ap.add_argument(
         "--from-json",
         type=Path,
@@ -427,12 +471,15 @@ def main(argv: list[str] | None = None) -> int:
         if saved.get("variants"):
             rows = saved["variants"]
             algs = list(dict.fromkeys(r["algorithm"] for r in rows))
-            print_variant_tables(rows, algs)
+            print_variant_tables(rows, algs, tuple(args.reference))
         if saved.get("comm"):
             print("\n## Imperfect channels\n")
             print("\n".join(comm_table(saved["comm"])))
         return 0
     check_algorithms([*args.algorithms, *args.comm_algorithms])
+    for ref in args.reference:
+        if ref not in args.algorithms:
+            ap.error(f"--reference {ref}: not one of --algorithms")
     maps = args.maps or (QUICK_MAPS if args.quick else MAPS)
     seeds = range(3 if args.quick else args.seeds)
     out: dict[str, list[dict]] = {}
@@ -451,10 +498,10 @@ def main(argv: list[str] | None = None) -> int:
             for alg in args.algorithms
         ]
         print(f"variants: {len(jobs)} runs on {', '.join(present)}", file=sys.stderr)
-        rows = run_all(jobs, args.jobs) if jobs else []
+        rows = run_all(jobs, args.jobs, args.runs) if jobs else []
         out["variants"] = rows
         if rows:
-            print_variant_tables(rows, args.algorithms)
+            print_variant_tables(rows, args.algorithms, tuple(args.reference))
 
     if args.section in ("comm", "both"):
         present = [m for m in args.comm_maps if load(m) is not None]
@@ -469,7 +516,7 @@ def main(argv: list[str] | None = None) -> int:
             )
         ]
         print(f"comm: {len(jobs)} runs on {', '.join(present)}", file=sys.stderr)
-        rows = run_all(jobs, args.jobs) if jobs else []
+        rows = run_all(jobs, args.jobs, args.runs) if jobs else []
         out["comm"] = rows
         if rows:
             print(f"\n## Imperfect channels ({args.comm_agents} agents, own nests)\n")

@@ -53,6 +53,8 @@ BAD = [
     ("compare_foraging_patterns.py", ["--load", "/nonexistent/runs.json"],
      "cannot read /nonexistent/runs.json"),
     ("compare_traversal_variants.py", ["--algorithms", "nope"], "unknown online algorithm"),
+    ("compare_traversal_variants.py", ["--algorithms", "madgta", "--reference", "madgta-k"],
+     "--reference madgta-k: not one of --algorithms"),
     ("compare_traversal_fingerprints.py", ["--rev", "no-such-revision-xyz", "--seeds", "1"],
      "--rev no-such-revision-xyz"),
     ("gap_traversal_optimal.py", ["--instances", "0"], "must be at least 1"),
