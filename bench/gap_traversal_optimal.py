@@ -65,6 +65,7 @@ import _cli
 from swarmex.engine.stats import summarize
 from swarmex.missions.traversal import Madgta, run_metrics, run_traversal, sim
 from swarmex.missions.traversal.agents import AgentSpec
+from swarmex.missions.traversal.followed import MadgtaF
 from swarmex.missions.traversal.madgta_h import MadgtaH
 from swarmex.missions.traversal.optimal import solve_optimal
 from swarmex.missions.traversal.partition import MadgtaK
@@ -107,12 +108,13 @@ def online_policy(name: str) -> str | Madgta:
     """An algorithm name; ``madgta-h@RHO`` for madgta-h at another point of its trade-off;
     ``madgta-r@KEY=VALUE,...`` for madgta-r with other settings (``MadgtaR``'s keywords,
     e.g. ``madgta-r@far=2,ties=4``), ``madgta-p@KEY=VALUE,...`` likewise (``MadgtaP``;
-    ``madgta-k@...``: ``MadgtaK``). A
+    ``madgta-k@...``: ``MadgtaK``; ``madgta-f@...``: ``MadgtaF``). A
     ``known:`` prefix is dropped (see :func:`map_known`)."""
     name = name.removeprefix(KNOWN)
     if name.startswith("madgta-h@"):
         return MadgtaH(rho=float(name.split("@", 1)[1]))
-    for prefix, cls in (("madgta-r@", MadgtaR), ("madgta-p@", MadgtaP), ("madgta-k@", MadgtaK)):
+    for prefix, cls in (("madgta-r@", MadgtaR), ("madgta-p@", MadgtaP), ("madgta-k@", MadgtaK),
+                        ("madgta-f@", MadgtaF)):
         if name.startswith(prefix):
             kw = {}
             for item in name.split("@", 1)[1].split(","):

@@ -412,9 +412,9 @@ def test_madgta_h_dispatch_with_a_mixed_fleet(tmp_path, capsys):
     assert rec["metrics"]["total_time_all"] < plus["metrics"]["total_time_all"]
 
 
-@pytest.mark.parametrize("algorithm", ["madgta-r", "madgta-p", "madgta-k"])
+@pytest.mark.parametrize("algorithm", ["madgta-r", "madgta-p", "madgta-k", "madgta-f"])
 def test_madgta_r_dispatch(tmp_path, capsys, algorithm):
-    """``--algorithm madgta-r`` (and madgta-p, madgta-k): the record replays, names the
+    """``--algorithm madgta-r`` (and madgta-p, madgta-k, madgta-f): the record replays, names the
     algorithm and equals swarmex.run's."""
     import swarmex
 
@@ -433,7 +433,7 @@ def test_madgta_r_dispatch(tmp_path, capsys, algorithm):
 
 
 @pytest.mark.parametrize("algorithm", ["madgta", "madgta+", "madgta-h", "nearest",
-                                       "madgta-r", "madgta-p", "madgta-k"])
+                                       "madgta-r", "madgta-p", "madgta-k", "madgta-f"])
 def test_only_light_policies_run_interpreted_on_small_maps(algorithm):
     """A one-shot run on a small map keeps numba unloaded (kernels interpreted) only for the
     policies whose kernels do little; the simulating ones always compile. Interpreted,
@@ -445,7 +445,7 @@ def test_only_light_policies_run_interpreted_on_small_maps(algorithm):
 
     params = TraversalParams(grid=(12, 12), agents=4, algorithm=algorithm)
     prepared = get("traversal").prepare(params)
-    simulating = algorithm in ("madgta-r", "madgta-p", "madgta-k")
+    simulating = algorithm in ("madgta-r", "madgta-p", "madgta-k", "madgta-f")
     assert POLICIES[algorithm].simulates is simulating
     assert small(params, prepared) is not simulating
 

@@ -62,7 +62,7 @@ def serve(
     job_time: float = typer.Option(_default("job_time"), "--job-time", help="Seconds per job."),
     algorithm: str = typer.Option(
         _default("algorithm"), "--algorithm",
-        help="madgta | madgta+ | madgta-r | madgta-p | madgta-k | nearest.",
+        help="madgta | madgta+ | madgta-r | madgta-p | madgta-k | madgta-f | nearest.",
     ),
     connectivity: int = typer.Option(_default("connectivity"), "--connectivity", help="4 or 8."),
     start_interval: float = typer.Option(

@@ -642,8 +642,8 @@ def warm_policy(algorithm: str) -> None:
     big = np.ones((10, 10), dtype=bool)
     big[4, 2:8] = False
     world = GridWorld(big, 4, source="warm-up")
-    if algorithm == "madgta-k":
-        sweep = POLICIES["madgta-k"](max_vacant=20)  # type: ignore[call-arg]
+    if algorithm in ("madgta-k", "madgta-f"):
+        sweep = POLICIES[algorithm](max_vacant=20)  # type: ignore[call-arg]
         run_traversal(world, team, algorithm=sweep, seed=1)
     elif algorithm in ("madgta+", "nearest"):
         run_inprocess(Mission(world, team, seed=1, algorithm=algorithm))

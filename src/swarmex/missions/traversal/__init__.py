@@ -1,6 +1,7 @@
 """Traversal mission (seed 000): MADGTA, its baselines and variants on any graph."""
 
 from swarmex.missions.traversal import (
+    followed,  # noqa: F401,E402  (registers madgta-f)
     madgta_h,  # noqa: F401,E402  (registers madgta-h)
     partition,  # noqa: F401,E402  (registers madgta-k)
     rollout,  # noqa: F401,E402  (registers madgta-r)

@@ -55,7 +55,8 @@ if TYPE_CHECKING:
     from swarmex.worlds.grid import GridWorld
 
 ALGORITHMS = (
-    "madgta", "madgta+", "madgta-h", "madgta-r", "madgta-p", "madgta-k", "nearest", "optimal"
+    "madgta", "madgta+", "madgta-h", "madgta-r", "madgta-p", "madgta-k", "madgta-f", "nearest",
+    "optimal",
 )
 OBJECTIVES = ("sum", "makespan")
 MAX_GRID_CELLS = 16_000_000  # a 4000x4000 grid; beyond that the arrays alone exhaust memory
@@ -172,7 +173,8 @@ class TraversalParams(Params):
         help="madgta | madgta+ | madgta-h (mixed fleets: lower sum, longer makespan)"
         " | madgta-r (rollout over MADGTA in the end game) | madgta-p (madgta-r with an"
         " end-game team plan's vertex as one more candidate) | madgta-k (madgta-p with a sweep"
-        " kept to each agent's part of a balanced partition) | nearest | optimal (exact MILP).",
+        " kept to each agent's part of a balanced partition) | madgta-f (madgta-k following"
+        " its own end-game plan once a wall is known) | nearest | optimal (exact MILP).",
         parse=text(ALGORITHMS),
     )
     objective: str = option(
