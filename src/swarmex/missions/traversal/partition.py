@@ -75,6 +75,8 @@ against MADGTA and -0.27 % ± 0.15 % against madgta-k (random-64-64-20 -1.01 %, 
 -0.36 %), no map and nest row above MADGTA. A truly balanced partition (a capacitated
 assignment instead of the weights) was as good as the weights, not better, at 2-3 times
 the CPU on the large maps (docs/traversal-variants.md §6, "Tried and not kept").
+``madgta-f`` (:mod:`.followed`) is this gated madgta-k whose agents follow a searched, kept
+end-game plan once a wall is known: -2.88 % ± 0.49 % against MADGTA (§7).
 
 Cost
 ----
