@@ -76,6 +76,8 @@ BAD = [
      "cannot read /nonexistent/fp.json"),
     ("profile_traversal.py", ["--case", "empty", "--agents", "0"], "must be at least 1"),
     ("endgame_headroom.py", ["--x", "0"], "must be at least 1"),
+    ("traversal_idle_moves.py", ["--end", "0"], "must be at least 1"),
+    ("traversal_idle_moves.py", ["--algorithms", "nope"], "unknown online algorithm"),
 ]
 
 

@@ -1,0 +1,101 @@
+"""Where a traversal's time goes: moves without a job before and in the end game.
+
+For each (map, nests, seed, algorithm) it runs the mission as
+bench/compare_traversal_variants.py does (16 identical agents, 2 s per edge, 9 s per job,
+the same nests and seeds) and replays each agent's path to split its moves without a job
+by phase: "end game" once at most ``--end`` jobs remain in the whole team (a replay: every
+move 2 s, every job 9 s, starts 0.5 s apart; waits are not in the paths, so the replayed
+times can fall a few seconds short of the run's). It prints the makespan, the replayed
+mean finishing time and the two counts (docs/traversal-variants.md §7, "Where the rest of
+the time goes").
+
+    .venv/bin/python bench/traversal_idle_moves.py --maps random-64-64-20 \\
+        warehouse-10-20-10-2-1 room-32-32-4 --algorithms madgta madgta-f
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import numpy as np
+
+import _cli
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from compare_traversal_variants import (  # noqa: E402
+    JOB,
+    NEST_MODES,
+    TRAVEL,
+    fleet_for,
+    load,
+    nests_for,
+)
+from gap_traversal_optimal import check_algorithms, online_policy  # noqa: E402
+from swarmex.missions.traversal import run_metrics, run_traversal  # noqa: E402
+
+START_INTERVAL = 0.5  # run_traversal's default, as the comparison bench runs it
+
+
+def idle_moves(run, end: int) -> tuple[float, int, int]:
+    """(replayed mean finish, moves without a job before the end game, in it)."""
+    events: list[tuple[float, int]] = []  # (time, 0: a job ends, 1: a move without a job)
+    finish = []
+    for i, agent in enumerate(run.agents):
+        t = START_INTERVAL * i
+        for k, (_, job) in enumerate(agent.path):
+            if k > 0:
+                t += TRAVEL
+                if not job:
+                    events.append((t, 1))
+            if job:
+                t += JOB
+                events.append((t, 0))
+        finish.append(t)
+    events.sort()
+    left = sum(1 for _, kind in events if kind == 0)
+    before = during = 0
+    for _, kind in events:
+        if kind == 0:
+            left -= 1
+        elif left > end:
+            before += 1
+        else:
+            during += 1
+    return float(np.mean(finish)), before, during
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = _cli.Parser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--maps", nargs="+", default=["random-64-64-20", "warehouse-10-20-10-2-1",
+                                                  "room-32-32-4"])
+    ap.add_argument("--algorithms", nargs="+", default=["madgta", "madgta-f"])
+    ap.add_argument("--nests", nargs="+", choices=NEST_MODES, default=["shared"])
+    ap.add_argument("--seeds", type=_cli.positive_int, default=1)
+    ap.add_argument("--agents", type=_cli.positive_int, default=16)
+    ap.add_argument("--end", type=_cli.positive_int, default=200,
+                    help="jobs left when the end game starts (default 200, madgta-p's)")
+    args = ap.parse_args(argv)
+    check_algorithms(args.algorithms)
+    print("| map | nests | seed | algorithm | makespan | replayed mean finish "
+          "| moves w/o job before the end game | in the end game |")
+    print("|---|---|---|---|---|---|---|---|")
+    for mp in args.maps:
+        world = load(mp)
+        if world is None:  # load() has said so
+            continue
+        for mode in args.nests:
+            for seed in range(args.seeds):
+                nests = nests_for(world, args.agents, mode, seed)
+                for alg in args.algorithms:
+                    run = run_traversal(world, fleet_for(nests, "same", seed),
+                                        online_policy(alg), seed=seed)
+                    makespan = run_metrics(run, 1.0)[0]["max_total_time"]
+                    mean, before, during = idle_moves(run, args.end)
+                    print(f"| {mp} | {mode} | {seed} | {alg} | {makespan:.0f} | {mean:.0f} "
+                          f"| {before} | {during} |", flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    _cli.run(main)
