@@ -38,6 +38,7 @@ def _world_and_nests(size: int, density: float, k: int, seed: int):
         (9, 0.2, 4, 6, {"algorithm": "madgta-r"}),
         (9, 0.2, 4, 5, {"algorithm": "madgta-p"}),
         (9, 0.2, 4, 7, {"algorithm": "madgta-k"}),
+        (9, 0.2, 4, 8, {"algorithm": "madgta-f"}),
         (7, 0.1, 2, 4, {"start_interval": 0.0}),
     ],
 )
