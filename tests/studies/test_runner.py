@@ -167,14 +167,16 @@ from studies.test_runner import jobs, key, square
 
 if __name__ == "__main__":
     with Journal({path!r}) as journal:
-        run_jobs(jobs(60, sleep=0.05), square, key, store=journal, workers=2, show=False)
+        run_jobs(jobs(60, sleep=0.15), square, key, store=journal, workers=2, show=False)
 """
 
 
 @pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGKILL])
 def test_a_stopped_driver_loses_no_finished_run(tmp_path, log, sig):
     """Ctrl-C or SIGKILL a driver mid-run: the rerun runs only what never finished (a killed
-    driver's last results are folded in from the workers' spool)."""
+    driver's last results are folded in from the workers' spool). The runs take 0.15 s each
+    (4.5 s in all on two workers), so that on a loaded machine the signal still comes part
+    way: with 0.05 s a CI run once saw all 60 finish before it."""
     path = tmp_path / "runs.jsonl"
     script = tmp_path / "drive.py"
     tests = str(Path(__file__).resolve().parents[1])
@@ -194,7 +196,7 @@ def test_a_stopped_driver_loses_no_finished_run(tmp_path, log, sig):
     assert 6 <= len(set(before)) < 60, "the driver should have been stopped part way"
     log.unlink()
     with Journal(path) as journal:
-        out = run_jobs(jobs(60, sleep=0.05), square, key, store=journal, workers=2, show=False)
+        out = run_jobs(jobs(60, sleep=0.15), square, key, store=journal, workers=2, show=False)
     twice = set(ran(log)) & set(before)
     # Ctrl-C: the driver waits for the runs in flight and keeps them; SIGKILL: a run a
     # worker had started and not finished (at most one per worker) is run again
