@@ -167,22 +167,28 @@ from studies.test_runner import jobs, key, square
 
 if __name__ == "__main__":
     with Journal({path!r}) as journal:
-        run_jobs(jobs(60, sleep=0.15), square, key, store=journal, workers=2, show=False)
+        run_jobs(jobs(60, sleep=0.05), square, key, store=journal, workers=2, show=False)
 """
+
+
+def _sigint_default() -> None:
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
 
 
 @pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGKILL])
 def test_a_stopped_driver_loses_no_finished_run(tmp_path, log, sig):
     """Ctrl-C or SIGKILL a driver mid-run: the rerun runs only what never finished (a killed
-    driver's last results are folded in from the workers' spool). The runs take 0.15 s each
-    (4.5 s in all on two workers), so that on a loaded machine the signal still comes part
-    way: with 0.05 s a CI run once saw all 60 finish before it."""
+    driver's last results are folded in from the workers' spool)."""
     path = tmp_path / "runs.jsonl"
     script = tmp_path / "drive.py"
     tests = str(Path(__file__).resolve().parents[1])
     script.write_text(SCRIPT.format(tests=tests, path=str(path)))
     env = {**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)}
-    proc = subprocess.Popen([sys.executable, str(script)], env=env, stderr=subprocess.PIPE)
+    # a background job of a non-interactive shell (a CI script run with "&") inherits
+    # SIGINT ignored, and Python then never raises KeyboardInterrupt: the child gets Ctrl-C's
+    # default back, as a terminal's process would have it
+    proc = subprocess.Popen([sys.executable, str(script)], env=env, stderr=subprocess.PIPE,
+                            preexec_fn=_sigint_default)
     try:
         deadline = time.monotonic() + 60
         while time.monotonic() < deadline and proc.poll() is None:
@@ -196,7 +202,7 @@ def test_a_stopped_driver_loses_no_finished_run(tmp_path, log, sig):
     assert 6 <= len(set(before)) < 60, "the driver should have been stopped part way"
     log.unlink()
     with Journal(path) as journal:
-        out = run_jobs(jobs(60, sleep=0.15), square, key, store=journal, workers=2, show=False)
+        out = run_jobs(jobs(60, sleep=0.05), square, key, store=journal, workers=2, show=False)
     twice = set(ran(log)) & set(before)
     # Ctrl-C: the driver waits for the runs in flight and keeps them; SIGKILL: a run a
     # worker had started and not finished (at most one per worker) is run again
