@@ -26,7 +26,9 @@ both nest modes, 80 paired runs, Student-t 95 % intervals): makespan -2.88 % ± 
 against MADGTA (better in 74 of 80), -0.94 % ± 0.21 % against madgta-k and -0.66 % ± 0.20 %
 against madgta-k with the size gate; every map's interval against MADGTA excludes zero
 (empty-16-16 -4.53 %, random-32-32-20 -3.73 %, room-32-32-4 -3.32 %, random-64-64-20
--2.00 %, warehouse-10-20-10-2-1 -0.82 %), and no map and nest row is above it. Issue 17's
+-2.00 %, warehouse-10-20-10-2-1 -0.82 %), and no map and nest row is above it. With seeds
+8-15 as well (160 runs): -2.76 % ± 0.35 % against MADGTA and -1.05 % ± 0.17 % against
+madgta-k. Issue 17's
 -3 % is not reached: the large maps gain least, and their end game is a small share of
 their mission. On the 32 gap instances (bench/gap_traversal_optimal.py): identical agents
 sum / makespan gap 1.70 / 1.84 % (madgta-k 1.38 / 1.27 %: on a tiny walled grid the
