@@ -2,11 +2,10 @@
 
 For each (map, nests, seed, algorithm) it runs the mission as
 bench/compare_traversal_variants.py does (16 identical agents, 2 s per edge, 9 s per job,
-the same nests and seeds) and replays each agent's path to split its moves without a job
-by phase: "end game" once at most ``--end`` jobs remain in the whole team (a replay: every
-move 2 s, every job 9 s, starts 0.5 s apart; waits are not in the paths, so the replayed
-times can fall a few seconds short of the run's). It prints the makespan, the replayed
-mean finishing time and the two counts (docs/traversal-variants.md §7, "Where the rest of
+the same nests and seeds) and splits each agent's moves without a job
+by phase: "end game" once at most ``--end`` jobs of the whole team are still to start (the
+times are the agents' own logs). It prints the makespan, the mean finishing time and the
+two counts (docs/traversal-variants.md §7, "Where the rest of
 the time goes").
 
     .venv/bin/python bench/traversal_idle_moves.py --maps random-64-64-20 \\
@@ -23,46 +22,25 @@ import numpy as np
 import _cli
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from compare_traversal_variants import (  # noqa: E402
-    JOB,
-    NEST_MODES,
-    TRAVEL,
-    fleet_for,
-    load,
-    nests_for,
-)
+from compare_traversal_variants import NEST_MODES, fleet_for, load, nests_for  # noqa: E402
 from gap_traversal_optimal import check_algorithms, online_policy  # noqa: E402
 from swarmex.missions.traversal import run_metrics, run_traversal  # noqa: E402
 
-START_INTERVAL = 0.5  # run_traversal's default, as the comparison bench runs it
-
 
 def idle_moves(run, end: int) -> tuple[float, int, int]:
-    """(replayed mean finish, moves without a job before the end game, in it)."""
-    events: list[tuple[float, int]] = []  # (time, 0: a job ends, 1: a move without a job)
-    finish = []
-    for i, agent in enumerate(run.agents):
-        t = START_INTERVAL * i
-        for k, (_, job) in enumerate(agent.path):
-            if k > 0:
-                t += TRAVEL
-                if not job:
-                    events.append((t, 1))
-            if job:
-                t += JOB
-                events.append((t, 0))
-        finish.append(t)
-    events.sort()
-    left = sum(1 for _, kind in events if kind == 0)
-    before = during = 0
-    for _, kind in events:
-        if kind == 0:
-            left -= 1
-        elif left > end:
-            before += 1
-        else:
-            during += 1
-    return float(np.mean(finish)), before, during
+    """(mean finishing time, moves without a job before the end game, in it), from the
+    agents' logged times: a move without a job is an arrival where no job starts, and it is
+    in the end game once at most ``end`` jobs are still to start."""
+    starts = np.sort([t for agent in run.agents for t, _ in agent.jobs])
+    idle = []
+    for agent in run.agents:
+        arrivals = agent.trajectory[1:]  # the first entry is the start
+        # the path holds every arrival, and the start only when a job was done there
+        steps = agent.path[len(agent.path) - len(arrivals):]
+        idle += [t for (t, _), (_, job) in zip(arrivals, steps, strict=True) if not job]
+    left = starts.size - np.searchsorted(starts, np.array(idle), side="right")
+    before = int((left > end).sum())
+    return float(np.mean([agent.finished_at for agent in run.agents])), before, len(idle) - before
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -77,7 +55,7 @@ def main(argv: list[str] | None = None) -> int:
                     help="jobs left when the end game starts (default 200, madgta-p's)")
     args = ap.parse_args(argv)
     check_algorithms(args.algorithms)
-    print("| map | nests | seed | algorithm | makespan | replayed mean finish "
+    print("| map | nests | seed | algorithm | makespan | mean finish "
           "| moves w/o job before the end game | in the end game |")
     print("|---|---|---|---|---|---|---|---|")
     for mp in args.maps:

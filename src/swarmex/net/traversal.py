@@ -634,6 +634,7 @@ def warm_policy(algorithm: str) -> None:
     if algorithm == "madgta":
         return
     from swarmex.missions.traversal.agents import uniform_agents
+    from swarmex.missions.traversal.partition import MadgtaK
     from swarmex.missions.traversal.policies import POLICIES
     from swarmex.missions.traversal.sim import run_traversal
 
@@ -642,7 +643,7 @@ def warm_policy(algorithm: str) -> None:
     big = np.ones((10, 10), dtype=bool)
     big[4, 2:8] = False
     world = GridWorld(big, 4, source="warm-up")
-    if algorithm in ("madgta-k", "madgta-f"):
+    if issubclass(POLICIES[algorithm], MadgtaK):  # madgta-k and its followers (madgta-f)
         sweep = POLICIES[algorithm](max_vacant=20)  # type: ignore[call-arg]
         run_traversal(world, team, algorithm=sweep, seed=1)
     elif algorithm in ("madgta+", "nearest"):

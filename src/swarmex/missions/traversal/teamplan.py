@@ -603,11 +603,9 @@ def _iterated_search(
         _ruin_recreate(base, pos, active, routes, lens, edge, jt, table, row_of, ends, size,
                        rs)
         for a in range(m1):
-            dirty[a] = not optimal or lens[a] != kept_lens[a]
-            for i in range(lens[a]):
-                if dirty[a]:
-                    break
-                dirty[a] = routes[a, i] != kept[a, i]
+            n = lens[a]
+            dirty[a] = (not optimal or n != kept_lens[a]
+                        or np.any(routes[a, :n] != kept[a, :n]))
         settled = _improve_from(base, pos, active, routes, lens, edge, jt, table, row_of,
                                 passes, dirty) < passes
         mk, sm = _plan_ends(base, pos, active, routes, lens, edge, jt, table, row_of, ends)
@@ -810,8 +808,7 @@ class MadgtaP(MadgtaR):
             belief.reserved.copy(), vacant, table, row_of, loc.copy(), dest.copy(),
             tfree.copy(), mode.copy(), intent.copy(), resv.copy(), belief.time_per_unit,
             belief.job_time, known.step, self._ids(g.n_nodes), self.passes, routes, lens,
-            self.ils if searched else 0, self.ruin,
-            *self._warm(me, loc.size if searched else 0),
+            self.ils if searched else 0, self.ruin, *self._warm(me, loc.size, searched),
         )
         if self.keep and searched:
             self._kept[me] = (routes, lens)
@@ -840,9 +837,10 @@ class MadgtaP(MadgtaR):
         self.plans += 1
         return self._towards(belief, int(f), rng)
 
-    def _warm(self, me: int, rows: int) -> tuple[np.ndarray, np.ndarray]:
-        """The agent's previous plan (``keep``), or none (all lengths 0)."""
-        kept = self._kept.get(me) if self.keep else None
+    def _warm(self, me: int, rows: int, searched: bool) -> tuple[np.ndarray, np.ndarray]:
+        """The agent's previous plan (``keep``, when the plan is searched), or none (all
+        lengths 0)."""
+        kept = self._kept.get(me) if self.keep and searched else None
         if kept is None or kept[1].size != rows:
             return np.full((rows, 1), -1, dtype=np.int64), np.zeros(rows, dtype=np.int64)
         return kept
