@@ -181,10 +181,13 @@ def run_local(
                 try:
                     with _quiet_fork():  # the first submit forks the workers
                         flying[pool.submit(run_chunk, call, [s.job for s in chunk])] = chunk
-                except BrokenProcessPool:
+                except (BrokenProcessPool, OSError):
                     # a worker died while we were handing out work: the chunk was never
                     # sent, so it goes back where it came from; the futures in flight
-                    # report the break below (or, with none in flight, a new pool starts)
+                    # report the break below (or, with none in flight, a new pool starts).
+                    # OSError: the death can race the submit, which then starts a
+                    # replacement worker on the pool's already closed pipe ("handle is
+                    # closed", CPython's executor before 3.14; seen in a CI run)
                     (suspects if from_suspects else queue).extendleft(reversed(chunk))
                     if not flying:
                         breaks += 1
