@@ -53,7 +53,6 @@ what sets :data:`swarmex.missions.traversal.optimal.MAX_FREE_VERTICES`.
 
 from __future__ import annotations
 
-import ast
 import json
 import time
 from collections.abc import Iterator
@@ -63,14 +62,9 @@ import numpy as np
 
 import _cli
 from swarmex.engine.stats import summarize
-from swarmex.missions.traversal import Madgta, run_metrics, run_traversal, sim
+from swarmex.missions.traversal import make_policy, run_metrics, run_traversal, sim
 from swarmex.missions.traversal.agents import AgentSpec
-from swarmex.missions.traversal.followed import MadgtaF
-from swarmex.missions.traversal.madgta_h import MadgtaH
 from swarmex.missions.traversal.optimal import solve_optimal
-from swarmex.missions.traversal.partition import MadgtaK
-from swarmex.missions.traversal.rollout import MadgtaR
-from swarmex.missions.traversal.teamplan import MadgtaP
 from swarmex.worlds import random_obstacles
 
 
@@ -104,23 +98,15 @@ ALGORITHMS = ["madgta", "nearest", "madgta+", "madgta-h", "madgta-r"]
 KNOWN = "known:"
 
 
-def online_policy(name: str) -> str | Madgta:
-    """An algorithm name; ``madgta-h@RHO`` for madgta-h at another point of its trade-off;
-    ``madgta-r@KEY=VALUE,...`` for madgta-r with other settings (``MadgtaR``'s keywords,
-    e.g. ``madgta-r@far=2,ties=4``), ``madgta-p@KEY=VALUE,...`` likewise (``MadgtaP``;
-    ``madgta-k@...``: ``MadgtaK``; ``madgta-f@...``: ``MadgtaF``). A
-    ``known:`` prefix is dropped (see :func:`map_known`)."""
+def online_policy(name: str) -> str:
+    """The algorithm spec to run: a name, or ``NAME@KEY=VALUE,...`` with a policy's options
+    (``swarmex.missions.traversal.policies.parse_algorithm``, e.g. ``madgta-r@far=2,ties=4``);
+    ``madgta-h@RHO`` is short for ``madgta-h@rho=RHO``. A ``known:`` prefix is dropped (see
+    :func:`map_known`)."""
     name = name.removeprefix(KNOWN)
-    if name.startswith("madgta-h@"):
-        return MadgtaH(rho=float(name.split("@", 1)[1]))
-    for prefix, cls in (("madgta-r@", MadgtaR), ("madgta-p@", MadgtaP), ("madgta-k@", MadgtaK),
-                        ("madgta-f@", MadgtaF)):
-        if name.startswith(prefix):
-            kw = {}
-            for item in name.split("@", 1)[1].split(","):
-                key, value = item.split("=", 1)
-                kw[key] = None if value == "None" else ast.literal_eval(value)
-            return cls(**kw)
+    base, _, rest = name.partition("@")
+    if base == "madgta-h" and rest and "=" not in rest:
+        return f"madgta-h@rho={rest}"
     return name
 
 
@@ -138,10 +124,7 @@ def check_algorithms(names: list[str]) -> None:
             online = ", ".join(a for a in KNOWN_NAMES if a != "optimal")
             raise InputError(f"unknown online algorithm {name!r} (choose from {online}, "
                              "NAME@KEY=VALUE,... or known:NAME)")
-        try:
-            online_policy(name)
-        except (ValueError, TypeError, SyntaxError) as exc:
-            raise InputError(f"algorithm {name!r}: {exc}") from None
+        make_policy(online_policy(name))  # an InputError names what is wrong
 
 
 @contextmanager

@@ -31,6 +31,9 @@ CASES: list[tuple[str, dict[str, Any]]] = [
     ("traversal", dict(grid="6x6", agents=2, obstacles="1,1;2,2", nests="0,0;5,5",
                        comm_range=3, loss=0.2)),
     ("traversal", dict(grid="6x5", fleet=MIXED, algorithm="madgta-h")),
+    # a policy's options travel in the algorithm spec, spelled one way in the record
+    ("traversal", dict(grid="6x6", agents=3, obstacles="2,2;3,3",
+                       algorithm="madgta-f@keep=false,ils=4")),
     ("traversal", dict(grid="3x3", agents=2, algorithm="optimal")),
     ("traversal", dict(center="43.2,-79.9", radius=50, nodes_on_edge=3, agents=2)),
     # a metric fleet: the record fills in both travel_time and travel_speed per row, and

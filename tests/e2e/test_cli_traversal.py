@@ -413,7 +413,8 @@ def test_madgta_h_dispatch_with_a_mixed_fleet(tmp_path, capsys):
     assert rec["metrics"]["total_time_all"] < plus["metrics"]["total_time_all"]
 
 
-@pytest.mark.parametrize("algorithm", ["madgta-r", "madgta-p", "madgta-k", "madgta-f"])
+@pytest.mark.parametrize("algorithm", ["madgta-r", "madgta-p", "madgta-k", "madgta-f",
+                                       "madgta-f@ils=4,keep=false"])
 def test_madgta_r_dispatch(tmp_path, capsys, algorithm):
     """``--algorithm madgta-r`` (and madgta-p, madgta-k, madgta-f): the record replays, names the
     algorithm and equals swarmex.run's."""
@@ -434,7 +435,8 @@ def test_madgta_r_dispatch(tmp_path, capsys, algorithm):
 
 
 @pytest.mark.parametrize("algorithm", ["madgta", "madgta+", "madgta-h", "nearest",
-                                       "madgta-r", "madgta-p", "madgta-k", "madgta-f"])
+                                       "madgta-r", "madgta-p", "madgta-k", "madgta-f",
+                                       "madgta-p@ils=4", "madgta+@claim_radius=3"])
 def test_only_light_policies_run_interpreted_on_small_maps(algorithm):
     """A one-shot run on a small map keeps numba unloaded (kernels interpreted) only for the
     policies whose kernels do little; the simulating ones always compile. Interpreted,
@@ -446,8 +448,9 @@ def test_only_light_policies_run_interpreted_on_small_maps(algorithm):
 
     params = TraversalParams(grid=(12, 12), agents=4, algorithm=algorithm)
     prepared = get("traversal").prepare(params)
-    simulating = algorithm in ("madgta-r", "madgta-p", "madgta-k", "madgta-f")
-    assert POLICIES[algorithm].simulates is simulating
+    name = algorithm.partition("@")[0]
+    simulating = name in ("madgta-r", "madgta-p", "madgta-k", "madgta-f")
+    assert POLICIES[name].simulates is simulating
     assert small(params, prepared) is not simulating
 
 

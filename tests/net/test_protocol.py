@@ -39,6 +39,7 @@ def _world_and_nests(size: int, density: float, k: int, seed: int):
         (9, 0.2, 4, 5, {"algorithm": "madgta-p"}),
         (9, 0.2, 4, 7, {"algorithm": "madgta-k"}),
         (9, 0.2, 4, 8, {"algorithm": "madgta-f"}),
+        (9, 0.2, 4, 9, {"algorithm": "madgta-p@ils=5,follow=walls,keep=true"}),
         (7, 0.1, 2, 4, {"start_interval": 0.0}),
     ],
 )

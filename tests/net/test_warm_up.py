@@ -54,7 +54,9 @@ for free, nests in ((walls, [0, 0, 0]), (np.ones((8, 7), dtype=bool), [0, 0, 0, 
                     (walls, [0, 5, 30]), (big, [0, 0, 0])):
     run_inprocess(Mission(GridWorld(free), uniform_agents(nests, 2.22, 10.0), seed=7))
 late["madgta"] = compiled[before:]
-for algorithm in ("madgta+", "madgta-r", "madgta-p", "madgta-k", "madgta-f", "nearest"):
+# a spec with options is warmed up as itself (its mission data names the spec)
+for algorithm in ("madgta+", "madgta-r", "madgta-p", "madgta-p@ils=5,follow=walls",
+                  "madgta-k", "madgta-f", "nearest"):
     warm_policy(algorithm)  # what the agent does when the mission data names it
     before = len(compiled)
     for free in (walls, big):

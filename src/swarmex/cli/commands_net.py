@@ -22,7 +22,7 @@ from swarmex.cli.app import app, console
 from swarmex.cli.outputs import check_output
 from swarmex.cli.shared import _positive, _say, run_mesh
 from swarmex.errors import InputError, require
-from swarmex.missions.traversal.params import ALGORITHMS, TraversalParams
+from swarmex.missions.traversal.params import ALGORITHMS, TraversalParams, algorithm_name
 from swarmex.net.vehicle import Safety
 
 _TRAVERSAL = TraversalParams.options()
@@ -62,7 +62,8 @@ def serve(
     job_time: float = typer.Option(_default("job_time"), "--job-time", help="Seconds per job."),
     algorithm: str = typer.Option(
         _default("algorithm"), "--algorithm",
-        help="madgta | madgta+ | madgta-r | madgta-p | madgta-k | madgta-f | nearest.",
+        help="madgta | madgta+ | madgta-r | madgta-p | madgta-k | madgta-f | nearest;"
+        " NAME@KEY=VALUE,... sets a policy's options.",
     ),
     connectivity: int = typer.Option(_default("connectivity"), "--connectivity", help="4 or 8."),
     start_interval: float = typer.Option(
@@ -159,7 +160,7 @@ def serve(
     if tparams.seed > WIRE_SEED_MAX:
         raise InputError(f"--seed must be at most {WIRE_SEED_MAX} (it travels in the mission"
                          f" data as a 64-bit integer), got {tparams.seed}")
-    if tparams.algorithm not in SERVED:
+    if algorithm_name(tparams.algorithm) not in SERVED:
         raise InputError(
             f"--algorithm must be {', '.join(SERVED[:-1])} or {SERVED[-1]}, got {algorithm!r}"
         )
@@ -176,7 +177,7 @@ def serve(
     }
     if inject_loss > 0:
         params["network"]["inject_loss"] = inject_loss
-    mission = Mission(world, specs, algorithm, seed, start_interval, prepared.unit_length,
+    mission = Mission(world, specs, tparams.algorithm, seed, start_interval, prepared.unit_length,
                       job_failure, time_scale, rng, done_lists, heartbeat, params)
     bind = f"tcp://{host}:{port}" if port else f"tcp://{host}:*"
     try:

@@ -19,6 +19,7 @@ from swarmex.cli.outputs import check_output
 from swarmex.missions.base import FrameList, Outcome
 from swarmex.missions.registry import get
 from swarmex.missions.traversal.mission import TraversalWorld
+from swarmex.missions.traversal.params import algorithm_name
 from swarmex.missions.traversal.policies import POLICIES
 
 # ---------------------------------------------------------------------------- output
@@ -101,7 +102,7 @@ INTERPRETED_VERTICES = 400
 
 def small(params: Any, prepared: TraversalWorld) -> bool:
     """Whether a run on ``prepared`` is cheaper with the kernels interpreted."""
-    policy = POLICIES.get(params.algorithm)
+    policy = POLICIES.get(algorithm_name(params.algorithm))
     if policy is not None and policy.simulates:
         return False
     return prepared.world.graph.n_nodes <= INTERPRETED_VERTICES

@@ -137,11 +137,12 @@ class raw_env(AECEnv):  # noqa: N801 - PettingZoo's module convention
         self, render_mode: str | None = None, invalid_action: str = "raise", **params: Any
     ) -> None:
         from swarmex.missions.registry import get
+        from swarmex.missions.traversal.params import algorithm_name
 
         super().__init__()
         mission = get("traversal")
         self.params = mission.params(params)
-        if self.params.algorithm not in BASELINES:
+        if algorithm_name(self.params.algorithm) not in BASELINES:
             raise InputError(
                 f"traversal_v0: --algorithm {self.params.algorithm} is the exact MILP over the "
                 f"whole mission, not a policy that decides step by step; choose one of "
@@ -236,7 +237,7 @@ class raw_env(AECEnv):  # noqa: N801 - PettingZoo's module convention
         self.terminations = dict.fromkeys(self.agents, False)
         self.truncations = dict.fromkeys(self.agents, False)
         self.infos = {a: {} for a in self.agents}
-        name = self._builtin.name
+        name = p.algorithm  # the record names the spec, options and all (madgta-f@ils=60)
         self._broker = DecisionBroker(lambda ask: self._simulate(p, _Stub(self, name, ask)))
         request = self._broker.start()
         # an agent done before the first decision ends with the first step (after a reset,
@@ -532,7 +533,7 @@ class raw_env(AECEnv):  # noqa: N801 - PettingZoo's module convention
             trail = [[t, *pos[v].tolist()] for t, v in self._trails.get(i, [])]
             jobs = [[t, *pos[v].tolist()] for t, v in self._jobs.get(i, [])]
             agents.append({"id": i, "trajectory": trail, "jobs": jobs})
-        algorithm = self._builtin.name if self._builtin is not None else self.params.algorithm
+        algorithm = self.params.algorithm
         record = {"agents": agents, "algorithm": algorithm}
         title = f"traversal_v0 · {algorithm} · t = {self._now:,.1f} s"
         return traversal_frame(record, self.world, self._now + 1e-9, title)

@@ -635,18 +635,20 @@ def warm_policy(algorithm: str) -> None:
         return
     from swarmex.missions.traversal.agents import uniform_agents
     from swarmex.missions.traversal.partition import MadgtaK
-    from swarmex.missions.traversal.policies import POLICIES
+    from swarmex.missions.traversal.policies import POLICIES, parse_algorithm
     from swarmex.missions.traversal.sim import run_traversal
+
+    name, options = parse_algorithm(algorithm)  # a spec's options may call other kernels
 
     team = uniform_agents([0, 0, 0], 2.0, 9.0)
     run_inprocess(Mission(_walled_6x6(), team, seed=1, algorithm=algorithm))
     big = np.ones((10, 10), dtype=bool)
     big[4, 2:8] = False
     world = GridWorld(big, 4, source="warm-up")
-    if issubclass(POLICIES[algorithm], MadgtaK):  # madgta-k and its followers (madgta-f)
-        sweep = POLICIES[algorithm](max_vacant=20)  # type: ignore[call-arg]
+    if issubclass(POLICIES[name], MadgtaK):  # madgta-k and its followers (madgta-f)
+        sweep = POLICIES[name](**{**options, "max_vacant": 20})
         run_traversal(world, team, algorithm=sweep, seed=1)
-    elif algorithm in ("madgta+", "nearest"):
+    elif name in ("madgta+", "nearest"):
         run_inprocess(Mission(world, team, seed=1, algorithm=algorithm))
 
 

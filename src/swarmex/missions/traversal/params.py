@@ -111,6 +111,37 @@ def lat_lon() -> Any:
     return parse
 
 
+def algorithm_name(algorithm: str) -> str:
+    """The algorithm of a spec, without its options: ``madgta-f@ils=60`` -> ``madgta-f``."""
+    return algorithm.partition("@")[0].strip()
+
+
+def algorithm_spec() -> Any:
+    """One of :data:`ALGORITHMS`, or a policy with options, ``NAME@KEY=VALUE,...``, checked
+    against the policy's constructor and spelled one way
+    (:func:`~swarmex.missions.traversal.policies.canonical_algorithm`)."""
+    plain = text(ALGORITHMS)
+
+    def parse(value: Any, flag: str) -> str:
+        if not isinstance(value, str) or "@" not in value:
+            return plain(value, flag)
+        name = algorithm_name(value)
+        if name not in ALGORITHMS or name == "optimal":
+            choices = ", ".join(a for a in ALGORITHMS if a != "optimal")
+            raise InputError(f"{flag}: options (NAME@KEY=VALUE) are for a policy: one of "
+                             f"{choices}; got {value!r}")
+        from swarmex.missions.traversal.policies import canonical_algorithm
+
+        try:
+            return canonical_algorithm(value)
+        except InputError as exc:
+            raise InputError(f"{flag}: {exc}") from None
+
+    parse.kind = str  # type: ignore[attr-defined]
+    parse.choices = None  # type: ignore[attr-defined]
+    return parse
+
+
 def _grid_world() -> type:
     from swarmex.worlds.grid import GridWorld
 
@@ -174,8 +205,9 @@ class TraversalParams(Params):
         " | madgta-r (rollout over MADGTA in the end game) | madgta-p (madgta-r with an"
         " end-game team plan's vertex as one more candidate) | madgta-k (madgta-p with a sweep"
         " kept to each agent's part of a balanced partition) | madgta-f (madgta-k following"
-        " its own end-game plan once a wall is known) | nearest | optimal (exact MILP).",
-        parse=text(ALGORITHMS),
+        " its own end-game plan once a wall is known) | nearest | optimal (exact MILP)."
+        " NAME@KEY=VALUE,... sets a policy's options, e.g. madgta-f@ils=60,keep=false.",
+        parse=algorithm_spec(),
     )
     objective: str = option(
         "sum", help="What optimal minimises: sum (thesis §3.1) | makespan.", parse=text(OBJECTIVES)
@@ -299,4 +331,4 @@ class TraversalParams(Params):
                 raise InputError(f"--nests: {len(self.nests)} nests for only {team} agents")
 
 
-__all__ = ["ALGORITHMS", "OBJECTIVES", "TraversalParams"]
+__all__ = ["ALGORITHMS", "OBJECTIVES", "TraversalParams", "algorithm_name", "algorithm_spec"]

@@ -31,6 +31,9 @@ and every draw from the generator, are the same bit for bit.
 
 from __future__ import annotations
 
+import ast
+import inspect
+import typing
 from dataclasses import dataclass
 from typing import Any
 
@@ -448,9 +451,113 @@ def _choose(cands: np.ndarray, util: np.ndarray, rng: np.random.Generator) -> in
 POLICIES: dict[str, type[Madgta]] = {"madgta": Madgta, "nearest": Nearest}
 
 
-def make_policy(name: str) -> Madgta:
+def make_policy(algorithm: str) -> Madgta:
+    """The policy an algorithm spec names: ``NAME`` or ``NAME@KEY=VALUE,...``
+    (:func:`parse_algorithm`); :class:`InputError` for anything it cannot build."""
+    name, options = parse_algorithm(algorithm)
     try:
-        return POLICIES[name]()
-    except KeyError:
+        return POLICIES[name](**options)
+    except ValueError as exc:  # the class's own range checks
+        raise InputError(f"algorithm {algorithm!r}: {exc}") from None
+
+
+def parse_algorithm(algorithm: str) -> tuple[str, dict[str, Any]]:
+    """``NAME`` or ``NAME@KEY=VALUE,...`` -> (name, options), each option checked against
+    the keywords and type hints of the policy's constructor (:func:`policy_options`).
+
+    The spec is one string so that every surface that carries an algorithm name (the CLI,
+    TOML, sweeps, a record, the networked mission data, the environments) carries a
+    policy's settings with it, unchanged. Values: ``true``/``false``, ``none``, numbers,
+    or bare text (``follow=walls``)."""
+    name, at, rest = algorithm.strip().partition("@")
+    if name not in POLICIES:
         known = ", ".join(sorted([*POLICIES, "optimal"]))
-        raise InputError(f"unknown traversal algorithm {name!r} (choose from {known})") from None
+        raise InputError(f"unknown traversal algorithm {name!r} (choose from {known})")
+    if not at:
+        return name, {}
+    accepted = policy_options(POLICIES[name])
+    listed = ", ".join(accepted) or "none"
+    options: dict[str, Any] = {}
+    for item in rest.split(","):
+        key, eq, text = (part.strip() for part in item.partition("="))
+        if not eq or not key:
+            raise InputError(f"algorithm {algorithm!r}: expected KEY=VALUE after '@', "
+                             f"got {item.strip()!r}")
+        if key not in accepted:
+            raise InputError(f"algorithm {algorithm!r}: {name} has no option {key!r} "
+                             f"(its options: {listed})")
+        if key in options:
+            raise InputError(f"algorithm {algorithm!r}: option {key!r} given twice")
+        options[key] = _option_value(algorithm, key, text, accepted[key])
+    return name, options
+
+
+def canonical_algorithm(algorithm: str) -> str:
+    """The spec with its options in the constructor's order and values spelled one way, so
+    that equal settings give equal records (``madgta-f@keep=False,ils=60`` ->
+    ``madgta-f@ils=60,keep=false``)."""
+    name, options = parse_algorithm(algorithm)
+    if not options:
+        return name
+    order = list(policy_options(POLICIES[name]))
+    items = sorted(options.items(), key=lambda kv: order.index(kv[0]))
+    return name + "@" + ",".join(f"{k}={_spell(v)}" for k, v in items)
+
+
+def policy_options(cls: type[Madgta]) -> dict[str, tuple[Any, ...]]:
+    """The keywords a policy class takes -> the types each accepts (empty: any), its own
+    constructor's first, then those its ``**options`` hand to a parent's."""
+    accepted: dict[str, tuple[Any, ...]] = {}
+    for klass in cls.__mro__:
+        init = klass.__dict__.get("__init__")
+        if init is None:
+            continue
+        hints = typing.get_type_hints(init)
+        passes_on = False
+        for key, param in list(inspect.signature(init).parameters.items())[1:]:
+            if param.kind is param.VAR_KEYWORD:
+                passes_on = True
+            elif param.kind is not param.VAR_POSITIONAL:
+                hint = hints.get(key)
+                accepted.setdefault(key, (typing.get_args(hint) or (hint,)) if hint else ())
+        if not passes_on:
+            break
+    return accepted
+
+
+def _option_value(algorithm: str, key: str, text: str, types: tuple[Any, ...]) -> Any:
+    """``text`` read as the value of option ``key`` (one of ``types``)."""
+    lowered = text.lower()
+    value: Any
+    if lowered in ("true", "false"):
+        value = lowered == "true"
+    elif lowered == "none":
+        value = None
+    else:
+        try:
+            value = ast.literal_eval(text)
+        except (ValueError, SyntaxError):
+            value = text  # bare text: follow=walls
+    if isinstance(value, int) and not isinstance(value, bool) and float in types:
+        value = float(value)
+    if types and not any(_is(value, t) for t in types):
+        wanted = " or ".join("none" if t is type(None) else t.__name__ for t in types)
+        raise InputError(f"algorithm {algorithm!r}: option {key!r} must be {wanted}, "
+                         f"got {text!r}")
+    return value
+
+
+def _is(value: Any, kind: Any) -> bool:
+    if kind is type(None):
+        return value is None
+    if kind in (int, float) and isinstance(value, bool):
+        return False
+    return isinstance(kind, type) and isinstance(value, kind)
+
+
+def _spell(value: Any) -> str:
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if value is None:
+        return "none"
+    return value if isinstance(value, str) else repr(value)

@@ -73,7 +73,7 @@ from swarmex.missions.traversal.belief import NEXT as NEXT_CODE
 from swarmex.missions.traversal.belief import POS as POS_CODE
 from swarmex.missions.traversal.belief import UNDONE as UNDONE_CODE
 from swarmex.missions.traversal.belief import BeliefTable, TraversalBelief, deliver
-from swarmex.missions.traversal.policies import Madgta, make_policy
+from swarmex.missions.traversal.policies import Madgta, canonical_algorithm, make_policy
 from swarmex.planning.distance import distance_field
 from swarmex.planning.fieldcache import KnownGraph
 
@@ -406,7 +406,7 @@ def run_traversal(
         done_by=sim.done_by,
         job_count=sim.job_count,
         reachable=reach,
-        algorithm=policy.name,
+        algorithm=canonical_algorithm(algorithm) if isinstance(algorithm, str) else policy.name,
         seed=seed,
         messages=sim.messages,
         message_bytes=sim.message_bytes,
