@@ -259,3 +259,20 @@ def test_an_agent_that_never_got_an_id_says_so(tmp_path):
         assert trio.wait(15) == 4, trio.output
         assert "refused: the mission ended with no vacant id for me" in trio.output
         assert "ended before I finished" not in trio.output
+
+
+@pytest.mark.parametrize(("algorithm", "says"), [
+    ("madgta-f@bogus=1", "madgta-f has no option 'bogus'"),
+    ("optimal", "--algorithm must be madgta, madgta+"),
+    ("madgta-k@tip_per_agent=-1", "tip_per_agent must be >= 0"),
+])
+def test_serve_refuses_an_algorithm_it_cannot_serve(
+    algorithm: str, says: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A spec's options are checked before the server listens: one line, status 2."""
+    from swarmex.cli import main
+
+    assert main(["serve", "--grid", "4x4", "--agents", "1", "--port", "0",
+                 "--algorithm", algorithm]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and says in err and "listen" not in err
