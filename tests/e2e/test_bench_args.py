@@ -78,6 +78,9 @@ BAD = [
     ("endgame_headroom.py", ["--x", "0"], "must be at least 1"),
     ("traversal_idle_moves.py", ["--end", "0"], "must be at least 1"),
     ("traversal_idle_moves.py", ["--algorithms", "nope"], "unknown online algorithm"),
+    ("traversal_idle_moves.py", ["--algorithms", "madgta-f@ils=x"], "option 'ils' must be int"),
+    ("traversal_targets_oracle.py", ["--seeds", "1"], "must be at least 2"),
+    ("traversal_targets_oracle.py", ["--maps", "nope"], "invalid choice: 'nope'"),
 ]
 
 
