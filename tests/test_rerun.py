@@ -380,3 +380,27 @@ def test_a_bad_record_among_several_is_named(tmp_path: Path, capsys) -> None:
     assert f"{bad}: not a swarmex record" in capsys.readouterr().err
     with pytest.raises(InputError, match="bad.json: not a swarmex record"):
         swarmex.ResultRecord.read(bad)
+
+
+def test_cli_rerun_and_render_of_a_small_run_compile_nothing(tmp_path: Path) -> None:
+    """``swarmex traverse`` keeps a small run's kernels interpreted while numba is cold; its
+    record's ``swarmex rerun`` and ``swarmex render`` used to compile them (7-12 s, with the
+    compile notice) for the same record. A fresh cache folder makes numba cold."""
+    import os
+    import subprocess
+    import sys
+
+    src = Path(swarmex.__file__).resolve().parents[1]
+    env = {**os.environ, "PYTHONPATH": str(src), "NUMBA_CACHE_DIR": str(tmp_path / "cold")}
+
+    def swarmex_cli(*argv: str) -> subprocess.CompletedProcess[str]:
+        return subprocess.run([sys.executable, "-m", "swarmex", *argv], env=env, cwd=tmp_path,
+                              capture_output=True, text=True, timeout=120, check=True)
+
+    swarmex_cli("traverse", "--grid", "6x6", "--obstacles", "2,2", "--agents", "2",
+                "--json", "a.json")
+    again = swarmex_cli("rerun", "a.json")
+    assert "the same record" in again.stdout and again.stderr == ""
+    drawn = swarmex_cli("render", "a.json", "a.png")
+    assert "wrote" in drawn.stdout and drawn.stderr == ""
+    assert not list((tmp_path / "cold").rglob("*.nbi"))  # nothing compiled, nothing cached

@@ -18,6 +18,7 @@ import typer
 
 from swarmex.cli.app import app, console, err_console
 from swarmex.cli.compiling import compile_notice
+from swarmex.cli.missions import INTERPRETED
 from swarmex.cli.outputs import RENDER_SUFFIXES, check_output
 from swarmex.errors import InputError
 from swarmex.experiments.rerun import differences, networked_reason
@@ -46,10 +47,12 @@ def rerun(
     loaded = [(path, *load_record(path)) for path in files]  # folders find relative maps
     same = 0
     for path, record, folder in loaded:
-        # the one line while numba compiles: a rerun runs compiled (unlike the small runs its
-        # record may come from), so on a cold cache a 6x6 traversal took 7-12 s without a word
+        # a small run keeps its kernels interpreted, as the command that made it did (on a
+        # cold cache a 6x6 traversal used to compile for 7-12 s); a larger one compiles,
+        # with the one line that says so
         with compile_notice(err_console):
-            new_record = rerun_record(record, folder, {})
+            new_record = rerun_record(record, folder, {},
+                                      interpreted=interpreted_rule(record.mission))
         if json_out is not None:
             write_record(new_record, json_out)
         name = f"{path}: " if len(files) > 1 else ""
@@ -84,7 +87,7 @@ def render(
 
     check_output(out, "OUT", RENDER_SUFFIXES)
     with compile_notice(err_console):
-        path, same = render_record(record_file, out)
+        path, same = render_record(record_file, out, interpreted=_rule_of(record_file))
     console.print(f"wrote {path}", highlight=False, soft_wrap=True)
     if not same:
         err_console.print(
@@ -92,6 +95,25 @@ def render(
             " networked record; swarmex rerun says where): the drawing is of today's run",
             highlight=False, soft_wrap=True,
         )
+
+
+def interpreted_rule(mission: str) -> Any:
+    """The mission command's rule for runs small enough to keep their kernels interpreted
+    (:attr:`~swarmex.cli.missions.Surface.interpreted`; None: always compiled)."""
+    from swarmex.cli.app import load
+    from swarmex.missions.registry import get
+
+    try:
+        load(get(mission).command)  # command modules register on import (cli/app.py)
+    except ImportError:  # a missing extra: the rerun itself says which
+        return None
+    return INTERPRETED.get(mission)
+
+
+def _rule_of(record_file: Path) -> Any:
+    from swarmex.experiments.rerun import load_record
+
+    return interpreted_rule(load_record(record_file)[0].mission)
 
 
 def record_paths(given: list[Path]) -> list[Path]:

@@ -133,9 +133,17 @@ def interrupted_says_so() -> Iterator[None]:
         interrupted("nothing written")
 
 
+#: mission name -> its Surface's ``interpreted`` rule, for the commands that run a mission
+#: from a record (``swarmex rerun``, ``swarmex render``): the same small run keeps its kernels
+#: interpreted there as it did when it was made
+INTERPRETED: dict[str, Callable[[Any, Any], bool]] = {}
+
+
 def mission_command(mission: Mission[Any, Any], surface: Surface) -> Callable[..., Any]:
     """Register ``swarmex <mission.command>`` on the app and return its function."""
     options = mission.params_type.options()
+    if surface.interpreted is not None:
+        INTERPRETED[mission.name] = surface.interpreted
     extras = {e.name: e for e in surface.extras}
 
     def command(**kwargs: Any) -> Any:

@@ -11,7 +11,7 @@ as the old one did (:func:`respell`), so that the two compare equal.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from os import PathLike, fspath
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -42,9 +42,15 @@ def rerun_outcome(
     *,
     on_frame: Any = None,
     trace: bool | None = None,
+    interpreted: Callable[[Any, Any], bool] | None = None,
 ) -> Outcome:
-    """:func:`rerun_record`, returning the run's whole Outcome (what the drawings read)."""
-    from swarmex.missions.base import check_seed
+    """:func:`rerun_record`, returning the run's whole Outcome (what the drawings read).
+
+    ``interpreted`` (params, prepared world) -> whether the run is small enough to keep its
+    kernels interpreted while numba is cold (the CLI's rule for the mission,
+    :func:`swarmex._kernels.interpreted_while_cold`): the same record, without a compile."""
+    from swarmex._kernels import interpreted_while_cold
+    from swarmex.missions.base import check_run_options, check_seed
     from swarmex.missions.registry import get
 
     given = dict(overrides)
@@ -56,7 +62,13 @@ def rerun_outcome(
     if trace is None:
         trace = not rec.agents or any(a.trajectory or a.jobs for a in rec.agents)
     params = m.params({**values, **given, "seed": seed})
-    outcome = m.run(params, on_frame=on_frame, trace=trace)
+    if interpreted is None:
+        outcome = m.run(params, on_frame=on_frame, trace=trace)
+    else:  # m.run's steps, with the world in hand for the rule
+        check_run_options(on_frame, trace)
+        world = m.prepare(params)
+        with interpreted_while_cold(interpreted(params, world)):
+            outcome = m.execute(params, world, on_frame, trace=trace)
     respell(outcome.record, moved)
     return outcome
 
@@ -68,18 +80,23 @@ def rerun_record(
     *,
     on_frame: Any = None,
     trace: bool | None = None,
+    interpreted: Callable[[Any, Any], bool] | None = None,
 ) -> ResultRecord:
     """Run ``rec`` again (:func:`swarmex.rerun`), with ``overrides`` applied (``seed`` among
     them: the same setting, drawn again). ``folder`` is the record file's, where relative
     input paths are also looked for. ``trace`` None is the record's own: a ``trace=False``
-    record (no agent has a trajectory or a job) runs again without it."""
-    return rerun_outcome(rec, folder, overrides, on_frame=on_frame, trace=trace).record
+    record (no agent has a trajectory or a job) runs again without it. ``interpreted``:
+    :func:`rerun_outcome`'s."""
+    return rerun_outcome(rec, folder, overrides, on_frame=on_frame, trace=trace,
+                         interpreted=interpreted).record
 
 
 def render_record(
     source: ResultRecord | Mapping[str, Any] | str | PathLike[str],
     path: str | PathLike[str],
     world: Mapping[str, Any] | None = None,
+    *,
+    interpreted: Callable[[Any, Any], bool] | None = None,
 ) -> tuple[Path, bool]:
     """Draw a record's run to ``path`` (:func:`swarmex.render`): run it again keeping the
     frames the drawing needs (a record holds paths, not every frame or the final maps), and
@@ -117,7 +134,7 @@ def render_record(
                 f" ({', '.join(sorted(allowed)) or 'none for ' + rec.mission}), not {other[0]!r}"
             )
     recorder = frame_recorder(rec.mission, out)
-    outcome = rerun_outcome(rec, folder, given, on_frame=recorder)
+    outcome = rerun_outcome(rec, folder, given, on_frame=recorder, interpreted=interpreted)
     draw(rec.mission, outcome, out, recorder)
     return out, same_run(rec.to_dict(), outcome.record.to_dict())
 
