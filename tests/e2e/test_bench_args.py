@@ -80,6 +80,8 @@ BAD = [
     ("traversal_idle_moves.py", ["--algorithms", "nope"], "unknown online algorithm"),
     ("traversal_idle_moves.py", ["--algorithms", "madgta-f@ils=x"], "option 'ils' must be int"),
     ("traversal_targets_oracle.py", ["--seeds", "1"], "must be at least 2"),
+    ("traversal_team_size.py", ["--density", "1"], "--density must be in [0, 1), got 1.0"),
+    ("traversal_team_size.py", ["--algorithms", "madgta-f@x=1"], "madgta-f has no option 'x'"),
     ("traversal_targets_oracle.py", ["--maps", "nope"], "invalid choice: 'nope'"),
 ]
 
