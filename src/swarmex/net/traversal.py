@@ -638,7 +638,8 @@ def warm_policy(algorithm: str) -> None:
     from swarmex.missions.traversal.policies import POLICIES, parse_algorithm
     from swarmex.missions.traversal.sim import run_traversal
 
-    name, options = parse_algorithm(algorithm)  # a spec's options may call other kernels
+    # warmed as the spec runs: an option may call other kernels (madgta-r@outside=madgta+)
+    name, options = parse_algorithm(algorithm)
 
     team = uniform_agents([0, 0, 0], 2.0, 9.0)
     run_inprocess(Mission(_walled_6x6(), team, seed=1, algorithm=algorithm))
