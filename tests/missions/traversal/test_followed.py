@@ -70,3 +70,37 @@ def test_swarmex_run_selects_it_by_name():
     rec = swarmex.run("traversal", grid="8x7", obstacles="2,1;2,2;2,3;5,4", agents=3,
                       algorithm="madgta-f", seed=1).to_dict()
     assert rec["algorithm"] == "madgta-f" and rec["complete"]
+
+
+def test_unknown_walled_plans_no_job_on_a_likely_wall(monkeypatch):
+    """``madgta-f@unknown=walled``: the followed plan leaves out the unsensed vertices next
+    to a known wall (docs/traversal-variants.md §7, "Tried and not kept"); every job is still
+    done once, and on an open lattice nothing changes."""
+    from swarmex.missions.traversal import teamplan
+
+    seen: list[tuple[set[int], set[int]]] = []
+    likely_now: list[set[int]] = []
+    real_plan = teamplan._team_plan
+
+    def plan(*args):
+        seen.append(({int(v) for v in args[7]}, likely_now[-1]))
+        return real_plan(*args)
+
+    class Watching(MadgtaF):
+        def decide(self, belief, rng):
+            likely_now.append({int(v) for v in np.nonzero(self._likely_walls(belief))[0]})
+            return super().decide(belief, rng)
+
+    monkeypatch.setattr(teamplan, "_team_plan", plan)
+    world = random_obstacles(16, 16, 0.25, seed=2)
+    agents = _team(world, 5)
+    run = run_traversal(world, agents, Watching(unknown="walled"), seed=2)
+    assert run.complete and np.all(run.job_count[run.reachable] == 1)
+    # (when every vacant vertex is a likely wall, the plan keeps them all)
+    assert seen and all(not (planned & likely) or planned <= likely for planned, likely in seen)
+    assert any(likely for _, likely in seen)  # the guess had something to leave out
+    assert run.path_strings() != run_traversal(world, agents, MadgtaF(), seed=2).path_strings()
+    open_grid = empty_grid(9, 9)
+    team = uniform_agents([0] * 4, 2.0, 9.0)
+    assert run_traversal(open_grid, team, MadgtaF(unknown="walled"), seed=5).path_strings() == \
+        run_traversal(open_grid, team, MadgtaF(), seed=5).path_strings()

@@ -319,18 +319,8 @@ class MadgtaR(Madgta):
     ) -> list[World]:
         """One world where every unsensed cell next to a known wall is a wall too (walls
         come in runs), candidates excepted; empty if no such cell."""
-        g = belief.graph
-        known = belief.known
-        sensed = self._sensed(belief)
-        unknown = ~sensed & (belief.status == 0) & ~known.blocked
-        unknown[cands] = False
-        walls_at = np.nonzero(known.blocked)[0]
-        starts, ends = g.indptr[walls_at], g.indptr[walls_at + 1]
-        lens = ends - starts
-        offs = np.repeat(starts - np.cumsum(lens) + lens, lens) + np.arange(int(lens.sum()))
-        near = np.zeros(belief.status.size, dtype=bool)
-        near[g.indices[offs]] = True
-        walls = unknown & near
+        walls = self._likely_walls(belief)
+        walls[cands] = False
         if not walls.any():
             return []
         world = self._world(belief, walls, vacant)
@@ -338,6 +328,21 @@ class MadgtaR(Madgta):
         if (table[rows[cands], belief.here] < 0).any():
             return []  # a candidate cut off by the guessed walls: guess nothing
         return [world]
+
+    @classmethod
+    def _likely_walls(cls, belief: TraversalBelief) -> np.ndarray:
+        """``unknown="walled"``'s guess: the cells nobody has sensed that are not known done
+        and lie next to a known wall (walls come in runs)."""
+        g = belief.graph
+        known = belief.known
+        unknown = ~cls._sensed(belief) & (belief.status == 0) & ~known.blocked
+        walls_at = np.nonzero(known.blocked)[0]
+        starts, ends = g.indptr[walls_at], g.indptr[walls_at + 1]
+        lens = ends - starts
+        offs = np.repeat(starts - np.cumsum(lens) + lens, lens) + np.arange(int(lens.sum()))
+        near = np.zeros(belief.status.size, dtype=bool)
+        near[g.indices[offs]] = True
+        return unknown & near
 
     @staticmethod
     def _sensed(belief: TraversalBelief) -> np.ndarray:

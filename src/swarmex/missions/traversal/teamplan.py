@@ -738,7 +738,10 @@ class MadgtaP(MadgtaR):
     benches); ``"walls"``: only once a wall is known (on an open lattice the decision is
     the rollout's, without ``ils`` or ``keep``, because there a followed plan lost);
     ``commit`` (with ``follow``): keep heading for a distant first vertex until it is
-    reached or taken. Every other keyword is madgta-r's (``max_vacant``, ``k``, ...).
+    reached or taken. Every other keyword is madgta-r's (``max_vacant``, ``k``, ...);
+    madgta-r's ``unknown="walled"`` also leaves the likely walls (unsensed cells next to a
+    known wall) out of a followed plan's jobs, while its paths may still cross them
+    (screened, not kept: docs/traversal-variants.md §7).
     """
 
     name = "madgta-p"
@@ -803,9 +806,16 @@ class MadgtaP(MadgtaR):
         searched = self.follow != "walls" or following
         routes = np.full((loc.size, vacant.size + 1), -1, dtype=np.int64)
         lens = np.zeros(loc.size, dtype=np.int64)
+        status, planned = belief.status.copy(), vacant
+        if self.unknown == "walled" and following:
+            # no job planned on a likely wall (rollout.py's guess); still free to cross
+            likely = self._likely_walls(belief)[vacant]
+            if likely.any() and not likely.all():
+                status[vacant[likely]] = -1
+                planned = vacant[~likely]
         f = _team_plan(
-            me, belief.now, g.indptr, g.indices, known.blocked, belief.status.copy(),
-            belief.reserved.copy(), vacant, table, row_of, loc.copy(), dest.copy(),
+            me, belief.now, g.indptr, g.indices, known.blocked, status,
+            belief.reserved.copy(), planned, table, row_of, loc.copy(), dest.copy(),
             tfree.copy(), mode.copy(), intent.copy(), resv.copy(), belief.time_per_unit,
             belief.job_time, known.step, self._ids(g.n_nodes), self.passes, routes, lens,
             self.ils if searched else 0, self.ruin, *self._warm(me, loc.size, searched),
