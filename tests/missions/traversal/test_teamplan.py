@@ -390,6 +390,28 @@ def test_spliced_route_end_from_hop_prefixes_is_the_walked_end(seed):
 
 
 @pytest.mark.parametrize("seed", range(6))
+def test_the_tail_exchange_stops_only_where_no_candidate_can_gain(seed):
+    """The tail exchange stops scanning i (or j) once a[:i] alone (b[:j] alone) ends later
+    than both routes do now. That is exact only if every a[:i] + b[j:] ends no sooner than
+    that prefix's bound, computed the same way, and the bound grows with i; checked in
+    floating point for every i and j with edge and job times that are not whole numbers."""
+    base, pos, _, routes, lens, edge, jt, table, row_of = _planned(seed)
+    edge = edge * 1.11  # 1.11 and 2.22 s per edge: sums that round
+    jt = jt * 1.37
+    hp = np.empty((routes.shape[0], routes.shape[1] + 1))
+    for a in range(1, routes.shape[0]):
+        tp._hop_prefix(a, pos, routes, lens, table, row_of, hp[a])
+    for a, b in ((1, 2), (2, 1), (3, 4), (4, 3)):
+        bounds = [base[a] + edge[a] * hp[a][i] + jt[a] * i for i in range(lens[a] + 1)]
+        assert bounds == sorted(bounds)
+        for i in range(lens[a] + 1):
+            for j in range(lens[b] + 1):
+                got = tp._spliced_end(a, base, pos, routes, i, b, j, lens, edge, jt, table,
+                                      row_of, hp[a], hp[b])
+                assert got >= bounds[i]
+
+
+@pytest.mark.parametrize("seed", range(6))
 def test_search_from_the_changed_routes_takes_the_moves_of_a_full_search(seed):
     """After a ruin and recreate of a locally optimal plan, the search that prices only
     moves touching a changed route (what the iterated search runs) ends at exactly the plan

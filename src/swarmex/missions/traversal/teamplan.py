@@ -385,14 +385,24 @@ def _improve_from(
                 found = True
                 while found:
                     found = False
+                    top = max(ends[a], ends[b])
                     _hop_prefix(a, pos, routes, lens, table, row_of, hp_a)
                     _hop_prefix(b, pos, routes, lens, table, row_of, hp_b)
+                    # a candidate that ends either route later than both end now cannot
+                    # gain; a[:i] alone already ends at base + hops + jobs of its i vertices,
+                    # which grows with i (so does b[:j] with j): the scans stop there
                     for i in range(lens[a] + 1):
+                        if base[a] + edge[a] * hp_a[i] + jt[a] * i > top + 1e-9:
+                            break
                         for j in range(lens[b] + 1):
+                            if base[b] + edge[b] * hp_b[j] + jt[b] * j > top + 1e-9:
+                                break
                             if (i == lens[a] and j == lens[b]) or (i == 0 and j == 0):
                                 continue
                             new_a = _spliced_end(a, base, pos, routes, i, b, j, lens, edge, jt,
                                                  table, row_of, hp_a, hp_b)
+                            if new_a > top + 1e-9:
+                                continue
                             new_b = _spliced_end(b, base, pos, routes, j, a, i, lens, edge, jt,
                                                  table, row_of, hp_b, hp_a)
                             if _gain(ends[a], ends[b], new_a, new_b):
