@@ -51,8 +51,7 @@ def rerun(
         # cold cache a 6x6 traversal used to compile for 7-12 s); a larger one compiles,
         # with the one line that says so
         with compile_notice(err_console):
-            new_record = rerun_record(record, folder, {},
-                                      interpreted=interpreted_rule(record.mission))
+            new_record = rerun_record(record, folder, {}, rule_for=interpreted_rule)
         if json_out is not None:
             write_record(new_record, json_out)
         name = f"{path}: " if len(files) > 1 else ""
@@ -87,7 +86,7 @@ def render(
 
     check_output(out, "OUT", RENDER_SUFFIXES)
     with compile_notice(err_console):
-        path, same = render_record(record_file, out, interpreted=_rule_of(record_file))
+        path, same = render_record(record_file, out, rule_for=interpreted_rule)
     console.print(f"wrote {path}", highlight=False, soft_wrap=True)
     if not same:
         err_console.print(
@@ -108,12 +107,6 @@ def interpreted_rule(mission: str) -> Any:
     except ImportError:  # a missing extra: the rerun itself says which
         return None
     return INTERPRETED.get(mission)
-
-
-def _rule_of(record_file: Path) -> Any:
-    from swarmex.experiments.rerun import load_record
-
-    return interpreted_rule(load_record(record_file)[0].mission)
 
 
 def record_paths(given: list[Path]) -> list[Path]:

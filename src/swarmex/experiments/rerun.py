@@ -19,6 +19,10 @@ from typing import TYPE_CHECKING, Any
 from swarmex.engine.record import ResultRecord
 from swarmex.errors import InputError
 
+#: mission name -> that mission's rule (params, prepared world) -> whether a run is small
+#: enough to keep its kernels interpreted (None: always compiled)
+RuleFor = Callable[[str], Callable[[Any, Any], bool] | None]
+
 if TYPE_CHECKING:
     from swarmex.missions.base import Outcome
 
@@ -42,15 +46,14 @@ def rerun_outcome(
     *,
     on_frame: Any = None,
     trace: bool | None = None,
-    interpreted: Callable[[Any, Any], bool] | None = None,
+    rule_for: RuleFor | None = None,
 ) -> Outcome:
     """:func:`rerun_record`, returning the run's whole Outcome (what the drawings read).
 
-    ``interpreted`` (params, prepared world) -> whether the run is small enough to keep its
-    kernels interpreted while numba is cold (the CLI's rule for the mission,
-    :func:`swarmex._kernels.interpreted_while_cold`): the same record, without a compile."""
-    from swarmex._kernels import interpreted_while_cold
-    from swarmex.missions.base import check_run_options, check_seed
+    ``rule_for`` (mission name) -> the rule for runs small enough to keep their kernels
+    interpreted while numba is cold (:meth:`Mission.run`'s ``interpreted``; the CLI's
+    rule for the mission): the same record, without a compile."""
+    from swarmex.missions.base import check_seed
     from swarmex.missions.registry import get
 
     given = dict(overrides)
@@ -62,13 +65,8 @@ def rerun_outcome(
     if trace is None:
         trace = not rec.agents or any(a.trajectory or a.jobs for a in rec.agents)
     params = m.params({**values, **given, "seed": seed})
-    if interpreted is None:
-        outcome = m.run(params, on_frame=on_frame, trace=trace)
-    else:  # m.run's steps, with the world in hand for the rule
-        check_run_options(on_frame, trace)
-        world = m.prepare(params)
-        with interpreted_while_cold(interpreted(params, world)):
-            outcome = m.execute(params, world, on_frame, trace=trace)
+    rule = rule_for(rec.mission) if rule_for is not None else None
+    outcome = m.run(params, on_frame=on_frame, trace=trace, interpreted=rule)
     respell(outcome.record, moved)
     return outcome
 
@@ -80,15 +78,15 @@ def rerun_record(
     *,
     on_frame: Any = None,
     trace: bool | None = None,
-    interpreted: Callable[[Any, Any], bool] | None = None,
+    rule_for: RuleFor | None = None,
 ) -> ResultRecord:
     """Run ``rec`` again (:func:`swarmex.rerun`), with ``overrides`` applied (``seed`` among
     them: the same setting, drawn again). ``folder`` is the record file's, where relative
     input paths are also looked for. ``trace`` None is the record's own: a ``trace=False``
-    record (no agent has a trajectory or a job) runs again without it. ``interpreted``:
+    record (no agent has a trajectory or a job) runs again without it. ``rule_for``:
     :func:`rerun_outcome`'s."""
     return rerun_outcome(rec, folder, overrides, on_frame=on_frame, trace=trace,
-                         interpreted=interpreted).record
+                         rule_for=rule_for).record
 
 
 def render_record(
@@ -96,7 +94,7 @@ def render_record(
     path: str | PathLike[str],
     world: Mapping[str, Any] | None = None,
     *,
-    interpreted: Callable[[Any, Any], bool] | None = None,
+    rule_for: RuleFor | None = None,
 ) -> tuple[Path, bool]:
     """Draw a record's run to ``path`` (:func:`swarmex.render`): run it again keeping the
     frames the drawing needs (a record holds paths, not every frame or the final maps), and
@@ -134,7 +132,7 @@ def render_record(
                 f" ({', '.join(sorted(allowed)) or 'none for ' + rec.mission}), not {other[0]!r}"
             )
     recorder = frame_recorder(rec.mission, out)
-    outcome = rerun_outcome(rec, folder, given, on_frame=recorder, interpreted=interpreted)
+    outcome = rerun_outcome(rec, folder, given, on_frame=recorder, rule_for=rule_for)
     draw(rec.mission, outcome, out, recorder)
     return out, same_run(rec.to_dict(), outcome.record.to_dict())
 

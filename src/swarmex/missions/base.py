@@ -753,10 +753,18 @@ class Mission(ABC, Generic[P, W]):
         trace when ``trace`` is false)."""
 
     def run(
-        self, params: P, on_frame: FrameCallback | None = None, *, trace: bool = True
+        self, params: P, on_frame: FrameCallback | None = None, *, trace: bool = True,
+        interpreted: Callable[[P, W], bool] | None = None,
     ) -> Outcome:
         """Prepare the world and execute: the whole run, as ``swarmex.run`` does it. Params
-        that skipped the parsers (built by their constructor) are parsed and checked first."""
+        that skipped the parsers (built by their constructor) are parsed and checked first.
+        ``interpreted`` (params, prepared world) -> whether this run is small enough to keep
+        its kernels interpreted while numba is cold (a CLI command's rule, which
+        ``swarmex rerun`` applies to a record's run too); the record is the same either way."""
+        from swarmex._kernels import interpreted_while_cold
+
         check_run_options(on_frame, trace)
         params = params.validated()  # Params built by their constructor skipped the parsers
-        return self.execute(params, self.prepare(params), on_frame, trace=trace)
+        world = self.prepare(params)
+        with interpreted_while_cold(interpreted is not None and interpreted(params, world)):
+            return self.execute(params, world, on_frame, trace=trace)
