@@ -506,7 +506,17 @@ def canonical_algorithm(algorithm: str) -> str:
 
 def policy_options(cls: type[Madgta]) -> dict[str, tuple[Any, ...]]:
     """The keywords a policy class takes -> the types each accepts (empty: any), its own
-    constructor's first, then those its ``**options`` hand to a parent's."""
+    constructor's first, then those its ``**options`` hand to a parent's. Cached: a class's
+    signature does not change, and every spec read (each record, each episode) asks."""
+    if cls not in _OPTIONS:
+        _OPTIONS[cls] = _read_options(cls)
+    return _OPTIONS[cls]
+
+
+_OPTIONS: dict[type[Madgta], dict[str, tuple[Any, ...]]] = {}
+
+
+def _read_options(cls: type[Madgta]) -> dict[str, tuple[Any, ...]]:
     accepted: dict[str, tuple[Any, ...]] = {}
     for klass in cls.__mro__:
         init = klass.__dict__.get("__init__")
