@@ -36,14 +36,18 @@ def test_the_bench_prints_its_table(real_map):
 def test_the_oracle_keeps_two_travellers_off_one_target():
     from traversal_targets_oracle import TargetsOracle
 
+    current: dict[int, int] = {}  # each agent's branch-3 target, from its own decisions
+
     class Watching(TargetsOracle):
         shared = 0
 
         def decide(self, belief, rng):
+            current.pop(belief.me, None)  # deciding again ends its last target
             decision = super().decide(belief, rng)
             if decision.branch == 3:
-                rivals = {v for a, v in self.targets.items() if a != belief.me}
+                rivals = {v for a, v in current.items() if a != belief.me}
                 Watching.shared += decision.target in rivals
+                current[belief.me] = int(decision.target)
             return decision
 
     world = random_obstacles(16, 16, 0.2, seed=3)
