@@ -124,11 +124,14 @@ def test_same_seed_same_episode_and_reset_without_seed_moves_on():
         dict(algorithm="madgta-f"),
         dict(algorithm="madgta-f", loss=0.3, comm_range=3.0),
         dict(algorithm="madgta-f@ils=4,keep=false"),
+        dict(algorithm="madgta-s"),
+        dict(algorithm="madgta-s", loss=0.3, comm_range=3.0),
     ],
     ids=["madgta", "nearest", "madgta+", "madgta-lossy", "nearest-lossy", "madgta-8-delay",
          "madgta-h-mixed", "madgta-h-mixed-lossy", "madgta-h", "madgta-r", "madgta-r-lossy",
          "madgta-r-mixed", "madgta-p", "madgta-p-lossy",
-         "madgta-k", "madgta-k-lossy", "madgta-f", "madgta-f-lossy", "madgta-f-options"],
+         "madgta-k", "madgta-k-lossy", "madgta-f", "madgta-f-lossy", "madgta-f-options",
+         "madgta-s", "madgta-s-lossy"],
 )
 @pytest.mark.parametrize("seed", [0, 3])
 def test_baseline_gives_exactly_the_record_of_swarmex_run(options, seed):

@@ -23,7 +23,7 @@ generator, as MADGTA draws it). The agent decides again at its next vertex. An a
 would be empty finishes by itself (the seed algorithm's "no vacant vertex left").
 
 ``baseline_policy(env)`` plays the seed algorithm named by ``algorithm`` (madgta, madgta+,
-madgta-h, madgta-r, madgta-p, madgta-k, madgta-f, nearest); ``env.unwrapped.record()`` is
+madgta-h, madgta-r, madgta-p, madgta-k, madgta-f, madgta-s, nearest); ``env.unwrapped.record()`` is
 then exactly ``swarmex.run``'s record
 (docs/envs.md). With ``algorithm="madgta-h"`` an agent also finishes when that policy's own
 rule retires it (a cheaper rival does the rest: ``MadgtaH.retires``), whatever the actions.
@@ -66,7 +66,7 @@ from swarmex.errors import InputError
 VACANT, DONE, OBSTACLE, CLAIMED = 0, 1, 2, 3
 #: algorithms that are sequential policies (``optimal`` is a MILP over the whole mission)
 BASELINES = ("madgta", "madgta+", "madgta-h", "madgta-r", "madgta-p", "madgta-k", "madgta-f",
-             "nearest")
+             "madgta-s", "nearest")
 INVALID_ACTIONS = ("raise", "project")
 
 Obs = dict[str, np.ndarray]

@@ -152,7 +152,10 @@ class Mission:
             raise InputError(f"--start-interval must be >= 0, got {self.start_interval}")
         if not 0.0 <= self.job_failure < 1.0:
             raise InputError(f"--job-failure must be in [0, 1), got {self.job_failure}")
-        make_policy(self.algorithm)  # fails now on an unknown name
+        policy = make_policy(self.algorithm)  # fails now on an unknown name
+        if getattr(policy, "share", False):  # madgta-s: its plan message is not on the wire
+            raise InputError(f"the networked runtime cannot run {self.algorithm!r}: Fig. 4.17's"
+                             " wire has no message for a shared team plan (share=true)")
 
     @property
     def n_agents(self) -> int:

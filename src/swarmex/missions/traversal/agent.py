@@ -28,7 +28,8 @@ node conditionally accomplished; ``next`` (C05) reserves a vacant node for the s
 node to not-done. Every message may carry the obstacles the sender has just seen and, when
 the agent is built with ``done_lists=True``, the sender's §4.1 done-nodes list
 (:func:`encode_km`), which a receiver merges (:func:`merge_done_list`) before the message's
-own update. The belief-level functions (:func:`apply_message`, :func:`merge_done_list`,
+own update. Beyond §4.2: ``leave`` (:data:`LEAVE`, madgta-h) and ``plan``
+(:data:`PLAN`, madgta-s), which a decision carrying a team plan sends after its own message. The belief-level functions (:func:`apply_message`, :func:`merge_done_list`,
 :func:`forget_rival`) are what the methods call; they take a bare belief so that a late
 joiner can replay a stream into one.
 
@@ -47,7 +48,7 @@ from typing import NamedTuple
 import numpy as np
 
 from swarmex.missions.traversal.agents import AgentSpec
-from swarmex.missions.traversal.belief import DONE_BY_UNKNOWN, TraversalBelief
+from swarmex.missions.traversal.belief import DONE_BY_UNKNOWN, TeamPlan, TraversalBelief
 from swarmex.missions.traversal.policies import Madgta
 from swarmex.worlds.nodegraph import NodeGraph
 
@@ -60,6 +61,11 @@ KINDS = (START, PASS, JOB, NEXT, DONE, UNDONE)
 #: of the §4.2 kinds of :data:`KINDS` (the thesis's agents never stop early): the networked
 #: runtime, whose wire carries those, offers only the policies that never send it.
 LEAVE = "leave"
+#: ``plan``: madgta-s's end-game team plan (:class:`~.belief.TeamPlan`), sent after the
+#: decision it was made for; receivers keep the newest (:meth:`TraversalBelief.hear_plan`)
+#: and start their own plan from it. Not a §4.2 kind either: the networked runtime does not
+#: offer madgta-s.
+PLAN = "plan"
 
 #: §4.1's done-nodes field: ``(bit, vertices, doers)``, optionally with a fourth array, the
 #: sender's known obstacles (:func:`encode_km`)
@@ -77,6 +83,7 @@ class Message:
     eta: float = 0.0  # job: when the job ends; next: when the sender arrives
     t: float = 0.0  # mission time of the event
     done_list: DoneList | None = None
+    plan: TeamPlan | None = None  # kind ``plan`` only
 
 
 class Next(NamedTuple):
@@ -217,6 +224,8 @@ def apply_message(b: TraversalBelief, msg: Message) -> None:
         b.mark_not_done(node)
     elif kind == LEAVE:
         forget_rival(b, s, -1)
+    elif kind == PLAN and msg.plan is not None:
+        b.hear_plan(msg.plan)
 
 
 def forget_rival(b: TraversalBelief, agent: int, open_node: int) -> None:
@@ -297,6 +306,12 @@ class TraversalAgent:
         done_list = self.encode_done_list() if self.done_lists else None
         self.send(Message(kind, self.me, int(node), tuple(obstacles), eta, t, done_list))
 
+    def _say_plan(self, plan: TeamPlan | None, t: float) -> None:
+        """Broadcast the team plan a decision was made with (madgta-s), after the decision's
+        own message."""
+        if plan is not None:
+            self.send(Message(PLAN, self.me, self.belief.here, t=t, plan=plan))
+
     # ---- LOOK
     def sense(self, node: int) -> list[int]:
         """The newly seen obstacles around ``node``, added to the belief."""
@@ -357,14 +372,19 @@ class TraversalAgent:
         d = self.policy.decide(b, self.rng)
         log = self.log
         log.decisions_by_branch[d.branch] += 1
+        if d.plan is not None:
+            b.hear_plan(d.plan)
         if d.kind == "job":
-            return self._start_job(d.node, t)
+            nxt = self._start_job(d.node, t)
+            self._say_plan(d.plan, t)
+            return nxt
         if d.kind == "move":
             here = b.here
             dt = edge_length(b.graph, here, d.node) * b.time_per_unit[self.me]
             b.announce_move(d.node)
             b.known.prefetch(d.node, here)  # its field, shifted in the background (if on)
             self._say(NEXT, d.node, t, eta=t + dt)
+            self._say_plan(d.plan, t)
             log.moves += 1
             log.travel_time += dt
             return Next("arrive", d.node, t + dt)
@@ -388,6 +408,7 @@ class TraversalAgent:
 __all__ = [
     "KINDS",
     "LEAVE",
+    "PLAN",
     "AdjacencySensor",
     "AgentLog",
     "DoneList",

@@ -7,6 +7,8 @@
 * ``loc[k]``: the last vertex agent ``k`` physically reached (-1 until heard from).
 * ``known``: the graph minus known obstacles, with its distance-field cache.
 * ``orphaned``: vertices reverted to not done because the rival doing their job left.
+* ``plan``: the newest end-game team plan this agent made or heard (``plan`` messages of
+  madgta-s, :class:`TeamPlan`), or None.
 
 KM (Algorithm 1) is ``status != 0`` plus vertices reserved by *other* agents. Beliefs are
 updated only by the agent's own sensing and by messages; policies read nothing else.
@@ -19,6 +21,7 @@ A simulated team under a perfect broadcast keeps its beliefs as rows of one
 from __future__ import annotations
 
 from collections.abc import Iterable
+from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
@@ -28,6 +31,16 @@ from swarmex.planning.fieldcache import KnownGraph
 from swarmex.worlds.nodegraph import NodeGraph
 
 DONE_BY_UNKNOWN = np.int32(2**30)
+
+
+class TeamPlan(NamedTuple):
+    """An end-game team plan as it travels in a ``plan`` message (madgta-s): when it was
+    made, and each agent's route, row ``a`` of ``routes`` being agent ``a``'s first
+    ``lens[a]`` vertices to do, in order (row 0 unused)."""
+
+    t: float
+    routes: NDArray[np.int64]
+    lens: NDArray[np.int64]
 
 
 class BeliefTable:
@@ -89,6 +102,7 @@ class TraversalBelief:
         self.orphaned: set[int] = set()
         self.time_per_unit = time_per_unit  # seconds per length unit, by id
         self.job_time = job_time  # seconds per job, by id
+        self.plan: TeamPlan | None = None  # the newest team plan made or heard (madgta-s)
 
     @property
     def graph(self) -> NodeGraph:
@@ -125,6 +139,11 @@ class TraversalBelief:
         return ids[ids != self.me]
 
     # ---- updates (sensing and messages)
+    def hear_plan(self, plan: TeamPlan) -> None:
+        """Keep ``plan`` if it is newer than the one held (a late, delayed plan is stale)."""
+        if self.plan is None or plan.t >= self.plan.t:
+            self.plan = plan
+
     def see_obstacles(self, vertices: Iterable[int]) -> None:
         vs = list(vertices)
         if vs:

@@ -55,8 +55,8 @@ if TYPE_CHECKING:
     from swarmex.worlds.grid import GridWorld
 
 ALGORITHMS = (
-    "madgta", "madgta+", "madgta-h", "madgta-r", "madgta-p", "madgta-k", "madgta-f", "nearest",
-    "optimal",
+    "madgta", "madgta+", "madgta-h", "madgta-r", "madgta-p", "madgta-k", "madgta-f", "madgta-s",
+    "nearest", "optimal",
 )
 OBJECTIVES = ("sum", "makespan")
 MAX_GRID_CELLS = 16_000_000  # a 4000x4000 grid; beyond that the arrays alone exhaust memory
@@ -205,7 +205,8 @@ class TraversalParams(Params):
         " | madgta-r (rollout over MADGTA in the end game) | madgta-p (madgta-r with an"
         " end-game team plan's vertex as one more candidate) | madgta-k (madgta-p with a sweep"
         " kept to each agent's part of a balanced partition) | madgta-f (madgta-k following"
-        " its own end-game plan once a wall is known) | nearest | optimal (exact MILP)."
+        " its own end-game plan once a wall is known) | madgta-s (madgta-f sharing one plan by"
+        " broadcast) | nearest | optimal (exact MILP)."
         " NAME@KEY=VALUE,... sets a policy's options, e.g. madgta-f@ils=60,keep=false.",
         parse=algorithm_spec(),
     )

@@ -43,7 +43,7 @@ from numpy.typing import NDArray
 from swarmex._kernels import interpreting, kernel
 from swarmex.errors import InputError
 from swarmex.missions.traversal import lattice
-from swarmex.missions.traversal.belief import TraversalBelief
+from swarmex.missions.traversal.belief import TeamPlan, TraversalBelief
 from swarmex.missions.traversal.fartiles import far_tiles
 from swarmex.missions.traversal.selection import FAR as _FAR
 from swarmex.missions.traversal.selection import JOB as _JOB
@@ -60,6 +60,8 @@ class Decision:
     node: int = -1  # where to do the job / the adjacent vertex to move to
     target: int = -1  # the vertex GetBestNode chose (== node in branches 1-2)
     branch: int = 0
+    # a team plan the agent broadcasts with this decision (madgta-s), else None
+    plan: TeamPlan | None = None
 
 
 def _pick(candidates: np.ndarray, rng: np.random.Generator) -> int:

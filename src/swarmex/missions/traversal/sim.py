@@ -54,6 +54,7 @@ from swarmex.missions.traversal.agent import (
     LEAVE,
     NEXT,
     PASS,
+    PLAN,
     START,
     UNDONE,
     AdjacencySensor,
@@ -116,7 +117,7 @@ class _Clock:
 # message kind -> deliver() code; 0: nothing for the receivers to do ("done" carries no state)
 _KIND_CODES = {
     START: POS_CODE, PASS: POS_CODE, JOB: JOB_CODE, NEXT: NEXT_CODE, UNDONE: UNDONE_CODE,
-    DONE: 0, LEAVE: 0,
+    DONE: 0, LEAVE: 0, PLAN: 0,
 }
 
 
@@ -241,12 +242,19 @@ class _Sim:
         if done_list is not None:  # the listed vertices and the known walls, 4 bytes each
             _, listed, _, *walls = done_list
             size += 4 * (listed.size + sum(w.size for w in walls))
+        if msg.plan is not None:  # 4 bytes per planned vertex, 2 per route length
+            size += 4 * int(msg.plan.lens.sum()) + 2 * msg.plan.lens.size
         self.message_bytes += size
         if self.table is not None:  # perfect broadcast: every other belief, in one call
             if msg.kind == LEAVE:  # rare (once per agent at most): the Python rule per belief
                 for other in self.agents:
                     if other.me != sender:
                         forget_rival(other.belief, sender, -1)
+                return
+            if msg.plan is not None:  # the team plan: one reference, kept by every receiver
+                for other in self.agents:
+                    if other.me != sender:
+                        other.belief.hear_plan(msg.plan)
                 return
             code = _KIND_CODES[msg.kind]
             if code or obstacles:

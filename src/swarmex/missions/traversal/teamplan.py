@@ -83,11 +83,13 @@ twice madgta-r's; 2 ms on the gap instances. No message is added.
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 from numpy.typing import NDArray
 
 from swarmex._kernels import kernel
-from swarmex.missions.traversal.belief import TraversalBelief
+from swarmex.missions.traversal.belief import TeamPlan, TraversalBelief
 from swarmex.missions.traversal.policies import POLICIES, Decision, _pick
 from swarmex.missions.traversal.rollout import MadgtaR
 from swarmex.missions.traversal.rollout_sim import (
@@ -744,6 +746,9 @@ class MadgtaP(MadgtaR):
     taking out a cluster of ``ruin`` planned vertices. ``keep``: start also from the
     agent's previous plan, brought up to date, when it is better than MADGTA's (so the
     rounds add up from decision to decision).
+    ``share`` (with ``keep``): the plan to start from is the newest the agent made or heard
+    (:attr:`TraversalBelief.plan`), and the searched plan goes out with the decision as a
+    ``plan`` message (madgta-s, :mod:`.followed`).
     ``follow``: go to the plan's first vertex instead of rolling it out (not kept, for the
     benches); ``"walls"``: only once a wall is known (on an open lattice the decision is
     the rollout's, without ``ils`` or ``keep``, because there a followed plan lost);
@@ -757,7 +762,7 @@ class MadgtaP(MadgtaR):
     name = "madgta-p"
 
     def __init__(self, passes: int = 50, follow: bool | str = False, commit: bool = False,
-                 ils: int = 0, ruin: int = 12, keep: bool = False,
+                 ils: int = 0, ruin: int = 12, keep: bool = False, share: bool = False,
                  **rollout: object) -> None:
         super().__init__(**rollout)  # type: ignore[arg-type]
         if follow not in (False, True, "walls"):
@@ -770,7 +775,10 @@ class MadgtaP(MadgtaR):
             raise ValueError(f"ruin must be >= 1, got {ruin}")
         self.ils = ils
         self.ruin = ruin
+        if share and not keep:
+            raise ValueError("share needs keep=True (the shared plan is the kept one)")
         self.keep = keep
+        self.share = share
         self._kept: dict[int, tuple[np.ndarray, np.ndarray]] = {}
         if commit and not follow:
             raise ValueError("commit needs follow=True")
@@ -828,10 +836,28 @@ class MadgtaP(MadgtaR):
             belief.reserved.copy(), planned, table, row_of, loc.copy(), dest.copy(),
             tfree.copy(), mode.copy(), intent.copy(), resv.copy(), belief.time_per_unit,
             belief.job_time, known.step, self._ids(g.n_nodes), self.passes, routes, lens,
-            self.ils if searched else 0, self.ruin, *self._warm(me, loc.size, searched),
+            self.ils if searched else 0, self.ruin,
+            *self._warm(belief, loc.size, searched),
         )
+        made = None
         if self.keep and searched:
-            self._kept[me] = (routes, lens)
+            if self.share:  # broadcast with the decision; the agent core keeps it too
+                made = TeamPlan(belief.now, routes, lens)
+            else:
+                self._kept[me] = (routes, lens)
+        d = self._choose(belief, rng, int(f), following, vacant, table, row_of, state)
+        # an agent that stops sends no plan (nor does an environment's agent with nothing
+        # left to choose, whose finish never reaches the policy)
+        return d if made is None or d.kind == "finish" else replace(d, plan=made)
+
+    def _choose(self, belief: TraversalBelief, rng: np.random.Generator, f: int,
+                following: bool, vacant: np.ndarray, table: np.ndarray, row_of: np.ndarray,
+                state: tuple[np.ndarray, ...]) -> Decision:
+        """The decision once the plan is made: its first vertex ``f`` followed, or judged
+        as one more candidate of madgta-r's rollout."""
+        g = belief.graph
+        known = belief.known
+        here = belief.here
         if not following:  # the plan's vertex as one more candidate of madgta-r's rollout
             cands, kinds = self._candidates(belief, vacant, table, row_of, state)
             if not cands:
@@ -857,10 +883,18 @@ class MadgtaP(MadgtaR):
         self.plans += 1
         return self._towards(belief, int(f), rng)
 
-    def _warm(self, me: int, rows: int, searched: bool) -> tuple[np.ndarray, np.ndarray]:
-        """The agent's previous plan (``keep``, when the plan is searched), or none (all
-        lengths 0)."""
-        kept = self._kept.get(me) if self.keep and searched else None
+    def _warm(self, belief: TraversalBelief, rows: int,
+              searched: bool) -> tuple[np.ndarray, np.ndarray]:
+        """The plan to start from (``keep``, when the plan is searched): the agent's
+        previous one, or with ``share`` the newest made or heard; else none (all lengths
+        0)."""
+        kept: tuple[np.ndarray, np.ndarray] | None = None
+        if self.keep and searched:
+            if self.share:
+                heard = belief.plan
+                kept = None if heard is None else (heard.routes, heard.lens)
+            else:
+                kept = self._kept.get(belief.me)
         if kept is None or kept[1].size != rows:
             return np.full((rows, 1), -1, dtype=np.int64), np.zeros(rows, dtype=np.int64)
         return kept
