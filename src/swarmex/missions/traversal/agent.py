@@ -28,8 +28,9 @@ node conditionally accomplished; ``next`` (C05) reserves a vacant node for the s
 node to not-done. Every message may carry the obstacles the sender has just seen and, when
 the agent is built with ``done_lists=True``, the sender's §4.1 done-nodes list
 (:func:`encode_km`), which a receiver merges (:func:`merge_done_list`) before the message's
-own update. Beyond §4.2: ``leave`` (:data:`LEAVE`, madgta-h) and ``plan``
-(:data:`PLAN`, madgta-s), which a decision carrying a team plan sends after its own message. The belief-level functions (:func:`apply_message`, :func:`merge_done_list`,
+own update. Beyond §4.2: ``leave`` (:data:`LEAVE`, madgta-h) and ``plan`` (:data:`PLAN`,
+madgta-s), which a decision carrying a team plan sends after its own message. The
+belief-level functions (:func:`apply_message`, :func:`merge_done_list`,
 :func:`forget_rival`) are what the methods call; they take a bare belief so that a late
 joiner can replay a stream into one.
 
