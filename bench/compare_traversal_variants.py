@@ -7,7 +7,8 @@ and seeds. Algorithm names are those of bench/gap_traversal_optimal.py (``madgta
 for other settings, ``known:NAME`` with the whole map known from the start); the CPU time
 per run is printed per map. ``--fleets mixed`` also (or instead) runs mixed fleets: 1-2 s
 per edge and 5-10 s per job per agent, as in the gap study. That is where madgta-h
-differs from madgta+. For every (map, agents, nests)
+differs from madgta+. ``--channel LABEL`` runs it over one of section 2's channels (e.g.
+``"loss 0.3 + range 5"``) instead of the perfect broadcast. For every (map, agents, nests)
 cell it prints the mean makespan (largest ``total_time``, metrics.py), ``total_time_all``,
 ``nodes_without_job_all`` and the ratio variant/madgta of mean makespans with the 95 %
 confidence interval of the *paired* difference (same seed, same nests), Student t, for each
@@ -436,6 +437,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--fleets", nargs="+", choices=FLEETS, default=["same"],
                     help="same: identical agents; mixed: 1-2 s per edge, 5-10 s per job "
                     "(see fleet_for)")
+    ap.add_argument("--channel", choices=[label for label, _ in CHANNELS], default="perfect",
+                    help="variants: the radio of every run (one of comm's channels)")
     ap.add_argument("--comm-maps", nargs="+", default=COMM_MAPS)
     ap.add_argument("--comm-agents", type=_cli.positive_int, default=8)
     ap.add_argument("--comm-seeds", type=_cli.paired_count, default=4)
@@ -489,7 +492,7 @@ def main(argv: list[str] | None = None) -> int:
         if not present:
             print(f"variants: none of the maps is in {maps_dir()}; nothing to run", file=sys.stderr)
         jobs = [
-            Job(mp, m, mode, s, alg, fleet=fleet)
+            Job(mp, m, mode, s, alg, args.channel, fleet=fleet)
             for fleet in args.fleets
             for mp in present
             for m in args.agents
