@@ -17,13 +17,13 @@ ROOT = Path(__file__).resolve().parents[2]
 SRC = Path(swarmex.__file__).resolve().parents[1]
 
 
-def _bench(runs: Path, seeds: int, map_path: Path) -> subprocess.CompletedProcess:
+def _bench(runs: Path, seeds: int, map_path: Path, *extra: str) -> subprocess.CompletedProcess:
     env = {**os.environ, "PYTHONPATH": str(SRC), "SWARMEX_MAPS": str(map_path.parent)}
     return subprocess.run(
         [sys.executable, str(ROOT / "bench" / "compare_traversal_variants.py"),
          "--section", "variants", "--maps", "empty-16-16", "--agents", "3", "--nests", "dist",
          "--seeds", str(seeds), "--algorithms", "madgta", "madgta+", "nearest",
-         "--reference", "nearest", "--runs", str(runs)],
+         "--reference", "nearest", "--runs", str(runs), *extra],
         capture_output=True, text=True, env=env, cwd=ROOT, timeout=300, check=True)
 
 
@@ -44,3 +44,15 @@ def test_runs_are_kept_as_they_finish_and_reused(tmp_path, real_map):
     again = _bench(runs, 3, real_map("empty-16-16.map"))
     assert "9 of 9 runs reused" in again.stderr and again.stdout == second.stdout
     assert len(runs.read_text().splitlines()) == 9
+
+
+def test_a_channel_is_part_of_a_run(tmp_path, real_map):
+    """``--channel`` runs the variants over one of the comm section's radios: its runs are
+    new ones (not the perfect broadcast's, saved in the same file) and say their channel."""
+    runs = tmp_path / "runs.jsonl"
+    _bench(runs, 2, real_map("empty-16-16.map"))
+    lossy = _bench(runs, 2, real_map("empty-16-16.map"), "--channel", "loss 0.3")
+    assert "0 of 6 runs reused" in lossy.stderr
+    rows = [json.loads(line) for line in runs.read_text().splitlines()]
+    assert [r["channel"] for r in rows] == ["perfect"] * 6 + ["loss 0.3"] * 6
+    assert any(a["messages"] != b["messages"] for a, b in zip(rows[:6], rows[6:], strict=True))
