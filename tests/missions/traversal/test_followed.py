@@ -15,7 +15,7 @@ import pytest
 import swarmex
 from swarmex.comm.channel import Channel
 from swarmex.missions.traversal import make_policy, run_metrics, run_traversal, uniform_agents
-from swarmex.missions.traversal.followed import MadgtaF
+from swarmex.missions.traversal.followed import MadgtaF, MadgtaS
 from swarmex.missions.traversal.partition import MadgtaK
 from swarmex.missions.traversal.policies import POLICIES
 from swarmex.worlds import empty_grid, random_obstacles
@@ -52,15 +52,19 @@ def test_on_an_open_lattice_it_is_madgta_k():
     assert ours.path_strings() == run_traversal(world, agents, MadgtaK(), seed=5).path_strings()
 
 
-@pytest.mark.parametrize("channel", [Channel(), Channel(loss=0.3, range=4.0)],
-                         ids=["perfect", "lossy"])
-def test_behind_walls_it_follows_its_plan_and_completes(channel):
+@pytest.mark.parametrize(
+    "channel", [Channel(), Channel(loss=0.3, range=4.0), Channel(delay=3.0)],
+    ids=["perfect", "lossy", "delayed"],
+)
+@pytest.mark.parametrize("kind", [MadgtaF, MadgtaS], ids=["madgta-f", "madgta-s"])
+def test_behind_walls_it_follows_its_plan_and_completes(kind, channel):
+    """madgta-f, and madgta-s whose plan travels over the same channel (late or not at all)."""
     world = random_obstacles(12, 12, 0.2, seed=1)
-    policy = MadgtaF()
+    policy = kind()
     run = run_traversal(world, _team(world, 5), policy, seed=1, channel=channel)
     assert run.complete and policy.plans > 0
     assert np.all(run.job_count[run.reachable] >= 1)
-    if channel.loss == 0:
+    if channel.perfect:
         assert run_metrics(run, 1.0)[0]["duplicate_jobs"] == 0
         rollout = run_traversal(world, _team(world, 5), MadgtaK(tip_per_agent=60), seed=1)
         assert run.path_strings() != rollout.path_strings()
