@@ -6,7 +6,8 @@ madgta-f's end-game plan work over every agent's route. For each team size this 
 algorithm on the same random map (``--side`` cells square, ``--density`` walls, generator
 seed 1) from the same random nests (seeded by the team size), one process, and prints the
 makespan against MADGTA's and the CPU seconds with their ratio to MADGTA's run in the same
-process (seeds 0 .. ``--seeds`` − 1; the ratio of the summed CPU).
+process (seeds 0 .. ``--seeds`` − 1; the ratio of the summed CPU), and the messages and
+kilobytes sent per run (madgta-s's plan messages grow with the team).
 
     .venv/bin/python bench/traversal_team_size.py                       # ~8 min
     .venv/bin/python bench/traversal_team_size.py --agents 16 --side 48 --seeds 1
@@ -46,8 +47,8 @@ def main(argv: list[str] | None = None) -> int:
     print(f"{args.side}x{args.side}, {args.density:.0%} walls, {free.size} free cells; "
           f"seeds 0-{args.seeds - 1}")
     print("| agents | algorithm | mean makespan | against MADGTA | CPU s per run "
-          "| CPU / MADGTA's |")
-    print("|---|---|---|---|---|---|")
+          "| CPU / MADGTA's | messages per run | kB per run |")
+    print("|---|---|---|---|---|---|---|---|")
     for m in args.agents:
         if m > free.size:
             print(f"skipping {m} agents: more than the {free.size} free cells", file=sys.stderr)
@@ -57,15 +58,17 @@ def main(argv: list[str] | None = None) -> int:
         makespan: dict[str, list[float]] = {}
         cpu: dict[str, float] = {}
         for alg in algorithms:
-            makespan[alg], cpu[alg] = [], 0.0
+            makespan[alg], cpu[alg], sent, size = [], 0.0, 0, 0
             for seed in range(args.seeds):
                 t = time.process_time()
                 run = run_traversal(world, agents, online_policy(alg), seed=seed)
                 cpu[alg] += time.process_time() - t
                 makespan[alg].append(run_metrics(run, 1.0)[0]["max_total_time"])
+                sent, size = sent + run.messages, size + run.message_bytes
             rel = np.array(makespan[alg]) / np.array(makespan["madgta"]) - 1.0
             print(f"| {m} | {alg} | {np.mean(makespan[alg]):.1f} | {100 * rel.mean():+.2f} % "
-                  f"| {cpu[alg] / args.seeds:.1f} | {cpu[alg] / cpu['madgta']:.1f}x |",
+                  f"| {cpu[alg] / args.seeds:.1f} | {cpu[alg] / cpu['madgta']:.1f}x "
+                  f"| {sent / args.seeds:.0f} | {size / args.seeds / 1000:.0f} |",
                   flush=True)
     return 0
 

@@ -140,7 +140,8 @@ class TraversalBelief:
 
     # ---- updates (sensing and messages)
     def hear_plan(self, plan: TeamPlan) -> None:
-        """Keep ``plan`` if it is newer than the one held (a late, delayed plan is stale)."""
+        """Keep ``plan`` unless the one held was made later (a late, delayed plan is stale).
+        Receivers share the plan's arrays: nobody writes them."""
         if self.plan is None or plan.t >= self.plan.t:
             self.plan = plan
 
