@@ -308,9 +308,10 @@ class TraversalAgent:
         self.send(Message(kind, self.me, int(node), tuple(obstacles), eta, t, done_list))
 
     def _say_plan(self, plan: TeamPlan | None, t: float) -> None:
-        """Broadcast the team plan a decision was made with (madgta-s), after the decision's
-        own message."""
+        """Keep and broadcast the team plan a decision was made with (madgta-s), after the
+        decision's own message."""
         if plan is not None:
+            self.belief.hear_plan(plan)
             self.send(Message(PLAN, self.me, self.belief.here, t=t, plan=plan))
 
     # ---- LOOK
@@ -373,8 +374,6 @@ class TraversalAgent:
         d = self.policy.decide(b, self.rng)
         log = self.log
         log.decisions_by_branch[d.branch] += 1
-        if d.plan is not None:
-            b.hear_plan(d.plan)
         if d.kind == "job":
             nxt = self._start_job(d.node, t)
             self._say_plan(d.plan, t)

@@ -67,7 +67,7 @@ one plan, the ruin-and-recreate rounds of every decision improve the same plan.
 
 Results (docs/traversal-variants.md §8, the same 80 runs): makespan -3.35 % ± 0.58 % against
 MADGTA (better in 74 of 80), -0.49 % ± 0.20 % against madgta-f; no map and nest row above
-MADGTA. Cost: 2-23 % more messages than madgta-f and 1.6-9 times its bytes; 10-15 s of CPU
+MADGTA. Cost: 2-23 % more messages than madgta-f and 1.6-9 times its bytes; 10-17 s of CPU
 per run with 16 agents.
 
 Choices:
