@@ -156,6 +156,9 @@ class Mission:
         if getattr(policy, "share", False):  # madgta-s: its plan message is not on the wire
             raise InputError(f"the networked runtime cannot run {self.algorithm!r}: Fig. 4.17's"
                              " wire has no message for a shared team plan (share=true)")
+        if getattr(policy, "announce_leave", False):  # madgta-h: nor is its leave message
+            raise InputError(f"the networked runtime cannot run {self.algorithm!r}: Fig. 4.17's"
+                             " wire has no message for an agent that leaves (madgta-h)")
 
     @property
     def n_agents(self) -> int:

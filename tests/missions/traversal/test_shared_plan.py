@@ -126,3 +126,14 @@ def test_the_networked_runtime_refuses_a_shared_plan():
     world = empty_grid(4, 4)
     with pytest.raises(InputError, match="shared team plan"):
         Mission(world, uniform_agents([0], 2.0, 9.0), algorithm="madgta-f@share=true")
+
+
+def test_the_networked_runtime_refuses_a_leave_message():
+    """madgta-h's ``leave`` is not on Fig. 4.17's wire either: a library-built mission
+    is refused as ``swarmex serve`` refuses the name."""
+    from swarmex.errors import InputError
+    from swarmex.net.traversal import Mission
+
+    world = empty_grid(4, 4)
+    with pytest.raises(InputError, match="agent that leaves"):
+        Mission(world, uniform_agents([0], 2.0, 9.0), algorithm="madgta-h")
