@@ -123,6 +123,33 @@ def test_networked_run_is_the_simulated_run(tmp_path, capsys):
     assert times == sorted(times)
 
 
+def test_a_shared_team_plan_travels_on_the_wire(tmp_path):
+    """madgta-s over sockets: its team plans ride on the decisions' frames, and the run is
+    the simulated one, message count included (a plan counts as its own message)."""
+    rec_path = tmp_path / "net.json"
+    with Procs() as procs:
+        server = procs.start(
+            "server", "serve", *GRID, "--agents", 3, "--seed", 4, "--port", 0,
+            "--algorithm", "madgta-s", "--time-scale", 0.002, "--timeout", 60,
+            "--json", rec_path,
+        )
+        a = procs.start("agents", "agent", "--connect", endpoint(server), "--count", 3,
+                        "--server-timeout", 20)
+        assert server.wait(75) == 0, server.output
+        assert a.wait(15) == 0, a.output
+    net = json.loads(rec_path.read_text())
+    sim_run = run_traversal(_world(), uniform_agents([0, 0, 0], 2.22, 10.0), "madgta-s", seed=4)
+    sim = traversal_record(sim_run, {}).to_dict()
+    plain = run_traversal(_world(), uniform_agents([0, 0, 0], 2.22, 10.0), "madgta-f", seed=4)
+    assert net["complete"] and net["makespan"] == sim["makespan"]
+    for x, y in zip(net["agents"], sim["agents"], strict=True):
+        assert x["trajectory"] == y["trajectory"]
+        assert x["jobs"] == y["jobs"]
+    assert net["metrics"]["messages"] == sim["metrics"]["messages"] > plain.messages
+    assert net["network"]["stats_mismatch"] == 0
+    replay(net, free_mask(6, 6, OBSTACLES))
+
+
 def test_killed_agent_is_replaced_by_a_spare(tmp_path):
     rec_path = tmp_path / "net.json"
     with Procs() as procs:
@@ -265,8 +292,7 @@ def test_an_agent_that_never_got_an_id_says_so(tmp_path):
     ("madgta-f@bogus=1", "madgta-f has no option 'bogus'"),
     ("optimal", "--algorithm must be madgta, madgta+"),
     ("madgta-k@tip_per_agent=-1", "tip_per_agent must be >= 0"),
-    ("madgta-s", "--algorithm must be madgta, madgta+"),
-    ("madgta-f@share=true", "no message for a shared team plan"),
+    ("madgta-h", "--algorithm must be madgta, madgta+"),
 ])
 def test_serve_refuses_an_algorithm_it_cannot_serve(
     algorithm: str, says: str, capsys: pytest.CaptureFixture[str]

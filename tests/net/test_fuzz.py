@@ -18,6 +18,8 @@ DECODERS = [wire.unpack, wire.decode_broadcast, wire.decode_message]
 _valid = [
     wire.Broadcast("C05", 1, 3, 0, 1, np.array([0, 3]), np.array([1, 1]), (2,), 1.0, 3.22,
                    wire.rng_state(np.random.default_rng(1))).frame(),
+    wire.Broadcast("C05", 1, 3, t=1.0, eta=3.22,  # a madgta-s decision with its team plan
+                   plan=(0.5, np.array([0, 2, 1]), np.array([4, 5, 9]))).frame(),
     wire.pack(["C00", 0]),
     wire.pack(["JOIN", 2, 30.5, 17]),
     wire.pack(["MIS", {"world": {}}, [b"x"]]),
@@ -69,7 +71,7 @@ def test_checksummed_nonsense(value):
 
 @settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(st.sampled_from(wire.BROADCAST_COMMANDS + wire.CONTROL_COMMANDS),
-       st.lists(msgpack_values, max_size=11))
+       st.lists(msgpack_values, max_size=12))
 def test_known_commands_with_random_fields(cmd, fields):
     try:
         frame = wire.pack([cmd, *fields])

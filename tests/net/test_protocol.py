@@ -40,6 +40,8 @@ def _world_and_nests(size: int, density: float, k: int, seed: int):
         (9, 0.2, 4, 7, {"algorithm": "madgta-k"}),
         (9, 0.2, 4, 8, {"algorithm": "madgta-f"}),
         (9, 0.2, 4, 9, {"algorithm": "madgta-p@ils=5,follow=walls,keep=true"}),
+        (9, 0.2, 4, 10, {"algorithm": "madgta-s"}),
+        (6, 0.0, 3, 11, {"algorithm": "madgta-s"}),
         (7, 0.1, 2, 4, {"start_interval": 0.0}),
     ],
 )

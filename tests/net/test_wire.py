@@ -28,6 +28,33 @@ def test_broadcast_round_trip_keeps_every_field_of_fig_4_17():
     assert back.rng == b.rng
 
 
+def test_a_team_plan_rides_as_a_thirteenth_field():
+    """madgta-s's plan: [t, route lengths, vertices], with or without a done-nodes list."""
+    plan = (4.5, np.array([0, 2, 0, 1]), np.array([9, 8, 30]))
+    for walls in (np.array([3, 4]), None):
+        b = _broadcast(walls=walls, plan=plan)
+        msg = wire.unpack(b.frame())
+        assert len(msg) == 13 and (msg[11] is None) == (walls is None)
+        back = wire.decode_broadcast(b.frame())
+        assert back.plan[0] == 4.5
+        assert back.plan[1].tolist() == [0, 2, 0, 1] and back.plan[2].tolist() == [9, 8, 30]
+        assert (back.walls is None) == (walls is None)
+    assert len(wire.unpack(_broadcast().frame())) == 11  # no plan, no list: Fig. 4.17's 11
+
+
+@pytest.mark.parametrize(("field", "says"), [
+    ([1.0, wire.pack_nodes([0, 2]), wire.pack_nodes([5])], "do not add up"),
+    ([1.0, wire.pack_nodes([0, 1])], "expected [t, route lengths, vertices]"),
+    ("plan", "expected [t, route lengths, vertices]"),
+    ([float("nan"), wire.pack_nodes([0, 1]), wire.pack_nodes([5])], "plan t"),
+    ([1.0, b"abc", wire.pack_nodes([5])], "uint32"),
+])
+def test_a_malformed_plan_is_an_encoding_error(field, says):
+    msg = _broadcast(walls=np.array([3])).to_wire() + [field]
+    with pytest.raises(wire.EncodingError, match=says.replace("[", r"\[").replace("]", r"\]")):
+        wire.decode_broadcast(wire.pack(msg))
+
+
 def test_not_done_list_needs_no_doers():
     b = _broadcast(done_bit=0, nodes=np.array([7, 8]), doers=None, rng=None)
     back = wire.decode_broadcast(b.frame())

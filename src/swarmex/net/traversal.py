@@ -83,6 +83,7 @@ from swarmex.missions.traversal.agent import (
     JOB,
     NEXT,
     PASS,
+    PLAN,
     START,
     UNDONE,
     AdjacencySensor,
@@ -94,7 +95,7 @@ from swarmex.missions.traversal.agent import (
     forget_rival,
 )
 from swarmex.missions.traversal.agents import AgentSpec
-from swarmex.missions.traversal.belief import DONE_BY_UNKNOWN, TraversalBelief
+from swarmex.missions.traversal.belief import DONE_BY_UNKNOWN, TeamPlan, TraversalBelief
 from swarmex.missions.traversal.policies import Madgta, make_policy
 from swarmex.net.wire import (
     BROADCAST_COMMANDS,
@@ -153,9 +154,6 @@ class Mission:
         if not 0.0 <= self.job_failure < 1.0:
             raise InputError(f"--job-failure must be in [0, 1), got {self.job_failure}")
         policy = make_policy(self.algorithm)  # fails now on an unknown name
-        if getattr(policy, "share", False):  # madgta-s: its plan message is not on the wire
-            raise InputError(f"the networked runtime cannot run {self.algorithm!r}: Fig. 4.17's"
-                             " wire has no message for a shared team plan (share=true)")
         if getattr(policy, "announce_leave", False):  # madgta-h: nor is its leave message
             raise InputError(f"the networked runtime cannot run {self.algorithm!r}: Fig. 4.17's"
                              " wire has no message for an agent that leaves (madgta-h)")
@@ -353,6 +351,12 @@ def check_broadcast(b: Broadcast, mission: Mission) -> None:
         raise EncodingError("obstacle outside the map")
     if b.walls is not None and b.walls.size and b.walls.max() >= n:
         raise EncodingError("known obstacle outside the map")
+    if b.plan is not None:
+        _, lens, nodes = b.plan
+        if lens.size != mission.n_agents + 1 or lens[0]:
+            raise EncodingError("plan: one route per agent")
+        if nodes.size and nodes.max() >= n:
+            raise EncodingError("planned node outside the map")
     if b.done_bit and b.doers is not None and b.doers.size:
         ok = ((b.doers >= 1) & (b.doers <= mission.n_agents)) | (b.doers == DONE_BY_UNKNOWN)
         if not ok.all():  # receivers merge the list: a doer is an agent id
@@ -386,6 +390,28 @@ _CMD_OF = {
     START: ("C04", 0), PASS: ("C07", 0), JOB: ("C07", 1), NEXT: ("C05", 0),
     DONE: ("C08", 1), UNDONE: ("C08", 0),
 }
+
+
+def plan_of(b: Broadcast) -> Message | None:
+    """The ``plan`` message riding on a decision's broadcast (madgta-s), as the agent core
+    sent it after the decision's own; ``None`` without a plan."""
+    if b.plan is None:
+        return None
+    t, lens, nodes = b.plan
+    routes = np.full((lens.size, int(lens.max(initial=0)) + 1), -1, dtype=np.int64)
+    at = 0
+    for a, k in enumerate(lens.tolist()):
+        routes[a, :k] = nodes[at:at + k]
+        at += k
+    return Message(PLAN, b.id, b.node, t=b.t, plan=TeamPlan(t, routes, lens.copy()))
+
+
+def with_plan(b: Broadcast, plan: TeamPlan) -> Broadcast:
+    """``b`` carrying a team plan (the inverse of :func:`plan_of`): a ``plan`` message goes
+    in the frame of the decision it follows, so a step still ends with its C05 or C07."""
+    lens = np.asarray(plan.lens, dtype=np.int64)
+    nodes = np.concatenate([plan.routes[a, :k] for a, k in enumerate(lens.tolist())])
+    return replace(b, plan=(float(plan.t), lens, nodes.astype(np.int64)))
 
 
 def broadcast_of(m: Message) -> Broadcast:
@@ -435,6 +461,9 @@ def apply_to_belief(b: TraversalBelief, msg: Broadcast) -> None:
     (:func:`~swarmex.missions.traversal.agent.apply_message`), the simulator's: its
     obstacles, its done-nodes list merged, then the command's own update."""
     apply_message(b, message_of(msg))
+    plan = plan_of(msg)
+    if plan is not None:
+        apply_message(b, plan)
 
 
 def forget_agent(b: TraversalBelief, agent: int, open_node: int) -> None:
@@ -506,6 +535,9 @@ class AgentCore:
     # ---- stream
     def receive(self, msg: Broadcast) -> None:
         self.agent.receive(message_of(msg))
+        plan = plan_of(msg)
+        if plan is not None:
+            self.agent.receive(plan)
 
     def forget(self, agent: int, open_node: int) -> None:
         self.agent.forget(agent, open_node)
@@ -525,7 +557,12 @@ class AgentCore:
         else:
             fail = self.mission.job_failure
             nxt = agent.end_job(node, t, fail > 0 and agent.rng.random() < fail)
-        out = [broadcast_of(m) for m in self._said]
+        out: list[Broadcast] = []
+        for m in self._said:
+            if m.kind == PLAN and m.plan is not None:  # rides on the decision it follows
+                out[-1] = with_plan(out[-1], m.plan)
+            else:
+                out.append(broadcast_of(m))
         if nxt.kind == "finish":
             out.append(self._finish(t))
         else:
@@ -705,7 +742,7 @@ class Recorder:
 
     def on_broadcast(self, b: Broadcast, nbytes: int) -> None:
         if b.cmd in ("C04", "C05", "C07", "C08"):
-            self.messages += 1
+            self.messages += 1 + (b.plan is not None)  # a plan is its own message, as simulated
             self.message_bytes += nbytes
         log = self.incarnation(b.id).log
         t, node = b.t, b.node

@@ -56,6 +56,10 @@ step (see :mod:`swarmex.net.traversal` for why these three ride along). ``walls`
 with a done-nodes list, completes it into the thesis's KM: every obstacle the sender knows
 (§4.1's list is KM, done nodes *and* obstacles; the done / not-done form alone cannot tell a
 receiver which unlisted nodes are walls). A broadcast without a list has 11 fields.
+Beyond Fig. 4.17, a decision of ``madgta-s`` carries its end-game team plan as a 13th field
+(``walls`` is then nil without a list): ``[t, lengths, vertices]``, when the plan was made,
+each agent's route length (row 0, unused, first) and the routes' vertices concatenated, both
+packed as the node lists are.
 """
 
 from __future__ import annotations
@@ -197,6 +201,9 @@ class Broadcast:
     eta: float = 0.0
     rng: bytes | None = None
     walls: np.ndarray | None = None  # the sender's known obstacles (with a done-nodes list)
+    #: madgta-s's team plan riding on the decision it was made for: (made at, each agent's
+    #: route length, row 0 first; the routes' vertices, concatenated in that order)
+    plan: tuple[float, np.ndarray, np.ndarray] | None = None
 
     def to_wire(self) -> list[Any]:
         empty = b""
@@ -213,8 +220,11 @@ class Broadcast:
             self.eta,
             self.rng,
         ]
-        if self.walls is not None:
-            out.append(pack_nodes(self.walls))
+        if self.walls is not None or self.plan is not None:
+            out.append(None if self.walls is None else pack_nodes(self.walls))
+        if self.plan is not None:
+            t, lens, nodes = self.plan
+            out.append([t, pack_nodes(lens), pack_nodes(nodes)])
         return out
 
     def frame(self) -> bytes:
@@ -223,7 +233,7 @@ class Broadcast:
     @classmethod
     def from_wire(cls, obj: Any) -> Broadcast:
         m = message(obj, BROADCAST_COMMANDS)
-        if len(m) != 12:
+        if len(m) not in (12, 13):
             arity(m, 11)
         rng = m[10]
         if rng is not None:
@@ -244,8 +254,20 @@ class Broadcast:
             _float(m[8], "t"),
             _float(m[9], "eta"),
             rng,
-            _nodes(m[11], "walls") if len(m) == 12 else None,
+            _nodes(m[11], "walls") if len(m) >= 12 and m[11] is not None else None,
+            _plan(m[12]) if len(m) == 13 else None,
         )
+
+
+def _plan(v: Any) -> tuple[float, np.ndarray, np.ndarray]:
+    """A team plan's field: ``[t, route lengths, vertices]``, the lengths adding up to the
+    vertices' count."""
+    if not isinstance(v, list) or len(v) != 3:
+        raise EncodingError("plan: expected [t, route lengths, vertices]")
+    lens, nodes = _nodes(v[1], "plan route lengths"), _nodes(v[2], "plan vertices")
+    if int(lens.sum()) != nodes.size:
+        raise EncodingError("plan: the route lengths do not add up to its vertices")
+    return _float(v[0], "plan t"), lens, nodes
 
 
 def decode_broadcast(frame: bytes) -> Broadcast:

@@ -5,7 +5,10 @@ What is pinned: the name selects it; under a perfect broadcast the plan messages
 exactly the runs of a team that keeps its plan in one common memory (an independent route:
 no message, no belief, the policy's own store shared by key), and they are counted in the
 record, bytes and all; over a lossy, range-limited or delayed channel every job is still
-done (test_followed.py); a belief keeps the newest plan it hears; the networked runtime refuses it.
+done (test_followed.py); a belief keeps the newest plan it hears; the networked runtime
+carries the plan in its decisions' frames (its run is the simulated one:
+tests/net/test_protocol.py, tests/e2e/test_net_traversal.py) and checks it; it refuses
+madgta-h, whose ``leave`` is not on the wire.
 """
 
 from __future__ import annotations
@@ -119,13 +122,28 @@ def test_a_belief_keeps_the_newest_plan_it_hears():
     assert belief.plan is latest
 
 
-def test_the_networked_runtime_refuses_a_shared_plan():
-    from swarmex.errors import InputError
-    from swarmex.net.traversal import Mission
+def test_the_networked_runtime_carries_the_plan_and_checks_it():
+    """On the wire a plan rides on the decision it follows; the server refuses one with the
+    wrong number of routes or a vertex off the map; over a lossy radio (serve
+    --inject-loss) every vertex is still done."""
+    from swarmex.net.traversal import Mission, check_broadcast, run_inprocess
+    from swarmex.net.wire import Broadcast, EncodingError
 
-    world = empty_grid(4, 4)
-    with pytest.raises(InputError, match="shared team plan"):
-        Mission(world, uniform_agents([0], 2.0, 9.0), algorithm="madgta-f@share=true")
+    world = random_obstacles(8, 8, 0.15, seed=3)
+    mission = Mission(world, _team(world, 3), algorithm="madgta-f@share=true", seed=2)
+    cores, recorder = run_inprocess(mission, loss=0.3)
+    free = ~world.blocked
+    assert (recorder.job_count[free] >= 1).all() and (recorder.job_count[~free] == 0).all()
+    heard = [core.belief.plan for core in cores.values()]
+    assert all(p is not None for p in heard)  # every agent heard or made a plan
+    ok = Broadcast("C05", 1, 3, t=1.0, eta=2.0, plan=(0.5, np.array([0, 1, 0, 1]),
+                                                      np.array([5, 6])))
+    check_broadcast(ok, mission)
+    for plan, says in (((0.5, np.array([0, 1, 1]), np.array([5, 6])), "one route per agent"),
+                       ((0.5, np.array([1, 0, 0, 1]), np.array([5, 6])), "one route per agent"),
+                       ((0.5, np.array([0, 1, 0, 1]), np.array([5, 64])), "outside the map")):
+        with pytest.raises(EncodingError, match=says):
+            check_broadcast(Broadcast("C05", 1, 3, t=1.0, eta=2.0, plan=plan), mission)
 
 
 def test_the_networked_runtime_refuses_a_leave_message():

@@ -64,8 +64,8 @@ KINDS = (START, PASS, JOB, NEXT, DONE, UNDONE)
 LEAVE = "leave"
 #: ``plan``: madgta-s's end-game team plan (:class:`~.belief.TeamPlan`), sent after the
 #: decision it was made for; receivers keep the newest (:meth:`TraversalBelief.hear_plan`)
-#: and start their own plan from it. Not a §4.2 kind either: the networked runtime does not
-#: offer madgta-s.
+#: and start their own plan from it. Not a §4.2 kind either: on the networked runtime's wire
+#: it rides in the frame of the decision it follows (:mod:`swarmex.net.wire`).
 PLAN = "plan"
 
 #: §4.1's done-nodes field: ``(bit, vertices, doers)``, optionally with a fourth array, the

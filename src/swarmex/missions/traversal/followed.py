@@ -80,8 +80,11 @@ Choices:
   simulator and ``traversal_v0`` send the same messages.
 * **Followed on an open lattice too.** madgta-f rolls out there because a followed private
   plan lost 0.9 % on empty-16-16. A shared one gains 1.37 % ± 0.82 % against it.
-* **Not on the networked runtime.** Fig. 4.17's wire has no plan message; ``swarmex serve``
-  refuses the spec (as it refuses madgta-h, whose ``leave`` is not on the wire either).
+* **On the networked runtime, the plan rides on the decision's frame.** Fig. 4.17's
+  broadcast has no plan field, so ``swarmex serve`` adds one (a 13th field, docs/net.md) to
+  the C05 or C07 of the decision the plan was made for. The step still ends with that
+  frame, the stream order is the simulator's, and the run is the simulated one (tested);
+  the record counts the plan as its own message, as the simulator does.
 """
 
 from __future__ import annotations
