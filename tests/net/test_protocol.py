@@ -118,9 +118,12 @@ def test_departure_reverts_the_open_job_and_the_others_finish():
     assert dead.log.jobs[-1][1] == node  # it had started the job it never finished
 
 
-def test_a_spare_replays_the_stream_into_the_same_view_and_finishes_the_work():
+@pytest.mark.parametrize("algorithm", ["madgta", "madgta-s"])
+def test_a_spare_replays_the_stream_into_the_same_view_and_finishes_the_work(algorithm):
+    """A spare's catch-up gives it the view of the agents that were there all along, the
+    newest team plan included (madgta-s)."""
     world = GridWorld(np.ones((5, 5), dtype=bool))
-    mission = Mission(world, uniform_agents([0, 12, 24], 1.0, 5.0), seed=4)
+    mission = Mission(world, uniform_agents([0, 12, 24], 1.0, 5.0), algorithm, seed=4)
     cores = {i: AgentCore(mission, i) for i in (1, 2, 3)}
     replicas = [Replica(mission) for _ in range(4)]
     recorder = Recorder(mission)
@@ -149,6 +152,12 @@ def test_a_spare_replays_the_stream_into_the_same_view_and_finishes_the_work():
     assert np.array_equal(spare.belief.status, ref.status)
     assert np.array_equal(spare.belief.reserved, ref.reserved)
     assert np.array_equal(spare.belief.loc, ref.loc)
+    if algorithm == "madgta-s":
+        mine, theirs = spare.belief.plan, ref.plan
+        assert mine is not None and theirs is not None and mine.t == theirs.t
+        assert mine.lens.tolist() == theirs.lens.tolist()
+        for a, k in enumerate(theirs.lens.tolist()):
+            assert mine.routes[a, :k].tolist() == theirs.routes[a, :k].tolist()
     cores[2] = spare
     replicas.append(rep)
     _drive(mission, cores, replicas, recorder)
