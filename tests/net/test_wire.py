@@ -50,6 +50,10 @@ def test_a_team_plan_rides_as_a_thirteenth_field():
     ([1.0, b"abc", wire.pack_nodes([5])], "uint32"),
 ])
 def test_a_malformed_plan_is_an_encoding_error(field, says):
+    """Each wrong shape of the 13th field is named; so is a nil ``walls`` without a plan."""
+    nil_walls = _broadcast().to_wire() + [None]
+    with pytest.raises(wire.EncodingError, match="walls"):
+        wire.decode_broadcast(wire.pack(nil_walls))
     msg = _broadcast(walls=np.array([3])).to_wire() + [field]
     with pytest.raises(wire.EncodingError, match=says.replace("[", r"\[").replace("]", r"\]")):
         wire.decode_broadcast(wire.pack(msg))

@@ -355,6 +355,8 @@ def check_broadcast(b: Broadcast, mission: Mission) -> None:
         _, lens, nodes = b.plan
         if lens.size != mission.n_agents + 1 or lens[0]:
             raise EncodingError("plan: one route per agent")
+        if nodes.size > n:  # a plan holds a vertex once (and receivers size arrays by it)
+            raise EncodingError("plan: more vertices than the map")
         if nodes.size and nodes.max() >= n:
             raise EncodingError("planned node outside the map")
     if b.done_bit and b.doers is not None and b.doers.size:

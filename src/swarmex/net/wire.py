@@ -254,7 +254,7 @@ class Broadcast:
             _float(m[8], "t"),
             _float(m[9], "eta"),
             rng,
-            _nodes(m[11], "walls") if len(m) >= 12 and m[11] is not None else None,
+            None if len(m) == 11 or (len(m) == 13 and m[11] is None) else _nodes(m[11], "walls"),
             _plan(m[12]) if len(m) == 13 else None,
         )
 

@@ -141,7 +141,9 @@ def test_the_networked_runtime_carries_the_plan_and_checks_it():
     check_broadcast(ok, mission)
     for plan, says in (((0.5, np.array([0, 1, 1]), np.array([5, 6])), "one route per agent"),
                        ((0.5, np.array([1, 0, 0, 1]), np.array([5, 6])), "one route per agent"),
-                       ((0.5, np.array([0, 1, 0, 1]), np.array([5, 64])), "outside the map")):
+                       ((0.5, np.array([0, 1, 0, 1]), np.array([5, 64])), "outside the map"),
+                       ((0.5, np.array([0, 65, 0, 0]), np.zeros(65, dtype=np.int64)),
+                        "more vertices than the map")):
         with pytest.raises(EncodingError, match=says):
             check_broadcast(Broadcast("C05", 1, 3, t=1.0, eta=2.0, plan=plan), mission)
 
