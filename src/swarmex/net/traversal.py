@@ -401,19 +401,22 @@ def plan_of(b: Broadcast) -> Message | None:
         return None
     t, lens, nodes = b.plan
     routes = np.full((lens.size, int(lens.max(initial=0)) + 1), -1, dtype=np.int64)
-    at = 0
-    for a, k in enumerate(lens.tolist()):
-        routes[a, :k] = nodes[at:at + k]
-        at += k
+    routes[_route_cells(lens, routes.shape[1])] = nodes  # row by row: the wire's order
     return Message(PLAN, b.id, b.node, t=b.t, plan=TeamPlan(t, routes, lens.copy()))
+
+
+def _route_cells(lens: np.ndarray, width: int) -> np.ndarray:
+    """The cells of a routes array that hold a route's vertices (row ``a``'s first
+    ``lens[a]``); read in C order they are the routes concatenated."""
+    return np.arange(width)[None, :] < np.asarray(lens)[:, None]
 
 
 def with_plan(b: Broadcast, plan: TeamPlan) -> Broadcast:
     """``b`` carrying a team plan (the inverse of :func:`plan_of`): a ``plan`` message goes
     in the frame of the decision it follows, so a step still ends with its C05 or C07."""
     lens = np.asarray(plan.lens, dtype=np.int64)
-    nodes = np.concatenate([plan.routes[a, :k] for a, k in enumerate(lens.tolist())])
-    return replace(b, plan=(float(plan.t), lens, nodes.astype(np.int64)))
+    nodes = plan.routes[_route_cells(lens, plan.routes.shape[1])].astype(np.int64)
+    return replace(b, plan=(float(plan.t), lens, nodes))
 
 
 def broadcast_of(m: Message) -> Broadcast:
@@ -458,14 +461,19 @@ class Loss:
         return out
 
 
+def messages_of(b: Broadcast) -> list[Message]:
+    """A broadcast as the agent core's messages, in the order it sent them: the command's
+    (:func:`message_of`), then the team plan riding on it, if any (:func:`plan_of`)."""
+    plan = plan_of(b)
+    return [message_of(b)] if plan is None else [message_of(b), plan]
+
+
 def apply_to_belief(b: TraversalBelief, msg: Broadcast) -> None:
     """A broadcast applied to a belief by the agent core's rule
     (:func:`~swarmex.missions.traversal.agent.apply_message`), the simulator's: its
-    obstacles, its done-nodes list merged, then the command's own update."""
-    apply_message(b, message_of(msg))
-    plan = plan_of(msg)
-    if plan is not None:
-        apply_message(b, plan)
+    obstacles, its done-nodes list merged, then the command's own update (and a plan it carries)."""
+    for m in messages_of(msg):
+        apply_message(b, m)
 
 
 def forget_agent(b: TraversalBelief, agent: int, open_node: int) -> None:
@@ -536,10 +544,8 @@ class AgentCore:
 
     # ---- stream
     def receive(self, msg: Broadcast) -> None:
-        self.agent.receive(message_of(msg))
-        plan = plan_of(msg)
-        if plan is not None:
-            self.agent.receive(plan)
+        for m in messages_of(msg):
+            self.agent.receive(m)
 
     def forget(self, agent: int, open_node: int) -> None:
         self.agent.forget(agent, open_node)
