@@ -42,7 +42,8 @@ from swarmex.studies.foraging.design import BAND_LABEL, BANDS, UNITS, G, food_ce
 
 SEED_PATTERNS = ("strips", "zigzag", "hilbert", "sectors", "spiral")
 NS = (8, 16)
-Task = tuple[str, int, str, int, tuple[int, int]]
+Task = tuple[str, int, str, int, tuple[int, int], tuple[tuple[int, int], ...]]
+RECALL = "recall"
 
 
 def supports(pattern: str, n: int) -> bool:
@@ -53,14 +54,41 @@ def supports(pattern: str, n: int) -> bool:
 def run_one(task: Task) -> tuple[Task, float, dict[str, Any]]:
     from swarmex.missions.registry import get
 
-    pattern, n, band, i, food = task
+    pattern, n, band, i, food, found = task
     mission = get("foraging")
     params = mission.params(
-        algorithm=pattern, grid=G, agents=n, food=food, food_units=UNITS, transport="relay-food"
-    )
+        algorithm=pattern, grid=G, agents=n, food=food, food_units=UNITS, transport="relay-food",
+        found=found,
+    )  # fmt: skip
     t0 = time.process_time()
     record = mission.run(params, trace=False).record
-    return task, time.process_time() - t0, dict(record.metrics)
+    return task, time.process_time() - t0, {**record.metrics, **record.extra}
+
+
+def memory(pattern: str, cells: list[tuple[int, int]], i: int) -> tuple[tuple[int, int], ...]:
+    """What the team remembers on trip ``i`` of a band: recall, the cells of trips 0 … i - 1
+    (the choice replays the last MEMORY of them); a pattern, nothing."""
+    return tuple(cells[:i]) if pattern == RECALL else ()
+
+
+def choices(rows: list[tuple[Task, float, dict[str, Any]]]) -> list[str]:
+    """How often recall chose each pattern per (band, N), and its mean total after the first
+    eight trips of each band (once the memory holds several cells)."""
+    acc: dict[tuple[int, str], list[tuple[int, str, float]]] = {}
+    for (p, n, band, i, _, _), _, m in rows:
+        if p == RECALL:
+            acc.setdefault((n, band), []).append((i, str(m["pattern"]), m["total_time"]))
+    lines = ["| N | band | patterns chosen (trips) | mean total, trips 8 on |", "|---|---|---|---|"]
+    for (n, band), trips in sorted(acc.items(), key=lambda e: (e[0][0], BANDS.index(e[0][1]))):
+        names: dict[str, int] = {}
+        for _, name, _ in trips:
+            key = "annulus" if name.startswith("annulus") else name
+            names[key] = names.get(key, 0) + 1
+        late = [t for i, _, t in trips if i >= 8]
+        chosen = ", ".join(f"{k} {v}" for k, v in sorted(names.items(), key=lambda e: -e[1]))
+        mean = f"{np.mean(late):.0f}" if late else "–"
+        lines.append(f"| {n} | {BAND_LABEL[band]} | {chosen} | {mean} |")
+    return lines
 
 
 def t_interval(d: np.ndarray) -> tuple[float, float]:
@@ -108,7 +136,7 @@ def table(totals: dict[tuple[str, int, str], np.ndarray], ours: list[str]) -> li
 def phases(rows: list[tuple[Task, float, dict[str, Any]]], ours: list[str]) -> list[str]:
     """Mean exploration and communication (+ overlap) per (pattern, N, band): why."""
     acc: dict[tuple[str, int, str], list[dict[str, Any]]] = {}
-    for (pattern, n, band, _, _), _, m in rows:
+    for (pattern, n, band, _, _, _), _, m in rows:
         acc.setdefault((pattern, n, band), []).append(m)
     lines = ["| pattern | N | " + " | ".join(BAND_LABEL[b] for b in BANDS) + " |",
              "|---|---|" + "---|" * len(BANDS)]
@@ -179,7 +207,7 @@ def exact_band_e(
             if not supports(pattern, n):
                 continue
             first = first_visits(pattern, n)
-            for (p, nn, _, _, food), _, m in rows:
+            for (p, nn, _, _, food, _), _, m in rows:
                 if p == pattern and nn == n and first[food] != m["exploration_time"]:
                     raise AssertionError(f"{pattern} N = {n} {food}: timetable disagrees")
             for band in BANDS:
@@ -211,7 +239,7 @@ def budget(
     from swarmex.missions.foraging.food import band_cells
 
     acc: dict[tuple[str, int, str], dict[int, dict[str, Any]]] = {}
-    for (pattern, n, band, i, _), _, m in rows:
+    for (pattern, n, band, i, _, _), _, m in rows:
         acc.setdefault((pattern, n, band), {})[i] = m
 
     def per_cell(pattern: str, n: int, band: str, key: str) -> np.ndarray:
@@ -287,7 +315,7 @@ def floor_checks(rows: list[tuple[Task, float, dict[str, Any]]], fl: Floors) -> 
 
     below_q: list[str] = []
     below_p = 0
-    for (pattern, n, band, i, food), _, m in rows:
+    for (pattern, n, band, i, food, _), _, m in rows:
         q = m["total_time"] - m["exploration_time"]
         if q < fl[(band, i, n)][0]:
             below_q.append(f"{pattern} N = {n} food {food}: Q {q} < Q_min {fl[(band, i, n)][0]} "
@@ -298,7 +326,7 @@ def floor_checks(rows: list[tuple[Task, float, dict[str, Any]]], fl: Floors) -> 
              "| N | band | mean d | mean Q_min | mean 2k(d − n)/n | mean proven floor | "
              "lowest measured Q | Q_min: relay only / with joining robots |",
              "|---|---|---|---|---|---|---|---|"]
-    foods = {(band, i): f for (_, _, band, i, f), _, _ in rows}
+    foods = {(band, i): f for (_, _, band, i, f, _), _, _ in rows}
     for n in NS:
         for band in BANDS:
             keys = sorted(k for k in fl if k[0] == band and k[2] == n)
@@ -307,7 +335,7 @@ def floor_checks(rows: list[tuple[Task, float, dict[str, Any]]], fl: Floors) -> 
             proven = np.asarray([fl[k][1] for k in keys])
             closed = 2 * UNITS * (ds - n) / n
             qs: dict[str, list[float]] = {}
-            for (pattern, nn, b, _, _), _, m in rows:
+            for (pattern, nn, b, _, _, _), _, m in rows:
                 if nn == n and b == band:
                     qs.setdefault(pattern, []).append(m["total_time"] - m["exploration_time"])
             joining = sum(" 0 joining" not in fl[k][2] for k in keys)
@@ -328,9 +356,9 @@ def noise_free(rows: list[tuple[Task, float, dict[str, Any]]], ours: list[str]) 
 
     lines = ["| pattern | N | exact mean E | mean Q (RANDOM cells) | estimate | 40-cell mean |",
              "|---|---|---|---|---|---|"]
-    for pattern in (*SEED_PATTERNS, *ours):
+    for pattern in (*SEED_PATTERNS, *(p for p in ours if p != RECALL)):  # recall: no timetable
         for n in NS:
-            ms = [m for (p, nn, band, _, _), _, m in rows
+            ms = [m for (p, nn, band, _, _, _), _, m in rows
                   if p == pattern and nn == n and band == "random"]
             if not ms:
                 continue
@@ -367,7 +395,7 @@ def main(argv: list[str] | None = None) -> int:
                  f"{', '.join(FORAGING_ALGORITHMS)}")
     foods = food_cells(a.seed, 40)  # the reproduction's cells; --per-band takes the first ones
     tasks: list[Task] = [
-        (p, n, band, i, f)
+        (p, n, band, i, f, memory(p, foods[band], i))
         for p in (*SEED_PATTERNS, *ours)
         for n in NS
         if supports(p, n)
@@ -384,7 +412,7 @@ def main(argv: list[str] | None = None) -> int:
             rows = list(ex.map(run_one, tasks, chunksize=8))
     cpu = sum(r[1] for r in rows)
     totals: dict[tuple[str, int, str], list[float]] = {}
-    for (p, n, band, _, _), _, m in rows:
+    for (p, n, band, _, _, _), _, m in rows:
         totals.setdefault((p, n, band), []).append(float(m["total_time"]))
     arr = {k: np.asarray(v) for k, v in totals.items()}
     print(f"{len(rows)} runs, {a.per_band} cells per band, CPU {cpu:.0f} s in the runs, "
@@ -395,6 +423,10 @@ def main(argv: list[str] | None = None) -> int:
     print("Mean exploration / communication + overlap (rounds), same cells:")
     print("\n".join(phases(rows, ours)))
     print()
+    if RECALL in ours:
+        print("Recall's choices (the memory: the band's earlier trips):")
+        print("\n".join(choices(rows)))
+        print()
     print("Uniform food, noise-free estimate (exact mean E + measured mean Q):")
     print("\n".join(noise_free(rows, ours)))
     print()

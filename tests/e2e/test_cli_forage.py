@@ -84,9 +84,9 @@ def test_bad_input_exits_2_with_one_line(argv, needle, capsys):
 
 def test_algorithm_names_are_the_builders(capsys):
     """One list: what the parser accepts, its error and --help name exactly the builders."""
-    from swarmex.missions.foraging.patterns import ALGORITHMS, BUILDERS
+    from swarmex.missions.foraging.patterns import ADAPTIVE, ALGORITHMS, BUILDERS
 
-    assert sorted(ALGORITHMS) == sorted(BUILDERS)
+    assert sorted(ALGORITHMS) == sorted([*BUILDERS, *ADAPTIVE])
     assert "twin-strips" not in ALGORITHMS
     assert main(["forage", "--grid", "16", "--agents", "4", "--algorithm", "nosuch"]) == 2
     err = capsys.readouterr().err

@@ -472,3 +472,17 @@ def test_supersuit_vector_env():
         episodes += int((terms | truncs).sum())
     assert episodes > 0  # episodes end and the vector env resets them
     vec.close()
+
+
+def test_recall_is_a_baseline_policy_with_the_teams_memory():
+    """``recall`` with its memory in the env: the baseline policy plays the pattern the team
+    chose, and the record is ``swarmex.run``'s."""
+    params = {**SMALL, "agents": 8, "grid": 32, "algorithm": "recall", "found": [(28, 30)]}
+    env = foraging_v0.parallel_env(**params)
+    play(env, foraging_v0.baseline_policy(env))
+    record = env.record()
+    from swarmex.missions.foraging.recall import choose
+
+    assert record.extra["pattern"] == choose(32, 8, [(28, 30)], 3, "relay-food", "seed").pattern
+    assert record.params["found"] == [[28, 30]]
+    assert without_wall(record) == without_wall(swarmex.run("foraging", seed=0, **params))

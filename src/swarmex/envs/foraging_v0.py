@@ -251,7 +251,7 @@ class ForagingEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray], in
         p = params
         rounds = forage_rounds(
             p.algorithm, p.grid, p.agents, world.food, p.food_units, p.transport,
-            comm=p.comm, stop_at=self.max_rounds,
+            comm=p.comm, stop_at=self.max_rounds, found=p.found,
         )  # fmt: skip
         self._rounds = rounds
         self._finalizer = weakref.finalize(self, rounds.close)

@@ -104,7 +104,7 @@ def test_registry_and_params():
     opts = ForagingParams.options()
     assert list(opts) == [
         "grid", "agents", "algorithm", "transport", "comm", "food", "food_distance", "food_units",
-        "seed",
+        "found", "seed",
     ]  # fmt: skip
     assert {k: o.default for k, o in opts.items() if not o.required} == {
         "transport": "relay-food",
@@ -112,6 +112,7 @@ def test_registry_and_params():
         "food": None,
         "food_distance": None,
         "food_units": 100,
+        "found": (),
         "seed": 0,
     }
     assert opts["food_distance"].flag == "--food-distance"

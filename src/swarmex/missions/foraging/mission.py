@@ -103,7 +103,7 @@ class ForagingMission(Mission[ForagingParams, ForagingWorld]):
         with fewer_collections():
             run = run_forage(
                 p.algorithm, p.grid, p.agents, world.food, p.food_units, p.transport,
-                record=trace, on_frame=on_frame, comm=p.comm,
+                record=trace, on_frame=on_frame, comm=p.comm, found=p.found,
             )  # fmt: skip
         with no_collections():
             record = to_record(run, p.seed, {"food_distance": p.food_distance, "seed": p.seed})

@@ -19,6 +19,9 @@ Conventions (also in ``swarmex forage --help``):
   of plan builders: the thesis's six patterns, then ours (``rings``, ``loop-strips``). Each
   pattern has its own team-size rule (Strips: g a multiple of n; ZigZag and Hilbert: n a power
   of 4; ...), checked here by building the plan (cached, so the run reuses it).
+  ``recall`` is not a pattern but a choice among them made per run from ``found``, the cells
+  where food was found on earlier trips (:mod:`~swarmex.missions.foraging.recall`); ``found``
+  is read by it alone.
 * Size limits, so that no input makes the command seem to hang or run out of memory:
   ``grid`` is at most :data:`MAX_GRID` (1024, about a million cells; the exploration timetable
   is played round by round and every round's positions are kept, so a 1024 grid with one robot
@@ -41,6 +44,7 @@ from swarmex.missions.base import (
     Params,
     Parser,
     cell,
+    cells,
     integer,
     option,
     optional,
@@ -50,6 +54,8 @@ from swarmex.missions.foraging.comm import COMM_RULES, SEED
 from swarmex.missions.foraging.food import parse_band
 from swarmex.missions.foraging.grid import nest_of
 from swarmex.missions.foraging.patterns import ALGORITHMS, OURS, THESIS_ALGORITHMS, build_plan
+from swarmex.missions.foraging.recall import NAME as RECALL
+from swarmex.missions.foraging.recall import check as check_recall
 from swarmex.missions.foraging.transport import TRANSPORTS
 
 MAX_GRID = 1024
@@ -134,6 +140,12 @@ class ForagingParams(Params):
     food_units: int = option(
         100, help="Units k at the food cell.", parse=integer(lo=1, hi=MAX_FOOD_UNITS)
     )
+    found: tuple[Cell, ...] = option(
+        (),
+        help='Cells where food was found on earlier trips, "x,y;x,y;…" oldest first: the'
+        " memory --algorithm recall chooses its pattern from.",
+        parse=cells(),
+    )
     seed: int = option(0, help="Seed of every random choice.", parse=integer(lo=0))
 
     def check(self) -> None:
@@ -147,7 +159,15 @@ class ForagingParams(Params):
                 f"--agents {self.agents}: more robots than the {self.grid}×{self.grid} grid's "
                 f"{cells:,} cells"
             )
-        build_plan(self.algorithm, self.grid, self.agents)  # the pattern's team-size rule
+        if self.algorithm == RECALL:
+            check_recall(self.grid, self.agents, self.found)
+        else:
+            if self.found:
+                raise InputError(
+                    f"--found is read only by --algorithm {RECALL} (got --algorithm "
+                    f"{self.algorithm})"
+                )
+            build_plan(self.algorithm, self.grid, self.agents)  # the pattern's team-size rule
 
     @property
     def nest(self) -> Cell:

@@ -18,13 +18,14 @@ some exploring robot had already visited (deployment walks excluded).
 from __future__ import annotations
 
 import time
-from collections.abc import Generator
+from collections.abc import Generator, Sequence
 from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
 
 from swarmex.engine.record import AgentRecord, MetricInfo, ResultRecord
+from swarmex.missions.foraging import recall
 from swarmex.missions.foraging.comm import SEED
 from swarmex.missions.foraging.grid import Cell
 from swarmex.missions.foraging.hook import drive
@@ -82,16 +83,42 @@ class ForageRun:
     outcome: Outcome
     metrics: dict[str, Any]
     wall_seconds: float
+    found: tuple[Cell, ...] = ()  # recall's memory (empty for a pattern)
+    pattern: str = ""  # the pattern played: ``algorithm``, or recall's choice
 
 
 def check_inputs(
-    algorithm: str, g: int, n: int, units: int, transport: str, comm: str = SEED
+    algorithm: str,
+    g: int,
+    n: int,
+    units: int,
+    transport: str,
+    comm: str = SEED,
+    found: Sequence[Cell] = (),
 ) -> None:
     """The checks of :class:`~.params.ForagingParams` (the only place they live) for a run
     given as plain values; raises InputError naming the option."""
     ForagingParams.from_values(
-        grid=g, agents=n, algorithm=algorithm, food_units=units, transport=transport, comm=comm
-    )
+        grid=g, agents=n, algorithm=algorithm, food_units=units, transport=transport, comm=comm,
+        found=tuple(found),
+    )  # fmt: skip
+
+
+def pattern_timed(
+    algorithm: str,
+    g: int,
+    n: int,
+    found: Sequence[Cell],
+    units: int,
+    transport: str,
+    comm: str,
+) -> tuple[Timed, str]:
+    """The timetable a run plays and the pattern's name: ``algorithm``'s own, or for
+    ``recall`` the pattern the team chooses from ``found`` (:mod:`.recall`)."""
+    if algorithm == recall.NAME:
+        choice = recall.choose(g, n, found, units, transport, comm)
+        return choice.timed, choice.pattern
+    return timed_plan(algorithm, g, n), algorithm
 
 
 def phase_metrics(o: Outcome, timed: Timed) -> dict[str, Any]:
@@ -154,21 +181,26 @@ def run_forage(
     on_frame: FrameSink | None = None,
     decide: Decide | None = None,
     comm: str = SEED,
+    found: Sequence[Cell] = (),
 ) -> ForageRun:
     """Play one run (inputs checked first) under the communication rule ``comm``
     (:mod:`.comm`: ``seed`` or ``omniscient``); ``on_frame`` gets every round's
     :class:`~.sim.Frame` and may end the run early by raising StopRun; ``decide`` answers
-    every Compute of a hooked run (:func:`forage_rounds`)."""
+    every Compute of a hooked run (:func:`forage_rounds`); ``found`` is recall's memory."""
     if decide is not None:
-        rounds = forage_rounds(algorithm, g, n, food, units, transport, record, on_frame, comm)
+        rounds = forage_rounds(
+            algorithm, g, n, food, units, transport, record, on_frame, comm, found=found
+        )
         return drive(rounds, decide)
-    check_inputs(algorithm, g, n, units, transport, comm)
+    check_inputs(algorithm, g, n, units, transport, comm, found)
     t0 = time.perf_counter()
-    timed = timed_plan(algorithm, g, n)
+    timed, pattern = pattern_timed(algorithm, g, n, found, units, transport, comm)
     outcome = run_mission(
         timed, food, units, transport, record=record, on_frame=on_frame, comm=comm
     )
-    return _finish(algorithm, g, n, food, units, transport, comm, timed, outcome, t0, False)
+    return _finish(
+        algorithm, g, n, food, units, transport, comm, timed, outcome, t0, False, found, pattern
+    )
 
 
 def forage_rounds(
@@ -183,19 +215,22 @@ def forage_rounds(
     comm: str = SEED,
     fast: bool = True,
     stop_at: int | None = None,
+    found: Sequence[Cell] = (),
 ) -> Generator[Compute, np.ndarray, ForageRun]:
     """:func:`run_forage` as a hooked run that the caller steps (the PettingZoo
     environment): yields each round's :class:`~.sim.Compute`, takes every robot's move
     (``send``) and returns the ForageRun (:mod:`.hook`). ``stop_at`` ends the run at that
     round (as an ``on_frame`` raising StopRun there); ``fast=False`` plays every round in
     Python (the compiled Transportation rounds give the same run: a test compares them)."""
-    check_inputs(algorithm, g, n, units, transport, comm)
+    check_inputs(algorithm, g, n, units, transport, comm, found)
     t0 = time.perf_counter()
-    timed = timed_plan(algorithm, g, n)
+    timed, pattern = pattern_timed(algorithm, g, n, found, units, transport, comm)
     outcome = yield from decided_rounds(
         timed, food, units, transport, record, on_frame, comm, fast, stop_at
     )
-    return _finish(algorithm, g, n, food, units, transport, comm, timed, outcome, t0, True)
+    return _finish(
+        algorithm, g, n, food, units, transport, comm, timed, outcome, t0, True, found, pattern
+    )
 
 
 def _finish(
@@ -210,6 +245,8 @@ def _finish(
     outcome: Outcome,
     t0: float,
     hooked: bool,
+    found: Sequence[Cell] = (),
+    pattern: str | None = None,
 ) -> ForageRun:
     """The ForageRun of a played run (metrics; ``t0`` its start on the perf clock)."""
     walked = timed
@@ -220,8 +257,9 @@ def _finish(
     metrics = phase_metrics(outcome, walked)
     wall = time.perf_counter() - t0
     return ForageRun(
-        algorithm, g, n, food, units, transport, comm, timed, outcome, metrics, wall
-    )
+        algorithm, g, n, food, units, transport, comm, timed, outcome, metrics, wall,
+        tuple((int(x), int(y)) for x, y in found), pattern or algorithm,
+    )  # fmt: skip
 
 
 def to_record(run: ForageRun, seed: int, params: dict[str, Any]) -> ResultRecord:
@@ -259,6 +297,7 @@ def to_record(run: ForageRun, seed: int, params: dict[str, Any]) -> ResultRecord
         "food": list(run.food),
         "food_units": run.units,
         "nest": list(run.timed.plan.nest),
+        **({"found": [list(c) for c in run.found]} if run.found else {}),
         **params,
     }
     return ResultRecord(
@@ -279,5 +318,8 @@ def to_record(run: ForageRun, seed: int, params: dict[str, Any]) -> ResultRecord
         metrics=run.metrics,
         agents=agents,
         wall_seconds=run.wall_seconds,
-        extra={"stalled": o.extra["stalled"]} if "stalled" in o.extra else {},
+        extra={
+            **({"stalled": o.extra["stalled"]} if "stalled" in o.extra else {}),
+            **({"pattern": run.pattern} if run.pattern != run.algorithm else {}),
+        },
     )
