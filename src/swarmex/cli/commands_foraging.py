@@ -25,7 +25,9 @@ def report(outcome: Outcome, params: Any) -> None:
     """Rich table: the phase times of seed 002's Figs. 78–79 and the units delivered."""
     run = outcome.run
     m = run.metrics
-    table = Table(title=f"foraging · {run.algorithm} · n={run.n} · g={run.g} · food {run.food}")
+    # recall plays the pattern it chose: name it
+    played = run.algorithm if run.pattern == run.algorithm else f"{run.algorithm} ({run.pattern})"
+    table = Table(title=f"foraging · {played} · n={run.n} · g={run.g} · food {run.food}")
     # the phases' short names (the thesis's COMM+TRANS): the long metric names were cut to
     # "communicati…" and wrapped over three lines in an 80-column terminal or a pipe
     for name in ("exploration", "communication", "COMM+TRANS", "transport", "total",

@@ -195,6 +195,8 @@ def test_the_cli_takes_a_memory_and_refuses_a_bad_one(capsys):
     argv = ["forage", "--grid", "16", "--agents", "4", "--algorithm", "recall",
             "--food-units", "2"]  # fmt: skip
     assert main([*argv, "--found", "3,4;12,12"]) == 0
+    chosen = recall.choose(16, 4, [(3, 4), (12, 12)], 2, "relay-food", "seed").pattern
+    assert f"recall ({chosen})" in capsys.readouterr().out.replace("\n", "")  # what it played
     assert main([*argv, "--found", "3,4;99,1"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "--found 99,1 is outside" in err[0]
