@@ -13,11 +13,11 @@ from typing import Any
 import typer
 from rich.table import Table
 
-from swarmex.cli.app import console, reproduce_app
+from swarmex.cli.app import console, err_console, reproduce_app
 from swarmex.cli.missions import Surface, mission_command
 from swarmex.cli.outputs import check_out_dir, study
 from swarmex.errors import InputError
-from swarmex.missions.base import Outcome
+from swarmex.missions.base import FrameCallback, Outcome
 from swarmex.missions.registry import get
 
 
@@ -52,7 +52,28 @@ def report(outcome: Outcome, params: Any) -> None:
         )
 
 
-forage = mission_command(get("foraging"), Surface(report))
+def recall_status(params: Any, world: Any, on_frame: FrameCallback | None) -> FrameCallback | None:
+    """Recall replays the patterns on the remembered distances before the run (seconds on
+    128 × 128, minutes on the largest grids): a bar on a terminal. The run's own choice then
+    reads the cached replays."""
+    if params.algorithm == "recall" and err_console.is_terminal:
+        from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeElapsedColumn
+
+        from swarmex.missions.foraging.recall import choose
+
+        columns = ("{task.description}", BarColumn(), MofNCompleteColumn(), TimeElapsedColumn())
+        with Progress(*columns, console=err_console, transient=True) as bar:
+            task = bar.add_task("recall: replaying the patterns", total=None)
+
+            def tick(done: int, total: int) -> None:
+                bar.update(task, completed=done, total=total)
+
+            choose(params.grid, params.agents, params.found, params.food_units,
+                   params.transport, params.comm, on_replay=tick)  # fmt: skip
+    return on_frame
+
+
+forage = mission_command(get("foraging"), Surface(report, watch=recall_status))
 
 
 @reproduce_app.command("foraging")

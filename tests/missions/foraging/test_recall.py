@@ -207,3 +207,33 @@ def test_recall_is_not_a_plan():
 
     with pytest.raises(InputError, match="chooses its pattern per run"):
         build_plan("recall", G, N)
+
+
+def test_a_pattern_beaten_by_another_in_every_band_is_not_replayed():
+    g, n, k = 64, 16, 20
+    choice = recall.choose(g, n, [], k, "relay-food", "seed")
+    prior = recall.prior_of(g)
+    means = {
+        p: [np.mean([swarmex.run("foraging", grid=g, agents=n, algorithm=p, food=c,
+                                 food_units=k).makespan for c in cells]) for cells in prior.cells]
+        for p in recall.patterns_for(g, n)
+    }  # fmt: skip
+    dominated = {
+        p for p in means
+        if any(all(b <= 0.9 * a for a, b in zip(means[p], means[q], strict=True)) for q in means)
+    }  # fmt: skip
+    assert dominated  # the rule drops something here
+    assert set(choice.predicted) == set(means) - dominated
+
+
+def test_the_progress_callback_counts_every_replay_up_to_its_total():
+    calls = []
+    found = [(20, 28), (4, 10), (16, 30)]
+    recall.choose(G, N, found, 4, "relay-food", "seed", on_replay=lambda *a: calls.append(a))
+    done = [d for d, _ in calls]
+    assert done == list(range(1, len(calls) + 1))
+    cands = recall.candidates(G, N, [16, 18, 14])
+    prior = sum(len(c) for c in recall.prior_of(G).cells)
+    memory = sum(len(recall.ring_cells(G, d)) for d in (16, 18, 14))
+    assert calls[0][1] == len(cands) * (prior + memory)  # before any candidate is dropped
+    assert calls[-1][0] == calls[-1][1] == len(calls)

@@ -20,7 +20,9 @@ food has been found* included. Recall uses that memory.
   remembered distances widened at each end by (max − min)/(m − 1), the unbiased estimate of
   a uniform interval's ends from m draws (:func:`annulus_range`). The annulus is a candidate
   with two or more remembered distances, Sectors' team-size rule (n = 4 or a multiple of 8),
-  and at most :data:`MAX_SHARE` of the cells inside it.
+  and at most :data:`MAX_SHARE` of the cells inside it. A candidate that another beats by
+  10 % in every distance band of the prior (below) is dropped before the memory is replayed
+  (ZigZag and Hilbert at N = 16): the memory is of distances, so it cannot favour them.
 * **The choice**: every robot replays, in its head, each candidate's whole run (the mission's
   own rules: k, transport and communication rule), and the team takes the candidate with the
   least score; ties go to the earlier candidate. The replay is deterministic, so every robot
@@ -50,16 +52,18 @@ measurements (the band table there):
 * *The prior's weight is one trip*: with one remembered distance the replay does not stake
   the whole next trip on it; with sixteen it barely counts.
 
-Cost: a choice replays ``candidates × (PER_DISTANCE · memory + 5 PER_BAND)`` runs, ≈ 10 ms
-each on a 128 × 128 grid (≈ 15 s for a full memory in a fresh process). Replays are cached
-per (candidate, cell), so a series of trips in one process pays mostly for the new
-distances and the new annulus.
+Cost: a choice replays ``candidates × (PER_DISTANCE · memory + 5 PER_BAND)`` runs, ≈ 10–20 ms
+each on a 128 × 128 grid: 16 s for a full memory in a fresh process at N = 16 (26 s before
+dominated candidates were dropped), 1–2 s per trip in a series, since replays are cached per
+(candidate, cell). On the largest grids building the candidates' timetables alone takes
+minutes (Sectors on 1024 × 1024 with 1,024 robots: 62 s); ``on_replay`` feeds the command
+line's progress bar.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from functools import lru_cache
 
@@ -80,6 +84,7 @@ MEMORY = 16  # remembered distances the choice replays (the most recent)
 PER_DISTANCE = 8  # cells standing for one remembered distance, spread round its ring
 MAX_SHARE = 0.5  # the widest annulus that is a candidate, as a share of the cells
 SIGNIFICANT = 2.0  # standard errors a remembered gain needs to leave the pattern for anywhere
+DOMINATED = 0.9  # beaten in every distance band by this ratio: not a candidate
 PER_BAND = 4  # cells per distance band standing for "food may be anywhere"
 PRIOR_SEED = 2026  # fixed, so every robot draws the same cells
 DISTANCE_BANDS = tuple(b for b in BANDS if b != "random")
@@ -260,20 +265,43 @@ def _angle(x: int, y: int) -> float:
 
 
 def choose(
-    g: int, n: int, found: Sequence[Cell], units: int, transport: str, comm: str
+    g: int,
+    n: int,
+    found: Sequence[Cell],
+    units: int,
+    transport: str,
+    comm: str,
+    on_replay: Callable[[int, int], None] | None = None,
 ) -> Choice:
-    """The team's choice for the next trip (see the module docstring)."""
+    """The team's choice for the next trip (see the module docstring). ``on_replay(done,
+    total)`` is called after every replay (for a progress bar: on a large grid a choice takes
+    minutes); ``total`` shrinks once dominated candidates are dropped."""
     check(g, n, found)
     nest = nest_of(g)
     distances = [manhattan((int(x), int(y)), nest) for x, y in found][-MEMORY:]
     prior = prior_of(g)
     cands = candidates(g, n, distances)
+    prior_n = sum(len(cells) for cells in prior.cells)
+    memory_n = sum(len(ring_cells(g, d)) for d in distances)
+    done, planned = 0, len(cands) * (prior_n + memory_n)
 
     def total(cand: Candidate, cells: Sequence[Cell]) -> float:
-        return float(np.mean([replay(cand, g, n, c, units, transport, comm) for c in cells]))
+        nonlocal done
+        out = []
+        for c in cells:
+            out.append(replay(cand, g, n, c, units, transport, comm))
+            done += 1
+            if on_replay is not None:
+                on_replay(done, planned)
+        return float(np.mean(out))
 
     # mean total per distance band, per candidate
     bands = np.array([[total(c, cells) for cells in prior.cells] for c in cands])
+    # a candidate another one beats by DOMINATED in every band is not replayed further
+    keep = [not any((b <= DOMINATED * a).all() for b in bands) for a in bands]
+    cands = [c for c, k in zip(cands, keep, strict=True) if k]
+    bands = bands[np.array(keep)]
+    planned = done + len(cands) * memory_n
     if distances:
         uniform = bands @ np.array(prior.share)  # the mean under uniform food
         rings = np.array([[total(c, ring_cells(g, d)) for d in distances] for c in cands])
