@@ -9,12 +9,15 @@ lowest mean on the same cells) and the paired difference, ours − best, on the 
 a t and a bootstrap 95 % interval. A difference is significant when its interval excludes 0.
 
     PYTHONPATH=src python bench/compare_foraging_patterns.py [--per-band 40] [--workers 2]
-        [--ours sector-loop,loop-strips] [--raw runs.json | --load runs.json]
+        [--ours comb,sector-loop,loop-strips,recall] [--raw runs.json | --load runs.json]
         [--floor-search 40] [--floors floors.json]
 
 Every run goes through the mission contract (``registry.get("foraging")``), like
 ``swarmex reproduce foraging``. 40 cells: 1,920 seed runs plus 480 per pattern of ours; about
-0.15 s of CPU each after the timetables (≈ 6 min on 2 workers).
+0.15 s of CPU each after the timetables (≈ 6 min on 2 workers). ``recall`` runs each (band, N)
+as 40 trips whose memory is the band's earlier cells (docs/foraging.md, "Recall"); its trips
+also replay the patterns (≈ 10 min of CPU for its 480 trips), and a table of what it chose
+follows the comparison.
 
 Then the exploration budgets ("Can any pattern meet the target?" in docs/foraging.md): for
 every food cell and N, Q_min (the real Relay-Food run from the best start state found,
@@ -378,7 +381,7 @@ def main(argv: list[str] | None = None) -> int:
     ap = _cli.Parser(description=__doc__.splitlines()[0])
     ap.add_argument("--per-band", type=_cli.paired_count, default=40)
     ap.add_argument("--workers", type=_cli.positive_int, default=2)
-    ap.add_argument("--ours", default="comb,sector-loop,loop-strips")
+    ap.add_argument("--ours", default="comb,sector-loop,loop-strips,recall")
     ap.add_argument("--seed", type=_cli.nonneg_int, default=2015)
     ap.add_argument("--raw", type=_cli.out_file, help="write every run's metrics to this JSON file")
     ap.add_argument("--load", help="read the runs' metrics from this --raw file instead")
