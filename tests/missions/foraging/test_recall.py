@@ -237,3 +237,12 @@ def test_the_progress_callback_counts_every_replay_up_to_its_total():
     memory = sum(len(recall.ring_cells(G, d)) for d in (16, 18, 14))
     assert calls[0][1] == len(cands) * (prior + memory)  # before any candidate is dropped
     assert calls[-1][0] == calls[-1][1] == len(calls)
+
+
+def test_a_recall_record_reruns_to_itself(tmp_path, capsys):
+    out = tmp_path / "rec.json"
+    argv = ["forage", "--grid", "32", "--agents", "8", "--algorithm", "recall",
+            "--found", "3,4;20,20;28,2", "--food-units", "3", "--json", str(out)]  # fmt: skip
+    assert main(argv) == 0
+    assert main(["rerun", str(out)]) == 0
+    assert "the same record" in capsys.readouterr().out

@@ -320,6 +320,6 @@ def to_record(run: ForageRun, seed: int, params: dict[str, Any]) -> ResultRecord
         wall_seconds=run.wall_seconds,
         extra={
             **({"stalled": o.extra["stalled"]} if "stalled" in o.extra else {}),
-            **({"pattern": run.pattern} if run.pattern != run.algorithm else {}),
+            **({"pattern": run.pattern} if run.pattern not in ("", run.algorithm) else {}),
         },
     )
