@@ -105,13 +105,7 @@ def check_inputs(
 
 
 def pattern_timed(
-    algorithm: str,
-    g: int,
-    n: int,
-    found: Sequence[Cell],
-    units: int,
-    transport: str,
-    comm: str,
+    algorithm: str, g: int, n: int, units: int, transport: str, comm: str, found: Sequence[Cell]
 ) -> tuple[Timed, str]:
     """The timetable a run plays and the pattern's name: ``algorithm``'s own, or for
     ``recall`` the pattern the team chooses from ``found`` (:mod:`.recall`)."""
@@ -194,7 +188,7 @@ def run_forage(
         return drive(rounds, decide)
     check_inputs(algorithm, g, n, units, transport, comm, found)
     t0 = time.perf_counter()
-    timed, pattern = pattern_timed(algorithm, g, n, found, units, transport, comm)
+    timed, pattern = pattern_timed(algorithm, g, n, units, transport, comm, found)
     outcome = run_mission(
         timed, food, units, transport, record=record, on_frame=on_frame, comm=comm
     )
@@ -224,7 +218,7 @@ def forage_rounds(
     Python (the compiled Transportation rounds give the same run: a test compares them)."""
     check_inputs(algorithm, g, n, units, transport, comm, found)
     t0 = time.perf_counter()
-    timed, pattern = pattern_timed(algorithm, g, n, found, units, transport, comm)
+    timed, pattern = pattern_timed(algorithm, g, n, units, transport, comm, found)
     outcome = yield from decided_rounds(
         timed, food, units, transport, record, on_frame, comm, fast, stop_at
     )
