@@ -153,3 +153,13 @@ def test_the_roadmap_examples_run(tmp_path, capsys):
 
     spec = load_sweep_spec(EXAMPLES / "sweep-roadmap.toml")
     assert len(spec.runs()) == 30 and spec.axes["algorithm"][0] == "wma-rrt"
+
+
+def test_the_recall_example_plays_an_annulus_round_its_memory(tmp_path, capsys):
+    out = tmp_path / "r.json"
+    code, text, err = cli(["run", EXAMPLES / "foraging-recall.toml", "--json", out], capsys)
+    assert code == 0, err
+    rec = json.loads(out.read_text())
+    assert rec["algorithm"] == "recall" and len(rec["params"]["found"]) == 4
+    assert rec["pattern"] == "annulus 96-104"  # distances 98-102, widened by 4/3
+    assert "recall (annulus 96-104)" in text
