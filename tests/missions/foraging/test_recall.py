@@ -246,3 +246,15 @@ def test_a_recall_record_reruns_to_itself(tmp_path, capsys):
     assert main(argv) == 0
     assert main(["rerun", str(out)]) == 0
     assert "the same record" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize(
+    ("g", "n", "lo", "hi"),
+    [(16, 4, 1, 32), (17, 8, 5, 5), (24, 16, 1, 3), (24, 8, 20, 24), (40, 24, 7, 30)],
+)
+def test_every_annulus_visits_every_cell(g, n, lo, hi):
+    """Whatever the range (the whole grid, one distance, the corners only), food anywhere is
+    found: the timetable visits every cell, and each route is a walk from the nest."""
+    plan = recall.annulus_plan(g, n, lo, hi)
+    plan.validate()
+    assert (first_visits(execute(plan).pos, g) >= 0).all()
