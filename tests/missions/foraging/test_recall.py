@@ -173,6 +173,10 @@ def test_the_record_names_the_memory_and_the_pattern_played():
     assert rec.params["found"] == [[2, 4], [28, 30]]
     chosen = recall.choose(G, N, [(2, 4), (28, 30)], 3, "relay-food", "seed").pattern
     assert rec.extra["pattern"] == chosen
+    # independently: the run is the chosen pattern's own run, robot for robot
+    own = swarmex.run("foraging", grid=G, agents=N, algorithm=chosen, food=(3, 3), food_units=3)
+    assert rec.makespan == own.makespan and rec.metrics == own.metrics
+    assert [a.trajectory for a in rec.agents] == [a.trajectory for a in own.agents]
     plain = swarmex.run("foraging", grid=G, agents=N, algorithm="strips", food=(3, 3),
                         food_units=3)  # fmt: skip
     assert "found" not in plain.params and "pattern" not in plain.extra

@@ -30,11 +30,18 @@ def parse_band(text: str) -> tuple[float, float]:
     return lo, hi
 
 
+def nest_distances(g: int) -> np.ndarray:
+    """Every cell's Manhattan distance from the nest, as a ``(g, g)`` array indexed ``[y, x]``."""
+    nest = nest_of(g)
+    ys, xs = np.mgrid[0:g, 0:g]
+    return np.abs(xs - nest[0]) + np.abs(ys - nest[1])
+
+
 def band_cells(g: int, band: str) -> np.ndarray:
     """All cells ``(x, y)`` of a band (``"random"`` or ``"LO-HI"``), nest excluded."""
     nest = nest_of(g)
     ys, xs = np.mgrid[0:g, 0:g]
-    d = np.abs(xs - nest[0]) + np.abs(ys - nest[1])
+    d = nest_distances(g)
     ok = d > 0
     if band != "random":
         lo, hi = parse_band(band)
@@ -51,3 +58,14 @@ def sample_food(g: int, band: str, rng: np.random.Generator, count: int = 1) -> 
     cells = band_cells(g, band)
     idx = rng.choice(len(cells), size=count, replace=count > len(cells))
     return [(int(cells[i][0]), int(cells[i][1])) for i in idx]
+
+
+def check_food(food: Cell, g: int, flag: str = "--food") -> Cell:
+    """``food`` must be a cell of the g×g grid other than the nest (``flag`` names the option
+    in the message: ``--food``, or recall's ``--found``)."""
+    x, y = food
+    if not (0 <= x < g and 0 <= y < g):
+        raise InputError(f"{flag} {x},{y} is outside the {g}×{g} grid")
+    if (x, y) == nest_of(g):
+        raise InputError(f"{flag} {x},{y} is the nest; the food must be elsewhere")
+    return (x, y)

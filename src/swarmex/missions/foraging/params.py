@@ -51,7 +51,7 @@ from swarmex.missions.base import (
     text,
 )
 from swarmex.missions.foraging.comm import COMM_RULES, SEED
-from swarmex.missions.foraging.food import parse_band
+from swarmex.missions.foraging.food import check_food, parse_band
 from swarmex.missions.foraging.grid import nest_of
 from swarmex.missions.foraging.patterns import ALGORITHMS, OURS, THESIS_ALGORITHMS, build_plan
 from swarmex.missions.foraging.recall import NAME as RECALL
@@ -172,16 +172,6 @@ class ForagingParams(Params):
     @property
     def nest(self) -> Cell:
         return nest_of(self.grid)
-
-
-def check_food(food: Cell, g: int) -> Cell:
-    """``food`` must be a cell of the g×g grid other than the nest."""
-    x, y = food
-    if not (0 <= x < g and 0 <= y < g):
-        raise InputError(f"--food {x},{y} is outside the {g}×{g} grid")
-    if (x, y) == nest_of(g):
-        raise InputError(f"--food {x},{y} is the nest; the food must be elsewhere")
-    return (x, y)
 
 
 __all__ = ["MAX_AGENTS", "MAX_FOOD_UNITS", "MAX_GRID", "ForagingParams", "check_food"]

@@ -19,10 +19,11 @@ food has been found* included. Recall uses that memory.
   or outward from ``hi + 1``; :func:`annulus_plan`). ``lo … hi`` is the range of the
   remembered distances widened at each end by (max − min)/(m − 1), the unbiased estimate of
   a uniform interval's ends from m draws (:func:`annulus_range`). The annulus is a candidate
-  with two or more remembered distances, Sectors' team-size rule (n = 4 or a multiple of 8),
-  and at most :data:`MAX_SHARE` of the cells inside it. A candidate that another beats by
-  10 % in every distance band of the prior (below) is dropped before the memory is replayed
-  (ZigZag and Hilbert at N = 16): the memory is of distances, so it cannot favour them.
+  with two or more remembered distances, a team and grid Sectors' division accepts (n = 4 or
+  a multiple of 8, a sector for every robot), and at most :data:`MAX_SHARE` of the cells
+  inside it. A candidate that another beats by 10 % in every distance band of the prior
+  (below) is dropped before the memory is replayed (ZigZag and Hilbert at N = 16): the
+  memory is of distances, so it cannot favour them.
 * **The choice**: every robot replays, in its head, each candidate's whole run (the mission's
   own rules: k, transport and communication rule), and the team takes the candidate with the
   least score; ties go to the earlier candidate. The replay is deterministic, so every robot
@@ -77,7 +78,7 @@ import numpy as np
 
 from swarmex.errors import InputError
 from swarmex.missions.foraging import sectors
-from swarmex.missions.foraging.food import BANDS, band_cells
+from swarmex.missions.foraging.food import BANDS, band_cells, check_food, nest_distances
 from swarmex.missions.foraging.grid import Cell, manhattan, nest_of
 from swarmex.missions.foraging.patterns import BUILDERS, build_plan
 from swarmex.missions.foraging.plan import Plan
@@ -166,12 +167,8 @@ def check(g: int, n: int, found: Sequence[Cell]) -> None:
     non-nest cell of the grid."""
     if not patterns_for(g, n):
         raise InputError(f"{NAME}: no pattern supports --grid {g} with --agents {n}")
-    nest = nest_of(g)
-    for x, y in found:
-        if not (0 <= x < g and 0 <= y < g):
-            raise InputError(f"--found {x},{y} is outside the {g}×{g} grid")
-        if (x, y) == nest:
-            raise InputError(f"--found {x},{y} is the nest; food is never found there")
+    for c in found:
+        check_food(c, g, "--found")
 
 
 @dataclass(frozen=True)
@@ -229,18 +226,18 @@ def candidates(g: int, n: int, distances: Sequence[int]) -> list[Candidate]:
     "anywhere", and its replayed edge over the patterns is then within the replay's noise)."""
     out: list[Candidate] = list(patterns_for(g, n))
     span = annulus_range(g, distances)
-    sectors_rule = n == 4 or (n >= 8 and n % 8 == 0)
-    if span is not None and sectors_rule and share_within(g, *span) <= MAX_SHARE:
+    if span is not None and share_within(g, *span) <= MAX_SHARE:
+        try:
+            annulus_timed(g, n, *span)  # Sectors' division: its team-size and grid rules
+        except InputError:
+            return out
         out.append((ANNULUS, *span))
     return out
 
 
 @lru_cache(maxsize=4)
 def _cells_by_distance(g: int) -> np.ndarray:
-    nest = nest_of(g)
-    ys, xs = np.mgrid[0:g, 0:g]
-    d = np.abs(xs - nest[0]) + np.abs(ys - nest[1])
-    return np.bincount(d.ravel(), minlength=2 * g + 1)
+    return np.bincount(nest_distances(g).ravel(), minlength=2 * g + 1)
 
 
 def share_within(g: int, lo: int, hi: int) -> float:

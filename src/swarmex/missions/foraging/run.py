@@ -83,8 +83,8 @@ class ForageRun:
     outcome: Outcome
     metrics: dict[str, Any]
     wall_seconds: float
-    found: tuple[Cell, ...] = ()  # recall's memory (empty for a pattern)
-    pattern: str = ""  # the pattern played: ``algorithm``, or recall's choice
+    found: tuple[Cell, ...]  # recall's memory (empty for a pattern)
+    pattern: str  # the pattern played: ``algorithm``, or recall's choice
 
 
 def check_inputs(
@@ -239,8 +239,8 @@ def _finish(
     outcome: Outcome,
     t0: float,
     hooked: bool,
-    found: Sequence[Cell] = (),
-    pattern: str | None = None,
+    found: Sequence[Cell],
+    pattern: str,
 ) -> ForageRun:
     """The ForageRun of a played run (metrics; ``t0`` its start on the perf clock)."""
     walked = timed
@@ -252,7 +252,7 @@ def _finish(
     wall = time.perf_counter() - t0
     return ForageRun(
         algorithm, g, n, food, units, transport, comm, timed, outcome, metrics, wall,
-        tuple((int(x), int(y)) for x, y in found), pattern or algorithm,
+        tuple((int(x), int(y)) for x, y in found), pattern,
     )  # fmt: skip
 
 
@@ -314,6 +314,6 @@ def to_record(run: ForageRun, seed: int, params: dict[str, Any]) -> ResultRecord
         wall_seconds=run.wall_seconds,
         extra={
             **({"stalled": o.extra["stalled"]} if "stalled" in o.extra else {}),
-            **({"pattern": run.pattern} if run.pattern not in ("", run.algorithm) else {}),
+            **({"pattern": run.pattern} if run.pattern != run.algorithm else {}),
         },
     )
