@@ -292,7 +292,6 @@ def test_an_agent_that_never_got_an_id_says_so(tmp_path):
     ("madgta-f@bogus=1", "madgta-f has no option 'bogus'"),
     ("optimal", "--algorithm must be madgta, madgta+"),
     ("madgta-k@tip_per_agent=-1", "tip_per_agent must be >= 0"),
-    ("madgta-h", "--algorithm must be madgta, madgta+"),
 ])
 def test_serve_refuses_an_algorithm_it_cannot_serve(
     algorithm: str, says: str, capsys: pytest.CaptureFixture[str]

@@ -144,6 +144,30 @@ def test_baseline_gives_exactly_the_record_of_swarmex_run(options, seed):
     assert _record(env) == _reference(params, seed)
 
 
+def test_a_madgta_s_agent_without_a_route_finishes_as_in_the_simulator(monkeypatch):
+    """madgta-s's agent with no route in the team plan stops (``idle="stop"``): the env asks
+    the policy's ``retires`` before the action, and the episode is swarmex.run's, with such
+    an early stop in it."""
+    from swarmex.missions.traversal.teamplan import MadgtaP
+
+    verdicts: list[bool] = []
+    original = MadgtaP.retires
+
+    def counted(self, belief):
+        verdicts.append(original(self, belief))
+        return verdicts[-1]
+
+    monkeypatch.setattr(MadgtaP, "retires", counted)
+    params = {**EXACT, "algorithm": "madgta-s", "loss": 0.3, "comm_range": 3.0}
+    env = traversal_v0.parallel_env(**params, seed=0)
+    observations, infos = env.reset()
+    policy = traversal_v0.baseline_policy(env)
+    while env.agents:
+        observations, _, _, _, infos = env.step(policy(observations, infos))
+    assert any(verdicts)
+    assert _record(env) == _reference(params, 0)
+
+
 def test_baseline_on_the_aec_env_and_a_reset_seed():
     params = {**EXACT, "algorithm": "madgta", "loss": 0.25, "comm_range": 3.0}
     env = traversal_v0.env(**params)

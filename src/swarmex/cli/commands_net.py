@@ -26,9 +26,10 @@ from swarmex.missions.traversal.params import ALGORITHMS, TraversalParams, algor
 from swarmex.net.vehicle import Safety
 
 _TRAVERSAL = TraversalParams.options()
-#: what the networked runtime serves: not madgta-h (the Fig. 4.17 wire has no ``leave``
-#: command) nor the whole-mission MILP; madgta-s's team plan rides on its decisions' frames
-SERVED = tuple(a for a in ALGORITHMS if a not in ("madgta-h", "optimal"))
+#: what the networked runtime serves: every online algorithm, not the whole-mission MILP;
+#: madgta-s's team plan rides on its decisions' frames, and the leave of an agent that stops
+#: early (madgta-h, madgta-s) on its C09 (the job bit)
+SERVED = tuple(a for a in ALGORITHMS if a != "optimal")
 #: msgpack's largest integer: C22's mission data carries the seed (a larger one was a
 #: traceback in the middle of the handshake, and the agents waited for their timeout)
 WIRE_SEED_MAX = 2**64 - 1

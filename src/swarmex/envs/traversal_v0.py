@@ -26,7 +26,8 @@ would be empty finishes by itself (the seed algorithm's "no vacant vertex left")
 madgta-h, madgta-r, madgta-p, madgta-k, madgta-f, madgta-s, nearest); ``env.unwrapped.record()`` is
 then exactly ``swarmex.run``'s record
 (docs/envs.md). With ``algorithm="madgta-h"`` an agent also finishes when that policy's own
-rule retires it (a cheaper rival does the rest: ``MadgtaH.retires``), whatever the actions.
+rule retires it (a cheaper rival does the rest: ``MadgtaH.retires``), whatever the actions;
+so does madgta-s's agent with no route in the team plan (``MadgtaP.retires``).
 
 Example::
 
@@ -108,7 +109,8 @@ class _Stub:
         mask = env._choices(belief)
         retires = getattr(env._builtin, "retires", None)
         # no vacant vertex reachable: Algorithm 1 ends for this agent; or the baseline's own
-        # rule stops it early (madgta-h: a cheaper rival does the rest more cheaply)
+        # rule stops it early (madgta-h: a cheaper rival does the rest more cheaply;
+        # madgta-s: the team plan gives it no route)
         if not mask.any() or (retires is not None and retires(belief)):
             env._finished.append(me)
             return Decision("finish")

@@ -81,6 +81,7 @@ from swarmex.errors import InputError
 from swarmex.missions.traversal.agent import (
     DONE,
     JOB,
+    LEAVE,
     NEXT,
     PASS,
     PLAN,
@@ -153,10 +154,7 @@ class Mission:
             raise InputError(f"--start-interval must be >= 0, got {self.start_interval}")
         if not 0.0 <= self.job_failure < 1.0:
             raise InputError(f"--job-failure must be in [0, 1), got {self.job_failure}")
-        policy = make_policy(self.algorithm)  # fails now on an unknown name
-        if getattr(policy, "announce_leave", False):  # madgta-h: nor is its leave message
-            raise InputError(f"the networked runtime cannot run {self.algorithm!r}: Fig. 4.17's"
-                             " wire has no message for an agent that leaves (madgta-h)")
+        make_policy(self.algorithm)  # fails now on an unknown name
 
     @property
     def n_agents(self) -> int:
@@ -375,6 +373,8 @@ def message_of(b: Broadcast) -> Message:
         kind = JOB if b.job else PASS
     elif cmd == "C08":
         kind = DONE if b.job else UNDONE
+    elif cmd == "C09" and b.job:  # the finish of an agent that may stop early (its leave)
+        kind = LEAVE
     else:
         kind = _KIND_OF.get(cmd, cmd)
     done_list: DoneList | None = None
@@ -566,20 +566,26 @@ class AgentCore:
             fail = self.mission.job_failure
             nxt = agent.end_job(node, t, fail > 0 and agent.rng.random() < fail)
         out: list[Broadcast] = []
+        leaves = False
         for m in self._said:
             if m.kind == PLAN and m.plan is not None:  # rides on the decision it follows
                 out[-1] = with_plan(out[-1], m.plan)
+            elif m.kind == LEAVE:  # said as the agent finishes: the C09 below carries it
+                leaves = True
             else:
                 out.append(broadcast_of(m))
         if nxt.kind == "finish":
-            out.append(self._finish(t))
+            out.append(self._finish(t, leaves))
         else:
             self.next_kind, self.next_node = nxt.kind, nxt.node
         out[-1] = replace(out[-1], rng=rng_state(agent.rng))  # the step's last message
         self.outbox = out
         return out
 
-    def _finish(self, t: float) -> Broadcast:
+    def _finish(self, t: float, leaves: bool = False) -> Broadcast:
+        """The termination stage's C09; with ``leaves`` (the agent core said ``leave``: a
+        policy that may stop while vertices remain) its job bit is set, and receivers drop
+        the agent as a rival, as the simulator's ``leave`` message makes them."""
         log = self.log
         world = self.mission.world
         log.rtl_length = float(distance_field(world.graph, self.spec.nest, world.blocked)[log.node])
@@ -587,8 +593,8 @@ class AgentCore:
         bit, nodes, doers, walls = 1, None, None, None
         if self.mission.done_lists:
             bit, nodes, doers, walls = _km_fields(self.agent.encode_done_list())
-        return Broadcast("C09", self.me, log.node, 0, bit, nodes, doers, (), float(t),
-                         float(t + self.rtl_time()), walls=walls)
+        return Broadcast("C09", self.me, log.node, int(leaves), bit, nodes, doers, (),
+                         float(t), float(t + self.rtl_time()), walls=walls)
 
     def rtl_time(self) -> float:
         """Mission seconds of the flight home (C09 → C10)."""
@@ -749,8 +755,9 @@ class Recorder:
             self.departed.append(old)
 
     def on_broadcast(self, b: Broadcast, nbytes: int) -> None:
-        if b.cmd in ("C04", "C05", "C07", "C08"):
-            self.messages += 1 + (b.plan is not None)  # a plan is its own message, as simulated
+        if b.cmd in ("C04", "C05", "C07", "C08") or (b.cmd == "C09" and b.job):
+            # a plan is its own message, and so is a leave (C09's job bit), as simulated
+            self.messages += 1 + (b.plan is not None)
             self.message_bytes += nbytes
         log = self.incarnation(b.id).log
         t, node = b.t, b.node

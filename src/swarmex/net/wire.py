@@ -192,7 +192,9 @@ class Broadcast:
     cmd: str
     id: int
     node: int
-    job: int = 0  # job bit: 1 = doing (C07) / finished (C08) a job here, 0 = passing through
+    # job bit: 1 = doing (C07) / finished (C08) a job here, 0 = passing through; on C09,
+    # 1 = the agent leaves while vertices may remain (a policy with ``announce_leave``)
+    job: int = 0
     done_bit: int = 1  # 1: ``nodes`` are the done nodes; 0: the not-done nodes
     nodes: np.ndarray | None = None
     doers: np.ndarray | None = None  # who did each listed node (done_bit 1 only)

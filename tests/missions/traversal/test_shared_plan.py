@@ -7,8 +7,8 @@ no message, no belief, the policy's own store shared by key), and they are count
 record, bytes and all; over a lossy, range-limited or delayed channel every job is still
 done (test_followed.py); a belief keeps the newest plan it hears; the networked runtime
 carries the plan in its decisions' frames (its run is the simulated one:
-tests/net/test_protocol.py, tests/e2e/test_net_traversal.py) and checks it; it refuses
-madgta-h, whose ``leave`` is not on the wire.
+tests/net/test_protocol.py, tests/e2e/test_net_traversal.py) and checks it, and an early
+finisher's ``leave`` on its C09.
 """
 
 from __future__ import annotations
@@ -69,7 +69,7 @@ class _TeamMemory(MadgtaF):
     keep their plan in one common memory."""
 
     def __init__(self) -> None:
-        super().__init__(follow=True)
+        super().__init__(follow=True, idle="stop", detour=True)
         self._kept = _OneMemory()
 
     def decide(self, belief, rng):
@@ -83,6 +83,7 @@ def test_registered_and_selectable():
     policy = make_policy("madgta-s")
     assert isinstance(policy, MadgtaF) and policy.name == "madgta-s"
     assert (policy.follow, policy.share, policy.keep, policy.ils) == (True, True, True, 30)
+    assert (policy.idle, policy.detour, policy.announce_leave) == ("stop", True, True)
     with pytest.raises(ValueError, match="share needs keep"):
         MadgtaS(keep=False)
     rec = swarmex.run("traversal", grid="8x7", obstacles="2,1;2,2;2,3;5,4", agents=3,
@@ -148,12 +149,21 @@ def test_the_networked_runtime_carries_the_plan_and_checks_it():
             check_broadcast(Broadcast("C05", 1, 3, t=1.0, eta=2.0, plan=plan), mission)
 
 
-def test_the_networked_runtime_refuses_a_leave_message():
-    """madgta-h's ``leave`` is not on Fig. 4.17's wire either: a library-built mission
-    is refused as ``swarmex serve`` refuses the name."""
-    from swarmex.errors import InputError
-    from swarmex.net.traversal import Mission
+@pytest.mark.parametrize("algorithm", ["madgta-h", "madgta-s@idle=stop,detour=true"])
+def test_the_networked_runtime_carries_a_leave_on_the_finish(algorithm):
+    """An agent that may stop while vertices remain (madgta-h; madgta-s with
+    ``idle="stop"``) says ``leave``; on the wire it is its C09's job bit. The networked run is
+    the simulated one, leaves counted as messages, and some agent did leave early."""
+    from swarmex.missions.traversal.agents import AgentSpec
+    from swarmex.net.traversal import Mission, run_inprocess
 
-    world = empty_grid(4, 4)
-    with pytest.raises(InputError, match="agent that leaves"):
-        Mission(world, uniform_agents([0], 2.0, 9.0), algorithm="madgta-h")
+    world = random_obstacles(8, 8, 0.15, seed=1)
+    free = np.nonzero(~world.blocked)[0]
+    agents = [AgentSpec(int(free[0]), 0.4, 4.0), AgentSpec(int(free[1]), 0.9, 11.0),
+              AgentSpec(int(free[2]), 0.6, 7.0), AgentSpec(int(free[3]), 0.5, 9.0)]
+    run = run_traversal(world, agents, algorithm, seed=3)
+    cores, recorder = run_inprocess(Mission(world, agents, algorithm, seed=3))
+    for sim_log, (_, core) in zip(run.agents, sorted(cores.items()), strict=True):
+        assert core.log.trajectory == sim_log.trajectory and core.log.jobs == sim_log.jobs
+        assert core.log.finished_at == sim_log.finished_at
+    assert recorder.messages == run.messages and run.complete

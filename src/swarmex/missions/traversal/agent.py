@@ -28,9 +28,9 @@ node conditionally accomplished; ``next`` (C05) reserves a vacant node for the s
 node to not-done. Every message may carry the obstacles the sender has just seen and, when
 the agent is built with ``done_lists=True``, the sender's §4.1 done-nodes list
 (:func:`encode_km`), which a receiver merges (:func:`merge_done_list`) before the message's
-own update. Beyond §4.2: ``leave`` (:data:`LEAVE`, madgta-h) and ``plan`` (:data:`PLAN`,
-madgta-s), which a decision carrying a team plan sends after its own message. The
-belief-level functions (:func:`apply_message`, :func:`merge_done_list`,
+own update. Beyond §4.2: ``leave`` (:data:`LEAVE`, madgta-h and madgta-s) and ``plan``
+(:data:`PLAN`, madgta-s), which a decision carrying a team plan sends after its own
+message. The belief-level functions (:func:`apply_message`, :func:`merge_done_list`,
 :func:`forget_rival`) are what the methods call; they take a bare belief so that a late
 joiner can replay a stream into one.
 
@@ -57,10 +57,11 @@ from swarmex.worlds.nodegraph import NodeGraph
 START, PASS, JOB, NEXT, DONE, UNDONE = "start", "pass", "job", "next", "done", "undone"
 KINDS = (START, PASS, JOB, NEXT, DONE, UNDONE)
 #: ``leave``: an agent whose policy may stop while vacant vertices remain (its
-#: ``announce_leave``: madgta-h) says so when it finishes, once; receivers drop it as a rival
-#: (:func:`forget_rival`), so that nobody leaves a vertex to an agent that has gone. Not one
-#: of the §4.2 kinds of :data:`KINDS` (the thesis's agents never stop early): the networked
-#: runtime, whose wire carries those, offers only the policies that never send it.
+#: ``announce_leave``: madgta-h, madgta-s) says so when it finishes, once; receivers drop it
+#: as a rival (:func:`forget_rival`), so that nobody leaves a vertex to an agent that has
+#: gone. Not one of the §4.2 kinds of :data:`KINDS` (the thesis's agents never stop early):
+#: on the networked runtime's wire it is the job bit of the agent's C09
+#: (:mod:`swarmex.net.traversal`).
 LEAVE = "leave"
 #: ``plan``: madgta-s's end-game team plan (:class:`~.belief.TeamPlan`), sent after the
 #: decision it was made for; receivers keep the newest (:meth:`TraversalBelief.hear_plan`)

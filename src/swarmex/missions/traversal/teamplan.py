@@ -83,7 +83,7 @@ twice madgta-r's; 2 ms on the gap instances. No message is added.
 
 from __future__ import annotations
 
-from dataclasses import replace
+from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import NDArray
@@ -107,6 +107,9 @@ from swarmex.missions.traversal.rollout_sim import (
 
 #: a hop count standing for "unreachable" in the plan's costs
 _FAR = 1_000_000
+#: what an agent with no route of its own in a followed plan does (``idle``): MADGTA's
+#: decision, or stop
+IDLE = ("madgta", "stop")
 
 
 @kernel(cache=True, nogil=True)
@@ -737,6 +740,22 @@ def _team_plan(
     return routes[me, 0] if lens[me] > 0 else -1
 
 
+@dataclass(frozen=True)
+class _Planned:
+    """An end-game plan made for one decision: the agent's first vertex in it (-1: no
+    route of its own), every agent's route, and what the decision reuses."""
+
+    first: int
+    routes: np.ndarray
+    lens: np.ndarray
+    following: bool
+    searched: bool
+    vacant: np.ndarray
+    table: np.ndarray
+    row_of: np.ndarray
+    state: tuple[np.ndarray, ...]
+
+
 class MadgtaP(MadgtaR):
     """madgta-r with the team plan's first vertex as one more candidate (see the module
     docstring).
@@ -753,7 +772,12 @@ class MadgtaP(MadgtaR):
     benches); ``"walls"``: only once a wall is known (on an open lattice the decision is
     the rollout's, without ``ils`` or ``keep``, because there a followed plan lost);
     ``commit`` (with ``follow``): keep heading for a distant first vertex until it is
-    reached or taken. Every other keyword is madgta-r's (``max_vacant``, ``k``, ...);
+    reached or taken. ``idle`` (with ``follow``): what an agent with no route of its own in
+    the plan does, ``"madgta"`` (MADGTA's decision) or ``"stop"`` (it finishes and says
+    ``leave``, if every agent holding a route is on time in its belief:
+    :func:`_holders_on_time`). ``detour`` (with ``follow``): on the way to a distant first
+    vertex, prefer a first step that is not a teammate's planned vertex (madgta-s has both:
+    :mod:`.followed`). Every other keyword is madgta-r's (``max_vacant``, ``k``, ...);
     madgta-r's ``unknown="walled"`` also leaves the likely walls (unsensed cells next to a
     known wall) out of a followed plan's jobs, while its paths may still cross them
     (screened, not kept: docs/traversal-variants.md §7).
@@ -763,10 +787,19 @@ class MadgtaP(MadgtaR):
 
     def __init__(self, passes: int = 50, follow: bool | str = False, commit: bool = False,
                  ils: int = 0, ruin: int = 12, keep: bool = False, share: bool = False,
-                 **rollout: object) -> None:
+                 idle: str = "madgta", detour: bool = False, **rollout: object) -> None:
         super().__init__(**rollout)  # type: ignore[arg-type]
         if follow not in (False, True, "walls"):
             raise ValueError(f"follow must be True, False or 'walls', got {follow!r}")
+        if idle not in IDLE:
+            raise ValueError(f"idle must be one of {', '.join(IDLE)}, got {idle!r}")
+        if (idle != "madgta" or detour) and not follow:
+            raise ValueError("idle and detour act on a followed plan: they need follow")
+        self.idle = idle
+        #: the agent core broadcasts ``leave`` when an agent finishes: with ``idle="stop"``
+        #: it may finish while vacant vertices remain, and the others must not plan for it
+        self.announce_leave = idle == "stop"
+        self.detour = detour
         if passes < 0:
             raise ValueError(f"passes must be >= 0, got {passes}")
         if ils < 0:
@@ -782,6 +815,8 @@ class MadgtaP(MadgtaR):
         self._kept: dict[int, tuple[np.ndarray, np.ndarray]] = {}
         if commit and not follow:
             raise ValueError("commit needs follow=True")
+        if commit and idle == "stop":  # retires() plans as decide() does, without a target
+            raise ValueError("idle='stop' cannot be combined with commit")
         self.passes = passes
         self.follow = follow
         self.commit = commit
@@ -801,10 +836,6 @@ class MadgtaP(MadgtaR):
         vacant = self._vacant(belief)
         if self.max_vacant is not None and vacant.size > self.max_vacant:
             return self.sweep.decide(belief, rng)  # not yet the end game
-        rows = self._rows.get(id(known))
-        if rows is None or rows.known is not known:
-            rows = self._rows[id(known)] = _Rows(known)
-        g = belief.graph
         me = belief.me
         here = belief.here
         if self.commit:
@@ -813,11 +844,44 @@ class MadgtaP(MadgtaR):
                     and belief.reserved[f] in (0, me)
                     and (known.open_lattice or known.hops[known.slot(here)][f] >= 0)):
                 return self._towards(belief, f, rng)
+        if vacant.size == 0:
+            return self._plain.decide(belief, rng)
+        p = self._plan(belief, vacant)
+        made = None
+        if self.keep and p.searched:
+            if self.share:  # broadcast with the decision; the agent core keeps it too
+                made = TeamPlan(belief.now, p.routes, p.lens)
+            else:
+                self._kept[me] = (p.routes, p.lens)
+        d = self._choose(belief, rng, p)
+        # an agent that stops sends no plan (nor does an environment's agent with nothing
+        # left to choose, whose finish never reaches the policy)
+        return d if made is None or d.kind == "finish" else replace(d, plan=made)
+
+    def retires(self, belief: TraversalBelief) -> bool:
+        """Whether the agent stops now although vacant vertices remain (``idle="stop"``):
+        the traversal environment asks this before it asks for an action. The same plan as
+        :meth:`decide` makes, and nothing kept from it (no generator draw)."""
+        known = belief.known
+        if self.idle != "stop" or not known.uniform or not belief.in_km(belief.here):
+            return False
+        vacant = self._vacant(belief)
+        if vacant.size == 0 or (self.max_vacant is not None and vacant.size > self.max_vacant):
+            return False
+        p = self._plan(belief, vacant)
+        return p.following and p.first < 0 and _holders_on_time(belief, p.routes, p.lens)
+
+    def _plan(self, belief: TraversalBelief, vacant: np.ndarray) -> _Planned:
+        """The end-game team plan from the belief (deterministic: the same belief and kept
+        plan give the same plan)."""
+        known = belief.known
+        rows = self._rows.get(id(known))
+        if rows is None or rows.known is not known:
+            rows = self._rows[id(known)] = _Rows(known)
+        g = belief.graph
         table, row_of = rows.get(vacant)
         state = self._state(belief)
         loc, dest, tfree, mode, intent, resv = state
-        if vacant.size == 0:
-            return self._plain.decide(belief, rng)
         following = self.follow is True or (self.follow == "walls" and not known.open_lattice)
         # with follow="walls" the search and the kept plan serve the followed plan only,
         # so that on an open lattice the decision is exactly the rollout's
@@ -832,33 +896,25 @@ class MadgtaP(MadgtaR):
                 status[vacant[likely]] = -1
                 planned = vacant[~likely]
         f = _team_plan(
-            me, belief.now, g.indptr, g.indices, known.blocked, status,
+            belief.me, belief.now, g.indptr, g.indices, known.blocked, status,
             belief.reserved.copy(), planned, table, row_of, loc.copy(), dest.copy(),
             tfree.copy(), mode.copy(), intent.copy(), resv.copy(), belief.time_per_unit,
             belief.job_time, known.step, self._ids(g.n_nodes), self.passes, routes, lens,
             self.ils if searched else 0, self.ruin,
             *self._warm(belief, loc.size, searched),
         )
-        made = None
-        if self.keep and searched:
-            if self.share:  # broadcast with the decision; the agent core keeps it too
-                made = TeamPlan(belief.now, routes, lens)
-            else:
-                self._kept[me] = (routes, lens)
-        d = self._choose(belief, rng, int(f), following, vacant, table, row_of, state)
-        # an agent that stops sends no plan (nor does an environment's agent with nothing
-        # left to choose, whose finish never reaches the policy)
-        return d if made is None or d.kind == "finish" else replace(d, plan=made)
+        return _Planned(int(f), routes, lens, following, searched, vacant, table, row_of,
+                        state)
 
-    def _choose(self, belief: TraversalBelief, rng: np.random.Generator, f: int,
-                following: bool, vacant: np.ndarray, table: np.ndarray, row_of: np.ndarray,
-                state: tuple[np.ndarray, ...]) -> Decision:
-        """The decision once the plan is made: its first vertex ``f`` followed, or judged
-        as one more candidate of madgta-r's rollout."""
+    def _choose(self, belief: TraversalBelief, rng: np.random.Generator,
+                p: _Planned) -> Decision:
+        """The decision once the plan is made: its first vertex followed, or judged as one
+        more candidate of madgta-r's rollout."""
         g = belief.graph
         known = belief.known
         here = belief.here
-        if not following:  # the plan's vertex as one more candidate of madgta-r's rollout
+        f, vacant, table, row_of, state = p.first, p.vacant, p.table, p.row_of, p.state
+        if not p.following:  # the plan's vertex as one more candidate of madgta-r's rollout
             cands, kinds = self._candidates(belief, vacant, table, row_of, state)
             if not cands:
                 return self._plain.decide(belief, rng)
@@ -878,10 +934,13 @@ class MadgtaP(MadgtaR):
                 return Decision("move", cands[j], cands[j], 2)
             steps = known.first_steps(known.slot(here), cands[j])
             return Decision("move", _pick(steps, rng), cands[j], 3)
-        if f < 0:
+        if f < 0:  # no route of its own in the plan
+            if self.idle == "stop" and _holders_on_time(belief, p.routes, p.lens):
+                return Decision("finish")
             return self._plain.decide(belief, rng)
         self.plans += 1
-        return self._towards(belief, int(f), rng)
+        theirs = _theirs(belief, p.routes, p.lens) if self.detour else None
+        return self._towards(belief, int(f), rng, theirs)
 
     def _warm(self, belief: TraversalBelief, rows: int,
               searched: bool) -> tuple[np.ndarray, np.ndarray]:
@@ -899,8 +958,11 @@ class MadgtaP(MadgtaR):
             return np.full((rows, 1), -1, dtype=np.int64), np.zeros(rows, dtype=np.int64)
         return kept
 
-    def _towards(self, belief: TraversalBelief, f: int, rng: np.random.Generator) -> Decision:
-        """To ``f``: directly if it is a neighbour, else one hop on a shortest path."""
+    def _towards(self, belief: TraversalBelief, f: int, rng: np.random.Generator,
+                 theirs: np.ndarray | None = None) -> Decision:
+        """To ``f``: directly if it is a neighbour, else one hop on a shortest path; with
+        ``theirs`` (a mask of the vertices planned for the other agents), a first step that
+        is not one of them when such a step exists (``detour``)."""
         g = belief.graph
         here = belief.here
         if f in g.indices[g.indptr[here]:g.indptr[here + 1]]:
@@ -909,7 +971,33 @@ class MadgtaP(MadgtaR):
             self._target[belief.me] = f
         known = belief.known
         steps = known.first_steps(known.slot(here), f)
+        if theirs is not None and steps.size > 1:
+            # whoever reaches a vacant vertex first does its job (§1.3): stepping on a
+            # teammate's planned vertex would take it and break the plan for both
+            clear = steps[~theirs[steps]]
+            if clear.size:
+                steps = clear
         return Decision("move", _pick(steps, rng), f, 3)
+
+
+def _holders_on_time(belief: TraversalBelief, routes: np.ndarray, lens: np.ndarray) -> bool:
+    """Whether every other agent with a route in the plan is, in the belief, still at work:
+    not gone, and its announced next event still to come. An agent that stopped without
+    being heard (a lost ``leave``) has an event in the past, so nobody leaves a vertex to it
+    (``idle="stop"``)."""
+    for a in np.nonzero(lens > 0)[0]:
+        if a != belief.me and (belief.loc[a] < 0 or not belief.free_at[a] > belief.now):
+            return False
+    return True
+
+
+def _theirs(belief: TraversalBelief, routes: np.ndarray, lens: np.ndarray) -> np.ndarray:
+    """A mask of the still vacant vertices planned for the agents other than ``me``."""
+    mask = np.zeros(belief.status.size, dtype=bool)
+    for a in np.nonzero(lens > 0)[0]:
+        if a != belief.me:
+            mask[routes[a, :lens[a]]] = True
+    return mask & (belief.status == 0)
 
 
 POLICIES[MadgtaP.name] = MadgtaP
