@@ -96,7 +96,12 @@ from swarmex.missions.traversal.agent import (
     forget_rival,
 )
 from swarmex.missions.traversal.agents import AgentSpec
-from swarmex.missions.traversal.belief import DONE_BY_UNKNOWN, TeamPlan, TraversalBelief
+from swarmex.missions.traversal.belief import (
+    DONE_BY_UNKNOWN,
+    TeamPlan,
+    TraversalBelief,
+    route_cells,
+)
 from swarmex.missions.traversal.policies import Madgta, make_policy
 from swarmex.net.wire import (
     BROADCAST_COMMANDS,
@@ -401,21 +406,15 @@ def plan_of(b: Broadcast) -> Message | None:
         return None
     t, lens, nodes = b.plan
     routes = np.full((lens.size, int(lens.max(initial=0)) + 1), -1, dtype=np.int64)
-    routes[_route_cells(lens, routes.shape[1])] = nodes  # row by row: the wire's order
+    routes[route_cells(lens, routes.shape[1])] = nodes  # row by row: the wire's order
     return Message(PLAN, b.id, b.node, t=b.t, plan=TeamPlan(t, routes, lens.copy()))
-
-
-def _route_cells(lens: np.ndarray, width: int) -> np.ndarray:
-    """The cells of a routes array that hold a route's vertices (row ``a``'s first
-    ``lens[a]``); read in C order they are the routes concatenated."""
-    return np.arange(width)[None, :] < np.asarray(lens)[:, None]
 
 
 def with_plan(b: Broadcast, plan: TeamPlan) -> Broadcast:
     """``b`` carrying a team plan (the inverse of :func:`plan_of`): a ``plan`` message goes
     in the frame of the decision it follows, so a step still ends with its C05 or C07."""
     lens = np.asarray(plan.lens, dtype=np.int64)
-    nodes = plan.routes[_route_cells(lens, plan.routes.shape[1])].astype(np.int64)
+    nodes = plan.routes[route_cells(lens, plan.routes.shape[1])].astype(np.int64)
     return replace(b, plan=(float(plan.t), lens, nodes))
 
 

@@ -43,6 +43,13 @@ class TeamPlan(NamedTuple):
     lens: NDArray[np.int64]
 
 
+def route_cells(lens: NDArray[np.int64], width: int) -> NDArray[np.bool_]:
+    """The cells of a routes array (:class:`TeamPlan`'s ``routes``, ``width`` columns) that
+    hold a route's vertices: row ``a``'s first ``lens[a]``. Read in C order they are the
+    routes concatenated."""
+    return np.arange(width)[None, :] < np.asarray(lens)[:, None]
+
+
 class BeliefTable:
     """The arrays of a whole team's beliefs, one row per agent id (row 0 unused).
 

@@ -89,7 +89,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from swarmex._kernels import kernel
-from swarmex.missions.traversal.belief import TeamPlan, TraversalBelief
+from swarmex.missions.traversal.belief import TeamPlan, TraversalBelief, route_cells
 from swarmex.missions.traversal.policies import POLICIES, Decision, _pick
 from swarmex.missions.traversal.rollout import MadgtaR
 from swarmex.missions.traversal.rollout_sim import (
@@ -985,18 +985,18 @@ def _holders_on_time(belief: TraversalBelief, routes: np.ndarray, lens: np.ndarr
     not gone, and its announced next event still to come. An agent that stopped without
     being heard (a lost ``leave``) has an event in the past, so nobody leaves a vertex to it
     (``idle="stop"``)."""
-    for a in np.nonzero(lens > 0)[0]:
-        if a != belief.me and (belief.loc[a] < 0 or not belief.free_at[a] > belief.now):
-            return False
-    return True
+    holders = np.nonzero(lens > 0)[0]
+    holders = holders[holders != belief.me]
+    return bool((belief.loc[holders] >= 0).all()
+                and (belief.free_at[holders] > belief.now).all())
 
 
 def _theirs(belief: TraversalBelief, routes: np.ndarray, lens: np.ndarray) -> np.ndarray:
     """A mask of the still vacant vertices planned for the agents other than ``me``."""
+    cells = route_cells(lens, routes.shape[1])
+    cells[belief.me] = False
     mask = np.zeros(belief.status.size, dtype=bool)
-    for a in np.nonzero(lens > 0)[0]:
-        if a != belief.me:
-            mask[routes[a, :lens[a]]] = True
+    mask[routes[cells]] = True
     return mask & (belief.status == 0)
 
 
