@@ -1,14 +1,16 @@
-"""A followed team plan's two rules for its agents (``swarmex.missions.traversal.teamplan``):
-``idle="stop"`` (an agent with no route of its own stops, saying ``leave``) and ``detour``
+"""A followed team plan's rules for its agents (``swarmex.missions.traversal.teamplan``):
+``idle="stop"`` (an agent with no route of its own stops, saying ``leave``), ``detour``
 (on the way to a distant planned vertex, a first step that is not a teammate's planned
-vertex).
+vertex) and ``slack`` (the plan followed is the shared one after a pass that lowers its
+sum).
 
 What is pinned: the environment's ``retires`` says exactly when ``decide`` stops early
 (checked at every decision of whole runs), and such stops happen; every job is still done,
 under a perfect broadcast and over a lossy, range-limited radio (where a lost ``leave``
 must not make the others leave a vertex to an agent that is gone); the on-time test on its
 own; a detour step avoids a teammate's vertex when an equally short step does, and only
-then; the options are checked.
+then; the options are checked; with ``slack`` the shared plan is exactly the plan made
+without it, and the followed one (every vertex once) differs from it on some decisions.
 """
 
 from __future__ import annotations
@@ -18,7 +20,7 @@ import pytest
 
 from swarmex.comm.channel import Channel
 from swarmex.missions.traversal import run_traversal, uniform_agents
-from swarmex.missions.traversal.belief import TraversalBelief
+from swarmex.missions.traversal.belief import TraversalBelief, route_cells
 from swarmex.missions.traversal.followed import MadgtaS
 from swarmex.missions.traversal.teamplan import MadgtaP, _holders_on_time
 from swarmex.planning.fieldcache import KnownGraph
@@ -130,4 +132,43 @@ def test_the_options_are_checked():
         MadgtaP(detour=True)
     with pytest.raises(ValueError, match="commit"):
         MadgtaP(follow=True, commit=True, idle="stop")
+    with pytest.raises(ValueError, match="slack and trade must be >= 0"):
+        MadgtaP(slack=-1.0)
+    with pytest.raises(ValueError, match="slack and trade must be >= 0"):
+        MadgtaS(trade=-0.5)
     assert MadgtaS(idle="stop").announce_leave and not MadgtaS(idle="madgta").announce_leave
+
+
+class _SlackWitness(MadgtaS):
+    """madgta-s that, at every end-game decision, also makes the plan without the sum pass
+    (``slack=0``) from the same belief, to compare."""
+
+    def __init__(self, **options: object) -> None:
+        super().__init__(**options)
+        self._lexical = MadgtaS(slack=0.0)
+        self.planned = 0
+        self.moved = 0  # decisions whose followed plan is not the shared one
+
+    def _plan(self, belief, vacant):
+        p = super()._plan(belief, vacant)
+        q = self._lexical._plan(belief, vacant)
+        assert np.array_equal(p.routes, q.routes) and np.array_equal(p.lens, q.lens)
+        assert np.array_equal(q.own, q.routes) and np.array_equal(q.own_lens, q.lens)
+        planned = np.sort(p.routes[route_cells(p.lens, p.routes.shape[1])])
+        assert np.array_equal(planned, np.sort(p.own[route_cells(p.own_lens, p.own.shape[1])]))
+        self.planned += 1
+        self.moved += not (np.array_equal(p.own, p.routes) and np.array_equal(p.own_lens, p.lens))
+        return p
+
+
+@pytest.mark.parametrize(("size", "seed"), [(4, 2), (6, 1)])
+def test_the_sum_pass_changes_the_followed_plan_not_the_shared_one(size, seed):
+    """``slack``: the plan an agent shares (and the team searches on) is the min-max one,
+    exactly the plan made without the sum pass; the agent follows that plan after the sum
+    pass, which keeps every vertex planned once and does change it on these runs."""
+    world = random_obstacles(size, size, 0.15, seed=seed)
+    agents = uniform_agents([int(np.nonzero(~world.blocked)[0][0])] * 3, 2.0, 9.0)
+    policy = _SlackWitness()
+    run = run_traversal(world, agents, policy, seed=seed)
+    assert run.complete and _free_mask_done(run, world)
+    assert policy.planned > 0 and policy.moved > 0

@@ -69,7 +69,7 @@ class _TeamMemory(MadgtaF):
     keep their plan in one common memory."""
 
     def __init__(self) -> None:
-        super().__init__(follow=True, idle="stop", detour=True)
+        super().__init__(follow=True, idle="stop", detour=True, slack=1.5)
         self._kept = _OneMemory()
 
     def decide(self, belief, rng):
@@ -84,6 +84,7 @@ def test_registered_and_selectable():
     assert isinstance(policy, MadgtaF) and policy.name == "madgta-s"
     assert (policy.follow, policy.share, policy.keep, policy.ils) == (True, True, True, 30)
     assert (policy.idle, policy.detour, policy.announce_leave) == ("stop", True, True)
+    assert (policy.slack, policy.trade) == (1.5, 0.5)
     with pytest.raises(ValueError, match="share needs keep"):
         MadgtaS(keep=False)
     rec = swarmex.run("traversal", grid="8x7", obstacles="2,1;2,2;2,3;5,4", agents=3,

@@ -190,6 +190,15 @@ def _gain(old_a: float, old_b: float, new_a: float, new_b: float) -> bool:
 
 
 @kernel(cache=True, nogil=True)
+def _accept(old_a: float, old_b: float, new_a: float, new_b: float, cap: float) -> bool:
+    """:func:`_gain`, or with ``cap`` >= 0: both routes end by ``cap`` and their sum
+    falls (a strict descent of the sum under a fixed makespan limit)."""
+    if cap < 0.0:
+        return _gain(old_a, old_b, new_a, new_b)
+    return max(new_a, new_b) <= cap + 1e-9 and new_a + new_b < old_a + old_b - 1e-9
+
+
+@kernel(cache=True, nogil=True)
 def _shift(routes: NDArray[np.int64], a: int, i: int, q: int, n: int) -> None:
     """Move ``routes[a, i]`` to position ``q`` of the ``n`` of route ``a``."""
     v = routes[a, i]
@@ -224,7 +233,7 @@ def _improve(
     relocation to another route, swaps and tail exchanges between routes), at most
     ``passes`` rounds; returns the rounds that changed something."""
     return _improve_from(base, pos, active, routes, lens, edge, jt, table, row_of, passes,
-                         np.ones(base.shape[0], dtype=np.bool_))
+                         np.ones(base.shape[0], dtype=np.bool_), -1.0)
 
 
 @kernel(cache=True, nogil=True)
@@ -232,13 +241,17 @@ def _improve_from(
     base: NDArray[np.float64], pos: NDArray[np.int64], active: NDArray[np.bool_],
     routes: NDArray[np.int64], lens: NDArray[np.int64], edge: NDArray[np.float64],
     jt: NDArray[np.float64], table: NDArray[np.int32], row_of: NDArray[np.int64],
-    passes: int, dirty: NDArray[np.bool_],
+    passes: int, dirty: NDArray[np.bool_], cap: float,
 ) -> int:  # pragma: no cover - compiled
     """:func:`_improve` when only the routes marked ``dirty`` may have changed since the
     plan was last locally optimal. A move is priced only if one of its routes changed in
     this round or the one before (``seen``): every other one was priced on the same
     routes a round ago and refused, and a move's worth depends on its own routes alone,
-    so the search takes the same moves as a full one, at a fraction of the cost."""
+    so the search takes the same moves as a full one, at a fraction of the cost.
+    ``cap`` < 0 keeps a move by :func:`_gain` (min-max); ``cap`` >= 0 keeps it when it
+    lowers the sum and both routes then end by ``cap`` (:func:`_accept`: the ``slack``
+    pass, where swapping two agents' whole routes is a move too). Either way a move's
+    worth depends on its own two routes only."""
     m1 = base.shape[0]
     seen = np.full(m1, -2, dtype=np.int64)  # the last round a route changed in
     for a in range(m1):
@@ -323,8 +336,8 @@ def _improve_from(
                             nx = routes[b, q]
                             add += _d(v, nx, table, row_of) - _d(q_prev, nx, table, row_of)
                         nb = ends[b] + edge[b] * add + jt[b]
-                        if _gain(ends[a], ends[b], new_a, nb):
-                            nm = max(new_a, nb)
+                        if _accept(ends[a], ends[b], new_a, nb, cap):
+                            nm = max(new_a, nb) if cap < 0.0 else 0.0
                             ns = new_a + nb
                             if nm < best_m - 1e-9 or (nm <= best_m + 1e-9 and ns < best_s - 1e-9):
                                 best_m = nm
@@ -370,7 +383,7 @@ def _improve_from(
                             db += _d(va, nb_, table, row_of) - _d(vb, nb_, table, row_of)
                         new_a = ends[a] + edge[a] * da
                         new_b = ends[b] + edge[b] * db
-                        if _gain(ends[a], ends[b], new_a, new_b):
+                        if _accept(ends[a], ends[b], new_a, new_b, cap):
                             routes[a, i] = vb
                             routes[b, j] = va
                             ends[a] = new_a
@@ -390,7 +403,7 @@ def _improve_from(
                 found = True
                 while found:
                     found = False
-                    top = max(ends[a], ends[b])
+                    top = max(ends[a], ends[b]) if cap < 0.0 else cap
                     _hop_prefix(a, pos, routes, lens, table, row_of, hp_a)
                     _hop_prefix(b, pos, routes, lens, table, row_of, hp_b)
                     # a candidate that ends either route later than both end now cannot
@@ -402,7 +415,9 @@ def _improve_from(
                         for j in range(lens[b] + 1):
                             if base[b] + edge[b] * hp_b[j] + jt[b] * j > top + 1e-9:
                                 break
-                            if (i == lens[a] and j == lens[b]) or (i == 0 and j == 0):
+                            if i == lens[a] and j == lens[b]:
+                                continue
+                            if i == 0 and j == 0 and cap < 0.0:  # whole routes: sum only
                                 continue
                             new_a = _spliced_end(a, base, pos, routes, i, b, j, lens, edge, jt,
                                                  table, row_of, hp_a, hp_b)
@@ -410,7 +425,7 @@ def _improve_from(
                                 continue
                             new_b = _spliced_end(b, base, pos, routes, j, a, i, lens, edge, jt,
                                                  table, row_of, hp_b, hp_a)
-                            if _gain(ends[a], ends[b], new_a, new_b):
+                            if _accept(ends[a], ends[b], new_a, new_b, cap):
                                 _swap_tails(routes, lens, a, i, b, j)
                                 ends[a] = new_a
                                 ends[b] = new_b
@@ -622,7 +637,7 @@ def _iterated_search(
             dirty[a] = (not optimal or n != kept_lens[a]
                         or np.any(routes[a, :n] != kept[a, :n]))
         settled = _improve_from(base, pos, active, routes, lens, edge, jt, table, row_of,
-                                passes, dirty) < passes
+                                passes, dirty, -1.0) < passes
         mk, sm = _plan_ends(base, pos, active, routes, lens, edge, jt, table, row_of, ends)
         if _lex_lower(mk, sm, best_m, best_s):
             best_m = mk
@@ -695,13 +710,18 @@ def _team_plan(
     tpu: NDArray[np.float64], jt: NDArray[np.float64], step: float,
     prio: NDArray[np.int64], passes: int, routes: NDArray[np.int64], lens: NDArray[np.int64],
     ils: int, ruin: int, warm: NDArray[np.int64], warm_lens: NDArray[np.int64],
+    slack: float, trade: float, own: NDArray[np.int64], own_lens: NDArray[np.int64],
 ) -> int:  # pragma: no cover - compiled
     """The team plan from the state (the caller's copies; overwritten): MADGTA's routes,
     then :func:`_improve`, then ``ils`` rounds of :func:`_iterated_search` (seeded by the
     number of vacant vertices and the time, so the same belief gives the same plan).
     With a previous plan (``warm_lens`` not all 0) that plan, brought up to date, replaces
     MADGTA's if it is better (:func:`_warm_start`), before the ruin and recreate.
-    Returns the first vertex of ``me``'s route (-1: none)."""
+    ``routes`` is the plan to share and to start from next time; ``own`` the plan to follow:
+    the same, or with ``slack`` > 0 the sum pass's plan (:func:`_improve_from` from it, no
+    route ending more than ``slack`` edges of the fastest agent after its makespan) if its
+    sum plus ``trade`` x active agents x its makespan is lower.
+    Returns the first vertex of ``me``'s route in ``own`` (-1: none)."""
     m1 = loc.shape[0]
     base = tfree.copy()
     pos = loc.copy()
@@ -737,13 +757,32 @@ def _team_plan(
         seed = vacant.shape[0] * 1_000_003 + int(now * 1000.0)
         _iterated_search(base, pos, active, routes, lens, edge, jt, table, row_of, ils, ruin,
                          passes, seed)
-    return routes[me, 0] if lens[me] > 0 else -1
+    own[:] = routes
+    own_lens[:] = lens
+    if slack > 0.0:  # the followed plan: a lower sum within slack edges of the makespan
+        ends = np.zeros(m1)
+        mk, sm = _plan_ends(base, pos, active, routes, lens, edge, jt, table, row_of, ends)
+        fastest = np.inf
+        n_act = 0
+        for a in range(1, m1):
+            if active[a]:
+                fastest = min(fastest, edge[a])
+                n_act += 1
+        _improve_from(base, pos, active, own, own_lens, edge, jt, table, row_of, passes,
+                      np.ones(m1, dtype=np.bool_), mk + slack * fastest)
+        mk_own, sm_own = _plan_ends(base, pos, active, own, own_lens, edge, jt, table, row_of,
+                                    ends)
+        if sm_own + trade * n_act * mk_own >= sm + trade * n_act * mk - 1e-9:
+            own[:] = routes  # not worth its longer makespan
+            own_lens[:] = lens
+    return own[me, 0] if own_lens[me] > 0 else -1
 
 
 @dataclass(frozen=True)
 class _Planned:
     """An end-game plan made for one decision: the agent's first vertex in it (-1: no
-    route of its own), every agent's route, and what the decision reuses."""
+    route of its own), every agent's route (``routes``, to share and keep; ``own``, to
+    follow: the sum pass's), and what the decision reuses."""
 
     first: int
     routes: np.ndarray
@@ -754,6 +793,8 @@ class _Planned:
     table: np.ndarray
     row_of: np.ndarray
     state: tuple[np.ndarray, ...]
+    own: np.ndarray
+    own_lens: np.ndarray
 
 
 class MadgtaP(MadgtaR):
@@ -777,7 +818,11 @@ class MadgtaP(MadgtaR):
     ``leave``, if every agent holding a route is on time in its belief:
     :func:`_holders_on_time`). ``detour`` (with ``follow``): on the way to a distant first
     vertex, prefer a first step that is not a teammate's planned vertex (madgta-s has both:
-    :mod:`.followed`). Every other keyword is madgta-r's (``max_vacant``, ``k``, ...);
+    :mod:`.followed`). ``slack`` (edges of the fastest agent, 0: off) and ``trade``: the
+    plan followed is the searched plan after a pass that lowers its sum while no route ends
+    more than ``slack`` edges after its makespan, if that pass's sum plus ``trade`` x the
+    active agents x its makespan is lower; the searched plan is the one kept and shared
+    (madgta-s: ``slack=1.5``). Every other keyword is madgta-r's (``max_vacant``, ``k``, ...);
     madgta-r's ``unknown="walled"`` also leaves the likely walls (unsensed cells next to a
     known wall) out of a followed plan's jobs, while its paths may still cross them
     (screened, not kept: docs/traversal-variants.md §7).
@@ -787,7 +832,8 @@ class MadgtaP(MadgtaR):
 
     def __init__(self, passes: int = 50, follow: bool | str = False, commit: bool = False,
                  ils: int = 0, ruin: int = 12, keep: bool = False, share: bool = False,
-                 idle: str = "madgta", detour: bool = False, **rollout: object) -> None:
+                 idle: str = "madgta", detour: bool = False, slack: float = 0.0,
+                 trade: float = 0.5, **rollout: object) -> None:
         super().__init__(**rollout)  # type: ignore[arg-type]
         if follow not in (False, True, "walls"):
             raise ValueError(f"follow must be True, False or 'walls', got {follow!r}")
@@ -800,6 +846,10 @@ class MadgtaP(MadgtaR):
         #: it may finish while vacant vertices remain, and the others must not plan for it
         self.announce_leave = idle == "stop"
         self.detour = detour
+        if slack < 0 or trade < 0:
+            raise ValueError(f"slack and trade must be >= 0, got {slack} and {trade}")
+        self.slack = float(slack)
+        self.trade = float(trade)
         if passes < 0:
             raise ValueError(f"passes must be >= 0, got {passes}")
         if ils < 0:
@@ -869,7 +919,7 @@ class MadgtaP(MadgtaR):
         if vacant.size == 0 or (self.max_vacant is not None and vacant.size > self.max_vacant):
             return False
         p = self._plan(belief, vacant)
-        return p.following and p.first < 0 and _holders_on_time(belief, p.routes, p.lens)
+        return p.following and p.first < 0 and _holders_on_time(belief, p.own, p.own_lens)
 
     def _plan(self, belief: TraversalBelief, vacant: np.ndarray) -> _Planned:
         """The end-game team plan from the belief (deterministic: the same belief and kept
@@ -888,6 +938,7 @@ class MadgtaP(MadgtaR):
         searched = self.follow != "walls" or following
         routes = np.full((loc.size, vacant.size + 1), -1, dtype=np.int64)
         lens = np.zeros(loc.size, dtype=np.int64)
+        own, own_lens = np.empty_like(routes), np.empty_like(lens)
         status, planned = belief.status.copy(), vacant
         if self.unknown == "walled" and following:
             # no job planned on a likely wall (rollout.py's guess); still free to cross
@@ -901,10 +952,11 @@ class MadgtaP(MadgtaR):
             tfree.copy(), mode.copy(), intent.copy(), resv.copy(), belief.time_per_unit,
             belief.job_time, known.step, self._ids(g.n_nodes), self.passes, routes, lens,
             self.ils if searched else 0, self.ruin,
-            *self._warm(belief, loc.size, searched),
+            *self._warm(belief, loc.size, searched), self.slack if searched else 0.0,
+            self.trade, own, own_lens,
         )
         return _Planned(int(f), routes, lens, following, searched, vacant, table, row_of,
-                        state)
+                        state, own, own_lens)
 
     def _choose(self, belief: TraversalBelief, rng: np.random.Generator,
                 p: _Planned) -> Decision:
@@ -935,11 +987,11 @@ class MadgtaP(MadgtaR):
             steps = known.first_steps(known.slot(here), cands[j])
             return Decision("move", _pick(steps, rng), cands[j], 3)
         if f < 0:  # no route of its own in the plan
-            if self.idle == "stop" and _holders_on_time(belief, p.routes, p.lens):
+            if self.idle == "stop" and _holders_on_time(belief, p.own, p.own_lens):
                 return Decision("finish")
             return self._plain.decide(belief, rng)
         self.plans += 1
-        theirs = _theirs(belief, p.routes, p.lens) if self.detour else None
+        theirs = _theirs(belief, p.own, p.own_lens) if self.detour else None
         return self._towards(belief, int(f), rng, theirs)
 
     def _warm(self, belief: TraversalBelief, rows: int,
