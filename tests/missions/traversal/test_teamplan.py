@@ -326,9 +326,10 @@ def test_compiled_and_interpreted_give_the_same_run(tmp_path):
     from swarmex.worlds import empty_grid, random_obstacles
     world = random_obstacles(9, 9, 0.2, seed=2)
     free = np.nonzero(~world.blocked)[0]
-    run = run_traversal(world, uniform_agents([int(free[0])] * 4, 2.0, 9.0), MadgtaP(),
-                        seed=2)
-    print(json.dumps([run.path_strings(), run_metrics(run, 1.0)[0]["max_total_time"]]))
+    agents = uniform_agents([int(free[0])] * 4, 2.0, 9.0)
+    for policy in (MadgtaP(), MadgtaP(follow=True, slack=1.5)):  # the second: the sum pass
+        run = run_traversal(world, agents, policy, seed=2)
+        print(json.dumps([run.path_strings(), run_metrics(run, 1.0)[0]["max_total_time"]]))
     """
     jit_and_python_agree(code, tmp_path)
 

@@ -417,8 +417,8 @@ def _improve_from(
                                 break
                             if i == lens[a] and j == lens[b]:
                                 continue
-                            if i == 0 and j == 0 and cap < 0.0:  # whole routes: sum only
-                                continue
+                            if i == 0 and j == 0 and cap < 0.0:
+                                continue  # swapping whole routes: a sum-pass move only
                             new_a = _spliced_end(a, base, pos, routes, i, b, j, lens, edge, jt,
                                                  table, row_of, hp_a, hp_b)
                             if new_a > top + 1e-9:
