@@ -155,10 +155,9 @@ class MadgtaS(MadgtaF):
     name = "madgta-s"
 
     def __init__(self, follow: bool | str = True, share: bool = True, idle: str = "stop",
-                 detour: bool = True, slack: float = 1.5, trade: float = 0.5,
-                 **options: object) -> None:
+                 detour: bool = True, slack: float = 1.5, **options: object) -> None:
         super().__init__(follow=follow, share=share, idle=idle, detour=detour, slack=slack,
-                         trade=trade, **options)  # type: ignore[arg-type]
+                         **options)  # type: ignore[arg-type]
 
 
 POLICIES[MadgtaS.name] = MadgtaS

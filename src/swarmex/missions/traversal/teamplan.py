@@ -762,17 +762,12 @@ def _team_plan(
     if slack > 0.0:  # the followed plan: a lower sum within slack edges of the makespan
         ends = np.zeros(m1)
         mk, sm = _plan_ends(base, pos, active, routes, lens, edge, jt, table, row_of, ends)
-        fastest = np.inf
-        n_act = 0
-        for a in range(1, m1):
-            if active[a]:
-                fastest = min(fastest, edge[a])
-                n_act += 1
         _improve_from(base, pos, active, own, own_lens, edge, jt, table, row_of, passes,
-                      np.ones(m1, dtype=np.bool_), mk + slack * fastest)
+                      np.ones(m1, dtype=np.bool_), mk + slack * edge[active].min())
         mk_own, sm_own = _plan_ends(base, pos, active, own, own_lens, edge, jt, table, row_of,
                                     ends)
-        if sm_own + trade * n_act * mk_own >= sm + trade * n_act * mk - 1e-9:
+        weight = trade * active.sum()
+        if sm_own + weight * mk_own >= sm + weight * mk - 1e-9:
             own[:] = routes  # not worth its longer makespan
             own_lens[:] = lens
     return own[me, 0] if own_lens[me] > 0 else -1
