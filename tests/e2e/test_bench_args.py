@@ -48,6 +48,7 @@ BAD = [
     ("compare_roadmap_rules.py", ["--jobs", "0"], "must be at least 1"),
     ("compare_roadmap_rules.py", ["--seeds", "1"], "at least 2 (a 95 % interval needs two pairs)"),
     ("compare_foraging_patterns.py", ["--per-band", "1"], "must be at least 2"),
+    ("foraging_level_comb.py", ["--per-band", "1"], "must be at least 2"),
     ("compare_traversal_variants.py", ["--comm-seeds", "1"], "must be at least 2"),
     ("compare_foraging_patterns.py", ["--ours", "nope"], "--ours: unknown nope"),
     ("compare_foraging_patterns.py", ["--load", "/nonexistent/runs.json"],

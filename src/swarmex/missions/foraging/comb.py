@@ -124,8 +124,14 @@ def plan(g: int, n: int) -> Plan:
         raise InputError(
             f"{NAME} needs the grid size to be a multiple of 4 × --agents (g={g}, n={n})"
         )
+    return deployed(NAME, g, n, *routes_of(g, n))
+
+
+def deployed(name: str, g: int, n: int, explore: list[list[Cell]], rows: list[int]) -> Plan:
+    """The plan of a comb whose robot ``a`` explores ``explore[a]`` from row ``rows[a]``: the
+    deployment up the column next to the nest, the synchronised start and the chain of
+    neighbours. Comb's own routes, or another comb's (bench/foraging_level_comb.py)."""
     nest = nest_of(g)
-    explore, rows = routes_of(g, n)
     step_out = (nest[0] - 1, nest[1])
     routes, explore_from = [], []
     for a in range(n):
@@ -140,7 +146,7 @@ def plan(g: int, n: int) -> Plan:
         depart[a] = k + 1
     neighbours = [[b for b in (a - 1, a + 1) if 0 <= b < n] for a in range(n)]
     return Plan(
-        NAME,
+        name,
         g,
         n,
         routes,
