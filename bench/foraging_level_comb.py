@@ -31,7 +31,11 @@ bench/compare_foraging_patterns.py), the noise-free estimate (exact E + mean Q) 
 Strips', and the exact E the pattern would need, with its own Q, to be 10 % below Strips.
 
     PYTHONPATH=src python bench/foraging_level_comb.py [--per-band 40] [--seed 2015]
-        [--floors floors.json] [--floor-search 40]
+        [--floors floors.json] [--floor-search 40] [--transport relay-food]
+
+``--transport`` runs every pattern with another seed transport (Q − Q_min still subtracts
+Relay-Food's Q_min): Relay-Path lowers every pattern's Q by 6–17 rounds and End-to-End raises
+it by 130–160, so neither opens the target.
 
 About 3 s of CPU, 5 s when it computes Q_min rather than reading it.
 """
@@ -53,6 +57,7 @@ from swarmex.missions.foraging.plan import Plan
 from swarmex.missions.foraging.run import phase_metrics
 from swarmex.missions.foraging.sim import run_mission
 from swarmex.missions.foraging.timed import Timed, execute
+from swarmex.missions.foraging.transport import RELAY_FOOD, TRANSPORTS
 from swarmex.studies.foraging.design import UNITS, G, food_cells
 
 N = 16
@@ -125,6 +130,10 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--seed", type=_cli.nonneg_int, default=2015)
     ap.add_argument("--floors", help="compare_foraging_patterns.py's --floors file (same seed)")
     ap.add_argument("--floor-search", type=_cli.positive_int, default=40)
+    ap.add_argument(
+        "--transport", choices=TRANSPORTS, default=RELAY_FOOD,
+        help="the seed transport every pattern runs (Q_min is Relay-Food's in every case)",
+    )  # fmt: skip
     a = ap.parse_args(argv)
     cells = food_cells(a.seed, 40)[BAND][: a.per_band]
     t0 = time.process_time()
@@ -136,7 +145,7 @@ def main(argv: list[str] | None = None) -> int:
     qmin = q_min(cells, a.floors if a.seed == 2015 else None, a.floor_search)
     rows = {}
     for name, timed in tables.items():
-        runs = [run_mission(timed, c, UNITS, "relay-food", record=False) for c in cells]
+        runs = [run_mission(timed, c, UNITS, a.transport, record=False) for c in cells]
         e = np.array([o.discovery for o in runs], dtype=float)
         q = np.array([o.makespan for o in runs], dtype=float) - e
         phases = [phase_metrics(o, timed) for o in runs]
@@ -144,7 +153,7 @@ def main(argv: list[str] | None = None) -> int:
         rows[name] = (exact_e(timed), e.mean(), co.mean(), q, q - qmin)
     strips_nf = rows["strips"][0] + rows["strips"][3].mean()
     print(
-        f"N = {N}, {len(cells)} {BAND} cells (seed {a.seed}), k = {UNITS}, Relay-Food; "
+        f"N = {N}, {len(cells)} {BAND} cells (seed {a.seed}), k = {UNITS}, {a.transport}; "
         f"CPU {time.process_time() - t0:.0f} s; Q_min mean {qmin.mean():.0f}"
     )
     print()
