@@ -128,7 +128,11 @@ def main(argv: list[str] | None = None) -> int:
     ap = _cli.Parser(description=__doc__.splitlines()[0])
     ap.add_argument("--per-band", type=_cli.paired_count, default=40)
     ap.add_argument("--seed", type=_cli.nonneg_int, default=2015)
-    ap.add_argument("--floors", help="compare_foraging_patterns.py's --floors file (same seed)")
+    ap.add_argument(
+        "--floors",
+        help="compare_foraging_patterns.py's --floors file; read with the default --seed only "
+        "(the file does not record its cells), else Q_min is computed",
+    )
     ap.add_argument("--floor-search", type=_cli.positive_int, default=40)
     ap.add_argument(
         "--transport", choices=TRANSPORTS, default=RELAY_FOOD,
