@@ -178,6 +178,12 @@ def floors(foods: dict[str, list[tuple[int, int]]], per_band: int, search: int) 
     return out
 
 
+def read_floors(path: str) -> Floors:
+    """The floors a ``--floors`` run wrote (per band, cell index and N)."""
+    with open(path, encoding="utf-8") as fh:
+        return {(b, i, n): (q, p, how) for b, i, n, q, p, how in json.load(fh)}
+
+
 def _se(x: np.ndarray) -> float:
     """Standard error of the mean of ``x`` (the 40-cell sample of a band)."""
     return float(x.std(ddof=1) / np.sqrt(len(x)))
@@ -188,12 +194,7 @@ def first_visits(pattern: str, n: int) -> np.ndarray:
     nest and cells never visited)."""
     from swarmex.missions.foraging import timed_plan
 
-    pos = timed_plan(pattern, G, n).pos
-    first = np.full((G, G), -1, dtype=np.int64)
-    for t in range(len(pos) - 1, -1, -1):
-        first[pos[t, :, 0], pos[t, :, 1]] = t
-    first[G // 2, G // 2] = -1
-    return first
+    return timed_plan(pattern, G, n).first_visits()
 
 
 def exact_band_e(
@@ -435,8 +436,7 @@ def main(argv: list[str] | None = None) -> int:
     print()
     t1 = time.process_time()
     if a.floors and os.path.exists(a.floors):
-        with open(a.floors, encoding="utf-8") as fh:
-            fl = {(b, i, n): (q, p, how) for b, i, n, q, p, how in json.load(fh)}
+        fl = read_floors(a.floors)
     else:
         fl = floors(foods, a.per_band, a.floor_search)
         if a.floors:  # 170 s of CPU: an interrupted write must not leave half a file

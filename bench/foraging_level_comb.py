@@ -42,7 +42,6 @@ About 3 s of CPU, 5 s when it computes Q_min rather than reading it.
 
 from __future__ import annotations
 
-import json
 import os
 import time
 from dataclasses import replace
@@ -50,6 +49,7 @@ from dataclasses import replace
 import numpy as np
 
 import _cli
+from compare_foraging_patterns import read_floors
 from swarmex.missions.foraging import comb, timed_plan
 from swarmex.missions.foraging.floor import least_transport
 from swarmex.missions.foraging.grid import Cell
@@ -69,7 +69,8 @@ def level_routes(g: int, n: int) -> tuple[list[list[Cell]], list[int]]:
     end of a pass every robot walks n rows along the border column, so robot ``a`` keeps row
     ``rows[a] + (band − first band) · n`` and all share one column in every round."""
     ps = comb.passes(g, n)
-    rows = [ps[0][0] * n + r for r in range(n)]
+    first_rows = [ps[0][0] * n + r for r in range(n)]
+    rows = list(first_rows)
     col = ps[0][1]
     out: list[list[Cell]] = [[(col, y)] for y in rows]
     for j, (band, _, last, d) in enumerate(ps):
@@ -82,7 +83,7 @@ def level_routes(g: int, n: int) -> tuple[list[list[Cell]], list[int]]:
         for a in range(n):
             out[a].extend((col, rows[a] + v * s) for s in range(1, n + 1))
             rows[a] += v * n
-    return out, [ps[0][0] * n + r for r in range(n)]
+    return out, first_rows
 
 
 def level_plan(g: int, n: int, keep_route: bool) -> Plan:
@@ -105,11 +106,7 @@ def check_level(timed: Timed) -> None:
 def exact_e(timed: Timed) -> float:
     """Mean discovery round over every cell but the nest (uniform food without sampling
     error)."""
-    pos, g = timed.pos, timed.plan.g
-    first = np.full((g, g), -1, dtype=np.int64)
-    for t in range(len(pos) - 1, -1, -1):
-        first[pos[t, :, 0], pos[t, :, 1]] = t
-    first[g // 2, g // 2] = -1
+    first = timed.first_visits()
     return float(first[first >= 0].mean())
 
 
@@ -117,10 +114,9 @@ def q_min(cells: list[Cell], floors_file: str | None, search: int) -> np.ndarray
     """Q_min per cell: from compare_foraging_patterns.py's ``--floors`` file when it has the
     same cells (its entries are per band index), else computed here."""
     if floors_file and os.path.exists(floors_file):
-        with open(floors_file, encoding="utf-8") as fh:
-            saved = {(b, i, n): q for b, i, n, q, _, _ in json.load(fh)}
+        saved = read_floors(floors_file)
         if all((BAND, i, N) in saved for i in range(len(cells))):
-            return np.array([saved[(BAND, i, N)] for i in range(len(cells))], dtype=float)
+            return np.array([saved[(BAND, i, N)][0] for i in range(len(cells))], dtype=float)
     return np.array([least_transport(G, c, N, UNITS, budget=search)[0] for c in cells], float)
 
 

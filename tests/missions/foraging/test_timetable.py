@@ -26,3 +26,19 @@ def test_compiled_timetable_equals_the_python_loop(algorithm, g, n):
     assert got.pos.dtype == ref.pos.dtype and got.pos.shape == ref.pos.shape
     assert np.array_equal(got.pos, ref.pos)
     assert np.array_equal(got.explore_start, ref.explore_start)
+
+
+@pytest.mark.parametrize(("name", "n"), [("strips", 4), ("sectors", 8), ("spiral", 4)])
+def test_first_visits_is_each_cells_first_round_in_the_timetable(name, n):
+    """``Timed.first_visits`` (the exact mean exploration time's source) against a plain
+    walk through the timetable."""
+    table = timed.timed_plan(name, 32, n)
+    first: dict[tuple[int, int], int] = {}
+    for t, row in enumerate(table.pos):
+        for x, y in row:
+            first.setdefault((int(x), int(y)), t)
+    del first[table.plan.nest]
+    expect = np.full((32, 32), -1)
+    for (x, y), t in first.items():
+        expect[x, y] = t
+    assert np.array_equal(table.first_visits(), expect)

@@ -52,11 +52,7 @@ def exact_exploration() -> dict[tuple[str, int], float]:
     configs = {(p, n) for p, n in TABLE_CONFIGS} | {("sectors", 4)}
     configs |= {(p, 1) for p in SINGLE}
     for pattern, n in sorted(configs):
-        pos = timed_plan(pattern, G, n).pos
-        first = np.full((G, G), -1, dtype=np.int64)
-        for t in range(len(pos) - 1, -1, -1):
-            first[pos[t, :, 0], pos[t, :, 1]] = t
-        first[G // 2, G // 2] = -1
+        first = timed_plan(pattern, G, n).first_visits()
         out[(pattern, n)] = float(first[first >= 0].mean())
     return out
 
