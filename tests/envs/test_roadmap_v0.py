@@ -142,6 +142,26 @@ def test_baseline_on_the_aec_form_and_the_search_outcome():
     assert without_wall(record) == without_wall(swarmex.run("roadmap", **params))
 
 
+def test_an_episode_that_ends_inside_reset_leaves_no_agents():
+    """PRM walkers on Fig. 14 with seed 1 never get a choice: the parallel form must end the
+    episode at once (no agents, no observations) so the usual loop simply does not run, and
+    the record is still the one ``swarmex.run`` gives."""
+    params = dict(env=FIG14, agents=3, nodes=80, step=40, sensor_range="1eps", task="search",
+                  planner="prm", seed=1)
+    par = roadmap_v0.parallel_env(**params)
+    obs, infos = par.reset(seed=1)
+    assert obs == {} and par.agents == []
+    policy = roadmap_v0.baseline_policy(par)
+    while par.agents:  # the documented loop: must not ask for missing observations
+        obs, _, _, _, infos = par.step(policy(obs, infos))
+    assert par.step({}) == ({}, {}, {}, {}, {})
+    record = par.unwrapped.record()
+    assert without_wall(record) == without_wall(swarmex.run("roadmap", **params))
+    obs, _ = par.reset(seed=0)  # a seed with decisions: the env is usable again
+    assert obs and par.agents == par.possible_agents
+    par.close()
+
+
 # ------------------------------------------------------------------ errors
 
 

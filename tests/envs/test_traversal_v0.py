@@ -3,8 +3,10 @@ swarmex.run, observations that are beliefs, clear errors, and SuperSuit vectoris
 
 from __future__ import annotations
 
+import gc
 import pickle
 import warnings
+import weakref
 
 import numpy as np
 import pytest
@@ -341,6 +343,26 @@ def test_reset_and_close_in_the_middle_of_a_run():
     clone.reset(seed=1)
     assert clone.agents == ["agent_1", "agent_2", "agent_3"]
     clone.close()
+
+
+@pytest.mark.parametrize("form", ["aec", "parallel"])
+def test_an_env_dropped_mid_episode_without_close_frees_its_run(form):
+    """Learners often drop envs without close(): the run's worker thread must not keep the
+    env (and its whole run) alive; collecting the env ends the thread."""
+    env = traversal_v0.env(**SMALL) if form == "aec" else traversal_v0.parallel_env(**SMALL)
+    env.reset(seed=1)
+    thread = env.unwrapped._broker._thread
+    ref = weakref.ref(env.unwrapped)
+    if form == "aec":
+        env.step(int(np.flatnonzero(env.last()[0]["action_mask"])[0]))
+    else:
+        env.step(traversal_v0.baseline_policy(env)(dict.fromkeys(env.agents), {}))
+    assert thread.is_alive()  # mid-episode: the run waits for the next decision
+    del env
+    gc.collect()
+    assert ref() is None
+    thread.join(10)
+    assert not thread.is_alive()
 
 
 # ---------------------------------------------------------------------------- SuperSuit

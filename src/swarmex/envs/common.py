@@ -10,6 +10,8 @@ from typing import Any, ClassVar
 
 import numpy as np
 from gymnasium import spaces
+from pettingzoo import AECEnv
+from pettingzoo.utils.conversions import turn_based_aec_to_parallel_wrapper
 
 from swarmex.errors import InputError
 
@@ -50,6 +52,39 @@ def plain_int(raw: Any) -> Any:
     if isinstance(value, np.integer):
         value = int(value)
     return value
+
+
+class TurnBasedParallel(turn_based_aec_to_parallel_wrapper):
+    """PettingZoo's turn-based AEC-to-Parallel conversion, for a run that can end in ``reset``.
+
+    Why: an event-driven mission can finish before anyone decides (a tiny world seen whole by
+    the first scans). The AEC form then lists every agent as terminated or truncated, as the
+    AEC API wants, but PettingZoo's conversion copied that list into the parallel ``agents``
+    while returning no observations, so the usual loop ``while env.agents:
+    env.step(policy(obs, infos))`` asked for observations that did not exist. Here the dead
+    agents are stepped out of the AEC env at once and the parallel ``agents`` is empty, as
+    the Parallel API says an ended episode must be. A ``step`` after the end returns the five
+    empty dicts of the Parallel API (PettingZoo's conversion returns four).
+    """
+
+    def __init__(self, aec_env: AECEnv[Any, Any, Any]) -> None:
+        super().__init__(aec_env)
+
+    def reset(
+        self, seed: int | None = None, options: dict[str, Any] | None = None
+    ) -> tuple[dict[Any, Any], dict[Any, Any]]:
+        observations, infos = super().reset(seed=seed, options=options)
+        aec = self.aec_env
+        if aec.agents and all(aec.terminations[a] or aec.truncations[a] for a in aec.agents):
+            while aec.agents:
+                aec.step(None)
+            self.agents: list[Any] = []
+        return observations, infos
+
+    def step(self, actions: dict[Any, Any]) -> tuple[dict[Any, Any], ...]:
+        if not self.agents:  # PettingZoo's conversion returns four dicts here, not five
+            return {}, {}, {}, {}, {}
+        return tuple(super().step(actions))
 
 
 class BrokerEpisodeMixin:

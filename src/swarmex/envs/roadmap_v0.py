@@ -73,16 +73,13 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from gymnasium import spaces
 from pettingzoo import AECEnv, ParallelEnv
-from pettingzoo.utils.conversions import (
-    turn_based_aec_to_parallel,
-)
 from pettingzoo.utils.wrappers import (
     OrderEnforcingWrapper,
     TerminateIllegalWrapper,
 )
 
 from swarmex.envs.broker import Ask, DecisionBroker
-from swarmex.envs.common import check_finite
+from swarmex.envs.common import TurnBasedParallel, check_finite
 from swarmex.errors import InputError
 from swarmex.missions.base import integer
 from swarmex.missions.registry import get
@@ -736,12 +733,12 @@ def env(illegal_reward: float | None = None, **kwargs: Any) -> AECEnv[str, Any, 
 
 
 def parallel_env(illegal_reward: float | None = None, **kwargs: Any) -> ParallelEnv[str, Any, Any]:
-    """The Parallel form: PettingZoo's ``turn_based_aec_to_parallel`` over :func:`env`.
+    """The Parallel form: PettingZoo's turn-based conversion of :func:`env` (``TurnBasedParallel``).
 
     One agent acts per ``step`` (``env.unwrapped.pending_agent``, also ``infos[a]
     ["active_agent"]`` after a step); the actions given for the others are ignored.
     """
-    return turn_based_aec_to_parallel(env(illegal_reward=illegal_reward, **kwargs))
+    return TurnBasedParallel(env(illegal_reward=illegal_reward, **kwargs))
 
 
 def baseline_policy(

@@ -47,20 +47,19 @@ import contextlib
 import dataclasses
 import math
 import numbers
+import weakref
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, cast
 
 import gymnasium
 import numpy as np
 from gymnasium import spaces
 from pettingzoo import AECEnv, ParallelEnv
 from pettingzoo.utils import wrappers
-from pettingzoo.utils.conversions import (
-    turn_based_aec_to_parallel,
-)
 
 from swarmex.envs.broker import Ask, DecisionBroker
+from swarmex.envs.common import TurnBasedParallel
 from swarmex.errors import InputError
 
 #: what ``observe`` reports per vertex in ``status``
@@ -115,6 +114,30 @@ class _Stub:
             env._finished.append(me)
             return Decision("finish")
         return self.ask(_Request(me, belief, rng, float(belief.now), mask))
+
+
+def _simulate(world: Any, prepared: Any, p: Any, stub: _Stub,
+              on_frame: Callable[[Any], None]) -> Any:
+    """The mission's run (as TraversalMission.execute does it), with the stub as policy.
+
+    Runs in the broker's worker thread; a module function so that the thread holds no strong
+    reference to the environment."""
+    from swarmex.comm.channel import Channel
+    from swarmex.missions.traversal import run_traversal
+    from swarmex.missions.traversal.mission import agent_specs
+
+    comm = math.inf if p.comm_range is None else p.comm_range
+    return run_traversal(
+        world,
+        agent_specs(p, prepared),
+        stub,  # type: ignore[arg-type]  # duck-typed Madgta: name + decide(belief, rng)
+        p.seed,
+        Channel(p.loss, p.delay, comm),
+        start_interval=p.start_interval,
+        unit_length=prepared.unit_length,
+        job_failure=p.job_failure,
+        on_frame=on_frame,
+    )
 
 
 class raw_env(AECEnv):  # noqa: N801 - PettingZoo's module convention
@@ -240,32 +263,21 @@ class raw_env(AECEnv):  # noqa: N801 - PettingZoo's module convention
         self.truncations = dict.fromkeys(self.agents, False)
         self.infos = {a: {} for a in self.agents}
         name = p.algorithm  # the record names the spec, options and all (madgta-f@ils=60)
-        self._broker = DecisionBroker(lambda ask: self._simulate(p, _Stub(self, name, ask)))
+        # the worker thread holds the env only weakly: an env dropped mid-episode without
+        # close() is then collected, and its __del__ ends the thread (a strong reference from
+        # the waiting thread kept both alive for the life of the process)
+        env = cast("raw_env", weakref.proxy(self))
+        world, prepared = self.world, self.prepared
+
+        def run(ask: Ask) -> Any:
+            return _simulate(world, prepared, p, _Stub(env, name, ask),
+                             lambda frame: env._on_frame(frame))
+
+        self._broker = DecisionBroker(run)
         request = self._broker.start()
         # an agent done before the first decision ends with the first step (after a reset,
         # PettingZoo wants every agent alive)
         self._take(request, first=True)
-
-    def _simulate(self, p: Any, stub: _Stub) -> Any:
-        """The mission's run (as TraversalMission.execute does it), with the stub as policy.
-
-        Runs in the broker's worker thread."""
-        from swarmex.comm.channel import Channel
-        from swarmex.missions.traversal import run_traversal
-        from swarmex.missions.traversal.mission import agent_specs
-
-        comm = math.inf if p.comm_range is None else p.comm_range
-        return run_traversal(
-            self.world,
-            agent_specs(p, self.prepared),
-            stub,  # type: ignore[arg-type]  # duck-typed Madgta: name + decide(belief, rng)
-            p.seed,
-            Channel(p.loss, p.delay, comm),
-            start_interval=p.start_interval,
-            unit_length=self.prepared.unit_length,
-            job_failure=p.job_failure,
-            on_frame=self._on_frame,
-        )
 
     def _on_frame(self, frame: Any) -> None:
         """After every start, arrival and job end (simulator thread): the trails drawn by
@@ -572,7 +584,7 @@ def parallel_env(**params: Any) -> ParallelEnv:
     """The Parallel form: one agent (the one the mission waits for) acts per step; the
     actions given for the other agents are ignored (``env.unwrapped.deciding`` names the agent
     that acts; so does ``infos[agent]["active_agent"]`` after a step)."""
-    return turn_based_aec_to_parallel(env(**params))
+    return TurnBasedParallel(env(**params))
 
 
 def baseline_policy(env: Any) -> Callable[[dict[str, Any], dict[str, Any]], dict[str, int]]:
