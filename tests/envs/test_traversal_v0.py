@@ -365,6 +365,23 @@ def test_an_env_dropped_mid_episode_without_close_frees_its_run(form):
     assert not thread.is_alive()
 
 
+@pytest.mark.parametrize(("nests", "hears"), [("0,0;9,9", False), ("9,8;9,9", True)])
+def test_an_agent_waiting_for_its_start_listens_from_its_nest(nests, hears):
+    """With a radio range of 2 cells, agent 2 waits 100 s on its nest (9, 9) while agent 1
+    works from its own: it hears agent 1's jobs next door and nothing from the far corner
+    (the radio used to place every agent at cell (0, 0) until its start)."""
+    env = traversal_v0.parallel_env(grid="10x10", agents=2, nests=nests, comm_range=2,
+                                    start_interval=100, seed=1)
+    obs, infos = env.reset()
+    policy = traversal_v0.baseline_policy(env)
+    while env.agents and env.unwrapped.deciding != "agent_2":
+        obs, _, _, _, infos = env.step(policy(obs, infos))
+    first = obs["agent_2"]
+    assert first["time"][0] == 100.0
+    assert (int((first["status"] == 1).sum()) > 0) is hears
+    env.close()
+
+
 # ---------------------------------------------------------------------------- SuperSuit
 
 

@@ -152,7 +152,7 @@ EXPECTED: dict[str, str] = {
     "random40-6a-s2-sync": "df31ab1ae74dbbfa19c4143b1951314ff9c32fe942154cdc406253e699014d6a",
     "shared-nest30-6a": "0b83e906e843428a2415e6b1e0c0ce9ed7ea553e627f1956857e2f4abeca3318",
     "lossy-0.2": "eea9899eb8618978f8ca57280e8099801a73b0379c64af28498c7f8e3f839499",
-    "lossy-delay-range": "216ea22cc08227982828fbc0f060c32bcf359916183d8eeae6d45ebe4a3c29c0",
+    "lossy-delay-range": "9c4a37b93928744eff35f63ee4d645a55d43fd0bd8caadcbbc0bb3d0e6170879",
     "eight-connected": "e08232255f03d760a5de20dcadc82536457e491d1a27ffd06e94a55c08f8c129",
     "hetero-rooms-failures": "4138a9ce7ca305e7378f3c06487f4fd38e81c35e2e60a2f8762ceb7ad4afac27",
     "weighted-graph": "b5ec3ac7877d9f89e64f864fda00fc5272375274eeca7cd7b295c5e78cfec644",

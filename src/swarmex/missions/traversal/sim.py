@@ -217,7 +217,10 @@ class _Sim:
             )
             for i, s in enumerate(specs, start=1)
         ]
+        # where the radio hears each agent: its nest until it takes off (an agent waiting for
+        # its start listens from the ground there; zeros put it at cell (0, 0) for the range)
         self.pos_xy = np.zeros((m + 1, 2))
+        self.pos_xy[1:] = self.graph.pos[[s.nest for s in specs]]
         self.done_by = np.zeros(self.graph.n_nodes, dtype=np.int32)
         self.job_count = np.zeros(self.graph.n_nodes, dtype=np.int32)
         # vertices with a job started, kept as job_count changes: a frame used to count them
