@@ -307,6 +307,10 @@ def test_a_run_without_any_decision_ends_at_reset():
     obs, infos = env.reset()  # the first scan sees the whole room: no frontier, no decision
     assert obs == {} and infos == {} and env.agents == []
     assert without_wall(env.record()) == without_wall(swarmex.run("exploration", **params))
+    aec = exploration_v0.env(**params)  # the AEC form too (it died in PettingZoo's selector)
+    aec.reset()
+    assert aec.agents == [] and list(aec.agent_iter()) == []
+    assert without_wall(aec.unwrapped.record()) == without_wall(env.record())
 
 
 def test_reset_without_a_seed_moves_to_the_next_one():

@@ -11,7 +11,11 @@ from typing import Any, ClassVar
 import numpy as np
 from gymnasium import spaces
 from pettingzoo import AECEnv
-from pettingzoo.utils.conversions import turn_based_aec_to_parallel_wrapper
+from pettingzoo.utils.conversions import (
+    parallel_to_aec_wrapper,
+    turn_based_aec_to_parallel_wrapper,
+)
+from pettingzoo.utils.wrappers import OrderEnforcingWrapper
 
 from swarmex.errors import InputError
 
@@ -85,6 +89,36 @@ class TurnBasedParallel(turn_based_aec_to_parallel_wrapper):
         if not self.agents:  # PettingZoo's conversion returns four dicts here, not five
             return {}, {}, {}, {}, {}
         return tuple(super().step(actions))
+
+
+class _ParallelToAEC(parallel_to_aec_wrapper):
+    """PettingZoo's Parallel-to-AEC conversion, for a run that can end in ``reset``.
+
+    Why: PettingZoo's agent selector cannot start an empty team, so when the first scans see
+    the whole world (the parallel env then has no agents) the AEC ``reset`` died with a
+    ``ZeroDivisionError``. Here that episode is simply over: no agents, ``agent_iter()``
+    yields nothing, and the record is complete.
+    """
+
+    def reset(self, seed: int | None = None, options: dict[str, Any] | None = None) -> None:
+        try:
+            super().reset(seed=seed, options=options)
+        except ZeroDivisionError:  # the selector's modulo over an empty team
+            if self.env.agents:
+                raise
+            self.agents: list[Any] = []
+            self.agent_selection = None
+            self.rewards: dict[Any, float] = {}
+            self._cumulative_rewards: dict[Any, float] = {}
+            self.terminations: dict[Any, bool] = {}
+            self.truncations: dict[Any, bool] = {}
+            self.infos: dict[Any, dict[str, Any]] = {}
+
+
+def parallel_to_aec(par_env: Any) -> AECEnv[Any, Any, Any]:
+    """The AEC form of one of our parallel envs, order-enforcing (as PettingZoo's
+    ``parallel_to_aec``), that also survives an episode ending inside ``reset``."""
+    return OrderEnforcingWrapper(_ParallelToAEC(par_env))
 
 
 class BrokerEpisodeMixin:

@@ -75,10 +75,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from gymnasium import spaces
 from pettingzoo import AECEnv, ParallelEnv
-from pettingzoo.utils.conversions import parallel_to_aec
 
 from swarmex.envs.broker import DecisionBroker
-from swarmex.envs.common import BrokerEpisodeMixin, check_modes, plain_int
+from swarmex.envs.common import BrokerEpisodeMixin, check_modes, parallel_to_aec, plain_int
 from swarmex.missions.exploration.params import TICK_SECONDS, ExplorationParams
 from swarmex.missions.registry import get as get_mission
 

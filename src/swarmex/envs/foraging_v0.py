@@ -79,9 +79,14 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from gymnasium import spaces
 from pettingzoo import AECEnv, ParallelEnv
-from pettingzoo.utils.conversions import parallel_to_aec
 
-from swarmex.envs.common import BrokerEpisodeMixin, check_finite, check_modes, plain_int
+from swarmex.envs.common import (
+    BrokerEpisodeMixin,
+    check_finite,
+    check_modes,
+    parallel_to_aec,
+    plain_int,
+)
 from swarmex.errors import InputError
 from swarmex.missions.foraging.hook import STAY, STEPS
 from swarmex.missions.foraging.sim import COMM, FOLLOW, TRANSPORT, Compute
