@@ -172,19 +172,22 @@ def test_killed_agent_is_replaced_by_a_spare(tmp_path):
     with Procs() as procs:
         server = procs.start(
             "server", "serve", *GRID, "--agents", 3, "--seed", 2, "--port", 0,
-            "--time-scale", 0.01, "--heartbeat", 0.2, "--dead-after", 1.0,
+            "--time-scale", 0.04, "--heartbeat", 0.2, "--dead-after", 1.0,
             "--timeout", 60, "--json", rec_path,
         )
         address = endpoint(server)
         viewer = Viewer(address)
         # two agents and a spare in one process, the victim alone in another
+        # a short --connect-timeout: a spare the server answers waits past it (it used to
+        # give up after it, exit 4, and leave the vacated id to nobody)
         pair = procs.start("pair", "agent", "--connect", address, "--count", 2, "--spares", 1,
-                           "--connect-timeout", 60)
+                           "--connect-timeout", 1)
         victim = procs.start("victim", "agent", "--connect", address, "--id", 3)
         server.wait_line("mission started", 30)
         pair.wait_line("waiting for a vacant id", 30)
+        waiting_since = time.monotonic()
         end = time.monotonic() + 30.0
-        while viewer.jobs_of(3) < 2:
+        while viewer.jobs_of(3) < 2 or time.monotonic() < waiting_since + 2.0:
             assert time.monotonic() < end, "agent 3 never did two jobs"
             time.sleep(0.05)
         victim.popen.send_signal(signal.SIGKILL)

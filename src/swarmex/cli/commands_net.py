@@ -206,7 +206,9 @@ def agent(
         10.0, "--server-timeout", help="Exit when the server is silent this long (s)."
     ),
     connect_timeout: float = typer.Option(
-        30.0, "--connect-timeout", help="Keep asking for a vacant id this long (s)."
+        30.0, "--connect-timeout",
+        help="Keep asking for a vacant id this long (s); a spare waits for the whole mission "
+        "while the server answers.",
     ),
     timeout: float = typer.Option(3600.0, "--timeout", help="Give up after this long (s)."),
     corrupt: float = typer.Option(

@@ -25,7 +25,8 @@ below ``--min-battery`` make the agent hand its id back to the server (``RET``; 
 
 Every receive has a timeout. Exit status: 0 landed and statistics acknowledged (or the
 mission ended), 1 the mission ended before this agent finished, 3 the server went silent,
-4 refused (unknown id, or no vacant id before ``--connect-timeout``), 5 the server declared
+4 refused (unknown id, or no vacant id before ``--connect-timeout``; a spare the server has
+answered waits for the whole mission instead), 5 the server declared
 this agent gone, 6 its vehicle failed (no heartbeat, a failed check, a low battery, a lost
 link; an id it held was handed back).
 """
@@ -199,7 +200,7 @@ class AgentClient:
                              f"{self.connect_timeout:g} s)")
                 self.waiting = True
                 self.retry_at = now + 0.2  # a spare waits for an id to fall vacant
-                if now - self.started_at > self.connect_timeout:
+                if self.want_id == 0 and now - self.started_at > self.connect_timeout:
                     self._done(EXIT_REFUSED, f"refused: {reason}")
                 return
             self._done(EXIT_REFUSED, f"refused: {reason}")
@@ -413,7 +414,13 @@ class AgentClient:
                 return 0.0
         if self.state in ("prearm", "arming"):
             self._init_step(now)
-        if self.state == "hello":  # §4.3: keep trying to connect for a while
+        if self.state == "hello" and self.want_id < 0 and self.waiting:
+            # a spare the server has answered waits for a vacated id as long as the mission
+            # runs (END releases it); only a silent server ends the wait
+            if now - self.last_server > self.server_timeout:
+                self._done(EXIT_SERVER_GONE, "the server went silent")
+                return 1.0
+        elif self.state == "hello":  # §4.3: keep trying to connect for a while
             if now - self.started_at > self.connect_timeout:
                 self._done(EXIT_SERVER_GONE if not self.waiting else EXIT_REFUSED,
                            "no id from the server")
