@@ -215,7 +215,8 @@ def sweep(
     **axes: Any,
 ) -> Any:
     """Run the product of parameter lists over seeds, as ``swarmex sweep SPEC.toml`` does,
-    and return the results table (a ``pyarrow.Table``, one row per run; ``.to_pandas()``).
+    and return the results table (a ``pyarrow.Table``, one row per run; ``.to_pylist()``, or
+    ``.to_pandas()`` where pandas is installed).
 
     Each keyword is a parameter of :func:`run`: a list (or range) is an axis, anything else,
     a tuple included (``grid=(8, 8)``), a value every run shares; ``fixed`` holds shared

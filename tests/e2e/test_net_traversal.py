@@ -221,6 +221,7 @@ def test_serve_refuses_a_seed_the_run_or_the_wire_cannot_take(
     assert main(["serve", "--grid", "4x4", "--agents", "1", "--port", "0", "--seed", seed]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and says in err and "listen" not in err
+    assert "optimal," not in err and "nearest, optimal" not in err
 
 
 def test_ctrl_c_on_the_server_writes_the_record_so_far_and_ends_the_agents(tmp_path):
@@ -311,6 +312,7 @@ def test_an_agent_that_never_got_an_id_says_so(tmp_path):
 @pytest.mark.parametrize(("algorithm", "says"), [
     ("madgta-f@bogus=1", "madgta-f has no option 'bogus'"),
     ("optimal", "--algorithm must be madgta, madgta+"),
+    ("nope", "madgta-s or nearest, got 'nope'"),  # the served list, without optimal
     ("madgta-k@tip_per_agent=-1", "tip_per_agent must be >= 0"),
 ])
 def test_serve_refuses_an_algorithm_it_cannot_serve(

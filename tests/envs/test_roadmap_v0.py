@@ -186,10 +186,18 @@ def test_bad_params_are_the_same_input_error_as_swarmex_run():
 
     # numpy refused a negative reset seed from deep inside the run, without naming it
     env = roadmap_v0.env(**SMALL)
-    for seed, needle in ((-3, "reset seed must be at least 0"), ("x", "expected an integer")):
+    for seed, needle in ((-3, "reset seed must be at least 0"), ("x", "must be an integer"),
+                         (3.0, "must be an integer")):
         with pytest.raises(swarmex.InputError, match=needle):
             env.reset(seed=seed)
     env.close()
+    with pytest.raises(swarmex.InputError, match="illegal_reward must be a finite number"):
+        roadmap_v0.env(illegal_reward="x", **SMALL)
+    # a copy of the parallel form is a fresh env: it lists no agents before its reset
+    par = roadmap_v0.parallel_env(**SMALL)
+    par.reset()
+    assert pickle.loads(pickle.dumps(par)).agents == []
+    par.close()
 
 
 def test_bad_actions_raise_naming_agent_action_and_why():

@@ -63,7 +63,8 @@ def serve(
     job_time: float = typer.Option(_default("job_time"), "--job-time", help="Seconds per job."),
     algorithm: str = typer.Option(
         _default("algorithm"), "--algorithm",
-        help="madgta | madgta+ | madgta-r | madgta-p | madgta-k | madgta-f | nearest;"
+        help="madgta | madgta+ | madgta-h | madgta-r | madgta-p | madgta-k | madgta-f | madgta-s"
+        " | nearest;"
         " NAME@KEY=VALUE,... sets a policy's options.",
     ),
     connectivity: int = typer.Option(_default("connectivity"), "--connectivity", help="4 or 8."),
@@ -146,6 +147,10 @@ def serve(
     from swarmex.missions.registry import get
     from swarmex.missions.traversal.mission import agent_specs, record_params
 
+    if algorithm_name(algorithm) not in SERVED:  # before the params' list, which has optimal
+        raise InputError(
+            f"--algorithm must be {', '.join(SERVED[:-1])} or {SERVED[-1]}, got {algorithm!r}"
+        )
     traversal = get("traversal")
     tparams = traversal.params(
         {
@@ -161,10 +166,6 @@ def serve(
     if tparams.seed > WIRE_SEED_MAX:
         raise InputError(f"--seed must be at most {WIRE_SEED_MAX} (it travels in the mission"
                          f" data as a 64-bit integer), got {tparams.seed}")
-    if algorithm_name(tparams.algorithm) not in SERVED:
-        raise InputError(
-            f"--algorithm must be {', '.join(SERVED[:-1])} or {SERVED[-1]}, got {algorithm!r}"
-        )
     prepared = traversal.prepare(tparams)
     world = prepared.world
     specs = agent_specs(tparams, prepared)

@@ -85,6 +85,12 @@ class TurnBasedParallel(turn_based_aec_to_parallel_wrapper):
             self.agents: list[Any] = []
         return observations, infos
 
+    def __getstate__(self) -> dict[str, Any]:
+        """A copy (SuperSuit's, a pickle) is a fresh env, not reset yet: no agents listed."""
+        state = self.__dict__.copy()
+        state["agents"] = []
+        return state
+
     def step(self, actions: dict[Any, Any]) -> tuple[dict[Any, Any], ...]:
         if not self.agents:  # PettingZoo's conversion returns four dicts here, not five
             return {}, {}, {}, {}, {}

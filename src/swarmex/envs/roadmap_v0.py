@@ -63,6 +63,7 @@ from __future__ import annotations
 
 import contextlib
 import dataclasses
+import numbers
 import operator
 import time
 import weakref
@@ -412,7 +413,10 @@ class raw_env(AECEnv[str, dict[str, np.ndarray], int]):  # noqa: N801 - PettingZ
     def reset(self, seed: int | None = None, options: dict[str, Any] | None = None) -> None:
         self._close_episode()
         if seed is not None:  # checked as the seed parameter is: numpy's refusal of a
-            # negative seed came from deep in the run, without naming it
+            # negative seed came from deep in the run, without naming it; an integer type,
+            # as Gymnasium and the other envs want (3.0 is not a seed)
+            if isinstance(seed, bool) or not isinstance(seed, numbers.Integral):
+                raise InputError(f"roadmap_v0: reset seed must be an integer, got {seed!r}")
             self._seed = integer(lo=0)(seed, "roadmap_v0: reset seed")
         else:
             self._seed = self.params.seed if self._seed is None else self._seed + 1
@@ -726,6 +730,8 @@ class raw_env(AECEnv[str, dict[str, np.ndarray], int]):  # noqa: N801 - PettingZ
 def env(illegal_reward: float | None = None, **kwargs: Any) -> AECEnv[str, Any, Any]:
     """The AEC environment, with PettingZoo's order checks (and, with ``illegal_reward``,
     its TerminateIllegalWrapper instead of an error for a masked-out action)."""
+    if illegal_reward is not None:
+        check_finite(("roadmap_v0: illegal_reward", illegal_reward))
     aec: AECEnv[str, Any, Any] = raw_env(**kwargs)
     if illegal_reward is not None:
         aec = TerminateIllegalWrapper(aec, illegal_reward=illegal_reward)

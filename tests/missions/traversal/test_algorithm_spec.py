@@ -65,12 +65,20 @@ def test_inherited_options_are_accepted():
     ("madgta-f@ils=-1", "ils must be >= 0"),  # the class's own check
     ("madgta-f@follow=sometimes", "follow must be True, False or 'walls'"),
     ("madgta-x@ils=1", "unknown traversal algorithm 'madgta-x'"),
+    # the MILP is not a policy: it used to be refused while listed among the choices
+    ("optimal", "'optimal' is the exact MILP plan of the whole mission, not an online policy"),
 ])
 def test_a_bad_spec_is_one_clear_input_error(spec, message):
     with pytest.raises(InputError) as err:
         make_policy(spec)
     assert message in str(err.value)
     assert "\n" not in str(err.value)
+
+
+def test_run_traversal_refuses_a_negative_seed_by_name():
+    world = random_obstacles(5, 5, 0.0, seed=0)
+    with pytest.raises(InputError, match="seed must be at least 0, got -1"):
+        run_traversal(world, uniform_agents([0], 1.0, 1.0), seed=-1)
 
 
 def test_the_spelling_is_canonical():

@@ -472,9 +472,14 @@ def parse_algorithm(algorithm: str) -> tuple[str, dict[str, Any]]:
     policy's settings with it, unchanged. Values: ``true``/``false``, ``none``, numbers,
     or bare text (``follow=walls``)."""
     name, at, rest = algorithm.strip().partition("@")
+    if name == "optimal":  # a plan of the whole mission, not a policy an agent runs
+        raise InputError("'optimal' is the exact MILP plan of the whole mission, not an online"
+                         " policy: run it with swarmex.run('traversal', algorithm='optimal')"
+                         " or swarmex traverse --algorithm optimal")
     if name not in POLICIES:
-        known = ", ".join(sorted([*POLICIES, "optimal"]))
-        raise InputError(f"unknown traversal algorithm {name!r} (choose from {known})")
+        known = ", ".join(sorted(POLICIES))
+        raise InputError(f"unknown traversal algorithm {name!r} (choose from {known}; "
+                         "or optimal, the exact plan, in swarmex.run and swarmex traverse)")
     if not at:
         return name, {}
     accepted = policy_options(POLICIES[name])

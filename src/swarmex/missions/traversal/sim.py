@@ -47,7 +47,7 @@ import numpy as np
 
 from swarmex.comm.channel import Channel
 from swarmex.errors import InputError
-from swarmex.missions.base import StopRun
+from swarmex.missions.base import StopRun, integer
 from swarmex.missions.traversal.agent import (
     DONE,
     JOB,
@@ -398,6 +398,7 @@ def run_traversal(
     :class:`TraversalFrame`; raising :class:`~swarmex.missions.base.StopRun` from it ends the
     run there (the run is then incomplete)."""
     validate_nests(world, agents)
+    seed = integer(lo=0)(seed, "seed")  # numpy's own refusal named no parameter
     if start_interval < 0:
         raise InputError(f"start interval must be >= 0, got {start_interval}")
     if not 0.0 <= job_failure < 1.0:
