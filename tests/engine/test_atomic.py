@@ -110,3 +110,52 @@ def test_a_folder_or_a_file_in_the_way_is_named(tmp_path):
     (tmp_path / "f.json").write_text("{}", encoding="utf-8")
     with pytest.raises(InputError, match=r"f\.json is a file, not a folder"):
         rec.write(tmp_path / "f.json" / "sub" / "r.json")
+
+
+def test_what_is_at_the_path_is_respected(tmp_path):
+    """As root, ``--json /dev/null`` renamed a plain file over the device; a link became a
+    plain file (its target untouched); a 0600 record came back 0644."""
+    # a FIFO stands for /dev/null: written in place, still a FIFO afterwards
+    fifo = tmp_path / "pipe"
+    os.mkfifo(fifo)
+    r = os.open(fifo, os.O_RDONLY | os.O_NONBLOCK)
+    try:
+        write_atomic(fifo, "through the pipe")
+        assert os.read(r, 100) == b"through the pipe"
+        with atomic_path(fifo) as same:
+            assert same == fifo
+    finally:
+        os.close(r)
+    assert stat.S_ISFIFO(os.stat(fifo).st_mode)
+    # a link stays a link and its target gets the new content
+    target, link = tmp_path / "real.json", tmp_path / "link.json"
+    target.write_text("old")
+    link.symlink_to(target)
+    write_atomic(link, "new")
+    assert link.is_symlink() and target.read_text() == "new"
+    with atomic_path(link) as tmp:
+        tmp.write_text("newer")
+    assert link.is_symlink() and target.read_text() == "newer"
+    # a private file stays private
+    secret = tmp_path / "private.json"
+    secret.write_text("{}")
+    secret.chmod(0o600)
+    with atomic_open(secret) as fh:
+        fh.write("{}")
+    assert _mode(secret) == 0o600
+
+
+def test_the_cli_writes_a_record_into_a_special_file_without_replacing_it(tmp_path):
+    """``--json /dev/null`` as a user types it; a FIFO stands in for the device, so that a
+    regression cannot break the machine's /dev/null."""
+    from swarmex.cli import main
+
+    fifo = tmp_path / "null"
+    os.mkfifo(fifo)
+    r = os.open(fifo, os.O_RDONLY | os.O_NONBLOCK)
+    try:
+        assert main(["traverse", "--grid", "3x3", "--agents", "1", "--json", str(fifo)]) == 0
+        assert json.loads(os.read(r, 1 << 16))["mission"] == "traversal"
+    finally:
+        os.close(r)
+    assert stat.S_ISFIFO(os.stat(fifo).st_mode)

@@ -43,7 +43,11 @@ def check_output(path: Path | None, option: str, suffixes: tuple[str, ...] = ())
         )
     if path.is_dir():
         raise InputError(f"{option}: {path} is a directory")
-    parent = path.parent
+    if path.exists() and not path.is_file():  # /dev/null, a FIFO: written in place
+        if not os.access(path, os.W_OK):
+            raise InputError(f"{option}: cannot write {path}: permission denied")
+        return
+    parent = Path(os.path.realpath(path)).parent if path.is_symlink() else path.parent
     while not parent.exists() and parent != parent.parent:
         parent = parent.parent  # the writer creates missing folders below the first existing one
     if not parent.is_dir():

@@ -13,6 +13,13 @@ create it 0600, and that mode survives the rename.
 * :func:`atomic_open` — a file object for writers that stream (``json.dump``);
 * :func:`atomic_path` — a temporary path for writers that want a file name (Parquet, images).
 
+What is already at the path is respected, as a plain ``open(path, "w")`` would:
+
+* a symbolic link stays a link: the file it points to is the one replaced;
+* a file that is not a regular file (``/dev/null``, a FIFO, a terminal) is written directly,
+  never replaced (renaming over ``/dev/null`` as root made it a plain file);
+* a regular file keeps its permission bits (a 0600 record stays 0600).
+
 Directories are created as needed; failing to create the directory or the temporary file is
 an :class:`~swarmex.errors.InputError` naming the path (an unwritable ``--json`` or
 ``--out``), not a traceback. ``fsync=True`` also survives a power cut, at some cost per file.
@@ -23,6 +30,7 @@ from __future__ import annotations
 import contextlib
 import os
 import secrets
+import stat
 from collections.abc import Iterator
 from pathlib import Path
 from typing import IO, Any
@@ -47,6 +55,19 @@ def check_writable(path: Path) -> None:
         raise InputError(f"cannot write {path}: {blocker} is a file, not a folder")
 
 
+def _target(path: Path) -> tuple[Path, bool, int | None]:
+    """What a write to ``path`` must replace: the link's target for a symbolic link; whether
+    that is a special file (written in place); the permission bits of a regular file there."""
+    real = Path(os.path.realpath(path)) if path.is_symlink() else path
+    try:
+        st = os.stat(real)
+    except OSError:
+        return real, False, None
+    if stat.S_ISREG(st.st_mode):
+        return real, False, stat.S_IMODE(st.st_mode)
+    return real, not stat.S_ISDIR(st.st_mode), None
+
+
 def _make_parent(path: Path) -> None:
     """Make ``path``'s folder, or say in one line why it cannot be written."""
     check_writable(path)
@@ -63,11 +84,16 @@ def atomic_path(path: str | Path) -> Iterator[Path]:
     The writer creates the file itself (with a normal open, hence the umask's mode). If the
     block raises, the temporary file is removed and ``path`` is left as it was.
     """
-    path = Path(path)
+    path, special, keep_mode = _target(Path(path))
+    if special:
+        yield path
+        return
     _make_parent(path)
     tmp = _temp_beside(path)
     try:
         yield tmp
+        if keep_mode is not None:
+            os.chmod(tmp, keep_mode)
         os.replace(tmp, path)
     except BaseException:
         tmp.unlink(missing_ok=True)
@@ -82,7 +108,15 @@ def atomic_open(
     exit from the block it is flushed (and fsynced if asked) and renamed over ``path``."""
     if mode not in ("w", "wb"):
         raise ValueError(f"atomic_open writes a whole file: mode 'w' or 'wb', not {mode!r}")
-    path = Path(path)
+    path, special, keep_mode = _target(Path(path))
+    if special:
+        try:
+            fh = open(path, mode, encoding=None if "b" in mode else encoding)  # noqa: SIM115
+        except OSError as exc:
+            raise InputError(f"cannot write {path}: {exc.strerror or exc}") from None
+        with fh:
+            yield fh
+        return
     _make_parent(path)
     flags = os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_BINARY", 0)
     try:
@@ -96,6 +130,8 @@ def atomic_open(
             fh.flush()
             if fsync:
                 os.fsync(fh.fileno())
+        if keep_mode is not None:
+            os.chmod(tmp, keep_mode)
         os.replace(tmp, path)
     except BaseException:
         tmp.unlink(missing_ok=True)
