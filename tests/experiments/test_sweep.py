@@ -4,7 +4,10 @@ from __future__ import annotations
 
 import json
 import os
+import signal
+import subprocess
 import sys
+import time
 from pathlib import Path
 
 import pyarrow.parquet as pq
@@ -236,6 +239,61 @@ def test_interrupted_sweep_resumes_and_skips_finished_runs(tmp_path):
     sweep(path, fresh)
     assert table_rows(out) == table_rows(fresh)
     assert records(out) == records(fresh)
+
+
+def _sigint_default() -> None:
+    signal.signal(signal.SIGINT, signal.SIG_DFL)  # as a terminal's process has it
+
+
+@pytest.mark.timeout(120)
+@pytest.mark.parametrize("backend", ["local", "serial"])
+def test_two_quick_ctrl_cs_end_the_sweep_and_keep_the_table(tmp_path, backend):
+    """A terminal or ``timeout -s INT`` often delivers Ctrl-C twice: the second one used to
+    land in the pool's shutdown, and the sweep hung for ever (or died in a traceback), or,
+    serially, left no results table."""
+    spec = tmp_path / "spec.toml"
+    spec.write_text('mission = "traversal"\ngrid = "20x20"\nagents = [3, 4]\nseeds = 100\n',
+                    encoding="utf-8")
+    out = tmp_path / "out"
+    cmd = [sys.executable, "-m", "swarmex", "sweep", str(spec), "--out", str(out),
+           "--backend", backend, "--workers", "2"][: None if backend == "local" else -2]
+    proc = subprocess.Popen(cmd, stderr=subprocess.PIPE, stdout=subprocess.DEVNULL,
+                            preexec_fn=_sigint_default, text=True)
+    try:
+        deadline = time.monotonic() + 60
+        while time.monotonic() < deadline and proc.poll() is None:
+            if len(list((out / "runs").glob("*.json"))) >= 3:
+                break
+            time.sleep(0.02)
+        proc.send_signal(signal.SIGINT)
+        time.sleep(0.05)  # the second one lands while the first is being handled
+        proc.send_signal(signal.SIGINT)
+        _, err = proc.communicate(timeout=30)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    assert proc.returncode == 130, err
+    assert "Traceback" not in err and "interrupted" in err
+    finished = len(list((out / "runs").glob("*.json")))
+    assert 3 <= finished < 200
+    assert len(pq.read_table(out / "results.parquet")) == finished
+
+
+def test_a_worker_count_beyond_reason_is_refused_and_the_pool_fits_the_runs(tmp_path, capsys,
+                                                                          monkeypatch):
+    """``--workers 100000`` forked thousands of processes for a 4-run sweep."""
+    path = write_spec(tmp_path)
+    assert main(["sweep", str(path), "--workers", "100000", "--out", str(tmp_path / "o")]) == 2
+    assert "--workers must be between 1 and 1024, got 100000" in capsys.readouterr().err
+    from swarmex.experiments import sweep as sweep_module
+
+    sizes: list[int] = []
+    real_local = sweep_module._local
+    monkeypatch.setattr(sweep_module, "_local",
+                        lambda tasks, workers, *a, **k: (sizes.append(workers),
+                                                         real_local(tasks, workers, *a, **k)))
+    sweep(path, tmp_path / "fit", backend="local", workers=64)
+    assert sizes == [8]  # the spec's 8 runs: no idle forks
 
 
 def test_local_pool_equals_serial_bit_for_bit(tmp_path):

@@ -243,7 +243,44 @@ def run_local(
                 pool = _pool(workers, preload)
         give_up(dead)  # the last jobs crashed their workers: hand them over now
     finally:
-        pool.shutdown(wait=True, cancel_futures=True)
+        # a Ctrl-C while the chunks in flight finish (often a second one: terminals and
+        # `timeout` signal the whole group) kills the workers instead of breaking into the
+        # executor's own bookkeeping, which then hung at exit or raised "release unlocked lock"
+        with sigint_deferred(on_signal=lambda: _kill_workers(pool)):
+            pool.shutdown(wait=True, cancel_futures=True)
+
+
+@contextlib.contextmanager
+def sigint_deferred(on_signal: Callable[[], None] | None = None) -> Iterator[None]:
+    """Let the block finish through Ctrl-C: a SIGINT meanwhile calls ``on_signal`` and is
+    raised as KeyboardInterrupt when the block ends. Only the main thread gets signals, so
+    elsewhere (or with Ctrl-C not handled by Python) the block simply runs."""
+    if threading.current_thread() is not threading.main_thread() or (
+        signal.getsignal(signal.SIGINT) is not signal.default_int_handler
+    ):
+        yield
+        return
+    got: list[int] = []
+
+    def on_int(signum: int, frame: Any) -> None:
+        got.append(signum)
+        if on_signal is not None:
+            on_signal()
+
+    signal.signal(signal.SIGINT, on_int)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+    if got:
+        raise KeyboardInterrupt
+
+
+def _kill_workers(pool: ProcessPoolExecutor) -> None:
+    """End the pool's worker processes now (their chunks' results are not wanted)."""
+    for proc in list((getattr(pool, "_processes", None) or {}).values()):
+        with contextlib.suppress(Exception):
+            proc.kill()
 
 
 def _take(counts: Counter[int], key: int) -> bool:
@@ -311,5 +348,6 @@ __all__ = [
     "init_worker",
     "run_chunk",
     "run_local",
+    "sigint_deferred",
     "warm_numba",
 ]

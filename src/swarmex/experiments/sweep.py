@@ -41,7 +41,7 @@ from typing import Any
 
 from swarmex.engine.atomic import atomic_path, write_atomic
 from swarmex.errors import InputError, require
-from swarmex.experiments.pool import MAX_ATTEMPTS, run_local
+from swarmex.experiments.pool import MAX_ATTEMPTS, run_local, sigint_deferred
 from swarmex.experiments.progress import Journal, read_journal
 from swarmex.experiments.scenario import OptionShape
 from swarmex.experiments.sweep_spec import RunSpec, SweepSpec
@@ -56,6 +56,8 @@ from swarmex.experiments.sweep_worker import (
 
 BACKENDS = ("local", "ray", "serial")
 RESULTS = "results.parquet"
+#: worker processes (or Ray CPUs) a sweep may ask for: more is a typo, not a machine
+MAX_WORKERS = 1024
 JOURNAL = "journal.jsonl"
 METADATA_KEY = b"swarmex.sweep"
 RAY_CHUNK = 8  # runs per Ray actor call at most
@@ -306,8 +308,8 @@ def run_sweep(
     """
     if backend not in BACKENDS:
         raise InputError(f"--backend must be one of {', '.join(BACKENDS)}, got {backend!r}")
-    if workers is not None and workers < 1:
-        raise InputError(f"--workers must be at least 1, got {workers}")
+    if workers is not None and not 1 <= workers <= MAX_WORKERS:
+        raise InputError(f"--workers must be between 1 and {MAX_WORKERS}, got {workers}")
     if backend == "ray":
         _import_ray()  # fail now, with one line, not after the progress bar appears
         ray_address = ray_address or os.environ.get("RAY_ADDRESS") or None
@@ -348,7 +350,7 @@ def run_sweep(
             elif backend == "local":
                 _local(
                     pending,
-                    workers or os.cpu_count() or 1,
+                    min(workers or os.cpu_count() or 1, len(pending)),  # no idle forks
                     spec.mission,
                     store.runs_dir,
                     finish,
@@ -360,11 +362,12 @@ def run_sweep(
         interrupted = True
         raise
     finally:
-        store.close()
-        if interrupted:  # records the workers wrote whose outcomes never reached the driver
-            for run_id, outcome in store.finished(runs).items():
-                outcomes.setdefault(run_id, outcome)
-        table = write_table(build_table(spec, runs, outcomes), store.dir / RESULTS)
+        with sigint_deferred():  # a second Ctrl-C must not cost the table of what finished
+            store.close()
+            if interrupted:  # records the workers wrote whose outcomes never reached us
+                for run_id, outcome in store.finished(runs).items():
+                    outcomes.setdefault(run_id, outcome)
+            table = write_table(build_table(spec, runs, outcomes), store.dir / RESULTS)
     failed = sum(1 for o in outcomes.values() if not o.ok)
     return SweepResult(
         store.dir, len(runs), skipped, len(outcomes) - skipped, failed, table, interrupted
