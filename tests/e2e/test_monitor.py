@@ -261,6 +261,13 @@ def test_ingest_feeds_the_same_page_stream():
         # the reader thread died with a ZMQError traceback and the page waited for nothing
         (["--connect", "foo"], "--connect: expected tcp://HOST:PORT"),
         (["--connect", "tcp://127.0.0.1"], "--connect: expected tcp://HOST:PORT"),
+        # --json was ignored with --connect, and an unwritable one failed after the run with
+        # status 0; a snapshot folder that cannot be made was a traceback
+        (["--connect", "tcp://127.0.0.1:9", "--json", "r.json"], "--json with --connect"),
+        (["--scenario", "examples/traversal.toml", "--json", "/proc/x.json"],
+         "--json: cannot write /proc/x.json"),
+        (["--scenario", "examples/traversal.toml", "--snapshot-every", "1", "/proc/snaps"],
+         "--snapshot-every: cannot make /proc/snaps"),
     ],
 )
 def test_monitor_bad_input_exits_2(argv, message, capsys):

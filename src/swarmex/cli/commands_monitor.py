@@ -28,6 +28,7 @@ from typing import Any
 import typer
 
 from swarmex.cli.app import app, console
+from swarmex.cli.outputs import check_output
 from swarmex.errors import InputError, require
 
 
@@ -293,7 +294,9 @@ def monitor(
         show_default=False,
     ),
     json_path: Path | None = typer.Option(
-        None, "--json", help="Also write the streamed run's record here.", show_default=False
+        None, "--json", show_default=False,
+        help="Also write the run's record here (--scenario, --record; for --connect, serve "
+        "--json writes it).",
     ),
     snapshot_every: tuple[float, Path] | None = typer.Option(
         None,
@@ -321,6 +324,10 @@ def monitor(
         raise InputError(f"--linger must be >= 0, got {linger}")
     if port < 0 or port > 65535:
         raise InputError(f"--port must be in 0..65535, got {port}")
+    if connect is not None and json_path is not None:  # the stream carries no record
+        raise InputError("--json with --connect: the networked run's record is written by "
+                         "'swarmex serve --json FILE'")
+    check_output(json_path, "--json")  # now, not after the whole run
     snapshots = None
     if snapshot_every is not None:
         every, folder = snapshot_every
@@ -331,7 +338,11 @@ def monitor(
             raise InputError(f"--snapshot-every: {folder} is not a folder")
         from swarmex.viz.monitor.server import SnapshotDir
 
-        snapshots = SnapshotDir(every, folder)
+        try:
+            snapshots = SnapshotDir(every, folder)
+        except OSError as exc:
+            raise InputError(f"--snapshot-every: cannot make {folder}: "
+                             f"{exc.strerror or exc}") from None
     record: dict | None = None
     live: tuple[Any, Any, dict] | None = None
     if scenario is not None:

@@ -257,4 +257,7 @@ async def _guard(coro: Coroutine) -> None:
     except Exception as exc:  # pragma: no cover - a producer bug must not stay silent
         import sys
 
-        print(f"swarmex monitor: event producer failed: {exc!r}", file=sys.stderr)
+        from swarmex.errors import InputError
+
+        why = str(exc) if isinstance(exc, InputError) else repr(exc)  # bad input: its line
+        print(f"swarmex monitor: event producer failed: {why}", file=sys.stderr)
