@@ -147,6 +147,21 @@ def test_missing_required_option_fails_before_running(tmp_path, capsys):
     assert not list((tmp_path / "o").glob("runs/*"))
 
 
+@pytest.mark.parametrize(("text", "says"), [
+    # one of a group: every run used to fail the same way, and the sweep exited 0
+    ('mission = "traversal"\nagents = [1, 2]\nseeds = 2\n',
+     "swarmex traverse needs --map or --grid or --center"),
+    ('mission = "traversal"\ngrid = "4x4"\nseeds = 2\n', "needs --agents or --fleet"),
+    ('mission = "exploration"\nrobots = [1, 2]\nseeds = 2\n', "needs --map or --empty"),
+])
+def test_a_missing_one_of_a_group_fails_before_running(tmp_path, capsys, text, says):
+    path = write_spec(tmp_path, text)
+    code = main(["sweep", str(path), "--backend", "serial", "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err
+    assert code == 2 and len(err.strip().splitlines()) == 1 and says in err
+    assert not (tmp_path / "o").exists()
+
+
 # ---------------------------------------------------------------------------- results
 
 

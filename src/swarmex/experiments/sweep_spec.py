@@ -118,6 +118,16 @@ class SweepSpec:
                 f" {', '.join('--' + n for n in missing)}; add {wanted} to the spec"
             )
         values = scenario_values(Scenario(self.path, self.mission, options), shapes)
+        from swarmex.missions.registry import get
+
+        for group in get(self.mission).params_type.required_one_of:  # e.g. map, grid, center
+            names = [n.replace("_", "-") for n in group]
+            if all(n in shapes for n in names) and all(values.get(n) is None for n in group):
+                raise InputError(
+                    f"{self.path}: swarmex {self.command} needs"
+                    f" {' or '.join('--' + n for n in names)}; add one of"
+                    f" {', '.join(f'{n} = …' for n in names)} to the spec"
+                )
         for name, shape in shapes.items():
             file = values.get(name.replace("-", "_"))
             if shape.is_path and isinstance(file, Path) and not file.exists():
