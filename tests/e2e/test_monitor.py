@@ -264,6 +264,7 @@ def test_ingest_feeds_the_same_page_stream():
         # --json was ignored with --connect, and an unwritable one failed after the run with
         # status 0; a snapshot folder that cannot be made was a traceback
         (["--connect", "tcp://127.0.0.1:9", "--json", "r.json"], "--json with --connect"),
+        (["--connect", "tcp://127.0.0.1:99999"], "--connect: expected tcp://HOST:PORT"),
         (["--scenario", "examples/traversal.toml", "--json", "/proc/x.json"],
          "--json: cannot write /proc/x.json"),
         (["--scenario", "examples/traversal.toml", "--snapshot-every", "1", "/proc/snaps"],

@@ -325,3 +325,11 @@ def test_serve_refuses_an_algorithm_it_cannot_serve(
                  "--algorithm", algorithm]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and says in err and "listen" not in err
+
+
+def test_agent_and_watch_refuse_a_port_out_of_range(capsys: pytest.CaptureFixture[str]) -> None:
+    from swarmex.cli import main
+
+    for command in ("agent", "watch"):
+        assert main([command, "--connect", "tcp://127.0.0.1:99999"]) == 2
+        assert "--connect: expected tcp://HOST:PORT" in capsys.readouterr().err

@@ -311,6 +311,17 @@ def test_a_worker_count_beyond_reason_is_refused_and_the_pool_fits_the_runs(tmp_
     assert sizes == [8]  # the spec's 8 runs: no idle forks
 
 
+@pytest.mark.parametrize(("extra", "says"), [
+    (["--backend", "serial", "--workers", "4"], "--workers is for --backend local or ray"),
+    (["--ray-address", "127.0.0.1:1"], "--ray-address is for --backend ray, not local"),
+])
+def test_an_option_the_backend_would_ignore_is_refused(tmp_path, capsys, extra, says):
+    path = write_spec(tmp_path)
+    assert main(["sweep", str(path), "--out", str(tmp_path / "o"), *extra]) == 2
+    assert says in capsys.readouterr().err
+    assert not (tmp_path / "o").exists()
+
+
 def test_local_pool_equals_serial_bit_for_bit(tmp_path):
     path = write_spec(tmp_path)
     sweep(path, tmp_path / "serial", backend="serial")

@@ -42,6 +42,10 @@ def main(argv: list[str] | None = None) -> int:
     except (KeyboardInterrupt, Interrupted):
         print("swarmex: interrupted", file=sys.stderr)
         return 130
+    except MemoryError:  # a map or team too large for this machine: its line, not numpy's
+        print("swarmex: error: out of memory: the run needs more memory than this machine"
+              " gives it (a smaller map, fewer agents or fewer runs at once)", file=sys.stderr)
+        return 2
     except SystemExit as exc:  # typer.Exit / broken pipes under standalone_mode=False
         return exc.code if isinstance(exc.code, int) else 0
     except SystemError as exc:

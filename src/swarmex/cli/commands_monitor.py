@@ -29,6 +29,7 @@ import typer
 
 from swarmex.cli.app import app, console
 from swarmex.cli.outputs import check_output
+from swarmex.cli.shared import check_connect
 from swarmex.errors import InputError, require
 
 
@@ -51,17 +52,6 @@ def scenario_mission(scenario: Path) -> tuple[Any, Any]:
         return mission, mission.params(scenario_values(scn, mission_shapes(scn.mission)))
     except InputError as exc:
         raise in_file(scenario, exc) from None
-
-
-def check_connect(address: str) -> None:
-    """``--connect`` must be a ZeroMQ endpoint the mission server publishes on: otherwise the
-    reader thread died with a ZMQError traceback and the page waited for nothing."""
-    if address.startswith(("ipc://", "inproc://")) and len(address.split("://", 1)[1]) > 0:
-        return
-    host, sep, port = address.removeprefix("tcp://").rpartition(":")
-    if address.startswith("tcp://") and host and sep and port.isdigit() and 0 < int(port) < 65536:
-        return
-    raise InputError(f"--connect: expected tcp://HOST:PORT, got {address!r}")
 
 
 def check_record(record: Any, path: Path) -> None:

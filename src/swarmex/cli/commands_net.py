@@ -20,7 +20,7 @@ import typer
 
 from swarmex.cli.app import app, console
 from swarmex.cli.outputs import check_output
-from swarmex.cli.shared import _positive, _say, run_mesh
+from swarmex.cli.shared import _positive, _say, check_connect, run_mesh
 from swarmex.errors import InputError, require
 from swarmex.missions.traversal.params import ALGORITHMS, TraversalParams, algorithm_name
 from swarmex.net.vehicle import Safety
@@ -43,8 +43,7 @@ HOSTS_HELP = "Interface to bind (127.0.0.1 = this machine only; * = all)."
 
 
 def _address(connect: str) -> str:
-    if not connect.startswith(("tcp://", "ipc://", "inproc://")):
-        raise InputError(f"--connect: expected tcp://HOST:PORT, got {connect!r}")
+    check_connect(connect)  # a port out of range too (it was taken, and failed later)
     return connect
 
 

@@ -1,5 +1,7 @@
 """Helpers that more than one command module uses, so that no command module imports another.
 
+``--connect`` is checked the same way by ``monitor``, ``agent`` and ``watch``.
+
 ``swarmex explore --processes`` and ``swarmex mesh`` both launch the process mesh (their
 worlds come from the exploration mission, ``missions/exploration/mission.py``).
 """
@@ -12,6 +14,17 @@ from pathlib import Path
 from swarmex.cli.app import console
 from swarmex.cli.outputs import check_output
 from swarmex.errors import InputError
+
+
+def check_connect(address: str) -> None:
+    """``--connect`` must be a ZeroMQ endpoint the mission server publishes on: otherwise the
+    monitor's reader thread died with a ZMQError traceback and the page waited for nothing."""
+    if address.startswith(("ipc://", "inproc://")) and len(address.split("://", 1)[1]) > 0:
+        return
+    host, sep, port = address.removeprefix("tcp://").rpartition(":")
+    if address.startswith("tcp://") and host and sep and port.isdigit() and 0 < int(port) < 65536:
+        return
+    raise InputError(f"--connect: expected tcp://HOST:PORT, got {address!r}")
 
 
 def _positive(value: float, option: str, zero_ok: bool = False) -> None:

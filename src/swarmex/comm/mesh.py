@@ -334,14 +334,14 @@ class DiscNetwork:
         n = p.shape[0]
         if n < KDTREE_FROM:
             d2 = ((p[:, None, :] - p[None, :, :]) ** 2).sum(axis=2)
-            self.in_range = d2 <= self.range_m**2
+            self.in_range = d2 <= self.range_m * self.range_m  # inf, not OverflowError, if huge
             np.fill_diagonal(self.in_range, False)
         else:
             from scipy.spatial import cKDTree  # only large teams pay for the import
 
             pairs = cKDTree(p).query_pairs(self.range_m * (1 + 1e-9), output_type="ndarray")
             i, j = pairs[:, 0], pairs[:, 1]
-            ok = ((p[i] - p[j]) ** 2).sum(axis=1) <= self.range_m**2
+            ok = ((p[i] - p[j]) ** 2).sum(axis=1) <= self.range_m * self.range_m
             links = np.zeros((n, n), dtype=bool)
             links[i[ok], j[ok]] = True
             links[j[ok], i[ok]] = True

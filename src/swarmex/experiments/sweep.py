@@ -310,6 +310,11 @@ def run_sweep(
         raise InputError(f"--backend must be one of {', '.join(BACKENDS)}, got {backend!r}")
     if workers is not None and not 1 <= workers <= MAX_WORKERS:
         raise InputError(f"--workers must be between 1 and {MAX_WORKERS}, got {workers}")
+    # an option the backend ignores was silently dropped: say so instead
+    if workers is not None and backend == "serial":
+        raise InputError("--workers is for --backend local or ray (serial runs in this process)")
+    if ray_address is not None and backend != "ray":
+        raise InputError(f"--ray-address is for --backend ray, not {backend}")
     if backend == "ray":
         _import_ray()  # fail now, with one line, not after the progress bar appears
         ray_address = ray_address or os.environ.get("RAY_ADDRESS") or None

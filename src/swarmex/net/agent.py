@@ -44,6 +44,7 @@ from typing import Any
 import numpy as np
 import zmq
 
+from swarmex.errors import InputError
 from swarmex.net import wire
 from swarmex.net.traversal import (
     AgentCore,
@@ -608,14 +609,20 @@ def run_agents(
     # would then wait for the id until its init timeout (the likely cause of one CI
     # failure under load, not reproduced).
     ctx: zmq.Context[zmq.Socket[bytes]] = zmq.Context()
-    agents = [
-        AgentClient(ctx, address, want_id if count == 1 or want_id < 0 else 0, server_timeout,
-                    connect_timeout, faults, say, vehicle, safety)
-        for _ in range(count)
-    ] + [
-        AgentClient(ctx, address, -1, server_timeout, connect_timeout, faults, say)
-        for _ in range(spares)
-    ]
+    try:
+        agents = [
+            AgentClient(ctx, address, want_id if count == 1 or want_id < 0 else 0,
+                        server_timeout, connect_timeout, faults, say, vehicle, safety)
+            for _ in range(count)
+        ] + [
+            AgentClient(ctx, address, -1, server_timeout, connect_timeout, faults, say)
+            for _ in range(spares)
+        ]
+    except zmq.ZMQError as exc:  # EMFILE: more sockets than the process may open
+        ctx.destroy(linger=0)
+        raise InputError(f"--count {count} --spares {spares}: cannot open that many agents in"
+                         f" one process ({exc}); run them in several processes, or raise"
+                         " the open-file limit (ulimit -n)") from None
     poller = zmq.Poller()
     for a in agents:
         poller.register(a.sock, zmq.POLLIN)

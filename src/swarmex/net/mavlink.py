@@ -94,7 +94,10 @@ class MavlinkVehicle(Vehicle):
                     device, baud=baud, source_system=255, source_component=190,
                     autoreconnect=False,
                 )
-            except (OSError, ImportError) as exc:  # no such port, refused, no pyserial
+            except ImportError as exc:  # pyserial, for a serial link
+                raise InputError(f"--vehicle: cannot open {link}: {exc}; install it with "
+                                 "pip install 'swarmex[uav]'") from None
+            except OSError as exc:  # no such port, refused
                 raise InputError(f"--vehicle: cannot open {link}: {exc}") from None
         self.opened = time.monotonic()
         self.target_system = 0

@@ -88,10 +88,10 @@ class EmulatorConfig:
         lat, lon, _ = self.home
         if not (-90 < lat < 90 and -180 <= lon <= 180):
             raise InputError(f"--home: latitude/longitude out of range: {lat}, {lon}")
-        for name in ("idle_exit", "timeout"):
+        for name, flag in (("idle_exit", "--exit-when-idle"), ("timeout", "--timeout")):
             v = getattr(self, name)
             if v is not None and not v > 0:
-                raise InputError(f"--{name.replace('_', '-')} must be > 0, got {v}")
+                raise InputError(f"{flag} must be > 0, got {v}")
 
 
 class Copter:
