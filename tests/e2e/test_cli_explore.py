@@ -58,6 +58,9 @@ def test_explore_gif_and_starts(tmp_path):
         (["--empty", "3x3", "--robots", "1", "--comm-range", "nan"], "a number or inf, got"),
         (["--empty", "3x3", "--robots", "1", "--robot-radius", "2"],
          "fits in no free cell"),
+        # at once (it inflated the walls by π·2000² offsets first: minutes, no output)
+        (["--empty", "3x3", "--robots", "1", "--robot-radius", "100"],
+         "fits in no free cell"),
     ],
 )
 def test_bad_input_exits_2_with_one_line(args, needle, capsys):
@@ -159,3 +162,9 @@ def test_ctrl_c_during_processes_says_so(monkeypatch, capsys):
     monkeypatch.setattr(shared, "run_mesh", stop)
     assert main(["explore", "--empty", "3x3", "--robots", "1", "--processes"]) == 130
     assert capsys.readouterr().err.endswith("swarmex: interrupted; nothing written\n")
+
+
+def test_a_huge_radio_range_is_an_unlimited_one():
+    """``--comm-range 1e300`` died in an OverflowError squaring the range."""
+    assert main(["explore", "--empty", "3x3", "--robots", "2", "--comm-range", "1e300",
+                 "--max-ticks", "5"]) == 0

@@ -235,15 +235,19 @@ def default_starts(grid: MetricGrid, n: int, radius_m: float) -> tuple[Cell, ...
     if not grid.free.any():
         raise InputError("the map has no free cell to start from")
     r = radius_m / grid.cell
-    trav = grid.free & ~inflate(~grid.free, footprint_offsets(r))
-    if not trav.any():
+    h, w = grid.shape
+    # a footprint wider than the map's diagonal around any wall covers every cell: say so
+    # now (the inflation loops over the footprint's offsets, π r² of them: minutes for a
+    # robot of radius 100 m on a 3 m map)
+    too_big = r >= math.hypot(h, w) and not grid.free.all()
+    trav = None if too_big else grid.free & ~inflate(~grid.free, footprint_offsets(r))
+    if trav is None or not trav.any():
         # the run would end at tick 0 with "complete" true and little explored: nobody can
         # move (a MovingAI map read at the default 5 cm cells has passages of 5 cm)
         raise InputError(
             f"a robot of radius {radius_m:g} m fits in no free cell of this map at "
             f"{grid.cell:g} m per cell: give a larger --cell or a smaller --robot-radius"
         )
-    h, w = grid.shape
     ys, xs = np.nonzero(trav)
     c = int(np.argmin((ys - (h - 1) / 2) ** 2 + (xs - (w - 1) / 2) ** 2))
     dist = distance_steps(trav, int(xs[c]), int(ys[c]))
