@@ -275,6 +275,20 @@ def test_cli_on_a_networked_record_compares_what_the_simulator_has(tmp_path: Pat
     assert "network" not in line.split("(")[0]  # the network's parts are not differences
 
 
+def test_cli_on_a_process_mesh_record_says_why_it_differs(tmp_path: Path, capsys) -> None:
+    """An ``explore --processes`` record ran in real time: its rerun (the simulator's) is
+    another run, and the line must say so rather than list "params.processes (gone)"."""
+    sim = swarmex.run("exploration", seed=0, empty="3x3", robots=2).to_dict()
+    mesh = {**sim, "params": {**sim["params"], "processes": {"time_scale": 0.01}},
+            "makespan": sim["makespan"] + 1.0}
+    path = tmp_path / "mesh.json"
+    path.write_text(json.dumps(mesh), encoding="utf-8")
+    assert main(["rerun", str(path)]) == 1
+    line = capsys.readouterr().out
+    assert "makespan" in line and "a process-mesh record" in line
+    assert "params.processes" not in line
+
+
 def test_render_of_a_networked_record_warns_only_when_rerun_would_differ(tmp_path: Path,
                                                                          capsys) -> None:
     """``swarmex render`` of a ``--rng shared`` serve record said "came out differently"

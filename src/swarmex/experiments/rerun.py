@@ -199,7 +199,8 @@ def find_inputs(m: Any, values: dict[str, Any], folder: Path | None) -> dict[str
 
 
 def networked_reason(old: dict[str, Any]) -> str | None:
-    """For a record of ``swarmex serve`` (its params have a ``network`` block): drop the
+    """For a record of ``swarmex serve`` (its params have a ``network`` block) or of the
+    exploration process mesh (``processes``): drop the
     parts only a networked run has and say why its rerun, which is the simulator's, may
     differ; None for any other record.
 
@@ -209,6 +210,11 @@ def networked_reason(old: dict[str, Any]) -> str | None:
     ``--rng own``, departures or injected loss the networked run is another run, and the
     line says so rather than only that it differs."""
     params = old.get("params")
+    if isinstance(params, dict) and "processes" in params:  # explore --processes
+        params.pop("processes")
+        return ("a process-mesh record (explore --processes), rerun in the simulator: its"
+                " robots ran in real time as separate processes, so when each message arrived"
+                " (and with it every later choice) was the machine's timing, not the seed's")
     if not isinstance(params, dict) or "network" not in params:
         return None
     params.pop("network")
