@@ -168,3 +168,19 @@ def test_a_huge_radio_range_is_an_unlimited_one():
     """``--comm-range 1e300`` died in an OverflowError squaring the range."""
     assert main(["explore", "--empty", "3x3", "--robots", "2", "--comm-range", "1e300",
                  "--max-ticks", "5"]) == 0
+
+
+def test_a_scenario_may_ask_for_processes_as_the_command_line_does(tmp_path, capsys):
+    """``processes = true`` in a scenario was "no option --processes", while ``swarmex run
+    s.toml --processes`` worked."""
+    scn = tmp_path / "mesh.toml"
+    scn.write_text('mission = "exploration"\nempty = "3x3"\nrobots = 2\nprocesses = true\n'
+                   'time-scale = 0.01\nmax_ticks = 40\njson = "mesh.json"\n', encoding="utf-8")
+    assert main(["run", str(scn)]) == 0
+    record = json.loads((tmp_path / "mesh.json").read_text(encoding="utf-8"))
+    assert "processes" in record["params"] and record["complete"]
+    scn.write_text('mission = "exploration"\nempty = "3x3"\nrobots = 2\nprocesses = "yes"\n',
+                   encoding="utf-8")
+    capsys.readouterr()
+    assert main(["run", str(scn)]) == 2
+    assert "--processes must be bool, got 'yes'" in capsys.readouterr().err

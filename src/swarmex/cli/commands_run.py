@@ -64,7 +64,7 @@ def run_scenario(
 ) -> Any:
     """Run any mission from a scenario file (options after the file override it)."""
     from swarmex.cli.app import load
-    from swarmex.cli.missions import COMMANDS, invoke
+    from swarmex.cli.missions import COMMANDS, EXTRAS, invoke
     from swarmex.experiments.scenario import resolve_path
 
     scn = load_scenario(scenario)
@@ -76,11 +76,31 @@ def run_scenario(
         )
     options = dict(scn.options)
     outputs = {k: options.pop(k) for k in ("json", "render") if k in options}
+    # the command's own options (explore's processes, time-scale, …): as on its command line
+    extras: dict[str, Any] = {}
+    for extra in EXTRAS.get(scn.mission, ()):
+        for key in (extra.name, extra.name.replace("_", "-")):
+            if key in options:
+                extras[extra.name] = _extra_value(extra, options.pop(key), scenario)
     try:
         values = scenario_values(type(scn)(scn.path, scn.mission, options),
                                  mission_shapes(scn.mission))
+        values.update(extras)
         for key, value in outputs.items():
             values[key] = resolve_path(scn.path.parent, str(value))
         return invoke(scn.mission, values, ctx.args)
     except InputError as exc:
         raise in_file(scenario, exc) from None
+
+
+def _extra_value(extra: Any, value: Any, scenario: Path) -> Any:
+    """A scenario's value of a command-line-only option, of the option's type."""
+    kind = extra.annotation
+    ok = isinstance(value, bool) if kind is bool else (
+        isinstance(value, int | float) and not isinstance(value, bool)
+        if kind in (int, float) else True
+    )
+    if not ok:
+        flag = extra.flag or "--" + extra.name.replace("_", "-")
+        raise InputError(f"{scenario}: {flag} must be {kind.__name__}, got {value!r}")
+    return float(value) if kind is float else value

@@ -121,6 +121,9 @@ def _typer_option(info: OptionInfo) -> Any:
 
 
 COMMANDS: dict[str, Callable[..., Any]] = {}  # mission name -> its generated command
+#: each mission command's command-line-only options (``explore``: processes, time_scale, …),
+#: which a scenario file may set too
+EXTRAS: dict[str, tuple[Extra, ...]] = {}
 
 
 @contextlib.contextmanager
@@ -227,6 +230,7 @@ def mission_command(mission: Mission[Any, Any], surface: Surface) -> Callable[..
     command.__name__ = mission.command
     app.command(name=mission.command, help=mission.summary)(command)
     COMMANDS[mission.name] = command
+    EXTRAS[mission.name] = tuple(surface.extras)
     return command
 
 
