@@ -86,7 +86,7 @@ def test_networked_run_is_the_simulated_run(tmp_path, capsys):
         _rogue(address)
         # `swarmex agent --id 5` on a 3-agent mission: refused, exit 4 (run in this process)
         assert main(["agent", "--connect", address, "--id", "5", "--server-timeout", "5"]) == 4
-        assert "refused: unknown id 5" in capsys.readouterr().out
+        assert "refused: unknown id 5" in capsys.readouterr().err  # a failure: stderr
         a = procs.start("agents", "agent", "--connect", address, "--count", 3,
                         "--inject-corrupt", 0.3, "--fault-seed", 1, "--server-timeout", 20)
         assert server.wait(75) == 0, server.output

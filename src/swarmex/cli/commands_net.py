@@ -20,7 +20,7 @@ import typer
 
 from swarmex.cli.app import app, console
 from swarmex.cli.outputs import check_output
-from swarmex.cli.shared import _positive, _say, check_connect, run_mesh
+from swarmex.cli.shared import _positive, _say, _warn, check_connect, run_mesh
 from swarmex.errors import InputError, require
 from swarmex.missions.traversal.params import ALGORITHMS, TraversalParams, algorithm_name
 from swarmex.net.vehicle import Safety
@@ -292,7 +292,7 @@ def agent(
             min_battery=min_battery, link_timeout=link_timeout,
         )
     code = run_agents(address, count, want, server_timeout, connect_timeout, timeout, faults,
-                      _say, spares, flown, safety)
+                      _say, spares, flown, safety, warn=_warn)
     raise typer.Exit(code)
 
 
@@ -335,7 +335,7 @@ def watch(
 
             write_json_atomic(saved, json_path)
     if not view.ended:
-        console.print("swarmex watch: no mission end seen (server gone or timeout)")
+        _warn("swarmex watch: no mission end seen (server gone or timeout)")
         raise typer.Exit(1)
 
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-from swarmex.cli.app import console
+from swarmex.cli.app import console, err_console
 from swarmex.cli.outputs import check_output
 from swarmex.errors import InputError
 
@@ -36,6 +36,12 @@ def _positive(value: float, option: str, zero_ok: bool = False) -> None:
 def _say(text: str) -> None:
     console.print(text, highlight=False, soft_wrap=True)
     console.file.flush()
+
+
+def _warn(text: str) -> None:
+    """A failure's line, on standard error (scripts read the report on standard output)."""
+    err_console.print(text, highlight=False, soft_wrap=True)
+    err_console.file.flush()
 
 
 def run_mesh(grid, params, time_scale: float = 1.0, loss: float = 0.0,

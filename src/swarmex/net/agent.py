@@ -109,6 +109,7 @@ class AgentClient:
         self.connect_timeout = connect_timeout
         self.faults = faults or Faults()
         self.say = say
+        self.warn = say  # why it ends badly (run_agents may send that to standard error)
         self.sock = ctx.socket(zmq.DEALER)
         self.sock.setsockopt(zmq.LINGER, 1000)
         self.sock.setsockopt(zmq.RCVHWM, 0)
@@ -159,7 +160,9 @@ class AgentClient:
         if self.exit_code is None:
             self.exit_code = code
             if why:
-                self.say(f"swarmex agent {self.id or '?'}: {why}")
+                (self.say if code == EXIT_OK else self.warn)(
+                    f"swarmex agent {self.id or '?'}: {why}"
+                )
 
     # ------------------------------------------------------------------ receiving
     def on_frame(self, frame: bytes, now: float) -> None:
@@ -582,11 +585,13 @@ def run_agents(
     spares: int = 0,
     vehicle: Vehicle | None = None,
     safety: Safety | None = None,
+    warn: Callable[[str], object] | None = None,
 ) -> int:
     """Run ``count`` agents (each its own connection) until all are done; the worst status.
     ``spares`` more wait for an id vacated mid-mission (as ``--spare`` does). ``vehicle``
     (with ``count`` 1 and no spares: one agent flies one vehicle) replaces the simulated
-    one; ``safety`` holds its limits.
+    one; ``safety`` holds its limits. ``say`` gets what the agents report, ``warn`` (default
+    ``say``) why one of them ended with a failure status.
 
     Compiled kernels run on one thread here: each agent stands for one UAV's computer, and
     several agent processes share the machine, where numba's parallel regions (the field
@@ -623,6 +628,9 @@ def run_agents(
         raise InputError(f"--count {count} --spares {spares}: cannot open that many agents in"
                          f" one process ({exc}); run them in several processes, or raise"
                          " the open-file limit (ulimit -n)") from None
+    if warn is not None:
+        for a in agents:
+            a.warn = warn
     poller = zmq.Poller()
     for a in agents:
         poller.register(a.sock, zmq.POLLIN)
