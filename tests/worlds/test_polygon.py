@@ -114,6 +114,8 @@ def test_clearance(world):
         ('{"obstacles": []}', "bounds"),
         ('{"bounds": [0, 0, 10]}', "bounds"),
         ('{"bounds": [0, 0, -1, 10], "obstacles": []}', "xmin < xmax"),
+        # GEOS overflowed on it later, a traceback
+        ('{"bounds": [0, 0, 1e308, 1e308], "obstacles": []}', "within"),
         ('{"bounds": [0, 0, 10, 10], "obstacles": [[[1, 1], [2, 2]]]}', "at least 3"),
         ('{"bounds": [0, 0, 10, 10], "obstacles": [[[1, 1], [5, 5], [5, 1], [1, 5]]]}',
          "not a valid polygon"),

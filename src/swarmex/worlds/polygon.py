@@ -36,6 +36,11 @@ from swarmex.errors import InputError
 IMAGE_SUFFIXES = frozenset({".png", ".pgm", ".bmp", ".gif", ".jpg", ".jpeg", ".tif", ".tiff"})
 
 
+#: the largest coordinate a world may have (a trillion units: far beyond any map, far enough
+#: from float overflow for the geometry's products)
+MAX_COORDINATE = 1e12
+
+
 class PolygonWorld:
     """Bounds plus closed polygon obstacles; all queries take and return numpy arrays."""
 
@@ -55,6 +60,9 @@ class PolygonWorld:
         xmin, ymin, xmax, ymax = (float(b) for b in bounds)
         if not all(np.isfinite([xmin, ymin, xmax, ymax])) or xmax <= xmin or ymax <= ymin:
             raise InputError(f"bounds must satisfy xmin < xmax and ymin < ymax, got {list(bounds)}")
+        if max(map(abs, (xmin, ymin, xmax, ymax))) > MAX_COORDINATE:
+            # geometry over such an extent overflows inside GEOS (0 .. 1e308: a traceback)
+            raise InputError(f"bounds must lie within ±{MAX_COORDINATE:g}, got {list(bounds)}")
         self.bounds = (xmin, ymin, xmax, ymax)
         frame = box(xmin, ymin, xmax, ymax)
         clipped = [shapely.intersection(p, frame) for p in obstacles]
