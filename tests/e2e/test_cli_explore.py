@@ -58,6 +58,8 @@ def test_explore_gif_and_starts(tmp_path):
         (["--empty", "3x3", "--robots", "1", "--comm-range", "nan"], "a number or inf, got"),
         (["--empty", "3x3", "--robots", "1", "--robot-radius", "2"],
          "fits in no free cell"),
+        (["--empty", "3x3", "--robots", "1", "--beams", "100000000"],
+         "--beams must be at most 100000"),  # 22 s and 1.7 GB on a 3 m room
         # at once (it inflated the walls by π·2000² offsets first: minutes, no output)
         (["--empty", "3x3", "--robots", "1", "--robot-radius", "100"],
          "fits in no free cell"),

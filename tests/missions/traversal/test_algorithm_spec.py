@@ -62,7 +62,8 @@ def test_inherited_options_are_accepted():
     ("madgta-f@ils", "expected KEY=VALUE after '@', got 'ils'"),
     ("madgta-f@", "expected KEY=VALUE after '@'"),
     ("madgta-f@ils=1,ils=2", "option 'ils' given twice"),
-    ("madgta-f@ils=-1", "ils must be >= 0"),  # the class's own check
+    ("madgta-f@ils=-1", "ils must be in 0..10000, got -1"),  # the class's own check
+    ("madgta-f@ils=1000000000", "ils must be in 0..10000"),  # ran for ever, deaf to Ctrl-C
     ("madgta-f@follow=sometimes", "follow must be True, False or 'walls'"),
     ("madgta-x@ils=1", "unknown traversal algorithm 'madgta-x'"),
     # the MILP is not a policy: it used to be refused while listed among the choices

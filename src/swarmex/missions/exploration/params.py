@@ -137,7 +137,7 @@ class ExplorationParams(Params):
         parse=text(tuple(STRATEGIES)),
     )
     robot_radius: float = option(0.1, help="Robot radius, metres.", parse=real(above=0))
-    beams: int = option(360, help="Laser beams per 360° scan.", parse=integer(lo=8))
+    beams: int = option(360, help="Laser beams per 360° scan.", parse=integer(lo=8, hi=100_000))
     starts: tuple[Cell, ...] | None = option(  # default: a group at the centre
         None, help="Start cells 'x,y;x,y;…'.", parse=start_cells()
     )

@@ -792,6 +792,10 @@ class _Planned:
     own_lens: np.ndarray
 
 
+#: the largest ``passes`` or ``ils`` a plan may be asked for
+MAX_BUDGET = 10_000
+
+
 class MadgtaP(MadgtaR):
     """madgta-r with the team plan's first vertex as one more candidate (see the module
     docstring).
@@ -845,10 +849,12 @@ class MadgtaP(MadgtaR):
             raise ValueError(f"slack and trade must be >= 0, got {slack} and {trade}")
         self.slack = float(slack)
         self.trade = float(trade)
-        if passes < 0:
-            raise ValueError(f"passes must be >= 0, got {passes}")
-        if ils < 0:
-            raise ValueError(f"ils must be >= 0, got {ils}")
+        # budgets are capped: they run in compiled loops that Ctrl-C cannot stop, and
+        # ils=1000000000 (a typo's worth) ran for ever; the benches use at most a few hundred
+        if not 0 <= passes <= MAX_BUDGET:
+            raise ValueError(f"passes must be in 0..{MAX_BUDGET}, got {passes}")
+        if not 0 <= ils <= MAX_BUDGET:
+            raise ValueError(f"ils must be in 0..{MAX_BUDGET}, got {ils}")
         if ruin < 1:
             raise ValueError(f"ruin must be >= 1, got {ruin}")
         self.ils = ils
