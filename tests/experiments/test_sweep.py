@@ -322,6 +322,19 @@ def test_an_option_the_backend_would_ignore_is_refused(tmp_path, capsys, extra, 
     assert not (tmp_path / "o").exists()
 
 
+@pytest.mark.parametrize(("text", "says"), [
+    ('mission = "traversal"\ngrid = "4x4"\nagents = 1\nseeds = 100000000\n',
+     "seeds = 100,000,000: a sweep has at most 1,000,000 runs"),
+    ('mission = "traversal"\ngrid = "4x4"\nagents = [1, 2, 3]\nseeds = 400000\n',
+     "1,200,000 runs; a sweep has at most 1,000,000"),
+])
+def test_a_sweep_too_large_to_hold_is_refused_at_once(tmp_path, capsys, text, says):
+    """seeds = 100000000 filled 4 GB of memory with run lists before printing a word."""
+    path = write_spec(tmp_path, text)
+    assert main(["sweep", str(path), "--out", str(tmp_path / "o")]) == 2
+    assert says in capsys.readouterr().err
+
+
 def test_local_pool_equals_serial_bit_for_bit(tmp_path):
     path = write_spec(tmp_path)
     sweep(path, tmp_path / "serial", backend="serial")

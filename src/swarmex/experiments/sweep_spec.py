@@ -29,6 +29,7 @@ from __future__ import annotations
 import hashlib
 import itertools
 import json
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from os import PathLike, fspath
@@ -50,6 +51,10 @@ RESERVED = ("run", "seed", "complete", "makespan", "time_unit", "wall_seconds", 
 FORBIDDEN = ("json", "render", "seed")
 # which command option receives the spec's ``algorithm``, by preference
 ALGORITHM_OPTIONS = ("algorithm", "strategy", "planner")
+
+
+#: runs a sweep may have: a million records is already a folder few file systems enjoy
+MAX_RUNS = 1_000_000
 
 
 @dataclass(frozen=True)
@@ -178,6 +183,10 @@ def parse_sweep_spec(data: dict[str, Any], path: Path) -> SweepSpec:
     for key, value in fixed.items():
         _check_values(path, key, [value])
     _check_names(path, [*axes, *fixed])
+    total = math.prod(len(v) for v in axes.values()) * len(seeds)
+    if total > MAX_RUNS:  # before a list of them fills the memory (seeds = 100000000: 4 GB)
+        raise InputError(f"{path}: {total:,} runs; a sweep has at most {MAX_RUNS:,} (split it"
+                         " into several, or give fewer seeds or values)")
     return SweepSpec(path, mission, axes, dict(fixed), seeds)
 
 
@@ -191,6 +200,9 @@ def _seeds(path: Path, seeds: Any, seed: Any) -> list[int]:
         if seeds is not None:  # seeds = N: the first N seeds
             if value < 1:
                 raise InputError(f"{path}: seeds = {value}: need at least one seed")
+            if value > MAX_RUNS:
+                raise InputError(f"{path}: seeds = {value:,}: a sweep has at most"
+                                 f" {MAX_RUNS:,} runs")
             return list(range(value))
         _non_negative(path, [value])
         return [value]
