@@ -247,7 +247,10 @@ def run_local(
         # `timeout` signal the whole group) kills the workers instead of breaking into the
         # executor's own bookkeeping, which then hung at exit or raised "release unlocked lock"
         with sigint_deferred(on_signal=lambda: _kill_workers(pool)):
-            pool.shutdown(wait=True, cancel_futures=True)
+            try:
+                pool.shutdown(wait=True, cancel_futures=True)
+            except RuntimeError:  # its locks left half-held by a Ctrl-C inside the executor
+                _kill_workers(pool)
 
 
 @contextlib.contextmanager
