@@ -256,6 +256,15 @@ def test_interrupted_sweep_resumes_and_skips_finished_runs(tmp_path):
     assert records(out) == records(fresh)
 
 
+def _await_records(proc: subprocess.Popen, out: Path, count: int = 3) -> None:
+    """Wait (at most a minute) until the sweep in ``proc`` has written ``count`` records."""
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline and proc.poll() is None:
+        if len(list((out / "runs").glob("*.json"))) >= count:
+            return
+        time.sleep(0.01)
+
+
 def _sigint_default() -> None:
     signal.signal(signal.SIGINT, signal.SIG_DFL)  # as a terminal's process has it
 
@@ -275,11 +284,7 @@ def test_two_quick_ctrl_cs_end_the_sweep_and_keep_the_table(tmp_path, backend):
     proc = subprocess.Popen(cmd, stderr=subprocess.PIPE, stdout=subprocess.DEVNULL,
                             preexec_fn=_sigint_default, text=True)
     try:
-        deadline = time.monotonic() + 60
-        while time.monotonic() < deadline and proc.poll() is None:
-            if len(list((out / "runs").glob("*.json"))) >= 3:
-                break
-            time.sleep(0.02)
+        _await_records(proc, out)
         proc.send_signal(signal.SIGINT)
         time.sleep(0.05)  # the second one lands while the first is being handled
         proc.send_signal(signal.SIGINT)
@@ -442,10 +447,6 @@ def test_summary_metric_names_checked_before_are_columns_after(tmp_path, capsys)
 
 def test_killed_driver_loses_no_finished_run(tmp_path):
     """SIGKILL the CLI mid-sweep: every record it wrote is kept, and the rerun skips them."""
-    import signal
-    import subprocess
-    import time
-
     spec = write_spec(tmp_path, 'mission = "traversal"\ngrid = "3x3"\nagents = 1\nseeds = 40\n')
     out = tmp_path / "out"
     cmd = [sys.executable, "-m", "swarmex", "sweep", str(spec), "--backend", "serial"]
@@ -453,11 +454,7 @@ def test_killed_driver_loses_no_finished_run(tmp_path):
         [*cmd, "--out", str(out)], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL
     )
     try:
-        deadline = time.monotonic() + 60
-        while time.monotonic() < deadline and proc.poll() is None:
-            if len(list((out / "runs").glob("*.json"))) >= 3:
-                break
-            time.sleep(0.01)
+        _await_records(proc, out)
         proc.send_signal(signal.SIGKILL)
     finally:
         proc.wait(timeout=10)

@@ -71,9 +71,6 @@ class TurnBasedParallel(turn_based_aec_to_parallel_wrapper):
     empty dicts of the Parallel API (PettingZoo's conversion returns four).
     """
 
-    def __init__(self, aec_env: AECEnv[Any, Any, Any]) -> None:
-        super().__init__(aec_env)
-
     def reset(
         self, seed: int | None = None, options: dict[str, Any] | None = None
     ) -> tuple[dict[Any, Any], dict[Any, Any]]:

@@ -45,7 +45,6 @@ from __future__ import annotations
 
 import contextlib
 import dataclasses
-import math
 import numbers
 import weakref
 from collections.abc import Callable
@@ -114,30 +113,6 @@ class _Stub:
             env._finished.append(me)
             return Decision("finish")
         return self.ask(_Request(me, belief, rng, float(belief.now), mask))
-
-
-def _simulate(world: Any, prepared: Any, p: Any, stub: _Stub,
-              on_frame: Callable[[Any], None]) -> Any:
-    """The mission's run (as TraversalMission.execute does it), with the stub as policy.
-
-    Runs in the broker's worker thread; a module function so that the thread holds no strong
-    reference to the environment."""
-    from swarmex.comm.channel import Channel
-    from swarmex.missions.traversal import run_traversal
-    from swarmex.missions.traversal.mission import agent_specs
-
-    comm = math.inf if p.comm_range is None else p.comm_range
-    return run_traversal(
-        world,
-        agent_specs(p, prepared),
-        stub,  # type: ignore[arg-type]  # duck-typed Madgta: name + decide(belief, rng)
-        p.seed,
-        Channel(p.loss, p.delay, comm),
-        start_interval=p.start_interval,
-        unit_length=prepared.unit_length,
-        job_failure=p.job_failure,
-        on_frame=on_frame,
-    )
 
 
 class raw_env(AECEnv):  # noqa: N801 - PettingZoo's module convention
@@ -267,11 +242,12 @@ class raw_env(AECEnv):  # noqa: N801 - PettingZoo's module convention
         # close() is then collected, and its __del__ ends the thread (a strong reference from
         # the waiting thread kept both alive for the life of the process)
         env = cast("raw_env", weakref.proxy(self))
-        world, prepared = self.world, self.prepared
+        prepared = self.prepared
 
-        def run(ask: Ask) -> Any:
-            return _simulate(world, prepared, p, _Stub(env, name, ask),
-                             lambda frame: env._on_frame(frame))
+        def run(ask: Ask) -> Any:  # a closure without self: the thread keeps no env alive
+            from swarmex.missions.traversal.mission import simulate
+
+            return simulate(p, prepared, _Stub(env, name, ask), lambda f: env._on_frame(f))
 
         self._broker = DecisionBroker(run)
         request = self._broker.start()

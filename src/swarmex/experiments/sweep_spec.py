@@ -125,9 +125,9 @@ class SweepSpec:
         values = scenario_values(Scenario(self.path, self.mission, options), shapes)
         from swarmex.missions.registry import get
 
-        for group in get(self.mission).params_type.required_one_of:  # e.g. map, grid, center
+        for group in get(self.mission).params_type.missing_groups(values):  # map, grid, center
             names = [n.replace("_", "-") for n in group]
-            if all(n in shapes for n in names) and all(values.get(n) is None for n in group):
+            if all(n in shapes for n in names):
                 raise InputError(
                     f"{self.path}: swarmex {self.command} needs"
                     f" {' or '.join('--' + n for n in names)}; add one of"

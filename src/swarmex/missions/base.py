@@ -376,6 +376,13 @@ class Params:
     required_one_of: ClassVar[tuple[tuple[str, ...], ...]] = ()
 
     @classmethod
+    def missing_groups(cls, given: Mapping[str, Any]) -> list[tuple[str, ...]]:
+        """The groups of :attr:`required_one_of` of which ``given`` (option names with ``_``)
+        sets none: what :meth:`from_values` and a sweep's spec check refuse."""
+        return [group for group in cls.required_one_of
+                if all(given.get(n) is None for n in group)]
+
+    @classmethod
     def options(cls) -> dict[str, OptionInfo]:
         out = {}
         for f in fields(cls):
@@ -415,8 +422,7 @@ class Params:
                    if info.required and given.get(name) is None]
         missing += [
             opts[group[0]].flag + f" (or {', '.join(opts[n].flag for n in group[1:])})"
-            for group in cls.required_one_of
-            if all(given.get(n) is None for n in group)
+            for group in cls.missing_groups(given)
         ]
         if missing:
             listed = ", ".join(missing[:-1]) + " and " + missing[-1] if missing[1:] else missing[0]

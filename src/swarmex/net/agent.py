@@ -97,6 +97,7 @@ class AgentClient:
         say: Callable[[str], object] = print,
         vehicle: Vehicle | None = None,
         safety: Safety | None = None,
+        warn: Callable[[str], object] | None = None,
     ) -> None:
         self.address = address
         self.vehicle: Vehicle = vehicle or SimulatedVehicle()
@@ -109,7 +110,7 @@ class AgentClient:
         self.connect_timeout = connect_timeout
         self.faults = faults or Faults()
         self.say = say
-        self.warn = say  # why it ends badly (run_agents may send that to standard error)
+        self.warn = warn or say  # why it ends badly (the CLI: on standard error)
         self.sock = ctx.socket(zmq.DEALER)
         self.sock.setsockopt(zmq.LINGER, 1000)
         self.sock.setsockopt(zmq.RCVHWM, 0)
@@ -617,10 +618,11 @@ def run_agents(
     try:
         agents = [
             AgentClient(ctx, address, want_id if count == 1 or want_id < 0 else 0,
-                        server_timeout, connect_timeout, faults, say, vehicle, safety)
+                        server_timeout, connect_timeout, faults, say, vehicle, safety, warn)
             for _ in range(count)
         ] + [
-            AgentClient(ctx, address, -1, server_timeout, connect_timeout, faults, say)
+            AgentClient(ctx, address, -1, server_timeout, connect_timeout, faults, say,
+                        warn=warn)
             for _ in range(spares)
         ]
     except zmq.ZMQError as exc:  # EMFILE: more sockets than the process may open
@@ -628,9 +630,6 @@ def run_agents(
         raise InputError(f"--count {count} --spares {spares}: cannot open that many agents in"
                          f" one process ({exc}); run them in several processes, or raise"
                          " the open-file limit (ulimit -n)") from None
-    if warn is not None:
-        for a in agents:
-            a.warn = warn
     poller = zmq.Poller()
     for a in agents:
         poller.register(a.sock, zmq.POLLIN)

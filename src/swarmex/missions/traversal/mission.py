@@ -316,9 +316,8 @@ class TraversalMission(Mission[TraversalParams, TraversalWorld]):
         *,
         trace: bool = True,
     ) -> Outcome:
-        from swarmex.comm.channel import Channel
         from swarmex.engine.record import without_trace
-        from swarmex.missions.traversal import run_traversal, traversal_record
+        from swarmex.missions.traversal import traversal_record
 
         p = params
         specs = agent_specs(p, world)
@@ -327,20 +326,31 @@ class TraversalMission(Mission[TraversalParams, TraversalWorld]):
         if p.algorithm == "optimal":
             record = _optimal(world.world, specs, p, rparams, unit)
             return Outcome(record if trace else without_trace(record), None, world.world)
-        comm = math.inf if p.comm_range is None else p.comm_range
-        run = run_traversal(
-            world.world,
-            specs,
-            p.algorithm,
-            p.seed,
-            Channel(p.loss, p.delay, comm),
-            start_interval=p.start_interval,
-            unit_length=unit,
-            job_failure=p.job_failure,
-            on_frame=on_frame,
-        )
+        run = simulate(p, world, p.algorithm, on_frame)
         record = traversal_record(run, rparams, unit)
         return Outcome(record if trace else without_trace(record), run, world.world)
+
+
+def simulate(p: TraversalParams, world: TraversalWorld, policy: Any,
+             on_frame: FrameCallback | None = None) -> Any:
+    """The simulator's run of ``p`` on the prepared ``world`` with ``policy`` (an algorithm
+    spec, or an object that decides like one: the environment's stub): one place that turns
+    the parameters into the run, for :meth:`TraversalMission.execute` and ``traversal_v0``."""
+    from swarmex.comm.channel import Channel
+    from swarmex.missions.traversal import run_traversal
+
+    comm = math.inf if p.comm_range is None else p.comm_range
+    return run_traversal(
+        world.world,
+        agent_specs(p, world),
+        policy,
+        p.seed,
+        Channel(p.loss, p.delay, comm),
+        start_interval=p.start_interval,
+        unit_length=world.unit_length,
+        job_failure=p.job_failure,
+        on_frame=on_frame,
+    )
 
 
 def _optimal(
