@@ -138,6 +138,11 @@ def run(
     p = m.params({**params, "seed": seed})
     if not isinstance(progress, bool):  # "no" is truthy: it would have shown the bar
         raise InputError(f"progress must be True or False, got {progress!r}")
+    if ignored := p.ignored():
+        import warnings
+
+        for name, why in ignored.items():
+            warnings.warn(f"{name} is ignored: {why}", UserWarning, stacklevel=2)
     if not progress:
         return m.run(p, on_frame=on_frame, trace=trace).record
     from swarmex.experiments.progress import run_with_progress

@@ -155,3 +155,20 @@ def test_reproduce_into_a_file_is_one_line(tmp_path, capsys):
     assert main(["reproduce", "roadmap", "--quick", "--out", str(afile / "sub")]) == 2
     err = capsys.readouterr().err
     assert "--out: cannot create" in err and err.count("\n") == 1
+
+
+def test_a_goal_the_coverage_task_ignores_is_noted_not_refused(env, tmp_path, capsys):
+    # a sweep over the task at one goal must still run, so the goal is not refused; but a
+    # single coverage run given --goal used to take it silently, as if it steered the run
+    short = base(env, "--goal", "150,120")
+    short[short.index("--nodes") + 1] = "30"
+    assert main(short) == 0
+    err = capsys.readouterr().err
+    assert "note: --goal is ignored: only the search task reads a goal, not coverage" in err
+    assert main([*short, "--task", "search"]) == 0
+    assert "note:" not in capsys.readouterr().err
+    import swarmex
+
+    with pytest.warns(UserWarning, match="goal is ignored"):
+        swarmex.run("roadmap", env=env, agents=3, nodes=30, step=10, sensor_range=20,
+                    goal=(150, 120))

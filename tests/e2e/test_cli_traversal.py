@@ -376,6 +376,32 @@ def test_optimal_dispatch(objective, tmp_path, capsys):
     replay(rec, free_mask(4, 3, [(1, 1)]))
 
 
+def test_an_objective_only_optimal_reads_is_noted_not_refused(capsys):
+    # a sweep of madgta against optimal at objective=makespan must run, so madgta is not
+    # refused it; but a single madgta run used to take the makespan silently
+    argv = ["traverse", "--grid", "4x3", "--agents", 2, "--objective", "makespan"]
+    code, out, err = cli(argv, capsys)
+    assert code == 0, err
+    assert ("note: --objective is ignored: only optimal minimises an objective (makespan);"
+            " madgta plays its own rule") in err
+    assert "note:" not in out
+    for quiet in (argv[:5] + ["--objective", "sum"], argv + ["--algorithm", "optimal"]):
+        code, _, err = cli(quiet, capsys)
+        assert code == 0 and "note:" not in err, (quiet, err)
+    import swarmex
+
+    with pytest.warns(UserWarning, match="objective is ignored: .* madgta-f plays its own rule"):
+        swarmex.run("traversal", grid="4x3", agents=2, objective="makespan",
+                    algorithm="madgta-f@ils=2")
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        swarmex.run("traversal", grid="4x3", agents=2, objective="makespan",
+                    algorithm="optimal")
+        swarmex.run("traversal", grid="4x3", agents=2)
+
+
 def test_madgta_plus_dispatch(tmp_path, capsys):
     from swarmex.missions.traversal.policies import POLICIES
 

@@ -161,6 +161,9 @@ def mission_command(mission: Mission[Any, Any], surface: Surface) -> Callable[..
         if render is not None:
             require_writer(render)  # a missing extra costs one line now, not the run
         params = mission.params({k: v for k, v in kwargs.items() if v is not None})
+        for name, why in params.ignored().items():
+            err_console.print(f"note: {options[name].flag} is ignored: {why}",
+                              markup=False, highlight=False, soft_wrap=True)
         if surface.alternative is not None:
             with interrupted_says_so():
                 if surface.alternative(

@@ -443,6 +443,13 @@ class Params:
     def check(self) -> None:
         """Cross-field rules that need no world; raise InputError naming the option."""
 
+    def ignored(self) -> dict[str, str]:
+        """Options set to a value this run never reads (traversal's ``objective`` with an
+        online policy), each with why: the command line prints a note, :func:`swarmex.run`
+        warns. Not refused, because a sweep may hold the option at one value while it varies
+        what reads it (madgta against optimal at ``objective = "makespan"``)."""
+        return {}
+
     def replace(self, **changes: Any) -> Self:
         """A copy with ``changes`` (option names, CLI strings or Python values) parsed and
         checked as :meth:`from_values` does: ``params.replace(grid="12x12")``.

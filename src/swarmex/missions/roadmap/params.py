@@ -185,6 +185,11 @@ class RoadmapParams(Params):
                 f"--starts gives {len(self.starts)} positions for --agents {self.agents}"
             )
 
+    def ignored(self) -> dict[str, str]:
+        if self.goal is not None and self.task != "search":
+            return {"goal": f"only the search task reads a goal, not {self.task}"}
+        return {}
+
     @property
     def range_length(self) -> float:
         """The sensor range R as a length (a multiple of ε resolved with ``step``)."""

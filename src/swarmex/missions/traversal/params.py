@@ -331,5 +331,11 @@ class TraversalParams(Params):
             if len(self.nests) > team:
                 raise InputError(f"--nests: {len(self.nests)} nests for only {team} agents")
 
+    def ignored(self) -> dict[str, str]:
+        if self.objective != "sum" and self.algorithm != "optimal":
+            return {"objective": f"only optimal minimises an objective ({self.objective});"
+                                 f" {algorithm_name(self.algorithm)} plays its own rule"}
+        return {}
+
 
 __all__ = ["ALGORITHMS", "OBJECTIVES", "TraversalParams", "algorithm_name", "algorithm_spec"]
