@@ -172,3 +172,29 @@ def test_a_goal_the_coverage_task_ignores_is_noted_not_refused(env, tmp_path, ca
     with pytest.warns(UserWarning, match="goal is ignored"):
         swarmex.run("roadmap", env=env, agents=3, nodes=30, step=10, sensor_range=20,
                     goal=(150, 120))
+
+
+def test_reproduce_takes_its_worker_count(tmp_path, capsys, monkeypatch):
+    # it always ran 2 processes: on a shared 2-core machine it could not be held to 1, as the
+    # other three studies can
+    import swarmex.studies.roadmap as study
+
+    seen = {}
+    monkeypatch.setattr(study, "reproduce", lambda out, **kw: seen.update(kw))
+    assert main(["reproduce", "roadmap", "--quick", "--out", str(tmp_path / "r"),
+                 "--workers", "1"]) == 0
+    assert seen["workers"] == 1
+    assert main(["reproduce", "roadmap", "--out", str(tmp_path / "r"), "--workers", "0"]) == 2
+    err = capsys.readouterr().err
+    assert "--workers must be at least 1" in err and err.count("\n") == 1
+
+
+@pytest.mark.parametrize("mission", ["traversal", "foraging", "exploration", "roadmap"])
+def test_every_reproduction_writes_under_reproduction_by_default(mission):
+    from swarmex.cli.app import reproduce_app
+
+    command = next(c for c in reproduce_app.registered_commands if c.name == mission)
+    import inspect
+
+    default = inspect.signature(command.callback).parameters["out"].default.default
+    assert default == Path("reproduction") / mission

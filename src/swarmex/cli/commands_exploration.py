@@ -135,9 +135,7 @@ explore = mission_command(
 
 @reproduce_app.command("exploration")
 def reproduce_exploration(
-    out: Path = typer.Option(
-        Path("out/reproduce-exploration"), "--out", help="Output directory."
-    ),
+    out: Path = typer.Option(Path("reproduction/exploration"), "--out", help="Output directory."),
     quick: bool = typer.Option(False, "--quick", help="A small sweep in about a minute."),
     workers: int = typer.Option(2, "--workers", help="Worker processes."),
 ) -> None:

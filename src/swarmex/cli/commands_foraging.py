@@ -78,7 +78,7 @@ forage = mission_command(get("foraging"), Surface(report, watch=recall_status))
 
 @reproduce_app.command("foraging")
 def reproduce_foraging(
-    out: Path = typer.Option(Path("reproduction-foraging"), "--out", help="Output directory."),
+    out: Path = typer.Option(Path("reproduction/foraging"), "--out", help="Output directory."),
     quick: bool = typer.Option(
         False, "--quick", help="One food cell per band: a smoke test, well under a minute."
     ),

@@ -51,10 +51,13 @@ roadmap = mission_command(
 def reproduce_roadmap(
     out: Path = typer.Option(Path("reproduction/roadmap"), "--out", help="Output directory."),
     quick: bool = typer.Option(False, "--quick", help="A few runs per row (under a minute)."),
+    workers: int = typer.Option(2, "--workers", help="Worker processes."),
 ) -> None:
     """Tables 1–2, Fig. 6 and Figs. 14–17 of seed 004, beside the paper's numbers."""
     from swarmex.studies.roadmap import reproduce
 
+    if workers < 1:
+        raise InputError(f"--workers must be at least 1, got {workers}")
     if out.exists() and not out.is_dir():  # was a FileExistsError traceback from mkdir
         raise InputError(f"--out {out} exists and is not a directory")
     try:
@@ -62,4 +65,4 @@ def reproduce_roadmap(
     except OSError as exc:
         raise InputError(f"--out: cannot create {out}: {exc.strerror}") from None
     with study(out):  # every finished run is in the journal already
-        reproduce(out, quick=quick, console=console)
+        reproduce(out, quick=quick, console=console, workers=workers)

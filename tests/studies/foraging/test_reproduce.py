@@ -28,7 +28,7 @@ def test_aggregate_and_report(tmp_path):
     runs = {}
     for (band, pattern, n), row in ref.items():
         for i in range(2):
-            key = R.run_key(pattern, n, band, i, "relay-food")
+            key = R.run_key(pattern, n, band, i, (i, 0), "relay-food")
             m = {R.METRIC_OF[c]: row[c] + i for c in R.COLUMNS}
             m["total_time"] = sum(m.values())
             runs[key] = {
@@ -76,3 +76,19 @@ def test_our_strips_16_is_within_15_percent_of_the_authors_simulator():
         m = run.metrics
         assert abs(m["total_time"] / r["total"] - 1) <= 0.15, (r, m)
         assert m["comm_transport_overlap"] == pytest.approx(r["comm_transport"], abs=12)
+
+
+def test_runs_on_other_food_cells_are_not_resumed():
+    # the journal key used to be (pattern, n, band, index, transport): `--seed 7` into a
+    # folder of seed 2015's runs, or a full run after --quick, ran nothing and reported the
+    # old cells' runs as the new seed's
+    from swarmex.studies.foraging.runs import task_key
+
+    quick, other_seed = R.tasks(R.food_cells(2015, 1)), R.tasks(R.food_cells(7, 1))
+    full = R.tasks(R.food_cells(2015, 40))
+    assert len(quick) == len(other_seed)
+    for a, b in zip(quick, other_seed, strict=True):
+        assert a[:4] == b[:4] and (task_key(a) == task_key(b)) == (a[4] == b[4])
+    full_keys = {task_key(t) for t in full}
+    moved = [t for t in quick if t[4] != R.food_cells(2015, 40)[t[2]][0]]
+    assert moved and not any(task_key(t) in full_keys for t in moved)

@@ -89,8 +89,13 @@ def food_cells(seed: int, per_band: int) -> dict[str, list[tuple[int, int]]]:
     return out
 
 
-def run_key(pattern: str, n: int, band: str, i: int, transport: str) -> str:
-    return f"{pattern}|{n}|{band}|{i}|{transport}"
+def run_key(
+    pattern: str, n: int, band: str, i: int, food: tuple[int, int], transport: str
+) -> str:
+    """A run's journal key. It holds the food cell, not just its index in the band: another
+    ``--seed``, or ``--quick`` then a full run into the same folder, draws other cells for the
+    same index, and a key without the cell resumed from runs made on the old ones."""
+    return f"{pattern}|{n}|{band}|{i}|{food[0]},{food[1]}|{transport}"
 
 
 def tasks(foods: dict[str, list[tuple[int, int]]]) -> list[tuple[str, int, str, int, Any, str]]:

@@ -8,20 +8,77 @@ choices of docs/foraging.md that produce them).
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from swarmex.studies.foraging.design import BAND_LABEL as LABEL
-from swarmex.studies.foraging.design import BANDS, METRIC_OF, TRANSPORT_CONFIGS
+from swarmex.studies.foraging.design import BANDS, METRIC_OF, TRANSPORT_CONFIGS, G
 
 COLUMNS = ("exploration", "communication", "comm_transport", "transportation", "total")
 HEAD = ("EXPLORATION", "COMMUNICATION", "COMM+TRANS", "TRANSPORTATION", "total")
 RF = "relay-food"
 THESIS_PATTERNS = ("strips", "zigzag", "hilbert", "sectors", "spiral")
+NAMES = {"strips": "Strips", "zigzag": "ZigZag", "hilbert": "Hilbert", "sectors": "Sectors",
+         "spiral": "Spiral"}
 
-EXPLANATIONS = """\
+def _outliers(table, ref, per_band: int) -> tuple[list[str], int]:
+    """The exploration cells further from the thesis than two standard errors of a
+    ``per_band``-cell mean, as "Strips N = 4 40%-60% (−412)", and how many cells were
+    compared."""
+    out, compared = [], 0
+    for (band, pattern, n), r in sorted(ref.items(), key=lambda kv: (kv[0][1], kv[0][2])):
+        ours = table.get((band, pattern, n, RF))
+        if ours is None:
+            continue
+        compared += 1
+        diff = ours["exploration"] - r["exploration"]
+        if abs(diff) > 2 * G * G / n / math.sqrt(12 * per_band):
+            out.append(f"{NAMES.get(pattern, pattern)} N = {n} {LABEL[band]} ({diff:+.0f})")
+    return out, compared
+
+
+def _ratio_range(table, ref, pattern: str, n: int, column: str) -> str:
+    """Our ``column`` over the thesis's for (pattern, n), its least and greatest over the
+    bands ("2.2–5.4×")."""
+    ratios = [table[(b, pattern, n, RF)][column] / ref[(b, pattern, n)][column] for b in BANDS
+              if (b, pattern, n, RF) in table and ref.get((b, pattern, n), {}).get(column)]
+    return f"{min(ratios):.1f}–{max(ratios):.1f}×" if ratios else "–"
+
+
+def _transports(table) -> str:
+    """Relay-Path against Relay-Food on RANDOM placement, configuration by configuration:
+    faster, level (within 0.05 %) or slower."""
+    verdicts: dict[str, list[str]] = {"faster": [], "level": [], "slower": []}
+    for p, n in TRANSPORT_CONFIGS:
+        food, path = (table.get(("random", p, n, k)) for k in ("relay-food", "relay-path"))
+        if food is None or path is None:
+            continue
+        change = path["total"] / food["total"] - 1
+        kind = "level" if abs(change) < 5e-4 else "faster" if change < 0 else "slower"
+        verdicts[kind].append(f"{p} {n} ({100 * change:+.1f} %)")
+    total = sum(map(len, verdicts.values()))
+    return "; ".join(f"{kind} in {len(v)} of {total}: {', '.join(v)}"
+                     for kind, v in verdicts.items() if v)
+
+
+def explanations(table, ref, per_band: int) -> str:
+    """Why our numbers differ from the thesis's: the reasons are our reading, the numbers in
+    them come from this run's table (a report of another seed or of --quick says its own)."""
+
+    def ours(band: str, p: str, n: int, c: str) -> str:
+        row = table.get((band, p, n, RF))
+        return _fmt(None if row is None else row[c])
+
+    def theirs(band: str, p: str, n: int, c: str) -> str:
+        return _fmt(ref.get((band, p, n), {}).get(c))
+
+    se = ", ".join(f"{G * G / n / math.sqrt(12 * per_band):.0f}" for n in (4, 8, 16))
+    outliers, compared = _outliers(table, ref, per_band)
+    far = "80-100"
+    return f"""\
 ## Why our numbers differ from the thesis's
 
 The thesis's tables come from its Java simulator, of which only the pattern generators are
@@ -29,59 +86,63 @@ published; where the thesis is silent we made the choices listed in docs/foragin
 differences in the table above come from five sources.
 
 1. **Sampling (exploration).** For a pattern that covers each robot's region once, the
-   discovery time of a uniformly placed food cell is spread over ≈ g²/n rounds, so a 40-cell
-   mean has a standard error of ≈ (g²/n)/√(12·40): about 187, 94 and 47 rounds for N = 4, 8,
-   16. Only 11 of the 78 exploration cells differ from the thesis by more than twice that.
-   Seven of them are Strips in the 40–60 % band (ours lower) and the 80–100 % band (ours
-   higher, at every N). Strips finds West-side food during its first columns and East-side
-   food at the very end, so its band means depend on how the 40 cells split between West and
-   East. The thesis's 80–100 % Strips values lie about two standard errors *below* the
-   uniform expectation T_dep + g²/(2n) at every N; ours lie about one above. The thesis does
-   not publish its cells, so we cannot tell more. The other four are Spiral N = 16 far from the
-   nest (next item) and ZigZag/Sectors N = 4 RANDOM (+378, exactly 2 SE; the exact all-cell
-   mean of ZigZag N = 4 is 2050 rounds, the uniform expectation).
+   discovery time of a uniformly placed food cell is spread over ≈ g²/n rounds, so a
+   {per_band}-cell mean has a standard error of ≈ (g²/n)/√(12·{per_band}): about {se} rounds
+   for N = 4, 8, 16. Exploration cells further from the thesis than twice that:
+   {len(outliers)} of {compared} ({"; ".join(outliers) or "none"}). Strips finds West-side food
+   during its first columns and East-side food at the very end, so its band means depend on
+   how the cells split between West and East; the thesis's 80–100 % Strips values lie about
+   two standard errors *below* the uniform expectation T_dep + g²/(2n) at every N. The thesis
+   does not publish its cells, so we cannot tell more. Spiral N = 16 far from the nest is the
+   next item. ZigZag and Sectors N = 4 on RANDOM placement are one pattern (the thesis's code
+   runs ZigZag for both); the exact all-cell mean of ZigZag N = 4 is 2050 rounds, the uniform
+   expectation.
 2. **The Spiral for N = 16.** The thesis's 16-robot spiral came from an unpublished external
    package. Ours is one n-arm construction for every n (spiral.py). It is faster near the nest
-   (0–20 %: 39 against 131 rounds) and slower far away, where its clipped arms walk the border
-   between the grid's corners.
+   (0–20 %: {ours("0-20", "spiral", 16, "exploration")} against \
+{theirs("0-20", "spiral", 16, "exploration")} rounds) and slower far away, where its clipped
+   arms walk the border between the grid's corners.
 3. **Communication.** The default rule (`--comm seed`, docs/foraging.md) is the thesis's as
    its author's simulator plays it: robots learn the food from a robot next to them, tell the
    neighbours on a list fixed when they learn, cross one off only on what they saw or were
    told, and ZigZag and Hilbert robots finish their route before detouring. Against the
    former omniscient rule (robots knew who already knew), the mean error on COMM+TRANS fell
    from 49 % to 39 % (ZigZag 60 % → 11 %, Sectors 38 % → 19 %), on the total from 12 % to
-   10 %, and Hilbert N = 16's COMMUNICATION now agrees (9 %; it was 0.23× the thesis's). On
+   10 %, and Hilbert N = 16's COMMUNICATION came to agree (it was 0.23× the thesis's). On
    the one (pattern, N) whose per-run output the author published, Strips with 16 robots, our
    runs on the same 82 food cells agree phase by phase (section above). Rows that stay more
    than 15 % off:
-   * **Hilbert, N = 4** (COMMUNICATION 3–5× the thesis's 201–699 rounds). Finishing the route
-     first, as the simulator does, waits for the next time two robots' routes meet. Our
-     quadrant curves (the thesis's code assignment, Fig. 25, is missing) meet only in two
-     clumps, around rounds 236–338 and after 3,756 of 4,096; a robot that detours at once
-     instead takes 32–220 rounds. The thesis's values lie between the two, so its curves meet
-     at other times than ours.
-   * **Spiral, N = 4 and 8** (COMMUNICATION and COMM+TRANS about 0.4× the thesis's): our
-     robots meet their successor earlier than the thesis's. Our spiral arms on the finite grid
-     are our own construction (next item and spec §4.12), so the meeting points differ.
-   * **Strips, N = 4** (COMM+TRANS 43–64 against 23–33 rounds; COMMUNICATION 0.65×): a few
-     rounds either way on small numbers. With 16 robots, where the author's runs are
-     published, ours agree with them.
+   * **Hilbert, N = 4** (COMMUNICATION {_ratio_range(table, ref, "hilbert", 4, "communication")}
+     the thesis's). Finishing the route first, as the simulator does, waits for the next time
+     two robots' routes meet. Our quadrant curves (the thesis's code assignment, Fig. 25, is
+     missing) meet only in two clumps, around rounds 236–338 and after 3,756 of 4,096; a robot
+     that detours at once instead takes 32–220 rounds. The thesis's values lie between the
+     two, so its curves meet at other times than ours.
+   * **Spiral, N = 4 and 8** (COMM+TRANS {_ratio_range(table, ref, "spiral", 4, "comm_transport")}
+     and {_ratio_range(table, ref, "spiral", 8, "comm_transport")} the thesis's): our robots
+     meet their successor earlier than the thesis's. Our spiral arms on the finite grid are our
+     own construction (next item and spec §4.12), so the meeting points differ.
+   * **Strips, N = 4** (COMM+TRANS {_ratio_range(table, ref, "strips", 4, "comm_transport")}
+     the thesis's): a few rounds either way on small numbers. With 16 robots, where the
+     author's runs are published, ours agree with them.
 4. **Transportation.** k = 100 units, the released code's value. Far from the nest our
-   transport times are within a few percent of the thesis's (80–100 %, N = 16: Strips 1224 vs
-   1294, Sectors 1286 vs 1312). There, transport time is bound by the relay's throughput, about
-   2k(d − n)/n, which the relay attains (see docs/foraging.md). Near the nest ours is about
-   half of the thesis's (0–20 %, N = 16: 167 vs 329). With a short path, our zero-cost
+   transport times are close to the thesis's (80–100 %, N = 16: Strips \
+{ours(far, "strips", 16, "transportation")} vs {theirs(far, "strips", 16, "transportation")},
+   Sectors {ours(far, "sectors", 16, "transportation")} vs \
+{theirs(far, "sectors", 16, "transportation")}). There, transport time is bound by the relay's
+   throughput, about 2k(d − n)/n, which the relay attains (see docs/foraging.md). Near the
+   nest ours is lower (0–20 %, N = 16: Strips {ours("0-20", "strips", 16, "transportation")}
+   vs {theirs("0-20", "strips", 16, "transportation")}). With a short path, our zero-cost
    hand-overs and synchronous moves let a unit enter the nest almost every round. The released
    code updates robots one after another within a round and uses its own relay movement rules
    (spec §3, §5.14), which is slower on a crowded short path.
 5. **Transport comparison (Fig. 69).** The thesis found Relay-Food better than Relay-Path and
-   End-to-End "in every case". We find both relays about 10 % faster than End-to-End, as the
-   thesis does, but Relay-Path about 1 % faster than Relay-Food for six of the seven
-   configurations (Modified ZigZag is the exception). In our rules a Relay-Path robot joins
-   at the nearest path cell and is useful from its first hand-over. A Relay-Food robot first
-   walks to the single food cell and queues there behind the others. The thesis does not
-   say how its Relay-Path robots entered the path; the released code has no Relay-Path
-   variant.
+   End-to-End "in every case". We find both relays faster than End-to-End, as the thesis does
+   (table above). Relay-Path against Relay-Food, total time on RANDOM placement:
+   {_transports(table)}. In our rules a Relay-Path robot joins at the nearest path cell and is
+   useful from its first hand-over. A Relay-Food robot first walks to the single food cell and
+   queues there behind the others. The thesis does not say how its Relay-Path robots entered
+   the path; the released code has no Relay-Path variant.
 """
 
 
@@ -489,7 +550,7 @@ def write_report(
             for b in BANDS
         ],
         "",
-        EXPLANATIONS,
+        explanations(table, ref, per_band),
         "## Figure files",
         "",
         *[f"- Fig. {k}: [{p.name}]({p.name})" for k, p in figures.items()],

@@ -18,8 +18,8 @@ Task = tuple[str, int, str, int, tuple[int, int], str]
 
 
 def task_key(task: Task) -> str:
-    pattern, n, band, i, _, transport = task
-    return run_key(pattern, n, band, i, transport)
+    pattern, n, band, i, food, transport = task
+    return run_key(pattern, n, band, i, food, transport)
 
 
 def run_task(task: Task) -> dict[str, Any]:
