@@ -120,8 +120,10 @@ def q_min(cells: list[Cell], floors_file: str | None, search: int) -> np.ndarray
     return np.array([least_transport(G, c, N, UNITS, budget=search)[0] for c in cells], float)
 
 
-def main(argv: list[str] | None = None) -> int:
-    ap = _cli.Parser(description=__doc__.splitlines()[0])
+def cells_parser(description: str) -> _cli.Parser:
+    """The options of a measurement on the RANDOM cells at N = 16 (this script's and
+    bench/foraging_spoke.py's): how many cells, their seed, and where Q_min comes from."""
+    ap = _cli.Parser(description=description)
     ap.add_argument("--per-band", type=_cli.paired_count, default=40)
     ap.add_argument("--seed", type=_cli.nonneg_int, default=2015)
     ap.add_argument(
@@ -130,6 +132,11 @@ def main(argv: list[str] | None = None) -> int:
         "(the file does not record its cells), else Q_min is computed",
     )
     ap.add_argument("--floor-search", type=_cli.positive_int, default=40)
+    return ap
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = cells_parser(__doc__.splitlines()[0])
     ap.add_argument(
         "--transport", choices=TRANSPORTS, default=RELAY_FOOD,
         help="the seed transport every pattern runs (Q_min is Relay-Food's in every case)",

@@ -40,7 +40,7 @@ import time
 import numpy as np
 
 import _cli
-from foraging_level_comb import BAND, N, exact_e, q_min
+from foraging_level_comb import BAND, N, cells_parser, exact_e, q_min
 from swarmex.missions.foraging import timed_plan
 from swarmex.missions.foraging.grid import Cell, nest_of
 from swarmex.missions.foraging.plan import Plan
@@ -163,16 +163,7 @@ def spread(timed: Timed) -> float:
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = _cli.Parser(description=__doc__.splitlines()[0])
-    ap.add_argument("--per-band", type=_cli.paired_count, default=40)
-    ap.add_argument("--seed", type=_cli.nonneg_int, default=2015)
-    ap.add_argument(
-        "--floors",
-        help="compare_foraging_patterns.py's --floors file; read with the default --seed only "
-        "(the file does not record its cells), else Q_min is computed",
-    )
-    ap.add_argument("--floor-search", type=_cli.positive_int, default=40)
-    a = ap.parse_args(argv)
+    a = cells_parser(__doc__.splitlines()[0]).parse_args(argv)
     cells = food_cells(a.seed, 40)[BAND][: a.per_band]
     t0 = time.process_time()
     tables = {p.algorithm: execute(p) for p in (spoke_plan(G, N, False), spoke_plan(G, N, True))}

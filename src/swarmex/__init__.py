@@ -320,11 +320,14 @@ def plot(
     keeps the rows with these values (``{"grid": "8x8"}``). Returns the matplotlib
     ``Figure`` (a notebook shows it), also written to ``out`` (.png or .svg) when given.
     Varied parameters that are neither ``x`` nor ``hue`` are pooled, with a
-    ``UserWarning`` saying so."""
+    ``UserWarning`` saying so. A time (``makespan``, ``*_time*``, ``steps``) of a run that
+    did not finish is where it stopped, not a finish time: such points are drawn hollow (bars
+    hatched), with a ``UserWarning``; ``where={"complete": True}`` keeps the finished runs."""
     import warnings
 
     from swarmex.experiments.compare import load
-    from swarmex.viz.plot import SUFFIXES, save_figure, sweep_figure
+    from swarmex.viz.files import save_figure
+    from swarmex.viz.plot import SUFFIXES, sweep_figure
 
     for label, name in (("x", x), ("y", y), ("hue", hue)):
         if not isinstance(name, str) and not (label == "hue" and name is None):
@@ -335,9 +338,10 @@ def plot(
     table, meta = load(results)
     filters = [f"{k}={v}" for k, v in (where or {}).items()]
     fig, note = sweep_figure(table.to_pylist(), meta, x, y, hue, filters, kind)
-    if note:
-        note = note.removeprefix("note: ").replace("--hue or --where", "hue= or where=")
-        warnings.warn(note, UserWarning, stacklevel=2)
+    for line in (note or "").splitlines():
+        line = line.removeprefix("note: ").replace("--hue or --where", "hue= or where=")
+        warnings.warn(line.replace("--where complete=true", "where={'complete': True}"),
+                      UserWarning, stacklevel=2)
     if out is not None:
         path = Path(fspath(out))
         if path.suffix.lower() not in SUFFIXES:

@@ -11,7 +11,7 @@ from PIL import Image
 from swarmex.cli import main
 from swarmex.engine.stats import summarize
 from swarmex.errors import InputError
-from swarmex.viz.plot import plot_sweep, series
+from swarmex.viz.plot import plot_sweep, series, sweep_figure
 
 META = {"mission": "traversal", "axes": ["algorithm", "agents", "grid"]}
 
@@ -47,7 +47,9 @@ def test_series_are_means_and_cis_per_level():
 
 
 def test_line_plot_png_and_svg(tmp_path):
-    png, note = plot_sweep(rows(), META, "agents", "makespan", "algorithm", path=tmp_path / "a.png")
+    finished = [r for r in rows() if r["complete"] is not False]
+    png, note = plot_sweep(finished, META, "agents", "makespan", "algorithm",
+                           path=tmp_path / "a.png")
     assert note is None
     with Image.open(png) as im:
         assert im.format == "PNG" and im.size[0] > 400
@@ -56,11 +58,16 @@ def test_line_plot_png_and_svg(tmp_path):
     svg, _ = plot_sweep(rows(), META, "agents", "complete", None, path=tmp_path / "a.svg")
     text = svg.read_text()
     assert text.lstrip().startswith("<?xml") and "<svg" in text
+    # the same figure, the same bytes: matplotlib stamped the date and salted its ids at
+    # random, so a figure kept under version control changed on every run
+    again, _ = plot_sweep(rows(), META, "agents", "complete", None, path=tmp_path / "b.svg")
+    assert again.read_text() == text and "<dc:date>" not in text
 
 
 def test_bar_plot_for_a_categorical_x_and_where(tmp_path):
     path, note = plot_sweep(
-        rows(), META, "algorithm", "makespan", None, ["agents=2"], "auto", tmp_path / "b.png"
+        rows(), META, "algorithm", "makespan", None, ["agents=2", "complete=true"], "auto",
+        tmp_path / "b.png",
     )
     assert path.exists() and note is None
     _, pooled = plot_sweep(rows(), META, "algorithm", "makespan", path=tmp_path / "c.png")
@@ -198,3 +205,44 @@ def test_python_plot_names_and_bad_input(tmp_path):
     blocker.write_text("x", encoding="utf-8")
     with pytest.raises(InputError, match="file is a file, not a folder"):
         swarmex.plot(out, "travel_time", "makespan", out=blocker / "p.png")
+
+
+def test_a_time_of_unfinished_runs_is_marked_and_noted(tmp_path, capsys):
+    # a run that did not finish has its budget as its makespan: a roadmap sweep drew PRM's
+    # 400 "steps" (its budget, 0 % complete) as if it had finished slowly, without a word
+    fig_rows = rows()
+    fig, note = sweep_figure(fig_rows, META, "agents", "makespan", "algorithm")
+    assert note == ("note: 6 of the 18 runs plotted did not finish; their makespan is where"
+                    " they stopped, not a finish time (--where complete=true keeps the"
+                    " finished ones)")
+    ax = fig.axes[0]
+    hollow = [ln for ln in ax.lines if ln.get_markerfacecolor() == "white"]
+    assert [len(ln.get_xdata()) for ln in hollow] == [3, 3]  # every point has a seed 2
+    assert "some runs did not finish" in fig.texts[0].get_text()
+    fig, note = sweep_figure(fig_rows, META, "agents", "makespan", "algorithm",
+                             ["complete=true"])
+    assert note is None and not [ln for ln in fig.axes[0].lines
+                                 if ln.get_markerfacecolor() == "white"]
+    fig, note = sweep_figure(fig_rows, META, "algorithm", "makespan", kind="bar")
+    assert "did not finish" in note
+    assert {p.get_hatch() for p in fig.axes[0].patches} == {"//"}
+    # completeness itself is no time: nothing to mark
+    assert sweep_figure(fig_rows, META, "agents", "complete", "algorithm")[1] is None
+
+
+
+def test_python_plot_warns_of_each_note_in_its_own_words(monkeypatch):
+    import swarmex
+    import swarmex.experiments.compare as compare
+
+    class Table:
+        def to_pylist(self):
+            return rows()
+
+    monkeypatch.setattr(compare, "load", lambda results: (Table(), META))
+    with pytest.warns(UserWarning) as caught:
+        swarmex.plot("sweep", x="agents", y="makespan")
+    said = [str(w.message) for w in caught]
+    assert said[0] == "pooled over algorithm (use hue= or where= to separate)"
+    assert said[1].startswith("6 of the 18 runs plotted did not finish")
+    assert said[1].endswith("(where={'complete': True} keeps the finished ones)")

@@ -106,3 +106,85 @@ def test_bad_render_suffix_exits_2_in_one_line(mission, tmp_path, capsys):
     assert len(err.strip().splitlines()) == 1, err
     assert "Traceback" not in err and "render" in err.lower()
     assert not out.exists()
+
+
+def _interrupt_after_a_partial_write(monkeypatch) -> None:
+    """matplotlib's and Pillow's writers stop with a few bytes written, as a Ctrl-C or a
+    full disk leaves them."""
+    from matplotlib.figure import Figure
+    from PIL.Image import Image as PILImage
+
+    def partial(path, *args, **kwargs):
+        Path(path).write_bytes(b"\x89PNG\r\n")
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(Figure, "savefig", lambda self, path, *a, **k: partial(path))
+    monkeypatch.setattr(PILImage, "save", lambda self, path, *a, **k: partial(path))
+
+
+@pytest.mark.parametrize(("mission", "suffix"),
+                         [*((m, ".png") for m in sorted(MISSIONS)), ("traverse", ".gif")])
+def test_an_interrupted_drawing_keeps_the_previous_file(mission, suffix, tmp_path, capsys,
+                                                        monkeypatch):
+    # matplotlib and Pillow wrote straight to --render's path: a Ctrl-C while a PNG (or the
+    # traversal GIF, which Pillow writes itself; the others are encoded in memory first) was
+    # written left a 0-124 byte image in place of the good one
+    out = tmp_path / f"keep{suffix}"
+    argv = [*MISSIONS[mission](tmp_path), "--render", str(out)]
+    assert main(argv) == 0, capsys.readouterr()
+    good = out.read_bytes()
+    with monkeypatch.context() as m:
+        _interrupt_after_a_partial_write(m)
+        assert main(argv) == 130
+    capsys.readouterr()
+    assert out.read_bytes() == good
+    assert sorted(p.name for p in tmp_path.iterdir() if p.name.startswith(".")) == []
+    assert [p.name for p in tmp_path.iterdir() if "keep" in p.name] == [out.name]
+
+
+def test_a_roadmap_png_that_cannot_be_written_is_one_input_error(tmp_path, monkeypatch):
+    # the other missions' PNGs said "cannot write"; roadmap's was an OSError traceback
+    import errno
+
+    from matplotlib.figure import Figure
+
+    import swarmex
+    from swarmex.errors import InputError
+
+    rec = swarmex.run("roadmap", env=_roadmap_env(tmp_path), agents=3, nodes=30, step=10,
+                      sensor_range=20)
+
+    def full(self, *a, **k):
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(Figure, "savefig", full)
+    with pytest.raises(InputError, match="cannot write .*No space left on device"):
+        swarmex.render(rec, tmp_path / "r.png")
+    assert not (tmp_path / "r.png").exists()
+
+
+def test_the_roadmap_png_draws_the_paths_and_says_incomplete(tmp_path, monkeypatch):
+    # it coloured every edge by branch, untravelled ones too, and drew no agent's path, so an
+    # incomplete PRM run's unreached components read as the agents' coverage
+    import swarmex.viz.roadmap_plot as rp
+    from swarmex.missions.registry import get
+
+    m = get("roadmap")
+    p = m.params(env=_roadmap_env(tmp_path), agents=3, nodes=30, step=10, sensor_range=20,
+                 planner="prm", step_budget=3)
+    world = m.prepare(p)
+    frames: list = []
+    m.execute(p, world, frames.append)
+    drawn = {}
+    monkeypatch.setattr(rp, "save_figure", lambda fig, path, **kw: drawn.setdefault("fig", fig))
+    from swarmex.viz.render import draw
+
+    outcome = m.execute(p, world)
+    assert outcome.record.complete is False
+    draw("roadmap", outcome, str(tmp_path / "r.png"), None)
+    ax = drawn["fig"].axes[0]
+    assert ax.get_title().endswith("· incomplete")
+    labels = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert labels[:3] == ["agent 1", "agent 2", "agent 3"] and "edge never travelled" in labels
+    paths = [ln for ln in ax.lines if ln.get_linewidth() == 2.2]  # one per agent
+    assert len(paths) == 3

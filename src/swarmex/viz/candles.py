@@ -21,6 +21,7 @@ matplotlib.use("Agg")  # files only: reproductions run headless, in workers and 
 import matplotlib.pyplot as plt  # noqa: E402
 
 from swarmex.engine.stats import Summary  # noqa: E402
+from swarmex.viz.files import save_figure  # noqa: E402
 
 OURS = "#1f77b4"
 THEIRS = "#d62728"
@@ -122,6 +123,7 @@ def candle_chart(
     if note:
         fig.text(0.01, 0.01, note, fontsize=7, color="dimgray")
     fig.tight_layout(rect=(0, 0.03 if note else 0, 1, 1))
-    fig.savefig(path)
-    plt.close(fig)
-    return path
+    try:
+        return save_figure(fig, Path(path))
+    finally:
+        plt.close(fig)

@@ -16,10 +16,10 @@ from pathlib import Path
 
 import numpy as np
 
-from swarmex.errors import InputError
 from swarmex.missions.exploration.frames import Snapshot, snapshot  # re-exported for viz users
 from swarmex.sensing.frontiers import frontier_mask
 from swarmex.viz.animation import write_animation
+from swarmex.viz.files import save_figure
 
 UNKNOWN = np.array([170, 170, 170], dtype=np.uint8)
 FREE = np.array([255, 255, 255], dtype=np.uint8)
@@ -150,8 +150,4 @@ def exploration_animation(frames: list[Snapshot], run, path: str | Path, fps: in
 
 
 def _save(fig, path: Path) -> None:
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        fig.savefig(path, bbox_inches="tight")
-    except OSError as exc:
-        raise InputError(f"cannot write {path}: {exc.strerror}") from None
+    save_figure(fig, path, bbox_inches="tight")

@@ -19,8 +19,8 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.collections import LineCollection
 from matplotlib.figure import Figure
 
-from swarmex.errors import InputError
 from swarmex.viz.animation import check_suffix, write_animation
+from swarmex.viz.files import save_figure
 
 MAX_FRAMES = 120
 
@@ -84,11 +84,7 @@ def render_png(record: dict[str, Any], path: Path, frames: Sequence[Any] = ()) -
         f"done at {int(record['makespan'])}",
         fontsize=10,
     )
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        fig.savefig(path)
-    except OSError as exc:  # a full disk, a read-only mount: one line, as for .gif/.mp4
-        raise InputError(f"cannot write {path}: {exc.strerror or exc}") from None
+    save_figure(fig, path)  # a full disk, a read-only mount: one line, as for .gif/.mp4
 
 
 def carried_units(record: dict[str, Any], T: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

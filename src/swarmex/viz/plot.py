@@ -23,6 +23,7 @@ from matplotlib.figure import Figure
 
 from swarmex.engine.stats import Summary, summarize
 from swarmex.errors import InputError
+from swarmex.viz.files import save_figure
 
 KINDS = ("auto", "line", "bar")
 SUFFIXES = (".png", ".svg")
@@ -45,19 +46,6 @@ def plot_sweep(
     fig, note = sweep_figure(rows, meta, x, y, hue, where, kind)
     save_figure(fig, path)
     return path, note
-
-
-def save_figure(fig: Figure, path: Path) -> None:
-    """Write ``fig`` to ``path`` (.png or .svg), making its folder: a path that cannot be
-    written (a file where a folder should be, no permission) is one InputError line, from
-    the command line and from ``swarmex.plot`` alike."""
-    from swarmex.engine.atomic import atomic_path
-
-    try:
-        with atomic_path(path) as tmp:  # its folder made, or one line on why it cannot be
-            fig.savefig(tmp, format=path.suffix.lower()[1:])
-    except OSError as exc:  # no permission in the folder
-        raise InputError(f"cannot write {path}: {exc.strerror or exc}") from None
 
 
 def column_name(columns: list[str], name: str) -> str:
@@ -106,6 +94,9 @@ def sweep_figure(
     if kind == "line" and not numeric_x:
         raise InputError(f"--kind line needs a numeric --x; {x!r} is categorical (use bar)")
 
+    # a time of a run that did not finish is where it stopped (its budget), not a finish
+    stops = is_time(y) or y.rsplit(".", 1)[-1] == "steps"  # roadmap's length is "steps"
+    unfinished = [r for r in ok if r.get("complete") is False] if stops else []
     fig = Figure(figsize=(6.4, 4.2), dpi=120)
     FigureCanvasAgg(fig)
     ax = fig.add_subplot()
@@ -114,6 +105,8 @@ def sweep_figure(
         mean = np.array([s.mean for s in stats])
         half = np.nan_to_num(np.array([s.half_width for s in stats]))
         label = None if hue is None else f"{h}"
+        cut = np.array([any((hue is None or r[hue] == h) and r[x] == v for r in unfinished)
+                        for v in xs], dtype=bool)
         if kind == "line":
             xv = np.array([float(v) for v in xs])
             have = np.isfinite(mean)
@@ -126,9 +119,16 @@ def sweep_figure(
                 alpha=0.2,
                 lw=0,
             )
+            if (have & cut).any():
+                ax.plot(xv[have & cut], mean[have & cut], ls="", marker="o", ms=7,
+                        mfc="white", mec=line.get_color(), mew=1.5, zorder=3)
         else:
             pos = np.arange(len(xs)) + (i - (len(hues) - 1) / 2) * width
-            ax.bar(pos, np.nan_to_num(mean), width * 0.95, yerr=half, capsize=3, label=label)
+            bars = ax.bar(pos, np.nan_to_num(mean), width * 0.95, yerr=half, capsize=3,
+                          label=label)
+            for bar, hatched in zip(bars, cut, strict=True):
+                if hatched:
+                    bar.set_hatch("//")
     if kind == "bar":
         ax.set_xticks(np.arange(len(xs)), [_label(v) for v in xs])
     elif len(xs) <= 12:  # the swept values themselves (no "2.25 agents" between them)
@@ -144,18 +144,24 @@ def sweep_figure(
     ax.set_axisbelow(True)
     if hue is not None:
         ax.legend(title=hue, fontsize=8, title_fontsize=8, frameon=False)
-    fig.tight_layout()
+    if unfinished:
+        mark = "hollow markers" if kind == "line" else "hatched bars"
+        fig.text(0.01, 0.01, f"{mark}: some runs did not finish; their {y} is where they"
+                 " stopped", fontsize=7, color="dimgray")
+    fig.tight_layout(rect=(0, 0.03 if unfinished else 0, 1, 1))
     pooled = [
         p
         for p in meta.get("axes", [])
         if p not in (x, hue, "seed") and p in columns and len(_levels([r[p] for r in ok])) > 1
     ]
-    note = (
-        f"note: pooled over {', '.join(pooled)} (use --hue or --where to separate)"
-        if pooled
-        else None
-    )
-    return fig, note
+    notes = []
+    if pooled:
+        notes.append(f"note: pooled over {', '.join(pooled)} (use --hue or --where to separate)")
+    if unfinished:
+        notes.append(f"note: {len(unfinished)} of the {len(ok)} runs plotted did not finish; their"
+                     f" {y} is where they stopped, not a finish time (--where complete=true"
+                     " keeps the finished ones)")
+    return fig, "\n".join(notes) or None
 
 
 def y_label(y: str, rows: list[dict[str, Any]]) -> str:
@@ -168,10 +174,15 @@ def y_label(y: str, rows: list[dict[str, Any]]) -> str:
     """
     if y == "complete":
         return "fraction complete"
-    words = y.rsplit(".", 1)[-1].split("_")
-    timed = y in ("makespan", "mission_end") or ("time" in words and y != "time_unit")
     units = {r.get("time_unit") for r in rows} - {None}
-    return f"{y} ({units.pop()})" if timed and len(units) == 1 else y
+    return f"{y} ({units.pop()})" if is_time(y) and len(units) == 1 else y
+
+
+def is_time(y: str) -> bool:
+    """Whether the column is a time of the run: a metric named ``*_time*``
+    (``total_time_all``, ``transport_time``), ``makespan`` or ``mission_end``."""
+    words = y.rsplit(".", 1)[-1].split("_")
+    return y in ("makespan", "mission_end") or ("time" in words and y != "time_unit")
 
 
 def series(

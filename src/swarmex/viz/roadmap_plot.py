@@ -25,6 +25,7 @@ from matplotlib.patches import Polygon as MplPolygon  # noqa: E402
 
 from swarmex.missions.roadmap.sim import RoadmapRun  # noqa: E402
 from swarmex.viz.animation import check_suffix, write_animation  # noqa: E402
+from swarmex.viz.files import save_figure  # noqa: E402
 
 # tab10 is a ListedColormap whose colors are a tuple of ten RGB tuples
 PALETTE = cast(
@@ -187,18 +188,52 @@ def summary_title(run: RoadmapRun, t: int | None = None) -> str:
             if run.goal_found
             else (", goal unreachable" if run.goal_unreachable else ", goal not found")
         )
+    if t is None and not run.complete:
+        s += " · incomplete"
     return s
 
 
+def _legend(ax, run: RoadmapRun) -> None:
+    """What the marks mean: a roadmap's colours are its branches (or PRM's components), which
+    an agent's colour does not match, so the agents are named by their triangles."""
+    from matplotlib.artist import Artist
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    shown = min(len(run.trajectories), 8)  # a legend for a big team is noise
+    handles: list[Artist] = [
+        Line2D([], [], marker="^", color=PALETTE[i % len(PALETTE)], mec="k", ls="-", lw=2.2,
+               alpha=0.8, label=f"agent {i + 1}")
+        for i in range(shown)
+    ]
+    handles += [
+        Line2D([], [], marker="o", mfc="none", mec="k", ls="", label="start"),
+        Line2D([], [], color="#bbbbbb", lw=1, label="edge never travelled"),
+        Patch(fc="#cdeccd", ec="none", label="seen"),
+    ]
+    if run.roadmap.branch is not None:
+        handles.insert(shown + 1, Line2D([], [], marker="s", color="k", ls="", label="root"))
+    if run.goal is not None:
+        handles.append(Line2D([], [], marker="*", color="gold", mec="k", ms=12, ls="",
+                              label="goal"))
+    ax.legend(handles=handles, fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1),
+              borderaxespad=0, frameon=False)
+
+
 def render_png(run: RoadmapRun, path: str | Path, title: str | None = None) -> Path:
+    """The run's end, as the animation's last frame shows it (edges never travelled grey,
+    every agent's path in its colour), with a legend. Without the paths, the roadmap's
+    branch colours read as the agents' own."""
     path = Path(path)
-    fig, ax = plt.subplots(figsize=(7, 7 * run.world.height / run.world.width + 0.4), dpi=110)
-    draw(ax, run, title=title or summary_title(run))
+    fig, ax = plt.subplots(figsize=(8.4, 7 * run.world.height / run.world.width + 0.4),
+                           dpi=110)
+    draw(ax, run, t=run.steps, first_use=_first_use(run), title=title or summary_title(run))
+    _legend(ax, run)
     fig.tight_layout()
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path)
-    plt.close(fig)
-    return path
+    try:
+        return save_figure(fig, path, bbox_inches="tight")  # the legend beside the axes
+    finally:
+        plt.close(fig)
 
 
 BUILD_FRAMES = 20  # frames spent on the roadmap's construction before the mission starts

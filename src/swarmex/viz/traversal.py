@@ -40,6 +40,7 @@ from swarmex.viz.animation import (
     RENDER_SUFFIXES,
     write_animation,
 )
+from swarmex.viz.files import save_figure, write_file
 
 SMALL_CELLS = 2500  # up to 50x50 the thesis style (dots, edges, circles) stays legible
 MAX_FRAMES = 120  # an animation never has more frames than this, whatever the map size
@@ -320,7 +321,7 @@ def traversal_png(
         )
     cv.nests()
     cv.legend()
-    return _save(lambda: cv.fig.savefig(path, format="png", bbox_inches="tight"), path)
+    return save_figure(cv.fig, path, bbox_inches="tight")
 
 
 def frame_times(record: dict, max_frames: int = MAX_FRAMES) -> np.ndarray:
@@ -538,16 +539,17 @@ def _write_gif(path: Path, frames: list[np.ndarray], palette: bytes, durations: 
         im = Image.frombytes("P", (f.shape[1], f.shape[0]), np.ascontiguousarray(f).tobytes())
         im.putpalette(palette)
         images.append(im)
-    images[0].save(
-        path,
-        format="GIF",
-        save_all=True,
-        append_images=images[1:],
-        duration=durations,
-        loop=0,
-        optimize=False,
-        disposal=1,
-    )
+    with write_file(path) as tmp:  # whole or not at all: Pillow writes straight to its path
+        images[0].save(
+            tmp,
+            format="GIF",
+            save_all=True,
+            append_images=images[1:],
+            duration=durations,
+            loop=0,
+            optimize=False,
+            disposal=1,
+        )
 
 
 def traversal_frame(record: dict[str, Any], world: Any, t: float, title: str,
