@@ -80,11 +80,24 @@ def render_png(record: dict[str, Any], path: Path, frames: Sequence[Any] = ()) -
     ax.plot(*nest, marker="*", ms=14, color="black", ls="")
     ax.plot(*food, marker="s", ms=9, color="red", ls="")
     ax.set_title(
-        f"{record['algorithm']} · n={len(pos)} · g={g} · found at {disc}, "
-        f"done at {int(record['makespan'])}",
+        f"{record['algorithm']} · n={len(pos)} · g={g} · found at round {disc}, "
+        f"done at round {int(record['makespan'])}",
         fontsize=10,
     )
-    save_figure(fig, path)  # a full disk, a read-only mount: one line, as for .gif/.mp4
+    _legend(ax)
+    save_figure(fig, path, bbox_inches="tight")  # the legend beside the grid
+
+
+def _legend(ax) -> None:
+    """What the marks mean; the robots' colours only tell them apart."""
+    from matplotlib.lines import Line2D
+
+    ax.legend(handles=[
+        Line2D([], [], marker="*", ms=11, color="black", ls="", label="nest"),
+        Line2D([], [], marker="s", ms=7, color="red", ls="", label="food"),
+        Line2D([], [], color="0.2", lw=1.2, label="a robot's path until the food is found"),
+        Line2D([], [], color="0.2", lw=0.6, alpha=0.25, label="after (communication, transport)"),
+    ], fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1), borderaxespad=0, frameon=False)
 
 
 def carried_units(record: dict[str, Any], T: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -220,7 +220,8 @@ class _Canvas:
                     label="job done",
                 )
             )
-        handles.append(Patch(facecolor="black", label="obstacle"))
+        if self.world.blocked.any():  # a key for what is not drawn reads as a missing mark
+            handles.append(Patch(facecolor="black", label="obstacle"))
         self.fig.legend(
             handles=handles,
             loc="upper left",
