@@ -20,7 +20,6 @@ from __future__ import annotations
 import json
 import sys
 import time
-from concurrent.futures import ProcessPoolExecutor
 from typing import Any
 
 import numpy as np
@@ -72,7 +71,7 @@ def main(argv: list[str] | None = None) -> int:
                  for st in strategies for s in seed_list]
     res: dict[str, dict[str, dict[int, tuple[int, bool]]]] = {}
     t0 = time.perf_counter()
-    with ProcessPoolExecutor(args.jobs) as pool:
+    with _cli.process_pool(args.jobs) as pool:
         for i, (sc, st, seed, mk, ok) in enumerate(pool.map(one, jobs), 1):
             res.setdefault(sc, {}).setdefault(st, {})[seed] = (mk, ok)
             if sys.stderr.isatty():  # a progress line, not a log of carriage returns

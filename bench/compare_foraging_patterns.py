@@ -33,7 +33,6 @@ from __future__ import annotations
 import json
 import os
 import time
-from concurrent.futures import ProcessPoolExecutor
 from typing import Any
 
 import numpy as np
@@ -412,7 +411,7 @@ def main(argv: list[str] | None = None) -> int:
             saved = {tuple(key): m for key, m in json.load(fh)}
         rows = [(t, 0.0, saved[t[:4]]) for t in tasks]
     else:
-        with ProcessPoolExecutor(max(1, a.workers)) as ex:
+        with _cli.process_pool(a.workers) as ex:
             rows = list(ex.map(run_one, tasks, chunksize=8))
     cpu = sum(r[1] for r in rows)
     totals: dict[tuple[str, int, str], list[float]] = {}

@@ -27,7 +27,6 @@ from __future__ import annotations
 import json
 import sys
 import time
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 
 import numpy as np
@@ -98,7 +97,7 @@ def main(argv: list[str] | None = None) -> int:
     jobs = [(r, rule, s) for r in table for rule in RULES for s in range(seeds)]
     values: dict[tuple[Row, str], dict[int, float]] = {}
     t0 = time.perf_counter()
-    with ProcessPoolExecutor(args.jobs) as pool:
+    with _cli.process_pool(args.jobs) as pool:
         for i, (row, rule, seed, v) in enumerate(pool.map(measure, jobs, chunksize=4), 1):
             values.setdefault((row, rule), {})[seed] = v
             if sys.stderr.isatty() and (i % 50 == 0 or i == len(jobs)):  # a terminal's line

@@ -42,11 +42,12 @@ so an interrupted bench loses nothing and a larger bench grows a smaller one;
 
 from __future__ import annotations
 
+import argparse
 import json
 import os
 import sys
 import time
-from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures import as_completed
 from contextlib import contextmanager
 from dataclasses import dataclass, fields
 from pathlib import Path
@@ -103,6 +104,17 @@ COMM_MAPS = ["random-32-32-20", "room-32-32-4"]
 
 def maps_dir() -> Path:
     return Path(os.environ.get("SWARMEX_MAPS", REPO.parent / "shared" / "maps"))
+
+
+def map_name(text: str) -> str:
+    """A ``--maps`` value: refused at once when the maps folder is there without it (a typo
+    used to print an empty table, or run every other section, and exit 0); with no folder,
+    every map is skipped later, saying so."""
+    folder = maps_dir()
+    if folder.is_dir() and not (folder / f"{text}.map").exists():
+        have = sorted(p.stem for p in folder.glob("*.map"))
+        raise argparse.ArgumentTypeError(f"no map {text!r} in {folder} (have: {', '.join(have)})")
+    return text
 
 
 def load(name: str) -> GridWorld | None:
@@ -237,7 +249,7 @@ def run_all(jobs: list[Job], workers: int, runs: Path | None = None) -> list[dic
             finished(run_one(job))
             _progress(i, len(todo), t0)
     elif todo:
-        with ProcessPoolExecutor(workers) as pool:
+        with _cli.process_pool(workers) as pool:
             futures = [pool.submit(run_one, job) for job in todo]
             for i, fut in enumerate(as_completed(futures), 1):
                 finished(fut.result())
@@ -429,7 +441,8 @@ def _cell_order(cell: tuple[str, int, str]) -> tuple:
 def main(argv: list[str] | None = None) -> int:
     ap = _cli.Parser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--section", choices=["variants", "comm", "both"], default="both")
-    ap.add_argument("--maps", nargs="+", default=None, help=f"default: {' '.join(MAPS)}")
+    ap.add_argument("--maps", nargs="+", type=map_name, default=None,
+                    help=f"default: {' '.join(MAPS)}")
     ap.add_argument("--agents", nargs="+", type=_cli.positive_int, default=[4, 8, 16])
     ap.add_argument("--seeds", type=_cli.paired_count, default=5)
     ap.add_argument("--nests", nargs="+", choices=NEST_MODES, default=list(NEST_MODES))
@@ -439,7 +452,7 @@ def main(argv: list[str] | None = None) -> int:
                     "(see fleet_for)")
     ap.add_argument("--channel", choices=[label for label, _ in CHANNELS], default="perfect",
                     help="variants: the radio of every run (one of comm's channels)")
-    ap.add_argument("--comm-maps", nargs="+", default=COMM_MAPS)
+    ap.add_argument("--comm-maps", nargs="+", type=map_name, default=COMM_MAPS)
     ap.add_argument("--comm-agents", type=_cli.positive_int, default=8)
     ap.add_argument("--comm-seeds", type=_cli.paired_count, default=4)
     ap.add_argument("--comm-algorithms", nargs="+", default=["madgta", "madgta+"])
@@ -454,7 +467,7 @@ def main(argv: list[str] | None = None) -> int:
                     help="worker processes (default 1)")
     ap.add_argument("--json", type=_cli.out_file, default=None,
                     help="write every run's figures here")
-    ap.add_argument("--runs", type=Path, default=None,
+    ap.add_argument("--runs", type=_cli.out_file, default=None,
                     help="a JSON-lines file: each finished run is appended to it, and runs "
                     "already in it are reused (an interrupted bench loses no finished run)")
     ap.add_argument("--reference", nargs="+", default=[],

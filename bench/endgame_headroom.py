@@ -38,7 +38,14 @@ import numpy as np
 import _cli
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from compare_traversal_variants import JOB, TRAVEL, fleet_for, load, nests_for  # noqa: E402
+from compare_traversal_variants import (  # noqa: E402
+    JOB,
+    TRAVEL,
+    fleet_for,
+    load,
+    map_name,
+    nests_for,
+)
 from swarmex.missions.traversal import run_metrics, run_traversal  # noqa: E402
 from swarmex.missions.traversal import sim as simmod  # noqa: E402
 from swarmex.missions.traversal.rollout_sim import _fill_rows  # noqa: E402
@@ -149,7 +156,7 @@ def plan(world, snap: dict, passes: int = 200, ils: int = 0,
 
 def main(argv: list[str] | None = None) -> int:
     ap = _cli.Parser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--maps", nargs="+", default=MAPS)
+    ap.add_argument("--maps", nargs="+", type=map_name, default=MAPS)
     ap.add_argument("--seeds", type=_cli.positive_int, default=4)
     ap.add_argument("--x", type=_cli.positive_int, nargs="+", default=[100, 200, 400, 800])
     ap.add_argument("--agents", type=_cli.positive_int, default=16)

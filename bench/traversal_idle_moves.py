@@ -22,7 +22,13 @@ import numpy as np
 import _cli
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from compare_traversal_variants import NEST_MODES, fleet_for, load, nests_for  # noqa: E402
+from compare_traversal_variants import (  # noqa: E402
+    NEST_MODES,
+    fleet_for,
+    load,
+    map_name,
+    nests_for,
+)
 from gap_traversal_optimal import check_algorithms, online_policy  # noqa: E402
 from swarmex.missions.traversal import run_metrics, run_traversal  # noqa: E402
 
@@ -45,8 +51,8 @@ def idle_moves(run, end: int) -> tuple[float, int, int]:
 
 def main(argv: list[str] | None = None) -> int:
     ap = _cli.Parser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--maps", nargs="+", default=["random-64-64-20", "warehouse-10-20-10-2-1",
-                                                  "room-32-32-4"])
+    ap.add_argument("--maps", nargs="+", type=map_name,
+                    default=["random-64-64-20", "warehouse-10-20-10-2-1", "room-32-32-4"])
     ap.add_argument("--algorithms", nargs="+", default=["madgta", "madgta-f"])
     ap.add_argument("--nests", nargs="+", choices=NEST_MODES, default=["shared"])
     ap.add_argument("--seeds", type=_cli.positive_int, default=1)

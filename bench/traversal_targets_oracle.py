@@ -110,7 +110,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--maps", nargs="+", choices=MAPS, default=SMALL + LARGE)
     ap.add_argument("--seeds", type=_cli.paired_count, default=4)
     ap.add_argument("--agents", type=_cli.positive_int, default=16)
-    ap.add_argument("--runs", type=Path, default=None,
+    ap.add_argument("--runs", type=_cli.out_file, default=None,
                     help="a JSON-lines file: finished runs are appended and reused")
     args = ap.parse_args(argv)
     POLICIES.update(ORACLES)  # by name, for the runs of this process (run serially)

@@ -84,11 +84,20 @@ BAD = [
     ("traversal_team_size.py", ["--density", "1"], "--density must be in [0, 1), got 1.0"),
     ("traversal_team_size.py", ["--algorithms", "madgta-f@x=1"], "madgta-f has no option 'x'"),
     ("traversal_targets_oracle.py", ["--maps", "nope"], "invalid choice: 'nope'"),
+    ("traversal_idle_moves.py", ["--maps", "nope"], "no map 'nope' in"),
+    ("endgame_headroom.py", ["--maps", "nope"], "no map 'nope' in"),
+    ("compare_traversal_variants.py", ["--quick", "--maps", "nope"], "no map 'nope' in"),
+    ("compare_traversal_variants.py", ["--comm-maps", "nope"], "no map 'nope' in"),
+    ("compare_traversal_variants.py", ["--runs", "/nonexistent/x.jsonl"],
+     "cannot write /nonexistent/x.jsonl: folder /nonexistent does not exist"),
 ]
 
 
 @pytest.mark.parametrize(("script", "argv", "says"), BAD, ids=[f"{s}{a}" for s, a, _ in BAD])
 def test_a_bad_argument_is_one_line_and_status_2(script: str, argv: list[str], says: str):
+    maps = Path(os.environ.get("SWARMEX_MAPS", ROOT.parent / "shared" / "maps"))
+    if says.startswith("no map") and not maps.is_dir():
+        pytest.skip(f"a map name is checked against the maps folder, and {maps} is absent")
     env = {**os.environ, "PYTHONPATH": str(SRC)}
     proc = subprocess.run([sys.executable, str(BENCH / script), *argv], capture_output=True,
                           text=True, env=env, cwd=ROOT, timeout=120)
@@ -162,3 +171,35 @@ def test_pogema_install_failure_is_a_skip(monkeypatch: pytest.MonkeyPatch, tmp_p
     assert not (tmp_path / ".cache" / "swarmex" / "bench-pogema").exists()
     err = capsys.readouterr().err
     assert "POGEMA skipped: pip install pogema==1.4.* failed" in err
+
+
+def test_ctrl_c_ends_a_pooled_comparison_at_once(tmp_path: Path):
+    """``with ProcessPoolExecutor()`` waited on leaving for every queued job: a Ctrl-C went on
+    running a quick traversal comparison for 31 s, and hung a foraging one until killed."""
+    import signal
+    import time
+
+    env = {**os.environ, "PYTHONPATH": str(SRC),
+           "SWARMEX_MAPS": str(tmp_path)}  # open 40 x 40 maps under the real names: minutes of runs
+    for name in ("empty-16-16", "random-32-32-20", "room-32-32-4"):
+        (tmp_path / f"{name}.map").write_text(
+            "type octile\nheight 40\nwidth 40\nmap\n" + "\n".join(["." * 40] * 40) + "\n")
+    proc = subprocess.Popen(
+        [sys.executable, str(BENCH / "compare_traversal_variants.py"), "--quick", "--jobs", "2",
+         "--section", "variants"], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+        env=env, cwd=tmp_path)  # fmt: skip
+    try:
+        assert proc.stderr is not None
+        first = proc.stderr.readline()  # "variants: 270 runs on ...": the pool is at work
+        assert first.startswith("variants:"), first
+        time.sleep(1.0)
+        proc.send_signal(signal.SIGINT)
+        start = time.monotonic()
+        rest = proc.stderr.read()
+        code = proc.wait(timeout=20)
+        assert time.monotonic() - start < 5
+    finally:
+        proc.kill()
+    assert code == 130, rest
+    assert rest.strip().splitlines()[-1] == "compare_traversal_variants.py: interrupted (Ctrl-C)"
+    assert "Traceback" not in rest
