@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import importlib
 import json
+import os
 import shutil
 import subprocess
 import sys
@@ -148,20 +149,28 @@ print(json.dumps({"rate": steps / (time.perf_counter() - start), "steps": steps,
 """
 
 
+def _own_env() -> dict[str, str]:
+    """This environment without ``PYTHONPATH``: the POGEMA venv's pip and Python must not see
+    swarmex's source tree (``PYTHONPATH=src``, as the other scripts are run), or pip reports
+    swarmex's NumPy 2 requirement as a conflict with POGEMA's NumPy 1."""
+    return {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+
+
 def pogema(seconds: float, warmup: float = 1.0) -> dict[str, Any] | None:
     home = Path.home() / ".cache" / "swarmex" / "bench-pogema"
     python = home / "bin" / "python"
     if not python.exists():
         print(f"making a virtual environment for POGEMA 1.4 in {home} ...", file=sys.stderr)
         venv.create(home, with_pip=True)
-        got = subprocess.run([str(python), "-m", "pip", "install", "-q", "pogema==1.4.*"])
+        got = subprocess.run([str(python), "-m", "pip", "install", "-q", "pogema==1.4.*"],
+                             env=_own_env())
         if got.returncode:  # offline, say: no traceback, and no half-made venv kept for later
             shutil.rmtree(home, ignore_errors=True)
             print("POGEMA skipped: pip install pogema==1.4.* failed (see above); "
                   "--no-pogema leaves it out", file=sys.stderr)
             return None
     out = subprocess.run([str(python), "-c", POGEMA_CODE, str(seconds), str(warmup)],
-                         capture_output=True, text=True, timeout=600)
+                         capture_output=True, text=True, timeout=600, env=_own_env())
     if out.returncode:
         last = out.stderr.strip().splitlines()[-1:] or ["no message"]
         print(f"POGEMA skipped: its run failed: {last[0]}", file=sys.stderr)
@@ -175,7 +184,9 @@ def main() -> None:
                     help="timing window per case")
     ap.add_argument("--warmup", type=_cli.nonneg_float, default=1.0,
                     help="seconds of the same loop before each timing window, not counted")
-    ap.add_argument("--no-pogema", action="store_true")
+    ap.add_argument("--no-pogema", action="store_true",
+                    help="leave POGEMA out; otherwise its first run makes a virtual environment"
+                    " in ~/.cache/swarmex/bench-pogema and pip-installs pogema==1.4.* there")
     ap.add_argument("--only", default="", help="run only cases whose label contains this")
     args = ap.parse_args()
     if args.only and not any(args.only in label for label, _, _ in CASES):

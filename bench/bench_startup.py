@@ -62,7 +62,7 @@ def measure(name: str, argv: list[str], runs: int, env: dict[str, str], cwd: str
 
 
 def main() -> None:
-    ap = _cli.Parser(description=__doc__.splitlines()[0])
+    ap = _cli.Parser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--runs", type=_cli.positive_int, default=7, help="timed runs per command")
     ap.add_argument("--no-cold", action="store_true", help="skip the cold-cache demo")
     ap.add_argument("--src", type=Path, default=SRC,

@@ -27,8 +27,9 @@ ALGORITHMS = ["madgta", "madgta+", "madgta-k", "nearest"]
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--out", type=Path, default=Path("compare-algorithms"))
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--out", type=Path, default=Path("compare-algorithms"),
+                    help="folder for the sweep and the figures (default: compare-algorithms)")
     ap.add_argument("--quick", action="store_true", help="two small grids, three seeds")
     args = ap.parse_args(argv)
     grids = ["8x8", "10x8"] if args.quick else ["12x12", "16x16", "20x20"]
