@@ -247,9 +247,15 @@ def sweep(
     from swarmex.experiments.progress import SweepBar
     from swarmex.experiments.scenario import mission_shapes
     from swarmex.experiments.sweep import read_results, run_sweep
-    from swarmex.experiments.sweep_spec import spec_from_keywords
+    from swarmex.experiments.sweep_spec import listed_axes, spec_from_keywords
 
     spec = spec_from_keywords(mission, seeds, fixed or {}, axes)
+    for note in listed_axes(spec):
+        import warnings
+
+        note = note.removeprefix("note: ").replace("put it under [fixed]", "give it in fixed=")
+        warnings.warn(note.replace(" (docs/sweeps.md)", " or as a tuple"), UserWarning,
+                      stacklevel=2)
     bar = SweepBar(disable=not progress)
     try:
         result = run_sweep(

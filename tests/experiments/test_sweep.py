@@ -638,3 +638,25 @@ def test_a_missing_input_file_stops_the_sweep_before_any_run(tmp_path, capsys):
     assert code == 2 and err.count("\n") == 1
     assert f"env = {tmp_path / 'fig8.json'}: no such file" in err
     assert not list((tmp_path / "o").glob("runs/*"))
+
+
+def test_a_list_option_swept_element_by_element_is_noted(tmp_path, capsys):
+    # a scenario file's `obstacles = [...]` run as a spec swept one wall cell per run, silently
+    spec = tmp_path / "s.toml"
+    spec.write_text('mission = "traversal"\ngrid = "5x5"\nagents = 2\n'
+                    'obstacles = ["2,1", "2,2"]\nnests = ["0,0"]\n')
+    assert main(["sweep", str(spec), "--out", str(tmp_path / "a"), "--backend", "serial"]) == 0
+    out = capsys.readouterr().out
+    assert ("note: obstacles is an axis of 2 values, one per run; for one list of obstacles in"
+            " every run, put it under [fixed] (docs/sweeps.md)") in out
+    assert "nests is an axis" not in out  # one value: nothing to misread
+    spec.write_text('mission = "traversal"\ngrid = "5x5"\nagents = [1, 2]\n'
+                    '[fixed]\nobstacles = ["2,1", "2,2"]\n')
+    assert main(["sweep", str(spec), "--out", str(tmp_path / "b"), "--backend", "serial"]) == 0
+    assert "note:" not in capsys.readouterr().out
+    import swarmex
+
+    with pytest.warns(UserWarning, match=r"obstacles is an axis of 2 values, one per run; for"
+                      r" one list of obstacles in every run, give it in fixed= or as a tuple"):
+        swarmex.sweep("traversal", out=tmp_path / "c", grid="5x5", agents=2,
+                      obstacles=["2,1", "2,2"], backend="serial", progress=False)

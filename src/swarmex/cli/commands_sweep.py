@@ -71,9 +71,11 @@ def sweep(
 ) -> None:
     """Run the product of a spec's parameter lists and seeds; resumable; one Parquet table."""
     from swarmex.experiments.sweep import run_sweep
-    from swarmex.experiments.sweep_spec import load_sweep_spec
+    from swarmex.experiments.sweep_spec import listed_axes, load_sweep_spec
 
     spec = load_sweep_spec(spec_file)
+    for note in listed_axes(spec):
+        console.print(note, soft_wrap=True, markup=False)
     shapes = mission_shapes(spec.mission, spec_file)
     check_metrics(spec.mission, metric)  # a typo must stop the sweep before its runs
     compared = None

@@ -141,6 +141,22 @@ class SweepSpec:
         return values
 
 
+def listed_axes(spec: SweepSpec) -> list[str]:
+    """Notes on axes of an option whose one value is itself a list (obstacles, nests): by the
+    spec's rule each element is one run's whole value, which is seldom meant (a scenario
+    file's ``obstacles = [...]`` swept as a spec gave 8 runs of one wall cell each)."""
+    from swarmex.missions.registry import get
+
+    options = get(spec.mission).params_type.options()
+    notes = []
+    for key, values in spec.axes.items():
+        info = options.get(key.replace("-", "_"))
+        if info is not None and info.many and len(values) > 1:
+            notes.append(f"note: {key} is an axis of {len(values)} values, one per run; for one"
+                         f" list of {key} in every run, put it under [fixed] (docs/sweeps.md)")
+    return notes
+
+
 def run_id(mission: str, params: dict[str, Any], seed: int) -> str:
     """A stable id of a run from what it computes (not where it sits in the product)."""
     text = json.dumps({"mission": mission, "params": params, "seed": seed}, sort_keys=True)

@@ -234,6 +234,7 @@ def cells() -> Parser:
         return tuple(out)
 
     parse.kind = str  # type: ignore[attr-defined]
+    parse.many = True  # type: ignore[attr-defined]  # a list of values is one value
     return parse
 
 
@@ -297,6 +298,7 @@ def points() -> Parser:
         return tuple(_point(p, flag) for p in parts)
 
     parse.kind = str  # type: ignore[attr-defined]
+    parse.many = True  # type: ignore[attr-defined]
     return parse
 
 
@@ -308,6 +310,7 @@ def optional(inner: Parser) -> Parser:
 
     parse.kind = getattr(inner, "kind", str)  # type: ignore[attr-defined]
     parse.choices = getattr(inner, "choices", None)  # type: ignore[attr-defined]
+    parse.many = getattr(inner, "many", False)  # type: ignore[attr-defined]
     return parse
 
 
@@ -338,6 +341,12 @@ class OptionInfo:
     @property
     def choices(self) -> tuple[str, ...] | None:
         return getattr(self.parse, "choices", None)
+
+    @property
+    def many(self) -> bool:
+        """Whether one value is itself a list (cells, points): in a sweep spec such a list is
+        an axis unless it sits in ``[fixed]``."""
+        return bool(getattr(self.parse, "many", False))
 
 
 def option(
