@@ -401,6 +401,15 @@ class AgentClient:
         self._done(EXIT_HANDED_BACK, f"id handed back ({self.handed_back}); vehicle {how}")
         return 1.0
 
+    def _server_silent(self, now: float) -> bool:
+        """Nothing heard from the server for ``server_timeout``, and nothing waiting unread.
+        Agents sharing a process read their sockets in turn after they all tick, so while
+        one handled a frame for a long time (a kernel compiled on a cold cache, under load)
+        the others' frames waited unread, and they declared a live server gone."""
+        if now - self.last_server <= self.server_timeout:
+            return False
+        return not self.sock.poll(0, zmq.POLLIN)
+
     # ------------------------------------------------------------------ acting
     def wall_of(self, t: float) -> float:
         assert self.t0w is not None and self.mission is not None
@@ -422,7 +431,7 @@ class AgentClient:
         if self.state == "hello" and self.want_id < 0 and self.waiting:
             # a spare the server has answered waits for a vacated id as long as the mission
             # runs (END releases it); only a silent server ends the wait
-            if now - self.last_server > self.server_timeout:
+            if self._server_silent(now):
                 self._done(EXIT_SERVER_GONE, "the server went silent")
                 return 1.0
         elif self.state == "hello":  # §4.3: keep trying to connect for a while
@@ -430,7 +439,7 @@ class AgentClient:
                 self._done(EXIT_SERVER_GONE if not self.waiting else EXIT_REFUSED,
                            "no id from the server")
                 return 1.0
-        elif now - self.last_server > self.server_timeout:
+        elif self._server_silent(now):
             self._done(EXIT_SERVER_GONE, "the server went silent")
             return 1.0
         if self.state == "hello" and self.retry_at is not None and now >= self.retry_at:
