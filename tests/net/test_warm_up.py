@@ -56,7 +56,7 @@ for free, nests in ((walls, [0, 0, 0]), (np.ones((8, 7), dtype=bool), [0, 0, 0, 
 late["madgta"] = compiled[before:]
 # a spec with options is warmed up as itself (its mission data names the spec)
 for algorithm in ("madgta+", "madgta-r", "madgta-p", "madgta-p@ils=5,follow=walls",
-                  "madgta-k", "madgta-f", "nearest"):
+                  "madgta-k", "madgta-f", "madgta-s", "nearest"):
     warm_policy(algorithm)  # what the agent does when the mission data names it
     before = len(compiled)
     for free in (walls, big):
