@@ -188,3 +188,17 @@ def test_the_roadmap_png_draws_the_paths_and_says_incomplete(tmp_path, monkeypat
     assert labels[:3] == ["agent 1", "agent 2", "agent 3"] and "edge never travelled" in labels
     paths = [ln for ln in ax.lines if ln.get_linewidth() == 2.2]  # one per agent
     assert len(paths) == 3
+
+
+def test_exploration_frames_say_their_step(tmp_path, capsys):
+    # the other missions' animations have a title and a clock; exploration's had neither
+    out = tmp_path / "e.gif"
+    assert main([*_explore(tmp_path), "--render", str(out)]) == 0, capsys.readouterr()
+    with Image.open(out) as im:
+        frames = []
+        for k in (0, im.n_frames - 1):
+            im.seek(k)
+            frames.append(np.asarray(im.convert("RGB")))
+    bands = [f[:16] for f in frames]
+    assert all((b < 100).all(axis=2).sum() > 50 for b in bands)  # dark text on the band
+    assert not np.array_equal(bands[0], bands[1])  # the step moves on

@@ -6,7 +6,7 @@ known obstacles are black, true walls nobody has seen are a darker grey; each ro
 is drawn in its own colour with a dot where it ended. Animation frames also paint the
 frontier (known free cells next to unknown ones, what the strategies choose goals from) in
 gold and each robot's current goal as a hollow square in its colour, so one sees why robots
-head where they do. Frames are composed directly as numpy RGB arrays (no matplotlib per
+head where they do, under a line with the run, its step and the share explored. Frames are composed directly as numpy RGB arrays (no matplotlib per
 frame), so a 400×400 animation of a few hundred frames costs about a second.
 """
 
@@ -142,11 +142,35 @@ def exploration_png(run, path: str | Path, title: str | None = None) -> Path:
 
 
 def exploration_animation(frames: list[Snapshot], run, path: str | Path, fps: int = 12) -> Path:
-    """Write the recorded snapshots as a ``.gif`` or ``.mp4`` (by the suffix)."""
+    """Write the recorded snapshots as a ``.gif`` or ``.mp4`` (by the suffix), each under a
+    line saying which run it is, its step and how much is explored (the other missions'
+    animations have a title and a clock; these frames had neither)."""
     h, w = run.grid.shape
     scale = max(1, 400 // max(h, w))
-    images = [rgb_frame(s, run.trajectories, run.grid.free, scale) for s in frames]
+    free = run.grid.free
+    total = max(int(free.sum()), 1)
+    name = f"{run.params.strategy}, {len(run.trajectories)} robot(s)"
+    images = [
+        captioned(rgb_frame(s, run.trajectories, free, scale),
+                  f"{name}, step {s.t}, explored {((s.known == 1) & free).sum() / total:.0%}")
+        for s in frames
+    ]
     return write_animation(path, images, fps)
+
+
+CAPTION_PX = 16  # the band above a frame: Pillow's default font is 11 pixels tall
+
+
+def captioned(img: np.ndarray, text: str) -> np.ndarray:
+    """``img`` under a white band with ``text`` in black (Pillow's built-in font: no font
+    file to find, and no matplotlib per frame)."""
+    from PIL import Image, ImageDraw
+
+    out = np.full((img.shape[0] + CAPTION_PX, img.shape[1], 3), 255, dtype=np.uint8)
+    out[CAPTION_PX:] = img
+    canvas = Image.fromarray(out)
+    ImageDraw.Draw(canvas).text((3, 2), text, fill=(0, 0, 0))
+    return np.asarray(canvas)
 
 
 def _save(fig, path: Path) -> None:
