@@ -5,7 +5,9 @@ serve`` (C00, C22, C01–C03, GO) and then falls silent, as a crashed server wou
 
 from __future__ import annotations
 
+import contextlib
 import threading
+from collections.abc import Iterator
 
 import numpy as np
 import pytest
@@ -39,21 +41,27 @@ def _server_that_dies(sock: zmq.Socket, stop: threading.Event) -> None:
                 return  # and never another word: the agent waits for rival 2, then gives up
 
 
-def test_agent_exits_when_the_server_falls_silent():
+@contextlib.contextmanager
+def _stand_in(serve) -> Iterator[str]:
+    """``serve(sock, stop)`` on a loopback ROUTER in a thread, for the block: its endpoint."""
     sock = zmq.Context.instance().socket(zmq.ROUTER)
     sock.setsockopt(zmq.LINGER, 0)
     sock.bind("tcp://127.0.0.1:*")
     stop = threading.Event()
-    server = threading.Thread(target=_server_that_dies, args=(sock, stop), daemon=True)
+    server = threading.Thread(target=serve, args=(sock, stop), daemon=True)
     server.start()
-    said: list[str] = []
     try:
-        code = run_agents(sock.getsockopt_string(zmq.LAST_ENDPOINT), 1, server_timeout=1.0,
-                          timeout=30, say=said.append)
+        yield sock.getsockopt_string(zmq.LAST_ENDPOINT)
     finally:
         stop.set()
         server.join(5)
         sock.close(0)
+
+
+def test_agent_exits_when_the_server_falls_silent():
+    said: list[str] = []
+    with _stand_in(_server_that_dies) as endpoint:
+        code = run_agents(endpoint, 1, server_timeout=1.0, timeout=30, say=said.append)
     assert code == EXIT_SERVER_GONE
     assert any("server went silent" in s for s in said)
 
@@ -115,19 +123,9 @@ def test_one_agent_busy_with_a_frame_is_not_its_neighbours_silent_server(monkeyp
 
     monkeypatch.setattr(AgentClient, "__init__", remembered)
     monkeypatch.setattr(AgentClient, "on_frame", slow)
-    sock = zmq.Context.instance().socket(zmq.ROUTER)
-    sock.setsockopt(zmq.LINGER, 0)
-    sock.bind("tcp://127.0.0.1:*")
-    stop = threading.Event()
-    server = threading.Thread(target=_server_that_keeps_talking, args=(sock, stop), daemon=True)
-    server.start()
     said: list[str] = []
-    try:
-        run_agents(sock.getsockopt_string(zmq.LAST_ENDPOINT), 2, server_timeout=1.0,
-                   timeout=4, say=said.append, warn=said.append)
-    finally:
-        stop.set()
-        server.join(5)
-        sock.close(0)
+    with _stand_in(_server_that_keeps_talking) as endpoint:
+        run_agents(endpoint, 2, server_timeout=1.0, timeout=4, say=said.append,
+                   warn=said.append)
     assert slept, said  # the slow frame came mid-mission
     assert not any("went silent" in s for s in said), said
