@@ -6,8 +6,9 @@ known obstacles are black, true walls nobody has seen are a darker grey; each ro
 is drawn in its own colour with a dot where it ended. Animation frames also paint the
 frontier (known free cells next to unknown ones, what the strategies choose goals from) in
 gold and each robot's current goal as a hollow square in its colour, so one sees why robots
-head where they do, under a line with the run, its step and the share explored. Frames are composed directly as numpy RGB arrays (no matplotlib per
-frame), so a 400×400 animation of a few hundred frames costs about a second.
+head where they do, under a line with the run, its step and the share explored. Frames are
+composed directly as numpy RGB arrays (no matplotlib per frame), so a 400×400 animation of a
+few hundred frames costs about a second.
 """
 
 from __future__ import annotations
