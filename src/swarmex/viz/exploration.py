@@ -98,6 +98,7 @@ def draw(
     for i, p in enumerate(paths_until(trajectories, snap.t)):
         if len(p):
             ax.plot(p[:, 0], p[:, 1], "-", color=cols[i], lw=0.8)
+            ax.plot([p[0, 0]], [p[0, 1]], "s", mfc="none", mec=cols[i], ms=4.5, mew=0.9)
         x, y = snap.positions[i]
         ax.plot([x], [y], "o", color=cols[i], ms=3.5, mec="k", mew=0.4)
         g = snap.goals[i]
@@ -137,9 +138,28 @@ def exploration_png(run, path: str | Path, title: str | None = None) -> Path:
             f"{p.comm_range:g} m — {run.makespan} steps, explored {run.explored_fraction():.1%}"
         ),
     )
-    _save(fig, path)
-    plt.close(fig)
+    _legend(ax)
+    try:
+        save_figure(fig, path, bbox_inches="tight")
+    finally:
+        plt.close(fig)
     return path
+
+
+def _legend(ax) -> None:
+    """What the colours and marks mean (each robot's colour only tells it apart)."""
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    ax.legend(handles=[
+        Patch(fc=FREE / 255, ec="0.5", label="known free"),
+        Patch(fc=OCCUPIED / 255, label="known obstacle"),
+        Patch(fc=UNKNOWN / 255, label="unknown"),
+        Patch(fc=HIDDEN_WALL / 255, label="wall nobody saw"),
+        Line2D([], [], marker="s", mfc="none", mec="0.2", ls="-", color="0.2", lw=0.8,
+               label="a robot's path from its start"),
+        Line2D([], [], marker="o", color="0.2", mec="k", ls="", label="where it ended"),
+    ], fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1), borderaxespad=0, frameon=False)
 
 
 def exploration_animation(frames: list[Snapshot], run, path: str | Path, fps: int = 12) -> Path:
@@ -173,6 +193,3 @@ def captioned(img: np.ndarray, text: str) -> np.ndarray:
     ImageDraw.Draw(canvas).text((3, 2), text, fill=(0, 0, 0))
     return np.asarray(canvas)
 
-
-def _save(fig, path: Path) -> None:
-    save_figure(fig, path, bbox_inches="tight")
