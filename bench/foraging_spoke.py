@@ -19,17 +19,19 @@ the food, in order of distance from the nest.
 * Neighbours for the communication are the adjacent bands. Two rules are measured: the seed
   rule (a detour to meet the neighbours) and Strips' route-kept rule.
 
-On the N = 16 RANDOM cells (128 × 128, k = 100, Relay-Food) the script prints the same
-columns as bench/foraging_level_comb.py, plus the team's angular spread (the median over the
-rounds after deployment of the largest angle between a robot and the team's mean direction),
-and the bound that decides the family: with its own Q, a pattern meets −10 % against Strips
-only if its exact E is at most 0.9 · (Strips' E + Q) − Q, and every pattern's exact E is at
-least (g² − 1)/(2n).
+On the N = 16 RANDOM cells (128 × 128, k = 100, Relay-Food) the script prints, for the
+spoke, the level comb, Strips, Loop Strips and Sectors, the same columns as
+bench/foraging_level_comb.py, plus the team's angular spread (the median over the rounds
+after deployment of the largest angle between a robot and the team's mean direction), and
+the bound that decides a family: with its own Q, a pattern meets −10 % against Strips only
+if its exact E is at most 0.9 · (Strips' E + Q) − Q, and every pattern's exact E is at least
+(g² − 1)/(2n). A second table gives the same bound with an oracle word
+(:func:`instant_word_q`): the most a faster word could buy each family.
 
     PYTHONPATH=src python bench/foraging_spoke.py [--per-band 40] [--seed 2015]
         [--floors floors.json] [--floor-search 40]
 
-About 15 s of CPU, more when it computes Q_min rather than reading it.
+About 7 s of CPU, more when it computes Q_min rather than reading it.
 """
 
 from __future__ import annotations
@@ -40,14 +42,14 @@ import time
 import numpy as np
 
 import _cli
-from foraging_level_comb import BAND, N, cells_parser, exact_e, q_min
+from foraging_level_comb import BAND, N, cells_parser, exact_e, level_plan, q_min
 from swarmex.missions.foraging import timed_plan
 from swarmex.missions.foraging.grid import Cell, nest_of
 from swarmex.missions.foraging.plan import Plan
 from swarmex.missions.foraging.run import phase_metrics
-from swarmex.missions.foraging.sim import run_mission
+from swarmex.missions.foraging.sim import JOIN, RELAY, TRANSPORT, Mission, run_mission
 from swarmex.missions.foraging.timed import Timed, execute
-from swarmex.missions.foraging.transport import RELAY_FOOD
+from swarmex.missions.foraging.transport import RELAY_FOOD, relay_path
 from swarmex.studies.foraging.design import UNITS, G, food_cells
 
 GOLDEN = (math.sqrt(5) - 1) / 2
@@ -162,12 +164,39 @@ def spread(timed: Timed) -> float:
     return float(np.degrees(np.median(off.max(axis=1))))
 
 
+def instant_word_q(timed: Timed, food: Cell, units: int = UNITS) -> int:
+    """Q of the run in ``timed`` had every robot learnt the food in the discovery round, where
+    it stands then (an oracle: no pattern's word is this fast). Relay-Food as the seed plays
+    it: the finder holds the food's path cell, every other robot walks to the food and joins
+    the relay there. What a faster word could buy at most, family by family."""
+    nest = nest_of(timed.plan.g)
+    pos = timed.pos
+    hit = (pos[:, :, 0] == food[0]) & (pos[:, :, 1] == food[1])
+    found = int(np.flatnonzero(hit.any(axis=1))[0])
+    here = [(int(x), int(y)) for x, y in pos[found]]
+    d = len(relay_path(nest, food)) - 1
+    m = Mission(timed.plan.g, nest, food, units, RELAY_FOOD, here, t=0, timed=None)
+    finder = here.index(food)
+    for a in range(len(here)):
+        m.mode[a], m.informed[a], m.informed_at[a], m.comm_done[a] = TRANSPORT, True, 0, 0
+        m.tmode[a] = RELAY if a == finder else JOIN
+        if a == finder:
+            m.pidx[a] = d
+        else:
+            m.join_at[a] = d
+    m.run(record=False)
+    return int(m.t)
+
+
 def main(argv: list[str] | None = None) -> int:
     a = cells_parser(__doc__.splitlines()[0]).parse_args(argv)
     cells = food_cells(a.seed, 40)[BAND][: a.per_band]
     t0 = time.process_time()
     tables = {p.algorithm: execute(p) for p in (spoke_plan(G, N, False), spoke_plan(G, N, True))}
-    tables["strips"] = timed_plan("strips", G, N)
+    level = level_plan(G, N, keep_route=True)
+    tables[level.algorithm] = execute(level)
+    for pattern in ("strips", "loop-strips", "sectors"):
+        tables[pattern] = timed_plan(pattern, G, N)
     qmin = q_min(cells, a.floors if a.seed == 2015 else None, a.floor_search)
     rows = {}
     for name, timed in tables.items():
@@ -176,7 +205,8 @@ def main(argv: list[str] | None = None) -> int:
         q = np.array([o.makespan for o in runs], dtype=float) - e
         phases = [phase_metrics(o, timed) for o in runs]
         co = np.array([m["communication_time"] + m["comm_transport_overlap"] for m in phases])
-        rows[name] = (exact_e(timed), co.mean(), q, q - qmin, spread(timed))
+        instant = np.array([instant_word_q(timed, c) for c in cells], dtype=float)
+        rows[name] = (exact_e(timed), co.mean(), q, q - qmin, spread(timed), instant)
     strips_nf = rows["strips"][0] + rows["strips"][2].mean()
     floor = (G * G - 1) / (2 * N)
     print(f"N = {N}, {len(cells)} {BAND} cells (seed {a.seed}), k = {UNITS}, {RELAY_FOOD}; "
@@ -185,11 +215,20 @@ def main(argv: list[str] | None = None) -> int:
     print("| pattern | spread ° | exact E | C + O | Q | Q − Q_min (median) | exact E + Q "
           "| against Strips | exact E needed for −10 % |")
     print("|---|---|---|---|---|---|---|---|---|")
-    for name, (ee, co, q, excess, deg) in rows.items():
+    for name, (ee, co, q, excess, deg, _) in rows.items():
         nf = ee + q.mean()
         print(f"| {name} | {deg:.0f} | {ee:.0f} | {co:.0f} | {q.mean():.0f} | "
               f"{excess.mean():.0f} ({np.median(excess):.0f}) | {nf:.0f} | "
               f"{100 * (nf / strips_nf - 1):+.1f} % | {0.9 * strips_nf - q.mean():.0f} |")
+    print()
+    print("With the word instant (every robot informed in the discovery round, where it stands;"
+          " an oracle):")
+    print()
+    print("| pattern | Q | Q, word instant | exact E | exact E needed for −10 %, word instant |")
+    print("|---|---|---|---|---|")
+    for name, (ee, _, q, _, _, instant) in rows.items():
+        print(f"| {name} | {q.mean():.0f} | {instant.mean():.0f} | {ee:.0f} | "
+              f"{0.9 * strips_nf - instant.mean():.0f} |")
     print()
     print(f"Any pattern's exact E is at least (g² − 1)/(2n) = {floor:.0f}.")
     return 0

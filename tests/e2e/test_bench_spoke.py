@@ -18,7 +18,7 @@ from swarmex.missions.foraging.timed import execute
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "bench"))
 
-from foraging_spoke import line_of, spoke_plan, spread, sweeps  # noqa: E402
+from foraging_spoke import instant_word_q, line_of, spoke_plan, spread, sweeps  # noqa: E402
 
 
 @pytest.mark.parametrize(("g", "n"), [(32, 4), (64, 8)])
@@ -59,4 +59,15 @@ def test_the_script_prints_the_table_on_two_cells():
         capture_output=True, text=True, timeout=300, check=True,
     ).stdout  # fmt: skip
     assert "| spoke, seed detour |" in out and "| strips |" in out
+    assert "Q, word instant" in out
     assert "at least (g² − 1)/(2n) = 512" in out
+
+
+def test_the_instant_word_oracle_is_the_run_when_there_is_no_one_to_tell():
+    # one robot: the finder is the whole team, so the oracle's Q is the real run's
+    from swarmex.missions.foraging.sim import run_mission
+
+    timed = timed_plan("strips", 16, 1)
+    for food in [(3, 4), (12, 2), (8, 15)]:
+        run = run_mission(timed, food, 5, "relay-food", record=False)
+        assert instant_word_q(timed, food, units=5) == run.makespan - run.discovery
