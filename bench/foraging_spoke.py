@@ -26,7 +26,8 @@ after deployment of the largest angle between a robot and the team's mean direct
 the bound that decides a family: with its own Q, a pattern meets −10 % against Strips only
 if its exact E is at most 0.9 · (Strips' E + Q) − Q, and every pattern's exact E is at least
 (g² − 1)/(2n). A second table gives the same bound with an oracle word
-(:func:`instant_word_q`): the most a faster word could buy each family.
+(:func:`instant_word_q`): where a faster word leads in the limit (not a bound: a staggered
+word can do better, as the level comb's does).
 
     PYTHONPATH=src python bench/foraging_spoke.py [--per-band 40] [--seed 2015]
         [--floors floors.json] [--floor-search 40]
@@ -168,7 +169,7 @@ def instant_word_q(timed: Timed, food: Cell, units: int = UNITS) -> int:
     """Q of the run in ``timed`` had every robot learnt the food in the discovery round, where
     it stands then (an oracle: no pattern's word is this fast). Relay-Food as the seed plays
     it: the finder holds the food's path cell, every other robot walks to the food and joins
-    the relay there. What a faster word could buy at most, family by family."""
+    the relay there: where a faster word leads in the limit, family by family."""
     nest = nest_of(timed.plan.g)
     pos = timed.pos
     hit = (pos[:, :, 0] == food[0]) & (pos[:, :, 1] == food[1])
