@@ -9,7 +9,6 @@ import pytest
 
 from swarmex.cli import main
 from swarmex.experiments import scenario as scenario_mod
-from swarmex.experiments.scenario import OptionShape, Scenario, load_scenario, scenario_argv
 
 
 def cli(argv, capsys):
@@ -59,35 +58,6 @@ def test_relative_paths_resolve_against_the_scenario_folder(tmp_path, capsys, mo
     assert code == 0, err
     rec = json.loads((folder / "o.json").read_text())
     assert rec["world"]["free_cells"] == 5
-
-
-def test_flags_follow_the_command_shape():
-    shapes = {
-        "quick": OptionShape("--quick", is_flag=True),
-        "plot": OptionShape("--plot", is_flag=True, negation="--no-plot"),
-        "food": OptionShape("--food", multiple=True),
-        "out": OptionShape("--out", is_path=True),
-    }
-    scn = Scenario(
-        Path("/x/s.toml"),
-        "foraging",
-        {"quick": True, "plot": False, "food": ["1,2", "3,4"], "out": "res"},
-    )
-    assert scenario_argv(scn, shapes) == [
-        "--quick",
-        "--no-plot",
-        "--food",
-        "1,2",
-        "--food",
-        "3,4",
-        "--out",
-        "/x/res",
-    ]
-
-
-def test_a_point_list_becomes_x_comma_y(tmp_path):
-    scn = load_scenario(write(tmp_path, 'mission = "roadmap"\ngoal = [1.5, 2]\n'))
-    assert scenario_argv(scn, {"goal": OptionShape("--goal")}) == ["--goal", "1.5,2"]
 
 
 BAD = {

@@ -3,8 +3,7 @@
 The scenario's values (see :mod:`swarmex.experiments.scenario`) go straight to the mission's
 Params parsers, the same ones ``swarmex.run`` and the command line use, so a file value means
 what the Python value means (``grid = [6, 5]`` is ``grid=(6, 5)``). Options given after the
-file override the file's (``swarmex run s.toml --seed 3``). ``option_shapes`` reads option
-shapes off a Click command, for tools that still build argv.
+file override the file's (``swarmex run s.toml --seed 3``).
 """
 
 from __future__ import annotations
@@ -17,41 +16,11 @@ import typer
 from swarmex.cli.app import app
 from swarmex.errors import InputError
 from swarmex.experiments.scenario import (
-    OptionShape,
     in_file,
     load_scenario,
     mission_shapes,
     scenario_values,
 )
-
-
-def option_shapes(command: Any) -> dict[str, OptionShape]:
-    """Read each option's name, path-ness and flag-ness off a (Typer-built) Click command."""
-    shapes = {}
-    for param in command.params:
-        long = [o for o in getattr(param, "opts", ()) if o.startswith("--")]
-        if not long or getattr(param, "param_type_name", "option") != "option":
-            continue
-        negation = next(
-            (o for o in getattr(param, "secondary_opts", ()) if o.startswith("--")), None
-        )
-        shapes[long[0][2:]] = OptionShape(
-            flag=long[0],
-            is_path=_is_path(param),
-            is_flag=bool(getattr(param, "is_flag", False)),
-            negation=negation,
-            multiple=bool(getattr(param, "multiple", False)),
-            required=bool(getattr(param, "required", False)),
-        )
-    return shapes
-
-
-def _is_path(param: Any) -> bool:
-    """Whether an option holds a file path (Typer's annotation, or a Click Path type)."""
-    annotation = getattr(getattr(param, "type_descriptor", None), "annotation", None)
-    if annotation is not None:
-        return annotation is Path or Path in getattr(annotation, "__args__", ())
-    return type(getattr(param, "type", None)).__name__ == "Path"
 
 
 @app.command(

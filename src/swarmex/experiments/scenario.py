@@ -13,19 +13,16 @@ the command's options::
     id = 1                       # tables come after the plain keys, as TOML requires)
     job_time = 12.0
 
-Every key but ``mission`` becomes ``--key value`` of the mission's command (``traverse``,
-``forage``, ``explore``, ``roadmap``); the command itself validates the values, so a
-scenario accepts exactly what the command line accepts. Value rules:
+Every key but ``mission`` is an option of the mission's command (``traverse``, ``forage``,
+``explore``, ``roadmap``), dashes or underscores alike. Its value goes as it is to the
+mission's Params parsers (:func:`scenario_values`), the ones ``swarmex.run`` and the command
+line use, so a file value means what the Python value means (``grid = [6, 5]`` is
+``grid=(6, 5)``, ``nests = ["0,9", "9,0"]`` two cells, ``true``/``false`` a flag on or off).
+A relative path (any option the Params declare as a path) is resolved against the scenario
+file's folder, so a scenario and its map travel together.
 
-* ``true`` → the flag; ``false`` → its ``--no-…`` form if the option has one, else nothing;
-* a list of strings → ``"a;b"``; a list of ``[x, y]`` pairs → ``"x,y;x,y"``; a list of
-  numbers → ``"x,y"`` (a point); options that repeat take one ``--key`` per element;
-* a relative path (any option the command declares as a path, outputs included) is resolved
-  against the scenario file's folder, so a scenario and its map travel together.
-
-The argv is built here from the *shapes* of the command's options (which are paths, flags,
-repeatable), which the CLI reads off its own command objects; this module stays free of the
-CLI framework.
+Which options are paths or flags comes from the *shapes* :func:`mission_shapes` reads off the
+Params; this module stays free of the CLI framework.
 """
 
 from __future__ import annotations
@@ -53,7 +50,6 @@ class OptionShape:
     is_path: bool = False
     is_flag: bool = False  # a boolean flag: takes no value
     negation: str | None = None  # "--no-quick" when the flag has an off switch
-    multiple: bool = False  # may be repeated
     required: bool = False  # the command refuses to run without it
 
 
@@ -120,13 +116,14 @@ def _check_value(path: Path, name: str, value: Any) -> None:
     )
 
 
-def _text(value: Any) -> str:
-    """One value as the command line spells it: lists of pairs → "x,y;x,y"."""
+def as_text(value: Any) -> str:
+    """One value as the command line spells it (lists of pairs → "x,y;x,y"): a sweep's text
+    column for a list-valued parameter."""
     if isinstance(value, list):
         if all(isinstance(v, list) for v in value):
-            return ";".join(",".join(_text(c) for c in v) for v in value)
+            return ";".join(",".join(as_text(c) for c in v) for v in value)
         sep = ";" if any(isinstance(v, str) for v in value) else ","
-        return sep.join(_text(v) for v in value)
+        return sep.join(as_text(v) for v in value)
     if isinstance(value, bool):
         return "true" if value else "false"
     return str(value)
@@ -138,34 +135,6 @@ def _unknown_option(scenario: Scenario, name: str, shapes: dict[str, OptionShape
     return InputError(
         f"{scenario.path}: swarmex {scenario.command} has no option --{name} (it has: {known})"
     )
-
-
-def scenario_argv(scenario: Scenario, shapes: dict[str, OptionShape]) -> list[str]:
-    """The argv (without the command name) that runs ``scenario``'s mission command.
-
-    ``shapes`` maps option names without dashes (``"travel-time"``) to their shape; a key
-    the command does not have is an InputError listing the ones it has.
-    """
-    argv: list[str] = []
-    for name, value in scenario.options.items():
-        shape = shapes.get(name)
-        if shape is None:
-            raise _unknown_option(scenario, name, shapes)
-        if shape.is_flag:
-            if not isinstance(value, bool):
-                raise InputError(f"{scenario.path}: {name} must be true or false")
-            if value:
-                argv.append(shape.flag)
-            elif shape.negation:
-                argv.append(shape.negation)
-            continue
-        items = value if shape.multiple and isinstance(value, list) else [value]
-        for item in items:
-            text = _text(item)
-            if shape.is_path:
-                text = str(resolve_path(scenario.path.parent, text))
-            argv += [shape.flag, text]
-    return argv
 
 
 def mission_shapes(mission: str) -> dict[str, OptionShape]:

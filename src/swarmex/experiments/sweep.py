@@ -207,7 +207,7 @@ def _column(values: list[Any]):
     """An Arrow column of one type: bools, ints, floats, else text (as the CLI spells it)."""
     import pyarrow as pa
 
-    from swarmex.experiments.scenario import _text
+    from swarmex.experiments.scenario import as_text
 
     present = [v for v in values if v is not None]
     if present and all(isinstance(v, bool) for v in present):
@@ -217,7 +217,7 @@ def _column(values: list[Any]):
         if all(isinstance(v, int) for v in present):
             return pa.array(values, pa.int64())
         return pa.array([None if v is None else float(v) for v in values], pa.float64())
-    return pa.array([None if v is None else _text(v) for v in values], pa.string())
+    return pa.array([None if v is None else as_text(v) for v in values], pa.string())
 
 
 def write_table(table, path: Path) -> Path:
