@@ -125,6 +125,20 @@ def test_wrong_types_are_input_errors_not_tracebacks(tmp_path) -> None:
         (lambda: swarmex.run("traversal", grid="3x3", agents=1, progress="no"),
          "progress must be True or False"),
         (lambda: swarmex.render({}, None), "path must be a file name"),
+        # a string is truthy: retry_failed="no" retried and rewrote every failed run
+        (lambda: swarmex.sweep("traversal", out=tmp_path / "s", grid="3x3", agents=1,
+                               retry_failed="no"), "retry_failed must be True or False"),
+        (lambda: swarmex.sweep("traversal", out=tmp_path / "s", grid="3x3", agents=1,
+                               progress="no"), "progress must be True or False"),
+        (lambda: swarmex.sweep("traversal", out=None, grid="3x3", agents=1),  # type: ignore[arg-type]
+         "out must be the sweep's folder"),
+        (lambda: swarmex.sweep("traversal", out=tmp_path / "s", fixed=["nests"],  # type: ignore[arg-type]
+                               grid="3x3", agents=1), "fixed must be a dict"),
+        (lambda: swarmex.sweep("traversal", out=tmp_path / "s", workers=1.5,  # type: ignore[arg-type]
+                               grid="3x3", agents=1), "workers must be a whole number"),
+        (lambda: swarmex.run(["traversal"], grid="3x3", agents=1),  # type: ignore[arg-type]
+         "a mission is a name"),
+        (lambda: swarmex.describe(["traversal"]), "a mission is a name"),  # type: ignore[arg-type]
     ):
         with pytest.raises(swarmex.InputError, match=said):
             call()

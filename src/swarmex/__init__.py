@@ -249,6 +249,18 @@ def sweep(
     from swarmex.experiments.sweep import read_results, run_sweep
     from swarmex.experiments.sweep_spec import listed_axes, spec_from_keywords
 
+    # checked here: a string is truthy, so retry_failed="no" retried (and rewrote) every
+    # failed run, and a wrong type ended in a TypeError deep in the sweep
+    for name, flag in (("retry_failed", retry_failed), ("progress", progress)):
+        if not isinstance(flag, bool):
+            raise InputError(f"{name} must be True or False, got {flag!r}")
+    if not isinstance(out, str | PathLike):
+        raise InputError(f"out must be the sweep's folder (a str or path), got {out!r}")
+    if fixed is not None and not isinstance(fixed, Mapping):
+        raise InputError(f"fixed must be a dict of shared values, such as"
+                         f" {{'nests': [[0, 0]]}}, got {fixed!r}")
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int)):
+        raise InputError(f"workers must be a whole number, got {workers!r}")
     spec = spec_from_keywords(mission, seeds, fixed or {}, axes)
     for note in listed_axes(spec):
         import warnings

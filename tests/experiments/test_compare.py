@@ -156,3 +156,21 @@ def test_no_pairs_at_all_is_said_in_one_line(tmp_path: Path, capsys) -> None:
                  "--baseline", "agents=30"]) == 0
     out = capsys.readouterr().out
     assert "paired against agents = 30: no pairs" in out and "┏" not in out.split("no pairs")[1]
+
+
+def test_two_sweeps_put_together_are_refused_not_paired_across(table, tmp_path: Path) -> None:
+    # a grid the axes do not name (two one-grid sweeps concatenated): runs of 6x6 were paired
+    # with runs of 9x9, a difference of -122 where the true one is +15.7
+    import pyarrow as pa
+
+    small = swarmex.sweep("traversal", out=tmp_path / "a", algorithm=["madgta", "nearest"],
+                          grid="5x5", agents=2, seeds=[0, 1], backend="serial", progress=False)
+    big = swarmex.sweep("traversal", out=tmp_path / "b", algorithm=["madgta", "nearest"],
+                        grid="6x5", agents=2, seeds=[0, 1], backend="serial", progress=False)
+    both = pa.concat_tables([small, big])
+    with pytest.raises(InputError, match="the table varies grid, which its axes do not name"):
+        swarmex.compare(both, {"algorithm": "madgta"}, ["makespan"])
+    # without the metadata's parameter list, the pairing itself finds the clash
+    with pytest.raises(InputError, match="two runs of algorithm=madgta share seed=0"):
+        swarmex.compare(both.replace_schema_metadata(None).drop(["grid"]),
+                        {"algorithm": "madgta"}, ["makespan"])

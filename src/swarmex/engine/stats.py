@@ -30,6 +30,8 @@ from typing import Any
 
 import numpy as np
 
+from swarmex.errors import InputError
+
 CONFIDENCE = 0.95
 Z95 = 1.96  # two-sided 95 % quantile of the standard normal, as the seeds use it
 
@@ -253,11 +255,23 @@ def paired_comparisons(
     key_cols = [c for c in by if c != axis]
     base: dict[tuple, dict[str, Any]] = {}
     variants: dict[Any, list[dict[str, Any]]] = {}
+    seen: set[tuple] = set()
     for row in rows:
         if row.get("error"):
             continue
+        key = (*(row.get(c) for c in key_cols), row.get("seed"))
+        # two runs with one key: the table varies a column the axes do not name (two sweeps
+        # concatenated), and pairing them anyway compared runs of different configurations
+        if (str(row.get(axis)), key) in seen:
+            named = ", ".join(f"{c}={v}" for c, v in zip([*key_cols, "seed"], key, strict=True))
+            raise InputError(
+                f"two runs of {axis}={row.get(axis)} share {named}: the table varies a"
+                " parameter its axes do not name (two sweeps put together?), so runs cannot"
+                " be paired; compare each sweep alone"
+            )
+        seen.add((str(row.get(axis)), key))
         if str(row.get(axis)) == str(baseline):
-            base[(*(row.get(c) for c in key_cols), row.get("seed"))] = row
+            base[key] = row
         else:
             variants.setdefault(row.get(axis), []).append(row)
     out: list[PairedComparison] = []

@@ -99,6 +99,11 @@ def comparisons(table: Any, meta: Mapping[str, Any], name: str, value: Any,
     """The paired comparisons of a sweep ``table`` (its metadata names the axes)."""
     axes = [a for a in meta.get("axes", []) if a in table.column_names]
     values = {a: table.column(a).unique().to_pylist() for a in axes}
+    stray = [p for p in meta.get("params", []) if p not in axes and p in table.column_names
+             and len(table.column(p).unique()) > 1]
+    if stray:  # its runs would be paired across the stray parameter's values
+        raise InputError(f"the table varies {', '.join(stray)}, which its axes do not name"
+                         " (two sweeps put together?); compare each sweep alone")
     name, found = check_baseline(values, name, value, option="baseline")
     metrics = [metric_name(table, m) for m in metrics]
     return paired_comparisons(table.to_pylist(), name, found, axes, metrics)

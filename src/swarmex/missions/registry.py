@@ -46,9 +46,15 @@ def names() -> list[str]:
     return sorted({*BUILTIN, *_plugins()})
 
 
-@cache
 def get(name: str) -> Mission[Any, Any]:
     """The mission called ``name``; an unknown name is an InputError naming the nearest."""
+    if not isinstance(name, str):  # a list raised "unhashable type" from the cache
+        raise InputError(f"a mission is a name such as 'traversal', got {name!r}")
+    return _get(name)
+
+
+@cache
+def _get(name: str) -> Mission[Any, Any]:
     if name in BUILTIN:
         return _load(BUILTIN[name])
     plugin = _plugins().get(name)
