@@ -50,10 +50,10 @@ class FakeEntryPoint:
 def with_plugin(monkeypatch):
     monkeypatch.setattr(registry, "entry_points", lambda group: [FakeEntryPoint()])
     registry._plugins.cache_clear()
-    registry.get.cache_clear()
+    registry._get.cache_clear()
     yield
     registry._plugins.cache_clear()
-    registry.get.cache_clear()
+    registry._get.cache_clear()
 
 
 def test_a_plugin_mission_is_registered_and_runs(with_plugin):
