@@ -354,7 +354,9 @@ def plot(
         raise InputError(f"where must be a dict of parameter values, such as {{'agents': 4}},"
                          f" got {where!r}")
     table, meta = load(results)
-    filters = [f"{k}={v}" for k, v in (where or {}).items()]
+    # a pair (grid=(5, 5)) as the table spells it, "5,5"
+    filters = [f"{k}={','.join(map(str, v)) if isinstance(v, tuple | list) else v}"
+               for k, v in (where or {}).items()]
     fig, note = sweep_figure(table.to_pylist(), meta, x, y, hue, filters, kind)
     for line in (note or "").splitlines():
         line = line.removeprefix("note: ").replace("--hue or --where", "hue= or where=")

@@ -174,3 +174,21 @@ def test_two_sweeps_put_together_are_refused_not_paired_across(table, tmp_path: 
     with pytest.raises(InputError, match="two runs of algorithm=madgta share seed=0"):
         swarmex.compare(both.replace_schema_metadata(None).drop(["grid"]),
                         {"algorithm": "madgta"}, ["makespan"])
+
+
+def test_a_pair_swept_as_a_tuple_is_found_by_its_usual_spelling(tmp_path: Path) -> None:
+    # grid=(5, 5), as docs/api.md writes a shared grid, is "5,5" in the table: where=
+    # {"grid": "5x5"} (docs/api.md's plot example), a tuple, and a baseline of "5x5" all
+    # found no run
+    out = tmp_path / "tg"
+    table = swarmex.sweep("traversal", out=out, grid=[(5, 5), (6, 5)], agents=[1, 2],
+                          seeds=2, backend="serial", progress=False)
+    assert set(table.column("grid").to_pylist()) == {"5,5", "6,5"}
+    for where in ({"grid": "5x5"}, {"grid": (5, 5)}, {"grid": "5,5"}):
+        fig = swarmex.plot(out, "agents", "makespan", where=where)
+        assert len(fig.axes[0].get_lines()) == 1
+    with pytest.raises(InputError, match="no run matches"):
+        swarmex.plot(out, "agents", "makespan", where={"grid": "7x7"})
+    rows = swarmex.compare(out, {"grid": "5x5"}).to_pylist()
+    assert {r["grid"] for r in rows} == {"6,5"} and all(r["pairs"] == 2 for r in rows if
+                                                        r["agents"] is not None)

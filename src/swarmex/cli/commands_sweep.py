@@ -82,7 +82,7 @@ def sweep(
     if baseline is not None:
         from swarmex.experiments.compare import check_baseline, parse_baseline
 
-        compared = check_baseline(spec.axes, *parse_baseline(baseline))
+        compared = check_baseline(spec.axes, *parse_baseline(baseline), mission=spec.mission)
     summary = summary or bool(metric)  # a metric asked for was silently never shown
     out_dir = out if out is not None else Path(f"{spec_file.stem}-sweep")
     def announce(total: int, finished: int) -> None:

@@ -18,6 +18,7 @@ from typing import Any
 
 from swarmex.engine.stats import PairedComparison, paired_comparisons
 from swarmex.errors import InputError
+from swarmex.missions.registry import same_value
 
 #: the columns of the comparison table, in order (after the group's parameter columns)
 COLUMNS = ("metric", "pairs", "baseline_mean", "mean", "diff", "diff_low", "diff_high",
@@ -33,7 +34,7 @@ def parse_baseline(text: str) -> tuple[str, str]:
 
 
 def check_baseline(axes: Mapping[str, Sequence[Any]], name: str, value: Any,
-                   option: str = "--baseline") -> tuple[str, Any]:
+                   option: str = "--baseline", mission: str | None = None) -> tuple[str, Any]:
     """The compared parameter must be an axis of the sweep with at least two values, one of
     them the baseline's (an InputError naming what is wrong, before any run). Returns the
     axis and the value as the sweep spells them (:func:`axis_name`, :func:`axis_value`)."""
@@ -44,6 +45,8 @@ def check_baseline(axes: Mapping[str, Sequence[Any]], name: str, value: Any,
         raise InputError(f"{option}: {name!r} is not a parameter the sweep varies (it varies:"
                          f" {have})")
     found = axis_value(varying[name], value)
+    if found is None:  # another spelling of one of its values ("5x5" for a grid of "5,5")
+        found = next((v for v in varying[name] if same_value(mission, name, v, value)), None)
     if found is None:
         values = [str(v) for v in varying[name]]
         raise InputError(f"{option}: {name} has no value {value!r} in this sweep (its values:"
@@ -104,7 +107,8 @@ def comparisons(table: Any, meta: Mapping[str, Any], name: str, value: Any,
     if stray:  # its runs would be paired across the stray parameter's values
         raise InputError(f"the table varies {', '.join(stray)}, which its axes do not name"
                          " (two sweeps put together?); compare each sweep alone")
-    name, found = check_baseline(values, name, value, option="baseline")
+    name, found = check_baseline(values, name, value, option="baseline",
+                                 mission=meta.get("mission"))
     metrics = [metric_name(table, m) for m in metrics]
     return paired_comparisons(table.to_pylist(), name, found, axes, metrics)
 

@@ -76,3 +76,38 @@ def by_command(command: str) -> Mission[Any, Any]:
         if mission.command == command:
             return mission
     raise InputError(f"no mission has the command {command!r}")
+
+
+def same_value(mission: str | None, name: str, a: Any, b: Any) -> bool:
+    """Whether ``a`` and ``b`` are one value of ``mission``'s option ``name`` once its parser
+    has read both: a sweep table spells ``grid=(5, 5)`` "5,5", a user writes "5x5" (as the
+    command line and the records do). False when either does not parse or the option is
+    unknown."""
+    if mission is None:
+        return False
+    try:
+        info = get(mission).params_type.options().get(name.replace("-", "_"))
+    except InputError:
+        return False
+    if info is None:
+        return False
+
+    def parsed(value: Any) -> Any:
+        try:
+            return info.parse(value, info.flag)
+        except (InputError, TypeError, ValueError):
+            pass
+        if isinstance(value, str) and "," in value and ";" not in value:
+            try:  # a table's text of a pair, "5,5": the pair itself
+                return info.parse([float(p) if "." in p else int(p) for p in value.split(",")],
+                                  info.flag)
+            except (InputError, TypeError, ValueError):
+                pass
+        return _UNPARSED
+
+    first = parsed(a)
+    return first is not _UNPARSED and first == parsed(b)
+
+
+_UNPARSED = object()
+

@@ -82,7 +82,7 @@ def sweep_figure(
     for option, name in (("--x", x), ("--y", y), ("--hue", hue)):
         if name is not None and name not in columns:
             raise InputError(f"{option}: no column {name!r} (have: {', '.join(columns)})")
-    rows = _filter(rows, where or [], columns)
+    rows = _filter(rows, where or [], columns, meta.get("mission"))
     ok = [r for r in rows if not r.get("error") and _num(r.get(y)) is not None]
     if not ok:
         raise InputError(f"no finished run has a numeric {y!r} to plot")
@@ -203,13 +203,20 @@ def series(
     return out
 
 
-def _filter(rows: list[dict[str, Any]], where: list[str], columns: list[str]) -> list[dict]:
+def _filter(rows: list[dict[str, Any]], where: list[str], columns: list[str],
+            mission: str | None = None) -> list[dict]:
+    from swarmex.missions.registry import same_value
+
     for cond in where:
         key, sep, value = cond.partition("=")
         key = column_name(columns, key.strip())
         if not sep or key not in columns:
             raise InputError(f"--where: expected PARAM=VALUE with a known PARAM, got {cond!r}")
-        rows = [r for r in rows if _matches(r.get(key), value.strip())]
+        text = value.strip()
+        # the table's spelling, else the option's parser: "5x5" finds a grid the table
+        # holds as "5,5" (a sweep of grid=(5, 5))
+        rows = [r for r in rows if _matches(r.get(key), text)
+                or same_value(mission, key, r.get(key), text)]
     if not rows:
         raise InputError(f"--where {' '.join(where)}: no run matches")
     return rows
