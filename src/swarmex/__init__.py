@@ -196,11 +196,11 @@ def render(
 
     from swarmex.experiments.rerun import render_record
 
-    out, same = render_record(record, path, world)
-    if not same:
+    out, why = render_record(record, path, world)
+    if why is not None:
         warnings.warn(
-            f"{out}: the record's run came out differently today (another swarmex version, or"
-            " a networked record); the drawing is of today's run",
+            f"{out}: the record's run came out differently today ({why}); the drawing is of"
+            " today's run",
             RuntimeWarning,
             stacklevel=2,
         )

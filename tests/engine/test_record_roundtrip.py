@@ -100,6 +100,8 @@ def test_notebook_view_shows_every_metric_and_escapes_it() -> None:
     assert "<k>" not in html and repr(odd).endswith("metrics 2 not numbers>")
     data["metrics"] = {}
     assert repr(swarmex.ResultRecord.from_dict(data)).endswith("; metrics none>")
+    data["metrics"] = {"a": 1, "b": 2.5}  # every one shown: it printed "b=2.5none"
+    assert repr(swarmex.ResultRecord.from_dict(data)).endswith("; metrics a=1, b=2.5>")
 
 
 def test_read_and_write_are_the_command_lines_json(tmp_path: Path) -> None:

@@ -88,6 +88,33 @@ def test_a_record_that_comes_out_differently_is_drawn_with_a_warning(tmp_path: P
     assert (tmp_path / "b.png").read_bytes() == (tmp_path / "a.png").read_bytes()
 
 
+def test_the_warning_says_why_the_run_came_out_differently(tmp_path: Path, capsys) -> None:
+    # a run its caller stopped, and a world given again, were both blamed on "another
+    # swarmex version"
+    frames = [0]
+
+    def stop(frame) -> None:
+        frames[0] += 1
+        if frames[0] == 10:
+            raise swarmex.StopRun
+
+    partial = swarmex.run("traversal", grid="6x6", agents=2, seed=1, on_frame=stop)
+    assert not partial.complete
+    with pytest.warns(RuntimeWarning, match=r"stopped early by its caller \(StopRun"):
+        swarmex.render(partial, tmp_path / "p.png")
+    path = tmp_path / "p.json"
+    partial.write(path)
+    assert main(["render", str(path), str(tmp_path / "q.png")]) == 0
+    assert "stopped early by its caller" in capsys.readouterr().err
+    whole = swarmex.run("traversal", grid="6x6", agents=2, seed=1)
+    with pytest.warns(RuntimeWarning, match="grid given again is not the record's"):
+        swarmex.render(whole, tmp_path / "g.png", grid="5x5")
+    edited = whole.to_dict()
+    edited["metrics"]["total_time_all"] += 1
+    with pytest.warns(RuntimeWarning, match="another swarmex version"):
+        swarmex.render(edited, tmp_path / "e.png")
+
+
 def test_a_run_on_a_world_object_is_drawn_with_the_world_given_again(tmp_path: Path) -> None:
     """A record of a run on a GridWorld cannot name its world: the error says how to give it
     to render (not only to rerun), and render takes it (it used to take no world at all, so

@@ -86,13 +86,12 @@ def render(
 
     check_output(out, "OUT", RENDER_SUFFIXES)
     with compile_notice(err_console):
-        path, same = render_record(record_file, out, rule_for=interpreted_rule)
+        path, why = render_record(record_file, out, rule_for=interpreted_rule)
     console.print(f"wrote {path}", highlight=False, soft_wrap=True)
-    if not same:
+    if why is not None:
         err_console.print(
-            "note: the record's run came out differently today (another swarmex version, or a"
-            " networked record; swarmex rerun says where): the drawing is of today's run",
-            highlight=False, soft_wrap=True,
+            f"note: the record's run came out differently today ({why}): the drawing is of"
+            " today's run", highlight=False, soft_wrap=True,
         )
 
 

@@ -169,8 +169,11 @@ class ResultRecord:
         numbers = [f"{k}={_short(v)}" for k, v in self.metrics.items()
                    if isinstance(v, int | float) and not isinstance(v, bool)][:MAX_SHOWN]
         more = len(self.metrics) - len(numbers)
-        shown = ", ".join(numbers) + (f", … {more} more" if numbers and more > 0 else
-                                      f"{more} not numbers" if more > 0 else "none")
+        if more > 0:
+            tail = f", … {more} more" if numbers else f"{more} not numbers"
+        else:
+            tail = "" if numbers else "none"  # all shown: "b=2.5none" was printed
+        shown = ", ".join(numbers) + tail
         return (f"<ResultRecord {self.mission} {self.algorithm}, seed {self.seed}: {state},"
                 f" {self._headline()}; metrics {shown}>")
 

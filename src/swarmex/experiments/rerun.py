@@ -95,10 +95,11 @@ def render_record(
     world: Mapping[str, Any] | None = None,
     *,
     rule_for: RuleFor | None = None,
-) -> tuple[Path, bool]:
+) -> tuple[Path, str | None]:
     """Draw a record's run to ``path`` (:func:`swarmex.render`): run it again keeping the
     frames the drawing needs (a record holds paths, not every frame or the final maps), and
-    say whether that run came out as the record (``wall_seconds`` and the version aside).
+    say why that run did not come out as the record (``wall_seconds`` and the version
+    aside), or None when it did.
 
     Why a rerun and not the record alone: every mission's drawing reads the run's frames or
     its in-memory state, and a run is reproducible from its record, so drawing one costs the
@@ -134,7 +135,17 @@ def render_record(
     recorder = frame_recorder(rec.mission, out)
     outcome = rerun_outcome(rec, folder, given, on_frame=recorder, rule_for=rule_for)
     draw(rec.mission, outcome, out, recorder)
-    return out, same_run(rec.to_dict(), outcome.record.to_dict())
+    if same_run(rec.to_dict(), outcome.record.to_dict()):
+        return out, None
+    # the likeliest cause first: each of these used to be blamed on "another swarmex version"
+    if given:
+        return out, f"{', '.join(sorted(given))} given again is not the record's"
+    if not rec.complete and outcome.record.complete:
+        return out, ("the record's run was stopped early by its caller (StopRun from"
+                     " on_frame), and a rerun cannot stop at that point")
+    if "network" in rec.params or "processes" in rec.params:
+        return out, "a networked record; swarmex rerun says where"
+    return out, "another swarmex version"
 
 
 def same_run(old: dict[str, Any], new: dict[str, Any]) -> bool:
