@@ -1,4 +1,6 @@
-"""Communication models: perfect broadcast, loss, delay, limited range."""
+"""Communication models: the broadcast channel (:mod:`.channel`: perfect, loss, delay, limited
+range), the exploration mesh's flooding (:mod:`.mesh`) and AODV routes (:mod:`.aodv`), and
+message sizes (:mod:`.message`)."""
 
 from swarmex.comm.channel import Channel
 

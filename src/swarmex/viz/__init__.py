@@ -1,6 +1,10 @@
-"""Static figures and animations of result records (matplotlib Agg, imageio)."""
+"""Figures and animations of runs (matplotlib Agg, imageio): one module per mission
+(:mod:`.traversal`, :mod:`.foraging`, :mod:`.exploration`, :mod:`.roadmap_plot`), one entry
+for all of them (:mod:`.render`: the frames a drawing needs, then the drawing), the animation
+writer (:mod:`.animation`), figure files written whole (:mod:`.files`), sweep plots
+(:mod:`.plot`, :mod:`.candles`) and the live monitor (:mod:`.monitor`)."""
 
-# exports load on first use (swarmex._lazy: the Params import without the simulator)
+# exports load on first use (swarmex._lazy): importing viz draws in no mission's modules
 from typing import Any as _Any
 
 from swarmex._lazy import lazy_attribute as _lazy_attribute

@@ -2,8 +2,9 @@
 
 * :mod:`.messages`, :mod:`.belief`, :mod:`.robot` — the policy side (what a robot knows,
   says and does); the networked runtime can drive the same objects;
-* :mod:`.strategies` — goal choice: greedy, the thesis's greedy-exclusion, and Burgard's
-  utility, MinPos and Hungarian assignment;
+* :mod:`.strategies` — goal choice: greedy, the thesis's greedy-exclusion, Burgard's
+  utility, MinPos and Hungarian assignment, and ours, hungarian-exclusion and
+  adaptive-exclusion;
 * :mod:`.paths` — inflation, step fields and paths on one robot's map;
 * :mod:`.params`, :mod:`.sim` — parameters (the Mission contract's Params) and the simulator
   (truth, lasers, radio, clock);

@@ -3,7 +3,8 @@
 Modules: :mod:`.blackboard` (the shared roadmap arrays), :mod:`.wma_policy` and
 :mod:`.prm_policy` (what one agent decides per step), :mod:`.sim` (the run loop and sensing),
 :mod:`.record` (the result record), :mod:`.replay` (independent checking of a record),
-:mod:`.starts` (default start clusters, start and goal checks), :mod:`.params` and
+:mod:`.starts` (default start clusters, start and goal checks), :mod:`.scenario` (a run
+from keyword arguments, as the reproduction calls it), :mod:`.params` and
 :mod:`.mission` (the mission behind the contract: ``swarmex.run("roadmap", ...)``).
 """
 

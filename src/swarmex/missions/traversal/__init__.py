@@ -6,7 +6,7 @@ from swarmex.missions.traversal import (
     partition,  # noqa: F401,E402  (registers madgta-k)
     rollout,  # noqa: F401,E402  (registers madgta-r)
     teamplan,  # noqa: F401,E402  (registers madgta-p)
-    variants,  # noqa: F401,E402  (registers variants)
+    variants,  # noqa: F401,E402  (registers madgta+)
 )
 from swarmex.missions.traversal.agent import TraversalAgent
 from swarmex.missions.traversal.agents import AgentSpec, uniform_agents
