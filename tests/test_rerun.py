@@ -396,6 +396,31 @@ def test_a_bad_record_among_several_is_named(tmp_path: Path, capsys) -> None:
         swarmex.ResultRecord.read(bad)
 
 
+def test_a_record_whose_map_is_gone_stops_the_rerun_before_any_run(tmp_path: Path,
+                                                                   capsys) -> None:
+    # only unreadable JSON was caught up front: the records before a missing map reran,
+    # printed their lines, and the command then exited 2 without its "N of M" count
+    import numpy as np
+
+    from swarmex.worlds import GridWorld
+
+    good = tmp_path / "good.json"
+    swarmex.run("traversal", seed=0, grid="4x4", agents=1).write(good)
+    gone = tmp_path / "gone.json"
+    rec = swarmex.run("traversal", seed=0, grid="4x4", agents=1).to_dict()
+    rec["params"]["map"], rec["params"]["grid"] = "nowhere/m.map", None
+    gone.write_text(json.dumps(rec), encoding="utf-8")
+    objected = tmp_path / "object.json"
+    swarmex.run("traversal", seed=0, map=GridWorld(np.ones((3, 3), dtype=bool)),
+                agents=1).write(objected)
+    for last, said in ((gone, "'nowhere/m.map' is not found"),
+                       (objected, "was given as an object")):
+        assert main(["rerun", str(good), str(last)]) == 2
+        out, err = capsys.readouterr()
+        assert out == ""  # nothing reran
+        assert err.count("\n") == 1 and f"{last}: " in err and said in err, err
+
+
 def test_cli_rerun_and_render_of_a_small_run_compile_nothing(tmp_path: Path) -> None:
     """``swarmex traverse`` keeps a small run's kernels interpreted while numba is cold; its
     record's ``swarmex rerun`` and ``swarmex render`` used to compile them (7-12 s, with the

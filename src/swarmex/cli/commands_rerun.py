@@ -38,13 +38,18 @@ def rerun(
 ) -> None:
     """Run records again (same mission, parameters, seed); exit 1 if any comes out different."""
     from swarmex.engine.record import write_record
-    from swarmex.experiments.rerun import load_record, rerun_record
+    from swarmex.experiments.rerun import load_record, rerun_params, rerun_record
 
     check_output(json_out, "--json", (".json",))
     files = record_paths(record_files)
     if json_out is not None and len(files) > 1:
         raise InputError(f"--json writes one record; {len(files)} records were given")
     loaded = [(path, *load_record(path)) for path in files]  # folders find relative maps
+    for path, record, folder in loaded:  # a missing map in the last one stops all, first
+        try:
+            rerun_params(record, folder, {})
+        except InputError as exc:
+            raise InputError(f"{path}: {exc}" if len(files) > 1 else str(exc)) from None
     same = 0
     for path, record, folder in loaded:
         # a small run keeps its kernels interpreted, as the command that made it did (on a

@@ -53,6 +53,21 @@ def rerun_outcome(
     ``rule_for`` (mission name) -> the rule for runs small enough to keep their kernels
     interpreted while numba is cold (:meth:`Mission.run`'s ``interpreted``; the CLI's
     rule for the mission): the same record, without a compile."""
+    m, params, moved = rerun_params(rec, folder, overrides)
+    if trace is None:
+        trace = not rec.agents or any(a.trajectory or a.jobs for a in rec.agents)
+    rule = rule_for(rec.mission) if rule_for is not None else None
+    outcome = m.run(params, on_frame=on_frame, trace=trace, interpreted=rule)
+    respell(outcome.record, moved)
+    return outcome
+
+
+def rerun_params(
+    rec: ResultRecord, folder: Path | None, overrides: Mapping[str, Any]
+) -> tuple[Any, Any, dict[str, str]]:
+    """The mission, the parameters ``rec`` runs again with, and where its input files were
+    found (recorded -> found): every check that needs no run (a missing map, a world given
+    as an object), so ``swarmex rerun A B`` can refuse B before it reruns A."""
     from swarmex.missions.base import check_seed
     from swarmex.missions.registry import get
 
@@ -62,13 +77,7 @@ def rerun_outcome(
     m = get(rec.mission)
     values = m.rerun_values(rec, given=given.keys())
     moved = find_inputs(m, values, folder)
-    if trace is None:
-        trace = not rec.agents or any(a.trajectory or a.jobs for a in rec.agents)
-    params = m.params({**values, **given, "seed": seed})
-    rule = rule_for(rec.mission) if rule_for is not None else None
-    outcome = m.run(params, on_frame=on_frame, trace=trace, interpreted=rule)
-    respell(outcome.record, moved)
-    return outcome
+    return m, m.params({**values, **given, "seed": seed}), moved
 
 
 def rerun_record(
