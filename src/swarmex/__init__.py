@@ -318,7 +318,19 @@ def compare(
     ((name, value),) = baseline.items()
     axes = [a for a in meta.get("axes", []) if a in table.column_names]
     name = axis_name(axes, str(name))
-    return as_table(comparisons(table, meta, name, value, list(metrics)), name, axes)
+    metrics = list(dict.fromkeys(metrics))  # a metric asked twice: one row, not two
+    inputs = {"seed", *axes, *meta.get("params", [])}
+    given = [m for m in metrics if m in inputs or m.replace("-", "_") in inputs]
+    if given:  # a parameter compared with itself, pair by pair, is rows of zeros
+        raise InputError(f"metrics: {given[0]!r} is a parameter of the runs, not a result")
+    out = as_table(comparisons(table, meta, name, value, metrics), name, axes)
+    if out.num_rows == 0:
+        import warnings
+
+        warnings.warn(f"no pairs against {name} = {value}: every run with that value, or"
+                      " every run it would pair with, failed (see the table's error column)",
+                      UserWarning, stacklevel=2)
+    return out
 
 
 def plot(

@@ -133,8 +133,10 @@ def test_metrics_spelt_as_the_command_line_does_and_non_numbers(table) -> None:
     plain = swarmex.compare(table, {"algorithm": "madgta"}, ["total_time_all"])
     spelt = swarmex.compare(table, {"algorithm": "madgta"}, ["metrics.total_time_all"])
     assert spelt.equals(plain) and plain.num_rows > 0
-    with pytest.raises(InputError, match="metric 'grid': not a number"):
+    with pytest.raises(InputError, match="'grid' is a parameter of the runs, not a result"):
         swarmex.compare(table, {"algorithm": "madgta"}, ["grid"])
+    with pytest.raises(InputError, match="metric 'time_unit': not a number"):
+        swarmex.compare(table, {"algorithm": "madgta"}, ["time_unit"])
 
 
 def test_a_table_without_swarmex_metadata_still_names_its_axes(table) -> None:
@@ -156,6 +158,17 @@ def test_no_pairs_at_all_is_said_in_one_line(tmp_path: Path, capsys) -> None:
                  "--baseline", "agents=30"]) == 0
     out = capsys.readouterr().out
     assert "paired against agents = 30: no pairs" in out and "┏" not in out.split("no pairs")[1]
+    with pytest.warns(UserWarning, match="no pairs against agents = 30"):  # it was silent
+        assert swarmex.compare(tmp_path / "o", {"agents": 30}).num_rows == 0
+
+
+def test_a_parameter_is_no_metric_and_a_metric_counts_once(table) -> None:
+    # metrics=["seed"] or a parameter gave rows of zeros; a repeated metric, twice the rows
+    for metric in ("seed", "grid", "agents"):
+        with pytest.raises(InputError, match=f"{metric!r} is a parameter of the runs"):
+            swarmex.compare(table, {"algorithm": "madgta"}, [metric])
+    once = swarmex.compare(table, {"algorithm": "madgta"}, ["makespan"])
+    assert swarmex.compare(table, {"algorithm": "madgta"}, ["makespan", "makespan"]).equals(once)
 
 
 def test_two_sweeps_put_together_are_refused_not_paired_across(table, tmp_path: Path) -> None:

@@ -443,6 +443,10 @@ def test_summary_metric_names_checked_before_are_columns_after(tmp_path, capsys)
     assert main(["sweep", str(spec), "--backend", "serial", "--out", str(out),
                  "--metric", "nodes_done_all"]) == 0  # --metric alone: its summary is shown
     assert "nodes_done_all" in capsys.readouterr().out
+    # the paired table left a metric no run wrote out without a word
+    assert main(["sweep", str(spec), "--backend", "serial", "--out", str(out),
+                 "--baseline", "agents=1", "--metric", "objective_value"]) == 0
+    assert "note: no run wrote objective_value, so it is not compared" in capsys.readouterr().out
 
 
 def test_killed_driver_loses_no_finished_run(tmp_path):

@@ -199,6 +199,10 @@ def print_paired(out_dir: Path, name: str, value: Any, extra_metrics: list[str])
     columns = set(table.column_names)
     extra = [metric_column(m, columns, meta.get("mission")) for m in extra_metrics]
     metrics = ["makespan", *[m for m in extra if m != "makespan" and m in columns]]
+    for asked, column in zip(extra_metrics, extra, strict=True):
+        if column not in columns:  # dropped without a word: the summary at least shows "—"
+            console.print(f"note: no run wrote {asked}, so it is not compared",
+                          highlight=False, soft_wrap=True, markup=False)
     results = comparisons(table, meta, name, value, metrics)
     if not results:  # an empty table with headers only said nothing of why
         console.print(f"paired against {name} = {_value(value)}: no pairs (every run with"
