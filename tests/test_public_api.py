@@ -139,6 +139,15 @@ def test_wrong_types_are_input_errors_not_tracebacks(tmp_path) -> None:
         (lambda: swarmex.run(["traversal"], grid="3x3", agents=1),  # type: ignore[arg-type]
          "a mission is a name"),
         (lambda: swarmex.describe(["traversal"]), "a mission is a name"),  # type: ignore[arg-type]
+        (lambda: swarmex.plot(table, "agents", "makespan", out=5),  # type: ignore[arg-type]
+         "out must be a file name"),
+        (lambda: swarmex.ResultRecord.read(None),  # type: ignore[arg-type]
+         "ResultRecord.read: the path must be a file name"),
+        (lambda: swarmex.run("traversal", grid="3x3", agents=1).write(None),  # type: ignore[arg-type]
+         "ResultRecord.write: the path must be a file name"),
     ):
         with pytest.raises(swarmex.InputError, match=said):
             call()
+    from pathlib import PurePath
+
+    assert swarmex.compare(PurePath(tmp_path / "s"), {"agents": 1}).num_rows > 0

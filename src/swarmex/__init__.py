@@ -375,6 +375,8 @@ def plot(
         warnings.warn(line.replace("--where complete=true", "where={'complete': True}"),
                       UserWarning, stacklevel=2)
     if out is not None:
+        if not isinstance(out, str | PathLike):
+            raise InputError(f"out must be a file name (.png or .svg), got {out!r}")
         path = Path(fspath(out))
         if path.suffix.lower() not in SUFFIXES:
             raise InputError(f"out: {path} must end in .png or .svg")

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 from collections.abc import Mapping
 from dataclasses import asdict, dataclass, field, fields, is_dataclass
 from html import escape
@@ -131,6 +132,12 @@ class AgentRecord:
                 f" trajectory=<{len(self.trajectory)} rows>, jobs=<{len(self.jobs)} rows>)")
 
 
+def _check_path(path: Any, where: str) -> None:
+    """A file name, or one line saying what was given (None was a TypeError from ``open``)."""
+    if not isinstance(path, str | os.PathLike):
+        raise InputError(f"{where}: the path must be a file name (a str or path), got {path!r}")
+
+
 @dataclass
 class ResultRecord:
     """The result of one run (DESIGN.md's record), what ``swarmex.run`` returns and
@@ -217,6 +224,7 @@ class ResultRecord:
     def read(cls, path: str | Path) -> ResultRecord:
         """The record of a file ``--json``, a sweep or :meth:`write` wrote (an InputError
         names a missing or malformed one, and the file)."""
+        _check_path(path, "ResultRecord.read")
         data = read_record(path)
         try:
             return cls.from_dict(data)
@@ -225,6 +233,7 @@ class ResultRecord:
 
     def write(self, path: str | Path) -> Path:
         """Write the record's JSON to ``path`` atomically (what ``--json`` writes)."""
+        _check_path(path, "ResultRecord.write")
         return write_record(self, path)
 
     @classmethod

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Mapping, Sequence
+from os import PathLike, fspath
 from pathlib import Path
 from typing import Any
 
@@ -157,8 +158,8 @@ def load(results: Any) -> tuple[Any, dict[str, Any]]:
     ``swarmex.sweep`` returned (its schema metadata names the axes)."""
     from swarmex.experiments.sweep import read_results, table_meta
 
-    if isinstance(results, str | Path):
-        return read_results(results)
+    if isinstance(results, str | PathLike):  # a PurePath too
+        return read_results(Path(fspath(results)))
     if getattr(results, "schema", None) is None:
         raise InputError(f"expected a sweep folder or the table swarmex.sweep returned, got"
                          f" {type(results).__name__}")
