@@ -421,10 +421,8 @@ class raw_env(AECEnv):  # noqa: N801 - PettingZoo's module convention
     def _decision(self, request: _Request, target: int) -> Any:
         """The Decision for ``target``: the built-in one when it chose the same target (same
         draws, same branch counters), else MADGTA's three branches applied to ``target``."""
-        from swarmex.missions.traversal.policies import Decision, _pick
-        from swarmex.planning.distance import steps_towards
+        from swarmex.missions.traversal.policies import decision_towards
 
-        b = request.belief
         if request.builtin is not None or self._may_be_builtin(request, target):
             d, before, chosen = self._builtin_decision(request)
             if chosen == target:
@@ -432,14 +430,7 @@ class raw_env(AECEnv):  # noqa: N801 - PettingZoo's module convention
                 return d
             request.rng.bit_generator.state = before  # undo the built-in policy's draws
             request.builtin = None
-        here = int(b.here)
-        if target == here:
-            d = Decision("job", here, here, 1)
-        elif np.any(b.graph.neighbors(here) == target):
-            d = Decision("move", target, target, 2)
-        else:
-            steps = steps_towards(b.graph, b.known.field(target), here)
-            d = Decision("move", _pick(steps, request.rng), target, 3)
+        d = decision_towards(request.belief, target, request.rng)
         self._book(request, d)
         return d
 

@@ -70,6 +70,20 @@ def _pick(candidates: np.ndarray, rng: np.random.Generator) -> int:
     return int(np.sort(candidates)[rng.integers(candidates.size)])
 
 
+def decision_towards(belief: TraversalBelief, target: int, rng: np.random.Generator) -> Decision:
+    """MADGTA's decision once GetBestNode has chosen ``target`` (its three branches): the job
+    here, a move onto an adjacent target, else a step along a shortest known path towards it,
+    drawn from the candidates as the policy draws. One place for the rule, which the policy
+    and the traversal env's actions (an agent choosing its target itself) both apply."""
+    here = int(belief.here)
+    if target == here:
+        return Decision("job", here, here, 1)
+    if np.any(belief.graph.neighbors(here) == target):
+        return Decision("move", target, target, 2)
+    steps = steps_towards(belief.graph, belief.known.field(target), here)
+    return Decision("move", _pick(steps, rng), target, 3)
+
+
 def get_best_node(
     candidates: np.ndarray, util: np.ndarray, rng: np.random.Generator
 ) -> int:
@@ -196,9 +210,7 @@ class Madgta:
         far = np.nonzero(~belief.km_mask() & np.isfinite(mine))[0]
         if far.size == 0:
             return Decision("finish")
-        f = self.best(belief, far, rng)
-        steps = steps_towards(belief.graph, belief.known.field(f), here)
-        return Decision("move", _pick(steps, rng), f, 3)
+        return decision_towards(belief, self.best(belief, far, rng), rng)
 
     def best(self, belief: TraversalBelief, cands: np.ndarray, rng: np.random.Generator) -> int:
         return get_best_node(cands, self.utilities(belief, cands), rng)
