@@ -153,15 +153,15 @@ def process_pool(workers: int) -> Iterator[ProcessPoolExecutor]:
     once: ``with ProcessPoolExecutor()`` waits on leaving for every job still queued, so a
     Ctrl-C went on running them (31 s for a quick traversal comparison), or hung when a
     worker had died of the signal."""
+    from swarmex.experiments.pool import kill_workers
+
     pool = ProcessPoolExecutor(max(1, workers), initializer=_ignore_sigint)
     try:
         yield pool
     except BaseException:
         # killed first: the executor then sees its workers gone, and its shutdown (waited
         # for, or its thread hangs the interpreter's exit) returns at once
-        for proc in list((getattr(pool, "_processes", None) or {}).values()):
-            with contextlib.suppress(Exception):
-                proc.kill()
+        kill_workers(pool)
         with contextlib.suppress(Exception):
             pool.shutdown(wait=True, cancel_futures=True)
         raise

@@ -262,12 +262,11 @@ def sweep(
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int)):
         raise InputError(f"workers must be a whole number, got {workers!r}")
     spec = spec_from_keywords(mission, seeds, fixed or {}, axes)
-    for note in listed_axes(spec):
+    for key, count in listed_axes(spec):
         import warnings
 
-        note = note.removeprefix("note: ").replace("put it under [fixed]", "give it in fixed=")
-        warnings.warn(note.replace(" (docs/sweeps.md)", " or as a tuple"), UserWarning,
-                      stacklevel=2)
+        warnings.warn(f"{key} is an axis of {count} values, one per run; for one list of {key}"
+                      " in every run, give it in fixed= or as a tuple", UserWarning, stacklevel=2)
     bar = SweepBar(disable=not progress)
     try:
         result = run_sweep(

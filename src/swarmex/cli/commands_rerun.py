@@ -21,7 +21,7 @@ from swarmex.cli.compiling import compile_notice
 from swarmex.cli.missions import INTERPRETED
 from swarmex.cli.outputs import RENDER_SUFFIXES, check_output
 from swarmex.errors import InputError
-from swarmex.experiments.rerun import differences, networked_reason
+from swarmex.experiments.rerun import STOPPED_EARLY, differences, networked_reason
 
 #: How many differences the line names (the rest are counted).
 SHOWN = 4
@@ -45,18 +45,20 @@ def rerun(
     if json_out is not None and len(files) > 1:
         raise InputError(f"--json writes one record; {len(files)} records were given")
     loaded = [(path, *load_record(path)) for path in files]  # folders find relative maps
+    prepared = []
     for path, record, folder in loaded:  # a missing map in the last one stops all, first
         try:
-            rerun_params(record, folder, {})
+            prepared.append(rerun_params(record, folder, {}))
         except InputError as exc:
             raise InputError(f"{path}: {exc}" if len(files) > 1 else str(exc)) from None
     same = 0
-    for path, record, folder in loaded:
+    for (path, record, folder), ready in zip(loaded, prepared, strict=True):
         # a small run keeps its kernels interpreted, as the command that made it did (on a
         # cold cache a 6x6 traversal used to compile for 7-12 s); a larger one compiles,
         # with the one line that says so
         with compile_notice(err_console):
-            new_record = rerun_record(record, folder, {}, rule_for=interpreted_rule)
+            new_record = rerun_record(record, folder, {}, rule_for=interpreted_rule,
+                                      prepared=ready)
         if json_out is not None:
             write_record(new_record, json_out)
         name = f"{path}: " if len(files) > 1 else ""
@@ -151,7 +153,5 @@ def verdict(old: dict[str, Any], new: dict[str, Any]) -> tuple[str, bool]:
     why = "" if networked is None else f" ({networked})"
     if not why and old.get("complete") is False and new.get("complete") is True:
         # a run its caller stopped (StopRun from on_frame) ends where no parameter says
-        why = (" (the record's run ended incomplete and the rerun completed: a run stopped"
-               " early by its caller, e.g. StopRun from on_frame, cannot be rerun to that"
-               " point)")
+        why = f" ({STOPPED_EARLY})"
     return f"rerun {what}: differs{made} in {'; '.join(diffs[:SHOWN])}{more}{why}", False

@@ -74,8 +74,10 @@ def sweep(
     from swarmex.experiments.sweep_spec import listed_axes, load_sweep_spec
 
     spec = load_sweep_spec(spec_file)
-    for note in listed_axes(spec):
-        console.print(note, soft_wrap=True, markup=False)
+    for key, count in listed_axes(spec):
+        console.print(f"note: {key} is an axis of {count} values, one per run; for one list of"
+                      f" {key} in every run, put it under [fixed] (docs/sweeps.md)",
+                      soft_wrap=True, markup=False)
     shapes = mission_shapes(spec.mission, spec_file)
     check_metrics(spec.mission, metric)  # a typo must stop the sweep before its runs
     compared = None

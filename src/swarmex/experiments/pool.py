@@ -246,11 +246,11 @@ def run_local(
         # a Ctrl-C while the chunks in flight finish (often a second one: terminals and
         # `timeout` signal the whole group) kills the workers instead of breaking into the
         # executor's own bookkeeping, which then hung at exit or raised "release unlocked lock"
-        with sigint_deferred(on_signal=lambda: _kill_workers(pool)):
+        with sigint_deferred(on_signal=lambda: kill_workers(pool)):
             try:
                 pool.shutdown(wait=True, cancel_futures=True)
             except RuntimeError:  # its locks left half-held by a Ctrl-C inside the executor
-                _kill_workers(pool)
+                kill_workers(pool)
 
 
 @contextlib.contextmanager
@@ -279,8 +279,9 @@ def sigint_deferred(on_signal: Callable[[], None] | None = None) -> Iterator[Non
         raise KeyboardInterrupt
 
 
-def _kill_workers(pool: ProcessPoolExecutor) -> None:
-    """End the pool's worker processes now (their chunks' results are not wanted)."""
+def kill_workers(pool: ProcessPoolExecutor) -> None:
+    """End the pool's worker processes now (their chunks' results are not wanted); also the
+    bench scripts' Ctrl-C (bench/_cli.process_pool)."""
     for proc in list((getattr(pool, "_processes", None) or {}).values()):
         with contextlib.suppress(Exception):
             proc.kill()

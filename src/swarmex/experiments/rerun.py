@@ -39,6 +39,11 @@ def load_record(
     return ResultRecord.from_dict(source), None
 
 
+#: why an incomplete record's rerun completes (swarmex rerun's line, swarmex render's note)
+STOPPED_EARLY = ("the record's run was stopped early by its caller (StopRun from on_frame),"
+                 " and a rerun cannot stop at that point")
+
+
 def rerun_outcome(
     rec: ResultRecord,
     folder: Path | None,
@@ -47,13 +52,14 @@ def rerun_outcome(
     on_frame: Any = None,
     trace: bool | None = None,
     rule_for: RuleFor | None = None,
+    prepared: tuple[Any, Any, dict[str, str]] | None = None,
 ) -> Outcome:
     """:func:`rerun_record`, returning the run's whole Outcome (what the drawings read).
 
     ``rule_for`` (mission name) -> the rule for runs small enough to keep their kernels
     interpreted while numba is cold (:meth:`Mission.run`'s ``interpreted``; the CLI's
     rule for the mission): the same record, without a compile."""
-    m, params, moved = rerun_params(rec, folder, overrides)
+    m, params, moved = prepared or rerun_params(rec, folder, overrides)
     if trace is None:
         trace = not rec.agents or any(a.trajectory or a.jobs for a in rec.agents)
     rule = rule_for(rec.mission) if rule_for is not None else None
@@ -88,14 +94,16 @@ def rerun_record(
     on_frame: Any = None,
     trace: bool | None = None,
     rule_for: RuleFor | None = None,
+    prepared: tuple[Any, Any, dict[str, str]] | None = None,
 ) -> ResultRecord:
     """Run ``rec`` again (:func:`swarmex.rerun`), with ``overrides`` applied (``seed`` among
     them: the same setting, drawn again). ``folder`` is the record file's, where relative
     input paths are also looked for. ``trace`` None is the record's own: a ``trace=False``
     record (no agent has a trajectory or a job) runs again without it. ``rule_for``:
-    :func:`rerun_outcome`'s."""
+    :func:`rerun_outcome`'s; ``prepared``: what :func:`rerun_params` gave for these
+    arguments, when the caller checked them first."""
     return rerun_outcome(rec, folder, overrides, on_frame=on_frame, trace=trace,
-                         rule_for=rule_for).record
+                         rule_for=rule_for, prepared=prepared).record
 
 
 def render_record(
@@ -150,9 +158,8 @@ def render_record(
     if given:
         return out, f"{', '.join(sorted(given))} given again is not the record's"
     if not rec.complete and outcome.record.complete:
-        return out, ("the record's run was stopped early by its caller (StopRun from"
-                     " on_frame), and a rerun cannot stop at that point")
-    if "network" in rec.params or "processes" in rec.params:
+        return out, STOPPED_EARLY
+    if networked_reason({"params": dict(rec.params)}) is not None:  # it reads the params
         return out, "a networked record; swarmex rerun says where"
     return out, "another swarmex version"
 

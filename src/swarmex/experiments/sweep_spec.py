@@ -141,20 +141,16 @@ class SweepSpec:
         return values
 
 
-def listed_axes(spec: SweepSpec) -> list[str]:
-    """Notes on axes of an option whose one value is itself a list (obstacles, nests): by the
-    spec's rule each element is one run's whole value, which is seldom meant (a scenario
-    file's ``obstacles = [...]`` swept as a spec gave 8 runs of one wall cell each)."""
+def listed_axes(spec: SweepSpec) -> list[tuple[str, int]]:
+    """The axes, with their value counts, of an option whose one value is itself a list
+    (obstacles, nests): by the spec's rule each element is one run's whole value, which is
+    seldom meant (a scenario file's ``obstacles = [...]`` swept as a spec gave 8 runs of one
+    wall cell each). Each surface says so in its own words."""
     from swarmex.missions.registry import get
 
     options = get(spec.mission).params_type.options()
-    notes = []
-    for key, values in spec.axes.items():
-        info = options.get(key.replace("-", "_"))
-        if info is not None and info.many and len(values) > 1:
-            notes.append(f"note: {key} is an axis of {len(values)} values, one per run; for one"
-                         f" list of {key} in every run, put it under [fixed] (docs/sweeps.md)")
-    return notes
+    return [(key, len(values)) for key, values in spec.axes.items()
+            if len(values) > 1 and getattr(options.get(key.replace("-", "_")), "many", False)]
 
 
 def run_id(mission: str, params: dict[str, Any], seed: int) -> str:

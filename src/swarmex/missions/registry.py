@@ -110,4 +110,3 @@ def same_value(mission: str | None, name: str, a: Any, b: Any) -> bool:
 
 
 _UNPARSED = object()
-

@@ -20,7 +20,7 @@ import numpy as np
 from swarmex.missions.exploration.frames import Snapshot, snapshot  # re-exported for viz users
 from swarmex.sensing.frontiers import frontier_mask
 from swarmex.viz.animation import write_animation
-from swarmex.viz.files import save_figure
+from swarmex.viz.files import save_figure, side_legend
 
 UNKNOWN = np.array([170, 170, 170], dtype=np.uint8)
 FREE = np.array([255, 255, 255], dtype=np.uint8)
@@ -151,7 +151,7 @@ def _legend(ax) -> None:
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
-    ax.legend(handles=[
+    side_legend(ax, [
         Patch(fc=FREE / 255, ec="0.5", label="known free"),
         Patch(fc=OCCUPIED / 255, label="known obstacle"),
         Patch(fc=UNKNOWN / 255, label="unknown"),
@@ -159,7 +159,7 @@ def _legend(ax) -> None:
         Line2D([], [], marker="s", mfc="none", mec="0.2", ls="-", color="0.2", lw=0.8,
                label="a robot's path from its start"),
         Line2D([], [], marker="o", color="0.2", mec="k", ls="", label="where it ended"),
-    ], fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1), borderaxespad=0, frameon=False)
+    ])
 
 
 def exploration_animation(frames: list[Snapshot], run, path: str | Path, fps: int = 12) -> Path:
@@ -192,4 +192,3 @@ def captioned(img: np.ndarray, text: str) -> np.ndarray:
     canvas = Image.fromarray(out)
     ImageDraw.Draw(canvas).text((3, 2), text, fill=(0, 0, 0))
     return np.asarray(canvas)
-

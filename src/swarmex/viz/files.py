@@ -12,6 +12,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from swarmex.engine.atomic import atomic_path
 from swarmex.errors import InputError
 
 if TYPE_CHECKING:
@@ -29,16 +30,15 @@ def save_figure(fig: Figure, path: Path, **savefig: Any) -> Path:
     if fmt == "svg":
         savefig.setdefault("metadata", {"Date": None})
     try:
-        with write_file(path) as tmp, mpl.rc_context({"svg.hashsalt": "swarmex"}):
+        with atomic_path(path) as tmp, mpl.rc_context({"svg.hashsalt": "swarmex"}):
             fig.savefig(tmp, format=fmt, **savefig)
     except OSError as exc:
         raise InputError(f"cannot write {path}: {exc.strerror or exc}") from None
     return path
 
 
-def write_file(path: Path) -> Any:
-    """A temporary path beside ``path`` that replaces it when the block ends cleanly (for a
-    writer such as Pillow's that takes a path): :func:`~swarmex.engine.atomic.atomic_path`."""
-    from swarmex.engine.atomic import atomic_path
-
-    return atomic_path(path)
+def side_legend(ax: Any, handles: list[Any]) -> None:
+    """The legend beside the axes, top left, unframed: the map keeps its whole area, and
+    :func:`save_figure` with ``bbox_inches="tight"`` keeps the legend in the file."""
+    ax.legend(handles=handles, fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1),
+              borderaxespad=0, frameon=False)

@@ -20,7 +20,7 @@ from matplotlib.collections import LineCollection
 from matplotlib.figure import Figure
 
 from swarmex.viz.animation import check_suffix, write_animation
-from swarmex.viz.files import save_figure
+from swarmex.viz.files import save_figure, side_legend
 
 MAX_FRAMES = 120
 
@@ -92,12 +92,12 @@ def _legend(ax) -> None:
     """What the marks mean; the robots' colours only tell them apart."""
     from matplotlib.lines import Line2D
 
-    ax.legend(handles=[
+    side_legend(ax, [
         Line2D([], [], marker="*", ms=11, color="black", ls="", label="nest"),
         Line2D([], [], marker="s", ms=7, color="red", ls="", label="food"),
         Line2D([], [], color="0.2", lw=1.2, label="a robot's path until the food is found"),
         Line2D([], [], color="0.2", lw=0.6, alpha=0.25, label="after (communication, transport)"),
-    ], fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1), borderaxespad=0, frameon=False)
+    ])
 
 
 def carried_units(record: dict[str, Any], T: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

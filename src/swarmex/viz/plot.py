@@ -97,6 +97,7 @@ def sweep_figure(
     # a time of a run that did not finish is where it stopped (its budget), not a finish
     stops = is_time(y) or y.rsplit(".", 1)[-1] == "steps"  # roadmap's length is "steps"
     unfinished = [r for r in ok if r.get("complete") is False] if stops else []
+    cut_at = {(r[hue] if hue else None, r[x]) for r in unfinished}  # (series, x) to mark
     fig = Figure(figsize=(6.4, 4.2), dpi=120)
     FigureCanvasAgg(fig)
     ax = fig.add_subplot()
@@ -105,8 +106,7 @@ def sweep_figure(
         mean = np.array([s.mean for s in stats])
         half = np.nan_to_num(np.array([s.half_width for s in stats]))
         label = None if hue is None else f"{h}"
-        cut = np.array([any((hue is None or r[hue] == h) and r[x] == v for r in unfinished)
-                        for v in xs], dtype=bool)
+        cut = np.array([(h, v) in cut_at for v in xs], dtype=bool)
         if kind == "line":
             xv = np.array([float(v) for v in xs])
             have = np.isfinite(mean)

@@ -25,7 +25,7 @@ from matplotlib.patches import Polygon as MplPolygon  # noqa: E402
 
 from swarmex.missions.roadmap.sim import RoadmapRun  # noqa: E402
 from swarmex.viz.animation import check_suffix, write_animation  # noqa: E402
-from swarmex.viz.files import save_figure  # noqa: E402
+from swarmex.viz.files import save_figure, side_legend  # noqa: E402
 
 # tab10 is a ListedColormap whose colors are a tuple of ten RGB tuples
 PALETTE = cast(
@@ -216,8 +216,7 @@ def _legend(ax, run: RoadmapRun) -> None:
     if run.goal is not None:
         handles.append(Line2D([], [], marker="*", color="gold", mec="k", ms=12, ls="",
                               label="goal"))
-    ax.legend(handles=handles, fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1),
-              borderaxespad=0, frameon=False)
+    side_legend(ax, handles)
 
 
 def render_png(run: RoadmapRun, path: str | Path, title: str | None = None) -> Path:

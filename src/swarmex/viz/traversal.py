@@ -33,6 +33,7 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
+from swarmex.engine.atomic import atomic_path
 from swarmex.errors import InputError
 from swarmex.viz.animation import (
     ANIMATION_SUFFIXES,
@@ -40,7 +41,7 @@ from swarmex.viz.animation import (
     RENDER_SUFFIXES,
     write_animation,
 )
-from swarmex.viz.files import save_figure, write_file
+from swarmex.viz.files import save_figure
 
 SMALL_CELLS = 2500  # up to 50x50 the thesis style (dots, edges, circles) stays legible
 MAX_FRAMES = 120  # an animation never has more frames than this, whatever the map size
@@ -540,7 +541,7 @@ def _write_gif(path: Path, frames: list[np.ndarray], palette: bytes, durations: 
         im = Image.frombytes("P", (f.shape[1], f.shape[0]), np.ascontiguousarray(f).tobytes())
         im.putpalette(palette)
         images.append(im)
-    with write_file(path) as tmp:  # whole or not at all: Pillow writes straight to its path
+    with atomic_path(path) as tmp:  # whole or not at all: Pillow writes straight to its path
         images[0].save(
             tmp,
             format="GIF",
