@@ -47,11 +47,13 @@ plus ``completion_bonus`` when the run ends complete. Termination: the mission's
 condition (every branch COMPLETE, every agent at the goal); truncation: the step budget
 (``step_budget``, the mission's default otherwise), which is how PRM coverage always ends.
 
-Exactness: at each decision the environment computes the built-in choice (``_choose_edge`` /
-``_pick_branch`` / ``choose`` of the agent's own policy object) on a snapshot of the run's
-generator and restores it; the answer equal to it is carried out by the agent's own
-``decide`` (so the generator advances exactly as in ``swarmex.run``); another answer is
-carried out from the restored state. :func:`baseline_policy` answers with the built-in
+Exactness: the choices are the agents' own (``choice()`` of
+:class:`~swarmex.missions.roadmap.wma_policy.WMAAgent` and
+:class:`~swarmex.missions.roadmap.prm_policy.PRMWalker`, which also define what is legal). At
+each decision the environment computes the built-in choice (``seed_choice``) on a snapshot
+of the run's generator and restores it; the answer equal to it is carried out by the agent's
+own ``decide`` (so the generator advances exactly as in ``swarmex.run``); another answer by
+its ``carry_out`` from the restored state. :func:`baseline_policy` answers with the built-in
 choice, so its episodes give ``swarmex.run``'s record (``record()``), ``wall_seconds`` aside.
 
 Seeds: ``reset(seed=s)`` runs with seed ``s``; ``reset()`` runs the params' ``seed`` the first
@@ -200,80 +202,26 @@ class _Episode:
 
     def _decide(self, a: Any, t: int, rng: np.random.Generator) -> Move | None:
         """The run's decision hook: ask the environment when the agent has a choice."""
+        from swarmex.missions.roadmap.wma_policy import WAIT
+
         if self.board is None:
             self._see_board(a.board)
         self.agents[a.id] = a
         self.t = t
-        question = self._question(a)
-        if question is None:
+        choice = a.choice()
+        if choice is None:
             return a.decide(t, rng)  # nothing to choose: the agent's own step
-        kind, mask = question
+        mask = np.zeros(self.e_cap + 1, dtype=np.int8)
+        mask[[self.stay if o == WAIT else o for o in choice.options]] = 1
         snapshot = rng.bit_generator.state
-        builtin = self._builtin(a, kind, rng)
+        seed = a.seed_choice(choice, rng)
         rng.bit_generator.state = snapshot
+        builtin = self.stay if seed == WAIT else seed
         assert self._ask is not None
-        action = int(self._ask(Decision(int(a.id), t, kind, mask, builtin)))
+        action = int(self._ask(Decision(int(a.id), t, choice.kind, mask, builtin)))
         if action == builtin:
             return a.decide(t, rng)  # the seed's own decision, drawing what it draws
-        return self._apply(a, kind, action)
-
-    def _question(self, a: Any) -> tuple[str, np.ndarray] | None:
-        """(kind, mask) when agent ``a`` chooses now, None when its step is forced."""
-        from swarmex.missions.roadmap.blackboard import COMPLETE, WMABoard
-
-        b = a.board
-        mask = np.zeros(self.e_cap + 1, dtype=np.int8)
-        if isinstance(b, WMABoard):
-            if a.state not in ("explore", "free", "wait") or b.anchor is not None:
-                return None
-            if a.state in ("free", "wait"):
-                open_ = np.flatnonzero(b.weight != COMPLETE)
-                if not len(open_):
-                    return None
-                mask[b.first_edge[open_]] = 1
-                mask[self.stay] = 1
-                return "branch", mask
-            if a.node <= 0:
-                return None  # at the Main Root inside a branch: its first edge, a commitment
-            options = [e for e in b.children[a.node] if a.w_d[e] == 0]
-            if not any(b.w_g[e] == 0 for e in options):
-                options.append(a.node - 1)  # the way back, once no child edge is unexplored
-            if len(options) < 2:
-                return None
-            mask[options] = 1
-            return "edge", mask
-        if a.state != "walk" or a.node < 0:
-            return None
-        if b.anchor is not None and (a.node == b.anchor or a.node in b.trail_next):
-            return None
-        nbrs = b.rm.adjacency[a.node]
-        if len(nbrs) < 2:
-            return None
-        mask[[e for _, e in nbrs]] = 1
-        return "walk", mask
-
-    def _builtin(self, a: Any, kind: str, rng: np.random.Generator) -> int:
-        """The seed algorithm's choice as an action (draws from ``rng``; the caller restores)."""
-        if kind == "edge":
-            return int(a._choose_edge(rng))
-        if kind == "branch":
-            k = a._pick_branch(rng)
-            return self.stay if k < 0 else int(a.board.first_edge[k])
-        return int(a.choose(rng)[1])
-
-    def _apply(self, a: Any, kind: str, action: int) -> Move | None:
-        """Carry out a (checked) action other than the built-in choice."""
-        b = a.board
-        if kind == "edge":
-            return a._edge_move(action)
-        if kind == "branch":
-            if action == self.stay:
-                a.state = "wait"
-                return None
-            a._enter(int(b.branch_of_edge[action]))
-            return a._edge_move(action)
-        u, v = b.rm.edges[action]
-        return a.take(int(v) if int(u) == a.node else int(u), action)
+        return a.carry_out(choice, WAIT if action == self.stay else action)
 
     # ---------------------------------------------------------------- caller side
     @property

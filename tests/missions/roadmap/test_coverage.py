@@ -94,3 +94,44 @@ def test_same_seed_same_record(clutter):
         d.pop("wall_seconds")
         recs.append(d)
     assert recs[0] == recs[1]
+
+
+@pytest.mark.parametrize("planner", ["wma-rrt", "wma-rrt-fairshare"])
+def test_any_policy_over_the_agents_choices_completes_every_edge(clutter, planner):
+    """The choices an agent offers another policy (``choice``/``carry_out``, what the
+    PettingZoo env exposes) keep the paper's guarantee: whatever is picked among them, the run
+    completes with every edge travelled down and back and every branch COMPLETE."""
+    from swarmex.missions.roadmap.wma_policy import WAIT
+
+    picker = np.random.default_rng(99)
+    offered = {"edge": 0, "branch": 0}
+
+    def random_policy(agent, t, rng):
+        choice = agent.choice()
+        if choice is None:
+            return agent.decide(t, rng)
+        offered[choice.kind] += 1
+        assert len(set(choice.options)) == len(choice.options) > 1
+        option = choice.options[int(picker.integers(len(choice.options)))]
+        if choice.kind == "branch":
+            assert choice.options[-1] == WAIT
+        return agent.carry_out(choice, option)
+
+    run = run_roadmap(clutter, cluster(3), planner=planner, nodes=150, step=10,
+                      sensor_range=15, seed=5, decide=random_policy)
+    b = run.board
+    assert offered["edge"] > 10 and offered["branch"] > 0
+    assert run.complete and np.all(b.weight == COMPLETE)
+    assert np.all(b.traversals >= 2)
+    assert all(a.state == "done" and a.node == 0 for a in run.agents)
+
+
+def test_carry_out_refuses_an_option_not_offered(clutter):
+    from swarmex.missions.roadmap.blackboard import WMABoard
+    from swarmex.missions.roadmap.sim import build_roadmap
+    from swarmex.missions.roadmap.wma_policy import Choice, WMAAgent
+
+    rm = build_roadmap(clutter, "wma-rrt", cluster(1), 40, 10, np.random.default_rng(0))
+    agent = WMAAgent(0, cluster(1)[0], WMABoard(rm, 1))
+    with pytest.raises(ValueError, match="not one of"):
+        agent.carry_out(Choice("edge", (1, 2)), 3)

@@ -10,6 +10,9 @@ simulation stops it at the step budget.
 Goal search: the finder marks its loop-erased walk (see
 :class:`~swarmex.missions.roadmap.blackboard.PRMBoard`); a walker that steps onto a marked node
 follows the marks to the anchor and then the leg to the goal; others keep walking.
+
+Choices open to another policy (:meth:`PRMWalker.choice`): any edge at the walker's node,
+except while it follows the marks or the goal leg.
 """
 
 from __future__ import annotations
@@ -17,7 +20,7 @@ from __future__ import annotations
 import numpy as np
 
 from swarmex.missions.roadmap.blackboard import PRMBoard
-from swarmex.missions.roadmap.wma_policy import Move
+from swarmex.missions.roadmap.wma_policy import Choice, Move
 
 
 class PRMWalker:
@@ -57,6 +60,27 @@ class PRMWalker:
             self.state = "stuck"  # an isolated node: nowhere to go
             return None
         return self.take(*self.choose(rng))
+
+    def choice(self) -> Choice | None:
+        """This step's choice of edge, or None when the step is forced."""
+        b = self.board
+        if self.state != "walk" or self.node < 0:
+            return None
+        if b.anchor is not None and (self.node == b.anchor or self.node in b.trail_next):
+            return None
+        nbrs = b.rm.adjacency[self.node]
+        return Choice("walk", tuple(int(e) for _, e in nbrs)) if len(nbrs) > 1 else None
+
+    def seed_choice(self, choice: Choice, rng: np.random.Generator) -> int:
+        """The edge the least-weight rule takes; draws from ``rng``."""
+        return int(self.choose(rng)[1])
+
+    def carry_out(self, choice: Choice, option: int) -> Move:
+        """Walk edge ``option`` (one of ``choice.options``)."""
+        if option not in choice.options:
+            raise ValueError(f"option {option} is not one of {choice.options}")
+        u, v = self.board.rm.edges[option]
+        return self.take(int(v) if int(u) == self.node else int(u), option)
 
     def choose(self, rng: np.random.Generator) -> tuple[int, int]:
         """The walk's rule at a node with neighbours: (next node, edge) of least weight."""

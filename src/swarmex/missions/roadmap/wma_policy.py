@@ -48,6 +48,13 @@ follows: at the anchor it takes the straight leg to the goal; if an edge of weig
 from the Main Root it takes it; otherwise it climbs its own return path (weight 1 in its
 dedicated copy). That is both of the paper's cases — same branch: up until the ½ path is met;
 other branch: up to the Main Root, whose only ½ edge is the flagged branch's first edge.
+
+Choices open to another policy (:meth:`WMAAgent.choice`, used by the PettingZoo environment):
+inside a branch, any child edge the agent has not used since it entered it, and its way
+back once no child edge is unexplored (global weight 0): whatever order a policy explores
+in, a branch is COMPLETE only when every edge in it was travelled. Free at the Main Root:
+the first edge of any branch that is not COMPLETE, or :data:`WAIT`. The seed rule above
+picks one of them (:meth:`WMAAgent.seed_choice`), and :meth:`WMAAgent.carry_out` walks any.
 """
 
 from __future__ import annotations
@@ -57,6 +64,21 @@ from dataclasses import dataclass
 import numpy as np
 
 from swarmex.missions.roadmap.blackboard import COMPLETE, HALF, WMABoard
+
+#: The option of waiting at the Main Root for a step (a free agent's "help or wait").
+WAIT = -1
+
+
+@dataclass(frozen=True)
+class Choice:
+    """A real choice an agent faces this step: ``kind`` and its ``options`` (edge ids).
+
+    ``kind`` is "edge" (a WMA-RRT agent inside a branch), "branch" (a free WMA-RRT agent at
+    the Main Root: a branch's first edge, or :data:`WAIT`) or "walk" (a PRM walker).
+    """
+
+    kind: str
+    options: tuple[int, ...]
 
 
 @dataclass
@@ -146,6 +168,42 @@ class WMAAgent:
                 best = [e for e, x in zip(odd, w, strict=True) if x == w.min()]
                 return best[rng.integers(len(best))] if len(best) > 1 else best[0]
         return self.node - 1  # the way back: weight 1 in the dedicated copy
+
+    # --- the choice, for a policy other than the seed's ----------------------------------
+    def choice(self) -> Choice | None:
+        """This step's choice, or None when the step is forced (one option, or none)."""
+        b = self.board
+        if self.state not in ("explore", "free", "wait") or b.anchor is not None:
+            return None
+        if self.state in ("free", "wait"):
+            open_ = np.flatnonzero(b.weight != COMPLETE)
+            if not len(open_):
+                return None
+            return Choice("branch", (*(int(e) for e in b.first_edge[open_]), WAIT))
+        if self.node <= 0:
+            return None  # at the Main Root inside a branch: its first edge, a commitment
+        options = [int(e) for e in b.children[self.node] if self.w_d[e] == 0]
+        if not any(b.w_g[e] == 0 for e in options):
+            options.append(self.node - 1)  # the way back, once no child edge is unexplored
+        return Choice("edge", tuple(options)) if len(options) > 1 else None
+
+    def seed_choice(self, choice: Choice, rng: np.random.Generator) -> int:
+        """The option the seed rule (or this agent's variant) takes; draws from ``rng``."""
+        if choice.kind == "edge":
+            return int(self._choose_edge(rng))
+        k = self._pick_branch(rng)
+        return WAIT if k < 0 else int(self.board.first_edge[k])
+
+    def carry_out(self, choice: Choice, option: int) -> Move | None:
+        """Take ``option`` (one of ``choice.options``): its move, or None to wait."""
+        if option not in choice.options:
+            raise ValueError(f"option {option} is not one of {choice.options}")
+        if choice.kind == "branch":
+            if option == WAIT:
+                self.state = "wait"
+                return None
+            self._enter(int(self.board.branch_of_edge[option]))
+        return self._edge_move(option)
 
     # --- one step (a critical section) ----------------------------------------------------
     def decide(self, t: int, rng: np.random.Generator) -> Move | None:
