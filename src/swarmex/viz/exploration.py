@@ -20,7 +20,8 @@ import numpy as np
 from swarmex.missions.exploration.frames import Snapshot, snapshot  # re-exported for viz users
 from swarmex.sensing.frontiers import frontier_mask
 from swarmex.viz.animation import write_animation
-from swarmex.viz.files import save_figure, side_legend
+from swarmex.viz.axes import coordinate_ticks, side_legend
+from swarmex.viz.files import save_figure
 
 UNKNOWN = np.array([170, 170, 170], dtype=np.uint8)
 FREE = np.array([255, 255, 255], dtype=np.uint8)
@@ -109,8 +110,7 @@ def draw(
     h, w = snap.known.shape
     ax.set_xlim(-0.5, w - 0.5)
     ax.set_ylim(h - 0.5, -0.5)
-    ax.set_xticks([])
-    ax.set_yticks([])
+    coordinate_ticks(ax, unit="cells")
     if title:
         ax.set_title(title, fontsize=8)
 

@@ -36,9 +36,3 @@ def save_figure(fig: Figure, path: Path, **savefig: Any) -> Path:
         raise InputError(f"cannot write {path}: {exc.strerror or exc}") from None
     return path
 
-
-def side_legend(ax: Any, handles: list[Any]) -> None:
-    """The legend beside the axes, top left, unframed: the map keeps its whole area, and
-    :func:`save_figure` with ``bbox_inches="tight"`` keeps the legend in the file."""
-    ax.legend(handles=handles, fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1),
-              borderaxespad=0, frameon=False)

@@ -20,7 +20,8 @@ from matplotlib.collections import LineCollection
 from matplotlib.figure import Figure
 
 from swarmex.viz.animation import check_suffix, write_animation
-from swarmex.viz.files import save_figure, side_legend
+from swarmex.viz.axes import coordinate_ticks, side_legend
+from swarmex.viz.files import save_figure
 
 MAX_FRAMES = 120
 
@@ -53,8 +54,7 @@ def _axes(fig: Figure, g: int):
     ax.set_xlim(-0.5, g - 0.5)
     ax.set_ylim(g - 0.5, -0.5)  # row 0 at the top, as in the thesis
     ax.set_aspect("equal")
-    ax.set_xticks([])
-    ax.set_yticks([])
+    coordinate_ticks(ax, unit="cells")
     return ax
 
 

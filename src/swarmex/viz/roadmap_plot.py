@@ -25,7 +25,8 @@ from matplotlib.patches import Polygon as MplPolygon  # noqa: E402
 
 from swarmex.missions.roadmap.sim import RoadmapRun  # noqa: E402
 from swarmex.viz.animation import check_suffix, write_animation  # noqa: E402
-from swarmex.viz.files import save_figure, side_legend  # noqa: E402
+from swarmex.viz.axes import coordinate_ticks, side_legend  # noqa: E402
+from swarmex.viz.files import save_figure  # noqa: E402
 
 # tab10 is a ListedColormap whose colors are a tuple of ten RGB tuples
 PALETTE = cast(
@@ -165,8 +166,7 @@ def draw(
     ax.set_xlim(xmin, xmax)
     ax.set_ylim((ymax, ymin) if w.y_down else (ymin, ymax))
     ax.set_aspect("equal")
-    ax.set_xticks([])
-    ax.set_yticks([])
+    coordinate_ticks(ax, integer=False)
     if title:
         ax.set_title(title, fontsize=9)
 

@@ -41,6 +41,7 @@ from swarmex.viz.animation import (
     RENDER_SUFFIXES,
     write_animation,
 )
+from swarmex.viz.axes import coordinate_ticks
 from swarmex.viz.files import save_figure
 
 SMALL_CELLS = 2500  # up to 50x50 the thesis style (dots, edges, circles) stays legible
@@ -110,12 +111,11 @@ class _Canvas:
         size = side * span / span.max()
         self.fig = Figure(figsize=(max(size[0], 3.5) + 2.2, max(size[1], 3.5) + 0.6), dpi=dpi)
         self.canvas = FigureCanvasAgg(self.fig)  # also becomes self.fig.canvas
-        self.ax = self.fig.add_axes((0.03, 0.04, 0.68, 0.88))
+        self.ax = self.fig.add_axes((0.06, 0.06, 0.65, 0.86))
         self.ax.set_xlim(lo[0], hi[0])
         self.ax.set_ylim(hi[1], lo[1]) if self.is_grid else self.ax.set_ylim(lo[1], hi[1])
         self.ax.set_aspect("equal")
-        self.ax.set_xticks([])
-        self.ax.set_yticks([])
+        coordinate_ticks(self.ax, integer=self.is_grid, unit="cells" if self.is_grid else "")
         if title:
             self.ax.set_title(title, fontsize=10)
         # points per vertex spacing, to size markers and lines to the cells
