@@ -4,6 +4,8 @@ Every surface (CLI, scenario files, sweeps) turns :class:`InputError` into exit 
 and a single line on stderr; anything else is a bug and keeps its traceback.
 """
 
+import math
+
 
 class InputError(ValueError):
     """A parameter, file or scenario that cannot be run; the message names the problem."""
@@ -16,6 +18,19 @@ class MissingExtra(InputError, ImportError):
     and Python code expects a missing library to be an :class:`ImportError` (``try: import
     swarmex.envs except ImportError: ...``); as an InputError alone, that ``except`` missed
     it and the import ended in a traceback instead of the fallback."""
+
+
+def check_number(value: float, option: str, *, above: float | None = None,
+                 at_least: float | None = None) -> None:
+    """``value`` must be a finite number, above or at least a bound: one line naming the
+    option otherwise. Why "finite" is said: ``inf`` and ``nan`` pass or fail a bare
+    comparison by accident, and "must be > 0, got inf" reads as a contradiction."""
+    bound = (f" > {above:g}" if above is not None
+             else f" >= {at_least:g}" if at_least is not None else "")
+    if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
+        raise InputError(f"{option} must be a finite number{bound}, got {value}")
+    if (above is not None and not value > above) or (at_least is not None and value < at_least):
+        raise InputError(f"{option} must be{bound}, got {value}")
 
 
 def require(module: str, extra: str, what: str) -> None:

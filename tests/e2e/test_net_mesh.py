@@ -73,6 +73,10 @@ def test_mesh_survives_a_killed_robot_and_thirty_percent_loss(tmp_path):
     # the monitor stream of the display
     kinds = [e["type"] for e in events]
     assert kinds[:2] == ["hello", "world"] and events[0]["source"] == "network"
+    # the page shows the totals at the end, not a message rate of 0 (no message events)
+    assert events[0]["messages"] == "totals"
+    assert {e.get("kind") for e in events if e["type"] == "message"} <= {"left"}
+    assert events[-1]["type"] == "end" and events[-1]["messages"] == m["messages_sent"] > 0
     assert "move" in kinds and kinds[-1] == "end"
     assert np.isclose(events[-1]["makespan"], record["makespan"])
 
@@ -155,3 +159,65 @@ def test_unicasts_cross_a_line_of_robots_by_aodv():
     assert record["agents"][0]["metrics"]["traffic"]["out_of_range"] > 0
     by = {a["id"]: a["metrics"]["scans_by_origin"] for a in record["agents"]}
     assert by[0].get(str(n - 1), 0) > 0 and by[n - 1].get("0", 0) > 0
+
+
+def test_sigterm_to_the_launcher_keeps_the_record_so_far_and_leaves_no_process(tmp_path):
+    """``kill``, ``timeout`` or a service manager stopping ``swarmex mesh`` used to lose the
+    record and leave the display and the robots running for 20 s; Ctrl-C lost the record."""
+    import json
+    import signal
+    import subprocess
+    import sys
+
+    out = tmp_path / "mesh.json"
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "swarmex", "mesh", "--empty", "8x8", "--robots", "2",
+         "--time-scale", "1", "--json", str(out)],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+    )
+    try:
+        assert proc.stdout is not None
+        for line in proc.stdout:  # the robots are exploring
+            if "robots started" in line:
+                break
+        time.sleep(2.0)
+        children = _children(proc.pid)
+        assert children, "the launcher started no process"
+        proc.send_signal(signal.SIGTERM)
+        _, err = proc.communicate(timeout=40)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    assert proc.returncode == 130, err
+    assert "Traceback" not in err
+    assert f"interrupted; the record of the run so far is in {out}" in err
+    record = json.loads(out.read_text())
+    assert not record["complete"] and 0 < record["metrics"]["explored_fraction"] < 1
+    time.sleep(0.5)
+    left = [pid for pid in children if _alive(pid)]
+    assert not left, f"processes left running: {left}"
+
+
+def _children(pid: int) -> list[int]:
+    """The pids whose parent is ``pid`` (Linux /proc)."""
+    from pathlib import Path
+
+    out = []
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat.read_text().rsplit(")", 1)[1].split()
+        except OSError:
+            continue
+        if int(fields[1]) == pid:
+            out.append(int(stat.parent.name))
+    return out
+
+
+def _alive(pid: int) -> bool:
+    from pathlib import Path
+
+    try:
+        state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
+    except OSError:
+        return False
+    return state != "Z"

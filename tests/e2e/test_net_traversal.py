@@ -224,9 +224,11 @@ def test_serve_refuses_a_seed_the_run_or_the_wire_cannot_take(
     assert "optimal," not in err and "nearest, optimal" not in err
 
 
-def test_ctrl_c_on_the_server_writes_the_record_so_far_and_ends_the_agents(tmp_path):
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM], ids=["ctrl-c", "sigterm"])
+def test_ctrl_c_on_the_server_writes_the_record_so_far_and_ends_the_agents(tmp_path, sig):
     """Ctrl-C used to end ``serve`` without its record (minutes of flight lost) and without
-    ``END``: the agents waited out ``--server-timeout`` and exited 3, "server gone"."""
+    ``END``: the agents waited out ``--server-timeout`` and exited 3, "server gone". SIGTERM
+    (``kill``, ``timeout``, a service manager) did so until 29 Nov 2026."""
     rec_path = tmp_path / "net.json"
     with Procs() as procs:
         server = procs.start(
@@ -244,10 +246,11 @@ def test_ctrl_c_on_the_server_writes_the_record_so_far_and_ends_the_agents(tmp_p
         end = time.monotonic() + 20.0
         while sum(viewer.jobs_of(a) for a in (1, 2, 3)) < 4 and time.monotonic() < end:
             time.sleep(0.05)
-        server.popen.send_signal(signal.SIGINT)
+        server.popen.send_signal(sig)
         assert server.wait(10) == 130, server.output
         assert "Traceback" not in server.output
-        server.wait_line(r"interrupted", 1)
+        how = "Ctrl-C" if sig == signal.SIGINT else "SIGTERM"
+        server.wait_line(rf"interrupted \({how}\), ending the mission", 1)
         assert agents.wait(10) == 1, agents.output  # "the mission ended before I finished"
         viewer.stop = True
     net = json.loads(rec_path.read_text())
@@ -256,7 +259,8 @@ def test_ctrl_c_on_the_server_writes_the_record_so_far_and_ends_the_agents(tmp_p
     assert len(jobs) >= 4 and len(jobs) == len(set(jobs)) < 33
 
 
-def test_ctrl_c_on_an_agent_process_hands_its_ids_back(tmp_path):
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM], ids=["ctrl-c", "sigterm"])
+def test_ctrl_c_on_an_agent_process_hands_its_ids_back(tmp_path, sig):
     """Ctrl-C used to make agents vanish: the server noticed only after --dead-after, and a
     real copter was left hovering in GUIDED mode. Now each agent hands its id back (RET,
     as for a vehicle fault) and lands; the process exits 130."""
@@ -275,10 +279,11 @@ def test_ctrl_c_on_an_agent_process_hands_its_ids_back(tmp_path):
         while sum(viewer.jobs_of(a) for a in (1, 2)) < 3:
             assert time.monotonic() < end, "no jobs done"
             time.sleep(0.05)
-        pair.popen.send_signal(signal.SIGINT)
+        pair.popen.send_signal(sig)
+        how = "Ctrl-C" if sig == signal.SIGINT else "SIGTERM"
         assert pair.wait(10) == 130, pair.output
         assert "Traceback" not in pair.output
-        pair.wait_line(r"handing id \d back: interrupted \(Ctrl-C\)", 1)
+        pair.wait_line(rf"handing id \d back: interrupted \({how}\)", 1)
         # --dead-after is 30 s: only the hand-back can free the ids this fast
         server.wait_line(r"agent [12] handed its id back", 10)
         assert server.wait(60) == 0, server.output  # agent 3 finishes the mission alone
@@ -288,7 +293,7 @@ def test_ctrl_c_on_an_agent_process_hands_its_ids_back(tmp_path):
     assert net["complete"]
     back = net["network"]["handed_back"]
     assert sorted(h["id"] for h in back) == [1, 2]
-    assert {h["reason"] for h in back} == {"interrupted (Ctrl-C)"}
+    assert {h["reason"] for h in back} == {f"interrupted ({how})"}
 
 
 def test_an_agent_that_never_got_an_id_says_so(tmp_path):

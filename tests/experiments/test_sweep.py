@@ -271,10 +271,12 @@ def _sigint_default() -> None:
 
 @pytest.mark.timeout(120)
 @pytest.mark.parametrize("backend", ["local", "serial"])
-def test_two_quick_ctrl_cs_end_the_sweep_and_keep_the_table(tmp_path, backend):
+@pytest.mark.parametrize("signals", [(signal.SIGINT, signal.SIGINT), (signal.SIGTERM,)],
+                         ids=["ctrl-c-twice", "sigterm"])
+def test_two_quick_ctrl_cs_end_the_sweep_and_keep_the_table(tmp_path, backend, signals):
     """A terminal or ``timeout -s INT`` often delivers Ctrl-C twice: the second one used to
     land in the pool's shutdown, and the sweep hung for ever (or died in a traceback), or,
-    serially, left no results table."""
+    serially, left no results table. A scheduler or ``kill`` sends SIGTERM: the same."""
     spec = tmp_path / "spec.toml"
     spec.write_text('mission = "traversal"\ngrid = "20x20"\nagents = [3, 4]\nseeds = 100\n',
                     encoding="utf-8")
@@ -285,9 +287,9 @@ def test_two_quick_ctrl_cs_end_the_sweep_and_keep_the_table(tmp_path, backend):
                             preexec_fn=_sigint_default, text=True)
     try:
         _await_records(proc, out)
-        proc.send_signal(signal.SIGINT)
-        time.sleep(0.05)  # the second one lands while the first is being handled
-        proc.send_signal(signal.SIGINT)
+        for sig in signals:
+            proc.send_signal(sig)
+            time.sleep(0.05)  # a second one lands while the first is being handled
         _, err = proc.communicate(timeout=30)
     finally:
         if proc.poll() is None:

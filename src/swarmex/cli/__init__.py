@@ -2,13 +2,19 @@
 
 :func:`main` is the console-script entry point. It turns bad input (our
 :class:`~swarmex.errors.InputError` and Click's usage errors) into exit status 2 with one
-line on stderr, and Ctrl-C into status 130, never a traceback.
+line on stderr, and Ctrl-C into status 130, never a traceback. SIGTERM (``kill``,
+``timeout``, a scheduler or a container stopping) ends a command exactly as Ctrl-C does, so
+every command's "keep what is done" path (a sweep's table, a server's partial record, an
+agent handing its ids back) serves both.
 """
 
 from __future__ import annotations
 
+import contextlib
+import signal
 import sys
-from typing import NoReturn
+from collections.abc import Iterator
+from typing import Any, NoReturn
 
 import typer
 
@@ -26,6 +32,39 @@ _NO_ARGS = getattr(_cx, "NoArgsIsHelpError", getattr(_cx, "NoArgsIsHelp", ()))
 
 
 def main(argv: list[str] | None = None) -> int:
+    with _terminate_as_ctrl_c():
+        return _main(argv)
+
+
+@contextlib.contextmanager
+def _terminate_as_ctrl_c() -> Iterator[None]:
+    """Within the block, SIGTERM does what Ctrl-C does at that moment: it calls the SIGINT
+    handler in place (a server's or an agent's own, or Python's KeyboardInterrupt), with
+    SIGTERM's number, so a handler that says why it stops can name the signal.
+
+    Why forward rather than raise: the commands that must finish cleanly already own a
+    SIGINT handler (a server sets a flag and writes its record at a safe point), and one
+    route for both signals cannot drift. Only the main thread may set handlers; elsewhere
+    (an embedding program's thread) signals are left alone."""
+
+    def on_sigterm(signum: int, frame: Any) -> None:
+        handler = signal.getsignal(signal.SIGINT)
+        if not callable(handler):  # SIGINT ignored or default-at-C-level: stop regardless
+            raise KeyboardInterrupt
+        handler(signum, frame)
+
+    try:
+        previous = signal.signal(signal.SIGTERM, on_sigterm)
+    except ValueError:  # not the main thread
+        yield
+        return
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
+def _main(argv: list[str] | None) -> int:
     try:
         result = app(args=argv, prog_name="swarmex", standalone_mode=False)
     except InputError as exc:

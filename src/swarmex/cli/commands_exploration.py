@@ -16,7 +16,7 @@ import typer
 from swarmex.cli.app import console, reproduce_app
 from swarmex.cli.missions import Extra, Surface, mission_command
 from swarmex.cli.outputs import check_out_dir, study
-from swarmex.errors import InputError
+from swarmex.errors import InputError, require
 from swarmex.missions.base import FrameCallback, Mission, Outcome
 from swarmex.missions.registry import get
 
@@ -87,23 +87,31 @@ def watch(params: Any, world: Any, on_frame: FrameCallback | None) -> FrameCallb
     return StepTicker(on_frame)
 
 
+#: the options only the process mesh has, with their defaults (``swarmex mesh`` has the same)
+MESH_DEFAULTS = {"time_scale": 1.0, "inject_loss": 0.0, "inject_kill": None,
+                 "send_timeout": 20, "timeout": 600.0, "monitor": None}
+
+
 def processes(
     mission: Mission[Any, Any], params: Any, extras: dict[str, Any], json_path: Path | None
 ) -> bool:
     """``--processes``: run the mesh of robot processes instead (exit 0 if complete, else 1)."""
     if not extras["processes"]:
-        if extras["inject_loss"]:
-            raise InputError("--inject-loss needs --processes")
-        if extras["time_scale"] != 1.0:  # the simulator has no wall clock to scale
-            raise InputError("--time-scale needs --processes")
+        for name, default in MESH_DEFAULTS.items():  # e.g. the simulator has no wall clock
+            if extras[name] != default:
+                raise InputError(f"--{name.replace('_', '-')} needs --processes")
         return False
     if extras["render"] is not None:
         raise InputError("--render is not available with --processes (use swarmex monitor)")
-    from swarmex.cli.shared import run_mesh
+    from swarmex.cli.shared import parse_kills, run_mesh
 
     world = mission.prepare(params)
+    if extras["monitor"] is not None:  # the display process forwards to it: check here
+        require("websockets", "monitor", "--monitor")
     rec = run_mesh(
-        world.grid, params, extras["time_scale"], loss=extras["inject_loss"], json_path=json_path
+        world.grid, params, extras["time_scale"], extras["inject_loss"],
+        parse_kills(extras["inject_kill"]), extras["send_timeout"], extras["timeout"],
+        json_path, extras["monitor"],
     )
     raise typer.Exit(0 if rec["complete"] else 1)
 
@@ -125,6 +133,13 @@ explore = mission_command(
             Extra(
                 "inject_loss", 0.0, "With --processes: drop this fraction of messages.", float
             ),
+            Extra("inject_kill", None, "With --processes: 'ID@TICK;…', robots that die.", str),
+            Extra("send_timeout", 20, "With --processes: PUSH send timeout, ms.", int),
+            Extra(
+                "timeout", 600.0, "With --processes: give up after this many wall seconds.",
+                float,
+            ),
+            Extra("monitor", None, "With --processes: ws://…/ingest of a live monitor.", str),
         ],
         alternative=processes,
         watch=watch,

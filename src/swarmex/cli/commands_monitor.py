@@ -30,7 +30,7 @@ import typer
 from swarmex.cli.app import app, console
 from swarmex.cli.outputs import check_output
 from swarmex.cli.shared import check_connect
-from swarmex.errors import InputError, require
+from swarmex.errors import InputError, check_number, require
 
 
 def scenario_mission(scenario: Path) -> tuple[Any, Any]:
@@ -308,10 +308,10 @@ def monitor(
 
     if sum(x is not None for x in (scenario, record_file, connect)) > 1:
         raise InputError("give at most one of --scenario, --record and --connect")
-    if not speed > 0:
-        raise InputError(f"--speed must be > 0, got {speed}")
-    if linger is not None and (linger < 0 or math.isnan(linger)):
-        raise InputError(f"--linger must be >= 0, got {linger}")
+    if not speed > 0:  # inf is allowed: frames as fast as they come
+        raise InputError(f"--speed must be > 0 (or inf), got {speed}")
+    if linger is not None:
+        check_number(linger, "--linger", at_least=0)
     if port < 0 or port > 65535:
         raise InputError(f"--port must be in 0..65535, got {port}")
     if connect is not None and json_path is not None:  # the stream carries no record

@@ -20,7 +20,7 @@ import typer
 
 from swarmex.cli.app import app, console
 from swarmex.cli.outputs import check_output
-from swarmex.cli.shared import _positive, _say, _warn, check_connect, run_mesh
+from swarmex.cli.shared import _positive, _say, _warn, check_connect, parse_kills, run_mesh
 from swarmex.errors import InputError, require
 from swarmex.missions.traversal.params import ALGORITHMS, TraversalParams, algorithm_name
 from swarmex.net.vehicle import Safety
@@ -339,22 +339,6 @@ def watch(
         raise typer.Exit(1)
 
 
-def parse_kills(text: str | None) -> dict[int, int]:
-    """``"ID@TICK;…"`` → {robot id: tick at which it dies}."""
-    out: dict[int, int] = {}
-    for part in (text or "").split(";"):
-        if not part.strip():
-            continue
-        rid, sep, tick = part.partition("@")
-        try:
-            out[int(rid)] = int(tick)
-        except ValueError:
-            raise InputError(f"--inject-kill: expected ID@TICK, got {part.strip()!r}") from None
-        if not sep or out[int(rid)] < 0:
-            raise InputError(f"--inject-kill: expected ID@TICK, got {part.strip()!r}")
-    return out
-
-
 @app.command(hidden=True)
 def mesh(
     map_path: Path = typer.Option(None, "--map", help="MovingAI .map or ROS map."),
@@ -370,6 +354,9 @@ def mesh(
     robot_radius: float = typer.Option(None, "--robot-radius"),
     beams: int = typer.Option(None, "--beams"),
     max_ticks: int = typer.Option(None, "--max-ticks"),
+    aodv: bool = typer.Option(None, "--aodv/--no-aodv", help="Route unicasts with AODV."),
+    conflict_yield: bool = typer.Option(None, "--conflict-yield/--no-conflict-yield"),
+    plan_pause: int = typer.Option(None, "--plan-pause", help="Steps still after a plan."),
     time_scale: float = typer.Option(1.0, "--time-scale", help="Wall s per mission s."),
     loss: float = typer.Option(0.0, "--inject-loss", help="Share of radio frames dropped."),
     kills: str = typer.Option(None, "--inject-kill", help="'ID@TICK;…': robots that die."),
@@ -390,7 +377,8 @@ def mesh(
             "map": map_path, "empty": empty, "cell": cell, "robots": robots,
             "laser_range": laser_range, "comm_range": comm_range, "strategy": strategy,
             "robot_radius": robot_radius, "beams": beams, "starts": starts, "seed": seed,
-            "max_ticks": max_ticks,
+            "max_ticks": max_ticks, "aodv": aodv, "conflict_yield": conflict_yield,
+            "plan_pause": plan_pause,
         }.items() if v is not None}
     )
     record = run_mesh(exploration.prepare(params).grid, params, time_scale, loss,

@@ -8,7 +8,6 @@ by :mod:`swarmex.viz.plot`. What lives here is the progress bar and the tables.
 from __future__ import annotations
 
 import math
-import signal
 from pathlib import Path
 from typing import Any
 
@@ -87,6 +86,7 @@ def sweep(
         compared = check_baseline(spec.axes, *parse_baseline(baseline), mission=spec.mission)
     summary = summary or bool(metric)  # a metric asked for was silently never shown
     out_dir = out if out is not None else Path(f"{spec_file.stem}-sweep")
+
     def announce(total: int, finished: int) -> None:
         console.print(
             f"sweep: {total} runs of swarmex {spec.command} ({finished} finished before,"
@@ -96,11 +96,6 @@ def sweep(
 
     bar = SweepBar(err_console, announce=announce)
 
-    # SIGTERM (a scheduler, `kill`) stops the sweep as cleanly as Ctrl-C: table written
-    try:
-        previous = signal.signal(signal.SIGTERM, _terminate)
-    except ValueError:  # not the main thread (an embedding program): leave signals alone
-        previous = None
     try:
         try:
             result = run_sweep(
@@ -117,12 +112,10 @@ def sweep(
         finally:
             bar.stop()
     except KeyboardInterrupt:
+        # Ctrl-C, or SIGTERM (a scheduler, `kill`: swarmex.cli.main makes it one)
         interrupted(
             f"finished runs are saved in {out_dir} (run the same command again to resume)"
         )
-    finally:
-        if previous is not None:
-            signal.signal(signal.SIGTERM, previous)
     console.print(
         f"{result.skipped + result.ran}/{result.total} runs finished ({result.ran} now),"
         f" {result.failed} failed → {result.table}",
@@ -147,10 +140,6 @@ def check_metrics(mission: str, names: list[str]) -> None:
     m = get(mission)
     for name in names:
         m.check_metric(name)
-
-
-def _terminate(_signum: int, _frame: Any) -> None:
-    raise KeyboardInterrupt
 
 
 def print_summary(out_dir: Path, extra_metrics: list[str]) -> None:

@@ -8,12 +8,12 @@ worlds come from the exploration mission, ``missions/exploration/mission.py``).
 
 from __future__ import annotations
 
-import math
+import time
 from pathlib import Path
 
-from swarmex.cli.app import console, err_console
+from swarmex.cli.app import console, err_console, interrupted
 from swarmex.cli.outputs import check_output
-from swarmex.errors import InputError
+from swarmex.errors import InputError, check_number
 
 
 def check_connect(address: str) -> None:
@@ -28,9 +28,10 @@ def check_connect(address: str) -> None:
 
 
 def _positive(value: float, option: str, zero_ok: bool = False) -> None:
-    ok = value >= 0 if zero_ok else value > 0
-    if not ok or math.isnan(value) or math.isinf(value):
-        raise InputError(f"{option} must be {'>= 0' if zero_ok else '> 0'}, got {value}")
+    if zero_ok:
+        check_number(value, option, at_least=0)
+    else:
+        check_number(value, option, above=0)
 
 
 def _say(text: str) -> None:
@@ -42,6 +43,22 @@ def _warn(text: str) -> None:
     """A failure's line, on standard error (scripts read the report on standard output)."""
     err_console.print(text, highlight=False, soft_wrap=True)
     err_console.file.flush()
+
+
+def parse_kills(text: str | None) -> dict[int, int]:
+    """``"ID@TICK;…"`` → {robot id: tick at which it dies}."""
+    out: dict[int, int] = {}
+    for part in (text or "").split(";"):
+        if not part.strip():
+            continue
+        rid, sep, tick = part.partition("@")
+        try:
+            out[int(rid)] = int(tick)
+        except ValueError:
+            raise InputError(f"--inject-kill: expected ID@TICK, got {part.strip()!r}") from None
+        if not sep or out[int(rid)] < 0:
+            raise InputError(f"--inject-kill: expected ID@TICK, got {part.strip()!r}")
+    return out
 
 
 def run_mesh(grid, params, time_scale: float = 1.0, loss: float = 0.0,
@@ -65,7 +82,13 @@ def run_mesh(grid, params, time_scale: float = 1.0, loss: float = 0.0,
     check_output(json_path, "--json")
     options = MeshOptions(time_scale=time_scale, loss=loss, send_timeout_ms=send_timeout_ms,
                           timeout=timeout, inject_kill=kills)
-    record = run_processes(grid, params, options, json_path, monitor_url, _say)
+    started = time.time()
+    try:
+        record = run_processes(grid, params, options, json_path, monitor_url, _say)
+    except KeyboardInterrupt:
+        if json_path is not None and json_path.exists() and json_path.stat().st_mtime >= started:
+            interrupted(f"the record of the run so far is in {json_path}")
+        interrupted("nothing written")
     m = record["metrics"]
     console.print(
         f"exploration/{params.strategy} as processes: {params.robots} robot(s) — "

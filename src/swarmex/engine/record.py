@@ -300,6 +300,16 @@ def without_trace(record: ResultRecord, derived: tuple[str, ...] = ()) -> Result
     return record
 
 
+def message_total(record: Mapping[str, Any]) -> int | None:
+    """A record's own count of messages sent, under the name its mission uses, if any (the
+    live views' end totals)."""
+    metrics = record.get("metrics") or {}
+    for key in ("messages", "messages_sent"):
+        if isinstance(metrics.get(key), int):
+            return int(metrics[key])
+    return None
+
+
 def write_json_atomic(data: Any, path: str | Path) -> Path:
     """Write JSON atomically (:mod:`swarmex.engine.atomic`: temp file beside ``path``, fsync,
     rename), with the mode a plain ``open`` would give it.

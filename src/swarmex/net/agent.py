@@ -34,8 +34,6 @@ link; an id it held was handed back).
 from __future__ import annotations
 
 import os
-import signal
-import threading
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -46,6 +44,7 @@ import zmq
 
 from swarmex.errors import InputError
 from swarmex.net import wire
+from swarmex.net.interrupt import EXIT_INTERRUPTED, StopRequest
 from swarmex.net.traversal import (
     AgentCore,
     Mission,
@@ -67,7 +66,6 @@ from swarmex.net.vehicle import (
 
 EXIT_OK, EXIT_UNFINISHED, EXIT_SERVER_GONE, EXIT_REFUSED, EXIT_DECLARED_GONE = 0, 1, 3, 4, 5
 EXIT_HANDED_BACK = 6
-EXIT_INTERRUPTED = 130  # Ctrl-C: ids handed back, vehicles brought down (see run_agents)
 #: states in which the vehicle is being readied or flown (its faults count)
 VEHICLE_STATES = ("prearm", "c02", "arming", "c03", "ready", "mission", "rtl", "landing")
 
@@ -378,15 +376,15 @@ class AgentClient:
         else:
             self.task = None
 
-    def interrupt(self, now: float) -> None:
-        """Ctrl-C: an agent holding an id hands it back and lands (:meth:`_hand_back`);
-        one still asking for an id, or a waiting spare, just leaves."""
+    def interrupt(self, now: float, how: str = "Ctrl-C") -> None:
+        """Ctrl-C (or SIGTERM, ``how``): an agent holding an id hands it back and lands
+        (:meth:`_hand_back`); one still asking for an id, or a waiting spare, just leaves."""
         if self.exit_code is not None:
             return
         if self.id and self.state in VEHICLE_STATES:
-            self._hand_back("interrupted (Ctrl-C)", now)
+            self._hand_back(f"interrupted ({how})", now)
         else:
-            self._done(EXIT_UNFINISHED, "interrupted (Ctrl-C)")
+            self._done(EXIT_UNFINISHED, f"interrupted ({how})")
 
     def _grounding_tick(self, now: float) -> float:
         task, fault = self.task, self.vehicle.fault()
@@ -647,64 +645,42 @@ def run_agents(
         poller.register(fd, zmq.POLLIN)
     by_sock = {a.sock: a for a in agents}
     deadline = time.monotonic() + timeout
-    stop = _Interrupt()
-    try:
-        while any(a.exit_code is None for a in agents):
-            now = time.monotonic()
-            if stop.seen and not stop.handled:
-                stop.handled = True
-                for a in agents:
-                    a.interrupt(now)
-                continue
-            if now > deadline:
-                for a in agents:
-                    a._done(EXIT_SERVER_GONE, "timeout")
-                break
-            wait = min(a.tick(now) for a in agents if a.exit_code is None)
-            ready = dict(poller.poll(int(max(0.0, min(wait, 0.5)) * 1000)))
-            for sock in ready:
-                if sock not in by_sock:
-                    continue  # the vehicle's link: read by the next tick
-                agent = by_sock[sock]
-                for _ in range(100_000):
-                    try:
-                        frame = sock.recv(flags=zmq.NOBLOCK)
-                    except zmq.Again:
-                        break
-                    agent.on_frame(frame, time.monotonic())
-                    if agent.state == "mission" and not agent.inflight:
-                        break  # act as soon as it may be this agent's turn
-    finally:
-        stop.restore()
-        for a in agents:
-            a.close()
-        ctx.term()
+    # Ctrl-C or SIGTERM: every agent hands its id back (RET) and brings its vehicle down, as
+    # for a vehicle fault, instead of vanishing: the server frees the ids at once (not after
+    # --dead-after) and a real copter returns to launch rather than hovering until the
+    # autopilot's GCS failsafe
+    handled = False
+    with StopRequest() as stop:
+        try:
+            while any(a.exit_code is None for a in agents):
+                now = time.monotonic()
+                if stop.seen and not handled:
+                    handled = True
+                    for a in agents:
+                        a.interrupt(now, stop.how)
+                    continue
+                if now > deadline:
+                    for a in agents:
+                        a._done(EXIT_SERVER_GONE, "timeout")
+                    break
+                wait = min(a.tick(now) for a in agents if a.exit_code is None)
+                ready = dict(poller.poll(int(max(0.0, min(wait, 0.5)) * 1000)))
+                for sock in ready:
+                    if sock not in by_sock:
+                        continue  # the vehicle's link: read by the next tick
+                    agent = by_sock[sock]
+                    for _ in range(100_000):
+                        try:
+                            frame = sock.recv(flags=zmq.NOBLOCK)
+                        except zmq.Again:
+                            break
+                        agent.on_frame(frame, time.monotonic())
+                        if agent.state == "mission" and not agent.inflight:
+                            break  # act as soon as it may be this agent's turn
+        finally:
+            for a in agents:
+                a.close()
+            ctx.term()
     if stop.seen:
         return EXIT_INTERRUPTED
     return max(a.exit_code or 0 for a in agents)
-
-
-class _Interrupt:
-    """Ctrl-C (SIGINT) in :func:`run_agents` sets :attr:`seen`; the loop then hands every
-    agent's id back (``RET``) and brings its vehicle down, as for a vehicle fault, instead
-    of vanishing: the server frees the ids at once (not after ``--dead-after``) and a real
-    copter returns to launch rather than hovering until the autopilot's GCS failsafe.
-    A second Ctrl-C raises ``KeyboardInterrupt`` (leave now). The handler is installed only
-    in the main thread (a signal handler can live nowhere else)."""
-
-    def __init__(self) -> None:
-        self.seen = False
-        self.handled = False
-        self.previous: Any = None
-        if threading.current_thread() is threading.main_thread():
-            self.previous = signal.signal(signal.SIGINT, self._on_sigint)
-
-    def _on_sigint(self, signum: int, frame: Any) -> None:
-        if self.seen:
-            raise KeyboardInterrupt
-        self.seen = True
-
-    def restore(self) -> None:
-        if self.previous is not None:
-            signal.signal(signal.SIGINT, self.previous)
-            self.previous = None

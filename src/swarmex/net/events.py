@@ -28,15 +28,18 @@ from typing import Any
 
 import numpy as np
 
+from swarmex.engine.record import message_total
+
 SCHEMA = "swarmex.monitor/1"
 Event = dict[str, Any]
 
 
 def hello(mission: str, algorithm: str, agents: list[int], title: str,
           speed: float | None, time_unit: str = "s",
-          vehicles: list[dict[str, Any]] | None = None) -> Event:
+          vehicles: list[dict[str, Any]] | None = None, messages: str = "events") -> Event:
     """``vehicles`` (optional): ``[{"id", "kind", …}]``, what each agent flies ("simulated",
-    "mavlink"): a hybrid mission's viewer tells them apart."""
+    "mavlink"): a hybrid mission's viewer tells them apart. ``messages``: what the stream
+    shows of the messages, "events" (each one) or "totals" (the end's count only)."""
     out: Event = {
         "type": "hello",
         "schema": SCHEMA,
@@ -47,6 +50,7 @@ def hello(mission: str, algorithm: str, agents: list[int], title: str,
         "agents": agents,
         "speed": speed,
         "title": title,
+        "messages": messages,
     }
     if vehicles is not None:
         out["vehicles"] = vehicles
@@ -93,6 +97,7 @@ def end(record: dict[str, Any], after: list[Event] | None = None) -> Event:
         "makespan": record.get("makespan"),
         "time_unit": record.get("time_unit", "s"),
         "metrics": record.get("metrics", {}),
+        "messages": message_total(record),
         "agents": [{"id": a["id"], "metrics": a.get("metrics", {})}
                    for a in record.get("agents", [])],
     }

@@ -52,6 +52,7 @@ from __future__ import annotations
 
 import os
 import shutil
+import signal
 import sys
 import tempfile
 import time
@@ -78,7 +79,10 @@ PRELOAD = ["swarmex.net.mesh", "swarmex.missions.exploration.sim",
 
 
 def _robot_entry(run_dir: str, rid: int, log_path: str) -> None:
-    """A robot process's body (started by the fork server): output to its log file."""
+    """A robot process's body (started by the fork server): output to its log file. A
+    terminal's Ctrl-C is the display's to handle (it stops the robots and collects their
+    reports), so a robot ignores it; without the display it leaves by itself."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
     log = os.open(log_path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o644)
     os.dup2(log, 1)
     os.dup2(log, 2)
@@ -149,17 +153,17 @@ def run_processes(grid: MetricGrid, params: ExplorationParams, options: MeshOpti
             p.start()
             procs.append(p)
         deadline = time.monotonic() + options.timeout + 30
-        while time.monotonic() < deadline:
-            if lines.poll(0.5):
-                try:
-                    line = lines.recv()
-                except EOFError:
-                    break
-                if line is None:
-                    break
-                say(str(line))
-            elif not display.is_alive():
-                break
+        try:
+            _relay(lines, display, deadline, say)
+        except KeyboardInterrupt:
+            # Ctrl-C or SIGTERM: the display stops the robots and writes the record of what
+            # was explored (as at a timeout); a second one leaves at once
+            if display.is_alive() and display.pid is not None:
+                os.kill(display.pid, signal.SIGTERM)
+            _relay(lines, display, time.monotonic() + max(3.0, 2 * options.dead_after) + 10,
+                   say)
+            display.join(5)
+            raise
         display.join(max(1.0, deadline - time.monotonic()))
         for p in procs[1:]:
             p.join(10)
@@ -178,6 +182,21 @@ def run_processes(grid: MetricGrid, params: ExplorationParams, options: MeshOpti
                 p.kill()
                 p.join(5)
         shutil.rmtree(run_dir, ignore_errors=True)
+
+
+def _relay(lines: Any, display: Any, deadline: float, say: Callable[[str], object]) -> None:
+    """Say the display's lines until it ends (or ``deadline``)."""
+    while time.monotonic() < deadline:
+        if lines.poll(0.5):
+            try:
+                line = lines.recv()
+            except EOFError:
+                return
+            if line is None:
+                return
+            say(str(line))
+        elif not display.is_alive():
+            return
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -10,6 +10,8 @@ STATUS, STOP, the robots' REPORTs), serves live monitor events and writes the re
 from __future__ import annotations
 
 import contextlib
+import signal
+import threading
 import time
 from collections.abc import Callable, Iterable
 from pathlib import Path
@@ -21,6 +23,7 @@ from swarmex.comm.aodv import AodvMessage, Routed
 from swarmex.comm.message import PackedMessage
 from swarmex.net import events as ev
 from swarmex.net import wire
+from swarmex.net.interrupt import EXIT_INTERRUPTED, StopRequest
 from swarmex.net.mesh_frames import (
     DISPLAY,
     RADIO_KIND,
@@ -255,26 +258,63 @@ class DisplayProcess(Node):
         self._emit(
             ev.hello("exploration", self.params.strategy, list(range(n)),
                      f"exploration · {self.params.strategy} · {w.source} · processes",
-                     None, "step"),
+                     None, "step", messages="totals"),
             ev.world(w.free, w.width, w.height, w.source),
         )
-        # start barrier: every robot said HELLO (or the start timeout passed)
-        while len(self.robots) < n and time.monotonic() - start < opts.start_timeout:
-            self._pump(time.monotonic())
-        self.broadcast_control(["GO"])
-        say(f"swarmex mesh display: {len(self.robots)} robots started")
-        t0 = time.monotonic()
+        with StopRequest() as stop:
+            previous = None
+            if threading.current_thread() is threading.main_thread():
+                # the launcher's request (it got Ctrl-C or SIGTERM): never escalates, since
+                # a terminal's Ctrl-C reaches this process too
+                previous = signal.signal(signal.SIGTERM, lambda signum, _f: stop.request(signum))
+            try:
+                # start barrier: every robot said HELLO (or the start timeout passed)
+                while (len(self.robots) < n and time.monotonic() - start < opts.start_timeout
+                       and not stop.seen):
+                    self._pump(time.monotonic())
+                self.broadcast_control(["GO"])
+                say(f"swarmex mesh display: {len(self.robots)} robots started")
+                self.t0 = t0 = time.monotonic()
+                code = self._explore(say, stop, deadline)
+            finally:
+                if previous is not None:
+                    signal.signal(signal.SIGTERM, previous)
+        # stop everyone and collect the reports
+        self.broadcast_control(["STOP"])
+        wait_until = time.monotonic() + max(3.0, 2 * opts.dead_after)
+        live_ids = {r for r, i in self.robots.items() if i["alive"]}
+        while set(self.reports) < live_ids and time.monotonic() < wait_until:
+            self._pump(time.monotonic(), 0.05)
+        self.record = self.build_record(time.monotonic() - t0, code == 0)
+        self._emit(ev.end(self.record, self.events + self.pending))
+        self._flush()
+        if self.json_path is not None:
+            from swarmex.engine.record import write_json_atomic
+
+            write_json_atomic(self.record, self.json_path)
+        with contextlib.suppress(OSError):
+            (self.run_dir / "record.json").write_text(ev.dumps([self.record]))
+        if self.forwarder is not None:
+            self.forwarder.close()
+        return code
+
+    def _explore(self, say: Callable[[str], object], stop: StopRequest, deadline: float) -> int:
+        """The run from GO until every live robot has finished (0), none is left (1), the
+        timeout (3) or a stop request (:data:`EXIT_INTERRUPTED`)."""
+        opts = self.options
+        t0 = self.t0
         tick_wall = 0.1 * opts.time_scale
         finished_since: float | None = None
         next_tick = t0
         next_beat = t0
-        code = 0
         while True:
             now = time.monotonic()
+            if stop.seen:
+                say(f"swarmex mesh display: interrupted ({stop.how}), stopping the robots")
+                return EXIT_INTERRUPTED
             if now > deadline:
                 say("swarmex mesh display: timeout")
-                code = 3
-                break
+                return 3
             if now >= next_beat:  # robots leave when the experiment is gone
                 self.broadcast_control(["BEAT"])
                 next_beat = now + BEAT_WALL
@@ -296,32 +336,13 @@ class DisplayProcess(Node):
                 if finished_since is None:
                     finished_since = now
                 if now - finished_since >= opts.settle_ticks * tick_wall:
-                    break
+                    return 0
             else:
                 finished_since = None
             if not live and self.robots:
                 say("swarmex mesh display: no robot left")
-                code = 1
-                break
+                return 1
             self._pump(now, max(0.0, next_tick - time.monotonic()))
-        # stop everyone and collect the reports
-        self.broadcast_control(["STOP"])
-        wait_until = time.monotonic() + max(3.0, 2 * opts.dead_after)
-        live_ids = {r for r, i in self.robots.items() if i["alive"]}
-        while set(self.reports) < live_ids and time.monotonic() < wait_until:
-            self._pump(time.monotonic(), 0.05)
-        self.record = self.build_record(time.monotonic() - t0, code == 0)
-        self._emit(ev.end(self.record, self.events + self.pending))
-        self._flush()
-        if self.json_path is not None:
-            from swarmex.engine.record import write_json_atomic
-
-            write_json_atomic(self.record, self.json_path)
-        with contextlib.suppress(OSError):
-            (self.run_dir / "record.json").write_text(ev.dumps([self.record]))
-        if self.forwarder is not None:
-            self.forwarder.close()
-        return code
 
     def _pump(self, now: float, wait: float = 0.05) -> None:
         self._flush()

@@ -18,10 +18,7 @@ counted, never relayed.
 
 from __future__ import annotations
 
-import contextlib
 import math
-import signal
-import threading
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -36,6 +33,7 @@ from swarmex.missions.traversal.metrics import agent_metrics, traversal_record
 from swarmex.missions.traversal.sim import TraversalRun
 from swarmex.net import events as ev
 from swarmex.net import wire
+from swarmex.net.interrupt import EXIT_INTERRUPTED, StopRequest
 from swarmex.net.traversal import (
     LOSSY,
     Loss,
@@ -48,7 +46,6 @@ from swarmex.net.traversal import (
 
 LIVE = ("init", "ready", "mission", "rtl")
 EXIT_OK, EXIT_INCOMPLETE, EXIT_TIMEOUT = 0, 1, 3
-EXIT_INTERRUPTED = 130  # Ctrl-C, as the shell reports a process SIGINT ended
 
 
 @dataclass
@@ -128,7 +125,7 @@ class TraversalServer:
         self.wall0 = 0.0
         self.forwarder = ev.IngestForwarder(monitor_url) if monitor_url else None
         self.record: dict[str, Any] | None = None
-        self.interrupted = False  # Ctrl-C seen (see _ctrl_c)
+        self.stop = StopRequest()  # Ctrl-C or SIGTERM seen (see run)
         # its own context, terminated after the socket closes: that waits (up to the
         # linger) for the last frames, END among them. A process that just exits would
         # kill ZeroMQ's I/O thread with them still queued (pyzmq does not terminate
@@ -209,33 +206,11 @@ class TraversalServer:
             self.forwarder.send(batch)
 
     # ------------------------------------------------------------------ run
-    @contextlib.contextmanager
-    def _ctrl_c(self) -> Any:
-        """Within the block, Ctrl-C (SIGINT) only sets :attr:`interrupted`; the loop then ends
-        the mission as a timeout does: the record of what was done so far is written and the
-        agents get ``END`` (they exit at once instead of waiting for ``--server-timeout``).
-
-        Why a flag and not ``KeyboardInterrupt``: the exception could land halfway through
-        a frame's handling, leaving the log it writes the record from inconsistent. A second
-        Ctrl-C while the record is written raises as usual. Only the main thread can own a
-        signal handler; elsewhere (a test's thread) nothing changes."""
-        if threading.current_thread() is not threading.main_thread():
-            yield
-            return
-
-        def on_sigint(signum: int, frame: Any) -> None:
-            if self.interrupted:
-                raise KeyboardInterrupt
-            self.interrupted = True
-
-        previous = signal.signal(signal.SIGINT, on_sigint)
-        try:
-            yield
-        finally:
-            signal.signal(signal.SIGINT, previous)
-
     def run(self) -> int:
-        with self._ctrl_c():
+        """Serve the mission to its end. Ctrl-C or SIGTERM (:class:`StopRequest`) ends it as
+        a timeout does: the record of what was done so far is written and the agents get
+        ``END`` (they exit at once instead of waiting for ``--server-timeout``)."""
+        with StopRequest() as self.stop:
             return self._run()
 
     def _run(self) -> int:
@@ -248,8 +223,8 @@ class TraversalServer:
         try:
             while True:
                 now = time.monotonic()
-                if self.interrupted:
-                    self.say("swarmex serve: interrupted (Ctrl-C), ending the mission")
+                if self.stop.seen:
+                    self.say(f"swarmex serve: interrupted ({self.stop.how}), ending the mission")
                     self._finish(EXIT_INTERRUPTED)
                     return EXIT_INTERRUPTED
                 if now >= deadline:

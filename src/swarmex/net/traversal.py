@@ -77,7 +77,7 @@ from typing import Any
 
 import numpy as np
 
-from swarmex.errors import InputError
+from swarmex.errors import InputError, check_number
 from swarmex.missions.traversal.agent import (
     DONE,
     JOB,
@@ -153,10 +153,8 @@ class Mission:
     def __post_init__(self) -> None:
         if self.rng_mode not in RNG_MODES:
             raise InputError(f"rng mode must be shared or own, got {self.rng_mode!r}")
-        if not self.time_scale >= 0 or math.isinf(self.time_scale):
-            raise InputError(f"--time-scale must be >= 0, got {self.time_scale}")
-        if self.start_interval < 0:
-            raise InputError(f"--start-interval must be >= 0, got {self.start_interval}")
+        check_number(self.time_scale, "--time-scale", at_least=0)
+        check_number(self.start_interval, "--start-interval", at_least=0)
         if not 0.0 <= self.job_failure < 1.0:
             raise InputError(f"--job-failure must be in [0, 1), got {self.job_failure}")
         make_policy(self.algorithm)  # fails now on an unknown name

@@ -41,7 +41,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-from swarmex.errors import InputError
+from swarmex.errors import InputError, check_number
 
 os.environ.setdefault("MAVLINK20", "1")
 from pymavlink.dialects.v20 import ardupilotmega as mavlink  # noqa: E402
@@ -75,23 +75,21 @@ class EmulatorConfig:
     sysid: int = 1
 
     def __post_init__(self) -> None:
-        if not (self.speedup > 0 and math.isfinite(self.speedup)):
-            raise InputError(f"--speedup must be > 0, got {self.speedup}")
+        check_number(self.speedup, "--speedup", above=0)
         if not 0 <= self.battery <= 100:
             raise InputError(f"--battery must be a percentage (0..100), got {self.battery}")
-        if self.drain < 0:
-            raise InputError(f"--drain must be >= 0, got {self.drain}")
+        check_number(self.drain, "--drain", at_least=0)
         if not 0 <= self.satellites <= 60:
             raise InputError(f"--satellites must be in 0..60, got {self.satellites}")
-        if self.drop_link_after is not None and self.drop_link_after < 0:
-            raise InputError(f"--drop-link-after must be >= 0, got {self.drop_link_after}")
+        if self.drop_link_after is not None:
+            check_number(self.drop_link_after, "--drop-link-after", at_least=0)
         lat, lon, _ = self.home
         if not (-90 < lat < 90 and -180 <= lon <= 180):
             raise InputError(f"--home: latitude/longitude out of range: {lat}, {lon}")
         for name, flag in (("idle_exit", "--exit-when-idle"), ("timeout", "--timeout")):
             v = getattr(self, name)
-            if v is not None and not v > 0:
-                raise InputError(f"{flag} must be > 0, got {v}")
+            if v is not None:
+                check_number(v, flag, above=0)
 
 
 class Copter:

@@ -75,6 +75,8 @@ from typing import Any
 
 import numpy as np
 
+from swarmex.engine.record import message_total
+
 SCHEMA = "swarmex.monitor/1"
 
 
@@ -135,15 +137,6 @@ def world_event(
     if marks is not None:
         event["marks"] = marks
     return event
-
-
-def message_total(record: dict) -> int | None:
-    """The record's own count of messages sent, under the name its mission uses, if any."""
-    metrics = record.get("metrics") or {}
-    for key in ("messages", "messages_sent"):
-        if isinstance(metrics.get(key), int):
-            return int(metrics[key])
-    return None
 
 
 def end_event(record: dict, messages: int | None = None) -> dict:
