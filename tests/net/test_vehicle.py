@@ -74,13 +74,32 @@ def test_links_and_limits_are_checked():
     assert parse_link("tcp:127.0.0.1:5760")[0] == "tcp:127.0.0.1:5760"
     assert parse_link("serial:/dev/serial0:57600") == ("/dev/serial0", 57600)
     assert parse_link("/dev/ttyACM0") == ("/dev/ttyACM0", 921600)
-    for bad in ("udp:127.0.0.1", "udp:127.0.0.1:0", "com3", "tcp::5760", "serial:"):
+    for bad in ("udp:127.0.0.1", "udp:127.0.0.1:0", "com3", "tcp::5760", "serial:",
+                "udp:127.0.0.1:14550:5", "udp:[::1]:14550", "udpin:127.0.0.1:0",
+                "tcp:127.0.0.1:5760:1"):
         with pytest.raises(InputError, match="--vehicle"):
             parse_link(bad)
     with pytest.raises(InputError, match="--min-battery"):
         Safety(min_battery=70.0, arm_battery=60.0)
     with pytest.raises(InputError, match="--edge-length"):
         Safety(edge_length=0.0)
+    with pytest.raises(InputError, match="--min-altitude .200 m. is above --max-altitude"):
+        Safety(min_altitude=200.0, max_altitude=100.0)
+
+
+def test_the_edge_is_the_agents_else_the_servers_and_they_must_agree():
+    """serve --edge-length used to be ignored by a flying agent (it flew 6.67 m edges on a
+    mission of 10 m edges, without a word)."""
+    m = _mission()
+    assert FlightPlan(m, 1, Safety()).edge == 6.67
+    m.edge_length = 10.0
+    assert FlightPlan(m, 1, Safety()).edge == 10.0
+    assert FlightPlan(m, 1, Safety()).position(6) == Position(0.0, 10.0, 5.0)
+    assert FlightPlan(m, 1, Safety(edge_length=10.0)).problems() == []
+    clash = FlightPlan(m, 1, Safety(edge_length=6.67)).problems()
+    assert clash == ["--edge-length 6.67 m differs from the mission's 10 m (serve "
+                     "--edge-length): give the same, or leave the agent's out"]
+    assert Mission.from_wire(m.to_wire()).edge_length == 10.0
 
 
 # ---------------------------------------------------------------- MAVLink, against the emulator
@@ -92,14 +111,15 @@ emulator = pytest.importorskip("swarmex.net.uav_emulator")
 class Emulated:
     """An emulator on a thread and a MAVLink vehicle talking to it."""
 
-    def __init__(self, safety: Safety | None = None, **cfg: object) -> None:
-        config = emulator.EmulatorConfig(speedup=SPEEDUP, timeout=40.0, **cfg)
+    def __init__(self, safety: Safety | None = None, speedup: float = SPEEDUP,
+                 **cfg: object) -> None:
+        config = emulator.EmulatorConfig(speedup=speedup, timeout=40.0, **cfg)
         self.emu = emulator.Emulator("127.0.0.1", 0, config, say=lambda s: None)
         self.thread = threading.Thread(target=self.emu.run, daemon=True)
         self.thread.start()
         self.safety = safety or Safety(link_timeout=1.0)
         self.vehicle: Vehicle = open_vehicle(f"udp:127.0.0.1:{self.emu.port}", self.safety)
-        self.vehicle.time_scale = 1 / SPEEDUP
+        self.vehicle.time_scale = 1 / speedup
         self.plan = FlightPlan(_mission(), 1, self.safety)
 
     def run(self, task: Task, limit: float = 15.0) -> Task:
@@ -133,6 +153,44 @@ def emulated():
 def test_a_link_that_cannot_be_opened_is_one_clear_error():
     with pytest.raises(InputError, match="--vehicle: cannot open serial:/dev/nonexistent"):
         open_vehicle("serial:/dev/nonexistent-swarmex-port")
+    # a typo'd host: at once, not 30 s of silence and "no heartbeat"
+    with pytest.raises(InputError, match="--vehicle: cannot resolve the host of udp:nosuch"):
+        open_vehicle("udp:nosuchhost.invalid:14550")
+
+
+def test_take_off_at_real_time(emulated):
+    """At real time the climb outlasts the 1 s resend, and ArduCopter refuses a second
+    NAV_TAKEOFF once airborne ("can't takeoff again"): every real flight failed at take-off
+    (the tests flew at 50x, where the climb took 0.04 s)."""
+    e = emulated(speedup=1.0)
+    v = e.vehicle
+    assert e.run(v.preflight(e.plan)).done
+    task = e.run(v.takeoff(5.0), limit=20.0)
+    assert task.done, task.reason
+    assert v.airborne() and e.emu.copter.alt >= 4.0
+
+
+def test_the_job_holds_from_the_top_of_its_climb_and_lets_go_of_a_pilot(emulated):
+    e = emulated()
+    v, copter = e.vehicle, e.emu.copter
+    e.run(v.preflight(e.plan))
+    e.run(v.takeoff(e.plan.altitude))
+    top: list[float] = []
+    task = v.job(10.0)
+    while task.running:
+        v.update(time.monotonic())
+        if task.phase == "job: hold" and not top:
+            top.append(copter.t)
+        time.sleep(0.005)
+    assert task.done and copter.t - top[0] >= 10.0 - 0.1  # held 10 s after the 2 m climb
+    task = v.job(30.0)
+    while task.phase != "job: hold":
+        v.update(time.monotonic())
+        time.sleep(0.005)
+    copter.set_mode(emulator.LOITER)  # a pilot takes over mid-hold
+    e.run(task)
+    assert task.failed and "left GUIDED mode (now LOITER)" in task.reason
+    assert v.other_control() == "a pilot (mode LOITER)"
 
 
 def test_a_full_flight_over_mavlink(emulated):
@@ -195,6 +253,15 @@ def test_a_lost_link_is_a_fault_and_a_taken_over_vehicle_is_left_alone(emulated)
     e2.run(task)
     assert task.failed and "left GUIDED mode (now LOITER)" in task.reason
     assert v2.fault() is None
+    assert v2.other_control() == "a pilot (mode LOITER)"
+    e2.emu.copter.set_mode(emulator.RTL)  # or the autopilot's failsafe
+    v2.update(time.monotonic() + 0.2)
+    deadline = time.monotonic() + 5
+    while v2.other_control() is None or "RTL" not in v2.other_control():
+        assert time.monotonic() < deadline
+        v2.update(time.monotonic())
+        time.sleep(0.005)
+    assert v2.other_control() == "the autopilot or a pilot (mode RTL)"
 
 
 def test_a_gps_grid_plan_flies_geodesic_offsets_from_the_nest():
@@ -218,3 +285,58 @@ def test_a_gps_grid_plan_flies_geodesic_offsets_from_the_nest():
     assert north.north == pytest.approx(12.5, abs=0.01) and abs(north.east) < 0.01
     assert plan.speed == pytest.approx(12.5 / 2.5, rel=1e-3)  # 2.5 s per 12.5 m edge
     assert plan.farthest() == pytest.approx(50 * 2**0.5, abs=0.05)  # the grid's corners
+    assert plan.nest_latlon() == prep.world.latlon(prep.world.node(4, 4))
+    assert plan.notes()[0].startswith(f"GPS grid, nest node {plan.home_node} at 43.268")
+
+
+def test_a_copter_away_from_its_gps_nest_is_refused(emulated):
+    """A GPS-grid mission flew to completion with the copter thousands of km from the grid:
+    the plan is offsets from where it arms, and nothing compared that with the nest."""
+    pytest.importorskip("pyproj", reason="GPS grids need the geo extra")
+    from swarmex.missions.registry import get
+    from swarmex.missions.traversal.mission import agent_specs
+
+    m = get("traversal")
+    p = m.params(agents=1, nests="1,1", center="43.268304,-79.911135", radius=50,
+                 nodes_on_edge=3, travel_time=2.5)
+    prep = m.prepare(p)
+    mission = Mission(prep.world, agent_specs(p, prep), "madgta", 0, 0.5, prep.unit_length,
+                      0.0, 1 / SPEEDUP, "shared", True, 0.25, {})
+    plan = FlightPlan(mission, 1, Safety())
+    centre = emulated(home=(43.268304, -79.911135, 100.0))  # node (1, 1): the grid's centre
+    assert centre.run(centre.vehicle.preflight(plan)).done
+    away = emulated(home=(10.0, 10.0, 100.0))
+    task = away.run(away.vehicle.preflight(plan))
+    assert task.failed and "from its nest (node 4 at 43.268304,-79.911135" in task.reason
+
+
+def test_a_closed_tcp_link_is_a_fault_at_once_and_quiet(capsys):
+    """pymavlink prints "EOF on TCP socket" on every read of a closed link: 335,014 lines in
+    the 3 s before the link timeout. Now the close is the vehicle's fault, and nothing more
+    is read."""
+    import socket
+
+    server = socket.socket()
+    server.bind(("127.0.0.1", 0))
+    server.listen(1)
+    port = server.getsockname()[1]
+
+    def accept_then_close() -> None:
+        conn, _ = server.accept()
+        time.sleep(0.2)
+        conn.close()
+
+    t = threading.Thread(target=accept_then_close, daemon=True)
+    t.start()
+    try:
+        v = open_vehicle(f"tcp:127.0.0.1:{port}", Safety(link_timeout=30.0))
+        end = time.monotonic() + 1.5
+        while time.monotonic() < end:
+            v.update(time.monotonic())
+            time.sleep(0.001)
+        assert v.fault() == f"the vehicle's TCP link tcp:127.0.0.1:{port} closed (link lost)"
+        v.close()
+    finally:
+        server.close()
+        t.join(2)
+    assert len(capsys.readouterr().out.splitlines()) <= 2

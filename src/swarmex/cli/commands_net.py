@@ -179,7 +179,8 @@ def serve(
     if inject_loss > 0:
         params["network"]["inject_loss"] = inject_loss
     mission = Mission(world, specs, tparams.algorithm, seed, start_interval, prepared.unit_length,
-                      job_failure, time_scale, rng, done_lists, heartbeat, params)
+                      job_failure, time_scale, rng, done_lists, heartbeat, params,
+                      edge_length=tparams.edge_length)
     bind = f"tcp://{host}:{port}" if port else f"tcp://{host}:*"
     try:
         server = TraversalServer(mission, bind, json_path, timeout, dead_after,
@@ -223,8 +224,10 @@ def agent(
         help="Fly a MAVLink copter: udp:HOST:PORT (it listens; swarmex uav-emulator),"
         " udpin:HOST:PORT, tcp:HOST:PORT, serial:DEVICE[:BAUD]. Default: simulated.",
     ),
-    edge_length: float = typer.Option(
-        _SAFETY.edge_length, "--edge-length", help="Vehicle: metres between grid neighbours."
+    edge_length: float | None = typer.Option(
+        None, "--edge-length",
+        help="Vehicle: metres between grid neighbours (default: serve's --edge-length, else "
+        "6.67).",
     ),
     min_altitude: float = typer.Option(
         _SAFETY.min_altitude, "--min-altitude", help="Vehicle: fly at least this high, m."
@@ -255,6 +258,10 @@ def agent(
     link_timeout: float = typer.Option(
         _SAFETY.link_timeout, "--link-timeout",
         help="Vehicle: seconds without telemetry before the link counts as lost.",
+    ),
+    nest_radius: float = typer.Option(
+        _SAFETY.nest_radius, "--nest-radius",
+        help="Vehicle pre-arm on a GPS grid: metres it may stand off its nest.",
     ),
 ) -> None:
     """One traversal UAV as a client of 'swarmex serve' (seed 000's client.py)."""
@@ -289,7 +296,7 @@ def agent(
             vehicle, edge_length=edge_length, min_altitude=min_altitude,
             max_altitude=max_altitude, max_speed=max_speed, max_distance=max_distance,
             min_satellites=min_satellites, max_hdop=max_hdop, arm_battery=arm_battery,
-            min_battery=min_battery, link_timeout=link_timeout,
+            min_battery=min_battery, link_timeout=link_timeout, nest_radius=nest_radius,
         )
     code = run_agents(address, count, want, server_timeout, connect_timeout, timeout, faults,
                       _say, spares, flown, safety, warn=_warn)

@@ -14,7 +14,7 @@ from swarmex.errors import InputError, require
 from swarmex.net.vehicle import Safety, Vehicle
 
 
-def open_agent_vehicle(link: str, **limits: float) -> tuple[Vehicle, Safety]:
+def open_agent_vehicle(link: str, **limits: float | None) -> tuple[Vehicle, Safety]:
     """``--vehicle`` and the safety options → the vehicle to fly and its limits (InputError
     for bad values; the ``uav`` extra named when pymavlink is missing)."""
     from swarmex.net.agent import open_vehicle
@@ -58,7 +58,8 @@ def uav_emulator(
     ),
     idle_exit: float | None = typer.Option(
         None, "--exit-when-idle",
-        help="Exit after this many seconds on the ground without a ground station.",
+        help="Exit after this many seconds on the ground once its ground station (an agent)"
+        " has fallen silent; before one first speaks it waits.",
     ),
     timeout: float | None = typer.Option(None, "--timeout", help="Exit after this long (s)."),
 ) -> None:

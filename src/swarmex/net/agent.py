@@ -103,6 +103,8 @@ class AgentClient:
         self.plan: FlightPlan | None = None
         self.task: Task | None = None  # the vehicle's command the next event waits for
         self.handed_back: str | None = None
+        self.grounding_exit = EXIT_HANDED_BACK  # the status once the vehicle is down
+        self.left_to: str | None = None  # who flies the vehicle after a hand-back, if not us
         self.want_id = want_id
         self.server_timeout = server_timeout
         self.connect_timeout = connect_timeout
@@ -352,6 +354,10 @@ class AgentClient:
         if why is None and self.state == "mission" and task is not None and task.failed:
             why = f"{task.name} failed: {task.reason}"  # noticed before this agent's turn
         if why is None and self.state == "mission":
+            other = self.vehicle.other_control()
+            if other is not None:  # between commands: nothing else would notice
+                why = f"{other} took over"
+        if why is None and self.state == "mission":
             level = self.vehicle.battery()
             if level is not None and level < self.safety.min_battery:
                 why = (f"low battery: {level:.0f} % (--min-battery "
@@ -359,22 +365,49 @@ class AgentClient:
         if why is not None:
             self._hand_back(why, now)
 
-    def _hand_back(self, reason: str, now: float) -> None:
+    def _hand_back(self, reason: str, now: float, exit_code: int = EXIT_HANDED_BACK,
+                   tell_server: bool = True) -> None:
         """Seed 000 §4.3: an agent that stops its work early (an error, a low battery) has
         its id entered back to the vacant list, so a spare can continue its work. The
-        vehicle returns to launch and lands (the seed's later fix: RTL on errors)."""
+        vehicle returns to launch and lands (the seed's later fix: RTL on errors), unless a
+        pilot or the autopilot's failsafe already flies it (never fight them); a copter
+        still armed on the ground is disarmed. The process then exits ``exit_code``."""
         if self.handed_back is not None:
             return
         self.handed_back = reason
-        self.say(f"swarmex agent {self.id or '?'}: handing id {self.id} back: {reason}")
-        if self.id and self.mission is not None:
-            self._send(["RET", self.id, reason])
+        self.grounding_exit = exit_code
+        if tell_server:
+            self.say(f"swarmex agent {self.id or '?'}: handing id {self.id} back: {reason}")
+            if self.id and self.mission is not None:
+                self._send(["RET", self.id, reason])
         self.state = "grounding"
-        if self.vehicle.airborne() and self.vehicle.fault() is None:
+        self.task = None
+        if self.vehicle.fault() is not None:
+            return
+        other = self.vehicle.other_control()
+        if other is not None:
+            self.left_to = other
+            self.say(f"swarmex agent {self.id}: {other} flies the vehicle: leaving it alone")
+        elif self.vehicle.airborne():
             self.say(f"swarmex agent {self.id}: returning to launch")
             self.task = self.vehicle.return_and_land()
-        else:
-            self.task = None
+        elif self.vehicle.armed_on_ground():
+            self.say(f"swarmex agent {self.id}: disarming")
+            self.task = self.vehicle.disarm()
+
+    def leave(self, code: int, why: str, now: float) -> None:
+        """End this agent (``code``, ``why``); a vehicle it still flies is brought down
+        first, as on a hand-back: the server being gone (or the agent's ``--timeout``)
+        must not leave a copter hovering in GUIDED until a failsafe, which a ground station
+        watching through a router may keep from firing."""
+        if self.exit_code is not None or self.state == "grounding":
+            return
+        real = not isinstance(self.vehicle, SimulatedVehicle)
+        if real and (self.vehicle.airborne() or self.vehicle.armed_on_ground()):
+            self.say(f"swarmex agent {self.id or '?'}: {why}")
+            self._hand_back(why, now, exit_code=code, tell_server=False)
+            return
+        self._done(code, why)
 
     def interrupt(self, now: float, how: str = "Ctrl-C") -> None:
         """Ctrl-C (or SIGTERM, ``how``): an agent holding an id hands it back and lands
@@ -390,13 +423,20 @@ class AgentClient:
         task, fault = self.task, self.vehicle.fault()
         if task is not None and task.running and fault is None:
             return 0.05
-        if task is None:
-            how = "on the ground" if fault is None else f"lost: {fault}"
+        if fault is not None:
+            how = f"lost: {fault}"
+        elif self.left_to is not None:
+            how = f"left to {self.left_to}"
+        elif task is None:
+            how = "on the ground"
         elif task.done:
-            how = "landed"
+            how = "landed" if task.name == "return_and_land" else "disarmed on the ground"
         else:
-            how = f"not confirmed landed: {task.reason or fault}"
-        self._done(EXIT_HANDED_BACK, f"id handed back ({self.handed_back}); vehicle {how}")
+            how = f"not confirmed landed: {task.reason}"
+        if self.grounding_exit == EXIT_HANDED_BACK:
+            self._done(EXIT_HANDED_BACK, f"id handed back ({self.handed_back}); vehicle {how}")
+        else:
+            self._done(self.grounding_exit, f"{self.handed_back}; vehicle {how}")
         return 1.0
 
     def _server_silent(self, now: float) -> bool:
@@ -430,16 +470,16 @@ class AgentClient:
             # a spare the server has answered waits for a vacated id as long as the mission
             # runs (END releases it); only a silent server ends the wait
             if self._server_silent(now):
-                self._done(EXIT_SERVER_GONE, "the server went silent")
-                return 1.0
+                self.leave(EXIT_SERVER_GONE, "the server went silent", now)
+                return 0.0
         elif self.state == "hello":  # §4.3: keep trying to connect for a while
             if now - self.started_at > self.connect_timeout:
                 self._done(EXIT_SERVER_GONE if not self.waiting else EXIT_REFUSED,
                            "no id from the server")
                 return 1.0
         elif self._server_silent(now):
-            self._done(EXIT_SERVER_GONE, "the server went silent")
-            return 1.0
+            self.leave(EXIT_SERVER_GONE, "the server went silent", now)
+            return 0.0
         if self.state == "hello" and self.retry_at is not None and now >= self.retry_at:
             self.retry_at = None
             self._send(["C00", self.want_id])
@@ -649,7 +689,7 @@ def run_agents(
     # for a vehicle fault, instead of vanishing: the server frees the ids at once (not after
     # --dead-after) and a real copter returns to launch rather than hovering until the
     # autopilot's GCS failsafe
-    handled = False
+    handled = timed_out = False
     with StopRequest() as stop:
         try:
             while any(a.exit_code is None for a in agents):
@@ -659,10 +699,11 @@ def run_agents(
                     for a in agents:
                         a.interrupt(now, stop.how)
                     continue
-                if now > deadline:
+                if now > deadline and not timed_out:
+                    timed_out = True  # vehicles still flying are brought down first
                     for a in agents:
-                        a._done(EXIT_SERVER_GONE, "timeout")
-                    break
+                        a.leave(EXIT_SERVER_GONE, "timeout", now)
+                    continue
                 wait = min(a.tick(now) for a in agents if a.exit_code is None)
                 ready = dict(poller.poll(int(max(0.0, min(wait, 0.5)) * 1000)))
                 for sock in ready:

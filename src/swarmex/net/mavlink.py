@@ -15,23 +15,31 @@ uav-emulator``. What each command does on the link:
 * ``arm``: GUIDED mode, then ``MAV_CMD_COMPONENT_ARM_DISARM``; a refusal (``COMMAND_ACK``
   not accepted) fails with the autopilot's reason;
 * ``takeoff``: re-arms if the autopilot disarmed meanwhile (ArduCopter disarms a copter
-  left idle on the ground), then ``MAV_CMD_NAV_TAKEOFF``; done at the altitude;
+  left idle on the ground), then ``MAV_CMD_NAV_TAKEOFF``, resent only while the copter is
+  still on the ground with no accepted answer (ArduCopter refuses a second take-off once
+  airborne: "can't takeoff again"); done at the altitude;
 * ``goto``: ``MAV_CMD_DO_CHANGE_SPEED`` and ``SET_POSITION_TARGET_LOCAL_NED`` (home + the
   offset, in the autopilot's local frame), repeated every second until the vehicle is within
   ``arrive_radius``; it fails if the vehicle leaves GUIDED (a pilot or a failsafe took
   over: never fight them);
-* ``job``: climb ``job_climb`` metres, hold until the job's seconds have passed on the
-  vehicle's clock (``time_boot_ms``), come back down;
+* ``job``: climb ``job_climb`` metres, hold from the top of the climb until the job's
+  seconds have passed on the vehicle's clock (``time_boot_ms``), come back down; like every
+  flying step it gives up when the copter leaves GUIDED or disarms;
 * ``return_and_land``: RTL mode (the autopilot climbs to its RTL altitude, flies home,
   lands and disarms); phase ``returning`` until above home, ``landing`` until disarmed.
 
-Every command is resent until its effect shows (UDP may lose any packet), and fails after
-its expected time plus ``task_timeout``. No telemetry for ``link_timeout`` seconds is a
-:meth:`fault`; the agent then hands its id back (docs/uav.md).
+Every command is resent until the autopilot accepts it or its effect shows (UDP may lose
+any packet), and fails after its expected time plus ``task_timeout``. No telemetry for
+``link_timeout`` seconds, or a closed TCP link, is a :meth:`fault`; the agent then hands its
+id back (docs/uav.md). A copter in a mode the agent did not set (a pilot's LOITER, the
+autopilot's failsafe RTL or LAND) is someone else's (:meth:`MavlinkVehicle.other_control`):
+the agent hands its id back and sends it nothing more.
 """
 
 from __future__ import annotations
 
+import contextlib
+import io
 import os
 import time
 from collections.abc import Callable
@@ -74,6 +82,9 @@ class _Step:
     timeout: float = 30.0  # wall seconds
     resend: float = 1.0
     command: int | None = None  # a COMMAND_ACK refusing this command fails the step
+    # evidence the command took effect although its answer was lost: no resends after it,
+    # and a refusal of a late resend (a second take-off) does not count
+    taken: Callable[[], bool] | None = None
     guard: Callable[[], str | None] | None = None  # a reason to give up, checked each update
     explain: Callable[[], str] | None = None  # what is missing, said on a timeout
     started: float | None = None
@@ -88,17 +99,23 @@ class MavlinkVehicle(Vehicle):
         self.safety = safety
         device, baud = parse_link(link)
         self.conn: Any = None
+        self._fault: str | None = None
         if connect:
+            _resolve(link, device)
             try:
-                self.conn = mavutil.mavlink_connection(
-                    device, baud=baud, source_system=255, source_component=190,
-                    autoreconnect=False,
-                )
+                # pymavlink prints its TCP retries ("Connection refused sleeping") on stdout
+                with contextlib.redirect_stdout(io.StringIO()):
+                    self.conn = mavutil.mavlink_connection(
+                        device, baud=baud, source_system=255, source_component=190,
+                        autoreconnect=False,
+                    )
             except ImportError as exc:  # pyserial, for a serial link
                 raise InputError(f"--vehicle: cannot open {link}: {exc}; install it with "
                                  "pip install 'swarmex[uav]'") from None
             except OSError as exc:  # no such port, refused
                 raise InputError(f"--vehicle: cannot open {link}: {exc}") from None
+            if hasattr(self.conn, "handle_eof"):  # TCP: a closed link is a fault, at once
+                self.conn.handle_eof = self.conn.handle_disconnect = self._tcp_closed
         self.opened = time.monotonic()
         self.target_system = 0
         self.target_component = 0
@@ -119,7 +136,8 @@ class MavlinkVehicle(Vehicle):
         self.next_hb = 0.0
         self.statustexts: list[tuple[float, int, str]] = []
         self.refused: dict[int, tuple[float, int]] = {}  # command -> (when, MAV_RESULT)
-        self._fault: str | None = None
+        self.accepted: dict[int, float] = {}  # command -> when the autopilot last accepted it
+        self.global_position: tuple[float, float] | None = None  # latitude, longitude (deg)
         self.task: Task | None = None
         self.steps: list[_Step] = []
         self.target: Position | None = None
@@ -203,7 +221,7 @@ class MavlinkVehicle(Vehicle):
             _Step("takeoff", lambda: (self.relative_alt or 0.0) >= alt - s.arrive_radius,
                   lambda: self._command(mav.MAV_CMD_NAV_TAKEOFF, 0, 0, 0, 0, 0, 0, alt),
                   s.task_timeout + climb, command=mav.MAV_CMD_NAV_TAKEOFF,
-                  guard=self._guided_guard),
+                  guard=self._guided_guard, taken=self._off_the_ground),
         ])
 
     def goto(self, target: Position, speed: float) -> Task:
@@ -218,12 +236,17 @@ class MavlinkVehicle(Vehicle):
         s = self.safety
         base = self.target
         up = Position(base.north, base.east, base.altitude + s.job_climb)
-        t0 = self.boot_s  # the job's time runs on the vehicle's clock, from now
+        top: list[float] = []  # the vehicle's clock at the top of the climb
+
+        def held() -> bool:  # the job's time runs on the vehicle's clock, from the top
+            if not top:
+                top.append(self.boot_s)
+            return self.boot_s - top[0] >= seconds
 
         return self._start("job", [
             self._fly_step("job: climb", up, None, s.job_climb),
-            _Step("job: hold", lambda: self.boot_s - t0 >= seconds, None,
-                  s.task_timeout + self._expected(seconds)),
+            _Step("job: hold", held, None, s.task_timeout + self._expected(seconds),
+                  guard=self._guided_guard),
             self._fly_step("job: descend", base, None, s.job_climb),
         ])
 
@@ -264,8 +287,10 @@ class MavlinkVehicle(Vehicle):
             if st.started is None:
                 st.started = now
                 task.phase = st.name
+            taken = st.command is not None and self.accepted.get(st.command, -1e18) >= st.started
+            taken = taken or (st.taken is not None and st.taken())
             try:
-                if st.command is not None and st.command in self.refused:
+                if st.command is not None and st.command in self.refused and not taken:
                     when, result = self.refused[st.command]
                     if when >= st.started:
                         raise _Failed(f"{st.name}: {_enum_name('MAV_CMD', st.command)} refused "
@@ -284,7 +309,7 @@ class MavlinkVehicle(Vehicle):
                 task.fail(f"{st.name}: not done within {st.timeout:.0f} s{more}"
                           + self._recent_text(now))
                 return
-            if st.send is not None and now - st.sent >= st.resend:
+            if st.send is not None and now - st.sent >= st.resend and not taken:
                 st.sent = now
                 st.send()
             return
@@ -328,6 +353,33 @@ class MavlinkVehicle(Vehicle):
             return f"the vehicle left GUIDED mode (now {now}): a pilot or a failsafe took over"
         return None
 
+    def _off_the_ground(self) -> bool:
+        """The copter has left the ground (a take-off under way)."""
+        if self.landed_state is not None and self.landed_state in (
+                mav.MAV_LANDED_STATE_TAKEOFF, mav.MAV_LANDED_STATE_IN_AIR):
+            return True
+        return (self.relative_alt or 0.0) > 0.5
+
+    def other_control(self) -> str | None:
+        """Who flies the copter, if not this agent: an armed copter in a mode other than
+        GUIDED was switched by a pilot (LOITER, ...) or by the autopilot's failsafe (RTL,
+        LAND). The agent then leaves it alone (docs/uav.md)."""
+        if not self.armed or self.mode is None or self.mode == GUIDED:
+            return None
+        name = COPTER_MODES.get(self.mode, str(self.mode))
+        who = "the autopilot or a pilot" if self.mode in (RTL, LAND, 21) else "a pilot"
+        return f"{who} (mode {name})"
+
+    def armed_on_ground(self) -> bool:
+        return self.armed and not self.airborne()
+
+    def disarm(self) -> Task:
+        return self._start("disarm", [
+            _Step("disarm", lambda: not self.armed,
+                  lambda: self._command(mav.MAV_CMD_COMPONENT_ARM_DISARM, 0),
+                  self.safety.task_timeout, command=mav.MAV_CMD_COMPONENT_ARM_DISARM),
+        ])
+
     def _near_home(self) -> bool:
         here = self.position()
         return here is not None and here.horizontal_distance(Position(0, 0, 0)) <= max(
@@ -366,20 +418,34 @@ class MavlinkVehicle(Vehicle):
         if sats < s.min_satellites:
             problems.append(f"GPS: {sats} satellites (--min-satellites {s.min_satellites})")
         if hdop > s.max_hdop:
-            problems.append(f"GPS: HDOP {hdop:.1f} (--max-hdop {s.max_hdop:g})")
+            problems.append(f"GPS: HDOP {hdop:.2f} (--max-hdop {s.max_hdop:g})")
         if self.battery_pct is None:
             problems.append("battery level unknown (no battery monitor): low battery could "
                             "not be caught in flight")
         elif self.battery_pct < s.arm_battery:
             problems.append(f"battery {self.battery_pct:.0f} % (--arm-battery "
                             f"{s.arm_battery:g} %)")
+        nest = plan.nest_latlon()
+        if nest is not None and self.global_position is not None:
+            off = _metres_between(self.global_position, nest)
+            if off > s.nest_radius:
+                problems.append(
+                    f"the vehicle stands {off:.0f} m from its nest (node {plan.home_node} at "
+                    f"{nest[0]:.6f},{nest[1]:.6f}; --nest-radius {s.nest_radius:g} m): the plan"
+                    " is flown around where it arms")
         if problems:
             raise _Failed("; ".join(problems))
         return True
 
     # ------------------------------------------------------------------ link
+    def _tcp_closed(self) -> None:
+        """pymavlink's EOF and reset handlers (which print a line on every read and would
+        reconnect): the link is lost, and nothing more is read from it."""
+        if self._fault is None:
+            self._fault = f"the vehicle's TCP link {self.link} closed (link lost)"
+
     def _pump(self, now: float) -> None:
-        if self.conn is None:
+        if self.conn is None or (self._fault is not None and hasattr(self.conn, "handle_eof")):
             return
         for _ in range(2000):
             try:
@@ -427,6 +493,8 @@ class MavlinkVehicle(Vehicle):
         elif kind == "GLOBAL_POSITION_INT":
             self.relative_alt = msg.relative_alt / 1000.0
             self.boot_s = msg.time_boot_ms / 1000.0
+            if msg.lat or msg.lon:  # 0, 0: no position yet
+                self.global_position = (msg.lat / 1e7, msg.lon / 1e7)
         elif kind == "LOCAL_POSITION_NED":
             self.local = (float(msg.x), float(msg.y), float(msg.z))
             if not self.armed or self.home is None:
@@ -441,7 +509,9 @@ class MavlinkVehicle(Vehicle):
             del self.statustexts[:-20]
         elif kind == "COMMAND_ACK":
             result = int(msg.result)
-            if result not in (mav.MAV_RESULT_ACCEPTED, mav.MAV_RESULT_IN_PROGRESS):
+            if result in (mav.MAV_RESULT_ACCEPTED, mav.MAV_RESULT_IN_PROGRESS):
+                self.accepted[int(msg.command)] = now
+            else:
                 self.refused[int(msg.command)] = (now, result)
 
     def _recent_text(self, now: float) -> str:
@@ -483,6 +553,29 @@ class MavlinkVehicle(Vehicle):
             POSITION_ONLY, hn + target.north, he + target.east, hd - target.altitude,
             0, 0, 0, 0, 0, 0, 0, 0,
         )
+
+
+def _resolve(link: str, device: str) -> None:
+    """A UDP or TCP link's host must resolve now (a typo'd name was 30 s of silence, then
+    "no heartbeat"): one :class:`InputError` line otherwise."""
+    import socket
+
+    kind, _, rest = device.partition(":")
+    if kind not in ("udpout", "udpin", "tcp"):
+        return
+    host, _, port = rest.rpartition(":")
+    try:
+        socket.getaddrinfo(host, int(port))
+    except (OSError, UnicodeError) as exc:
+        raise InputError(f"--vehicle: cannot resolve the host of {link}: "
+                         f"{getattr(exc, 'strerror', None) or exc}") from None
+
+
+def _metres_between(a: tuple[float, float], b: tuple[float, float]) -> float:
+    """Geodesic metres between two (latitude, longitude) points (WGS84)."""
+    from pyproj import Geod
+
+    return float(Geod(ellps="WGS84").inv(a[1], a[0], b[1], b[0])[2])
 
 
 def _enum_name(enum: str, value: int) -> str:

@@ -133,6 +133,15 @@ def ends_step(b: Broadcast) -> bool:
 # ---------------------------------------------------------------------------- mission data
 
 
+def _edge_length(value: Any) -> float | None:
+    if value is None:
+        return None
+    v = float(value)
+    if not (math.isfinite(v) and v > 0):
+        raise ValueError("bad edge length")
+    return v
+
+
 @dataclass
 class Mission:
     """Everything the server hands out with C22 (seed 000 §4.2), and the record's params."""
@@ -149,6 +158,7 @@ class Mission:
     done_lists: bool = True  # Fig. 4.17's done-nodes field on every broadcast
     heartbeat: float = 0.25  # wall seconds between heartbeats
     params: dict = field(default_factory=dict)
+    edge_length: float | None = None  # serve --edge-length: metres a real vehicle flies per edge
 
     def __post_init__(self) -> None:
         if self.rng_mode not in RNG_MODES:
@@ -197,6 +207,7 @@ class Mission:
             "rng_mode": self.rng_mode,
             "done_lists": self.done_lists,
             "heartbeat": self.heartbeat,
+            "edge_length": self.edge_length,
             "commands": ["C00", "C22", "C01", "C02", "C03", "C04", "C05", "C06", "C07",
                          "C08", "C09", "C10", "C11"],
             "params": self.params,
@@ -237,6 +248,7 @@ class Mission:
                 bool(d["done_lists"]),
                 float(d["heartbeat"]),
                 dict(d.get("params") or {}),
+                _edge_length(d.get("edge_length")),
             )
         except (KeyError, TypeError, ValueError, InputError, AttributeError) as exc:
             raise EncodingError(f"mission data: {exc}") from None

@@ -70,7 +70,7 @@ class EmulatorConfig:
     max_speed: float = 20.0  # cap on DO_CHANGE_SPEED, m/s
     rate: float = 25.0  # telemetry messages of each kind per wall second
     gcs_timeout: float = 5.0  # wall seconds without a ground station before failsafe RTL
-    idle_exit: float | None = None  # exit after this long on the ground without a GCS
+    idle_exit: float | None = None  # exit this long on the ground after the GCS fell silent
     timeout: float | None = None  # exit after this many wall seconds in any case
     sysid: int = 1
 
@@ -83,13 +83,22 @@ class EmulatorConfig:
             raise InputError(f"--satellites must be in 0..60, got {self.satellites}")
         if self.drop_link_after is not None:
             check_number(self.drop_link_after, "--drop-link-after", at_least=0)
-        lat, lon, _ = self.home
+        lat, lon, alt = self.home
         if not (-90 < lat < 90 and -180 <= lon <= 180):
             raise InputError(f"--home: latitude/longitude out of range: {lat}, {lon}")
+        if not (math.isfinite(alt) and -500.0 <= alt <= 9000.0):  # telemetry holds mm in int32
+            raise InputError(f"--home: altitude must be a number of metres in -500..9000, "
+                             f"got {alt}")
         for name, flag in (("idle_exit", "--exit-when-idle"), ("timeout", "--timeout")):
             v = getattr(self, name)
             if v is not None:
                 check_number(v, flag, above=0)
+
+
+def hdop_of(satellites: int) -> float:
+    """A plausible HDOP for ``satellites`` in view: 1.93 at 6 (the least a 3-D fix is
+    reported with here, which passes the agent's default --max-hdop 2), 1.27 at 12."""
+    return 0.6 + 8.0 / max(satellites, 1)
 
 
 class Copter:
@@ -379,7 +388,7 @@ class Emulator:
         limit = self.cfg.idle_exit
         if limit is None or c.armed or not c.landed:
             return False
-        if self.last_gcs is None:
+        if self.last_gcs is None:  # waiting for its ground station (an agent) to come
             return False
         return now - self.last_gcs >= limit
 
@@ -500,7 +509,7 @@ class Emulator:
                                  int(round(c.battery)), 0, 0, 0, 0, 0, 0)
         lat, lon = c.latlon()
         fix = 3 if cfg.satellites >= 6 else (2 if cfg.satellites >= 4 else 0)
-        hdop = 0.7 + 8.0 / max(cfg.satellites, 1)
+        hdop = hdop_of(cfg.satellites)
         self.mav.gps_raw_int_send(int(c.t * 1e6), fix, int(lat * 1e7), int(lon * 1e7),
                                   int((cfg.home[2] + c.alt) * 1000), int(hdop * 100), 120,
                                   int(math.hypot(c.vn, c.ve) * 100), 0, cfg.satellites)

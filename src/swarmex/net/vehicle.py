@@ -34,8 +34,12 @@ flies an ArduPilot copter, real or emulated (``swarmex uav-emulator``).
 Where the nodes are: :class:`FlightPlan` puts the mission's grid in local metres around the
 vehicle's home, which is its nest: node (x, y) is ``(x - x_nest) * edge`` metres east and
 ``(y_nest - y) * edge`` metres north of home (rows grow southwards, as a map is drawn with
-north up), ``edge`` = ``--edge-length`` (default 6.67 m: the thesis's 2.22 s edge at 3 m/s).
-So any grid mission can be flown or emulated, each vehicle placed on its nest's spot.
+north up), ``edge`` = the agent's ``--edge-length``, else the server's (``serve
+--edge-length``, which the mission data carries), else 6.67 m (the thesis's 2.22 s edge at
+3 m/s); the two options, when both given, must agree. So any grid mission can be flown or
+emulated, each vehicle placed on its nest's spot. On a GPS grid (``serve --center``) nodes
+are geodesic offsets from the nest's latitude and longitude, and the pre-arm checks refuse
+a vehicle standing farther than ``--nest-radius`` from it.
 """
 
 from __future__ import annotations
@@ -53,6 +57,9 @@ if TYPE_CHECKING:
     from swarmex.net.traversal import Mission
 
 RUNNING, DONE, FAILED = "running", "done", "failed"
+#: metres between grid neighbours when neither the agent nor the server says: the thesis's
+#: 2.22 s edge at 3 m/s
+DEFAULT_EDGE = 6.67
 
 #: what a vehicle's description may hold (sent to the server in C01: it is on the wire)
 Info = dict[str, str | int | float | bool]
@@ -107,7 +114,8 @@ class Position:
 class Safety:
     """The limits the agent flies a real vehicle by (``swarmex agent`` options; docs/uav.md)."""
 
-    edge_length: float = 6.67  # metres between grid neighbours (the thesis's 2.22 s at 3 m/s)
+    # metres between grid neighbours: None takes the server's --edge-length, else DEFAULT_EDGE
+    edge_length: float | None = None
     min_altitude: float = 5.0  # a mission altitude below this flies at this
     max_altitude: float = 120.0  # refuse a mission above this (the usual legal ceiling)
     max_speed: float = 10.0  # cap on the commanded ground speed, m/s
@@ -120,16 +128,23 @@ class Safety:
     task_timeout: float = 30.0  # wall seconds a command may take beyond its expected time
     arrive_radius: float = 1.0  # metres: at a position when this close (and as close in height)
     job_climb: float = 2.0  # metres: the job's altitude change (seed §5.2.2)
+    nest_radius: float = 10.0  # pre-arm on a GPS grid: metres the vehicle may stand off its nest
 
     def __post_init__(self) -> None:
         for f in fields(self):
             v = getattr(self, f.name)
+            if v is None and f.name == "edge_length":
+                continue
             if not (isinstance(v, int | float) and math.isfinite(v) and v >= 0):
                 raise InputError(f"--{f.name.replace('_', '-')} must be a number >= 0, got {v}")
         for name in ("edge_length", "max_speed", "link_timeout", "task_timeout",
-                     "arrive_radius", "max_altitude"):
-            if not getattr(self, name) > 0:
+                     "arrive_radius", "max_altitude", "nest_radius"):
+            v = getattr(self, name)
+            if v is not None and not v > 0:
                 raise InputError(f"--{name.replace('_', '-')} must be > 0")
+        if self.min_altitude > self.max_altitude:
+            raise InputError(f"--min-altitude ({self.min_altitude:g} m) is above --max-altitude"
+                             f" ({self.max_altitude:g} m)")
         if self.min_battery > 100 or self.arm_battery > 100:
             raise InputError("--min-battery and --arm-battery are percentages (0..100)")
         if self.min_battery >= self.arm_battery:
@@ -149,7 +164,9 @@ class FlightPlan:
         self.home_node = spec.nest
         self.pos = mission.world.graph.pos
         self.free = ~mission.world.blocked
-        self.edge = safety.edge_length
+        self.mission_edge = mission.edge_length  # serve --edge-length, if given
+        self.edge = (safety.edge_length if safety.edge_length is not None
+                     else self.mission_edge if self.mission_edge is not None else DEFAULT_EDGE)
         self.altitude = max(spec.altitude, safety.min_altitude)
         self.mission_altitude = spec.altitude
         # mission speeds are length units per second; a unit is one grid edge here
@@ -182,6 +199,10 @@ class FlightPlan:
         a = math.radians(azimuth)
         return float(dist * math.cos(a)), float(dist * math.sin(a))
 
+    def nest_latlon(self) -> tuple[float, float] | None:
+        """Where the vehicle must stand (its nest) on a GPS grid, else None."""
+        return self.latlon(self.home_node) if self.geo else None
+
     def farthest(self) -> float:
         """Metres from home to the farthest free node."""
         if self.geo:
@@ -198,13 +219,22 @@ class FlightPlan:
                        f"{s.max_altitude:g} m limit")
         far = self.farthest()
         if far > s.max_distance:
-            out.append(f"a node is {far:.0f} m from home, beyond the {s.max_distance:g} m limit "
-                       f"(--edge-length {self.edge:g} m)")
+            scale = "" if self.geo else f" (--edge-length {self.edge:g} m)"
+            out.append(f"a node is {far:.0f} m from home, beyond the {s.max_distance:g} m limit"
+                       + scale)
+        if (s.edge_length is not None and self.mission_edge is not None
+                and not math.isclose(s.edge_length, self.mission_edge)):
+            out.append(f"--edge-length {s.edge_length:g} m differs from the mission's "
+                       f"{self.mission_edge:g} m (serve --edge-length): give the same, or "
+                       "leave the agent's out")
         return out
 
     def notes(self) -> list[str]:
         """What the agent tells its operator about the plan before flying it."""
-        out = [f"grid edge {self.edge:g} m, altitude {self.altitude:g} m, ground speed "
+        nest = self.nest_latlon()
+        where = (f"GPS grid, nest node {self.home_node} at {nest[0]:.6f},{nest[1]:.6f}"
+                 if nest is not None else f"grid edge {self.edge:g} m")
+        out = [f"{where}, altitude {self.altitude:g} m, ground speed "
                f"{self.speed:.2f} m/s, farthest node {self.farthest():.0f} m from home"]
         if self.altitude != self.mission_altitude:
             out.append(f"the mission's altitude {self.mission_altitude:g} m is below "
@@ -264,6 +294,19 @@ class Vehicle(ABC):
 
     def fault(self) -> str | None:
         return None
+
+    def other_control(self) -> str | None:
+        """Who flies the vehicle if not its agent (a pilot, a failsafe), else None: the
+        agent then commands it no more."""
+        return None
+
+    def disarm(self) -> Task:
+        """Stop the motors of a vehicle on the ground."""
+        return Task("disarm").finish()
+
+    def armed_on_ground(self) -> bool:
+        """Armed but not flying (a take-off that failed on the ground)."""
+        return False
 
     @abstractmethod
     def airborne(self) -> bool: ...
@@ -350,9 +393,10 @@ def parse_link(link: str) -> tuple[str, int]:
                 break
             return dev, int(baud) if baud else 921600
         host, sep, port = rest.rpartition(":")
-        if not sep or not host or not port.isdigit() or not 0 <= int(port) <= 65535:
-            break
-        if int(port) == 0 and prefix != "udpin:":
+        # one host:port (pymavlink takes no IPv6 literal and no third field); port 0 would
+        # listen where no vehicle can be told to send
+        if (not sep or not host or ":" in host or not port.isdigit()
+                or not 0 < int(port) <= 65535):
             break
         return device + rest, 115200
     forms = ", ".join(f[2].split(" ")[0] for f in LINK_FORMS)
