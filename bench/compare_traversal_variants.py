@@ -277,35 +277,38 @@ def select(rows: list[dict], **key) -> list[dict]:
     return sorted(out, key=lambda r: r["seed"])
 
 
-def variants_table(rows: list[dict], algorithms: list[str], variant: str = "madgta+",
+def variants_table(rows: list[dict], algorithms: list[str], variant: str | None = "madgta+",
                    ref: str = "madgta") -> list[str]:
+    """Per (map, agents, nests) cell: every algorithm's mean makespan, ``total_time_all``
+    and moves without a job, and ``variant`` against ``ref`` (ratio of the mean makespans,
+    paired Δ with its 95 % interval); ``variant=None``: the means alone, no paired columns."""
+    paired = f" | {variant} / {ref} | paired Δ (95 % CI)" if variant is not None else ""
     lines = [
         "| map | agents | nests | "
         + " | ".join(f"{a} makespan" for a in algorithms)
-        + f" | {variant} / {ref} | paired Δ (95 % CI) | "
+        + paired + " | "
         + " | ".join(f"{a} total_time_all" for a in algorithms)
         + " | "
         + " | ".join(f"{a} moves w/o job" for a in algorithms)
         + " |",
     ]
-    lines.append("|" + "---|" * (4 + 3 * len(algorithms) + 1))
+    lines.append("|" + "---|" * (3 + 3 * len(algorithms) + (2 if variant is not None else 0)))
     cells = sorted({(r["map"], r["agents"], r["mode"]) for r in rows}, key=_cell_order)
     for mp, m, mode in cells:
         means = {a: select(rows, map=mp, agents=m, mode=mode, algorithm=a) for a in algorithms}
         mk = {a: np.array([r["makespan"] for r in v]) for a, v in means.items()}
-        base, plus = mk.get(ref), mk.get(variant)
+        base, plus = mk.get(ref), mk.get(variant) if variant is not None else None
         if base is not None and plus is not None and base.size == plus.size and base.size:
             d, half = paired_ci(plus, base)
-            ratio = f"{plus.mean() / base.mean():.3f}"
-            delta = f"{d:+.1f} ± {half:.1f}"
+            cols = f" | {plus.mean() / base.mean():.3f} | {d:+.1f} ± {half:.1f}"
         else:
-            ratio = delta = "–"
+            cols = " | – | –" if variant is not None else ""
         tt = [np.mean([r["total_time_all"] for r in means[a]]) for a in algorithms]
         wj = [np.mean([r["nodes_without_job_all"] for r in means[a]]) for a in algorithms]
         lines.append(
             f"| {mp} | {m} | {mode} | "
             + " | ".join(f"{mk[a].mean():.1f}" for a in algorithms)
-            + f" | {ratio} | {delta} | "
+            + cols + " | "
             + " | ".join(f"{x:.0f}" for x in tt)
             + " | "
             + " | ".join(f"{x:.0f}" for x in wj)
@@ -403,13 +406,19 @@ def print_summaries(rows: list[dict], variant: str = "madgta+", ref: str = "madg
 def print_variant_tables(rows: list[dict], algorithms: list[str],
                          references: tuple[str, ...] = ()) -> None:
     """Per fleet: the mean table and the paired summaries of each variant against madgta,
-    and against each of ``references`` (other algorithms of the same runs)."""
+    and against each of ``references`` (other algorithms of the same runs); with no variant
+    among the algorithms (only madgta and nearest), the mean table alone. Then the CPU per
+    run."""
     for fleet in FLEETS:
         part = [r for r in rows if r.get("fleet", "same") == fleet]
         if not part:
             continue
         algs = [a for a in algorithms if any(r["algorithm"] == a for r in part)]
-        for variant in [v for v in algs if v not in NOT_VARIANTS]:
+        variants = [v for v in algs if v not in NOT_VARIANTS]
+        if not variants:  # nothing to pair, but the runs' makespans are still the result
+            print(f"\n## {fleet} agents: mean over seeds (no variant of madgta to pair)\n")
+            print("\n".join(variants_table(part, algs, None)))
+        for variant in variants:
             print(f"\n## {fleet} agents: {variant} against madgta (mean over seeds)\n")
             print("\n".join(variants_table(part, algs, variant)))
             if "madgta" in algs:

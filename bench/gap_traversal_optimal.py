@@ -54,6 +54,7 @@ what sets :data:`swarmex.missions.traversal.optimal.MAX_FREE_VERTICES`.
 from __future__ import annotations
 
 import json
+import sys
 import time
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -300,6 +301,7 @@ def pareto(n_instances: int, caps: list[float], time_limit: float, budget: float
     res: dict = {c: {"identical": [], "mixed": []} for c in caps}
     floors: dict = {"identical": [], "mixed": []}
     unproven = {c: 0 for c in caps}
+    sum_unproven: list[int] = []  # instances whose optimal sum is not proven
     for i in range(n_instances):
         world, agents, label = instance(i)
         kind = "mixed" if label.endswith("mixed") else "identical"
@@ -308,7 +310,7 @@ def pareto(n_instances: int, caps: list[float], time_limit: float, budget: float
         opt_sum = solve_optimal(world, agents, "sum", time_limit=time_limit)
         opt_mk = solve_optimal(world, agents, "makespan", time_limit=time_limit)
         if not opt_sum.proven_optimal:  # then a floor of 0 % is no longer a floor
-            print(f"  instance {i}: the optimal sum is not proven; its floors are not either")
+            sum_unproven.append(i)
         inst, _ = _prepare(world, agents, 1.0, 16, "makespan")
         cost, _ = _class_costs(inst)
         incumbent = [[inst.verts.index(v) for v in p.jobs] for p in opt_mk.agents]
@@ -324,8 +326,8 @@ def pareto(n_instances: int, caps: list[float], time_limit: float, budget: float
             low = total if milp.optimal else min(total, bound)
             row.append(low / opt_sum.value - 1)
         floors[kind].append(row)
-        print(f"  instance {i} done", flush=True)
-    print("\n| makespan at most | least sum gap, identical agents | mixed agents (mean / max) "
+        print(f"  instance {i} done", file=sys.stderr, flush=True)  # progress, not table
+    print("| makespan at most | least sum gap, identical agents | mixed agents (mean / max) "
           "| proven floor of the mean, identical / mixed | solves not proven |")
     print("|---|---|---|---|---|")
     for j, c in enumerate(caps):
@@ -335,6 +337,9 @@ def pareto(n_instances: int, caps: list[float], time_limit: float, budget: float
         fl = " / ".join(f"{100 * np.mean([r[j] for r in floors[k]]):.2f} %" if floors[k]
                         else "–" for k in ("identical", "mixed"))
         print(f"| {c:.2f} × optimal | {left} | {right} | {fl} | {unproven[c]} |")
+    if sum_unproven:
+        print(f"optimal sum not proven within --time-limit on instance(s) "
+              f"{', '.join(map(str, sum_unproven))}: their floors are not proven either")
     least = {}
     for k in kinds:
         if floors[k]:

@@ -31,6 +31,10 @@ def test_the_bench_prints_its_table(real_map):
     assert "12 runs on empty-16-16" in out.stderr
     rows = [line for line in out.stdout.splitlines() if line.startswith("| empty-16-16 | 4 |")]
     assert len(rows) == 1 and rows[0].count("%") == 4
+    # the pooled row is "all" whatever maps are given; no group row repeats a map's row
+    pooled = [line for line in out.stdout.splitlines() if line.startswith("| all | 4 |")]
+    assert pooled == [rows[0].replace("| empty-16-16 |", "| all |", 1)]
+    assert "the small maps" not in out.stdout
 
 
 def test_the_oracle_keeps_two_travellers_off_one_target():
