@@ -234,6 +234,11 @@ def test_ingest_feeds_the_same_page_stream():
         ]
         with connect(base + "/ws", open_timeout=5) as viewer, connect(base + "/ingest") as src:
             src.send(json.dumps(feed[0]))  # one event per frame or a list: both accepted
+            # a frame that is not JSON, and an event at no time, are dropped: the producer's
+            # socket used to be closed on the first, and the second came back as t: null
+            src.send("not json")
+            src.send(json.dumps([{"type": "move", "t": float("nan"), "agent": 1, "x": 0,
+                                  "y": 0}]))
             src.send(json.dumps(feed[1:]))
             got: list[dict] = []
             while len(got) < 3:
@@ -247,6 +252,9 @@ def test_ingest_feeds_the_same_page_stream():
                 history = json.loads(late.recv(timeout=5))
         assert [e["type"] for e in history] == ["hello", "end"]
         assert history[0]["agents"] == [7]
+        config = json.loads(urllib.request.urlopen(
+            f"http://127.0.0.1:{server.port}/config", timeout=5).read())
+        assert config["ingest_dropped"] == 2
 
 
 @pytest.mark.parametrize(
@@ -420,7 +428,12 @@ def test_browser_says_which_agents_fly_what_in_a_hybrid_mission():
              "vehicles": [{"id": 1, "kind": "mavlink"}, {"id": 2, "kind": "simulated"},
                           {"id": 3, "kind": "simulated"}]}
     feed = [hello, {"type": "move", "t": 0.0, "agent": 1, "x": 0, "y": 0},
-            {"type": "message", "t": 1.0, "agent": 2, "to": None, "kind": "left"},
+            {"type": "job", "t": 0.5, "agent": 2, "x": 1, "y": 0},
+            {"type": "message", "t": 0.5, "agent": 2, "to": None, "kind": "job", "x": 1,
+             "y": 0},
+            # agent 2 is declared gone: its job at (1, 0) reverts to not done
+            {"type": "message", "t": 1.0, "agent": 2, "to": None, "kind": "left", "x": 1,
+             "y": 0},
             {"type": "message", "t": 2.0, "agent": 2, "to": None, "kind": "join",
              "vehicle": "mavlink"}]  # a MAVLink spare took id 2
     with ServerThread(None, linger=5.0) as server, sync_api.sync_playwright() as pw:
@@ -447,6 +460,9 @@ def test_browser_says_which_agents_fly_what_in_a_hybrid_mission():
     assert not errors
     assert [a["vehicle"] for a in snap["agents"]] == ["mavlink", "mavlink", "simulated"]
     assert "mavlink" in text and "simulated" in text
+    # the left un-painted the abandoned job, and only the mission's message is counted (the
+    # record's count): left and join are the protocol's status
+    assert snap["jobs"] == 0 and snap["messages"] == 1
 
 
 COLOUR_PIXELS = """([r, g, b]) => {

@@ -46,3 +46,27 @@ def test_ctrl_c_keeps_the_events_seen_so_far(tmp_path, monkeypatch, capsys):
     assert capsys.readouterr().err.strip() == "swarmex: interrupted"
     saved = json.loads(path.read_text())
     assert [e["type"] for e in saved] == ["hello", "message"]
+
+
+def test_an_exploration_stream_is_shown_in_steps_without_jobs():
+    """``watch`` on the mesh's display said "t=70.0 s · jobs 0 · messages 0": an exploration
+    counts steps, has no jobs, and gives its messages only as the end's total."""
+    import io
+
+    from rich.console import Console
+
+    from swarmex.net import events as ev
+    from swarmex.net.watch import TerminalView
+
+    out = io.StringIO()
+    view = TerminalView(Console(file=out, width=200), live=False)
+    view.update([ev.hello("exploration", "greedy-exclusion", [0, 1], "exploration · test",
+                          None, "step", messages="totals"),
+                 ev.move(70.0, 0, 3.0, 4.0)])
+    view._last_line = 0.0
+    view.update([{"type": "end", "t": 110.0, "complete": True, "makespan": 110.0,
+                  "time_unit": "step", "metrics": {}, "messages": 2436, "agents": []}])
+    lines = out.getvalue().splitlines()
+    assert lines[0] == "t=70.0 steps · messages counted at the end"
+    assert lines[-1] == "t=110.0 steps · messages 2436 · mission over"
+    assert "jobs" not in out.getvalue() and "t=70.0 s ·" not in out.getvalue()

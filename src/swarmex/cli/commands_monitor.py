@@ -29,7 +29,7 @@ import typer
 
 from swarmex.cli.app import app, console
 from swarmex.cli.outputs import check_output
-from swarmex.cli.shared import check_connect
+from swarmex.cli.shared import _say, check_connect
 from swarmex.errors import InputError, check_number, require
 
 
@@ -395,7 +395,11 @@ def monitor(
             from swarmex.net.events import network_producer
         except ImportError as exc:
             raise InputError(f"--connect needs the networked runtime: {exc}") from None
-        producer = network_producer(connect)
+        def lost() -> None:  # a --linger counts from here, as from an end event
+            if linger is not None:
+                asyncio.get_running_loop().call_later(linger, server.stop_now)
+
+        producer = network_producer(connect, say=_say, on_lost=lost)
 
     def ready(srv: MonitorServer) -> None:
         what = address_note(srv.port, wait=wait, has_mission=record is not None or live is not None,

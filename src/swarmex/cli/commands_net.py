@@ -323,7 +323,7 @@ def watch(
         raise InputError(f"--forward: expected ws://HOST:PORT/ingest, got {forward!r}")
     if forward is not None:  # before connecting, not as a traceback in the sender's thread
         require("websockets", "monitor", "--forward")
-    forwarder = IngestForwarder(forward) if forward else None
+    forwarder = IngestForwarder(forward, warn=_warn) if forward else None
     view = TerminalView(console, live=sys.stdout.isatty(), quiet=forwarder is not None)
     saved: list = []
     try:
@@ -341,9 +341,14 @@ def watch(
             from swarmex.engine.record import write_json_atomic
 
             write_json_atomic(saved, json_path)
+    short = forwarder.shortfall() if forwarder is not None else None
+    if short is not None:
+        _warn(f"swarmex watch: {short}")
     if not view.ended:
         _warn("swarmex watch: no mission end seen (server gone or timeout)")
         raise typer.Exit(1)
+    if forwarder is not None and forwarder.sent == 0:
+        raise typer.Exit(1)  # forwarding was the whole job, and nothing arrived
 
 
 @app.command(hidden=True)

@@ -201,8 +201,11 @@ class AgentClient:
             reason = str(msg[1])
             if reason == "no vacant id" and self.want_id <= 0 and self.state == "hello":
                 if self.retry_at is None and not self.waiting:
-                    self.say(f"swarmex agent: waiting for a vacant id (up to "
-                             f"{self.connect_timeout:g} s)")
+                    # a spare waits as long as the mission runs; another agent for
+                    # --connect-timeout (see tick)
+                    limit = ("as long as the mission runs" if self.want_id < 0
+                             else f"up to {self.connect_timeout:g} s")
+                    self.say(f"swarmex agent: waiting for a vacant id ({limit})")
                 self.waiting = True
                 self.retry_at = now + 0.2  # a spare waits for an id to fall vacant
                 if self.want_id == 0 and now - self.started_at > self.connect_timeout:

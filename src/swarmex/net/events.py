@@ -121,10 +121,13 @@ class IngestForwarder:
     Why a thread and a queue: the mission loop must never wait on a viewer. Batches queue up
     while the socket connects (a monitor started a moment later still gets the ``hello``);
     if the monitor is unreachable the forwarder gives up after ``connect_timeout`` and drops
-    what it holds, counted in :attr:`dropped`.
+    what it holds, counted in :attr:`dropped`. Why ``warn``: events that go nowhere must be
+    said once (a mistyped URL sent a whole mission into the void without a word);
+    :meth:`shortfall` sums it up at the end.
     """
 
-    def __init__(self, url: str, connect_timeout: float = 5.0) -> None:
+    def __init__(self, url: str, connect_timeout: float = 5.0,
+                 warn: Callable[[str], object] | None = None) -> None:
         from swarmex.errors import require
 
         # here, not in the thread: without the extra its import failed there as a traceback
@@ -135,6 +138,7 @@ class IngestForwarder:
         self.sent = 0
         self.dropped = 0
         self.error: str | None = None
+        self.warn = warn
         self._thread = threading.Thread(target=self._run, name="ingest", daemon=True)
         self._thread.start()
 
@@ -143,8 +147,17 @@ class IngestForwarder:
             self.queue.put(dumps(batch))
 
     def close(self, timeout: float = 3.0) -> None:
+        """Send what is queued (for at most ``timeout`` seconds once connected; a monitor
+        still being reached gets the rest of ``connect_timeout`` first)."""
         self.queue.put(None)
-        self._thread.join(timeout)
+        self._thread.join(timeout + self.connect_timeout)
+
+    def shortfall(self) -> str | None:
+        """One line when some batches did not reach the monitor (after :meth:`close`)."""
+        if not self.dropped:
+            return None
+        return (f"{self.dropped} of {self.sent + self.dropped} event batches did not reach the "
+                f"monitor at {self.url} ({self.error})")
 
     def _run(self) -> None:
         from websockets.sync.client import connect
@@ -156,6 +169,9 @@ class IngestForwarder:
             except Exception as exc:  # refused, DNS, handshake: retry until the deadline
                 self.error = f"{type(exc).__name__}: {exc}"
                 if time.monotonic() >= deadline:
+                    if self.warn is not None:
+                        self.warn(f"swarmex: the monitor at {self.url} is unreachable "
+                                  f"({self.error}); the mission goes on without it")
                     break
                 time.sleep(0.2)
                 continue
@@ -171,16 +187,21 @@ class IngestForwarder:
                 ws.send(item)
                 self.sent += 1
             except Exception as exc:  # the monitor went away: drop the rest, counted
+                if self.error is None and self.warn is not None:
+                    self.warn(f"swarmex: the monitor at {self.url} went away "
+                              f"({type(exc).__name__}: {exc}); the mission goes on without it")
                 self.error = f"{type(exc).__name__}: {exc}"
                 self.dropped += 1
 
 
 def viewer_batches(address: str, timeout: float = 10.0,
-                   stop: Callable[[], bool] | None = None) -> Iterator[list[Any]]:
+                   stop: Callable[[], bool] | None = None,
+                   wait_first: bool = False) -> Iterator[list[Any]]:
     """Yield event batches from a mission server (or exploration display) at ``address``.
 
     Ends after an ``end`` event, or when nothing (not even a heartbeat) came for
-    ``timeout`` seconds.
+    ``timeout`` seconds; with ``wait_first``, the wait for the server's first word has no
+    limit (a monitor is often started before its mission).
     """
     import zmq
 
@@ -194,6 +215,7 @@ def viewer_batches(address: str, timeout: float = 10.0,
     try:
         sock.send(wire.pack(["MON"]))
         last = time.monotonic()
+        heard = False
         next_hb = last + 1.0
         while True:
             if stop is not None and stop():
@@ -201,6 +223,7 @@ def viewer_batches(address: str, timeout: float = 10.0,
             if sock.poll(200):
                 frame = sock.recv()
                 last = time.monotonic()
+                heard = True
                 try:
                     msg = wire.unpack(frame)
                 except wire.WireError:
@@ -218,17 +241,23 @@ def viewer_batches(address: str, timeout: float = 10.0,
             if now >= next_hb:  # the server drops viewers it has not heard from
                 sock.send(wire.pack(["MON"]))
                 next_hb = now + 1.0
-            if now - last > timeout:
+            if now - last > timeout and (heard or not wait_first):
                 return
     finally:
         sock.close(0)
 
 
-def network_producer(address: str, timeout: float = 10.0) -> Callable[[Any], Awaitable[None]]:
+def network_producer(address: str, timeout: float = 10.0,
+                     say: Callable[[str], object] | None = None,
+                     on_lost: Callable[[], object] | None = None,
+                     ) -> Callable[[Any], Awaitable[None]]:
     """A producer for the web monitor's server loop: publishes a live mission's batches.
 
     ``MonitorServer.run(producer, …)`` calls ``producer(hub)``; this one reads the mission's
     events on a worker thread (the ZeroMQ socket is blocking) and publishes them on the loop.
+    It waits for the mission as long as it takes (``say`` reports when it is first heard);
+    a mission that then falls silent for ``timeout`` seconds before its end is reported with
+    ``say`` and ``on_lost`` is called (the monitor then stops as after an end).
     """
 
     async def produce(hub: Any) -> None:
@@ -236,9 +265,17 @@ def network_producer(address: str, timeout: float = 10.0) -> Callable[[Any], Awa
         q: asyncio.Queue[list[Any] | None] = asyncio.Queue()
         done = threading.Event()
 
+        ended = heard = False
+
         def pump() -> None:
+            nonlocal ended, heard
             try:
-                for batch in viewer_batches(address, timeout, stop=done.is_set):
+                for batch in viewer_batches(address, timeout, stop=done.is_set, wait_first=True):
+                    if not heard and say is not None:
+                        say(f"swarmex monitor: receiving the mission at {address}")
+                    heard = True
+                    ended = ended or any(isinstance(e, dict) and e.get("type") == "end"
+                                         for e in batch)
                     loop.call_soon_threadsafe(q.put_nowait, batch)
             finally:
                 loop.call_soon_threadsafe(q.put_nowait, None)
@@ -251,6 +288,12 @@ def network_producer(address: str, timeout: float = 10.0) -> Callable[[Any], Awa
                 if batch is None:
                     break
                 hub.publish(batch)
+            if not ended and not done.is_set():
+                if say is not None:
+                    say(f"swarmex monitor: the mission at {address} fell silent before its end"
+                        f" (nothing for {timeout:g} s); the page keeps what it showed")
+                if on_lost is not None:
+                    on_lost()
         finally:
             done.set()
 

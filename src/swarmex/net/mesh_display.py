@@ -81,7 +81,9 @@ class DisplayProcess(Node):
         self.viewer_beat = 0.0
         self.events: list[dict] = []
         self.pending: list[dict] = []
-        self.forwarder = ev.IngestForwarder(monitor_url) if monitor_url else None
+        self.say: Callable[[str], object] = print  # run() sets the launcher's
+        self.forwarder = (ev.IngestForwarder(monitor_url, warn=lambda text: self.say(text))
+                          if monitor_url else None)
         self.record: dict[str, Any] | None = None
 
     # ---- radio
@@ -249,6 +251,7 @@ class DisplayProcess(Node):
 
     # ---- run
     def run(self, say: Callable[[str], object] = print) -> int:
+        self.say = say
         opts = self.options
         n = self.params.robots
         say(f"swarmex mesh display: view on {self.view_endpoint}, waiting for {n} robots")
@@ -296,6 +299,8 @@ class DisplayProcess(Node):
             (self.run_dir / "record.json").write_text(ev.dumps([self.record]))
         if self.forwarder is not None:
             self.forwarder.close()
+            if (short := self.forwarder.shortfall()) is not None:
+                say(f"swarmex mesh display: {short}")
         return code
 
     def _explore(self, say: Callable[[str], object], stop: StopRequest, deadline: float) -> int:

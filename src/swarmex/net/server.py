@@ -123,7 +123,8 @@ class TraversalServer:
         self.started = False
         self.t0w = 0.0
         self.wall0 = 0.0
-        self.forwarder = ev.IngestForwarder(monitor_url) if monitor_url else None
+        self.forwarder = (ev.IngestForwarder(monitor_url, warn=say) if monitor_url
+                          else None)
         self.record: dict[str, Any] | None = None
         self.stop = StopRequest()  # Ctrl-C or SIGTERM seen (see run)
         # its own context, terminated after the socket closes: that waits (up to the
@@ -262,6 +263,8 @@ class TraversalServer:
         finally:
             if self.forwarder is not None:
                 self.forwarder.close()
+                if (short := self.forwarder.shortfall()) is not None:
+                    self.say(f"swarmex serve: {short}")
             self.sock.close(500)
             self.ctx.term()
 
@@ -536,7 +539,9 @@ class TraversalServer:
         self.counters.left.append({"id": agent, "t": self.clock(), "state": was,
                                    "open_job": node, "reason": reason})
         self._to_agents(wire.pack(["LEFT", agent, float(self.clock())]))
-        self._emit(ev.message(t, agent, "left", extra={"reason": reason}))
+        # the node whose job reverts to not done, for the page to un-paint
+        x, y = self._xy(node) if node >= 0 else (None, None)
+        self._emit(ev.message(t, agent, "left", x, y, extra={"reason": reason}))
         self.say(f"swarmex serve: agent {agent} {why} ({was}); id {agent} is vacant"
                  + (f", node {self.mission.world.label(node)} is not done again" if node >= 0
                     else ""))

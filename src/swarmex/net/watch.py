@@ -16,6 +16,10 @@ from rich.console import Console
 from rich.live import Live
 from rich.table import Table
 
+#: a networked mission's status events: shown, but not counted as the mission's messages (the
+#: record counts the agents' broadcasts only, as the simulator does)
+STATUS_KINDS = ("finish", "left", "join")
+
 
 class TerminalView:
     def __init__(self, console: Console, live: bool = True, quiet: bool = False) -> None:
@@ -23,6 +27,9 @@ class TerminalView:
         self.quiet = quiet
         self.title = "waiting for the mission"
         self.t = 0.0
+        self.unit = "s"  # the hello's time unit (an exploration counts steps)
+        self.has_jobs = True  # an exploration has none: its column would read 0 for ever
+        self.message_mode = "events"  # "totals": only the end's count (the hello says)
         self.agents: dict[int, dict[str, Any]] = {}
         self.cells = 0
         self.jobs = 0
@@ -48,6 +55,9 @@ class TerminalView:
                 self.t = max(self.t, float(e["t"]))
             if kind == "hello":
                 self.title = str(e.get("title", ""))
+                self.unit = {"step": "steps"}.get(str(e.get("time_unit", "s")), "s")
+                self.has_jobs = e.get("mission") in ("traversal", None)
+                self.message_mode = str(e.get("messages") or "events")
                 self.agents.clear()
                 for aid in e.get("agents") or []:
                     self._agent(int(aid))
@@ -64,7 +74,8 @@ class TerminalView:
                 self._agent(e["agent"])["jobs"] += 1
                 self.jobs += 1
             elif kind == "message" and isinstance(e.get("agent"), int):
-                self.messages += 1
+                if e.get("kind") not in STATUS_KINDS:
+                    self.messages += 1
                 a = self._agent(e["agent"])
                 a["last"] = str(e.get("kind"))
                 if e.get("kind") in ("left", "finish", "join"):
@@ -74,18 +85,29 @@ class TerminalView:
             elif kind == "end":
                 self.ended = True
                 self.end = e
+                if self.message_mode != "events" and isinstance(e.get("messages"), int):
+                    self.messages = int(e["messages"])
         self._draw()
 
-    def _table(self) -> Table:
+    def _counts(self) -> str:
+        """The progress line's counts: jobs where the mission has them, messages as the
+        stream gives them (each one, or only the end's total)."""
         share = f"{self.jobs}/{self.cells}" if self.cells else str(self.jobs)
-        table = Table(title=f"{self.title} · t = {self.t:.1f} s · jobs {share}"
-                      f" · {self.messages} messages", title_justify="left")
-        for col in ("agent", "vehicle", "at", "jobs", "last message", "state"):
+        jobs = f" · jobs {share}" if self.has_jobs else ""
+        if self.message_mode == "events" or self.ended:
+            return f"{jobs} · messages {self.messages}"
+        return f"{jobs} · messages counted at the end"
+
+    def _table(self) -> Table:
+        table = Table(title=f"{self.title} · t = {self.t:.1f} {self.unit}{self._counts()}",
+                      title_justify="left")
+        cols = ("agent", "vehicle", "at", "jobs", "last message", "state")
+        for col in cols if self.has_jobs else [c for c in cols if c != "jobs"]:
             table.add_column(col)
         for aid in sorted(self.agents)[:40]:
             a = self.agents[aid]
-            table.add_row(str(aid), a["vehicle"], a["pos"], str(a["jobs"]), a["last"],
-                          a["state"])
+            row = [str(aid), a["vehicle"], a["pos"], str(a["jobs"]), a["last"], a["state"]]
+            table.add_row(*(row if self.has_jobs else row[:3] + row[4:]))
         return table
 
     def _draw(self) -> None:
@@ -99,7 +121,7 @@ class TerminalView:
         elif self.ended or now - self._last_line > 1.0:
             self._last_line = now
             self.console.print(
-                f"t={self.t:.1f} s · jobs {self.jobs} · messages {self.messages}"
+                f"t={self.t:.1f} {self.unit}{self._counts()}"
                 + (" · mission over" if self.ended else ""),
                 highlight=False,
             )

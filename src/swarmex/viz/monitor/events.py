@@ -191,7 +191,11 @@ def record_events(
     end = end_event(record, sent if mode == "events" else None)
     end["t"] = max([end["t"], *(e["t"] for e in timed)])
     world_ev = world if world is not None else world_event(record, free)
-    return [hello_event(record, "simulation", speed, mode), world_ev, *timed, end]
+    hello = hello_event(record, "network" if "network" in record else "simulation", speed, mode)
+    vehicles = record.get("vehicles")
+    if isinstance(vehicles, list) and vehicles:  # a networked record: what each id flew
+        hello["vehicles"] = vehicles
+    return [hello, world_ev, *timed, end]
 
 
 def foraging_messages(record: dict) -> list[dict[str, Any]]:

@@ -87,6 +87,14 @@ MONITOR_JS = r""""use strict";
   const PALETTE = ["#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd",
                    "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf"];
   const RATE_WINDOW = 10;  // mission seconds over which messages/s is averaged
+  // a networked mission's status events: shown, but not counted as the mission's messages
+  // (the record counts the agents' broadcasts only, as the simulator does)
+  const STATUS_KINDS = new Set(["finish", "left", "join"]);
+
+  function unpaint(x, y) {
+    const i = state.jobCells.findIndex((c) => c[0] === x && c[1] === y);
+    if (i >= 0) { state.jobCells.splice(i, 1); state.jobs -= 1; layersDirty = true; }
+  }
   const state = {};
   let dirty = true;
   let layersDirty = true;
@@ -167,10 +175,15 @@ MONITOR_JS = r""""use strict";
         break;
       }
       case "message": {
-        agent(ev.agent).sent += 1;
         if (ev.kind === "join" && typeof ev.vehicle === "string") {
           agent(ev.agent).vehicle = ev.vehicle;  // a spare: what it flies
         }
+        // a job abandoned (failed, or its agent gone) is not done any more: un-paint it
+        if ((ev.kind === "undone" || ev.kind === "left") && typeof ev.x === "number") {
+          unpaint(ev.x, ev.y);
+        }
+        if (STATUS_KINDS.has(ev.kind)) break;  // the protocol's, not the mission's messages
+        agent(ev.agent).sent += 1;
         state.messages += 1;
         state.msgTimes.push(ev.t);
         break;

@@ -77,6 +77,8 @@ def create_app(hub: EventHub, record: dict | Callable[[], dict | None] | None = 
     """The page, its script, the schema, ``/record`` (a record, or a function giving the
     current one: a live run has its record only once it ends), the WebSockets, and
     ``/config`` + ``/snapshot`` (the page's PNGs of its view, written into ``snapshots``)."""
+    dropped = [0]  # ingested frames or events refused (see ingest)
+
     async def index(_request: Any) -> Response:
         return HTMLResponse(INDEX_HTML)
 
@@ -96,7 +98,8 @@ def create_app(hub: EventHub, record: dict | Callable[[], dict | None] | None = 
         return JSONResponse(current)
 
     async def config(_request: Any) -> Response:
-        return JSONResponse({"snapshot_every": snapshots.every if snapshots else None})
+        return JSONResponse({"snapshot_every": snapshots.every if snapshots else None,
+                             "ingest_dropped": dropped[0]})
 
     async def snapshot(request: Any) -> Response:
         if snapshots is None:
@@ -124,13 +127,24 @@ def create_app(hub: EventHub, record: dict | Callable[[], dict | None] | None = 
                 await ws.close()
 
     async def ingest(ws: WebSocket) -> None:
+        """A producer's frames: a JSON event or list of events each. A frame that is not
+        JSON, or an event whose time is not a finite number, is dropped (and counted in
+        ``/config``'s ``ingest_dropped``); the producer's socket stays open, since one bad
+        frame must not cost it the rest of its mission."""
         await ws.accept()
         try:
             while True:
-                data = json.loads(await ws.receive_text())
+                text = await ws.receive_text()
+                try:
+                    data = json.loads(text)
+                except json.JSONDecodeError:
+                    dropped[0] += 1
+                    continue
                 batch = data if isinstance(data, list) else [data]
-                hub.publish([e for e in batch if isinstance(e, dict) and "type" in e])
-        except (WebSocketDisconnect, json.JSONDecodeError):
+                good = [e for e in batch if _event_ok(e)]
+                dropped[0] += len(batch) - len(good)
+                hub.publish(good)
+        except WebSocketDisconnect:
             pass
 
     return Starlette(
@@ -146,6 +160,16 @@ def create_app(hub: EventHub, record: dict | Callable[[], dict | None] | None = 
             WebSocketRoute("/ingest", ingest),
         ]
     )
+
+
+def _event_ok(event: Any) -> bool:
+    """An ingested event the page can use: an object with a type, and a time (if it has
+    one) that is a finite number (a NaN came back as null and broke the stream's order)."""
+    if not isinstance(event, dict) or "type" not in event:
+        return False
+    t = event.get("t")
+    return t is None or (isinstance(t, int | float) and not isinstance(t, bool)
+                         and math.isfinite(t))
 
 
 def bind(port: int = 0) -> socket.socket:
