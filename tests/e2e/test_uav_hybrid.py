@@ -69,6 +69,9 @@ def test_hybrid_mission_one_emulated_copter_two_simulated_agents(tmp_path):
     kinds = [v["kind"] for v in net["vehicles"]]
     assert kinds == ["simulated", "simulated", "mavlink"]
     assert net["vehicles"][2]["autopilot"] == "ARDUPILOTMEGA"
+    # the charge the copter landed with: it flew, so the emulator's battery drained
+    assert 0 < net["vehicles"][2]["battery_end"] < 100
+    assert "battery_end" not in net["vehicles"][0]
     assert [p["vehicle"] for p in net["network"]["peers"]] == kinds
     assert net["network"]["handed_back"] == [] and net["network"]["left"] == []
     assert net["network"]["stats_received"] == 3 and net["network"]["stats_mismatch"] == 0

@@ -477,6 +477,17 @@ class TraversalServer:
         if kind is not None and b.cmd not in ("C06", "C10", "C11"):
             self._emit(ev.message(max(t, 0.0), b.id, kind, x, y))
 
+    def _vehicle_entry(self, agent: int, inc: Any) -> dict[str, Any]:
+        """What id ``agent``'s last holder flew, and for a real vehicle the charge it landed
+        with (its statistics' ``battery``): the field day's one number about the airframe."""
+        entry = {"id": agent,
+                 **(inc.vehicle or self.vehicles.get(agent) or {"kind": "simulated"})}
+        battery = (inc.stats or {}).get("battery")
+        if (entry.get("kind") != "simulated" and isinstance(battery, int | float)
+                and not isinstance(battery, bool) and math.isfinite(battery)):
+            entry["battery_end"] = float(battery)
+        return entry
+
     def _on_stats(self, peer: Peer, stats: Any) -> None:
         a = peer.id
         inc = self.recorder.incarnation(a)
@@ -615,10 +626,7 @@ class TraversalServer:
             })
         record.extra["departed_agents"] = departed
         # what each id's last holder flew: a hybrid mission's record tells them apart
-        record.extra["vehicles"] = [
-            {"id": a, **(rec.current[a].vehicle or self.vehicles.get(a) or {"kind": "simulated"})}
-            for a in ids
-        ]
+        record.extra["vehicles"] = [self._vehicle_entry(a, rec.current[a]) for a in ids]
         record.extra["network"] = self.network_metrics(run.wall_seconds)
         self._record_obj = record
         return record.to_dict()
