@@ -371,10 +371,12 @@ def traversal_gif(
         raise InputError(f"render file {path} must end in .gif or .mp4")
     record = as_record(record_or_run)
     times = frame_times(record, max_frames)
-    cv = _Canvas(world, record, dpi, _title(record))
+    # the outcome is said by the last frame's clock, not from the first frame on
+    cv = _Canvas(world, record, dpi, _title(record, outcome=False))
     cv.nests()
     cv.legend()
     unit = record.get("time_unit", "s")
+    outcome = _outcome(record)
     # only the clock changes between frames: few glyphs to rasterise per frame
     clock = cv.fig.text(0.73, 0.05, "", fontsize=10, family="monospace", animated=True)
     layer = _VectorLayer(cv) if cv.small or not cv.is_grid else _RasterLayer(cv)
@@ -382,19 +384,20 @@ def traversal_gif(
     canvas.draw()
     background = canvas.copy_from_bbox(cv.fig.bbox)
 
-    def draw_at(t: float) -> np.ndarray:
+    def draw_at(t: float, last: bool = False) -> np.ndarray:
         canvas.restore_region(background)
-        clock.set_text(f"t = {t:8,.1f} {unit}")
+        clock.set_text(f"t = {t:8,.1f} {unit}" + (f"\n{outcome}" if last else ""))
         cv.fig.draw_artist(clock)
         return layer.draw(t)
 
     if path.suffix.lower() == ".mp4":
-        frames = [draw_at(float(t)).copy() for t in times]  # the canvas buffer is reused
+        frames = [draw_at(float(t), i == len(times) - 1).copy()  # the buffer is reused
+                  for i, t in enumerate(times)]
         fps = max(1.0, len(frames) / seconds)
         return write_animation(path, frames, fps)
     # the last frame shows every path and job, so its colours make the shared palette
-    palette, lut = _palette(draw_at(float(times[-1])))
-    frames = [_indexed(draw_at(float(t)), lut) for t in times]
+    palette, lut = _palette(draw_at(float(times[-1]), last=True))
+    frames = [_indexed(draw_at(float(t), i == len(times) - 1), lut) for i, t in enumerate(times)]
     step = max(20, int(1000 * seconds / len(frames)))
     durations = [step] * (len(frames) - 1) + [int(1000 * HOLD_SECONDS)]
     return _save(lambda: _write_gif(path, frames, palette, durations), path)
@@ -605,9 +608,15 @@ def render_traversal(record_or_run: Any, world, path: str | Path,
     return traversal_gif(record_or_run, world, path)
 
 
-def _title(record: dict) -> str:
+def _outcome(record: dict) -> str:
+    return "complete" if record.get("complete") else "incomplete"
+
+
+def _title(record: dict, outcome: bool = True) -> str:
+    """The run in one line; a still picture ends with its outcome (an animation's last frame
+    says it instead: a title saying "complete" over the first frame reads as a wrong one)."""
     world = record.get("world") or {}
     where = world.get("source") or world.get("kind") or ""
-    done = "complete" if record.get("complete") else "incomplete"
     m = len(record.get("agents", []))
-    return f"{record.get('algorithm', '?')} · {m} agents · {where} · {done}"
+    tail = f" · {_outcome(record)}" if outcome else ""
+    return f"{record.get('algorithm', '?')} · {m} agents · {where}{tail}"
