@@ -325,9 +325,12 @@ def main(argv: list[str] | None = None) -> int:
     learn_params = dict(
         world, algorithm=args.world_pattern, invalid_action="project", seed=args.seed
     )
+    baselines = [p.strip() for p in args.baselines.split(",") if p.strip()]
     try:
         train_env = make_flat_env(learn_params)
         eval_env = make_flat_env(learn_params)
+        for pattern in baselines:  # now, not after minutes of training
+            foraging_v0.parallel_env(**world, algorithm=pattern, seed=args.seed).close()
     except InputError as e:
         print(f"error: {e}", file=sys.stderr)
         return 2
@@ -397,12 +400,8 @@ def main(argv: list[str] | None = None) -> int:
     results: dict[str, dict[str, list[float]]] = {}
     results["PPO (sampled)"] = sampled(seeds)
     results["PPO (greedy)"] = learned_actor(model, eval_env, deterministic=True)(seeds)
-    for pattern in [p.strip() for p in args.baselines.split(",") if p.strip()]:
-        try:
-            env = foraging_v0.parallel_env(**world, algorithm=pattern, seed=args.seed)
-        except InputError as e:
-            print(f"skipping baseline {pattern}: {e}", file=sys.stderr)
-            continue
+    for pattern in baselines:  # each was checked before training
+        env = foraging_v0.parallel_env(**world, algorithm=pattern, seed=args.seed)
         results[pattern] = play(env, seeds, foraging_v0.baseline_policy(env))
     plain = foraging_v0.parallel_env(**learn_params)
     results["random"] = play(plain, seeds, random_actor(args.seed))

@@ -316,12 +316,12 @@ def test_a_run_without_any_decision_ends_at_reset():
 def test_reset_without_a_seed_moves_to_the_next_one():
     env = exploration_v0.parallel_env(seed=11, **CAPPED)
     env.reset()
-    assert env.unwrapped._seed == 11
+    assert env.unwrapped._seed == 11  # the params' seed first
     env.reset()
-    assert env.unwrapped._seed == 12
+    assert env.unwrapped._seed == int(np.random.default_rng(11).integers(2**31))
     env.reset(seed=3)
     env.reset()
-    assert env.unwrapped._seed == 4
+    assert env.unwrapped._seed == int(np.random.default_rng(3).integers(2**31))
     env.close()
 
 

@@ -427,12 +427,12 @@ def test_a_dropped_env_closes_its_run():
 def test_reset_without_a_seed_moves_to_the_next_one():
     env = foraging_v0.parallel_env(seed=11, **TINY)
     env.reset()
-    assert env.unwrapped._seed == 11
+    assert env.unwrapped._seed == 11  # the params' seed first
     env.reset()
-    assert env.unwrapped._seed == 12
+    assert env.unwrapped._seed == int(np.random.default_rng(11).integers(2**31))
     env.reset(seed=3)
     env.reset()
-    assert env.unwrapped._seed == 4
+    assert env.unwrapped._seed == int(np.random.default_rng(3).integers(2**31))
     env.close()
 
 

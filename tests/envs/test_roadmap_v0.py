@@ -296,7 +296,7 @@ def test_reset_without_seed_moves_on_and_pickle_gives_a_fresh_env():
     assert aec.unwrapped.record().seed == 3
     aec.reset()
     drive(aec)
-    assert aec.unwrapped.record().seed == 4
+    assert aec.unwrapped.record().seed == np.random.default_rng(3).integers(2**31)
     copy = pickle.loads(pickle.dumps(aec.unwrapped))
     copy.reset(seed=3)
     assert copy.agent_selection in copy.possible_agents
@@ -335,3 +335,23 @@ def test_ompl_prm_baseline_episode_is_swarmex_run():
     assert record.to_dict()["roadmap"]["kind"] == "ompl-prm"
     assert without_wall(record) == without_wall(swarmex.run("roadmap", **params))
     par.close()
+
+
+def test_illegal_reward_keeps_the_clear_errors_for_actions_outside_the_space():
+    """PettingZoo's TerminateIllegalWrapper indexed the mask with the action first: 61 for
+    Discrete(61) or a float was an IndexError. Only a masked-out action ends the episode."""
+    from swarmex.errors import InputError
+
+    aec = roadmap_v0.env(illegal_reward=-5.0, **SMALL)
+    aec.reset()
+    n = aec.action_space(aec.agent_selection).n
+    with pytest.raises(InputError, match=f"outside the action space Discrete\\({n}\\)"):
+        aec.step(n)
+    with pytest.raises(InputError, match="is not an integer"):
+        aec.step(1.5)
+    mask = aec.observe(aec.agent_selection)["action_mask"]
+    closed = int(np.flatnonzero(mask == 0)[0])
+    offender = aec.agent_selection
+    aec.step(closed)  # masked out: the wrapper's penalty, and the episode ends
+    assert aec.rewards[offender] == -5.0 and all(aec.terminations.values())
+    aec.close()

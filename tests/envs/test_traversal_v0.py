@@ -95,10 +95,11 @@ def test_same_seed_same_episode_and_reset_without_seed_moves_on():
 
     a, b = traversal_v0.env(**SMALL, loss=0.3), traversal_v0.env(**SMALL, loss=0.3)
     first = episode(a)  # no seed: the params' seed (0) ...
-    second = episode(a)  # ... then 1
-    assert first[1]["seed"] == 0 and second[1]["seed"] == 1
+    second = episode(a)  # ... then the next of a generator seeded by it
+    after = np.random.default_rng(0).integers(2**31)
+    assert first[1]["seed"] == 0 and second[1]["seed"] == after
     assert episode(a, 5) == episode(b, 5)
-    assert episode(a)[1]["seed"] == 6
+    assert episode(a)[1]["seed"] == np.random.default_rng(5).integers(2**31)
 
 
 # ---------------------------------------------------------------------------- baselines
@@ -426,3 +427,32 @@ def test_the_missions_event_cap_truncates(monkeypatch):
     assert not rec.complete and ended and all(not t for t, _, _ in ended.values())
     missed = rec.metrics["nodes_missed"]
     assert missed > 0 and all(r <= -missed * 12.22 for _, _, r in ended.values())
+
+
+def test_the_parallel_form_says_what_is_wrong_with_a_step():
+    """PettingZoo's turn-based conversion answered these with a KeyError or an
+    AttributeError: a step before reset, no action for the deciding agent, a stray key."""
+    from swarmex.errors import InputError
+
+    env = traversal_v0.parallel_env(**SMALL)
+    with pytest.raises(RuntimeError, match="step\\(\\) before reset\\(\\)"):
+        env.step({})
+    obs, infos = env.reset(seed=0)
+    deciding = next(a for a, o in obs.items() if o["action_mask"].any())
+    with pytest.raises(InputError, match=f"no action for '{deciding}', the agent deciding"):
+        env.step({})
+    with pytest.raises(InputError, match="no agent 'agent_99'"):
+        env.step({"agent_99": 0})
+    legal = int(np.flatnonzero(obs[deciding]["action_mask"])[0])
+    others = {a: 0 for a in env.agents if a != deciding}  # ignored, as the docs say
+    env.step({deciding: legal, **others})
+    env.close()
+
+
+def test_a_projected_array_action_is_reported_not_an_ambiguous_truth_value():
+    env = traversal_v0.env(**SMALL, invalid_action="project")
+    env.reset(seed=0)
+    agent = env.agent_selection
+    env.step(np.array([3, 4]))  # not a vertex number: projected to an open one
+    assert "invalid_action" in env.infos[agent]
+    env.close()

@@ -89,8 +89,24 @@ class TurnBasedParallel(turn_based_aec_to_parallel_wrapper):
         return state
 
     def step(self, actions: dict[Any, Any]) -> tuple[dict[Any, Any], ...]:
+        """One decision: the deciding agent's action (``infos[a]["active_agent"]``); the
+        other agents' entries are ignored. Clear errors for what PettingZoo's conversion
+        met with a ``KeyError`` or an ``AttributeError``."""
+        if not hasattr(self, "agents"):
+            raise RuntimeError("step() before reset(): call reset() first")
         if not self.agents:  # PettingZoo's conversion returns four dicts here, not five
             return {}, {}, {}, {}, {}
+        if not isinstance(actions, dict):
+            raise InputError(f"step: actions must be a dict of agent -> action, got "
+                             f"{type(actions).__name__}")
+        unknown = [a for a in actions if a not in self.possible_agents]
+        if unknown:
+            raise InputError(f"step: no agent {unknown[0]!r} (agents: "
+                             f"{', '.join(map(str, self.possible_agents))})")
+        deciding = self.aec_env.agent_selection
+        if deciding not in actions:
+            raise InputError(f"step: no action for {deciding!r}, the agent deciding now (the "
+                             "one whose action_mask has a 1; infos[a]['active_agent'])")
         return tuple(super().step(actions))
 
 
@@ -124,6 +140,35 @@ def parallel_to_aec(par_env: Any) -> AECEnv[Any, Any, Any]:
     return OrderEnforcingWrapper(_ParallelToAEC(par_env))
 
 
+#: seeds a chain draws are below this (numpy takes any; a record's seed stays a plain int)
+SEED_LIMIT = 2**31
+
+
+class SeedChain:
+    """The seeds of an environment's successive episodes.
+
+    ``next(s)`` runs seed ``s``; ``next(None)`` runs the params' seed the first time, then
+    the next seed of a generator seeded by the last explicit seed (the params' until one is
+    given). Why a generator and not "the previous seed + 1": SuperSuit's vector env seeds its
+    copies s, s + 1, …, and with + 1 copy i replayed copy i + 1's episodes one reset later;
+    streams from different seeds do not meet. Pickled with the environment, so a copy goes on
+    where the original was.
+    """
+
+    def __init__(self, first: int) -> None:
+        self.first = int(first)
+        self._rng: np.random.Generator | None = None
+
+    def next(self, seed: int | None) -> int:
+        if seed is not None:
+            self._rng = np.random.default_rng(int(seed))
+            return int(seed)
+        if self._rng is None:
+            self._rng = np.random.default_rng(self.first)
+            return self.first
+        return int(self._rng.integers(SEED_LIMIT))
+
+
 class BrokerEpisodeMixin:
     """Space accessors, reset preamble, ``close`` and pickling of a parallel environment whose
     run lives behind a broker; ``_TRANSIENT`` names the attributes of a run in progress."""
@@ -132,7 +177,7 @@ class BrokerEpisodeMixin:
     _obs_spaces: dict[str, spaces.Space[Any]]
     _act_spaces: dict[str, spaces.Space[Any]]
     _finalizer: weakref.finalize[Any, Any] | None
-    _next_seed: int
+    _seeds: SeedChain
     _seed: int
 
     def _clear(self) -> None:
@@ -152,10 +197,8 @@ class BrokerEpisodeMixin:
         ):  # checked here, not deep in NumPy's generator ("expected non-negative integer")
             raise InputError(f"reset: seed must be an integer >= 0 or None, got {seed!r}")
         self.close()
-        if seed is not None:
-            self._next_seed = int(seed)
+        self._seed = self._seeds.next(seed)
         self._clear()
-        self._next_seed = self._seed + 1
 
     def close(self) -> None:
         """Abandon a run in progress (its worker thread ends)."""

@@ -77,7 +77,13 @@ from gymnasium import spaces
 from pettingzoo import AECEnv, ParallelEnv
 
 from swarmex.envs.broker import DecisionBroker
-from swarmex.envs.common import BrokerEpisodeMixin, check_modes, parallel_to_aec, plain_int
+from swarmex.envs.common import (
+    BrokerEpisodeMixin,
+    SeedChain,
+    check_modes,
+    parallel_to_aec,
+    plain_int,
+)
 from swarmex.missions.exploration.params import TICK_SECONDS, ExplorationParams
 from swarmex.missions.registry import get as get_mission
 
@@ -155,7 +161,8 @@ class ExplorationEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray],
         self._obs_spaces = {a: self._observation_space() for a in self.possible_agents}
         self._act_spaces = {a: spaces.Discrete(h * w + 1) for a in self.possible_agents}
         self.agents: list[str] = []
-        self._next_seed = self.params.seed
+        self._seeds = SeedChain(self.params.seed)
+        self._seed = self.params.seed
         self._clear()
 
     def _clear(self) -> None:
@@ -164,7 +171,6 @@ class ExplorationEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray],
         self._pending: Decision | None = None
         self._finalizer: weakref.finalize[Any, Any] | None = None
         self._t = 0
-        self._seed = self._next_seed
         self._result: ExplorationRun | None = None
 
     # ------------------------------------------------------------------ spaces

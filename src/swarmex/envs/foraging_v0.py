@@ -82,6 +82,7 @@ from pettingzoo import AECEnv, ParallelEnv
 
 from swarmex.envs.common import (
     BrokerEpisodeMixin,
+    SeedChain,
     check_finite,
     check_modes,
     parallel_to_aec,
@@ -198,7 +199,8 @@ class ForagingEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray], in
         ).astype(np.int8)  # (g, g, 5): the action mask of a robot at cell (x, y)
         self._shared_arrays()
         self.agents: list[str] = []
-        self._next_seed = p.seed
+        self._seeds = SeedChain(p.seed)
+        self._seed = p.seed
         self._clear()
 
     def _clear(self) -> None:
@@ -209,7 +211,6 @@ class ForagingEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray], in
         self._cells: list[int] = []  # the same cells as x·g + y
         self._food_obs = self._unknown_food  # the food cell, set when a run starts
         self._finalizer: weakref.finalize[Any, Any] | None = None
-        self._seed = self._next_seed
         self._run_params: ForagingParams | None = None
         self._world: ForagingWorld | None = None
         self._result: ForageRun | None = None

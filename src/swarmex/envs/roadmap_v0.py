@@ -57,8 +57,9 @@ its ``carry_out`` from the restored state. :func:`baseline_policy` answers with 
 choice, so its episodes give ``swarmex.run``'s record (``record()``), ``wall_seconds`` aside.
 
 Seeds: ``reset(seed=s)`` runs with seed ``s``; ``reset()`` runs the params' ``seed`` the first
-time and the previous seed + 1 after that. A pickled environment (SuperSuit copies them) is a
-fresh one: the run in progress lives in a thread and is not carried over.
+time, then the next of :class:`~swarmex.envs.common.SeedChain`. A pickled environment
+(SuperSuit copies them) is a fresh one: the run in progress lives in a thread and is not
+carried over.
 """
 
 from __future__ import annotations
@@ -82,7 +83,7 @@ from pettingzoo.utils.wrappers import (
 )
 
 from swarmex.envs.broker import Ask, DecisionBroker
-from swarmex.envs.common import TurnBasedParallel, check_finite
+from swarmex.envs.common import SeedChain, TurnBasedParallel, check_finite
 from swarmex.errors import InputError
 from swarmex.missions.base import integer
 from swarmex.missions.registry import get
@@ -313,6 +314,7 @@ class raw_env(AECEnv[str, dict[str, np.ndarray], int]):  # noqa: N801 - PettingZ
         self.observation_spaces = dict.fromkeys(self.possible_agents, self._observation_space)
         self._episode: _Episode | None = None
         self._finalizer: weakref.finalize | None = None
+        self._seeds = SeedChain(self.params.seed)
         self._seed: int | None = None
         self._record: ResultRecord | None = None
         self._figure: Any = None
@@ -365,9 +367,8 @@ class raw_env(AECEnv[str, dict[str, np.ndarray], int]):  # noqa: N801 - PettingZ
             # as Gymnasium and the other envs want (3.0 is not a seed)
             if isinstance(seed, bool) or not isinstance(seed, numbers.Integral):
                 raise InputError(f"roadmap_v0: reset seed must be an integer, got {seed!r}")
-            self._seed = integer(lo=0)(seed, "roadmap_v0: reset seed")
-        else:
-            self._seed = self.params.seed if self._seed is None else self._seed + 1
+            seed = integer(lo=0)(seed, "roadmap_v0: reset seed")
+        self._seed = self._seeds.next(seed)
         params = dataclasses.replace(self.params, seed=self._seed)
         ep = _Episode(
             params,
@@ -434,6 +435,16 @@ class raw_env(AECEnv[str, dict[str, np.ndarray], int]):  # noqa: N801 - PettingZ
 
     def _check(self, agent: str, req: Decision, action: Any) -> int:
         """The action as an int, or an InputError naming the agent, the action and why."""
+        a = self._as_action(agent, req, action)
+        if req.mask[a]:
+            return a
+        valid = np.flatnonzero(req.mask).tolist()
+        raise InputError(
+            f"{agent}: action {a} is not open: {self._why(req, a)} (open actions: {valid})"
+        )
+
+    def _as_action(self, agent: str, req: Decision, action: Any) -> int:
+        """An integer of the action space (open or not), or an InputError saying why not."""
         n = self.max_edges + 1
         if action is None:
             raise InputError(f"{agent}: no action (None) for its decision at step {req.t}")
@@ -445,12 +456,7 @@ class raw_env(AECEnv[str, dict[str, np.ndarray], int]):  # noqa: N801 - PettingZ
             raise InputError(f"{agent}: action {action!r} is not an integer") from None
         if not 0 <= a < n:
             raise InputError(f"{agent}: action {a} is outside the action space Discrete({n})")
-        if req.mask[a]:
-            return a
-        valid = np.flatnonzero(req.mask).tolist()
-        raise InputError(
-            f"{agent}: action {a} is not open: {self._why(req, a)} (open actions: {valid})"
-        )
+        return a
 
     def _why(self, req: Decision, a: int) -> str:
         ep = self._episode
@@ -682,8 +688,25 @@ def env(illegal_reward: float | None = None, **kwargs: Any) -> AECEnv[str, Any, 
         check_finite(("roadmap_v0: illegal_reward", illegal_reward))
     aec: AECEnv[str, Any, Any] = raw_env(**kwargs)
     if illegal_reward is not None:
-        aec = TerminateIllegalWrapper(aec, illegal_reward=illegal_reward)
+        aec = _TerminateIllegal(aec, illegal_reward=illegal_reward)
     return OrderEnforcingWrapper(aec)
+
+
+class _TerminateIllegal(TerminateIllegalWrapper):
+    """PettingZoo's wrapper indexes the action mask with the action before the environment
+    sees it, so an action outside the space or not an integer was an ``IndexError``; here it
+    is the environment's own :class:`~swarmex.errors.InputError` first, and only an open
+    action's masked-out twin ends the episode with the penalty."""
+
+    def step(self, action: Any) -> None:
+        raw = self.unwrapped
+        agent = self.agent_selection
+        if (action is not None and not (self.terminations.get(agent)
+                                       or self.truncations.get(agent))):
+            req = raw._episode.pending if raw._episode is not None else None
+            if req is not None:
+                raw._as_action(agent, req, action)  # a masked-out one is the wrapper's case
+        super().step(action)
 
 
 def parallel_env(illegal_reward: float | None = None, **kwargs: Any) -> ParallelEnv[str, Any, Any]:

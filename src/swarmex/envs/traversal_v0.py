@@ -58,7 +58,7 @@ from pettingzoo import AECEnv, ParallelEnv
 from pettingzoo.utils import wrappers
 
 from swarmex.envs.broker import Ask, DecisionBroker
-from swarmex.envs.common import TurnBasedParallel
+from swarmex.envs.common import SeedChain, TurnBasedParallel
 from swarmex.errors import InputError
 
 #: what ``observe`` reports per vertex in ``status``
@@ -182,7 +182,7 @@ class raw_env(AECEnv):  # noqa: N801 - PettingZoo's module convention
         self.action_spaces = {a: spaces.Discrete(n) for a in self.possible_agents}
         self._job_time = float(self.params.job_time)
         self._edge_time = float(self.params.travel_time)
-        self._next_seed = int(self.params.seed)
+        self._seeds = SeedChain(int(self.params.seed))
         self._broker: DecisionBroker | None = None
         self._fresh_episode_state()
 
@@ -216,7 +216,8 @@ class raw_env(AECEnv):  # noqa: N801 - PettingZoo's module convention
 
     def reset(self, seed: int | None = None, options: dict[str, Any] | None = None) -> None:
         """Start an episode. ``seed`` is the run's seed; without one, the first episode uses
-        the ``seed`` parameter and each later one the previous episode's seed plus one."""
+        the ``seed`` parameter and each later one the next of its
+        :class:`~swarmex.envs.common.SeedChain`."""
         from swarmex.missions.traversal.policies import make_policy
 
         self._stop_run()
@@ -226,8 +227,7 @@ class raw_env(AECEnv):  # noqa: N801 - PettingZoo's module convention
                 raise InputError(f"traversal_v0: seed must be an integer, got {seed!r}")
             if seed < 0:  # numpy's generators refuse it, from the simulator's thread
                 raise InputError(f"traversal_v0: seed must be at least 0, got {seed}")
-            self._next_seed = int(seed)
-        episode_seed, self._next_seed = self._next_seed, self._next_seed + 1
+        episode_seed = self._seeds.next(None if seed is None else int(seed))
         p = dataclasses.replace(self.params, seed=episode_seed)
         self._run_params = p
         self._builtin = make_policy(p.algorithm)
@@ -321,7 +321,7 @@ class raw_env(AECEnv):  # noqa: N801 - PettingZoo's module convention
         self._clear_rewards()
         for a in self.agents:
             self.infos[a] = {}
-        if target != action:
+        if not _is_action(action, target):  # projected (an array action compares elementwise)
             self.infos[agent]["invalid_action"] = action
         next_request = self._broker.answer(decision)
         self._take(next_request)
@@ -683,6 +683,15 @@ def vector_env_ready(**params: Any) -> Any:
     """
     return VectorReady(parallel_env(**params))
 
+
+
+def _is_action(action: Any, target: int) -> bool:
+    """Whether ``action`` is the integer ``target`` (a 0-d or one-element integer array too)."""
+    try:
+        arr = np.asarray(action)
+    except (TypeError, ValueError):
+        return False
+    return arr.size == 1 and arr.dtype.kind in "iu" and int(arr.reshape(()).item()) == target
 
 __all__ = [
     "BASELINES",
