@@ -135,3 +135,14 @@ def test_carry_out_refuses_an_option_not_offered(clutter):
     agent = WMAAgent(0, cluster(1)[0], WMABoard(rm, 1))
     with pytest.raises(ValueError, match="not one of"):
         agent.carry_out(Choice("edge", (1, 2)), 3)
+
+
+def test_a_roadmap_of_a_billion_nodes_is_refused_before_it_is_built():
+    from pathlib import Path
+
+    import swarmex
+
+    fig8 = Path(__file__).resolve().parents[3] / "examples" / "roadmap_fig8.json"
+    with pytest.raises(swarmex.InputError, match="--nodes must be at most 1000000"):
+        swarmex.run("roadmap", env=str(fig8), agents=2, nodes=10**9, step=20,
+                    sensor_range="1eps")

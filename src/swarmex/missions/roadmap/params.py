@@ -48,6 +48,8 @@ PLANNERS = ("wma-rrt", "prm", "wma-rrt-takeover", "wma-rrt-fairshare", "ompl-prm
 # the planners whose roadmap is a graph walked by PRM walkers (no branches, no COMPLETE):
 # the project's PRM and OMPL's (extra `ompl`)
 GRAPH_PLANNERS = ("prm", "ompl-prm")
+#: roadmap nodes a run may ask for
+MAX_NODES = 1_000_000
 TASKS = ("coverage", "search")
 # the coverage raster's cells on the long side; equal to sensing.coverage_raster.DEFAULT_CELLS
 # (a test checks it), not imported from there because that module pulls in numba
@@ -149,7 +151,10 @@ class RoadmapParams(Params):
         parse=text(PLANNERS),
     )
     agents: int = option(REQUIRED, help="Number of agents (= branches).", parse=integer(lo=1))
-    nodes: int = option(REQUIRED, help="Roadmap nodes K (Main Root excluded).", parse=integer())
+    # a bound well above the studies' (400-800) and the bench's 20,000: 10^9 was accepted and
+    # grew to 8 GB in a minute
+    nodes: int = option(REQUIRED, help="Roadmap nodes K (Main Root excluded, at most "
+                        "1,000,000).", parse=integer(lo=1, hi=MAX_NODES))
     step: float = option(REQUIRED, help="Step size ε between nodes.", parse=real(above=0))
     sensor_range: SensorRange = option(
         REQUIRED,
