@@ -161,10 +161,14 @@ def test_unicasts_cross_a_line_of_robots_by_aodv():
     assert by[0].get(str(n - 1), 0) > 0 and by[n - 1].get("0", 0) > 0
 
 
-def test_sigterm_to_the_launcher_keeps_the_record_so_far_and_leaves_no_process(tmp_path):
+@pytest.mark.parametrize("target", ["launcher", "group"])
+def test_sigterm_to_the_launcher_keeps_the_record_so_far_and_leaves_no_process(tmp_path, target):
     """``kill``, ``timeout`` or a service manager stopping ``swarmex mesh`` used to lose the
-    record and leave the display and the robots running for 20 s; Ctrl-C lost the record."""
+    record and leave the display and the robots running for 20 s; Ctrl-C lost the record.
+    ``group``: the signal reaches every process (``timeout``, a service manager's stop), the
+    fork server and the robots included."""
     import json
+    import os
     import signal
     import subprocess
     import sys
@@ -173,7 +177,7 @@ def test_sigterm_to_the_launcher_keeps_the_record_so_far_and_leaves_no_process(t
     proc = subprocess.Popen(
         [sys.executable, "-m", "swarmex", "mesh", "--empty", "8x8", "--robots", "2",
          "--time-scale", "1", "--json", str(out)],
-        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
     )
     try:
         assert proc.stdout is not None
@@ -181,9 +185,12 @@ def test_sigterm_to_the_launcher_keeps_the_record_so_far_and_leaves_no_process(t
             if "robots started" in line:
                 break
         time.sleep(2.0)
-        children = _children(proc.pid)
-        assert children, "the launcher started no process"
-        proc.send_signal(signal.SIGTERM)
+        children = _descendants(proc.pid)
+        assert len(children) >= 4, "no display and robots"  # fork server, display, 2 robots
+        if target == "group":
+            os.killpg(proc.pid, signal.SIGTERM)
+        else:
+            proc.send_signal(signal.SIGTERM)
         _, err = proc.communicate(timeout=40)
     finally:
         if proc.poll() is None:
@@ -198,18 +205,23 @@ def test_sigterm_to_the_launcher_keeps_the_record_so_far_and_leaves_no_process(t
     assert not left, f"processes left running: {left}"
 
 
-def _children(pid: int) -> list[int]:
-    """The pids whose parent is ``pid`` (Linux /proc)."""
+def _descendants(pid: int) -> list[int]:
+    """Every process below ``pid`` (Linux /proc): the display and the robots are the fork
+    server's children, not the launcher's."""
     from pathlib import Path
 
-    out = []
+    parent: dict[int, int] = {}
     for stat in Path("/proc").glob("[0-9]*/stat"):
         try:
-            fields = stat.read_text().rsplit(")", 1)[1].split()
-        except OSError:
+            parent[int(stat.parent.name)] = int(stat.read_text().rsplit(")", 1)[1].split()[1])
+        except (OSError, ValueError, IndexError):
             continue
-        if int(fields[1]) == pid:
-            out.append(int(stat.parent.name))
+    out, todo = [], [pid]
+    while todo:
+        p = todo.pop()
+        kids = [c for c, pp in parent.items() if pp == p]
+        out += kids
+        todo += kids
     return out
 
 

@@ -131,10 +131,9 @@ def test_one_agent_busy_with_a_frame_is_not_its_neighbours_silent_server(monkeyp
     assert not any("went silent" in s for s in said), said
 
 
-def test_a_flying_copter_is_brought_down_before_the_agent_leaves_a_silent_server():
-    """The server falling silent used to end the agent at once (exit 3) with its copter
-    hovering in GUIDED: only the autopilot's GCS failsafe brought it back, and a ground
-    station watching through a router keeps that from firing. Now it lands first."""
+@contextlib.contextmanager
+def _copter() -> Iterator[tuple]:
+    """An emulated copter (100x) on a thread, and the MAVLink vehicle flying it."""
     emulator = pytest.importorskip("swarmex.net.uav_emulator")
     from swarmex.net.agent import open_vehicle
     from swarmex.net.vehicle import Safety
@@ -143,10 +142,20 @@ def test_a_flying_copter_is_brought_down_before_the_agent_leaves_a_silent_server
     emu = emulator.Emulator("127.0.0.1", 0, cfg, say=lambda s: None)
     thread = threading.Thread(target=emu.run, daemon=True)
     thread.start()
-    said: list[str] = []
     try:
         safety = Safety(link_timeout=2.0)
-        vehicle = open_vehicle(f"udp:127.0.0.1:{emu.port}", safety)
+        yield emulator, emu, thread, open_vehicle(f"udp:127.0.0.1:{emu.port}", safety), safety
+    finally:
+        cfg.timeout = 0.0
+        thread.join(5)
+
+
+def test_a_flying_copter_is_brought_down_before_the_agent_leaves_a_silent_server():
+    """The server falling silent used to end the agent at once (exit 3) with its copter
+    hovering in GUIDED: only the autopilot's GCS failsafe brought it back, and a ground
+    station watching through a router keeps that from firing. Now it lands first."""
+    said: list[str] = []
+    with _copter() as (_emulator, emu, _thread, vehicle, safety):
         with _stand_in(_server_that_dies) as endpoint:
             code = run_agents(endpoint, 1, server_timeout=1.5, timeout=30, say=said.append,
                               vehicle=vehicle, safety=safety, warn=said.append)
@@ -155,51 +164,34 @@ def test_a_flying_copter_is_brought_down_before_the_agent_leaves_a_silent_server
         assert copter.first_takeoff is not None, said  # it flew
         assert not copter.armed and copter.landed, said  # and is down, disarmed
         assert any("the server went silent; vehicle landed" in s for s in said), said
-    finally:
-        cfg.timeout = 0.0
-        thread.join(5)
 
 
 def test_a_copter_a_pilot_took_over_is_left_to_the_pilot():
     """The agent used to answer a pilot's LOITER (or an autopilot's failsafe LAND) with RTL
     0.2 s later, and resend it every second: it took the copter from whoever had it."""
-    emulator = pytest.importorskip("swarmex.net.uav_emulator")
-    from swarmex.net.agent import EXIT_HANDED_BACK, open_vehicle
-    from swarmex.net.vehicle import Safety
+    import time
 
-    cfg = emulator.EmulatorConfig(speedup=100.0, timeout=40.0)
-    emu = emulator.Emulator("127.0.0.1", 0, cfg, say=lambda s: None)
-    thread = threading.Thread(target=emu.run, daemon=True)
-    thread.start()
+    from swarmex.net.agent import EXIT_HANDED_BACK
+
     said: list[str] = []
     modes: list[int] = []
+    with _copter() as (emulator, emu, thread, vehicle, safety):
 
-    def pilot() -> None:  # flips the switch once airborne, then watches the mode
-        import time
+        def pilot() -> None:  # flips the switch once airborne, then watches the mode
+            end = time.monotonic() + 20
+            while emu.copter.alt < 3.0 and time.monotonic() < end:
+                time.sleep(0.01)
+            emu.copter.set_mode(emulator.LOITER)
+            while time.monotonic() < end and thread.is_alive():
+                modes.append(emu.copter.mode)
+                time.sleep(0.01)
 
-        end = time.monotonic() + 20
-        while emu.copter.alt < 3.0 and time.monotonic() < end:
-            time.sleep(0.01)
-        emu.copter.set_mode(emulator.LOITER)
-        while time.monotonic() < end and thread.is_alive():
-            modes.append(emu.copter.mode)
-            time.sleep(0.01)
-
-    try:
-        safety = Safety(link_timeout=2.0)
-        vehicle = open_vehicle(f"udp:127.0.0.1:{emu.port}", safety)
-        watcher = threading.Thread(target=pilot, daemon=True)
-        watcher.start()
+        threading.Thread(target=pilot, daemon=True).start()
         with _stand_in(_server_that_dies) as endpoint:
             code = run_agents(endpoint, 1, server_timeout=20.0, timeout=30, say=said.append,
                               vehicle=vehicle, safety=safety, warn=said.append)
         assert code == EXIT_HANDED_BACK, said
         assert any("LOITER" in s and "handing id 1 back" in s for s in said), said
         assert any("vehicle left to a pilot (mode LOITER)" in s for s in said), said
-        import time
-
         time.sleep(0.3)  # anything the agent sent has arrived
         assert modes and set(modes) == {emulator.LOITER}, set(modes)
-    finally:
-        cfg.timeout = 0.0
-        thread.join(5)

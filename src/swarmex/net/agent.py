@@ -379,6 +379,7 @@ class AgentClient:
             return
         self.handed_back = reason
         self.grounding_exit = exit_code
+        was = self.state
         if tell_server:
             self.say(f"swarmex agent {self.id or '?'}: handing id {self.id} back: {reason}")
             if self.id and self.mission is not None:
@@ -387,7 +388,8 @@ class AgentClient:
         self.task = None
         if self.vehicle.fault() is not None:
             return
-        other = self.vehicle.other_control()
+        # the agent's own RTL (a mission's end under way) is not someone else's
+        other = None if was in ("rtl", "landing") else self.vehicle.other_control()
         if other is not None:
             self.left_to = other
             self.say(f"swarmex agent {self.id}: {other} flies the vehicle: leaving it alone")
@@ -415,8 +417,8 @@ class AgentClient:
     def interrupt(self, now: float, how: str = "Ctrl-C") -> None:
         """Ctrl-C (or SIGTERM, ``how``): an agent holding an id hands it back and lands
         (:meth:`_hand_back`); one still asking for an id, or a waiting spare, just leaves."""
-        if self.exit_code is not None:
-            return
+        if self.exit_code is not None or self.state == "grounding":
+            return  # already bringing the vehicle down: the first signal must not abandon it
         if self.id and self.state in VEHICLE_STATES:
             self._hand_back(f"interrupted ({how})", now)
         else:
@@ -425,6 +427,14 @@ class AgentClient:
     def _grounding_tick(self, now: float) -> float:
         task, fault = self.task, self.vehicle.fault()
         if task is not None and task.running and fault is None:
+            return 0.05
+        if (task is not None and task.failed and task.name == "disarm" and fault is None
+                and self.vehicle.other_control() is None):
+            # refused: the copter was lifting off (ArduCopter disarms only when landed), so
+            # it is brought down instead of being left to finish its take-off alone
+            self.say(f"swarmex agent {self.id}: disarm refused ({task.reason}); returning to "
+                     "launch")
+            self.task = self.vehicle.return_and_land()
             return 0.05
         if fault is not None:
             how = f"lost: {fault}"

@@ -187,7 +187,7 @@ class IngestForwarder:
                 ws.send(item)
                 self.sent += 1
             except Exception as exc:  # the monitor went away: drop the rest, counted
-                if self.error is None and self.warn is not None:
+                if not self.dropped and self.warn is not None:  # said once
                     self.warn(f"swarmex: the monitor at {self.url} went away "
                               f"({type(exc).__name__}: {exc}); the mission goes on without it")
                 self.error = f"{type(exc).__name__}: {exc}"

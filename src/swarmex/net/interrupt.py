@@ -24,16 +24,23 @@ EXIT_INTERRUPTED = 130
 class StopRequest:
     """Within ``with StopRequest() as stop:``, SIGINT sets :attr:`seen` and :attr:`how`
     ("Ctrl-C" or the signal's name). The handler is installed only in the main thread (a
-    signal handler can live nowhere else); elsewhere (a test's thread) nothing changes."""
+    signal handler can live nowhere else); elsewhere (a test's thread) nothing changes.
+    ``also_sigterm``: SIGTERM asks too and never escalates (a child whose launcher forwards
+    its own stop, while a terminal's Ctrl-C or a group SIGTERM may reach it directly)."""
 
-    def __init__(self) -> None:
+    def __init__(self, also_sigterm: bool = False) -> None:
         self.seen = False
         self.how = "Ctrl-C"
+        self.also_sigterm = also_sigterm
         self._previous: Any = None
+        self._previous_term: Any = None
 
     def __enter__(self) -> StopRequest:
         if threading.current_thread() is threading.main_thread():
             self._previous = signal.signal(signal.SIGINT, self._on_signal)
+            if self.also_sigterm:
+                self._previous_term = signal.signal(
+                    signal.SIGTERM, lambda signum, _frame: self.request(signum))
         return self
 
     def __exit__(
@@ -45,6 +52,9 @@ class StopRequest:
         if self._previous is not None:
             signal.signal(signal.SIGINT, self._previous)
             self._previous = None
+        if self._previous_term is not None:
+            signal.signal(signal.SIGTERM, self._previous_term)
+            self._previous_term = None
 
     def request(self, signum: int) -> None:
         """Ask to stop (once; a repeated request changes nothing): for a signal that must

@@ -82,9 +82,12 @@ class _Step:
     timeout: float = 30.0  # wall seconds
     resend: float = 1.0
     command: int | None = None  # a COMMAND_ACK refusing this command fails the step
-    # evidence the command took effect although its answer was lost: no resends after it,
-    # and a refusal of a late resend (a second take-off) does not count
-    taken: Callable[[], bool] | None = None
+    # for a command that must not be repeated once it took (a take-off): evidence it did,
+    # checked only after the first send; then no resends, and a refusal of a late resend
+    # ("can't takeoff again") does not count. Other steps resend until done(): a repeated
+    # mode change or arm is harmless, and an ACK names no parameters, so one for GUIDED
+    # could not prove an RTL
+    taken: Callable[[float], bool] | None = None
     guard: Callable[[], str | None] | None = None  # a reason to give up, checked each update
     explain: Callable[[], str] | None = None  # what is missing, said on a timeout
     started: float | None = None
@@ -205,6 +208,11 @@ class MavlinkVehicle(Vehicle):
             _Step("heartbeat", lambda: self.autopilot is not None, self._request_streams, t),
             _Step("telemetry", self._have_telemetry, self._request_streams, t, resend=2.0,
                   explain=self._missing_telemetry),
+            *([_Step("GPS position", lambda: self.global_position is not None,
+                     self._request_streams, t, resend=2.0,
+                     explain=lambda: "GLOBAL_POSITION_INT gives no latitude and longitude: "
+                     "the nest on the GPS grid cannot be checked")]
+              if plan.nest_latlon() is not None else []),
             _Step("checks", lambda: self._checks(plan), None, t),
         ])
 
@@ -221,7 +229,7 @@ class MavlinkVehicle(Vehicle):
             _Step("takeoff", lambda: (self.relative_alt or 0.0) >= alt - s.arrive_radius,
                   lambda: self._command(mav.MAV_CMD_NAV_TAKEOFF, 0, 0, 0, 0, 0, 0, alt),
                   s.task_timeout + climb, command=mav.MAV_CMD_NAV_TAKEOFF,
-                  guard=self._guided_guard, taken=self._off_the_ground),
+                  guard=self._guided_guard, taken=self._took_off),
         ])
 
     def goto(self, target: Position, speed: float) -> Task:
@@ -287,8 +295,7 @@ class MavlinkVehicle(Vehicle):
             if st.started is None:
                 st.started = now
                 task.phase = st.name
-            taken = st.command is not None and self.accepted.get(st.command, -1e18) >= st.started
-            taken = taken or (st.taken is not None and st.taken())
+            taken = st.taken is not None and st.sent > -1e18 and st.taken(st.started)
             try:
                 if st.command is not None and st.command in self.refused and not taken:
                     when, result = self.refused[st.command]
@@ -353,11 +360,14 @@ class MavlinkVehicle(Vehicle):
             return f"the vehicle left GUIDED mode (now {now}): a pilot or a failsafe took over"
         return None
 
-    def _off_the_ground(self) -> bool:
-        """The copter has left the ground (a take-off under way)."""
-        if self.landed_state is not None and self.landed_state in (
-                mav.MAV_LANDED_STATE_TAKEOFF, mav.MAV_LANDED_STATE_IN_AIR):
+    def _took_off(self, since: float) -> bool:
+        """The take-off is under way: the autopilot accepted it since ``since``, or the copter
+        has left the ground (by its landed state when it reports one, else its altitude)."""
+        if self.accepted.get(mav.MAV_CMD_NAV_TAKEOFF, -1e18) >= since:
             return True
+        if self.landed_state is not None:
+            return self.landed_state in (mav.MAV_LANDED_STATE_TAKEOFF,
+                                         mav.MAV_LANDED_STATE_IN_AIR)
         return (self.relative_alt or 0.0) > 0.5
 
     def other_control(self) -> str | None:
@@ -426,7 +436,10 @@ class MavlinkVehicle(Vehicle):
             problems.append(f"battery {self.battery_pct:.0f} % (--arm-battery "
                             f"{s.arm_battery:g} %)")
         nest = plan.nest_latlon()
-        if nest is not None and self.global_position is not None:
+        if nest is not None and self.global_position is None:
+            problems.append("no GPS position yet (GLOBAL_POSITION_INT at 0, 0): the nest on the"
+                            " GPS grid cannot be checked")
+        elif nest is not None and self.global_position is not None:
             off = _metres_between(self.global_position, nest)
             if off > s.nest_radius:
                 problems.append(

@@ -50,6 +50,7 @@ process), :mod:`~swarmex.net.mesh_record` (the result record). This module launc
 
 from __future__ import annotations
 
+import contextlib
 import os
 import shutil
 import signal
@@ -80,9 +81,11 @@ PRELOAD = ["swarmex.net.mesh", "swarmex.missions.exploration.sim",
 
 def _robot_entry(run_dir: str, rid: int, log_path: str) -> None:
     """A robot process's body (started by the fork server): output to its log file. A
-    terminal's Ctrl-C is the display's to handle (it stops the robots and collects their
-    reports), so a robot ignores it; without the display it leaves by itself."""
+    terminal's Ctrl-C, or a SIGTERM to the whole group (``timeout``, a service manager), is
+    the display's to handle (it stops the robots and collects their reports), so a robot
+    ignores both; without the display it leaves by itself, and the launcher kills leftovers."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_IGN)
     log = os.open(log_path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o644)
     os.dup2(log, 1)
     os.dup2(log, 2)
@@ -102,8 +105,9 @@ def _display_entry(run_dir: str, monitor_url: str | None, conn: Any) -> None:
         node.close()
         node.view.close(1000)  # let the last event batch reach the viewers
         zmq.Context.instance().term()  # (see _robot_entry)
-        conn.send(None)
-        conn.close()
+        with contextlib.suppress(OSError):  # the launcher may be gone (killed with its group)
+            conn.send(None)
+            conn.close()
     sys.exit(code)
 
 
@@ -158,9 +162,12 @@ def run_processes(grid: MetricGrid, params: ExplorationParams, options: MeshOpti
         except KeyboardInterrupt:
             # Ctrl-C or SIGTERM: the display stops the robots and writes the record of what
             # was explored (as at a timeout); a second one leaves at once
-            if display.is_alive() and display.pid is not None:
-                os.kill(display.pid, signal.SIGTERM)
-            _relay(lines, display, time.monotonic() + max(3.0, 2 * options.dead_after) + 10,
+            if display.pid is not None:
+                with contextlib.suppress(ProcessLookupError):
+                    os.kill(display.pid, signal.SIGTERM)
+            # until the display's pipe ends: a group SIGTERM also ended the fork server, and
+            # then is_alive() says False of a display still writing the record
+            _relay(lines, None, time.monotonic() + max(3.0, 2 * options.dead_after) + 10,
                    say)
             display.join(5)
             raise
@@ -178,14 +185,32 @@ def run_processes(grid: MetricGrid, params: ExplorationParams, options: MeshOpti
         return json.loads(path.read_text())
     finally:
         for p in procs:
-            if p.is_alive():
-                p.kill()
-                p.join(5)
+            _kill(p)
         shutil.rmtree(run_dir, ignore_errors=True)
 
 
+def _kill(proc: Any) -> None:
+    """Kill a child that outlived the run, by its own pid. Asked directly, not through
+    ``is_alive()``: once the fork server is gone (a SIGTERM to the group), that reports every
+    child dead. A pid is killed only while it is still a fork-server child of this run's kind
+    (its command line), never a process that reused the number."""
+    if proc.is_alive():
+        proc.kill()
+        proc.join(5)
+        return
+    try:
+        with open(f"/proc/{proc.pid}/cmdline", "rb") as f:
+            mine = b"multiprocessing.forkserver" in f.read()
+    except OSError:
+        return
+    if mine:
+        with contextlib.suppress(ProcessLookupError):
+            os.kill(proc.pid, signal.SIGKILL)
+
+
 def _relay(lines: Any, display: Any, deadline: float, say: Callable[[str], object]) -> None:
-    """Say the display's lines until it ends (or ``deadline``)."""
+    """Say the display's lines until it ends (or ``deadline``); ``display`` None: until its
+    pipe ends, whatever ``is_alive()`` says."""
     while time.monotonic() < deadline:
         if lines.poll(0.5):
             try:
@@ -195,7 +220,7 @@ def _relay(lines: Any, display: Any, deadline: float, say: Callable[[str], objec
             if line is None:
                 return
             say(str(line))
-        elif not display.is_alive():
+        elif display is not None and not display.is_alive():
             return
 
 

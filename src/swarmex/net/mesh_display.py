@@ -10,8 +10,6 @@ STATUS, STOP, the robots' REPORTs), serves live monitor events and writes the re
 from __future__ import annotations
 
 import contextlib
-import signal
-import threading
 import time
 from collections.abc import Callable, Iterable
 from pathlib import Path
@@ -82,7 +80,10 @@ class DisplayProcess(Node):
         self.events: list[dict] = []
         self.pending: list[dict] = []
         self.say: Callable[[str], object] = print  # run() sets the launcher's
-        self.forwarder = (ev.IngestForwarder(monitor_url, warn=lambda text: self.say(text))
+        # the forwarder's thread leaves its warnings here; the loop says them (the launcher's
+        # pipe is not to be written from two threads)
+        self.warnings: list[str] = []
+        self.forwarder = (ev.IngestForwarder(monitor_url, warn=self.warnings.append)
                           if monitor_url else None)
         self.record: dict[str, Any] | None = None
 
@@ -264,24 +265,16 @@ class DisplayProcess(Node):
                      None, "step", messages="totals"),
             ev.world(w.free, w.width, w.height, w.source),
         )
-        with StopRequest() as stop:
-            previous = None
-            if threading.current_thread() is threading.main_thread():
-                # the launcher's request (it got Ctrl-C or SIGTERM): never escalates, since
-                # a terminal's Ctrl-C reaches this process too
-                previous = signal.signal(signal.SIGTERM, lambda signum, _f: stop.request(signum))
-            try:
-                # start barrier: every robot said HELLO (or the start timeout passed)
-                while (len(self.robots) < n and time.monotonic() - start < opts.start_timeout
-                       and not stop.seen):
-                    self._pump(time.monotonic())
-                self.broadcast_control(["GO"])
-                say(f"swarmex mesh display: {len(self.robots)} robots started")
-                self.t0 = t0 = time.monotonic()
-                code = self._explore(say, stop, deadline)
-            finally:
-                if previous is not None:
-                    signal.signal(signal.SIGTERM, previous)
+        # SIGTERM: the launcher's request (it got Ctrl-C or SIGTERM), or a group's
+        with StopRequest(also_sigterm=True) as stop:
+            # start barrier: every robot said HELLO (or the start timeout passed)
+            while (len(self.robots) < n and time.monotonic() - start < opts.start_timeout
+                   and not stop.seen):
+                self._pump(time.monotonic())
+            self.broadcast_control(["GO"])
+            say(f"swarmex mesh display: {len(self.robots)} robots started")
+            self.t0 = t0 = time.monotonic()
+            code = self._explore(say, stop, deadline)
         # stop everyone and collect the reports
         self.broadcast_control(["STOP"])
         wait_until = time.monotonic() + max(3.0, 2 * opts.dead_after)
@@ -299,6 +292,7 @@ class DisplayProcess(Node):
             (self.run_dir / "record.json").write_text(ev.dumps([self.record]))
         if self.forwarder is not None:
             self.forwarder.close()
+            self._say_warnings()
             if (short := self.forwarder.shortfall()) is not None:
                 say(f"swarmex mesh display: {short}")
         return code
@@ -349,7 +343,12 @@ class DisplayProcess(Node):
                 return 1
             self._pump(now, max(0.0, next_tick - time.monotonic()))
 
+    def _say_warnings(self) -> None:
+        while self.warnings:
+            self.say(self.warnings.pop(0))
+
     def _pump(self, now: float, wait: float = 0.05) -> None:
+        self._say_warnings()
         self._flush()
         if self.pull.poll(int(min(wait, 0.05) * 1000)):
             for frame in self.recv_all():

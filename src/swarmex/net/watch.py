@@ -10,6 +10,7 @@ terminal, so logs stay readable).
 from __future__ import annotations
 
 import time
+from collections import Counter
 from typing import Any
 
 from rich.console import Console
@@ -33,6 +34,7 @@ class TerminalView:
         self.agents: dict[int, dict[str, Any]] = {}
         self.cells = 0
         self.jobs = 0
+        self.job_cells: Counter[tuple[Any, Any]] = Counter()
         self.messages = 0
         self.ended = False
         self.end: dict[str, Any] | None = None
@@ -73,9 +75,14 @@ class TerminalView:
             elif kind == "job" and isinstance(e.get("agent"), int):
                 self._agent(e["agent"])["jobs"] += 1
                 self.jobs += 1
+                self.job_cells[(e.get("x"), e.get("y"))] += 1
             elif kind == "message" and isinstance(e.get("agent"), int):
                 if e.get("kind") not in STATUS_KINDS:
                     self.messages += 1
+                cell = (e.get("x"), e.get("y"))
+                if e.get("kind") in ("undone", "left") and self.job_cells[cell] > 0:
+                    self.job_cells[cell] -= 1  # the job is not done any more (as the page)
+                    self.jobs -= 1
                 a = self._agent(e["agent"])
                 a["last"] = str(e.get("kind"))
                 if e.get("kind") in ("left", "finish", "join"):

@@ -134,7 +134,13 @@ def create_app(hub: EventHub, record: dict | Callable[[], dict | None] | None = 
         await ws.accept()
         try:
             while True:
-                text = await ws.receive_text()
+                message = await ws.receive()
+                if message.get("type") == "websocket.disconnect":
+                    break
+                text = message.get("text")
+                if text is None:  # a binary frame: not an event
+                    dropped[0] += 1
+                    continue
                 try:
                     data = json.loads(text)
                 except json.JSONDecodeError:
@@ -163,8 +169,9 @@ def create_app(hub: EventHub, record: dict | Callable[[], dict | None] | None = 
 
 
 def _event_ok(event: Any) -> bool:
-    """An ingested event the page can use: an object with a type, and a time (if it has
-    one) that is a finite number (a NaN came back as null and broke the stream's order)."""
+    """An ingested event the page can use: an object with a type, and a time that, if
+    given, is a finite number (a NaN was kept, sent to viewers as null, and broke the
+    stream's time order; an event without ``t``, or with ``t: null``, has no time)."""
     if not isinstance(event, dict) or "type" not in event:
         return False
     t = event.get("t")
