@@ -24,3 +24,22 @@ def test_a_run_from_python_shows_the_bar_when_asked(monkeypatch, capfd) -> None:
     a.pop("wall_seconds"), b.pop("wall_seconds")
     assert a == b and seen  # the caller's own on_frame still gets every frame
     assert capfd.readouterr().err == ""  # no bar unless asked
+
+
+def test_the_bar_wants_a_frame_only_when_it_redraws_unless_it_wraps_a_recorder():
+    """A mission that asks ``wants(t)`` (the roadmap's frames copy every edge's count) builds
+    frames for the bar only when it redraws, and every frame a wrapped recorder keeps."""
+    import io
+
+    from rich.console import Console
+
+    from swarmex.experiments.progress import FrameProgress
+    from swarmex.missions.base import FrameList, ProgressSpec
+
+    spec = ProgressSpec(10, "steps", lambda f: f)
+    alone = FrameProgress(spec, Console(file=io.StringIO()))
+    assert not alone.wants(1)  # within the delay before the bar shows
+    alone.t0 = alone.last = alone.last - 10.0
+    assert alone.wants(2)
+    recorder = FrameProgress(spec, Console(file=io.StringIO()), FrameList())
+    assert recorder.wants(1) and recorder.wants(2)

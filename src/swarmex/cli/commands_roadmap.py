@@ -12,7 +12,7 @@ from typing import Any
 import typer
 
 from swarmex.cli.app import console, reproduce_app
-from swarmex.cli.missions import Surface, mission_command
+from swarmex.cli.missions import Surface, mission_command, progress_bar
 from swarmex.cli.outputs import study
 from swarmex.errors import InputError
 from swarmex.missions.base import Outcome
@@ -42,7 +42,7 @@ def report(outcome: Outcome, params: Any) -> None:
 
 roadmap = mission_command(
     get("roadmap"),
-    Surface(report,
+    Surface(report, watch=progress_bar(get("roadmap")),
             render_help="Write a .png, .gif or .mp4 of the run."),
 )
 

@@ -192,6 +192,15 @@ class FrameProgress:
         self.started = False
         self.t0 = self.last = time.monotonic()
 
+    def wants(self, t: Any) -> bool:
+        """Whether the run should build the frame of ``t`` (a mission that asks, before it
+        builds one): every frame a wrapped recorder keeps, else only when the bar redraws."""
+        if self.inner is not None:
+            inner_wants = getattr(self.inner, "wants", None)
+            return True if inner_wants is None else bool(inner_wants(t))
+        now = time.monotonic()
+        return now - self.last >= self.EVERY and now - self.t0 >= self.DELAY
+
     def __call__(self, frame: Any) -> Any:
         result = self.inner(frame) if self.inner is not None else None
         now = time.monotonic()

@@ -146,3 +146,40 @@ def test_a_roadmap_of_a_billion_nodes_is_refused_before_it_is_built():
     with pytest.raises(swarmex.InputError, match="--nodes must be at most 1000000"):
         swarmex.run("roadmap", env=str(fig8), agents=2, nodes=10**9, step=20,
                     sensor_range="1eps")
+
+
+def test_a_watching_callback_gets_only_the_frames_it_wants_and_the_run_is_the_same():
+    """A progress bar on a large roadmap built a frame (every edge's count copied) at every
+    step; a callback with ``wants(t)`` now gets only those, and the run does not change."""
+    from pathlib import Path
+
+    import swarmex
+    from swarmex.missions.registry import get
+
+    fig8 = Path(__file__).resolve().parents[3] / "examples" / "roadmap_fig8.json"
+    opts = dict(env=str(fig8), agents=2, nodes=80, step=40, sensor_range="1eps", seed=1)
+
+    class Watcher:
+        def __init__(self) -> None:
+            self.steps: list[int] = []
+
+        def wants(self, t: int) -> bool:
+            return t % 10 == 0
+
+        def __call__(self, frame) -> None:
+            self.steps.append(frame.step)
+
+    w = Watcher()
+    watched = swarmex.run("roadmap", **opts, on_frame=w).to_dict()
+    plain = swarmex.run("roadmap", **opts).to_dict()
+    watched.pop("wall_seconds"), plain.pop("wall_seconds")
+    assert watched == plain
+    last = int(plain["makespan"])
+    assert w.steps == sorted({0, *range(10, last, 10), last})  # wanted steps and the end
+    mission = get("roadmap")
+    params = mission.params(opts)
+    spec = mission.progress(params, mission.prepare(params))
+    frames = []
+    swarmex.run("roadmap", **opts, on_frame=frames.append)
+    assert spec.unit == "edges travelled" and spec.total == 80
+    assert spec.count(frames[-1]) == 80  # coverage ends with every edge travelled

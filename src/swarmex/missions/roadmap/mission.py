@@ -19,8 +19,8 @@ from typing import TYPE_CHECKING, Any
 
 from swarmex.engine.record import MetricInfo, ResultRecord
 from swarmex.errors import InputError
-from swarmex.missions.base import FrameCallback, Mission, Outcome
-from swarmex.missions.roadmap.params import RoadmapParams
+from swarmex.missions.base import FrameCallback, Mission, Outcome, ProgressSpec
+from swarmex.missions.roadmap.params import GRAPH_PLANNERS, RoadmapParams
 
 if TYPE_CHECKING:
     from collections.abc import Callable, Collection, Mapping
@@ -157,6 +157,17 @@ class RoadmapMission(Mission[RoadmapParams, RoadmapWorld]):
         from swarmex.missions.roadmap.record import TEAM_METRICS
 
         return TEAM_METRICS
+
+    def progress(self, params: RoadmapParams, world: RoadmapWorld) -> ProgressSpec | None:
+        """WMA-RRT: edges travelled of the tree's K (coverage ends when all are); a PRM's
+        walkers have no end but the step budget, so its steps."""
+        import numpy as np
+
+        if params.planner in GRAPH_PLANNERS:
+            budget = params.step_budget or 2 * params.nodes
+            return ProgressSpec(int(budget), "steps", lambda f: min(int(f.step), budget))
+        return ProgressSpec(int(params.nodes), "edges travelled",
+                            lambda f: int(np.count_nonzero(f.edge_traversals)))
 
     def prepare(self, params: RoadmapParams) -> RoadmapWorld:
         import shapely
