@@ -271,21 +271,25 @@ def test_a_lost_link_is_a_fault_and_a_taken_over_vehicle_is_left_alone(emulated)
     assert v2.other_control() == "the autopilot or a pilot (mode RTL)"
 
 
-def test_a_gps_grid_plan_flies_geodesic_offsets_from_the_nest():
-    """On a GPS grid (serve --center) nodes sit at their own latitude and longitude: a
-    neighbour is 2R/(K-1) metres away along the geodesic, north up, at the mission's speed."""
+def _gps_plan(nest: str, nodes_on_edge: int) -> tuple:
+    """One agent on seed 000's field as a GPS grid of radius 50 m: (prepared world, plan)."""
     pytest.importorskip("pyproj", reason="GPS grids need the geo extra")
     from swarmex.missions.registry import get
     from swarmex.missions.traversal.mission import agent_specs
-    from swarmex.net.traversal import Mission
 
     m = get("traversal")
-    p = m.params(agents=1, nests="4,4", center="43.268304,-79.911135", radius=50,
-                 nodes_on_edge=9, travel_time=2.5)
+    p = m.params(agents=1, nests=nest, center="43.268304,-79.911135", radius=50,
+                 nodes_on_edge=nodes_on_edge, travel_time=2.5)
     prep = m.prepare(p)
     mission = Mission(prep.world, agent_specs(p, prep), "madgta", 0, 0.5, prep.unit_length,
-                      0.0, 0.01, "shared", True, 0.25, {})
-    plan = FlightPlan(mission, 1, Safety())
+                      0.0, 1 / SPEEDUP, "shared", True, 0.25, {})
+    return prep, FlightPlan(mission, 1, Safety())
+
+
+def test_a_gps_grid_plan_flies_geodesic_offsets_from_the_nest():
+    """On a GPS grid (serve --center) nodes sit at their own latitude and longitude: a
+    neighbour is 2R/(K-1) metres away along the geodesic, north up, at the mission's speed."""
+    prep, plan = _gps_plan("4,4", 9)
     east = plan.position(prep.world.node(5, 4))
     north = plan.position(prep.world.node(4, 3))
     assert east.east == pytest.approx(12.5, abs=0.01) and abs(east.north) < 0.01
@@ -299,17 +303,7 @@ def test_a_gps_grid_plan_flies_geodesic_offsets_from_the_nest():
 def test_a_copter_away_from_its_gps_nest_is_refused(emulated):
     """A GPS-grid mission flew to completion with the copter thousands of km from the grid:
     the plan is offsets from where it arms, and nothing compared that with the nest."""
-    pytest.importorskip("pyproj", reason="GPS grids need the geo extra")
-    from swarmex.missions.registry import get
-    from swarmex.missions.traversal.mission import agent_specs
-
-    m = get("traversal")
-    p = m.params(agents=1, nests="1,1", center="43.268304,-79.911135", radius=50,
-                 nodes_on_edge=3, travel_time=2.5)
-    prep = m.prepare(p)
-    mission = Mission(prep.world, agent_specs(p, prep), "madgta", 0, 0.5, prep.unit_length,
-                      0.0, 1 / SPEEDUP, "shared", True, 0.25, {})
-    plan = FlightPlan(mission, 1, Safety())
+    _, plan = _gps_plan("1,1", 3)
     centre = emulated(home=(43.268304, -79.911135, 100.0))  # node (1, 1): the grid's centre
     assert centre.run(centre.vehicle.preflight(plan)).done
     away = emulated(home=(10.0, 10.0, 100.0))

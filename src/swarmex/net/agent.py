@@ -358,11 +358,10 @@ class AgentClient:
             why = f"{task.name} failed: {task.reason}"  # noticed before this agent's turn
         if why is None and self.state == "mission":
             other = self.vehicle.other_control()
+            level = self.vehicle.battery()
             if other is not None:  # between commands: nothing else would notice
                 why = f"{other} took over"
-        if why is None and self.state == "mission":
-            level = self.vehicle.battery()
-            if level is not None and level < self.safety.min_battery:
+            elif level is not None and level < self.safety.min_battery:
                 why = (f"low battery: {level:.0f} % (--min-battery "
                        f"{self.safety.min_battery:g} %)")
         if why is not None:

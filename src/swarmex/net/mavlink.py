@@ -28,18 +28,20 @@ uav-emulator``. What each command does on the link:
 * ``return_and_land``: RTL mode (the autopilot climbs to its RTL altitude, flies home,
   lands and disarms); phase ``returning`` until above home, ``landing`` until disarmed.
 
-Every command is resent until the autopilot accepts it or its effect shows (UDP may lose
-any packet), and fails after its expected time plus ``task_timeout``. No telemetry for
-``link_timeout`` seconds, or a closed TCP link, is a :meth:`fault`; the agent then hands its
-id back (docs/uav.md). A copter in a mode the agent did not set (a pilot's LOITER, the
-autopilot's failsafe RTL or LAND) is someone else's (:meth:`MavlinkVehicle.other_control`):
-the agent hands its id back and sends it nothing more.
+Every command is resent until its effect shows (UDP may lose any packet; the take-off alone
+stops once accepted, see above), and fails after its expected time plus ``task_timeout``.
+No telemetry for ``link_timeout`` seconds, or a closed TCP link, is a :meth:`fault`; the
+agent then hands its id back (docs/uav.md). A copter in a mode the agent did not set (a
+pilot's LOITER, the autopilot's failsafe RTL or LAND) is someone else's
+(:meth:`MavlinkVehicle.other_control`): the agent hands its id back and sends it nothing
+more.
 """
 
 from __future__ import annotations
 
 import contextlib
 import io
+import math
 import os
 import time
 from collections.abc import Callable
@@ -48,6 +50,7 @@ from typing import Any
 
 from swarmex.errors import InputError
 from swarmex.net.vehicle import FlightPlan, Info, Position, Safety, Task, Vehicle, parse_link
+from swarmex.worlds.geo import north_east
 
 os.environ.setdefault("MAVLINK20", "1")  # ArduPilot speaks MAVLink 2; pymavlink reads this
 from pymavlink import mavutil  # noqa: E402
@@ -436,11 +439,9 @@ class MavlinkVehicle(Vehicle):
             problems.append(f"battery {self.battery_pct:.0f} % (--arm-battery "
                             f"{s.arm_battery:g} %)")
         nest = plan.nest_latlon()
-        if nest is not None and self.global_position is None:
-            problems.append("no GPS position yet (GLOBAL_POSITION_INT at 0, 0): the nest on the"
-                            " GPS grid cannot be checked")
-        elif nest is not None and self.global_position is not None:
-            off = _metres_between(self.global_position, nest)
+        if nest is not None:  # the "GPS position" step before this one waited for it
+            assert self.global_position is not None
+            off = math.hypot(*north_east(nest, self.global_position))
             if off > s.nest_radius:
                 problems.append(
                     f"the vehicle stands {off:.0f} m from its nest (node {plan.home_node} at "
@@ -582,13 +583,6 @@ def _resolve(link: str, device: str) -> None:
     except (OSError, UnicodeError) as exc:
         raise InputError(f"--vehicle: cannot resolve the host of {link}: "
                          f"{getattr(exc, 'strerror', None) or exc}") from None
-
-
-def _metres_between(a: tuple[float, float], b: tuple[float, float]) -> float:
-    """Geodesic metres between two (latitude, longitude) points (WGS84)."""
-    from pyproj import Geod
-
-    return float(Geod(ellps="WGS84").inv(a[1], a[0], b[1], b[0])[2])
 
 
 def _enum_name(enum: str, value: int) -> str:

@@ -191,13 +191,11 @@ class FlightPlan:
 
     def _geodesic_offset(self, node: int) -> tuple[float, float]:
         """Metres north and east of the nest along the WGS84 geodesic (pyproj)."""
-        from pyproj import Geod
+        from swarmex.worlds.geo import north_east
 
         home, there = self.latlon(self.home_node), self.latlon(node)
         assert home is not None and there is not None
-        azimuth, _, dist = Geod(ellps="WGS84").inv(home[1], home[0], there[1], there[0])
-        a = math.radians(azimuth)
-        return float(dist * math.cos(a)), float(dist * math.sin(a))
+        return north_east(home, there)
 
     def nest_latlon(self) -> tuple[float, float] | None:
         """Where the vehicle must stand (its nest) on a GPS grid, else None."""

@@ -43,6 +43,14 @@ def _geod() -> Any:
     return Geod(ellps=ELLIPSOID)
 
 
+def north_east(origin: tuple[float, float], there: tuple[float, float]) -> tuple[float, float]:
+    """Metres north and east of ``origin`` to ``there`` (both ``(lat, lon)``) along the
+    WGS84 geodesic: what a vehicle flies from its nest, and how far it stands from it."""
+    azimuth, _, dist = _geod().inv(origin[1], origin[0], there[1], there[0])
+    a = math.radians(azimuth)
+    return float(dist * math.cos(a)), float(dist * math.sin(a))
+
+
 def check_center(lat: float, lon: float, flag: str = "--center") -> None:
     if not -90.0 < lat < 90.0:
         raise InputError(f"{flag}: latitude must be between -90 and 90 (poles excluded), "
