@@ -2,11 +2,15 @@
 
 from __future__ import annotations
 
+from fractions import Fraction
+
+import pytest
+
 from swarmex.missions.foraging.grid import walk
 from swarmex.missions.foraging.hilbert import hilbert_moves, hilbert_route
 from swarmex.missions.foraging.modified_zigzag import ring
 from swarmex.missions.foraging.patterns import build_plan
-from swarmex.missions.foraging.sectors import to_frame
+from swarmex.missions.foraging.sectors import sector_cells, slopes, to_frame
 from swarmex.missions.foraging.zigzag import zigzag_route
 
 
@@ -76,6 +80,22 @@ def test_sectors_emission_order_matches_the_thesis_example():
     starts = {a: to_frame(p.nest, p.routes[a][p.explore_from[a]])[1:] for a in range(8)}
     assert starts[0] == (1, 0)
     assert starts[3][0] > starts[1][0] > starts[2][0] >= starts[0][0]
+
+
+@pytest.mark.parametrize(("g", "n"), [(9, 8), (16, 8), (17, 16), (31, 24), (64, 64), (65, 40)])
+def test_sector_cells_match_the_division_cell_by_cell(g, n):
+    # §3.4: cell (u, v) of a quadrant lies in the last sector whose lower slope v/u reaches
+    # (exact fractions here, one cell at a time); each sector lists its cells row by row
+    nest = (g // 2, g // 2)
+    lows = slopes(n // 4)
+    expected: list[list[tuple[int, int]]] = [[] for _ in range(n)]
+    for y in range(g):
+        for x in range(g):
+            if (x, y) != nest:
+                q, u, v = to_frame(nest, (x, y))
+                s = max(i for i, lo in enumerate(lows) if Fraction(v, u) >= lo)
+                expected[q * (n // 4) + s].append((u, v))
+    assert sector_cells(g, n) == expected
 
 
 def test_sectors_n8_first_levels():

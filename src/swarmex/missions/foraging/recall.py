@@ -62,8 +62,8 @@ measurements (the band table there):
 Cost: a choice replays ``candidates × (PER_DISTANCE · memory + 5 PER_BAND)`` runs, ≈ 10–20 ms
 each on a 128 × 128 grid: 16 s for a full memory in a fresh process at N = 16 (26 s before
 dominated candidates were dropped), 1–2 s per trip in a series, since replays are cached per
-(candidate, cell). On the largest grids building the candidates' timetables alone takes
-minutes (Sectors on 1024 × 1024 with 1,024 robots: 62 s); ``on_replay`` feeds the command
+(candidate, cell). On the largest grids the replays are long (1024 × 1024 with 1,024 robots, no
+memory: 120 replays, 10.5 min; the timetables take 3 s); ``on_replay`` feeds the command
 line's progress bar.
 """
 

@@ -31,8 +31,11 @@ N = 4 rows of the two patterns coincide. Supported: 4 and multiples of 8.
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Callable
 from fractions import Fraction
+
+import numpy as np
 
 from swarmex.errors import InputError
 from swarmex.missions.foraging import zigzag
@@ -73,27 +76,37 @@ def slopes(per_quadrant: int) -> list[Fraction]:
     return [Fraction(j, k) for j in range(k + 1)] + [Fraction(k, j) for j in range(k - 1, 0, -1)]
 
 
-def sector_in_quadrant(u: int, v: int, lows: list[Fraction]) -> int:
-    s = 0
-    for i, lo in enumerate(lows):
-        if v * lo.denominator >= lo.numerator * u:  # v/u ≥ lo
-            s = i
-    return s
-
-
 def sector_cells(g: int, n: int) -> list[list[tuple[int, int]]]:
-    """For every sector (id order), its cells as frame coordinates ``(u, v)``."""
+    """For every sector (id order), its cells as frame coordinates ``(u, v)``, each list in
+    row-major order of the grid.
+
+    Vectorised: a loop over the cells and their boundaries cost O(g² · n) Python steps
+    (25 s of the 37 s of a 1024 × 1024 run with 1,024 robots). ``lows`` ascend, so the
+    sector is the number of boundaries past the first that ``v/u`` reaches, and each
+    boundary is one integer comparison over the whole grid."""
     nest = nest_of(g)
     per_q = n // 4
     lows = slopes(per_q)
-    out: list[list[tuple[int, int]]] = [[] for _ in range(n)]
-    for y in range(g):
-        for x in range(g):
-            if (x, y) == nest:
-                continue
-            q, u, v = to_frame(nest, (x, y))
-            out[q * per_q + sector_in_quadrant(u, v, lows)].append((u, v))
-    return out
+    ys, xs = np.divmod(np.arange(g * g, dtype=np.int64), g)
+    big_x, big_y = xs - nest[0], nest[1] - ys  # y up, as to_frame
+    quadrant = np.full(g * g, 3, dtype=np.int64)
+    u, v = -big_y, big_x.copy()
+    for q, mask, qu, qv in (
+        (2, (big_x < 0) & (big_y <= 0), -big_x, -big_y),
+        (1, (big_x <= 0) & (big_y > 0), big_y, -big_x),
+        (0, (big_x > 0) & (big_y >= 0), big_x, big_y),
+    ):  # to_frame's tests in reverse, so the first that holds wins
+        quadrant[mask], u[mask], v[mask] = q, qu[mask], qv[mask]
+    sector = np.zeros(g * g, dtype=np.int64)
+    for lo in lows[1:]:
+        sector += v * lo.denominator >= lo.numerator * u
+    keep = (xs != nest[0]) | (ys != nest[1])
+    ids = (quadrant * per_q + sector)[keep]
+    u, v = u[keep], v[keep]
+    order = np.argsort(ids, kind="stable")
+    bounds = np.searchsorted(ids[order], np.arange(n + 1))
+    us, vs = u[order].tolist(), v[order].tolist()
+    return [list(zip(us[a:b], vs[a:b], strict=True)) for a, b in itertools.pairwise(bounds)]
 
 
 def sweep(cells: list[tuple[int, int]], lower: bool) -> list[tuple[int, int]]:
