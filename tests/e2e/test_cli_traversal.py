@@ -168,7 +168,9 @@ def test_map_file_with_extra_obstacles_and_nearest(tmp_path, capsys):
 
 
 def test_console_script_runs_as_a_subprocess(tmp_path):
-    out = tmp_path / "r.json"
+    # a long path: piped, Rich wrapped every line at 80 columns, splitting the path that a
+    # script or a log grep needs whole
+    out = tmp_path / ("a_folder_whose_name_is_long_enough_to_pass_eighty_columns" * 2) / "r.json"
     proc = subprocess.run(
         [
             sys.executable,
@@ -189,6 +191,7 @@ def test_console_script_runs_as_a_subprocess(tmp_path):
     )
     assert proc.returncode == 0, proc.stderr
     assert set(json.loads(out.read_text())) == TOP_KEYS
+    assert f"wrote {out}\n" in proc.stdout
 
 
 @pytest.fixture

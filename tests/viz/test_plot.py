@@ -14,6 +14,7 @@ from swarmex.errors import InputError
 from swarmex.viz.plot import plot_sweep, series, sweep_figure
 
 META = {"mission": "traversal", "axes": ["algorithm", "agents", "grid"]}
+FAILED_NOTE = "note: 1 failed run(s) left out (the table's error column)"  # rows()'s "boom"
 
 
 def rows() -> list[dict]:
@@ -50,7 +51,7 @@ def test_line_plot_png_and_svg(tmp_path):
     finished = [r for r in rows() if r["complete"] is not False]
     png, note = plot_sweep(finished, META, "agents", "makespan", "algorithm",
                            path=tmp_path / "a.png")
-    assert note is None
+    assert note == FAILED_NOTE
     with Image.open(png) as im:
         assert im.format == "PNG" and im.size[0] > 400
         pixels = np.asarray(im.convert("RGB"))
@@ -214,7 +215,7 @@ def test_a_time_of_unfinished_runs_is_marked_and_noted(tmp_path, capsys):
     fig, note = sweep_figure(fig_rows, META, "agents", "makespan", "algorithm")
     assert note == ("note: 6 of the 18 runs plotted did not finish; their makespan is where"
                     " they stopped, not a finish time (--where complete=true keeps the"
-                    " finished ones)")
+                    " finished ones)\n" + FAILED_NOTE)
     ax = fig.axes[0]
     hollow = [ln for ln in ax.lines if ln.get_markerfacecolor() == "white"]
     assert [len(ln.get_xdata()) for ln in hollow] == [3, 3]  # every point has a seed 2
@@ -227,7 +228,7 @@ def test_a_time_of_unfinished_runs_is_marked_and_noted(tmp_path, capsys):
     assert "did not finish" in note
     assert {p.get_hatch() for p in fig.axes[0].patches} == {"//"}
     # completeness itself is no time: nothing to mark
-    assert sweep_figure(fig_rows, META, "agents", "complete", "algorithm")[1] is None
+    assert sweep_figure(fig_rows, META, "agents", "complete", "algorithm")[1] == FAILED_NOTE
 
 
 
@@ -246,3 +247,46 @@ def test_python_plot_warns_of_each_note_in_its_own_words(monkeypatch):
     assert said[0] == "pooled over algorithm (use hue= or where= to separate)"
     assert said[1].startswith("6 of the 18 runs plotted did not finish")
     assert said[1].endswith("(where={'complete': True} keeps the finished ones)")
+    assert said[2] == "1 failed run(s) left out (the table's error column)"
+
+
+def test_a_configuration_without_a_finished_run_has_no_point(tmp_path):
+    # every zigzag run at 2 agents failed: the line went straight through agents=2, a bar
+    # plot drew a zero-height bar with a whisker at 0, nothing was said, and the title's
+    # runs per point counted the empty configuration
+    table = [r for r in rows() if not r["error"] and r["complete"]]
+    for r in table:
+        if r["algorithm"] == "nearest" and r["agents"] == 2:
+            r.update(makespan=None, error="crashed", complete=None)
+    fig, note = sweep_figure(table, META, "agents", "makespan", "algorithm")
+    assert note == ("note: 2 failed run(s) left out (the table's error column); no finished"
+                    " run, so no point, at agents=2 algorithm=nearest")
+    ax = fig.axes[0]
+    nearest = ax.lines[1].get_ydata()
+    assert np.isnan(nearest[1]) and np.isfinite(nearest[[0, 2]]).all()  # a gap, no segment
+    assert "≈2 runs/point" in ax.get_title()  # 10 finished runs over 5 points
+    fig, _ = sweep_figure(table, META, "algorithm", "makespan", "agents", kind="bar")
+    heights = sorted(round(p.get_height(), 6) for p in fig.axes[0].patches)
+    assert len(heights) == 5 and min(heights) > 0  # no bar for the empty configuration
+
+
+def test_a_point_alone_keeps_its_interval():
+    # a band needs two points: a series with one point lost its CI without a word
+    table = [r for r in rows() if not r["error"] and r["complete"]
+             and (r["algorithm"] == "madgta" or r["agents"] == 4)]
+    fig, _ = sweep_figure(table, META, "agents", "makespan", "algorithm")
+    from matplotlib.collections import LineCollection
+
+    whiskers = [c for c in fig.axes[0].collections if isinstance(c, LineCollection)]
+    (seg,) = whiskers[0].get_segments()
+    assert seg[0][0] == seg[1][0] == 4.0 and seg[1][1] - seg[0][1] > 0  # vertical, at x=4
+
+
+def test_seconds_and_steps_are_times():
+    from swarmex.viz.plot import is_time, y_label
+
+    assert is_time("makespan_seconds") and y_label("makespan_seconds", [{"time_unit": "step"}]) \
+        == "makespan_seconds (s)"
+    table = [dict(r, mean_steps=r["makespan"]) for r in rows()]
+    _, note = sweep_figure(table, META, "agents", "mean_steps", "algorithm")
+    assert "6 of the 18 runs plotted did not finish" in note

@@ -224,8 +224,22 @@ def _root(
 reproduce_app = typer.Typer(help="Rerun a seed's experiments and compare with its tables.")
 app.add_typer(reproduce_app, name="reproduce")
 
-console = Console()
-err_console = Console(stderr=True)
+
+
+def _console(stderr: bool = False) -> Console:
+    """A console that wraps text to the terminal it writes to, and not at all elsewhere.
+
+    Why: off a terminal Rich wraps at 80 columns, which split output paths and summary lines
+    in the middle of a name in logs and pipes (a script greps them whole). Tables still fit
+    the width Rich picks."""
+    out = Console(stderr=stderr)
+    if not (out.is_terminal or out.is_jupyter):
+        out.soft_wrap = True
+    return out
+
+
+console = _console()
+err_console = _console(stderr=True)
 
 
 def interrupted(detail: str) -> NoReturn:

@@ -84,6 +84,7 @@ def sweep_figure(
             raise InputError(f"{option}: no column {name!r} (have: {', '.join(columns)})")
     rows = _filter(rows, where or [], columns, meta.get("mission"))
     ok = [r for r in rows if not r.get("error") and _num(r.get(y)) is not None]
+    failed = [r for r in rows if r.get("error")]
     if not ok:
         raise InputError(f"no finished run has a numeric {y!r} to plot")
     xs = _levels([r[x] for r in ok])
@@ -95,38 +96,40 @@ def sweep_figure(
         raise InputError(f"--kind line needs a numeric --x; {x!r} is categorical (use bar)")
 
     # a time of a run that did not finish is where it stopped (its budget), not a finish
-    stops = is_time(y) or y.rsplit(".", 1)[-1] == "steps"  # roadmap's length is "steps"
+    stops = is_time(y) or "steps" in _words(y)  # roadmap's length is "steps"
     unfinished = [r for r in ok if r.get("complete") is False] if stops else []
     cut_at = {(r[hue] if hue else None, r[x]) for r in unfinished}  # (series, x) to mark
     fig = Figure(figsize=(6.4, 4.2), dpi=120)
     FigureCanvasAgg(fig)
     ax = fig.add_subplot()
     width = 0.8 / len(hues)
+    points = 0  # (series, x) cells with a finished run: what a point's mean is over
     for i, (h, stats) in enumerate(series(ok, x, y, hue, xs, hues).items()):
         mean = np.array([s.mean for s in stats])
         half = np.nan_to_num(np.array([s.half_width for s in stats]))
         label = None if hue is None else f"{h}"
         cut = np.array([(h, v) in cut_at for v in xs], dtype=bool)
+        # a configuration without a finished run has no point: no line across it, no bar
+        have = np.isfinite(mean)
+        points += int(have.sum())
         if kind == "line":
             xv = np.array([float(v) for v in xs])
-            have = np.isfinite(mean)
-            (line,) = ax.plot(xv[have], mean[have], marker="o", lw=1.8, ms=4, label=label)
-            ax.fill_between(
-                xv[have],
-                (mean - half)[have],
-                (mean + half)[have],
-                color=line.get_color(),
-                alpha=0.2,
-                lw=0,
-            )
+            (line,) = ax.plot(xv, mean, marker="o", lw=1.8, ms=4, label=label)
+            ax.fill_between(xv, mean - half, mean + half, where=have, color=line.get_color(),
+                            alpha=0.2, lw=0)
+            # a band needs a neighbour: a point alone between gaps gets a whisker
+            alone = have & ~np.r_[False, have[:-1]] & ~np.r_[have[1:], False]
+            if alone.any():
+                ax.errorbar(xv[alone], mean[alone], yerr=half[alone], ls="", capsize=3,
+                            color=line.get_color())
             if (have & cut).any():
                 ax.plot(xv[have & cut], mean[have & cut], ls="", marker="o", ms=7,
                         mfc="white", mec=line.get_color(), mew=1.5, zorder=3)
         else:
-            pos = np.arange(len(xs)) + (i - (len(hues) - 1) / 2) * width
-            bars = ax.bar(pos, np.nan_to_num(mean), width * 0.95, yerr=half, capsize=3,
+            pos = (np.arange(len(xs)) + (i - (len(hues) - 1) / 2) * width)[have]
+            bars = ax.bar(pos, mean[have], width * 0.95, yerr=half[have], capsize=3,
                           label=label)
-            for bar, hatched in zip(bars, cut, strict=True):
+            for bar, hatched in zip(bars, cut[have], strict=True):
                 if hatched:
                     bar.set_hatch("//")
     if kind == "bar":
@@ -135,7 +138,7 @@ def sweep_figure(
         ax.set_xticks([float(v) for v in xs], [_label(v) for v in xs])
     ax.set_xlabel(x)
     ax.set_ylabel(y_label(y, ok))
-    runs_per = len(ok) / max(1, len(xs) * len(hues))
+    runs_per = len(ok) / max(1, points)
     ax.set_title(
         f"{meta.get('mission', 'sweep')}: {y} vs {x} · mean ± 95 % CI (≈{runs_per:.0f} runs/point)",
         fontsize=10,
@@ -161,6 +164,11 @@ def sweep_figure(
         notes.append(f"note: {len(unfinished)} of the {len(ok)} runs plotted did not finish; their"
                      f" {y} is where they stopped, not a finish time (--where complete=true"
                      " keeps the finished ones)")
+    if failed:
+        empty = sorted({_where(r, x, hue) for r in failed} - {_where(r, x, hue) for r in ok})
+        notes.append(f"note: {len(failed)} failed run(s) left out (the table's error column)"
+                     + (f"; no finished run, so no point, at {'; '.join(empty)}" if empty
+                        else ""))
     return fig, "\n".join(notes) or None
 
 
@@ -174,15 +182,28 @@ def y_label(y: str, rows: list[dict[str, Any]]) -> str:
     """
     if y == "complete":
         return "fraction complete"
+    if _words(y)[-1] == "seconds":
+        return f"{y} (s)"
     units = {r.get("time_unit") for r in rows} - {None}
     return f"{y} ({units.pop()})" if is_time(y) and len(units) == 1 else y
 
 
 def is_time(y: str) -> bool:
     """Whether the column is a time of the run: a metric named ``*_time*``
-    (``total_time_all``, ``transport_time``), ``makespan`` or ``mission_end``."""
-    words = y.rsplit(".", 1)[-1].split("_")
-    return y in ("makespan", "mission_end") or ("time" in words and y != "time_unit")
+    (``total_time_all``, ``transport_time``), ``makespan*`` (``makespan_seconds``) or
+    ``mission_end``."""
+    words = _words(y)
+    return y == "mission_end" or words[0] == "makespan" or (
+        "time" in words and y != "time_unit")
+
+
+def _words(y: str) -> list[str]:
+    return y.rsplit(".", 1)[-1].split("_")
+
+
+def _where(row: dict[str, Any], x: str, hue: str | None) -> str:
+    """``x=V`` (and ``hue=H``) of a row, for a note."""
+    return f"{x}={_label(row.get(x))}" + ("" if hue is None else f" {hue}={row.get(hue)}")
 
 
 def series(
