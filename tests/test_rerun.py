@@ -443,3 +443,33 @@ def test_cli_rerun_and_render_of_a_small_run_compile_nothing(tmp_path: Path) -> 
     drawn = swarmex_cli("render", "a.json", "a.png")
     assert "wrote" in drawn.stdout and drawn.stderr == ""
     assert not list((tmp_path / "cold").rglob("*.nbi"))  # nothing compiled, nothing cached
+
+
+def test_cli_rerun_and_render_show_the_commands_progress_bar(tmp_path: Path, capsys,
+                                                             monkeypatch) -> None:
+    """``swarmex rerun`` and ``render`` of a long run were minutes of silence where the
+    command that made the record showed a bar: on a terminal they show it too, and the
+    record and the drawing are the same as without it."""
+    import io
+
+    from rich.console import Console
+
+    from swarmex.cli import missions
+    from swarmex.experiments.progress import FrameProgress
+
+    rec, plain = tmp_path / "r.json", tmp_path / "plain.png"
+    assert main(["traverse", "--grid", "9x8", "--agents", "3", "--seed", "4",
+                 "--json", str(rec)]) == 0
+    assert main(["render", str(rec), str(plain)]) == 0
+    capsys.readouterr()
+    screen = io.StringIO()
+    monkeypatch.setattr(missions, "err_console", Console(file=screen, force_terminal=True))
+    monkeypatch.setattr(FrameProgress, "DELAY", 0.0)
+    monkeypatch.setattr(FrameProgress, "EVERY", 0.0)
+    assert main(["rerun", str(rec)]) == 0
+    assert "the same record" in capsys.readouterr().out
+    assert "jobs" in screen.getvalue() and "/72" in screen.getvalue()
+    screen.truncate(0)
+    assert main(["render", str(rec), str(tmp_path / "bar.png")]) == 0
+    assert "/72" in screen.getvalue()
+    assert (tmp_path / "bar.png").read_bytes() == plain.read_bytes()

@@ -18,7 +18,7 @@ import typer
 
 from swarmex.cli.app import app, console, err_console
 from swarmex.cli.compiling import compile_notice
-from swarmex.cli.missions import INTERPRETED
+from swarmex.cli.missions import INTERPRETED, WATCH
 from swarmex.cli.outputs import RENDER_SUFFIXES, check_output
 from swarmex.errors import InputError
 from swarmex.experiments.rerun import STOPPED_EARLY, differences, networked_reason
@@ -58,7 +58,7 @@ def rerun(
         # with the one line that says so
         with compile_notice(err_console):
             new_record = rerun_record(record, folder, {}, rule_for=interpreted_rule,
-                                      prepared=ready)
+                                      prepared=ready, watch_for=progress_watch)
         if json_out is not None:
             write_record(new_record, json_out)
         name = f"{path}: " if len(files) > 1 else ""
@@ -93,7 +93,8 @@ def render(
 
     check_output(out, "OUT", RENDER_SUFFIXES)
     with compile_notice(err_console):
-        path, why = render_record(record_file, out, rule_for=interpreted_rule)
+        path, why = render_record(record_file, out, rule_for=interpreted_rule,
+                                  watch_for=progress_watch)
     console.print(f"wrote {path}", highlight=False, soft_wrap=True)
     if why is not None:
         err_console.print(
@@ -105,14 +106,27 @@ def render(
 def interpreted_rule(mission: str) -> Any:
     """The mission command's rule for runs small enough to keep their kernels interpreted
     (:attr:`~swarmex.cli.missions.Surface.interpreted`; None: always compiled)."""
+    return INTERPRETED.get(mission) if _registered(mission) else None
+
+
+def progress_watch(mission: str) -> Any:
+    """The mission command's progress display (:attr:`~swarmex.cli.missions.Surface.watch`:
+    a bar or a step ticker on a terminal, nothing in a pipe; None: the mission has none), so
+    that a rerun or a drawing of a long run is not minutes of silence."""
+    return WATCH.get(mission) if _registered(mission) else None
+
+
+def _registered(mission: str) -> bool:
+    """Load the mission's command module (commands register their surface on import,
+    cli/app.py); False when a missing extra stops it (the rerun itself says which)."""
     from swarmex.cli.app import load
     from swarmex.missions.registry import get
 
     try:
-        load(get(mission).command)  # command modules register on import (cli/app.py)
-    except ImportError:  # a missing extra: the rerun itself says which
-        return None
-    return INTERPRETED.get(mission)
+        load(get(mission).command)
+    except ImportError:
+        return False
+    return True
 
 
 def record_paths(given: list[Path]) -> list[Path]:

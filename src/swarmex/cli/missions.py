@@ -140,6 +140,8 @@ def interrupted_says_so() -> Iterator[None]:
 #: from a record (``swarmex rerun``, ``swarmex render``): the same small run keeps its kernels
 #: interpreted there as it did when it was made
 INTERPRETED: dict[str, Callable[[Any, Any], bool]] = {}
+#: mission name -> its Surface's ``watch`` (the progress bar), for the same commands
+WATCH: dict[str, Watch] = {}
 
 
 def mission_command(mission: Mission[Any, Any], surface: Surface) -> Callable[..., Any]:
@@ -147,6 +149,8 @@ def mission_command(mission: Mission[Any, Any], surface: Surface) -> Callable[..
     options = mission.params_type.options()
     if surface.interpreted is not None:
         INTERPRETED[mission.name] = surface.interpreted
+    if surface.watch is not None:
+        WATCH[mission.name] = surface.watch
     extras = {e.name: e for e in surface.extras}
 
     def command(**kwargs: Any) -> Any:

@@ -22,6 +22,9 @@ from swarmex.errors import InputError
 #: mission name -> that mission's rule (params, prepared world) -> whether a run is small
 #: enough to keep its kernels interpreted (None: always compiled)
 RuleFor = Callable[[str], Callable[[Any, Any], bool] | None]
+#: mission name -> that mission's watch (params, prepared world, on_frame) -> the callback
+#: that also shows the run's progress (None: none)
+WatchFor = Callable[[str], Callable[[Any, Any, Any], Any] | None]
 
 if TYPE_CHECKING:
     from swarmex.missions.base import Outcome
@@ -53,17 +56,20 @@ def rerun_outcome(
     trace: bool | None = None,
     rule_for: RuleFor | None = None,
     prepared: tuple[Any, Any, dict[str, str]] | None = None,
+    watch_for: WatchFor | None = None,
 ) -> Outcome:
     """:func:`rerun_record`, returning the run's whole Outcome (what the drawings read).
 
     ``rule_for`` (mission name) -> the rule for runs small enough to keep their kernels
     interpreted while numba is cold (:meth:`Mission.run`'s ``interpreted``; the CLI's
-    rule for the mission): the same record, without a compile."""
+    rule for the mission): the same record, without a compile. ``watch_for`` (mission
+    name) -> :meth:`Mission.run`'s ``watch`` (the CLI's progress bar for the mission)."""
     m, params, moved = prepared or rerun_params(rec, folder, overrides)
     if trace is None:
         trace = not rec.agents or any(a.trajectory or a.jobs for a in rec.agents)
     rule = rule_for(rec.mission) if rule_for is not None else None
-    outcome = m.run(params, on_frame=on_frame, trace=trace, interpreted=rule)
+    watch = watch_for(rec.mission) if watch_for is not None else None
+    outcome = m.run(params, on_frame=on_frame, trace=trace, interpreted=rule, watch=watch)
     respell(outcome.record, moved)
     return outcome
 
@@ -95,15 +101,16 @@ def rerun_record(
     trace: bool | None = None,
     rule_for: RuleFor | None = None,
     prepared: tuple[Any, Any, dict[str, str]] | None = None,
+    watch_for: WatchFor | None = None,
 ) -> ResultRecord:
     """Run ``rec`` again (:func:`swarmex.rerun`), with ``overrides`` applied (``seed`` among
     them: the same setting, drawn again). ``folder`` is the record file's, where relative
     input paths are also looked for. ``trace`` None is the record's own: a ``trace=False``
     record (no agent has a trajectory or a job) runs again without it. ``rule_for``:
-    :func:`rerun_outcome`'s; ``prepared``: what :func:`rerun_params` gave for these
-    arguments, when the caller checked them first."""
+    :func:`rerun_outcome`'s, as ``watch_for``; ``prepared``: what :func:`rerun_params` gave
+    for these arguments, when the caller checked them first."""
     return rerun_outcome(rec, folder, overrides, on_frame=on_frame, trace=trace,
-                         rule_for=rule_for, prepared=prepared).record
+                         rule_for=rule_for, prepared=prepared, watch_for=watch_for).record
 
 
 def render_record(
@@ -112,6 +119,7 @@ def render_record(
     world: Mapping[str, Any] | None = None,
     *,
     rule_for: RuleFor | None = None,
+    watch_for: WatchFor | None = None,
 ) -> tuple[Path, str | None]:
     """Draw a record's run to ``path`` (:func:`swarmex.render`): run it again keeping the
     frames the drawing needs (a record holds paths, not every frame or the final maps), and
@@ -150,7 +158,8 @@ def render_record(
                 f" ({', '.join(sorted(allowed)) or 'none for ' + rec.mission}), not {other[0]!r}"
             )
     recorder = frame_recorder(rec.mission, out)
-    outcome = rerun_outcome(rec, folder, given, on_frame=recorder, rule_for=rule_for)
+    outcome = rerun_outcome(rec, folder, given, on_frame=recorder, rule_for=rule_for,
+                            watch_for=watch_for)
     draw(rec.mission, outcome, out, recorder)
     if same_run(rec.to_dict(), outcome.record.to_dict()):
         return out, None

@@ -777,16 +777,26 @@ class Mission(ABC, Generic[P, W]):
     def run(
         self, params: P, on_frame: FrameCallback | None = None, *, trace: bool = True,
         interpreted: Callable[[P, W], bool] | None = None,
+        watch: Callable[[P, W, FrameCallback | None], FrameCallback | None] | None = None,
     ) -> Outcome:
         """Prepare the world and execute: the whole run, as ``swarmex.run`` does it. Params
         that skipped the parsers (built by their constructor) are parsed and checked first.
         ``interpreted`` (params, prepared world) -> whether this run is small enough to keep
         its kernels interpreted while numba is cold (a CLI command's rule, which
-        ``swarmex rerun`` applies to a record's run too); the record is the same either way."""
+        ``swarmex rerun`` applies to a record's run too); the record is the same either way.
+        ``watch`` (params, prepared world, on_frame) -> the callback to run with instead, one
+        that also shows how far the run is (a CLI command's progress bar, which ``swarmex
+        rerun`` and ``render`` show too); closed after the run if it has ``close()``."""
         from swarmex._kernels import interpreted_while_cold
 
         check_run_options(on_frame, trace)
         params = params.validated()  # Params built by their constructor skipped the parsers
         world = self.prepare(params)
-        with interpreted_while_cold(interpreted is not None and interpreted(params, world)):
-            return self.execute(params, world, on_frame, trace=trace)
+        callback = on_frame if watch is None else watch(params, world, on_frame)
+        try:
+            with interpreted_while_cold(interpreted is not None and interpreted(params, world)):
+                return self.execute(params, world, callback, trace=trace)
+        finally:
+            close = getattr(callback, "close", None) if callback is not on_frame else None
+            if close is not None:
+                close()
