@@ -2,6 +2,11 @@
 
 from __future__ import annotations
 
+import io
+
+import pytest
+from rich.console import Console
+
 import swarmex
 
 
@@ -43,3 +48,21 @@ def test_the_bar_wants_a_frame_only_when_it_redraws_unless_it_wraps_a_recorder()
     assert alone.wants(2)
     recorder = FrameProgress(spec, Console(file=io.StringIO()), FrameList())
     assert recorder.wants(1) and recorder.wants(2)
+
+
+@pytest.mark.parametrize("width", [80, 100])
+def test_a_batch_bar_with_a_long_run_description_fits_one_line(width):
+    """A reproduction's bar names the run in progress: unbounded, that name squeezed the
+    counts and the ETA to "…" and wrapped the bar onto a second line at 80 or 100 columns."""
+    from swarmex.experiments.progress import runs_progress
+
+    console = Console(file=io.StringIO(), force_terminal=True, width=width, color_system=None)
+    bar = runs_progress("exploration", console, detail=True)
+    bar.add_task("sweep n=1 laser=2 comm=5 greedy-exclusion seed=0 " * 2, total=53,
+                 completed=7)
+    with console.capture() as shown:
+        console.print(bar.get_renderable())
+    lines = shown.get().splitlines()
+    assert len(lines) == 1 and len(lines[0]) <= width
+    assert "7/53" in lines[0] and "runs/s" in lines[0] and "-:--:--" in lines[0]
+    assert "sweep n=1" in lines[0] and lines[0].rstrip().endswith("…")

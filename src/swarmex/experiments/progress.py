@@ -24,6 +24,7 @@ from rich.progress import (
     TimeElapsedColumn,
     TimeRemainingColumn,
 )
+from rich.table import Column
 from rich.text import Text
 
 
@@ -51,18 +52,23 @@ def runs_progress(
     """
     console = console if console is not None else Console(stderr=True)
     disable = disable or not (console.is_terminal or console.is_jupyter)
+    # the counts keep their width; the bar and the run's description share what is left,
+    # the description cut with an ellipsis: an unbounded description squeezed done/total
+    # and the ETA to "…" and wrapped the line on an 80-column terminal
     columns: list[ProgressColumn] = [
-        TextColumn(f"[bold]{label}[/bold]"),
-        BarColumn(),
-        MofNCompleteColumn(),
-        RateColumn(),
-        TimeElapsedColumn(),
-        TextColumn("ETA"),
-        TimeRemainingColumn(),
+        TextColumn(f"[bold]{label}[/bold]", table_column=Column(no_wrap=True)),
+        BarColumn(bar_width=None, table_column=Column(ratio=1, min_width=10)),
+        MofNCompleteColumn(table_column=Column(no_wrap=True)),
+        RateColumn(table_column=Column(no_wrap=True)),
+        TimeElapsedColumn(table_column=Column(no_wrap=True)),
+        TextColumn("ETA", table_column=Column(no_wrap=True)),
+        TimeRemainingColumn(table_column=Column(no_wrap=True)),
     ]
     if detail:
-        columns.append(TextColumn("{task.description}"))
-    return Progress(*columns, console=console, transient=False, disable=disable)
+        columns.append(TextColumn("{task.description}", table_column=Column(
+            ratio=2, no_wrap=True, overflow="ellipsis")))
+    return Progress(*columns, console=console, transient=False, disable=disable,
+                    expand=True)
 
 
 def read_journal(path: Path, key: str = "key") -> dict[Any, dict[str, Any]]:
