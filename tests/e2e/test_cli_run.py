@@ -89,6 +89,22 @@ def test_bad_scenario_exits_2_with_one_line(name, tmp_path, capsys):
     assert err.count("s.toml") == 1  # the message names the file, once
 
 
+def test_a_bad_value_given_after_the_file_does_not_blame_the_file(tmp_path, capsys):
+    scn = write(tmp_path, 'mission = "traversal"\ngrid = "4x4"\nagents = 2\n')
+    for override in (["--agents", "0"], ["--agents=0"]):
+        code, _, err = cli(["run", scn, *override], capsys)
+        assert code == 2 and err == "swarmex: error: --agents must be at least 1, got 0\n"
+    bad = write(tmp_path, 'mission = "traversal"\ngrid = "4x4"\nagents = 0\n', "b.toml")
+    code, _, err = cli(["run", bad, "--seed", "3"], capsys)  # the file's own value: named
+    assert code == 2 and err.startswith(f"swarmex: error: {bad}: --agents must be")
+
+
+def test_a_sweep_spec_is_sent_to_swarmex_sweep(tmp_path, capsys):
+    spec = write(tmp_path, 'mission = "traversal"\ngrid = "4x4"\nagents = [1, 2]\nseeds = 3\n')
+    code, _, err = cli(["run", spec], capsys)
+    assert code == 2 and f"run it with 'swarmex sweep {spec} --out DIR'" in err
+
+
 def test_a_mission_whose_command_is_missing(tmp_path, capsys, monkeypatch):
     monkeypatch.setitem(scenario_mod.MISSIONS, "teleport", "teleport-nowhere")
     code, _, err = cli(["run", write(tmp_path, 'mission = "teleport"\n')], capsys)

@@ -8,6 +8,7 @@ file override the file's (``swarmex run s.toml --seed 3``).
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 from typing import Any
 
@@ -44,6 +45,9 @@ def run_scenario(
             " which this installation does not have yet"
         )
     options = dict(scn.options)
+    if "seeds" in options:  # a sweep's spec: its lists are axes, not one run's values
+        raise InputError(f"{scenario} is a sweep spec (it has seeds): run it with"
+                         f" 'swarmex sweep {scenario} --out DIR'")
     outputs = {k: options.pop(k) for k in ("json", "render") if k in options}
     # the command's own options (explore's processes, time-scale, …): as on its command line
     extras: dict[str, Any] = {}
@@ -59,7 +63,17 @@ def run_scenario(
             values[key] = resolve_path(scn.path.parent, str(value))
         return invoke(scn.mission, values, ctx.args)
     except InputError as exc:
-        raise in_file(scenario, exc) from None
+        raise _blamed(scenario, exc, ctx.args) from None
+
+
+def _blamed(scenario: Path, exc: InputError, overrides: list[str]) -> InputError:
+    """``exc`` naming the scenario file, unless it is about an option given after the file
+    (which wins over the file's value): "s.toml: --agents must be at least 1" for
+    ``--agents 0`` on the command line sent the user to a file that was right."""
+    given = {arg.partition("=")[0] for arg in overrides if arg.startswith("--")}
+    if given & set(re.findall(r"--[a-z][a-z0-9-]*", str(exc))):
+        return exc
+    return in_file(scenario, exc)
 
 
 def _extra_value(extra: Any, value: Any, scenario: Path) -> Any:
