@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import io
 import json
-import sys
 
 import pytest
 
@@ -130,28 +129,34 @@ class _Terminal(io.StringIO):
 
 
 @pytest.mark.parametrize("render", [None, "run.gif"])
-def test_a_long_run_shows_its_step_on_a_terminal_and_runs_the_same(render, tmp_path,
-                                                                     monkeypatch, capsys):
+def test_a_long_run_shows_its_progress_on_a_terminal_and_runs_the_same(render, tmp_path,
+                                                                        monkeypatch, capsys):
     """An exploration printed nothing until its summary (20 robots on 40 × 40 m: 15 s). On a
-    terminal it now shows its step on stderr, erased at the end; the record is the same, and
-    nothing is shown in a pipe."""
-    from swarmex.cli.commands_exploration import StepTicker
+    terminal it shows a bar of the free cells mapped of the reachable ones (erased at the
+    end); the record and the animation are the same, and nothing is shown in a pipe."""
+    from rich.console import Console
+
+    from swarmex.cli import missions
+    from swarmex.experiments.progress import FrameProgress
 
     base = ["explore", "--empty", "4x4", "--robots", "2", "--seed", "2"]
     plain, shown = tmp_path / "plain.json", tmp_path / "shown.json"
-    extra = [] if render is None else ["--render", str(tmp_path / render)]
+    extra = [] if render is None else ["--render", str(tmp_path / f"a{render}")]
     assert main([*base, "--json", str(plain), *extra]) == 0
-    assert "exploring" not in capsys.readouterr().err  # a pipe: nothing
-    term = _Terminal()
-    monkeypatch.setattr(sys, "stderr", term)
-    monkeypatch.setattr(StepTicker, "every", 0.0)
+    assert "mapped" not in capsys.readouterr().err  # a pipe: nothing
+    screen = io.StringIO()
+    monkeypatch.setattr(missions, "err_console", Console(file=screen, force_terminal=True))
+    monkeypatch.setattr(FrameProgress, "DELAY", 0.0)
+    monkeypatch.setattr(FrameProgress, "EVERY", 0.0)
+    extra = [] if render is None else ["--render", str(tmp_path / f"b{render}")]
     assert main([*base, "--json", str(shown), *extra]) == 0
-    text = term.getvalue()
-    assert "swarmex: exploring, step 1, 0 s" in text
-    assert text.endswith("\r")  # erased
+    # 4 x 4 m at 5 cm, walls included: 78 x 78 free cells, all reachable
+    assert "free cells mapped" in screen.getvalue() and "/6084" in screen.getvalue()
     a, b = json.loads(plain.read_text()), json.loads(shown.read_text())
     a.pop("wall_seconds"), b.pop("wall_seconds")
     assert a == b
+    if render is not None:
+        assert (tmp_path / f"a{render}").read_bytes() == (tmp_path / f"b{render}").read_bytes()
 
 
 def test_ctrl_c_during_processes_says_so(monkeypatch, capsys):

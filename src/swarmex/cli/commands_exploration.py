@@ -7,17 +7,16 @@ this module prints the summary line, draws the run, and adds the command-line-on
 
 from __future__ import annotations
 
-import time
 from pathlib import Path
 from typing import Any
 
 import typer
 
 from swarmex.cli.app import console, reproduce_app
-from swarmex.cli.missions import Extra, Surface, mission_command
+from swarmex.cli.missions import Extra, Surface, mission_command, progress_bar
 from swarmex.cli.outputs import check_out_dir, study
 from swarmex.errors import InputError, require
-from swarmex.missions.base import FrameCallback, Mission, Outcome
+from swarmex.missions.base import Mission, Outcome
 from swarmex.missions.registry import get
 
 
@@ -32,59 +31,6 @@ def report(outcome: Outcome, params: Any) -> None:
         f"replans {m['replans']}, messages {m['messages_sent']} ({m['bytes_sent']} B), "
         f"{run.wall_seconds:.2f} s"
     )
-
-
-class StepTicker:
-    """On a terminal, a one-line "exploring, step t" on stderr while an exploration runs.
-
-    A run of 20 robots on 40 × 40 m takes about 15 s and printed nothing until its summary.
-    The exploration mission asks a callback's ``wants(t)`` every tick before it builds a
-    frame; the ticker answers for the recorder it wraps (an animation's), so no frame is
-    built that nobody keeps and the run is the same. Redrawn at most 5 times a second and
-    erased at the end; nothing at all when stderr is not a terminal (see :func:`watch`).
-    """
-
-    every = 0.2  # seconds between redraws
-
-    def __init__(self, inner: Any = None, stream: Any = None) -> None:
-        import sys
-
-        self.inner = inner
-        self.stream = sys.stderr if stream is None else stream
-        self.t0 = self.shown = time.perf_counter()
-        self.width = 0
-
-    def wants(self, t: int) -> bool:
-        now = time.perf_counter()
-        if now - self.shown >= self.every:
-            self.shown = now
-            line = f"\rswarmex: exploring, step {t}, {now - self.t0:.0f} s"
-            self.width = max(self.width, len(line) - 1)
-            self.stream.write(line)
-            self.stream.flush()
-        if self.inner is None:
-            return False
-        wants = getattr(self.inner, "wants", None)
-        return True if wants is None else bool(wants(t))
-
-    def __call__(self, frame: Any) -> None:
-        if self.inner is not None:
-            self.inner(frame)
-
-    def close(self) -> None:
-        if self.width:
-            self.stream.write("\r" + " " * self.width + "\r")
-            self.stream.flush()
-            self.width = 0
-
-
-def watch(params: Any, world: Any, on_frame: FrameCallback | None) -> FrameCallback | None:
-    """The ticker around ``on_frame`` when stderr is a terminal, else ``on_frame`` itself."""
-    import sys
-
-    if not sys.stderr.isatty():
-        return on_frame
-    return StepTicker(on_frame)
 
 
 #: the options only the process mesh has, with their defaults (``swarmex mesh`` has the same)
@@ -142,7 +88,7 @@ explore = mission_command(
             Extra("monitor", None, "With --processes: ws://…/ingest of a live monitor.", str),
         ],
         alternative=processes,
-        watch=watch,
+        watch=progress_bar(get("exploration")),
         render_help="Picture (.png) or animation (.gif, .mp4) of the run.",
     ),
 )

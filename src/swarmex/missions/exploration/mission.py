@@ -22,7 +22,7 @@ from typing import Any
 
 from swarmex.engine.record import MetricInfo, ResultRecord
 from swarmex.errors import InputError
-from swarmex.missions.base import FrameCallback, Mission, Outcome
+from swarmex.missions.base import FrameCallback, Mission, Outcome, ProgressSpec
 from swarmex.missions.exploration.params import (
     Cell,
     ExplorationParams,
@@ -91,6 +91,18 @@ class ExplorationMission(Mission[ExplorationParams, ExplorationWorld]):
         from swarmex.missions.exploration.record import TEAM_METRICS
 
         return TEAM_METRICS
+
+    def progress(
+        self, params: ExplorationParams, world: ExplorationWorld
+    ) -> ProgressSpec | None:
+        """Free cells the team has mapped, of those a robot can reach from the starts (the
+        explored share's denominator): a run ends when no reachable frontier is left, so
+        the bar ends at or near its total (cells seen past a gap count, up to it)."""
+        from swarmex.missions.exploration.sim import reachable_free
+
+        total = int(reachable_free(world.grid.free, world.starts).sum())
+        return ProgressSpec(total, "free cells mapped",
+                            lambda frame: min(total, int((frame.known == 1).sum())))
 
     def prepare(self, params: ExplorationParams) -> ExplorationWorld:
         grid = build_world(params)
