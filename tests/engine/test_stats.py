@@ -53,8 +53,12 @@ def test_implied_sample_size_inverts_the_ci():
 
 
 def test_degenerate_samples():
+    # one run has no sample STD: it was 0.0, and the interval collapsed to [7, 7], which a
+    # report printed as a zero-width CI that "overlaps" any interval holding 7
     one = summarize([7.0], z=Z95)
-    assert (one.std, one.ci_low, one.ci_high) == (0.0, 7.0, 7.0)
+    assert one.mean == 7.0 and all(math.isnan(v) for v in (one.std, one.ci_low, one.ci_high))
+    assert math.isnan(summarize([7.0]).std)
+    assert summarize([7.0], ddof=0).std == 0.0  # the population SD of one value is defined
     const = summarize([3.0] * 5, z=Z95)
     assert const.ci == (3.0, 3.0)
     assert summarize([3.0] * 5).ci == (3.0, 3.0)  # Student t too: no spread, no width
@@ -73,6 +77,20 @@ def test_overlap_position_and_distance():
     assert position_in_interval(454.0, (450.45, 453.07)) == "above"
     s = summarize([1.0, 2.0, 3.0, 4.0], z=Z95)  # standard error sqrt(5/3)/2
     assert standard_errors_apart(s, 2.0) == pytest.approx(0.5 / (math.sqrt(5 / 3) / 2))
+    assert standard_errors_apart(s, 3.0) == pytest.approx(-0.5 / (math.sqrt(5 / 3) / 2))
+
+
+def test_distance_is_signed_and_undefined_without_a_standard_error():
+    # it was +inf whatever the sign: a mean 0.65 s below the reference read "+inf"
+    const = summarize([5.0, 5.0, 5.0])
+    assert standard_errors_apart(const, 6.0) == -math.inf
+    assert standard_errors_apart(const, 4.0) == math.inf
+    assert standard_errors_apart(const, 5.0) == 0.0
+    assert math.isnan(standard_errors_apart(summarize([451.11], z=Z95), 451.76))
+    # an undefined interval overlaps nothing (the caller gives no verdict)
+    nan = math.nan
+    assert not intervals_overlap((nan, nan), (0.0, 1000.0))
+    assert not intervals_overlap((0.0, 1000.0), (nan, nan))
 
 
 def test_t_interval_matches_a_hand_computation():

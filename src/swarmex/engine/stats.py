@@ -10,9 +10,10 @@ because the two uses need different ones:
   unknown; it is undefined (NaN half width) for a single run. Sweeps and plots use it.
 * **Normal approximation**, ``z`` given: ``mean ± z · s / √n``. Seed 000 never says how its
   intervals are computed, but its half-widths match this with z = 1.96 (:data:`Z95`, spec §4.1
-  [derived]), so its reproduction uses it to compare like with like. A single sample has
-  ``s = 0`` and its interval collapses to the mean: reports still render, and the n column
-  says why the interval is empty.
+  [derived]), so its reproduction uses it to compare like with like. A single sample has no
+  spread estimate either: its STD and both bounds are NaN, and reports print them as
+  "n/a" with no overlap verdict (a zero-width interval would claim a precision one run
+  cannot give).
 
 Missing values (None, NaN, ±inf) are left out, so a failed run's empty metric does not poison
 the others; an empty sample gives ``n = 0`` and NaN everywhere. :func:`summarize_groups`
@@ -64,13 +65,13 @@ class Summary:
 def normal_ci(mean: float, std: float, n: int, z: float = Z95) -> tuple[float, float]:
     """``mean ± z·std/√n``: the interval seed 000's tables are consistent with.
 
-    A single sample has no spread estimate, so its interval collapses to the mean rather than
-    failing.
+    A single sample has no spread estimate, so its interval is undefined: NaN bounds, as
+    :func:`t_ci` gives.
     """
     if n < 1:
         raise ValueError("a confidence interval needs at least one sample")
     if n == 1 or not math.isfinite(std):
-        return (mean, mean)
+        return (math.nan, math.nan)
     half = z * std / math.sqrt(n)
     return (mean - half, mean + half)
 
@@ -96,7 +97,8 @@ def summarize(
     The interval is Student's t at ``confidence``, or the normal ``mean ± z·STD/√n`` when
     ``z`` is given (then ``confidence`` is not used). ``ddof`` defaults to 1 because the samples
     are runs drawn from a population of seeds; with the ~100 runs of the seeds' tables the
-    choice moves the STD by 0.5 % and no reported digit.
+    choice moves the STD by 0.5 % and no reported digit. With ``n <= ddof`` values (one run,
+    for the sample STD) the STD is undefined: NaN, and so are the interval's bounds.
     """
     arr = np.asarray([v for v in values if v is not None], dtype=float)
     arr = arr[np.isfinite(arr)]
@@ -105,7 +107,7 @@ def summarize(
         nan = math.nan
         return Summary(0, nan, nan, nan, nan, nan, nan, nan)
     mean = float(arr.mean())
-    std = float(arr.std(ddof=ddof)) if n > ddof else 0.0
+    std = float(arr.std(ddof=ddof)) if n > ddof else math.nan
     if z is None:
         low, high = t_ci(mean, std, n, confidence)
     else:
@@ -319,7 +321,10 @@ def _number(v: Any) -> float | None:
 
 
 def intervals_overlap(a: Sequence[float], b: Sequence[float]) -> bool:
-    """Whether the closed intervals ``a`` and ``b`` share at least one point."""
+    """Whether the closed intervals ``a`` and ``b`` share at least one point (not when
+    either is undefined, with a NaN bound: callers give no verdict then)."""
+    if any(math.isnan(x) for x in (*a[:2], *b[:2])):
+        return False
     return max(a[0], b[0]) <= min(a[1], b[1])
 
 
@@ -336,9 +341,16 @@ def implied_sample_size(std: float, ci_low: float, ci_high: float, z: float = Z9
 
 
 def standard_errors_apart(ours: Summary, mean: float) -> float:
-    """How many of our standard errors our mean lies from a reference mean (signed)."""
-    if ours.n < 2 or ours.std == 0:
-        return math.inf if ours.mean != mean else 0.0
+    """How many of our standard errors our mean lies from a reference mean (signed:
+    negative when our mean is below it).
+
+    NaN when the standard error is undefined (fewer than two runs); ±inf, with the sign of
+    the difference, when our runs have no spread at all and the means differ.
+    """
+    if ours.n < 2 or not math.isfinite(ours.std):
+        return math.nan
+    if ours.std == 0:
+        return math.copysign(math.inf, ours.mean - mean) if ours.mean != mean else 0.0
     return (ours.mean - mean) / (ours.std / math.sqrt(ours.n))
 
 

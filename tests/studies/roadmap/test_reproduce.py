@@ -74,6 +74,7 @@ def test_report_from_a_tiny_sweep(tmp_path, monkeypatch):
             for p in ("wma-rrt", "prm", "wma-rrt-takeover")]
     jobs += [rr.Job("t2", "fig11", "search", p, 100, 40.0, "r", 0)
              for p in ("wma-rrt", "prm", "wma-rrt-takeover")]
+    jobs += [rr.Job("t1", "fig8", "coverage", p, 400, 20.0, "r", 0) for p in ("wma-rrt", "prm")]
     jobs += [rr.Job("unreach", "fig14", "search", p, 60, 20.0, "r", 0)
              for p in ("wma-rrt", "prm")]
     ompl = rr.ompl_available()
@@ -86,6 +87,8 @@ def test_report_from_a_tiny_sweep(tmp_path, monkeypatch):
     text = report.read_text()
     assert "Table 1" in text and "Table 2" in text and "| 400 | 20 | r | 74 |" in text
     assert "The unreproduced claim" in text and "r = c·ε (c): RMSE" in text
+    # one run per row has no sample SD: the cells read "76.5 ± 0.0"
+    assert " ± 0.0 " not in text and " ± n/a |" in text
     assert (tmp_path / "roadmap_readings.json").exists()
     assert "## A standard PRM: OMPL's" in text and "**Build (pre-processing) time**" in text
     builds = json.loads((tmp_path / "roadmap_buildtimes.json").read_text())

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 from pathlib import Path
 
 import pytest
@@ -146,6 +147,13 @@ def test_runs_option_is_named_and_redrawn(tmp_path):
     report = (tmp_path / "traversal.md").read_text()
     assert "`swarmex reproduce traversal --runs 1`" in report
     assert "**full** plan with 1 run per table group and figure bar, 84 runs." in report
+    # one run has no STD nor interval: it read "451.11 (0.00)", "[451.11, 451.11] (1) | yes"
+    # and "+inf of our standard errors" for a mean below the thesis's
+    assert "95 % CI **n/a** (n = 1)" in report and "overlap is not judged" in report
+    assert "standard errors" not in report.split("## Tables")[0].split("n = 1)")[1]
+    row = next(line for line in report.splitlines() if line.startswith("| totalTimeAll |"))
+    assert row.endswith("(n/a) | [450.45, 453.07] | n/a (1) | – | 108 |")
+    assert not re.search(r"\b(nan|inf)\b", report)
     rebuild(tmp_path)
     assert (tmp_path / "traversal.md").read_text() == report
     # the JSON names the plan of the last report drawn, so rebuild() draws that one

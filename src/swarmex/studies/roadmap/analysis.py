@@ -26,7 +26,7 @@ def pick(results: Iterable[dict[str, Any]], **want: Any) -> list[dict[str, Any]]
 
 
 def mean_sd(vals: list[float]) -> tuple[float, float]:
-    """Mean and sample SD (0 for one value, NaN for none): the table cells' "mean ± sd"."""
+    """Mean and sample SD (the SD NaN for one value, both for none): cells "mean ± sd"."""
     s = summarize(vals)
     return s.mean, s.std
 

@@ -34,7 +34,10 @@ SENSOR_ORDER = ("r", "2r", "4r", "inf")
 def _fmt(mean: float, sd: float | None = None, digits: int = 1) -> str:
     if np.isnan(mean):
         return "–"
-    return f"{mean:.{digits}f}" if sd is None else f"{mean:.{digits}f} ± {sd:.{digits}f}"
+    if sd is None:
+        return f"{mean:.{digits}f}"
+    # one run has no sample SD: "± 0.0" claimed a spread of none
+    return f"{mean:.{digits}f} ± {'n/a' if np.isnan(sd) else f'{sd:.{digits}f}'}"
 
 
 def _label(mult: str) -> str:

@@ -46,11 +46,21 @@ from swarmex.studies.traversal.figures import draw_figures
 
 
 def _f(x: float, nd: int = 2) -> str:
-    return f"{x:.{nd}f}"
+    """A number, or "n/a" where it is undefined (the STD of a single run)."""
+    return "n/a" if math.isnan(x) else f"{x:.{nd}f}"
 
 
 def _ci(lo: float, hi: float, nd: int = 2) -> str:
+    """An interval, or "n/a" where it is undefined (a single run has none)."""
+    if math.isnan(lo) or math.isnan(hi):
+        return "n/a"
     return f"[{lo:.{nd}f}, {hi:.{nd}f}]"
+
+
+def _has_ci(s: Any) -> bool:
+    """Whether a summary has a confidence interval (not with fewer than two runs), i.e.
+    whether an overlap verdict can be given."""
+    return not (math.isnan(s.ci_low) or math.isnan(s.ci_high))
 
 
 def write_outputs(
@@ -117,13 +127,16 @@ def _group_table(g: GroupResult) -> list[str]:
         o = g.ours.get(name)
         if t is None or o is None:
             continue
-        overlap = intervals_overlap((t.ci_low, t.ci_high), o.ci)
+        if _has_ci(o):
+            overlap = "yes" if intervals_overlap((t.ci_low, t.ci_high), o.ci) else "**no**"
+        else:
+            overlap = "–"  # one run: no interval of ours, so no verdict
         n_imp = implied_sample_size(t.std, t.ci_low, t.ci_high)
         lines.append(
             f"| {name} | {_f(t.min)}–{_f(t.max)} | {_f(o.min)}–{_f(o.max)} | {_f(t.median)} "
             f"| {_f(o.median)} | {_f(t.mean)} ({_f(t.std)}) | {_f(o.mean)} ({_f(o.std)}) "
             f"| {_ci(t.ci_low, t.ci_high)} | {_ci(o.ci_low, o.ci_high)} ({o.n}) "
-            f"| {'yes' if overlap else '**no**'} | {n_imp:.0f} |"
+            f"| {overlap} | {n_imp:.0f} |"
         )
     return lines
 
@@ -172,16 +185,24 @@ def render_report(
     if corner and corner.ours:
         o = corner.ours["totalTimeAll"]
         where = position_in_interval(o.mean, CORNER_CI)
-        verdict = "overlap" if intervals_overlap(CORNER_CI, o.ci) else "do **not** overlap"
+        se = standard_errors_apart(o, 451.76)
+        apart = (
+            "one run has no standard error" if math.isnan(se)
+            else f"{se:+.1f} of our standard errors"
+        )
+        if not _has_ci(o):
+            verdict = "; with one run we have no interval, so overlap is not judged."
+        elif intervals_overlap(CORNER_CI, o.ci):
+            verdict = "; the two intervals overlap."
+        else:
+            verdict = "; the two intervals do **not** overlap."
         L += [
             "## Headline: corner nests, totalTimeAll",
             "",
             f"Thesis: mean 451.76 s, 95 % CI {_ci(*CORNER_CI)} (≈108 runs). "
             f"Ours: mean **{o.mean:.2f} s**, 95 % CI **{_ci(o.ci_low, o.ci_high)}** "
             f"(n = {o.n}). Our mean is **{where}** the thesis's interval "
-            f"({o.mean - 451.76:+.2f} s from its mean, "
-            f"{standard_errors_apart(o, 451.76):+.1f} of our standard errors); the two "
-            f"intervals {verdict}.",
+            f"({o.mean - 451.76:+.2f} s from its mean, {apart}){verdict}",
             "",
         ]
     # tables
@@ -200,18 +221,20 @@ def render_report(
             continue
         L += [
             f"### Table {g.group.table}: nest in node {g.group.label} ({g.group.name}), "
-            f"{len(g.runs)} runs",
+            f"{len(g.runs)} run{'s' if len(g.runs) != 1 else ''}",
             "",
         ]
         L += _group_table(g)
         for name in THESIS_METRIC:
             t_row, o_sum = g.thesis.get(name), g.ours.get(name)
-            if t_row and o_sum:
+            if t_row and o_sum and _has_ci(o_sum):
                 total_rows += 1
                 overlap_count += intervals_overlap((t_row.ci_low, t_row.ci_high), o_sum.ci)
         L.append("")
     L += [
-        f"Overall, {overlap_count} of {total_rows} rows have overlapping 95 % intervals.",
+        f"Overall, {overlap_count} of {total_rows} rows have overlapping 95 % intervals."
+        if total_rows
+        else "With one run per group our intervals are undefined: no overlap is judged.",
         "",
         "Group ranking by mean totalTimeAll — thesis: "
         + ", ".join(
@@ -335,7 +358,7 @@ def render_report(
             s = b.summary
             L.append(
                 f"| {b.label} | {s.n} | {s.min:.1f} | {s.max:.1f} | {s.median:.1f} | "
-                f"{s.mean:.1f} | {s.std:.1f} | {_ci(s.ci_low, s.ci_high, 1)} |"
+                f"{s.mean:.1f} | {_f(s.std, 1)} | {_ci(s.ci_low, s.ci_high, 1)} |"
             )
         L += ["", fr.verdict, "", f"![Fig. {f.number}](fig_{f.number.replace('.', '_')}.png)", ""]
     L += _fleet_section(figs)
@@ -466,8 +489,8 @@ def _sensitivity_section(groups: list[GroupResult], sens: Sequence[GroupResult])
     def row(name: str, setting: str, n: object, t, w, d, tt) -> str:
         return (
             f"| {name} | {setting} | {n} | {t.mean:.2f} {_ci(t.ci_low, t.ci_high)} "
-            f"| {w.mean:.2f} | {d.std:.2f} ({d.min:.0f}–{d.max:.0f}) "
-            f"| {tt.std:.2f} ({tt.min:.1f}–{tt.max:.1f}) |"
+            f"| {w.mean:.2f} | {_f(d.std)} ({d.min:.0f}–{d.max:.0f}) "
+            f"| {_f(tt.std)} ({tt.min:.1f}–{tt.max:.1f}) |"
         )
 
     for label, variants in by_label.items():
@@ -540,8 +563,8 @@ def _explanations(
         t_th = _mean_of(have, "totalTime_i", "std", thesis=True)
         text = (
             "**2. Per-agent spread: the thesis's clients progressed unevenly, ours cannot.** "
-            f"Averaged over the six groups, the STD of numNodesDone_i is {d_ours:.2f} for us "
-            f"and {d_th:.2f} in the thesis, that of totalTime_i {t_ours:.1f} s vs "
+            f"Averaged over the six groups, the STD of numNodesDone_i is {_f(d_ours)} for us "
+            f"and {d_th:.2f} in the thesis, that of totalTime_i {_f(t_ours, 1)} s vs "
             f"{t_th:.1f} s; the thesis has agents doing anywhere from 4 to 18 of the 36 jobs. "
             "In a discrete-event model of identical agents with an instant broadcast, the "
             "three agents alternate 10 s jobs and 2.22 s moves in lock-step from starts 0.5 s "
@@ -572,7 +595,7 @@ def _explanations(
             ]
             text += (
                 f" The sensitivity series supports this: with starts spread by up to {j:g} s, "
-                f"the STDs become {sd:.2f} jobs and {st:.1f} s (thesis {d_th:.2f} and "
+                f"the STDs become {_f(sd)} jobs and {_f(st, 1)} s (thesis {d_th:.2f} and "
                 f"{t_th:.1f}), while the group means of totalTimeAll move by only "
                 f"{min(shift):+.1f} to {max(shift):+.1f} s."
             )
