@@ -293,7 +293,8 @@ def compare(
     metric, plus a pooled row per variant and metric (its group columns null) when there
     are several groups: ``pairs``, ``baseline_mean``, ``mean``, the mean difference ``diff``
     with its Student-t 95 % interval ``diff_low``/``diff_high``, the mean ratio − 1
-    ``relative`` (a fraction) with ``relative_low``/``relative_high``, and the pairs where
+    ``relative`` (a fraction) with ``relative_low``/``relative_high`` over
+    ``relative_pairs`` pairs (a baseline of 0 has no ratio), and the pairs where
     the variant is lower or higher (``lower_in``, ``higher_in``). Failed runs leave their
     pair out. ``swarmex sweep SPEC --baseline algorithm=madgta`` prints the same. For
     example::

@@ -13,6 +13,7 @@ from swarmex.engine.stats import (
     intervals_overlap,
     mean_difference_ci,
     normal_ci,
+    paired_comparisons,
     position_in_interval,
     proportion_difference_ci,
     standard_errors_apart,
@@ -150,3 +151,17 @@ def test_welch_interval_matches_scipy():
     assert (lo, hi) == pytest.approx((want.low, want.high), rel=1e-9)
     assert mean_difference_ci([1.0, 1.0], [1.0, 1.0]) == (0.0, 0.0, 0.0)
     assert math.isnan(mean_difference_ci([1.0], [2.0, 3.0])[1])
+
+
+def test_relative_difference_says_how_many_pairs_it_is_over():
+    # a baseline of 0 has no ratio: the relative Δ was over 3 pairs while `pairs` said 4
+    from swarmex.experiments.compare import as_table
+
+    rows = [{"algorithm": a, "seed": s, "m": v}
+            for s, (base, var) in enumerate([(0, 2), (1, 2), (2, 2), (4, 2)])
+            for a, v in (("madgta", base), ("nearest", var))]
+    (pc,) = paired_comparisons(rows, "algorithm", "madgta", ["algorithm"], ["m"])
+    assert (pc.pairs, pc.relative_pairs) == (4, 3)
+    assert pc.relative.mean == pytest.approx((1.0 + 0.0 - 0.5) / 3)
+    (row,) = as_table([pc], "algorithm", ["algorithm"]).to_pylist()
+    assert (row["pairs"], row["relative_pairs"]) == (4, 3)

@@ -223,7 +223,8 @@ class PairedComparison:
     ``config`` is the variant's value of the compared parameter and the group's other
     parameters (empty of them for the pooled row); ``pairs`` the runs with both sides'
     values; ``diff`` summarises variant − baseline per pair, ``relative`` variant / baseline
-    − 1 (a pair whose baseline is 0 is left out of it); ``lower`` and ``higher`` count the
+    − 1 (a pair whose baseline is 0 is left out of it: :attr:`relative_pairs` counts the
+    pairs it is over, fewer than ``pairs`` then); ``lower`` and ``higher`` count the
     pairs where the variant's value is below or above the baseline's (which is better
     depends on the metric: makespan lower, coverage higher)."""
 
@@ -236,6 +237,11 @@ class PairedComparison:
     relative: Summary
     lower: int
     higher: int
+
+    @property
+    def relative_pairs(self) -> int:
+        """The pairs the relative difference is over: those with a nonzero baseline."""
+        return self.relative.n
 
 
 def paired_comparisons(

@@ -23,7 +23,8 @@ from swarmex.missions.registry import same_value
 
 #: the columns of the comparison table, in order (after the group's parameter columns)
 COLUMNS = ("metric", "pairs", "baseline_mean", "mean", "diff", "diff_low", "diff_high",
-           "relative", "relative_low", "relative_high", "lower_in", "higher_in")
+           "relative", "relative_low", "relative_high", "relative_pairs", "lower_in",
+           "higher_in")
 
 
 def parse_baseline(text: str) -> tuple[str, str]:
@@ -135,7 +136,8 @@ def metric_name(table: Any, metric: str) -> str:
 
 def as_table(results: list[PairedComparison], name: str, axes: Sequence[str]) -> Any:
     """The comparisons as a ``pyarrow.Table``: the compared parameter and the group's other
-    axes (null in a pooled row), then :data:`COLUMNS`; ``relative`` is a fraction."""
+    axes (null in a pooled row), then :data:`COLUMNS`; ``relative`` is a fraction, over
+    ``relative_pairs`` pairs (those whose baseline is not 0)."""
     import pyarrow as pa
 
     params = [name, *(a for a in axes if a != name)]
@@ -147,7 +149,7 @@ def as_table(results: list[PairedComparison], name: str, axes: Sequence[str]) ->
             mean=r.variant_mean, diff=r.diff.mean, diff_low=r.diff.ci_low,
             diff_high=r.diff.ci_high, relative=r.relative.mean,
             relative_low=r.relative.ci_low, relative_high=r.relative.ci_high,
-            lower_in=r.lower, higher_in=r.higher,
+            relative_pairs=r.relative_pairs, lower_in=r.lower, higher_in=r.higher,
         )
         rows.append(row)
     return pa.Table.from_pylist(rows) if rows else pa.table({c: [] for c in (*params, *COLUMNS)})
