@@ -124,6 +124,16 @@ def test_rebuild_draws_the_plan_the_sweep_ran(quick_out, tmp_path):
     shutil.copy(quick_out / "traversal.json", tmp_path / "traversal.json")
     rebuild(tmp_path)
     assert (tmp_path / "traversal.md").read_text() == (quick_out / "traversal.md").read_text()
+    # another plan than the JSON holds: its header claimed "full plan ..., 4200 runs" over
+    # tables of 6 runs; now refused, naming what is missing, and the report is left alone
+    from swarmex.errors import InputError
+
+    full = {s.id for s in build_plan(False, 50).run_specs()}
+    have = len(full & {s.id for s in build_plan(quick=True).run_specs()})
+    with pytest.raises(InputError, match=f"holds {have} of the {len(full)} runs of the full "
+                       rf"plan \(--runs 50\): {len(full) - have} are missing"):
+        rebuild(tmp_path, quick=False, reps=50)
+    assert (tmp_path / "traversal.md").read_text() == (quick_out / "traversal.md").read_text()
 
 
 def test_a_rerun_that_runs_nothing_is_no_session(quick_out, tmp_path):

@@ -23,6 +23,7 @@ from swarmex.engine.stats import (
     position_in_interval,
     standard_errors_apart,
 )
+from swarmex.errors import InputError
 from swarmex.studies.traversal.analysis import (
     CORNER_CI,
     THESIS_FLEET,
@@ -66,8 +67,26 @@ def _has_ci(s: Any) -> bool:
 def write_outputs(
     plan: Plan, runs: dict[str, dict], out: Path, header: dict[str, Any]
 ) -> dict[str, Any]:
-    """Figures + ``traversal.md`` from the stored runs."""
+    """Figures + ``traversal.md`` from the stored runs.
+
+    An InputError if ``runs`` lacks some of the plan's runs: the report's header states the
+    plan's run count and its tables are drawn per plan group, so a quick sweep's JSON drawn
+    as the full plan came out titled "4200 runs" over tables of 6 runs each.
+    """
     out = Path(out)
+    specs = plan.run_specs()
+    missing = sum(1 for s in specs if s.id not in runs)
+    if missing:
+        options = (" --quick" if plan.quick else "") + (
+            f" --runs {plan.reps}" if plan.reps else ""
+        )
+        raise InputError(
+            f"{out} holds {len(specs) - missing} of the {len(specs)} runs of the "
+            f"{'quick' if plan.quick else 'full'} plan{options and f' ({options.strip()})'}: "
+            f"{missing} are missing, and the report would claim them. Run `swarmex reproduce "
+            f"traversal{options} --out {out}` to add them (runs already there are kept), or "
+            "rebuild the plan the runs were drawn for (rebuild(DIR) without quick/reps)"
+        )
     groups = analyse_groups(plan.groups, runs)
     sens = analyse_groups(plan.sensitivity, runs)
     figs = analyse_figures(plan, runs)
@@ -82,8 +101,10 @@ def rebuild(out: Path, quick: bool | None = None, reps: int | None = None) -> di
 
     The plan is the one the JSON says its report was drawn for (``--quick``, ``--runs``), so
     a quick sweep's report is redrawn as a quick one; ``quick`` (with ``reps``) asks for
-    another. Before, the full plan was always assumed: a quick sweep's report came back
-    titled "full plan, 9072 runs", with bars of the full plan the quick one does not draw.
+    another, which the JSON must hold every run of (an InputError names how many are
+    missing otherwise: the report would state runs it does not have). Before, the full plan
+    was always assumed: a quick sweep's report came back titled "full plan, 9072 runs",
+    with bars of the full plan the quick one does not draw.
 
     A gzipped ``traversal.json.gz`` is read too: that is how the committed record in
     docs/reproduction/traversal/ keeps the ~10 MB of raw runs small.
