@@ -56,6 +56,8 @@ def test_report_has_every_thesis_number_beside_ours(quick_out):
     for stated in ("4750", "4580", "4760", "2300", "1500", "450"):
         assert f"| {stated} |" in report
     assert "| CIs overlap |" in report
+    # the quick plan's 6 runs per group were reported as "We use 108 runs per group"
+    assert "We use 6 runs per group and the honest n" in report
 
 
 def test_thesis_numbering():

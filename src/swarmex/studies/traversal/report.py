@@ -551,6 +551,15 @@ def _sensitivity_section(groups: list[GroupResult], sens: Sequence[GroupResult])
     return L
 
 
+def _per_group(groups: Sequence[GroupResult]) -> str:
+    """"N runs per group" for the plan drawn (108 in the full plan, 6 in the quick one)."""
+    counts = sorted({g.group.reps for g in groups})
+    if not counts:
+        return "no runs"
+    n = "/".join(map(str, counts))
+    return f"{n} run{'s' if counts != [1] else ''} per group"
+
+
 def _mean_of(groups: Sequence[GroupResult], metric: str, field_: str, thesis: bool = False):
     vals = [
         getattr(g.thesis[metric] if thesis else g.ours[metric], field_)
@@ -708,7 +717,7 @@ def _explanations(
         "",
         "**8. Statistics.** The thesis gives no run counts; inverting its intervals gives "
         "n ≈ 108 for every row, per-run and per-agent alike, so its per-agent intervals "
-        "treat ~324 pooled agent values as 108 samples. We use 108 runs per group and the "
+        f"treat ~324 pooled agent values as 108 samples. We use {_per_group(groups)} and the "
         "honest n (runs for per-run rows, 3 × runs for per-agent rows).",
         "",
         "**Left for later.** Message latency is the main suspected cause of the remaining "
