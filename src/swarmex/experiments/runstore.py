@@ -9,6 +9,10 @@ line) and the JSON is rewritten atomically (:func:`swarmex.engine.atomic.write_a
 few seconds and at the end; opening the store merges both, and a clean :meth:`RunStore.close`
 folds the journal in and deletes it. A torn last journal line (a kill mid-write) is ignored.
 
+A gzipped store (``<name>.gz``, how docs/reproduction/ commits its ~10 MB of raw runs) is
+the store when no plain ``<name>`` is there: it is read, and written back gzipped, so a rerun
+in such a folder resumes from it rather than redoing every run beside it.
+
 Seeds come from :func:`stable_seed`, a hash of the run's identity, so a run's result does not
 depend on the order runs are scheduled in or on how many worker processes share them.
 """
@@ -16,6 +20,7 @@ depend on the order runs are scheduled in or on how many worker processes share 
 from __future__ import annotations
 
 import contextlib
+import gzip
 import hashlib
 import json
 import os
@@ -36,11 +41,14 @@ def stable_seed(*parts: object) -> int:
 
 
 class RunStore:
-    """Runs keyed by a string id, persisted in ``path`` (JSON) plus a journal beside it."""
+    """Runs keyed by a string id, persisted in ``path`` (JSON) plus a journal beside it.
+
+    ``path`` + ``.gz`` stands for ``path`` when only it exists (:attr:`path` then names the
+    ``.gz``, which later writes keep gzipped)."""
 
     def __init__(self, path: Path, header: dict[str, Any], flush_every: float = 5.0) -> None:
-        self.path = Path(path)
-        self.journal_path = self.path.with_name(self.path.stem + ".journal.jsonl")
+        self.path = existing(Path(path))
+        self.journal_path = Path(path).with_name(Path(path).stem + ".journal.jsonl")
         self.header = dict(header)
         self.flush_every = flush_every
         self.runs: dict[str, dict[str, Any]] = {}
@@ -54,8 +62,8 @@ class RunStore:
     def _load(self) -> None:
         if self.path.exists():
             try:
-                data = json.loads(self.path.read_text(encoding="utf-8"))
-            except (OSError, json.JSONDecodeError):
+                data = read_json(self.path)
+            except (OSError, EOFError, json.JSONDecodeError):
                 data = {}
             self.runs.update(data.get("runs", {}))
             self.configs.update(data.get("configs", {}))
@@ -97,7 +105,11 @@ class RunStore:
     def flush(self) -> None:
         """Rewrite the JSON atomically with everything stored so far."""
         data = {**self.header, "configs": self.configs, "runs": self.runs}
-        write_atomic(self.path, json.dumps(data, separators=(",", ":"), sort_keys=True))
+        text = json.dumps(data, separators=(",", ":"), sort_keys=True)
+        if self.path.suffix == ".gz":  # mtime 0: the same runs give the same bytes
+            write_atomic(self.path, gzip.compress(text.encode("utf-8"), 6, mtime=0))
+        else:
+            write_atomic(self.path, text)
         self._last_flush = time.monotonic()
         self._dirty = False
 
@@ -114,3 +126,17 @@ class RunStore:
 
     def __exit__(self, *exc: object) -> None:
         self.close()
+
+
+def existing(path: Path) -> Path:
+    """``path``, or ``path`` + ``.gz`` when only the gzipped file is there."""
+    gz = path.with_name(path.name + ".gz")
+    return gz if not path.exists() and gz.exists() else path
+
+
+def read_json(path: Path) -> Any:
+    """A store's JSON (``path``, or gzipped when it ends in ``.gz``)."""
+    if path.suffix == ".gz":
+        with gzip.open(path, "rt", encoding="utf-8") as fh:
+            return json.load(fh)
+    return json.loads(path.read_text(encoding="utf-8"))

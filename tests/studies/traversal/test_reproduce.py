@@ -150,6 +150,26 @@ def test_a_rerun_that_runs_nothing_is_no_session(quick_out, tmp_path):
     assert "executed in 1 session(s)" in (tmp_path / "traversal.md").read_text()
 
 
+def test_a_gzipped_json_is_resumed_and_kept_gzipped(quick_out, tmp_path):
+    # only rebuild() read traversal.json.gz: a rerun in docs/reproduction/traversal redid
+    # every run into a new traversal.json beside it
+    import gzip
+
+    from swarmex.studies.traversal import reproduce
+
+    data = json.loads((quick_out / "traversal.json").read_text())
+    del data["plan"]  # as the committed .gz, written before the header named its plan
+    with gzip.open(tmp_path / "traversal.json.gz", "wt", encoding="utf-8") as fh:
+        json.dump(data, fh)
+    summary = reproduce(tmp_path, quick=True)
+    assert summary["executed"] == 0 and summary["json"] == tmp_path / "traversal.json.gz"
+    assert not (tmp_path / "traversal.json").exists()
+    with gzip.open(tmp_path / "traversal.json.gz", "rt", encoding="utf-8") as fh:
+        again = json.load(fh)
+    assert again["runs"] == data["runs"] and again["plan"] == {"quick": True, "reps": None}
+    assert (tmp_path / "traversal.md").read_text() == (quick_out / "traversal.md").read_text()
+
+
 def test_runs_option_is_named_and_redrawn(tmp_path):
     # a --runs sweep was reported as the "full" plan, and rebuild() drew the full plan
     from swarmex.studies.traversal import reproduce

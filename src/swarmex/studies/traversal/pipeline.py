@@ -10,7 +10,7 @@ from typing import Any
 
 from swarmex import __version__
 from swarmex.errors import InputError
-from swarmex.experiments.runstore import RunStore
+from swarmex.experiments.runstore import RunStore, existing, read_json
 from swarmex.studies.runner import run_jobs
 from swarmex.studies.traversal.design import AGENT_PARAMS, Config, RunSpec, build_plan
 from swarmex.studies.traversal.runs import execute
@@ -49,7 +49,8 @@ def reproduce(
         "agent_params": AGENT_PARAMS,
         "plan": drawn,  # the plan the report is drawn for: rebuild() draws it again
     }
-    previous = _previous_header(out / "traversal.json")
+    # a folder holding only traversal.json.gz (docs/reproduction/traversal) resumes from it
+    previous = _previous_header(existing(out / "traversal.json"))
     sessions = list(previous.get("sessions", []))
     store = RunStore(out / "traversal.json", header)
     for key, cfg in plan.configs().items():
@@ -110,7 +111,7 @@ def reproduce(
         store.close()
     paths = write_outputs(plan, store.runs, out, store.header)
     return {
-        "json": out / "traversal.json",
+        "json": store.path,
         "report": paths["report"],
         "figures": paths["figures"],
         "runs": len(specs),
@@ -154,10 +155,8 @@ def plan_header(quick: bool, reps: int | None) -> dict[str, Any]:
 
 def _previous_header(path: Path) -> dict[str, Any]:
     """The JSON's fields other than the runs (sessions, plan), or {} if there is none yet."""
-    import json
-
     try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, ValueError):
+        data = read_json(path)
+    except (OSError, EOFError, ValueError):
         return {}
     return {k: v for k, v in data.items() if k not in ("runs", "configs")}

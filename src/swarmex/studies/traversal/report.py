@@ -8,8 +8,6 @@ what the thesis says next to what we measured, then explains the differences.
 
 from __future__ import annotations
 
-import gzip
-import json
 import math
 from collections.abc import Sequence
 from pathlib import Path
@@ -24,6 +22,7 @@ from swarmex.engine.stats import (
     standard_errors_apart,
 )
 from swarmex.errors import InputError
+from swarmex.experiments.runstore import existing, read_json
 from swarmex.studies.traversal.analysis import (
     CORNER_CI,
     THESIS_FLEET,
@@ -109,14 +108,10 @@ def rebuild(out: Path, quick: bool | None = None, reps: int | None = None) -> di
     A gzipped ``traversal.json.gz`` is read too: that is how the committed record in
     docs/reproduction/traversal/ keeps the ~10 MB of raw runs small.
     """
-    path = Path(out) / "traversal.json"
-    if path.exists():
-        data = json.loads(path.read_text(encoding="utf-8"))
-    elif not path.with_name("traversal.json.gz").exists():
+    path = existing(Path(out) / "traversal.json")
+    if not path.exists():
         raise FileNotFoundError(f"no traversal.json (or traversal.json.gz) in {out}")
-    else:
-        with gzip.open(path.with_name("traversal.json.gz"), "rt", encoding="utf-8") as fh:
-            data = json.load(fh)
+    data = read_json(path)
     header = {k: v for k, v in data.items() if k not in ("runs", "configs")}
     if quick is None:
         quick, reps = drawn_plan(header)
