@@ -43,3 +43,14 @@ def test_checks_pass_and_fail_as_the_numbers_say():
 def test_phase_intervals_split_by_the_tick_of_the_later_plan():
     # thirds of 90 ticks: [0, 30), [30, 60), [60, 90]
     assert phase_intervals([[0, 10, 50, 60, 89]], 90) == [[10], [40], [10, 29]]
+
+
+def test_report_counts_the_runs_it_reused_apart_from_the_picture_runs():
+    # "53 runs (runs already in runs.jsonl are reused, not rerun)": 46 were journalled, and
+    # the 7 picture runs are simulated again on every invocation
+    from swarmex.studies.exploration.report import _runs_text
+
+    text = _runs_text(46, 0, 7)
+    assert "46 runs are journalled in `runs.jsonl`: 0 of them ran in this invocation" in text
+    assert "The 7 runs drawn in Figs. 4.2–4.3" in text and "simulates them again" in text
+    assert "53" not in text

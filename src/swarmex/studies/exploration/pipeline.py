@@ -155,7 +155,7 @@ def reproduce(
             )
     report = write_report(
         out, d, sweep_res, strat_rows, figures, rows, quick, time.perf_counter() - t0,
-        len(results) + len(pics), team_res, skipped_maps=skipped,
+        (len(results), done.ran, len(pics)), team_res, skipped_maps=skipped,
     )
     for c in rows:
         progress(f"{'PASS' if c['holds'] else 'FAIL'}: {c['trend']} — {c['evidence']}")
