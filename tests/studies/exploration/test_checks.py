@@ -45,6 +45,15 @@ def test_phase_intervals_split_by_the_tick_of_the_later_plan():
     assert phase_intervals([[0, 10, 50, 60, 89]], 90) == [[10], [40], [10, 29]]
 
 
+def test_report_cells_use_the_sample_sd():
+    # the committed Fig. 4.1(a) cell, 10 robots, radio 20 m: runs 552.8, 514.6 and 528.4 were
+    # printed "532 ± 16" (population SD) while the docs read them as the sample SD (19.3)
+    from swarmex.studies.exploration.report import _fmt
+
+    assert _fmt([552.8, 514.6, 528.4]) == "532 ± 19"
+    assert _fmt([700.0]) == "700" and _fmt([]) == "–"
+
+
 def test_report_counts_the_runs_it_reused_apart_from_the_picture_runs():
     # "53 runs (runs already in runs.jsonl are reused, not rerun)": 46 were journalled, and
     # the 7 picture runs are simulated again on every invocation

@@ -39,7 +39,7 @@ def fig4_1(table: dict[tuple[float, float, int], list[float]], lasers, comms, si
         for comm in comms:
             xs = [n for n in sizes if table.get((laser, comm, n))]
             mu = [float(np.mean(table[(laser, comm, n)])) for n in xs]
-            sd = [float(np.std(table[(laser, comm, n)])) for n in xs]
+            sd = [_sd(table[(laser, comm, n)]) for n in xs]
             ax.errorbar(xs, mu, yerr=sd, marker="o", ms=3, capsize=2, label=f"comm {comm:g} m")
         ax.set_xlabel("team size")
         ax.set_ylabel("mean exploration steps of a team member")
@@ -115,7 +115,7 @@ def fig_strategies(rows: list[dict[str, Any]], scenarios: list[str], strategies:
         for st in strategies:
             vals = [r["makespan"] for r in rows if r["scenario"] == sc and r["strategy"] == st]
             mus.append(np.mean(vals) if vals else np.nan)
-            sds.append(np.std(vals) if vals else 0)
+            sds.append(_sd(vals))
         ax.bar(range(len(strategies)), mus, yerr=sds, capsize=2,
                color=[f"C{i}" for i in range(len(strategies))])
         ax.set_xticks(range(len(strategies)))
@@ -134,3 +134,9 @@ def _save(fig, path: Path, plt) -> Path:
     fig.savefig(path, bbox_inches="tight")
     plt.close(fig)
     return path
+
+
+def _sd(vals: list[float]) -> float:
+    """The error bar: the sample SD (n − 1) of the runs, as the report's "± sd"; none for
+    fewer than two runs."""
+    return float(np.std(vals, ddof=1)) if len(vals) > 1 else 0.0

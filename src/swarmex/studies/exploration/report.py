@@ -67,12 +67,15 @@ def _runs_text(journalled: int, ran_now: int, pictures: int) -> str:
 
 
 def _fmt(vals: list[float]) -> str:
-    """Mean ± the spread (population SD) of a few runs, or the single value."""
+    """Mean ± the sample SD (n − 1) of a few runs, or the single value (which has none).
+
+    The population SD (n) was printed before, smaller by √(2/3) for three runs, while the
+    traversal report and the docs' "within one sd" use the sample SD."""
     if not vals:
         return "–"
     if len(vals) == 1:
         return f"{vals[0]:.0f}"
-    s = summarize(vals, ddof=0)
+    s = summarize(vals)
     return f"{s.mean:.0f} ± {s.std:.0f}"
 
 
@@ -92,7 +95,8 @@ def write_report(
         f"{', '.join(map(str, d.sizes))}, radio {', '.join(f'{c:g}' for c in d.comms)} m, "
         f"laser {', '.join(f'{la:g}' for la in d.lasers)} m, {d.runs} run(s) each (seeds "
         f"0–{d.runs - 1}), strategy greedy-exclusion (the thesis's). Steps are 100 ms ticks; "
-        "a team member's steps are the tick at which its own map showed no reachable frontier.",
+        "a team member's steps are the tick at which its own map showed no reachable frontier. "
+        "\"± sd\": the sample standard deviation over the runs (n − 1); a single run has none.",
         "",
         "The thesis prints no numbers for these experiments (only the figures and their "
         "trends; the data were on its CD), so the comparison is with its stated trends.",
