@@ -272,3 +272,11 @@ def test_a_killed_session_is_counted_with_its_runs(tmp_path):
     assert [s["runs_executed"] for s in sessions] == [50, summary["runs"] - 50]
     assert summary["executed"] == summary["runs"] - 50
     assert "executed in 2 session(s)" in (tmp_path / "traversal.md").read_text()
+
+
+def test_fleet_chart_titles_name_the_fleets_drawn():
+    # the quick plan's Fig. 5.13 was titled "2–6 agents" over the 2- and 3-agent lines only
+    from swarmex.studies.traversal.figures import agent_counts
+
+    assert agent_counts([2, 3, 4, 5, 6]) == "2–6"
+    assert agent_counts([2, 3]) == "2, 3" and agent_counts([10]) == "10"

@@ -134,25 +134,28 @@ def draw_figures(groups: list[GroupResult], figs: list[FigureResult], out: Path)
         )
     t_max = fleet_t_max(figs)
     if t_max:
-        paths.append(
-            _fleet_chart(
-                out / "fig_5_13.png",
-                t_max,
-                list(range(2, 7)),
-                "Fig. 5.13: fleet cost n·p + T_max(n), 2–6 agents",
-                1000.0,
+        # the titles name the fleets drawn: a quick plan simulates 2, 3 and 10 agents only,
+        # and "2–6 agents" over two lines said otherwise
+        for number, ns, p_max in (("5.13", range(2, 7), 1000.0), ("5.14", range(6, 11), 250.0)):
+            drawn = [n for n in ns if n in t_max] or list(ns)
+            paths.append(
+                _fleet_chart(
+                    out / f"fig_{number.replace('.', '_')}.png",
+                    t_max,
+                    drawn,
+                    f"Fig. {number}: fleet cost n·p + T_max(n), {agent_counts(drawn)} agents",
+                    p_max,
+                )
             )
-        )
-        paths.append(
-            _fleet_chart(
-                out / "fig_5_14.png",
-                t_max,
-                list(range(6, 11)),
-                "Fig. 5.14: fleet cost n·p + T_max(n), 6–10 agents",
-                250.0,
-            )
-        )
     return paths
+
+
+def agent_counts(ns: list[int]) -> str:
+    """"2–6" for a run of consecutive counts, else "2, 3" (how a fleet chart's title names
+    the fleets it draws)."""
+    if len(ns) > 2 and ns == list(range(ns[0], ns[-1] + 1)):
+        return f"{ns[0]}–{ns[-1]}"
+    return ", ".join(map(str, ns))
 
 
 def _n_note(ns: list[int]) -> str:
