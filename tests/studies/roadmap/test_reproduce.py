@@ -89,6 +89,10 @@ def test_report_from_a_tiny_sweep(tmp_path, monkeypatch):
     assert "The unreproduced claim" in text and "r = c·ε (c): RMSE" in text
     # one run per row has no sample SD: the cells read "76.5 ± 0.0"
     assert " ± 0.0 " not in text and " ± n/a |" in text
+    # a quick report said to regenerate it without --quick, and called a sum of the runs'
+    # times "wall time" (it exceeded the invocation's)
+    assert "Regenerate with `swarmex reproduce roadmap --quick --out DIR`" in text
+    assert "s of wall time in all" not in text and "a sum over runs" in text
     assert (tmp_path / "roadmap_readings.json").exists()
     assert "## A standard PRM: OMPL's" in text and "**Build (pre-processing) time**" in text
     builds = json.loads((tmp_path / "roadmap_buildtimes.json").read_text())

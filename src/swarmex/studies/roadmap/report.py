@@ -273,10 +273,12 @@ def _markdown(t1, t2, g1, g2, cov_imp, srch_imp, un, figs, quick, seconds, versi
         "",
         f"swarmex {version}; {'QUICK run (1 run per row: a smoke test, not a result)' if quick else 'full run'}; "  # noqa: E501
         f"{len(results)} runs, {new_runs} of them in this invocation ({seconds:.0f} s), the "
-        f"rest read back from `roadmap_runs.jsonl`; the runs themselves took "
-        f"{sum(r.get('wall_seconds') or 0 for r in results):.0f} s of wall time in all. "
-        "Regenerate with `swarmex reproduce roadmap --out DIR` (runs already in the journal "
-        "are not rerun; delete it to start over).",
+        f"rest read back from `roadmap_runs.jsonl`; the runs' own times add up to "
+        f"{sum(r.get('wall_seconds') or 0 for r in results):.0f} s (a sum over runs, "
+        "including those read back, not the wall time of an invocation: runs on parallel "
+        "workers overlap). "
+        f"Regenerate with `swarmex reproduce roadmap{' --quick' if quick else ''} --out DIR` "
+        "(runs already in the journal are not rerun; delete it to start over).",
         "",
         "## Setup (what the paper leaves open, fixed here)",
         "",
