@@ -451,6 +451,35 @@ def test_summary_metric_names_checked_before_are_columns_after(tmp_path, capsys)
     assert "note: no run wrote objective_value, so it is not compared" in capsys.readouterr().out
 
 
+def test_a_count_a_record_leaves_out_is_0_in_the_table(tmp_path):
+    """A record's tables of counts leave out what counted nothing (a lone robot sends no
+    GOAL; no replan for a reason): the column is 0 for that run, not null, or the means, CIs,
+    plots and pairs silently dropped it. A failed run and an unknown time stay null."""
+    spec = write_spec(tmp_path, 'mission = "exploration"\nempty = "8x8"\nrobots = [1, 2]\n')
+    out = tmp_path / "out"
+    sweep(spec, out)
+    rows = {r["robots"]: r for r in table_rows(out)}
+    lone = next(r for r in records(out).values() if r["params"]["robots"] == 1)["metrics"]
+    assert "GOAL" not in lone["messages_by_kind"] and lone["replan_reasons"] == {}
+    assert rows[1]["messages_by_kind.GOAL.messages"] == 0
+    assert rows[1]["replan_reasons.seen"] == 0
+    assert rows[1]["messages_by_kind.RERR.bytes"] == 0  # declared, written by no run
+    assert rows[2]["messages_by_kind.GOAL.messages"] > 0
+
+    from swarmex.experiments.sweep import build_table
+    from swarmex.experiments.sweep_worker import Outcome
+
+    loaded = load_sweep_spec(spec)
+    runs = loaded.runs()
+    outcomes = {
+        runs[0].run_id: Outcome(0, runs[0].run_id, ok=True, complete=False, metrics={}),
+        runs[1].run_id: Outcome(1, runs[1].run_id, ok=False, error="boom"),
+    }
+    table = build_table(loaded, runs, outcomes).to_pylist()
+    assert table[0]["replan_reasons.seen"] == 0 and table[0]["makespan"] is None
+    assert table[1]["replan_reasons.seen"] is None  # a failed run counted nothing known
+
+
 def test_killed_driver_loses_no_finished_run(tmp_path):
     """SIGKILL the CLI mid-sweep: every record it wrote is kept, and the rerun skips them."""
     spec = write_spec(tmp_path, 'mission = "traversal"\ngrid = "3x3"\nagents = 1\nseeds = 40\n')

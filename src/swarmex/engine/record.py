@@ -108,12 +108,16 @@ class MetricInfo:
     False for a metric that is a list or a table per run (it has no mean over seeds).
     ``keys`` are the entries a table can hold, each a sweep column ``NAME.KEY`` (nested
     tables joined with dots), so a misspelt entry is caught before the runs too; empty when
-    they are not known in advance (or the metric is a list).
+    they are not known in advance (or the metric is a list). ``counts`` marks a table of
+    counts, whose record leaves out an entry that counted nothing (no RERR sent, no replan
+    for that reason): a sweep's column of such an entry is then 0, not a missing value, so
+    means, CIs, plots and pairs count that run.
     """
 
     meaning: str
     numeric: bool = True
     keys: tuple[str, ...] = ()
+    counts: bool = False
 
 
 @dataclass

@@ -182,11 +182,14 @@ def build_table(spec: SweepSpec, runs: list[RunSpec], outcomes: dict[str, Outcom
     metric_names: list[str] = []
     for _, o in rows:  # first-seen order: stable for a given spec
         metric_names += [k for k in o.metrics if k not in metric_names]
+    entries, tables = count_entries(spec.mission)
+    metric_names += [k for k in entries if k not in metric_names]  # the same columns always
     metric_columns = []
     for key in metric_names:
         taken = key in columns or key in ("wall_seconds", "error")
         name = f"metrics.{key}" if taken else key
-        columns[name] = _column([o.metrics.get(key) for _, o in rows])
+        counted = key in entries or key.startswith(tables)
+        columns[name] = _column([_metric(o, key, counted) for _, o in rows])
         metric_columns.append(name)
     columns["wall_seconds"] = pa.array([o.wall_seconds for _, o in rows], pa.float64())
     columns["error"] = pa.array([o.error for _, o in rows], pa.string())
@@ -201,6 +204,31 @@ def build_table(spec: SweepSpec, runs: list[RunSpec], outcomes: dict[str, Outcom
     }
     table = pa.table(columns)
     return table.replace_schema_metadata({METADATA_KEY: json.dumps(meta).encode()})
+
+
+def count_entries(mission: str) -> tuple[list[str], tuple[str, ...]]:
+    """The sweep columns of the mission's tables of counts (``MetricInfo.counts``): their
+    declared entries (``messages_by_kind.RERR.messages``), and the tables' prefixes
+    (``messages_by_kind.``) for entries not declared in advance. A record leaves out an entry
+    that counted nothing, so such a column is 0 for every successful run without it."""
+    from swarmex.missions.registry import get
+
+    try:
+        declared = get(mission).team_metrics()
+    except InputError:  # a plugin mission no longer installed: no table is known
+        return [], ()
+    tables = {name: info for name, info in declared.items() if info.counts}
+    entries = [f"{name}.{key}" for name, info in tables.items() for key in info.keys]
+    return entries, tuple(f"{name}." for name in tables)
+
+
+def _metric(outcome: Outcome, key: str, counted: bool) -> Any:
+    """A run's value of a metric column: 0 for an entry of a table of counts that a finished
+    run's record left out (it counted nothing); None when the run failed or the metric is
+    not a count (an unfinished run's time is unknown, not 0)."""
+    if key in outcome.metrics:
+        return outcome.metrics[key]
+    return 0 if counted and outcome.ok else None
 
 
 def _column(values: list[Any]):

@@ -76,7 +76,7 @@ TEAM_METRICS: dict[str, MetricInfo] = {
     "plans": MetricInfo("goal choices and path plans, all robots"),
     "replans": MetricInfo("plans made again before the goal was reached, all robots"),
     "replan_reasons": MetricInfo("replans counted by reason", numeric=False,
-                                 keys=REPLAN_REASONS),
+                                 keys=REPLAN_REASONS, counts=True),
     "conflicts": MetricInfo("goal conflicts between robots, all robots"),
     "change_goals_sent": MetricInfo("CHANGE_GOAL messages sent"),
     "blacklisted_regions": MetricInfo("frontier regions given up as unreachable, all robots"),
@@ -86,6 +86,7 @@ TEAM_METRICS: dict[str, MetricInfo] = {
     "messages_by_kind": MetricInfo(
         "messages and bytes per message kind", numeric=False,
         keys=tuple(f"{k}.{v}" for k in (*KINDS, *CONTROL_KINDS) for v in ("messages", "bytes")),
+        counts=True,
     ),
     "aodv_messages": MetricInfo(
         "AODV routing control messages (RREQ, RREP, RERR; also in messages_sent)"
@@ -94,6 +95,7 @@ TEAM_METRICS: dict[str, MetricInfo] = {
     "unicasts": MetricInfo(
         "multi-hop unicast counters (sent, delivered, expired, …)", numeric=False,
         keys=(*(f.name for f in fields(AodvStats)), "gap_requests"),
+        counts=True,
     ),
     "plan_intervals_avg": MetricInfo(
         "steps between plans, averaged over the robots, plan by plan", numeric=False
