@@ -480,6 +480,28 @@ def test_a_count_a_record_leaves_out_is_0_in_the_table(tmp_path):
     assert table[1]["replan_reasons.seen"] is None  # a failed run counted nothing known
 
 
+def test_a_declared_table_entry_no_column_holds_shows_a_dash(tmp_path, capsys):
+    """``--metric messages_by_kind.GOAL.messages`` passes the check before the runs; a table
+    without that column (written before count entries were columns) must show "—" after
+    them, not exit 2 with no summary once the whole sweep has run."""
+    import pyarrow.parquet as pq_
+
+    from swarmex.cli.commands_sweep import print_summary
+
+    spec = write_spec(tmp_path, 'mission = "exploration"\nempty = "8x8"\nrobots = 1\n')
+    out = tmp_path / "out"
+    sweep(spec, out)
+    table = pq_.read_table(out / "results.parquet")
+    old = table.drop_columns([c for c in table.column_names if ".GOAL." in c])
+    pq_.write_table(old.replace_schema_metadata(table.schema.metadata), out / "results.parquet")
+    capsys.readouterr()
+    print_summary(out, ["messages_by_kind.GOAL.messages", "unicasts.sent"])
+    text = capsys.readouterr().out
+    assert "messages_by_kind.GOAL.messages" in text and "—" in text
+    with pytest.raises(InputError, match="no column"):
+        print_summary(out, ["messages_by_kind.GOAL.mesages"])
+
+
 def test_killed_driver_loses_no_finished_run(tmp_path):
     """SIGKILL the CLI mid-sweep: every record it wrote is kept, and the rerun skips them."""
     spec = write_spec(tmp_path, 'mission = "traversal"\ngrid = "3x3"\nagents = 1\nseeds = 40\n')

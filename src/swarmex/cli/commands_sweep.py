@@ -239,24 +239,33 @@ def metric_column(name: str, columns: set[str], mission: Any) -> str:
 
     ``metrics.NAME`` is accepted before the runs (the column of a metric whose name a
     parameter took) but is the plain ``NAME`` column when no parameter took it; and a metric
-    the mission declares may be in no row (traversal's solver figures when no run was
-    ``optimal``): its column then shows no value rather than failing after the whole sweep
-    has run. A name that is neither is an InputError listing the columns."""
+    the mission declares, or a declared entry of one of its tables (``unicasts.sent``), may
+    be in no row (traversal's solver figures when no run was ``optimal``, a table written
+    before its entries were columns): its column then shows no value rather than failing
+    after the whole sweep has run. Anything else is an InputError listing the columns."""
     if name in columns:
         return name
     bare = name.removeprefix("metrics.")
     if bare != name and bare in columns:
         return bare
-    if isinstance(mission, str):
-        from swarmex.missions.registry import get
-
-        try:
-            declared = get(mission).team_metrics()
-        except InputError:  # a plugin mission no longer installed: check nothing more
-            declared = {}
-        if bare in declared:
-            return name  # no row has it: shown as "—"
+    if isinstance(mission, str) and _declared(mission, name):
+        return name  # no row has it: shown as "—"
     raise InputError(f"--metric: no column {name!r} (have: {', '.join(sorted(columns))})")
+
+
+def _declared(mission: str, name: str) -> bool:
+    """Whether ``name`` is a metric the mission declares, or a declared entry of one of its
+    tables: the names ``--metric`` lets through before the runs (Mission.check_metric)."""
+    from swarmex.missions.registry import get
+
+    try:
+        m = get(mission)
+        if not m.team_metrics():  # a mission that declares nothing: nothing is known
+            return False
+        m.check_metric(name)
+    except InputError:  # not declared, or a plugin mission no longer installed
+        return False
+    return True
 
 
 def _mean_ci(mean: float, half: float) -> str:
