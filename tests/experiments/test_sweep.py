@@ -502,6 +502,33 @@ def test_a_declared_table_entry_no_column_holds_shows_a_dash(tmp_path, capsys):
         print_summary(out, ["messages_by_kind.GOAL.mesages"])
 
 
+def test_a_damaged_record_is_run_again_with_one_warning(tmp_path, capsys):
+    """A 0-byte or cut-short record (a power loss after an un-fsynced rename) crashed resume
+    with a JSON traceback; it now counts as not finished: one warning line names it, and
+    its run is run again, journal or not."""
+    spec = write_spec(tmp_path)
+    out = tmp_path / "out"
+    argv = ["sweep", str(spec), "--backend", "serial", "--out", str(out)]
+    assert main(argv) == 0
+    good = records(out)
+    names = sorted(good)
+    (out / "runs" / names[0]).write_text("")  # the journal knows it
+    capsys.readouterr()
+    assert main(argv) == 0
+    text = capsys.readouterr()
+    assert "(7 finished before, 1 to run)" in text.out
+    assert text.err.count("warning:") == 1 and "Traceback" not in text.err
+    assert f"{names[0]}: unreadable (empty); its run is run again" in text.err
+    assert records(out) == good
+    (out / "journal.jsonl").unlink()  # the driver died before its journal line
+    (out / "runs" / names[1]).write_text('{"truncated')
+    (out / "runs" / names[2]).write_text("")
+    with pytest.warns(UserWarning, match="unreadable") as said:
+        result = sweep(spec, out)
+    assert sorted(names[1] in str(w.message) for w in said) == [False, True]
+    assert (result.skipped, result.ran) == (6, 2) and records(out) == good
+
+
 def test_killed_driver_loses_no_finished_run(tmp_path):
     """SIGKILL the CLI mid-sweep: every record it wrote is kept, and the rerun skips them."""
     spec = write_spec(tmp_path, 'mission = "traversal"\ngrid = "3x3"\nagents = 1\nseeds = 40\n')

@@ -108,6 +108,9 @@ def sweep(
                 retry_failed=retry_failed,
                 on_start=bar.on_start,
                 on_outcome=bar.on_outcome,
+                on_warning=lambda text: err_console.print(
+                    f"warning: {text}", highlight=False, soft_wrap=True, markup=False
+                ),
             )
         finally:
             bar.stop()

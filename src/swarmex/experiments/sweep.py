@@ -7,13 +7,14 @@ The sweep folder (``--out DIR``) holds::
     DIR/journal.jsonl              one line per finished run: its row-sized outcome
     DIR/results.parquet            one row per finished run of the spec, in product order
 
-A run counts as finished when its record (or error file) exists; both are written with an
-atomic rename the moment the run ends, so Ctrl-C, a killed driver or a crashed worker loses no
-finished run, and running the same command again resumes: it runs only what is missing (and,
-with ``retry_failed``, the failures). The journal spares a resumed sweep from re-reading every
-record for its row; a record without a journal line (the driver died between the two) is read
-back instead. ``results.parquet`` is rebuilt from the outcomes at the end of every call,
-interrupted or not.
+A run counts as finished when its record (or error file) exists and is not damaged (a file
+left empty or cut short is removed with a warning and its run runs again); both are written
+with an atomic rename the moment the run ends, so Ctrl-C, a killed driver or a crashed
+worker loses no finished run, and running the same command again resumes: it runs only what
+is missing (and, with ``retry_failed``, the failures). The journal spares a resumed sweep
+from re-reading every record for its row; a record without a journal line (the driver died
+between the two) is read back instead. ``results.parquet`` is rebuilt from the outcomes at
+the end of every call, interrupted or not.
 
 Backends, all giving the same records and table for the same spec (each run is seeded by its
 own ``--seed``; nothing depends on which worker ran it or when):
@@ -31,6 +32,7 @@ flight, so its memory does not grow with the records' size.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 from collections import deque
@@ -82,8 +84,9 @@ class SweepResult:
 class SweepStore:
     """The sweep folder: records, error files, the journal and the table (see module doc)."""
 
-    def __init__(self, out_dir: str | Path) -> None:
+    def __init__(self, out_dir: str | Path, warn: Callable[[str], None] | None = None) -> None:
         self.dir = Path(out_dir)
+        self.warn = warn if warn is not None else _warn
         self.runs_dir = self.dir / "runs"
         try:
             self.runs_dir.mkdir(parents=True, exist_ok=True)
@@ -100,13 +103,19 @@ class SweepStore:
         return self.runs_dir / f"{run_id}.error.json"
 
     def finished(self, runs: list[RunSpec], retry_failed: bool = False) -> dict[str, Outcome]:
-        """Outcomes of the runs already done (from the journal, else from their files)."""
+        """Outcomes of the runs already done (from the journal, else from their files).
+
+        A record or error file that cannot be read (0 bytes or cut short: the renames are not
+        fsynced, so a power loss can leave one) does not count: it is removed with a warning
+        naming it, and its run is run again. (A record the journal knows is only checked for
+        being empty, so that resuming does not read every record.)"""
         journal = self._read_journal()
         done: dict[str, Outcome] = {}
         for run in runs:
-            known = journal.get(run.run_id)
-            if self.record_path(run.run_id).exists():
-                if known is None or not known.ok:
+            known: Outcome | None = journal.get(run.run_id)
+            size = _size(self.record_path(run.run_id))
+            if size is not None:
+                if known is None or not known.ok or size == 0:
                     known = self._from_record(run)
             elif self.error_path(run.run_id).exists():
                 if retry_failed:
@@ -115,6 +124,8 @@ class SweepStore:
                 if known is None or known.ok:
                     known = self._from_error(run)
             else:
+                continue
+            if known is None:  # unreadable: run it again
                 continue
             known.index = run.index
             done[run.run_id] = known
@@ -131,13 +142,32 @@ class SweepStore:
                 continue
         return out
 
-    def _from_record(self, run: RunSpec) -> Outcome:
-        data = json.loads(self.record_path(run.run_id).read_text(encoding="utf-8"))
-        return outcome_from_record(run.index, run.run_id, data)
+    def _from_record(self, run: RunSpec) -> Outcome | None:
+        data = self._read(self.record_path(run.run_id))
+        return None if data is None else outcome_from_record(run.index, run.run_id, data)
 
-    def _from_error(self, run: RunSpec) -> Outcome:
-        data = json.loads(self.error_path(run.run_id).read_text(encoding="utf-8"))
-        return Outcome(run.index, run.run_id, ok=False, error=data.get("error"))
+    def _from_error(self, run: RunSpec) -> Outcome | None:
+        data = self._read(self.error_path(run.run_id))
+        return None if data is None else Outcome(run.index, run.run_id, ok=False,
+                                                 error=data.get("error"))
+
+    def _read(self, path: Path) -> dict[str, Any] | None:
+        """A record or error file as JSON; None (and the file removed, with a warning) when
+        it is damaged, so that its run counts as not finished and runs again."""
+        try:
+            text = path.read_text(encoding="utf-8")
+            data = json.loads(text) if text.strip() else None
+            why = "empty" if data is None else "not a JSON object"
+        except OSError as exc:
+            data, why = None, exc.strerror or type(exc).__name__
+        except ValueError as exc:  # cut short, or not JSON (UnicodeDecodeError included)
+            data, why = None, f"not JSON: {exc}"
+        if isinstance(data, dict):
+            return data
+        self.warn(f"{path}: unreadable ({why}); its run is run again")
+        with contextlib.suppress(OSError):  # the new run's atomic rename replaces it anyway
+            path.unlink()
+        return None
 
     def save(self, outcome: Outcome, run: RunSpec, task: Task) -> None:
         """Make a finished run durable: its record or error file, then its journal line."""
@@ -161,6 +191,19 @@ class SweepStore:
 
     def close(self) -> None:
         self._journal.close()
+
+
+def _size(path: Path) -> int | None:
+    try:
+        return path.stat().st_size
+    except FileNotFoundError:
+        return None
+
+
+def _warn(text: str) -> None:
+    import warnings
+
+    warnings.warn(text, UserWarning, stacklevel=2)
 
 
 # ---------------------------------------------------------------------------- the table
@@ -325,6 +368,7 @@ def run_sweep(
     retry_failed: bool = False,
     on_start: Callable[[int, int], None] | None = None,
     on_outcome: OnOutcome | None = None,
+    on_warning: Callable[[str], None] | None = None,
 ) -> SweepResult:
     """Run every unfinished run of ``spec`` and write DIR/results.parquet.
 
@@ -333,6 +377,8 @@ def run_sweep(
     misspelt option fails at once.
     ``on_start(total, already_finished)`` and ``on_outcome(outcome)`` drive a progress display;
     an exception raised by ``on_outcome`` (Ctrl-C) stops the sweep after saving what finished.
+    ``on_warning(text)`` says a one-line warning (a damaged record, run again); by default a
+    UserWarning.
     """
     if backend not in BACKENDS:
         raise InputError(f"--backend must be one of {', '.join(BACKENDS)}, got {backend!r}")
@@ -354,7 +400,7 @@ def run_sweep(
     by_id = {r.run_id: r for r in runs}
     tasks = {r.run_id: Task(r.index, r.run_id, spec.mission, spec.values(r, shapes)) for r in runs}
     check_values(spec, [t.values for t in tasks.values()])
-    store = SweepStore(out_dir)
+    store = SweepStore(out_dir, on_warning)
     outcomes = store.finished(runs, retry_failed)
     skipped = len(outcomes)
     pending = [tasks[r.run_id] for r in runs if r.run_id not in outcomes]
