@@ -529,6 +529,45 @@ def test_a_damaged_record_is_run_again_with_one_warning(tmp_path, capsys):
     assert (result.skipped, result.ran) == (6, 2) and records(out) == good
 
 
+def _movingai(rows: list[str]) -> str:
+    return f"type octile\nheight {len(rows)}\nwidth {len(rows[0])}\nmap\n" + "\n".join(rows)
+
+
+def test_a_run_id_follows_the_map_file_it_reads_not_its_name(tmp_path, capsys):
+    """Two specs in different folders with the same ``map = "m.map"`` shared run ids, so
+    the second sweep into the same --out silently reused the first one's results; a map
+    edited in place was reused on resume too. An unchanged sweep still resumes."""
+    text = 'mission = "traversal"\nmap = "m.map"\nagents = 1\nseeds = 2\n'
+    maps = {"cA": ["....", "....", "....", "...."], "cB": ["....", ".@@.", "....", "...."]}
+    specs = {}
+    for name, rows in maps.items():
+        (tmp_path / name).mkdir()
+        (tmp_path / name / "m.map").write_text(_movingai(rows))
+        specs[name] = write_spec(tmp_path / name, text)
+    out = tmp_path / "shared"
+    a, b = sweep(specs["cA"], out), sweep(specs["cB"], out)
+    assert (a.skipped, a.ran) == (0, 2) and (b.skipped, b.ran) == (0, 2)
+    recs = records(out).values()
+    assert sorted(r["world"]["free_cells"] for r in recs) == [14, 14, 16, 16]
+    assert (sweep(specs["cB"], out).skipped, sweep(specs["cA"], out).ran) == (2, 0)
+    (tmp_path / "cA" / "m.map").write_text(_movingai(maps["cA"][:3]))  # edited in place
+    edited = sweep(specs["cA"], out)
+    assert (edited.skipped, edited.ran) == (0, 2)
+    ids = [r.run_id for r in load_sweep_spec(specs["cA"]).runs()]
+    assert ids == [r.run_id for r in load_sweep_spec(specs["cA"]).runs()]  # stable
+
+
+def test_a_ros_map_id_follows_its_image_too(tmp_path):
+    from swarmex.experiments.sweep_spec import InputFiles
+
+    (tmp_path / "m.yaml").write_text("image: m.pgm\nresolution: 0.5\n")
+    (tmp_path / "m.pgm").write_bytes(b"P5 2 1 255\n\xff\xff")
+    before = InputFiles("exploration", tmp_path).digests({"map": "m.yaml"})
+    (tmp_path / "m.pgm").write_bytes(b"P5 2 1 255\n\xff\x00")
+    after = InputFiles("exploration", tmp_path).digests({"map": "m.yaml"})
+    assert set(before) == {"map"} and before != after
+
+
 def test_killed_driver_loses_no_finished_run(tmp_path):
     """SIGKILL the CLI mid-sweep: every record it wrote is kept, and the rerun skips them."""
     spec = write_spec(tmp_path, 'mission = "traversal"\ngrid = "3x3"\nagents = 1\nseeds = 40\n')

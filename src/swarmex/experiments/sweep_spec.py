@@ -21,7 +21,11 @@ column is still called ``algorithm``.
 
 The runs are the product of the axes in file order with the seeds innermost, so the order, and
 each run's id (a hash of mission, parameters and seed, independent of position), are the same
-every time the spec is read: that is what lets an interrupted sweep resume.
+every time the spec is read: that is what lets an interrupted sweep resume. A parameter that
+names a file (``map``, ``env``, ``fleet``) enters the id with the content of the file it
+resolves to (from the spec's folder), not only as written: two specs in different folders
+with the same ``map = "m.map"`` are different runs, and a map edited in place is run again
+rather than answered by the old map's records.
 """
 
 from __future__ import annotations
@@ -42,6 +46,7 @@ from swarmex.experiments.scenario import (
     OptionShape,
     Scenario,
     read_toml,
+    resolve_path,
     scenario_values,
 )
 
@@ -88,10 +93,13 @@ class SweepSpec:
         """Every run: the product of the axes in file order, seeds innermost."""
         names = list(self.axes)
         out: list[RunSpec] = []
+        files = InputFiles(self.mission, self.path.parent)
         for values in itertools.product(*self.axes.values()):
             params = dict(zip(names, values, strict=True)) | self.fixed
+            inputs = files.digests(params)
             for seed in self.seeds:
-                out.append(RunSpec(len(out), run_id(self.mission, params, seed), params, seed))
+                out.append(RunSpec(len(out), run_id(self.mission, params, seed, inputs),
+                                   params, seed))
         return out
 
     def values(self, run: RunSpec, shapes: dict[str, OptionShape]) -> dict[str, Any]:
@@ -153,10 +161,63 @@ def listed_axes(spec: SweepSpec) -> list[tuple[str, int]]:
             if len(values) > 1 and getattr(options.get(key.replace("-", "_")), "many", False)]
 
 
-def run_id(mission: str, params: dict[str, Any], seed: int) -> str:
-    """A stable id of a run from what it computes (not where it sits in the product)."""
-    text = json.dumps({"mission": mission, "params": params, "seed": seed}, sort_keys=True)
+def run_id(
+    mission: str, params: dict[str, Any], seed: int, inputs: Mapping[str, str] | None = None
+) -> str:
+    """A stable id of a run from what it computes (not where it sits in the product).
+
+    ``inputs`` are the content digests of the files its parameters name
+    (:class:`InputFiles`): the same text ``map = "m.map"`` in two folders, or a map edited
+    since, is a different run. A run that names no file has the id it always had."""
+    data: dict[str, Any] = {"mission": mission, "params": params, "seed": seed}
+    if inputs:
+        data["inputs"] = dict(inputs)
+    text = json.dumps(data, sort_keys=True)
     return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
+class InputFiles:
+    """Content digests of the files a run's parameters name, each file read once per spec.
+
+    Which parameters name files is read off the mission's options (their kind is a path);
+    a relative path is taken from ``folder`` (the spec's), as the run takes it. A ROS map's
+    YAML counts with the image it names. A file that cannot be read has no digest (the
+    run's own check then refuses it before any run)."""
+
+    def __init__(self, mission: str, folder: Path) -> None:
+        from swarmex.missions.registry import get
+
+        self.folder = folder
+        self.cache: dict[Path, str | None] = {}
+        try:
+            options = get(mission).params_type.options()
+        except InputError:  # a plugin mission no longer installed: no file is known
+            options = {}
+        self.names = {info.flag[2:] for info in options.values() if info.kind is Path}
+
+    def digests(self, params: Mapping[str, Any]) -> dict[str, str]:
+        out: dict[str, str] = {}
+        for key, value in params.items():
+            if key.replace("_", "-") in self.names and isinstance(value, str):
+                digest = self.digest(resolve_path(self.folder, value))
+                if digest is not None:
+                    out[key] = digest
+        return out
+
+    def digest(self, path: Path) -> str | None:
+        if path not in self.cache:
+            from swarmex.worlds.rosmap import rosmap_image
+
+            h = hashlib.sha256()
+            try:
+                for part in (path, rosmap_image(path)):
+                    if part is not None:
+                        with open(part, "rb") as f:
+                            h.update(hashlib.file_digest(f, "sha256").digest())
+                self.cache[path] = h.hexdigest()
+            except OSError:
+                self.cache[path] = None
+        return self.cache[path]
 
 
 def algorithm_option(shapes: dict[str, OptionShape], path: Path, command: str) -> str:

@@ -62,6 +62,20 @@ def _read_pgm(path: Path) -> np.ndarray:
         raise InputError(f"cannot read map image {path}: {exc}") from None
 
 
+def rosmap_image(path: str | Path) -> Path | None:
+    """The image file a ROS map YAML names (None for a ``.pgm`` itself, or a YAML that cannot
+    be read or names none): the other file a run on ``path`` reads."""
+    path = Path(path)
+    if path.suffix.lower() not in (".yaml", ".yml"):
+        return None
+    try:
+        meta = parse_yaml_flat(path.read_text(encoding="utf-8", errors="replace"), str(path))
+    except (OSError, InputError):
+        return None
+    image = meta.get("image")
+    return None if image is None else path.parent / str(image)
+
+
 def load_rosmap(path: str | Path) -> tuple[GridWorld, float]:
     """Read a map_server map; returns the world and its resolution (metres per cell)."""
     path = Path(path)
