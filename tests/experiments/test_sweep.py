@@ -649,6 +649,36 @@ def test_a_crash_inside_a_chunk_loses_only_unfinished_runs(tmp_path):
     assert len(list(tmp_path.glob("r*.json"))) == 60
 
 
+def slow_job(job: tuple[str, int]) -> int:
+    """A pool job that leaves a mark when it starts, then takes a while."""
+    folder, index = job
+    Path(folder, f"started-{index}").touch()
+    time.sleep(1.0)
+    return index
+
+
+def test_ctrl_c_waits_for_the_jobs_running_and_starts_no_other(tmp_path):
+    """ProcessPoolExecutor moves queued chunks into its call queue, where shutdown cannot
+    cancel them: one Ctrl-C used to start another full run after the interrupt (a 200 s
+    run on a large map). Now the worker sees the stop flag and skips it."""
+    from swarmex.experiments.pool import run_local
+
+    def on_alarm(signum, frame):
+        raise KeyboardInterrupt
+
+    old = signal.signal(signal.SIGALRM, on_alarm)
+    signal.setitimer(signal.ITIMER_REAL, 0.5)  # a Ctrl-C while job 0 runs
+    t0 = time.monotonic()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            run_local([(str(tmp_path), i) for i in range(4)], slow_job, 1, lambda j, r: None)
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, old)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["started-0"]
+    assert time.monotonic() - t0 < 1.8
+
+
 def test_chunk_size_follows_run_time_and_shrinks_at_the_end():
     from swarmex.experiments.pool import CHUNK_MAX
     from swarmex.experiments.pool import chunk_size as _chunk_size

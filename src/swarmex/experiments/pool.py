@@ -23,9 +23,13 @@ order). What it takes care of, once for everybody:
   shows the workers themselves can run). If the pool breaks ``MAX_BREAKS`` times in a row with
   no job completing, the workers cannot run at all: :class:`WorkersDied` is raised and nothing
   is handed to ``died``.
-* **Stopping.** Workers ignore Ctrl-C: the driver gets it, waits for the chunks in flight
-  (about ``CHUNK_SECONDS``; their results are not handed over) and re-raises. An exception
-  raised by ``call`` in a worker is re-raised in the driver the same way.
+* **Stopping.** Workers ignore Ctrl-C: the driver gets it, raises the pool's stop flag, waits
+  for the jobs running (their results are not handed over) and re-raises. A worker checks the
+  flag before each job, so the rest of its chunk and the chunks already queued for the
+  workers (``ProcessPoolExecutor`` moves some into its call queue, where they cannot be
+  cancelled) start no run: Ctrl-C waits for one job per worker at most, not for another
+  round of long runs. An exception raised by ``call`` in a worker is re-raised in the driver
+  the same way.
 
 Results never depend on the pool: a job's result is a function of the job alone (its seed is
 part of it), whichever worker ran it, in whatever chunk.
@@ -61,16 +65,23 @@ class WorkersDied(InputError):
     """The worker processes died ``MAX_BREAKS`` times in a row before finishing any job."""
 
 
+#: in a pool worker: the driver's stop flag (a multiprocessing Event), set when it stops
+_STOP: Any = None
+
+
 # ---------------------------------------------------------------------------- in a worker
 
 
-def init_worker(driver_pid: int | None = None) -> None:
+def init_worker(driver_pid: int | None = None, stop: Any = None) -> None:
     """Prepare a pool process: ignore Ctrl-C (the driver stops us).
 
     With ``driver_pid``, a watchdog thread ends this process once the driver is gone: a pool
     worker forked by the fork server is not the driver's child, and if the driver is killed
-    (SIGKILL, OOM) nothing else would ever tell it to exit.
+    (SIGKILL, OOM) nothing else would ever tell it to exit. ``stop`` is the driver's stop
+    flag: once it is set, :func:`run_chunk` starts no more jobs.
     """
+    global _STOP
+    _STOP = stop
     with contextlib.suppress(ValueError):  # not the main thread: nothing to do
         signal.signal(signal.SIGINT, signal.SIG_IGN)
         signal.signal(signal.SIGTERM, signal.SIG_DFL)  # not the CLI's handler, if forked
@@ -90,9 +101,13 @@ def _watch(driver_pid: int, interval: float = 1.0) -> None:
 
 
 def run_chunk(call: Callable[[J], R], jobs: list[J]) -> list[tuple[R, float]]:
-    """Several jobs in one hand-over from the driver: each result with its seconds."""
+    """Several jobs in one hand-over from the driver: each result with its seconds. Once the
+    driver's stop flag is set, the jobs not started are left (the driver is stopping and
+    wants no more results)."""
     out = []
     for job in jobs:
+        if _STOP is not None and _STOP.is_set():
+            break
         t0 = time.perf_counter()
         result = call(job)
         out.append((result, time.perf_counter() - t0))
@@ -165,7 +180,7 @@ def run_local(
 
     if queue and warm is not None and _forkable():
         warm()
-    pool = _pool(workers, preload)
+    pool, stop = _pool(workers, preload)
     flying: dict[Future[list[tuple[R, float]]], list[_Slot[J]]] = {}
     try:
         while queue or suspects or flying:
@@ -197,7 +212,7 @@ def run_local(
                                 " a run was handed to them"
                             ) from None
                         pool.shutdown(wait=False, cancel_futures=True)
-                        pool = _pool(workers, preload)
+                        pool, stop = _pool(workers, preload)
                     break
             if ready is not None:
                 ready()  # the workers are forked by now
@@ -240,13 +255,14 @@ def run_local(
                         dead.append(slot)
                     else:
                         suspects.append(slot)
-                pool = _pool(workers, preload)
+                pool, stop = _pool(workers, preload)
         give_up(dead)  # the last jobs crashed their workers: hand them over now
     finally:
         # a Ctrl-C while the chunks in flight finish (often a second one: terminals and
         # `timeout` signal the whole group) kills the workers instead of breaking into the
         # executor's own bookkeeping, which then hung at exit or raised "release unlocked lock"
         with sigint_deferred(on_signal=lambda: kill_workers(pool)):
+            stop.set()  # no queued job starts now (none is left when all is done)
             try:
                 pool.shutdown(wait=True, cancel_futures=True)
             except RuntimeError:  # its locks left half-held by a Ctrl-C inside the executor
@@ -297,7 +313,7 @@ def _take(counts: Counter[int], key: int) -> bool:
 def chunk_size(seconds_per_job: float | None, queued: int, workers: int) -> int:
     """Jobs per pool task: enough to make the hand-over cheap, few enough to stay responsive.
 
-    Chunks last about ``CHUNK_SECONDS`` (Ctrl-C waits for the chunks in flight), shrink
+    Chunks last about ``CHUNK_SECONDS`` (the hand-over stays cheap and the bar moves), shrink
     towards the end (a quarter of a fair share) so no worker is left with a long tail, and
     are single jobs until the first results tell how long a job takes.
     """
@@ -307,18 +323,21 @@ def chunk_size(seconds_per_job: float | None, queued: int, workers: int) -> int:
     return max(1, min(CHUNK_MAX, by_time, queued // (4 * workers)))
 
 
-def _pool(workers: int, preload: Sequence[str]) -> ProcessPoolExecutor:
+def _pool(workers: int, preload: Sequence[str]) -> tuple[ProcessPoolExecutor, Any]:
     """Workers forked from this process when it has one thread, else from a fork server
-    that imported ``preload`` (see the module docstring)."""
+    that imported ``preload`` (see the module docstring); and their stop flag."""
     ctx: Any
     if _forkable():
         ctx = multiprocessing.get_context("fork")
     else:
         ctx = multiprocessing.get_context("forkserver")
         ctx.set_forkserver_preload(["swarmex.experiments.pool", *preload])
-    return ProcessPoolExecutor(
-        max_workers=workers, mp_context=ctx, initializer=init_worker, initargs=(os.getpid(),)
+    stop = ctx.Event()
+    pool = ProcessPoolExecutor(
+        max_workers=workers, mp_context=ctx, initializer=init_worker,
+        initargs=(os.getpid(), stop),
     )
+    return pool, stop
 
 
 def _forkable() -> bool:
