@@ -246,7 +246,7 @@ def sweep(
 
     from swarmex.experiments.progress import SweepBar
     from swarmex.experiments.scenario import mission_shapes
-    from swarmex.experiments.sweep import read_results, run_sweep
+    from swarmex.experiments.sweep import check_backend, read_results, run_sweep
     from swarmex.experiments.sweep_spec import listed_axes, spec_from_keywords
 
     # checked here: a string is truthy, so retry_failed="no" retried (and rewrote) every
@@ -261,6 +261,7 @@ def sweep(
                          f" {{'nests': [[0, 0]]}}, got {fixed!r}")
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int)):
         raise InputError(f"workers must be a whole number, got {workers!r}")
+    check_backend(backend, workers, python=True)  # in these words, not --workers
     spec = spec_from_keywords(mission, seeds, fixed or {}, axes)
     for key, count in listed_axes(spec):
         import warnings

@@ -52,6 +52,23 @@ def test_bad_input_fails_before_any_run(tmp_path: Path) -> None:
     assert not (tmp_path / "a").exists() and not (tmp_path / "b").exists()
 
 
+@pytest.mark.parametrize("kw, said", [
+    (dict(seed=3), r"swarmex.sweep: seed=3: .*give seeds=\[3\]"),
+    (dict(job_tim=[1, 2]), r"unknown parameter 'job_tim'; did you mean 'job_time'\?$"),
+    (dict(backend="serial", workers=1), r"^workers is for backend='local' or 'ray'"),
+    (dict(backend="fast"), r"^backend must be one of local, ray, serial"),
+    (dict(workers=0), r"^workers must be between 1 and"),
+])
+def test_errors_name_the_python_keywords(tmp_path: Path, kw, said) -> None:
+    """The Python surface said "give seeds or seed, not both" when only seed was given,
+    "has no option --job-tim" with no nearest name, and "--workers is for ...": its errors
+    now name its own keywords, as swarmex.run's do."""
+    with pytest.raises(InputError, match=said) as err:
+        swarmex.sweep("traversal", out=tmp_path / "s", grid="6x6", agents=[1, 2], **kw)
+    assert "--" not in str(err.value) and "not both" not in str(err.value)
+    assert not (tmp_path / "s").exists()
+
+
 def test_bad_values_stop_before_any_run_and_none_is_the_default(tmp_path: Path) -> None:
     """A value its option refuses fails every run it is in the same way: InputError before
     any run (docs promise it), not a folder of error rows. ``None`` is the default, as in

@@ -358,6 +358,29 @@ def check_values(spec: SweepSpec, runs: list[dict[str, Any]]) -> None:
                 raise InputError(f"{spec.path}: {exc}") from None
 
 
+def check_backend(
+    backend: str, workers: int | None, ray_address: str | None = None, *, python: bool = False
+) -> None:
+    """The backend options, checked before anything runs; errors name the command line's
+    options, or with ``python`` the keywords of :func:`swarmex.sweep`."""
+
+    def opt(name: str, value: str | None = None) -> str:
+        if python:
+            return name.replace("-", "_") + ("" if value is None else f"={value!r}")
+        return f"--{name}" + ("" if value is None else f" {value}")
+
+    if backend not in BACKENDS:
+        raise InputError(f"{opt('backend')} must be one of {', '.join(BACKENDS)}, got {backend!r}")
+    if workers is not None and not 1 <= workers <= MAX_WORKERS:
+        raise InputError(f"{opt('workers')} must be between 1 and {MAX_WORKERS}, got {workers}")
+    # an option the backend ignores was silently dropped: say so instead
+    if workers is not None and backend == "serial":
+        either = "backend='local' or 'ray'" if python else "--backend local or ray"
+        raise InputError(f"{opt('workers')} is for {either} (serial runs in this process)")
+    if ray_address is not None and backend != "ray":
+        raise InputError(f"{opt('ray-address')} is for {opt('backend', 'ray')}, not {backend}")
+
+
 def run_sweep(
     spec: SweepSpec,
     shapes: dict[str, OptionShape],
@@ -380,15 +403,7 @@ def run_sweep(
     ``on_warning(text)`` says a one-line warning (a damaged record, run again); by default a
     UserWarning.
     """
-    if backend not in BACKENDS:
-        raise InputError(f"--backend must be one of {', '.join(BACKENDS)}, got {backend!r}")
-    if workers is not None and not 1 <= workers <= MAX_WORKERS:
-        raise InputError(f"--workers must be between 1 and {MAX_WORKERS}, got {workers}")
-    # an option the backend ignores was silently dropped: say so instead
-    if workers is not None and backend == "serial":
-        raise InputError("--workers is for --backend local or ray (serial runs in this process)")
-    if ray_address is not None and backend != "ray":
-        raise InputError(f"--ray-address is for --backend ray, not {backend}")
+    check_backend(backend, workers, ray_address)
     if backend == "ray":
         _import_ray()  # fail now, with one line, not after the progress bar appears
         ray_address = ray_address or os.environ.get("RAY_ADDRESS") or None

@@ -335,7 +335,9 @@ def spec_from_keywords(
     """The spec of :func:`swarmex.sweep`'s keywords, as a TOML spec would hold them: a list
     (or range) is an axis, a tuple one shared value (``grid=(8, 8)``), None the default (left
     out, as in :func:`swarmex.run`); ``fixed`` holds shared values that are lists. Checked by
-    :func:`parse_sweep_spec`, errors named ``swarmex.sweep``."""
+    :func:`parse_sweep_spec`, errors named ``swarmex.sweep`` and its keywords (not the
+    command line's options)."""
+    _check_keywords(mission, {**fixed, **{k: v for k, v in axes.items() if v is not None}})
     data: dict[str, Any] = {"mission": mission, "seeds": _spec_value(seeds, "seeds")}
     shared = {k: _spec_value(v, k) for k, v in fixed.items()}
     for key, value in axes.items():
@@ -348,6 +350,29 @@ def spec_from_keywords(
     if shared:
         data["fixed"] = shared
     return parse_sweep_spec(data, Path("swarmex.sweep"))
+
+
+def _check_keywords(mission: Any, keywords: Mapping[str, Any]) -> None:
+    """Each keyword of :func:`swarmex.sweep` must be a parameter of :func:`swarmex.run`
+    (``algorithm`` always is); the errors are those of ``swarmex.run`` (the nearest name),
+    not the command line's "has no option --job-tim". ``seed`` is refused in its own words:
+    the sweep sets it run by run from ``seeds``."""
+    from swarmex.missions.base import unknown_message
+    from swarmex.missions.registry import get
+
+    if not isinstance(mission, str) or mission not in MISSIONS:
+        return  # parse_sweep_spec names the mission
+    opts = get(mission).params_type.options()
+    for key, value in keywords.items():
+        name = str(key).replace("-", "_")
+        if name == "seed":
+            one = value if isinstance(value, int) and not isinstance(value, bool) else "N"
+            raise InputError(
+                f"swarmex.sweep: {key}={value!r}: a sweep's seeds are given by seeds= (a count"
+                f" N for the first N, or a list): give seeds=[{one}]"
+            )
+        if name != "algorithm" and name not in opts:
+            raise InputError(f"swarmex.sweep: {unknown_message(mission, name, opts)}")
 
 
 def _spec_value(value: Any, key: str) -> Any:
