@@ -21,6 +21,7 @@ import typer
 # the command modules register their commands on the shared app when the command is first
 # looked up (swarmex.cli.app.LazyGroup), so `swarmex --help` imports none of them
 from swarmex.cli.app import Interrupted, app
+from swarmex.engine import interrupts
 from swarmex.errors import InputError
 
 try:  # recent Typer vendors Click as typer._click; older releases use Click itself
@@ -32,8 +33,12 @@ _NO_ARGS = getattr(_cx, "NoArgsIsHelpError", getattr(_cx, "NoArgsIsHelp", ()))
 
 
 def main(argv: list[str] | None = None) -> int:
-    with _terminate_as_ctrl_c():
-        return _main(argv)
+    interrupts.clear()
+    try:
+        with _terminate_as_ctrl_c():
+            return _main(argv)
+    finally:
+        interrupts.clear()  # a test's next command in this process starts afresh
 
 
 @contextlib.contextmanager
@@ -50,6 +55,7 @@ def _terminate_as_ctrl_c() -> Iterator[None]:
     def on_sigterm(signum: int, frame: Any) -> None:
         handler = signal.getsignal(signal.SIGINT)
         if not callable(handler):  # SIGINT ignored or default-at-C-level: stop regardless
+            interrupts.note()
             raise KeyboardInterrupt
         handler(signum, frame)
 
@@ -58,10 +64,17 @@ def _terminate_as_ctrl_c() -> Iterator[None]:
     except ValueError:  # not the main thread
         yield
         return
+    # Python's Ctrl-C, noted before it raises (engine/interrupts: one raised inside a
+    # finalizer is dropped, and a sweep's loop asks for it again)
+    int_before = signal.getsignal(signal.SIGINT)
+    if int_before is signal.default_int_handler:
+        signal.signal(signal.SIGINT, interrupts.ctrl_c)
     try:
         yield
     finally:
         signal.signal(signal.SIGTERM, previous)
+        if signal.getsignal(signal.SIGINT) is interrupts.ctrl_c:
+            signal.signal(signal.SIGINT, int_before)
 
 
 def _main(argv: list[str] | None) -> int:

@@ -74,7 +74,7 @@ def sweep(
 
     spec = load_sweep_spec(spec_file)
     for key, count in listed_axes(spec):
-        console.print(f"note: {key} is an axis of {count} values, one per run; for one list of"
+        err_console.print(f"note: {key} is an axis of {count} values, one per run; for one list of"
                       f" {key} in every run, put it under [fixed] (docs/sweeps.md)",
                       soft_wrap=True, markup=False)
     shapes = mission_shapes(spec.mission, spec_file)
@@ -195,7 +195,7 @@ def print_paired(out_dir: Path, name: str, value: Any, extra_metrics: list[str])
     metrics = ["makespan", *[m for m in extra if m != "makespan" and m in columns]]
     for asked, column in zip(extra_metrics, extra, strict=True):
         if column not in columns:  # dropped without a word: the summary at least shows "—"
-            console.print(f"note: no run wrote {asked}, so it is not compared",
+            err_console.print(f"note: no run wrote {asked}, so it is not compared",
                           highlight=False, soft_wrap=True, markup=False)
     results = comparisons(table, meta, name, value, metrics)
     if not results:  # an empty table with headers only said nothing of why
@@ -219,10 +219,16 @@ def print_paired(out_dir: Path, name: str, value: Any, extra_metrics: list[str])
                  *("all" if pooled else _value(r.config[g]) for g in groups),
                  r.metric, str(r.pairs), _num(r.baseline_mean), _num(r.variant_mean),
                  _mean_ci(r.diff.mean, r.diff.half_width),
-                 _mean_ci(100 * r.relative.mean, 100 * r.relative.half_width) + " %",
-                 str(r.lower), str(r.higher)]
+                 _relative(r), str(r.lower), str(r.higher)]
         out.add_row(*cells)
     print_wide(out)
+
+
+def _relative(r: Any) -> str:
+    """The relative Δ cell, with the pairs it is over when a zero baseline left some out
+    (a ratio to 0 is none; the cell read as if over every pair the row counts)."""
+    cell = _mean_ci(100 * r.relative.mean, 100 * r.relative.half_width) + " %"
+    return cell if r.relative_pairs == r.pairs else f"{cell} ({r.relative_pairs} pairs)"
 
 
 def print_wide(out: Table) -> None:
@@ -321,5 +327,5 @@ def plot(
     path = out if out is not None else base / f"{y}-vs-{x}.png"
     written, note = plot_sweep(table.to_pylist(), meta, x, y, hue, where, kind, path)
     if note:
-        console.print(note, soft_wrap=True)  # one line each, as the sweep's own lines
+        err_console.print(note, soft_wrap=True, highlight=False)  # notes go to stderr
     console.print(f"wrote {written}", soft_wrap=True)

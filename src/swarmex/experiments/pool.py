@@ -50,6 +50,7 @@ from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wai
 from concurrent.futures.process import BrokenProcessPool
 from typing import Any, Generic, TypeVar
 
+from swarmex.engine.interrupts import is_ctrl_c, note
 from swarmex.errors import InputError
 
 J = TypeVar("J")
@@ -274,15 +275,15 @@ def sigint_deferred(on_signal: Callable[[], None] | None = None) -> Iterator[Non
     """Let the block finish through Ctrl-C: a SIGINT meanwhile calls ``on_signal`` and is
     raised as KeyboardInterrupt when the block ends. Only the main thread gets signals, so
     elsewhere (or with Ctrl-C not handled by Python) the block simply runs."""
-    if threading.current_thread() is not threading.main_thread() or (
-        signal.getsignal(signal.SIGINT) is not signal.default_int_handler
-    ):
+    before = signal.getsignal(signal.SIGINT)
+    if threading.current_thread() is not threading.main_thread() or not is_ctrl_c(before):
         yield
         return
     got: list[int] = []
 
     def on_int(signum: int, frame: Any) -> None:
         got.append(signum)
+        note()
         if on_signal is not None:
             on_signal()
 
@@ -290,7 +291,7 @@ def sigint_deferred(on_signal: Callable[[], None] | None = None) -> Iterator[Non
     try:
         yield
     finally:
-        signal.signal(signal.SIGINT, signal.default_int_handler)
+        signal.signal(signal.SIGINT, before)
     if got:
         raise KeyboardInterrupt
 

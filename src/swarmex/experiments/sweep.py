@@ -42,6 +42,7 @@ from pathlib import Path
 from typing import Any
 
 from swarmex.engine.atomic import atomic_path, write_atomic
+from swarmex.engine.interrupts import raise_if_requested
 from swarmex.errors import InputError, require
 from swarmex.experiments.pool import MAX_ATTEMPTS, run_local, sigint_deferred
 from swarmex.experiments.progress import Journal, read_journal
@@ -435,6 +436,7 @@ def run_sweep(
         outcomes[outcome.run_id] = outcome
         if on_outcome is not None:
             on_outcome(outcome)
+        raise_if_requested()  # saved; a Ctrl-C a finalizer swallowed stops the rest
 
     interrupted = False
     try:
@@ -470,6 +472,7 @@ def run_sweep(
 
 def _serial(tasks: Iterable[Task], runs_dir: Path, finish: OnOutcome) -> None:
     for task in tasks:
+        raise_if_requested()  # a Ctrl-C a finalizer swallowed (engine/interrupts)
         outcome = run_task(task, str(runs_dir))
         finish(outcome)
 
