@@ -40,6 +40,7 @@ from typing import IO, Any, Generic, Protocol, TypeVar
 
 from rich.console import Console
 
+from swarmex.engine.interrupts import raise_if_requested
 from swarmex.experiments.pool import run_local, warm_numba
 from swarmex.experiments.progress import runs_progress
 
@@ -124,12 +125,14 @@ def run_jobs(
             bar.update(task, description=describe(job))
         if on_result is not None:
             on_result(job, result)
+        raise_if_requested()  # kept; a Ctrl-C a finalizer swallowed stops the rest
 
     try:
         with _bar_stops(bar):
             if workers == 1:
                 bar.start()
                 for item in pending:
+                    raise_if_requested()
                     finish(item, call(item[1]))
             elif pending:
 
