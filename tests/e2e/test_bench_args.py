@@ -36,6 +36,7 @@ BAD = [
     ("bench_startup.py", ["--src", "/nonexistent"], "no swarmex package there"),
     ("bench_sweep.py", ["--runs", "0"], "must be at least 1"),
     ("bench_traversal_den520d.py", ["--runs", "0"], "must be at least 1"),
+    ("traversal_crowd.py", ["--events", "0"], "must be at least 1"),
     ("bench_exploration.py", ["--robots", "0"], "must be at least 1"),
     ("bench_exploration.py", ["--strategy", "nope"], "--strategy must be one of"),
     ("bench_net.py", ["--agents", "x"], "must be an integer, got 'x'"),

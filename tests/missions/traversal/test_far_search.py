@@ -124,4 +124,86 @@ def test_lattice_far_choice_equals_brute_force(seed):
     want_found, want_tied = brute_force(fields[0], fields[1:], tpu[me], jt[me], tpu[rivals],
                                         jt[rivals], status, reserved, me)
     assert bool(found) == want_found
-    assert far[:nt].tolist() == want_tied.tolist()
+    left = far[:nt]
+    if agents == 1:  # no rival: no sum to break ties, every tied vertex is left
+        assert left.tolist() == want_tied.tolist()
+        return
+    # with rivals, the tied vertices whose sum cannot win may be left out: the vertices the
+    # tie-break by the sum keeps must be the same
+    assert set(left.tolist()) <= set(want_tied.tolist())
+    args = (sx, sy, 1.0, float(tpu[me]), float(jt[me]), tpu[rivals], jt[rivals])
+    util = lattice.util_matrix(w, sx, sy, want_tied, *args[2:]) if want_found else None
+    if want_found:
+        sums = util.sum(axis=0)
+        want_top = want_tied[np.abs(sums - sums.max()) <= 1e-9 * (1.0 + abs(sums.max()))]
+        top = lattice.top_candidates(w, sx, sy, left.copy(), *args[2:])
+        assert left[top].tolist() == want_top.tolist()
+
+
+@pytest.mark.parametrize("seed", range(12))
+def test_a_team_standing_together_prunes_by_the_sum_and_picks_the_same(seed):
+    # the crowd: every agent within a few cells of the others on a large open grid, so the
+    # max-min ties over most of the map; the search by the sum's bound must leave the same
+    # top vertices as the whole tied set does, while looking at a small part of the map
+    rng = np.random.default_rng(500 + seed)
+    w, h = int(rng.integers(150, 260)), int(rng.integers(150, 260))
+    n = w * h
+    agents = int(rng.integers(4, 30))
+    # round a nest in a corner (the default nest) or anywhere, some on my own cell
+    cx, cy = (0, 0) if seed % 3 else (int(rng.integers(0, w)), int(rng.integers(0, h)))
+    sx = np.clip(cx + rng.integers(-2, 3, agents), 0, w - 1).astype(np.int64)
+    sy = np.clip(cy + rng.integers(-2, 3, agents), 0, h - 1).astype(np.int64)
+    together = rng.random(agents) < 0.3
+    sx[together], sy[together] = sx[0], sy[0]
+    status = np.zeros(n, dtype=np.int32)
+    status[rng.random(n) < 0.1] = 1
+    reserved = np.zeros(n, dtype=np.int32)
+    mixed = seed % 2 == 1
+    tpu = rng.choice([2.22, 1.5], agents + 1) if mixed else np.full(agents + 1, 2.22)
+    jt = rng.choice([10.0, 4.0], agents + 1) if mixed else np.full(agents + 1, 10.0)
+    me = 1
+    rivals = np.arange(2, agents + 1)
+    klass, ctpu, cjt = _rival_classes(tpu[rivals], jt[rivals])
+    far, mins = np.empty(n, dtype=np.int64), np.empty(n)
+    dead = np.zeros(lattice.tree_nodes(w, h, lattice.BLOCK), dtype=np.uint8)
+    found, nt, scanned = lattice.far_choice(
+        w, h, sx, sy, klass, ctpu, cjt, status, reserved, me, 1.0, float(tpu[me]),
+        float(jt[me]), lattice.BLOCK, far, mins, dead)
+    ys, xs = np.divmod(np.arange(n), w)
+    fields = [(np.abs(xs - x) + np.abs(ys - y)).astype(float) for x, y in zip(sx, sy,
+                                                                              strict=True)]
+    _, want_tied = brute_force(fields[0], fields[1:], tpu[me], jt[me], tpu[rivals],
+                               jt[rivals], status, reserved, me)
+    args = (1.0, float(tpu[me]), float(jt[me]), tpu[rivals], jt[rivals])
+    sums = lattice.util_matrix(w, sx, sy, want_tied, *args).sum(axis=0)
+    want_top = want_tied[np.abs(sums - sums.max()) <= 1e-9 * (1.0 + abs(sums.max()))]
+    left = far[:nt]
+    top = lattice.top_candidates(w, sx, sy, left.copy(), *args)
+    assert left[top].tolist() == want_top.tolist()
+    if want_tied.size > n // 4:  # a tie over much of the map: most of it is not scanned
+        assert scanned < n // 2 and nt < want_tied.size // 2
+
+
+@pytest.mark.parametrize(("side", "agents", "mixed"), [(120, 20, False), (90, 12, True)])
+def test_a_crowded_run_is_the_plain_searchs_run(side, agents, mixed, monkeypatch):
+    # the whole decision loop: a team leaving one nest, with the sum's bound and without it
+    # (the same kernel, the bound off): every path, job and time the same
+    from swarmex.missions.traversal import AgentSpec, run_traversal, uniform_agents
+    from swarmex.missions.traversal.metrics import run_fingerprint
+    from swarmex.worlds import empty_grid
+
+    specs = ([AgentSpec(0, [2.22, 1.5, 3.0][i % 3], [10.0, 4.0][i % 2]) for i in range(agents)]
+             if mixed else uniform_agents([0] * agents, 2.22, 10.0))
+
+    def run() -> str:
+        return run_fingerprint(run_traversal(empty_grid(side, side), specs, seed=3,
+                                             max_events=1500))
+
+    bounded = run()
+
+    def plain(*args):
+        found, tied, scanned, _ = lattice._far_search(*args, False)
+        return found, tied, scanned
+
+    monkeypatch.setattr(lattice, "far_choice", plain)
+    assert run() == bounded
