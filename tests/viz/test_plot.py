@@ -116,9 +116,10 @@ def test_cli_plot_of_a_real_sweep(tmp_path, capsys):
     # the note and the "wrote" line were folded at 80 columns
     deep = tmp_path / ("a-long-folder-name-" * 4) / "p.png"
     assert main(["plot", str(out), "--x", "seed", "--y", "makespan", "--out", str(deep)]) == 0
-    lines = capsys.readouterr().out.splitlines()
-    assert lines == ["note: pooled over agents (use --hue or --where to separate)",
-                     f"wrote {deep}"]
+    said = capsys.readouterr()  # the note on stderr, as every command's notes
+    assert said.out.splitlines() == [f"wrote {deep}"]
+    assert said.err.splitlines() == ["note: pooled over agents (use --hue or --where to"
+                                     " separate)"]
 
 
 def test_python_plot_is_the_command_lines_figure(tmp_path, capsys):
