@@ -74,8 +74,11 @@ def test_check_metric_accepts_numbers_and_names_what_is_wrong() -> None:
         traversal.check_metric("total_time_al")
     with pytest.raises(InputError, match="not a metric of traversal records"):
         traversal.check_metric("coverage")
-    with pytest.raises(InputError, match="an exploration record holds it as a list"):
+    with pytest.raises(InputError, match="an exploration record holds it as a list") as lst:
         get("exploration").check_metric("steps")
+    assert "sweep columns" not in str(lst.value)  # a list has no columns to point to
+    with pytest.raises(InputError, match=r"its entries are sweep columns unicasts\.KEY"):
+        get("exploration").check_metric("unicasts")
     # a table metric's entries are numeric sweep columns (unicasts.sent): accepted
     for name in ("unicasts.sent", "messages_by_kind.SCAN.bytes", "replan_reasons.blocked",
                  "messages_by_kind.RREQ.messages", "metrics.unicasts.gap_requests"):

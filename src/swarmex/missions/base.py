@@ -742,8 +742,8 @@ class Mission(ABC, Generic[P, W]):
             article = "an" if self.name[:1] in "aeiou" else "a"
             raise InputError(
                 f"{where} {name!r}: {article} {self.name} record holds it as a list or a"
-                f" table per run, which has no mean; pick a number (a table's entries are"
-                f" sweep columns {bare}.KEY)"
+                f" table per run, which has no mean; pick a number"
+                + ("" if not info.keys else f" (its entries are sweep columns {bare}.KEY)")
             )
         known = [*RECORD_NUMBERS, *(k for k, v in declared.items() if v.numeric)]
         close = difflib.get_close_matches(name, known, n=1, cutoff=0.6)
