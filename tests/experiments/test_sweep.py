@@ -705,10 +705,13 @@ def test_ctrl_c_waits_for_the_jobs_running_and_starts_no_other(tmp_path):
     from swarmex.experiments.pool import run_local
 
     def on_alarm(signum, frame):
+        if not (tmp_path / "started-0").exists():  # a slow fork: not yet, look again
+            signal.setitimer(signal.ITIMER_REAL, 0.05)
+            return
         raise KeyboardInterrupt
 
     old = signal.signal(signal.SIGALRM, on_alarm)
-    signal.setitimer(signal.ITIMER_REAL, 0.5)  # a Ctrl-C while job 0 runs
+    signal.setitimer(signal.ITIMER_REAL, 0.3)  # a Ctrl-C while job 0 runs
     t0 = time.monotonic()
     try:
         with pytest.raises(KeyboardInterrupt):
@@ -717,7 +720,8 @@ def test_ctrl_c_waits_for_the_jobs_running_and_starts_no_other(tmp_path):
         signal.setitimer(signal.ITIMER_REAL, 0)
         signal.signal(signal.SIGALRM, old)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["started-0"]
-    assert time.monotonic() - t0 < 1.8
+    assert time.monotonic() - t0 < 10  # it waited for job 0 only (a second one would
+    # have left its mark); the bound only catches a hang on a loaded machine
 
 
 def test_chunk_size_follows_run_time_and_shrinks_at_the_end():
@@ -867,3 +871,40 @@ def test_a_relative_change_over_fewer_pairs_says_how_many():
     fewer = SimpleNamespace(relative=rel, pairs=3, relative_pairs=2)
     assert _relative(every) == _mean_ci(100 * rel.mean, 100 * rel.half_width) + " %"
     assert _relative(fewer) == _relative(every) + " (2 pairs)"
+
+
+def test_a_stop_noted_earlier_in_a_python_session_does_not_stop_a_later_sweep(tmp_path):
+    # a second Ctrl-C while a pool shut down left the note set in a notebook's process:
+    # every later sweep stopped at once, with no Ctrl-C (review of 30 Nov 2026)
+    import swarmex
+    from swarmex.engine import interrupts
+    from swarmex.experiments.pool import sigint_deferred
+
+    with pytest.raises(KeyboardInterrupt), sigint_deferred():
+        os.kill(os.getpid(), signal.SIGINT)
+    interrupts.note()  # however it came to be set
+    result = swarmex.sweep("traversal", out=tmp_path / "s", grid=(4, 4), agents=[1, 2],
+                           seeds=2, backend="serial", progress=False)
+    assert len(list((tmp_path / "s" / "runs").glob("*.json"))) == 4 and result is not None
+
+
+def test_a_record_that_cannot_be_read_now_is_not_deleted(tmp_path, monkeypatch, capsys):
+    # a permission or network file system error is not a damaged record: removing it lost
+    # a finished run; the sweep now stops and names the file
+    spec = tmp_path / "s.toml"
+    spec.write_text('mission = "traversal"\ngrid = "4x4"\nagents = 1\nseeds = 1\n')
+    out = tmp_path / "out"
+    assert main(["sweep", str(spec), "--out", str(out), "--backend", "serial"]) == 0
+    (record,) = (out / "runs").glob("*.json")
+    (out / "journal.jsonl").unlink()  # so the resume reads the record itself
+    real = Path.read_text
+
+    def denied(self, *a, **kw):
+        if self == record:
+            raise PermissionError(13, "Permission denied")
+        return real(self, *a, **kw)
+
+    monkeypatch.setattr(Path, "read_text", denied)
+    assert main(["sweep", str(spec), "--out", str(out), "--backend", "serial"]) == 2
+    assert "cannot read this finished run's file (Permission denied)" in capsys.readouterr().err
+    assert record.exists()

@@ -50,7 +50,7 @@ from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wai
 from concurrent.futures.process import BrokenProcessPool
 from typing import Any, Generic, TypeVar
 
-from swarmex.engine.interrupts import is_ctrl_c, note
+from swarmex.engine.interrupts import ctrl_c, is_ctrl_c, note
 from swarmex.errors import InputError
 
 J = TypeVar("J")
@@ -283,7 +283,8 @@ def sigint_deferred(on_signal: Callable[[], None] | None = None) -> Iterator[Non
 
     def on_int(signum: int, frame: Any) -> None:
         got.append(signum)
-        note()
+        if before is ctrl_c:  # the command line's Ctrl-C notes its requests (a caller's
+            note()  # own Python handler would never clear the note)
         if on_signal is not None:
             on_signal()
 

@@ -236,8 +236,10 @@ def frame_progress(mission: Any, params: Any, world: Any, console: Console,
     around ``on_frame`` counting what ``mission.progress`` says, on ``console`` when that is
     a terminal or a notebook's output; else ``on_frame`` itself. The command line's bar
     and ``swarmex.run(progress=True)`` are this one."""
+    if not (console.is_terminal or console.is_jupyter):
+        return on_frame  # first: a mission's spec may cost a pass over the world
     spec = mission.progress(params, world)
-    if spec is None or not (console.is_terminal or console.is_jupyter):
+    if spec is None:
         return on_frame
     return FrameProgress(spec, console, on_frame)
 

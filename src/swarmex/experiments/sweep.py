@@ -42,6 +42,7 @@ from pathlib import Path
 from typing import Any
 
 from swarmex.engine.atomic import atomic_path, write_atomic
+from swarmex.engine.interrupts import clear as clear_request
 from swarmex.engine.interrupts import raise_if_requested
 from swarmex.errors import InputError, require
 from swarmex.experiments.pool import MAX_ATTEMPTS, run_local, sigint_deferred
@@ -159,8 +160,10 @@ class SweepStore:
             text = path.read_text(encoding="utf-8")
             data = json.loads(text) if text.strip() else None
             why = "empty" if data is None else "not a JSON object"
-        except OSError as exc:
-            data, why = None, exc.strerror or type(exc).__name__
+        except OSError as exc:  # unreadable now (permissions, a network file system): the
+            # record may be whole, so it is not removed; the sweep stops and says which
+            raise InputError(f"{path}: cannot read this finished run's file"
+                             f" ({exc.strerror or type(exc).__name__})") from None
         except ValueError as exc:  # cut short, or not JSON (UnicodeDecodeError included)
             data, why = None, f"not JSON: {exc}"
         if isinstance(data, dict):
@@ -417,6 +420,7 @@ def run_sweep(
     tasks = {r.run_id: Task(r.index, r.run_id, spec.mission, spec.values(r, shapes)) for r in runs}
     check_values(spec, [t.values for t in tasks.values()])
     store = SweepStore(out_dir, on_warning)
+    clear_request()  # a request an earlier, finished call left behind is not this one's
     outcomes = store.finished(runs, retry_failed)
     skipped = len(outcomes)
     pending = [tasks[r.run_id] for r in runs if r.run_id not in outcomes]

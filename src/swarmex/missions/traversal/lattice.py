@@ -438,6 +438,9 @@ def _far_search(
     margin = 1e-9 * (1.0 + amax * (width + height) + cmax)
     # the same for a sum over r rivals, each term a utility
     smargin = (r + 1) * margin
+    # the rounding itself, with room (90 ulps of the largest term): a bound minus its
+    # margin within this of the best cannot hide a better vertex
+    rnd = 1e-14 * (1.0 + amax * (width + height) + cmax)
     # the tree's levels: level 0 = leaves; off[l] = first flag of level l
     nxs = np.empty(64, dtype=np.int64)
     nys = np.empty(64, dtype=np.int64)
@@ -494,8 +497,9 @@ def _far_search(
         else:
             if found and ub < best - tie:
                 break
-            if by_sums and r > 0 and found and ub - margin <= best + tie:
-                # no region left can beat the best max-min: go on by the bound of the sum
+            if by_sums and r > 0 and found and ub - margin <= best + rnd:
+                # no region left can beat the best max-min (not even within its tie
+                # tolerance: a better one would move the tie window): go on by the sum
                 summing = True
                 at_switch = best
                 xsum = _axis_sums(width, sx, klass, ctpu, step, step * tpu_me, xm)
