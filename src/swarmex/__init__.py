@@ -247,7 +247,7 @@ def sweep(
     from swarmex.experiments.progress import SweepBar
     from swarmex.experiments.scenario import mission_shapes
     from swarmex.experiments.sweep import check_backend, read_results, run_sweep
-    from swarmex.experiments.sweep_spec import listed_axes, spec_from_keywords
+    from swarmex.experiments.sweep_spec import always_ignored, listed_axes, spec_from_keywords
 
     # checked here: a string is truthy, so retry_failed="no" retried (and rewrote) every
     # failed run, and a wrong type ended in a TypeError deep in the sweep
@@ -268,6 +268,10 @@ def sweep(
 
         warnings.warn(f"{key} is an axis of {count} values, one per run; for one list of {key}"
                       " in every run, give it in fixed= or as a tuple", UserWarning, stacklevel=2)
+    for name, why in always_ignored(spec):
+        import warnings
+
+        warnings.warn(f"{name} is ignored in every run: {why}", UserWarning, stacklevel=2)
     bar = SweepBar(disable=not progress)
     try:
         result = run_sweep(

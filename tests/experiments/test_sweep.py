@@ -908,3 +908,24 @@ def test_a_record_that_cannot_be_read_now_is_not_deleted(tmp_path, monkeypatch, 
     assert main(["sweep", str(spec), "--out", str(out), "--backend", "serial"]) == 2
     assert "cannot read this finished run's file (Permission denied)" in capsys.readouterr().err
     assert record.exists()
+
+
+def test_an_option_every_run_ignores_is_noted(tmp_path, capsys):
+    # one traverse run says "--objective is ignored"; a sweep of online policies at
+    # objective = "makespan" said nothing, and its objective column meant nothing
+    spec = tmp_path / "s.toml"
+    spec.write_text('mission = "traversal"\ngrid = "4x4"\nagents = [1, 2]\nseeds = 1\n'
+                    '[fixed]\nobjective = "makespan"\n')
+    assert main(["sweep", str(spec), "--out", str(tmp_path / "a"), "--backend", "serial"]) == 0
+    assert ("note: objective is ignored in every run: only optimal minimises an objective"
+            " (makespan); madgta plays its own rule") in capsys.readouterr().err
+    # optimal among the algorithms reads it: nothing to say
+    spec.write_text('mission = "traversal"\ngrid = "3x3"\nagents = 1\nseeds = 1\n'
+                    'algorithm = ["madgta", "optimal"]\n[fixed]\nobjective = "makespan"\n')
+    assert main(["sweep", str(spec), "--out", str(tmp_path / "b"), "--backend", "serial"]) == 0
+    assert "ignored" not in capsys.readouterr().err
+    import swarmex
+
+    with pytest.warns(UserWarning, match="objective is ignored in every run"):
+        swarmex.sweep("traversal", out=tmp_path / "c", grid=(4, 4), agents=[1, 2],
+                      fixed={"objective": "makespan"}, backend="serial", progress=False)

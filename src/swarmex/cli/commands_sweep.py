@@ -70,13 +70,16 @@ def sweep(
 ) -> None:
     """Run the product of a spec's parameter lists and seeds; resumable; one Parquet table."""
     from swarmex.experiments.sweep import run_sweep
-    from swarmex.experiments.sweep_spec import listed_axes, load_sweep_spec
+    from swarmex.experiments.sweep_spec import always_ignored, listed_axes, load_sweep_spec
 
     spec = load_sweep_spec(spec_file)
     for key, count in listed_axes(spec):
         err_console.print(f"note: {key} is an axis of {count} values, one per run; for one list of"
                       f" {key} in every run, put it under [fixed] (docs/sweeps.md)",
                       soft_wrap=True, markup=False)
+    for name, why in always_ignored(spec):
+        err_console.print(f"note: {name.replace('_', '-')} is ignored in every run: {why}",
+                          soft_wrap=True, markup=False, highlight=False)
     shapes = mission_shapes(spec.mission, spec_file)
     check_metrics(spec.mission, metric)  # a typo must stop the sweep before its runs
     compared = None

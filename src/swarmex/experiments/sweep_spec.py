@@ -161,6 +161,35 @@ def listed_axes(spec: SweepSpec) -> list[tuple[str, int]]:
             if len(values) > 1 and getattr(options.get(key.replace("-", "_")), "many", False)]
 
 
+def always_ignored(spec: SweepSpec, limit: int = 1000) -> list[tuple[str, str]]:
+    """The options every run of ``spec`` sets to a value it never reads, each with why
+    (``Params.ignored``: traversal's ``objective`` when no run is ``optimal``). A single run
+    says so on the command line; a sweep said nothing, and its table then held a column that
+    meant nothing. Checked on the configurations (seeds aside), at most ``limit`` of them: a
+    larger product says nothing rather than parse them all; a configuration whose values
+    fail to parse (a failed row later) is passed over."""
+    from swarmex.missions.registry import get
+
+    mission = get(spec.mission)
+    names = list(spec.axes)
+    common: set[str] | None = None
+    why: dict[str, str] = {}
+    for i, values in enumerate(itertools.product(*spec.axes.values())):
+        if i >= limit:
+            return []
+        raw = dict(zip(names, values, strict=True)) | spec.fixed
+        try:
+            params = mission.params({k.replace("-", "_"): v for k, v in raw.items()})
+        except InputError:
+            continue
+        ignored = params.ignored()
+        common = set(ignored) if common is None else common & set(ignored)
+        why.update(ignored)
+        if not common:
+            return []
+    return [(name, why[name]) for name in sorted(common or ())]
+
+
 def run_id(
     mission: str, params: dict[str, Any], seed: int, inputs: Mapping[str, str] | None = None
 ) -> str:
