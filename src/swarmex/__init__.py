@@ -155,6 +155,7 @@ def rerun(
     *,
     on_frame: Callable[[Any], Any] | None = None,
     trace: bool | None = None,
+    progress: bool = False,
     **overrides: Any,
 ) -> ResultRecord:
     """Run a record again: the same mission, parameters and seed, so the same record
@@ -167,17 +168,22 @@ def rerun(
     the record's own by default: a record made with ``trace=False`` (no agent has a
     trajectory or a job) runs again without its trace, so that it too comes back the same.
     ``swarmex rerun FILE`` does this from the shell and says whether the record came out the
-    same.
+    same. ``progress=True`` shows the run's bar, as :func:`run`'s.
     """
+    from swarmex.experiments.progress import watches_if
     from swarmex.experiments.rerun import load_record, rerun_record
 
+    watch_for = watches_if(progress)
     rec, folder = load_record(record)
-    return rerun_record(rec, folder, overrides, on_frame=on_frame, trace=trace)
+    return rerun_record(rec, folder, overrides, on_frame=on_frame, trace=trace,
+                        watch_for=watch_for)
 
 
 def render(
     record: ResultRecord | Mapping[str, Any] | str | PathLike[str],
     path: str | PathLike[str],
+    *,
+    progress: bool = False,
     **world: Any,
 ) -> Path:
     """Draw a run: a picture (``.png``) or an animation (``.gif``; ``.mp4`` needs the
@@ -190,13 +196,15 @@ def render(
     ``RuntimeWarning`` says so. ``world`` gives the world again when the record cannot name
     it, as for :func:`rerun`: ``swarmex.render(rec, "run.png", map=world)`` for a run on a
     world object (only world and input-file parameters: any other would draw another run).
-    ``swarmex render RECORD.json OUT.png`` does this from the shell.
+    ``swarmex render RECORD.json OUT.png`` does this from the shell. ``progress=True``
+    shows the run's bar, as :func:`run`'s.
     """
     import warnings
 
+    from swarmex.experiments.progress import watches_if
     from swarmex.experiments.rerun import render_record
 
-    out, why = render_record(record, path, world)
+    out, why = render_record(record, path, world, watch_for=watches_if(progress))
     if why is not None:
         warnings.warn(
             f"{out}: the record's run came out differently today ({why}); the drawing is of"

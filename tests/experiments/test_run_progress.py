@@ -66,3 +66,26 @@ def test_a_batch_bar_with_a_long_run_description_fits_one_line(width):
     assert len(lines) == 1 and len(lines[0]) <= width
     assert "7/53" in lines[0] and "runs/s" in lines[0] and "-:--:--" in lines[0]
     assert "sweep n=1" in lines[0] and lines[0].rstrip().endswith("…")
+
+
+def test_a_rerun_and_a_drawing_from_python_show_the_bar_when_asked(monkeypatch, capfd,
+                                                                   tmp_path) -> None:
+    """``swarmex.rerun`` and ``swarmex.render`` of a long run were silent from Python, as
+    their commands were: ``progress=True`` shows the run's bar; the record is the same."""
+    from swarmex.experiments.progress import FrameProgress
+
+    monkeypatch.setattr(FrameProgress, "DELAY", 0.0)
+    monkeypatch.setattr(FrameProgress, "EVERY", 0.0)
+    monkeypatch.setenv("FORCE_COLOR", "1")
+    rec = swarmex.run("traversal", grid="9x8", agents=3, seed=4)
+    again = swarmex.rerun(rec, progress=True)
+    assert "/72" in capfd.readouterr().err
+    a, b = rec.to_dict(), again.to_dict()
+    a.pop("wall_seconds"), b.pop("wall_seconds")
+    assert a == b
+    swarmex.render(rec, tmp_path / "r.png", progress=True)
+    assert "/72" in capfd.readouterr().err and (tmp_path / "r.png").exists()
+    swarmex.rerun(rec)
+    assert capfd.readouterr().err == ""  # no bar unless asked
+    with pytest.raises(swarmex.InputError, match="progress must be True or False"):
+        swarmex.rerun(rec, progress="no")

@@ -244,6 +244,35 @@ def frame_progress(mission: Any, params: Any, world: Any, console: Console,
     return FrameProgress(spec, console, on_frame)
 
 
+def progress_watches(console: Console | None = None) -> Any:
+    """Mission name -> the ``watch`` of :meth:`~swarmex.missions.base.Mission.run` that shows
+    that mission's bar (:func:`frame_progress`, on standard error unless ``console`` says
+    otherwise): ``swarmex.rerun`` and ``swarmex.render`` with ``progress=True``."""
+    out = console if console is not None else Console(stderr=True)
+
+    def for_mission(name: str) -> Any:
+        from swarmex.missions.registry import get
+
+        mission = get(name)
+
+        def watch(params: Any, world: Any, on_frame: Any) -> Any:
+            return frame_progress(mission, params, world, out, on_frame)
+
+        return watch
+
+    return for_mission
+
+
+def watches_if(progress: Any) -> Any:
+    """:func:`progress_watches` when ``progress`` is True, None when False (the
+    ``progress=`` of ``swarmex.rerun`` and ``swarmex.render``)."""
+    if not isinstance(progress, bool):  # "no" is truthy: it would have shown the bar
+        from swarmex.errors import InputError
+
+        raise InputError(f"progress must be True or False, got {progress!r}")
+    return progress_watches() if progress else None
+
+
 def run_with_progress(mission: Any, params: Any, on_frame: Any, trace: bool) -> Any:
     """``mission.run(params, on_frame, trace=trace)`` with :func:`frame_progress`'s bar on
     standard error; a mission that says nothing, or a pipe, runs as it would without it."""
