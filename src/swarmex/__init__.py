@@ -145,9 +145,9 @@ def run(
             warnings.warn(f"{name} is ignored: {why}", UserWarning, stacklevel=2)
     if not progress:
         return m.run(p, on_frame=on_frame, trace=trace).record
-    from swarmex.experiments.progress import run_with_progress
+    from swarmex.experiments.progress import progress_watch
 
-    return run_with_progress(m, p, on_frame, trace).record
+    return m.run(p, on_frame=on_frame, trace=trace, watch=progress_watch(m)).record
 
 
 def rerun(
@@ -271,14 +271,12 @@ def sweep(
         raise InputError(f"workers must be a whole number, got {workers!r}")
     check_backend(backend, workers, python=True)  # in these words, not --workers
     spec = spec_from_keywords(mission, seeds, fixed or {}, axes)
-    for key, count in listed_axes(spec):
-        import warnings
+    import warnings
 
+    for key, count in listed_axes(spec):
         warnings.warn(f"{key} is an axis of {count} values, one per run; for one list of {key}"
                       " in every run, give it in fixed= or as a tuple", UserWarning, stacklevel=2)
     for name, why in always_ignored(spec):
-        import warnings
-
         warnings.warn(f"{name} is ignored in every run: {why}", UserWarning, stacklevel=2)
     bar = SweepBar(disable=not progress)
     try:

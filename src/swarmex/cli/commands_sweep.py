@@ -74,9 +74,9 @@ def sweep(
 
     spec = load_sweep_spec(spec_file)
     for key, count in listed_axes(spec):
-        err_console.print(f"note: {key} is an axis of {count} values, one per run; for one list of"
-                      f" {key} in every run, put it under [fixed] (docs/sweeps.md)",
-                      soft_wrap=True, markup=False)
+        err_console.print(f"note: {key} is an axis of {count} values, one per run; for one"
+                          f" list of {key} in every run, put it under [fixed] (docs/sweeps.md)",
+                          soft_wrap=True, markup=False)
     for name, why in always_ignored(spec):
         err_console.print(f"note: {name.replace('_', '-')} is ignored in every run: {why}",
                           soft_wrap=True, markup=False, highlight=False)

@@ -19,7 +19,7 @@ _REQUESTED = threading.Event()
 
 def ctrl_c(signum: int, frame: Any) -> None:
     """Python's Ctrl-C (a KeyboardInterrupt where the main thread is), noted first."""
-    _REQUESTED.set()
+    note()
     signal.default_int_handler(signum, frame)
 
 

@@ -244,46 +244,27 @@ def frame_progress(mission: Any, params: Any, world: Any, console: Console,
     return FrameProgress(spec, console, on_frame)
 
 
-def progress_watches(console: Console | None = None) -> Any:
-    """Mission name -> the ``watch`` of :meth:`~swarmex.missions.base.Mission.run` that shows
-    that mission's bar (:func:`frame_progress`, on standard error unless ``console`` says
-    otherwise): ``swarmex.rerun`` and ``swarmex.render`` with ``progress=True``."""
+def progress_watch(mission: Any, console: Console | None = None) -> Any:
+    """The ``watch`` of :meth:`~swarmex.missions.base.Mission.run` that shows ``mission``'s
+    bar (:func:`frame_progress`, on standard error unless ``console`` says otherwise):
+    ``swarmex.run``, ``swarmex.rerun`` and ``swarmex.render`` with ``progress=True``."""
     out = console if console is not None else Console(stderr=True)
 
-    def for_mission(name: str) -> Any:
-        from swarmex.missions.registry import get
+    def watch(params: Any, world: Any, on_frame: Any) -> Any:
+        return frame_progress(mission, params, world, out, on_frame)
 
-        mission = get(name)
-
-        def watch(params: Any, world: Any, on_frame: Any) -> Any:
-            return frame_progress(mission, params, world, out, on_frame)
-
-        return watch
-
-    return for_mission
+    return watch
 
 
 def watches_if(progress: Any) -> Any:
-    """:func:`progress_watches` when ``progress`` is True, None when False (the
+    """Mission name -> :func:`progress_watch` when ``progress`` is True, None when False (the
     ``progress=`` of ``swarmex.rerun`` and ``swarmex.render``)."""
     if not isinstance(progress, bool):  # "no" is truthy: it would have shown the bar
         from swarmex.errors import InputError
 
         raise InputError(f"progress must be True or False, got {progress!r}")
-    return progress_watches() if progress else None
+    if not progress:
+        return None
+    from swarmex.missions.registry import get
 
-
-def run_with_progress(mission: Any, params: Any, on_frame: Any, trace: bool) -> Any:
-    """``mission.run(params, on_frame, trace=trace)`` with :func:`frame_progress`'s bar on
-    standard error; a mission that says nothing, or a pipe, runs as it would without it."""
-    from swarmex.missions.base import check_run_options
-
-    check_run_options(on_frame, trace)
-    params = params.validated()
-    world = mission.prepare(params)
-    callback = frame_progress(mission, params, world, Console(stderr=True), on_frame)
-    try:
-        return mission.execute(params, world, callback, trace=trace)
-    finally:
-        if isinstance(callback, FrameProgress):
-            callback.close()
+    return lambda name: progress_watch(get(name))

@@ -475,8 +475,7 @@ def run_sweep(
 
 
 def _serial(tasks: Iterable[Task], runs_dir: Path, finish: OnOutcome) -> None:
-    for task in tasks:
-        raise_if_requested()  # a Ctrl-C a finalizer swallowed (engine/interrupts)
+    for task in tasks:  # finish() asks for a swallowed Ctrl-C between runs
         outcome = run_task(task, str(runs_dir))
         finish(outcome)
 

@@ -133,8 +133,7 @@ def run_jobs(
         with _bar_stops(bar):
             if workers == 1:
                 bar.start()
-                for item in pending:
-                    raise_if_requested()
+                for item in pending:  # finish() asks for a swallowed Ctrl-C
                     finish(item, call(item[1]))
             elif pending:
 

@@ -509,12 +509,8 @@ def _far_search(
                 csum = -r * jt_me
                 for i in range(r):
                     csum += cjt[klass[i]]
-                for j in range(nf):
-                    if mins[j] >= best - tie:
-                        vy, vx = divmod(far[j], width)
-                        sv = xsum[vx] + ysum[vy] + csum
-                        if sv > best_sum:
-                            best_sum, bs_m = sv, mins[j]
+                best_sum, bs_m = _best_tied_sum(far, mins, 0, nf, best - tie, width, xsum,
+                                                ysum, csum, best_sum, bs_m)
                 queued = ids[:size].copy()
                 size = 0
                 for nd in queued:
@@ -555,13 +551,9 @@ def _far_search(
             tpu_me, jt_me, far, mins, nf, best, found, near, cut, hk)
         scanned += (x1 - x0 + 1) * (y1 - y0 + 1)
         if summing:
-            tie = 1e-9 * (1.0 + abs(best))
-            for j in range(first, nf):
-                if mins[j] >= best - tie:
-                    vy, vx = divmod(far[j], width)
-                    sv = xsum[vx] + ysum[vy] + csum
-                    if sv > best_sum:
-                        best_sum, bs_m = sv, mins[j]
+            best_sum, bs_m = _best_tied_sum(far, mins, first, nf,
+                                            best - 1e-9 * (1.0 + abs(best)), width, xsum,
+                                            ysum, csum, best_sum, bs_m)
         if not live:  # every vertex done: flag the block, and each region now all dead
             dead[node] = 1
             lev, cx, cy = 0, bx, by
@@ -590,6 +582,21 @@ def _far_search(
             nt += 1
     far[:nt].sort()
     return found, nt, scanned, sound
+
+
+@kernel(cache=True, nogil=True)
+def _best_tied_sum(far: I64, mins: F64, lo: int, hi: int, least: float, width: int,
+                   xsum: F64, ysum: F64, csum: float, best_sum: float,
+                   bs_m: float) -> tuple[float, float]:  # pragma: no cover - compiled
+    """The best sum over rivals (from the per-axis sums) among ``far[lo:hi]`` whose max-min
+    is at least ``least`` (tied), with that vertex's max-min: ``(best_sum, bs_m)`` updated."""
+    for j in range(lo, hi):
+        if mins[j] >= least:
+            vy, vx = divmod(far[j], width)
+            sv = xsum[vx] + ysum[vy] + csum
+            if sv > best_sum:
+                best_sum, bs_m = sv, mins[j]
+    return best_sum, bs_m
 
 
 @kernel(cache=True, nogil=True)
