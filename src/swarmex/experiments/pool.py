@@ -23,6 +23,13 @@ order). What it takes care of, once for everybody:
   shows the workers themselves can run). If the pool breaks ``MAX_BREAKS`` times in a row with
   no job completing, the workers cannot run at all: :class:`WorkersDied` is raised and nothing
   is handed to ``died``.
+* **Refused starts.** A worker's death can race a submit, which then fails before the chunk
+  is sent; with no chunk in flight a new pool is made. Such refusals have their own count,
+  not the crashes': a fork server killed by the race (CPython's fork server dies on a
+  request whose client vanished) keeps refusing until it has exited and is started again,
+  so each new pool waits a little longer (``REFUSAL_PAUSE``, doubled), and only
+  ``MAX_REFUSALS`` in a row raise :class:`WorkersDied`. Counted with the crashes, one such
+  refusal after a run had killed its worker twice stopped a study that could go on.
 * **Stopping.** Workers ignore Ctrl-C: the driver gets it, raises the pool's stop flag, waits
   for the jobs running (their results are not handed over) and re-raises. A worker checks the
   flag before each job, so the rest of its chunk and the chunks already queued for the
@@ -60,10 +67,13 @@ CHUNK_MAX = 16  # jobs per pool task at most
 CHUNK_SECONDS = 0.1  # what a pool task should last, about
 MAX_BREAKS = 3  # pool breaks in a row, no job completing: the workers cannot run at all
 MAX_ATTEMPTS = 2  # a job in flight when a worker process died twice is given up on
+MAX_REFUSALS = 6  # new pools in a row that take no chunk: no worker process can start
+REFUSAL_PAUSE = 0.05  # seconds before the first new pool after a refused one (then doubled)
 
 
 class WorkersDied(InputError):
-    """The worker processes died ``MAX_BREAKS`` times in a row before finishing any job."""
+    """The worker processes died ``MAX_BREAKS`` times in a row before finishing any job, or
+    ``MAX_REFUSALS`` new pools in a row could not start one."""
 
 
 #: in a pool worker: the driver's stop flag (a multiprocessing Event), set when it stops
@@ -166,6 +176,7 @@ def run_local(
     attempts: dict[int, int] = {}
     dead: list[_Slot[J]] = []  # gave up on, handed to died() once the pool is shown to work
     breaks = 0  # pool breaks since the last completed job
+    refused = 0  # new pools in a row that failed before any chunk was handed to them
     window = 2 * workers  # chunks in flight: one running and one queued per worker
     timed = [0.0, 0]  # seconds and count of finished jobs, for the chunk size
 
@@ -197,24 +208,27 @@ def run_local(
                 try:
                     with _quiet_fork():  # the first submit forks the workers
                         flying[pool.submit(run_chunk, call, [s.job for s in chunk])] = chunk
-                except (BrokenProcessPool, OSError):
+                except (BrokenProcessPool, OSError, EOFError):
                     # a worker died while we were handing out work: the chunk was never
                     # sent, so it goes back where it came from; the futures in flight
                     # report the break below (or, with none in flight, a new pool starts).
                     # OSError: the death can race the submit, which then starts a
                     # replacement worker on the pool's already closed pipe ("handle is
-                    # closed", CPython's executor before 3.14; seen in a CI run)
+                    # closed", CPython's executor before 3.14; seen in a CI run). EOFError
+                    # or OSError: the fork server that race killed is still exiting
                     (suspects if from_suspects else queue).extendleft(reversed(chunk))
                     if not flying:
-                        breaks += 1
-                        if breaks >= MAX_BREAKS:
+                        refused += 1
+                        if refused >= MAX_REFUSALS:
                             raise WorkersDied(
-                                f"the worker processes died {breaks} times in a row before"
-                                " a run was handed to them"
+                                f"no worker process could be started ({refused} new pools"
+                                " in a row failed before a run was handed to them)"
                             ) from None
                         pool.shutdown(wait=False, cancel_futures=True)
+                        time.sleep(REFUSAL_PAUSE * 2 ** (refused - 1))
                         pool, stop = _pool(workers, preload)
                     break
+                refused = 0
             if ready is not None:
                 ready()  # the workers are forked by now
                 ready = None
@@ -368,6 +382,8 @@ __all__ = [
     "CHUNK_SECONDS",
     "MAX_ATTEMPTS",
     "MAX_BREAKS",
+    "MAX_REFUSALS",
+    "REFUSAL_PAUSE",
     "WorkersDied",
     "chunk_size",
     "init_worker",
