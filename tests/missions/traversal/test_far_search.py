@@ -247,3 +247,73 @@ def test_classes_a_hair_apart_keep_the_same_choice(seed):
     status = np.zeros(n, dtype=np.int32)
     reserved = np.zeros(n, dtype=np.int32)
     lattice_top_against_brute_force(w, h, sx, sy, status, reserved, tpu, jt)
+
+
+def numpy_top(util: np.ndarray) -> np.ndarray:
+    """get_best_node's kept columns, by numpy (before its final draw)."""
+    mins = util.min(axis=0)
+    best = mins.max()
+    tied = np.flatnonzero(np.abs(mins - best) <= 1e-9 * (1.0 + abs(best)))
+    if tied.size == 1:
+        return tied
+    sums = util[:, tied].sum(axis=0)
+    return tied[np.abs(sums - sums.max()) <= 1e-9 * (1.0 + abs(sums.max()))]
+
+
+@pytest.mark.parametrize("seed", range(30))
+def test_the_grouped_tie_break_keeps_numpys_choice(seed):
+    # branch 3's tie-break on hop rows: rivals grouped by (hop row, class), each group's
+    # utility computed once and the sum added by groups; the columns kept must be those of
+    # numpy's sums over the whole utility matrix, whenever the kernel decides alone
+    from swarmex.missions.traversal.policies import _rival_groups, _tied_top
+
+    rng = np.random.default_rng(7000 + seed)
+    h, w = int(rng.integers(8, 40)), int(rng.integers(8, 40))
+    free = rng.random((h, w)) >= rng.uniform(0.0, 0.3)
+    world = GridWorld(free)
+    known = KnownGraph(world.graph, capacity=64)
+    known.add_obstacles(np.flatnonzero(~free.ravel()))
+    cells = np.flatnonzero(free.ravel())
+    rivals = int(rng.integers(2, 60))
+    spots = rng.choice(cells, int(rng.integers(1, 6)))  # a crowd on a few vertices
+    loc = np.concatenate([spots[:1], rng.choice(spots, rivals)]).astype(np.int64)
+    tpu = rng.choice([2.22, 1.5, 2.22 * (1 + 1e-10)] if seed % 3 else [2.22], rivals + 1)
+    jt = rng.choice([10.0, 4.0] if seed % 2 else [10.0], rivals + 1)
+    rows = known.slots(loc)
+    me_slot, slots = int(rows[0]), rows[1:].astype(np.int64)
+    klass, ctpu, cjt = _rival_classes(tpu[1:], jt[1:])
+    g_slots, g_klass, counts = _rival_groups(slots, klass, len(ctpu))
+    assert counts.sum() == rivals and len(g_slots) <= len(np.unique(loc[1:])) * len(ctpu)
+    fields = [known.field(int(v)) for v in loc]
+    cands = np.flatnonzero(np.isfinite(fields[0]) & (rng.random(fields[0].size) < 0.7))
+    mine = fields[0][cands] * tpu[0] + jt[0]
+    util = np.stack([f[cands] * t + j - mine for f, t, j in zip(fields[1:], tpu[1:], jt[1:],
+                                                                strict=True)])
+    top = _tied_top(known.hops, me_slot, cands, known.step, float(tpu[0]), float(jt[0]),
+                    g_slots, ctpu[g_klass], cjt[g_klass], counts)
+    assert top[0] >= 0  # decided alone (numpy is asked only for sums within the tolerance)
+    assert cands[top].tolist() == cands[numpy_top(util)].tolist()
+
+
+@pytest.mark.parametrize("mixed", [False, True])
+def test_a_crowded_walled_run_is_the_whole_matrixs_run(mixed, monkeypatch):
+    # the whole decision loop on a walled map: a team leaving one nest, with rivals grouped
+    # by hop row and the tie-break without the matrix, and with every rival read and the
+    # whole utility matrix (the route before): every path, job and time the same
+    from swarmex.missions.traversal import AgentSpec, policies, run_traversal, uniform_agents
+    from swarmex.missions.traversal.metrics import run_fingerprint
+    from swarmex.worlds import rooms
+
+    world = rooms(40, 40, seed=2)
+    nest = int(np.flatnonzero(world.free.ravel())[0])
+    agents = 24
+    specs = ([AgentSpec(nest, [2.22, 1.5, 3.0][i % 3], [10.0, 4.0][i % 2])
+              for i in range(agents)] if mixed else uniform_agents([nest] * agents, 2.22, 10.0))
+
+    def run() -> str:
+        return run_fingerprint(run_traversal(world, specs, seed=5, max_events=2500))
+
+    grouped = run()
+    monkeypatch.setattr(policies, "_rival_groups", policies.each_rival_alone)
+    monkeypatch.setattr(policies, "_tied_top", policies.tied_top_by_matrix)
+    assert run() == grouped

@@ -49,8 +49,8 @@ from swarmex.missions.traversal.selection import FAR as _FAR
 from swarmex.missions.traversal.selection import JOB as _JOB
 from swarmex.missions.traversal.selection import NUMPY as _NUMPY
 from swarmex.missions.traversal.selection import PICK as _PICK
+from swarmex.missions.traversal.selection import group_stats, select_top, vacant_neighbours
 from swarmex.missions.traversal.selection import top_columns as _top_columns
-from swarmex.missions.traversal.selection import vacant_neighbours
 from swarmex.planning.distance import on_path_neighbors, steps_towards
 
 
@@ -134,6 +134,43 @@ def _util_matrix(
             h = hops[slots[i], c]
             theirs = (np.inf if h < 0 else h * step) * tpu[i]
             util[i, j] = theirs + jt[i] - mine
+
+
+@kernel(cache=True, nogil=True)
+def _tied_top(
+    hops: NDArray[np.signedinteger[Any]], me_slot: int, cands: NDArray[np.int64], step: float,
+    tpu_me: float, jt_me: float, g_slots: NDArray[np.int64], g_tpu: NDArray[np.float64],
+    g_jt: NDArray[np.float64], counts: NDArray[np.int64],
+) -> NDArray[np.int64]:  # pragma: no cover - compiled
+    """``top_columns`` of the matrix :func:`_util_matrix` fills, without the matrix.
+
+    Rivals come in groups of one hop row and one class (``g_slots``, ``g_tpu``, ``g_jt``;
+    ``counts[g]`` rivals each): rivals on one vertex share a hop row, so their utilities are
+    the same float, computed here once per group and summed by :func:`group_stats`. A crowd
+    on one nest of a walled map ties about 40,000 vertices with 100 rivals on about 20
+    vertices: writing the whole matrix (35 MB) and reading it back by columns cost more
+    than the rest of the decision."""
+    g = g_slots.shape[0]
+    n = 0
+    for u in range(g):
+        n += counts[u]
+    c = cands.shape[0]
+    mins = np.empty(c)
+    sums = np.empty(c)
+    errs = np.empty(c)
+    vals = np.empty(g)
+    for j in range(c):
+        v = cands[j]
+        h = hops[me_slot, v]
+        mine = (np.inf if h < 0 else h * step) * tpu_me
+        mine = mine + jt_me
+        for u in range(g):
+            h = hops[g_slots[u], v]
+            theirs = (np.inf if h < 0 else h * step) * g_tpu[u]
+            vals[u] = theirs + g_jt[u] - mine
+        if not group_stats(vals, counts, n, j, mins, sums, errs):
+            return np.full(1, -1, dtype=np.int64)
+    return select_top(mins, sums, errs)
 
 
 @kernel(cache=True, nogil=True)
@@ -310,16 +347,17 @@ class Madgta:
         me = belief.me
         here = belief.here
         klass, ctpu, cjt = _rival_classes(belief.time_per_unit[rivals], belief.job_time[rivals])
+        g_slots, g_klass, counts = _rival_groups(slots, klass, len(ctpu))
         unsigned, _, high = _unsigned_view(known.hops.dtype)
         far, mins = self._scratch(belief.status.size)
-        rows = np.empty(slots.size + 1, dtype=np.int64)
+        rows = np.empty(g_slots.size + 1, dtype=np.int64)
         rows[0] = me_slot
-        rows[1:] = slots
+        rows[1:] = g_slots
         lo, hi, slack = known.tile_bounds(rows)
         tiling = known.tiling
         dead = belief.scan_flags("field-tiles", tiling.n_tiles)
         found, nt, scanned = far_tiles(
-            known.hops.view(unsigned), me_slot, slots, klass, ctpu, cjt, belief.status,
+            known.hops.view(unsigned), me_slot, g_slots, g_klass, ctpu, cjt, belief.status,
             belief.reserved, me, here, known.step, belief.time_per_unit[me], jt_me, far, mins,
             high, dead, tiling.ptr, tiling.verts, lo, hi, slack,
         )
@@ -329,9 +367,17 @@ class Madgta:
             return Decision("finish")
         if nt == 1:
             f = int(far[0])
-        else:
+        elif rivals.size == 0:
             tied = far[:nt].copy()
             f = _choose(tied, self._utility_matrix(belief, tied, rivals, jt_me), rng)
+        else:
+            tied = far[:nt].copy()
+            top = _tied_top(known.hops, me_slot, tied, known.step, belief.time_per_unit[me],
+                            jt_me, g_slots, ctpu[g_klass], cjt[g_klass], counts)
+            if top[0] < 0:  # numpy must rank them (see _top_columns)
+                f = get_best_node(tied, self._utility_matrix(belief, tied, rivals, jt_me), rng)
+            else:
+                f = _pick(tied[top], rng)
         # the next hop: walked back from f through my own row (no field of f needed);
         # the same set as steps_towards on f's field, and _pick sorts it
         steps = known.first_steps(me_slot, f)
@@ -452,6 +498,42 @@ def _rival_classes(
         return np.zeros(tpu.size, dtype=np.int64), tpu[:1].copy(), jt[:1].copy()
     pairs, klass = np.unique(np.stack([tpu, jt], axis=1), axis=0, return_inverse=True)
     return klass.ravel().astype(np.int64), pairs[:, 0].copy(), pairs[:, 1].copy()
+
+
+def _rival_groups(
+    slots: NDArray[np.int64], klass: NDArray[np.int64], classes: int
+) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.int64]]:
+    """Rivals grouped by (hop row, class): each group's row, class and rival count.
+
+    Rivals on one vertex share a hop row, so a group's utilities are one float: branch 3
+    reads each row once per vertex instead of once per rival (a crowd leaving one nest:
+    about 20 groups of 100 rivals), and the max-min and the sums are unchanged."""
+    _, first, of = np.unique(slots * (classes + 1) + klass, return_index=True,
+                             return_inverse=True)
+    return slots[first], klass[first], np.bincount(of.ravel(), minlength=first.size)
+
+
+def each_rival_alone(
+    slots: NDArray[np.int64], klass: NDArray[np.int64], classes: int
+) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.int64]]:
+    """The reference for :func:`_rival_groups`: every rival its own group (the route
+    before it; bench/traversal_crowd.py and the tests compare the two)."""
+    return slots, klass, np.ones(slots.size, dtype=np.int64)
+
+
+def tied_top_by_matrix(
+    hops: NDArray[np.signedinteger[Any]], me_slot: int, cands: NDArray[np.int64], step: float,
+    tpu_me: float, jt_me: float, g_slots: NDArray[np.int64], g_tpu: NDArray[np.float64],
+    g_jt: NDArray[np.float64], counts: NDArray[np.int64],
+) -> NDArray[np.int64]:
+    """The reference for :func:`_tied_top`: the whole utility matrix, one row per rival,
+    then ``top_columns`` (the route before it)."""
+    slots = np.repeat(g_slots, counts)
+    tpu = np.repeat(g_tpu, counts)
+    jt = np.repeat(g_jt, counts)
+    util = np.empty((slots.size, cands.size))
+    _util_matrix(hops, me_slot, slots, cands, step, tpu_me, jt_me, tpu, jt, util)
+    return _top_columns(util)
 
 
 def _choose(cands: np.ndarray, util: np.ndarray, rng: np.random.Generator) -> int:
