@@ -32,6 +32,10 @@ def close1(v: float, best: float) -> bool:  # pragma: no cover - compiled; _clos
 EPS = 2.0**-53
 
 
+#: no counts: every value of the column once (:func:`column_stats`)
+_EACH_ONCE = np.zeros(0, dtype=np.int64)
+
+
 @kernel(cache=True, nogil=True)
 def column_stats(
     col: NDArray[np.float64], j: int, mins: NDArray[np.float64], sums: NDArray[np.float64],
@@ -39,31 +43,7 @@ def column_stats(
 ) -> bool:  # pragma: no cover - compiled
     """Min, sum and the sum's rounding bound of one utility column into ``[j]`` of the
     outputs; False if the column holds a NaN (numpy must decide then)."""
-    m = col[0]
-    s = 0.0
-    a = 0.0
-    exact = True
-    for i in range(col.shape[0]):
-        v = col[i]
-        if np.isnan(v):
-            return False
-        if v < m:
-            m = v
-        s += v
-        a += abs(v)
-        if exact and not (abs(v) <= 2.0**40 and v == np.floor(v)):
-            exact = False
-    mins[j] = m
-    sums[j] = s
-    # integers below 2**40 add exactly in any order; otherwise numpy's order (pairwise or
-    # not) and this one each stay within (n - 1) EPS sum|v| of the exact sum
-    if exact:
-        errs[j] = 0.0
-    elif np.isfinite(a):
-        errs[j] = 1.01 * 2.0 * col.shape[0] * EPS * a
-    else:
-        errs[j] = np.inf
-    return True
+    return group_stats(col, _EACH_ONCE, col.shape[0], j, mins, sums, errs)
 
 
 @kernel(cache=True, nogil=True)
@@ -72,14 +52,16 @@ def group_stats(
     mins: NDArray[np.float64], sums: NDArray[np.float64], errs: NDArray[np.float64],
 ) -> bool:  # pragma: no cover - compiled
     """:func:`column_stats` of a column of ``n`` values in which ``vals[g]`` occurs
-    ``counts[g]`` times (rivals sharing a hop row and a class), in O(groups).
+    ``counts[g]`` times (rivals sharing a hop row and a class), in O(groups); with no
+    ``counts``, ``vals`` is the column itself, added value by value.
 
-    The sum is added by groups, ``counts[g] * vals[g]`` each, not value by value. Each
-    product rounds once and the groups add with groups - 1 roundings, so this sum is within
-    groups * EPS * sum|v| <= n EPS sum|v| of the exact one, and numpy's within (n - 1) EPS
-    sum|v|: the two differ by less than ``errs`` (2n EPS sum|v|, with 1 % for the second
-    order), which is all :func:`select_top` assumes. Integers stay exact (products below
-    2**47, sums below 2**53), as in any order."""
+    By groups the sum is added ``counts[g] * vals[g]`` at a time. Each product rounds once
+    and the groups add with groups - 1 roundings, so this sum is within groups * EPS *
+    sum|v| <= n EPS sum|v| of the exact one, and numpy's (in whatever order) within (n - 1)
+    EPS sum|v|: the two differ by less than ``errs`` (2n EPS sum|v|, with 1 % for the second
+    order), which is all :func:`select_top` assumes. Integers below 2**40 add exactly in any
+    order (products below 2**47, sums below 2**53): ``errs`` is 0 then."""
+    grouped = counts.shape[0] > 0
     m = vals[0]
     s = 0.0
     a = 0.0
@@ -90,8 +72,12 @@ def group_stats(
             return False
         if v < m:
             m = v
-        s += counts[g] * v
-        a += counts[g] * abs(v)
+        if grouped:
+            s += counts[g] * v
+            a += counts[g] * abs(v)
+        else:
+            s += v
+            a += abs(v)
         if exact and not (abs(v) <= 2.0**40 and v == np.floor(v)):
             exact = False
     mins[j] = m
