@@ -66,6 +66,10 @@ def _load_numba() -> Any:
     """Import numba, teach it the Kernel type, tell whoever waits for it."""
     global _registered
     with _lock:
+        if "numba" not in sys.modules:  # before numba reads a cached kernel
+            from swarmex._jitcache import drop_stale_kernels
+
+            drop_stale_kernels()
         import numba
 
         if not _registered:
