@@ -84,3 +84,37 @@ def test_a_changed_callee_in_another_file_is_compiled_again(tmp_path):
     callee.write_text("import numba\n\n@numba.njit(cache=True)\ndef g():\n    return 10\n")
     assert run_caller(tmp_path, drop=False) == "2"  # numba's own check: stale
     assert run_caller(tmp_path, drop=True) == "11"
+
+
+def test_an_unreadable_entry_does_not_break_the_stamp(tmp_path):
+    # an editor's lock file (Emacs: a dangling link named .#b.py) matches *.py
+    pkg = package(tmp_path)
+    (pkg / "sub" / ".#b.py").symlink_to(tmp_path / "user@host.1:1700000000")
+    assert drop_stale_kernels({}, pkg) == 0
+    (pkg / "sub" / "b.py").write_text("X = 3\n")
+    (pkg / "sub" / "__pycache__" / "b.f-1.py311.nbi").write_text("x")
+    assert drop_stale_kernels({}, pkg) == 1
+
+
+def test_a_process_older_than_its_sources_gets_a_private_cache(tmp_path, monkeypatch):
+    # imported before a source changed, first kernel after: its code in memory is old, so it
+    # must neither vouch for the shared cache (the stamp) nor store into it
+    from swarmex import _jitcache
+
+    pkg = package(tmp_path)
+    drop_stale_kernels({}, pkg)
+    marker = (pkg / "__pycache__" / STAMP).read_text()
+    monkeypatch.setattr(_jitcache, "IMPORTED", _jitcache.source_stamp(pkg))
+    monkeypatch.setenv("NUMBA_CACHE_DIR", "")  # so that the test's choice is undone after
+    monkeypatch.delenv("NUMBA_CACHE_DIR")
+    config = sys.modules.get("numba.core.config")
+    if config is not None:  # numba already loaded: its own setting is undone too
+        monkeypatch.setattr(config, "CACHE_DIR", config.CACHE_DIR)
+    kept = pkg / "sub" / "__pycache__" / "b.f-1.py311.nbi"
+    kept.write_text("x")
+    assert _jitcache.check_kernel_cache(pkg) is None  # sources as imported: shared cache
+    assert kept.exists()
+    (pkg / "sub" / "b.py").write_text("X = 4\n")  # changed after the import
+    private = _jitcache.check_kernel_cache(pkg)
+    assert private is not None and os.environ["NUMBA_CACHE_DIR"] == private
+    assert (pkg / "__pycache__" / STAMP).read_text() == marker and kept.exists()

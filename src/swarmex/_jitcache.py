@@ -17,18 +17,25 @@ always wins.
 numba checks a cached kernel against its own source file only, not against the kernels it
 calls from other files (numba issue #1833): after ``git pull`` or an edit of
 ``selection.py``, a kernel of ``lattice.py`` loaded from the cache still runs the old
-``select_top`` compiled into it, silently. :func:`drop_stale_kernels` runs before numba loads
-and, when the cache is the one beside the source, removes swarmex's cached kernels once any
-of its source files has changed since they were written (a stamp of every file's size and
-time), so they are compiled again from the current code. A pip upgrade rewrites every file,
-which numba notices by itself; this is for a source checkout.
+``select_top`` compiled into it, silently. :func:`check_kernel_cache` runs once per process,
+before swarmex's first kernel is compiled or loaded, and, when the cache is the one beside
+the sources, removes swarmex's cached kernels once any source file has changed since they
+were written (a stamp of every file's size and time), so they are compiled again from the
+current code. A process whose sources changed after it imported swarmex (a notebook, a long
+sweep) holds older code than the files: it gets a private cache instead, so it never stores
+that code where later processes would load it. Left to numba: a process that changes
+sources *after* its first kernel (it may still store old code; the next process to check
+drops it unless it checked in between). A pip upgrade rewrites every file, which numba
+notices by itself; this is for a source checkout.
 """
 
 from __future__ import annotations
 
+import atexit
 import contextlib
 import hashlib
 import os
+import shutil
 import sys
 import tempfile
 from collections.abc import Iterator, Mapping
@@ -89,46 +96,102 @@ def ensure_cache_dir() -> Path | None:
 STAMP = "swarmex-kernels.stamp"
 
 
+def in_tree(env: Mapping[str, str] = os.environ, package: Path = PACKAGE) -> bool:
+    """Whether numba caches swarmex's kernels beside its sources (no ``NUMBA_CACHE_DIR``,
+    the package's ``__pycache__`` writable): the only cache :func:`check_kernel_cache`
+    looks after."""
+    return not env.get("NUMBA_CACHE_DIR") and writable(package / "__pycache__")
+
+
 def source_stamp(package: Path = PACKAGE) -> str:
-    """A digest of the size and modification time of every Python file of the package."""
+    """A digest of the size and modification time of every Python file of the package
+    (an entry that cannot be read, such as an editor's dangling lock link, is left out)."""
     h = hashlib.sha256()
     for path in sorted(package.rglob("*.py")):
-        st = path.stat()
+        try:
+            st = path.stat()
+        except OSError:
+            continue
         h.update(f"{path.relative_to(package)}\0{st.st_size}\0{st.st_mtime_ns}\n".encode())
     return h.hexdigest()
 
 
-def drop_stale_kernels(env: Mapping[str, str] = os.environ, package: Path = PACKAGE) -> int:
-    """Remove the kernels numba cached beside the sources if any source changed since; how
-    many cache files were removed (see the module docstring). Nothing is done when numba
-    caches elsewhere (``NUMBA_CACHE_DIR``, or the folder is not writable)."""
-    cache = package / "__pycache__"
-    if env.get("NUMBA_CACHE_DIR") or not writable(cache):
+def _stamp_now(package: Path = PACKAGE) -> str | None:
+    try:
+        return source_stamp(package) if in_tree(os.environ, package) else None
+    except OSError:
+        return None
+
+
+#: the sources as this process imported them (``None``: not an in-tree cache)
+IMPORTED = _stamp_now()
+
+
+def drop_stale_kernels(env: Mapping[str, str] = os.environ, package: Path = PACKAGE,
+                       stamp: str | None = None) -> int:
+    """Remove the kernels numba cached beside the sources of ``package`` if any source
+    changed since they were written (``stamp``: the sources now); how many cache files were
+    removed (see the module docstring). Nothing is done when numba caches elsewhere. The
+    stamp is recorded only once every stale file is gone."""
+    if not in_tree(env, package):
         return 0
+    cache = package / "__pycache__"
     cache.mkdir(exist_ok=True)
     with _locked(cache / (STAMP + ".lock")):  # test workers start together
-        stamp = source_stamp(package)
+        stamp = stamp or source_stamp(package)
         marker = cache / STAMP
         with contextlib.suppress(OSError):
             if marker.read_text() == stamp:
                 return 0
         removed = 0
+        kept = False
         for pattern in ("__pycache__/*.nbi", "__pycache__/*.nbc"):
             for old in package.rglob(pattern):
-                with contextlib.suppress(OSError):
+                try:
                     old.unlink()
                     removed += 1
-        with contextlib.suppress(OSError):
-            marker.write_text(stamp)
+                except FileNotFoundError:
+                    pass
+                except OSError:
+                    kept = True
+        if not kept:
+            with contextlib.suppress(OSError):
+                marker.write_text(stamp)
         return removed
+
+
+def check_kernel_cache(package: Path = PACKAGE) -> str | None:
+    """Before swarmex's first kernel is compiled or loaded in this process: drop stale
+    cached kernels; or, when a source changed after this process imported swarmex
+    (:data:`IMPORTED`; its code in memory is older than the files), give this process a
+    private cache, so that it never stores old code under the new files' stamps for later
+    processes to load. Returns that private folder, if any. Best effort: a cache it cannot
+    clean is left as numba would leave it."""
+    try:
+        if IMPORTED is None:
+            return None
+        now = source_stamp(package)
+        if now == IMPORTED:
+            drop_stale_kernels(os.environ, package, now)
+            return None
+        private = tempfile.mkdtemp(prefix="swarmex-numba-")
+    except OSError:
+        return None
+    os.environ["NUMBA_CACHE_DIR"] = private
+    config = sys.modules.get("numba.core.config")
+    if config is not None:
+        config.CACHE_DIR = private  # type: ignore[attr-defined]
+    atexit.register(shutil.rmtree, private, ignore_errors=True)
+    return private
 
 
 @contextlib.contextmanager
 def _locked(path: Path) -> Iterator[None]:
-    """An exclusive lock on ``path`` across processes where the platform has one."""
+    """An exclusive lock on ``path`` across processes where the platform and the file
+    system have one (else the block runs unlocked)."""
     try:
         import fcntl
-    except ImportError:  # Windows: one process at a time is not enforced
+    except ImportError:  # Windows
         yield
         return
     try:
@@ -137,8 +200,13 @@ def _locked(path: Path) -> Iterator[None]:
         yield
         return
     with fh:
-        fcntl.flock(fh, fcntl.LOCK_EX)
+        try:
+            fcntl.flock(fh, fcntl.LOCK_EX)
+        except OSError:  # a file system without locks
+            yield
+            return
         try:
             yield
         finally:
-            fcntl.flock(fh, fcntl.LOCK_UN)
+            with contextlib.suppress(OSError):
+                fcntl.flock(fh, fcntl.LOCK_UN)

@@ -48,6 +48,7 @@ _lock = threading.RLock()
 _interpreting = 0  # depth of interpreted_while_cold blocks (process-wide: threads share runs)
 _on_load: list[Callable[[], None]] = []  # run once numba is imported (compile notices)
 _registered = False  # numba knows how to type a Kernel
+_cache_checked = False  # stale cached kernels dropped (swarmex._jitcache.check_kernel_cache)
 _all: list[Kernel] = []  # every kernel defined, in definition order
 
 
@@ -64,12 +65,13 @@ def interpreting() -> bool:
 
 def _load_numba() -> Any:
     """Import numba, teach it the Kernel type, tell whoever waits for it."""
-    global _registered
+    global _registered, _cache_checked
     with _lock:
-        if "numba" not in sys.modules:  # before numba reads a cached kernel
-            from swarmex._jitcache import drop_stale_kernels
+        if not _cache_checked:  # before numba reads a cached kernel of ours
+            from swarmex._jitcache import check_kernel_cache
 
-            drop_stale_kernels()
+            check_kernel_cache()
+            _cache_checked = True
         import numba
 
         if not _registered:

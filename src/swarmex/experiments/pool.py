@@ -208,7 +208,7 @@ def run_local(
                 try:
                     with _quiet_fork():  # the first submit forks the workers
                         flying[pool.submit(run_chunk, call, [s.job for s in chunk])] = chunk
-                except (BrokenProcessPool, OSError, EOFError):
+                except (BrokenProcessPool, OSError, EOFError) as exc:
                     # a worker died while we were handing out work: the chunk was never
                     # sent, so it goes back where it came from; the futures in flight
                     # report the break below (or, with none in flight, a new pool starts).
@@ -222,15 +222,15 @@ def run_local(
                         if refused >= MAX_REFUSALS:
                             raise WorkersDied(
                                 f"no worker process could be started ({refused} new pools"
-                                " in a row failed before a run was handed to them)"
-                            ) from None
+                                f" in a row failed before a run was handed to them: {exc})"
+                            ) from exc
                         pool.shutdown(wait=False, cancel_futures=True)
                         time.sleep(REFUSAL_PAUSE * 2 ** (refused - 1))
                         pool, stop = _pool(workers, preload)
                     break
                 refused = 0
-            if ready is not None:
-                ready()  # the workers are forked by now
+            if ready is not None and flying:
+                ready()  # the workers are forked by now (not after a refused first pool)
                 ready = None
             if not flying:
                 continue

@@ -317,3 +317,20 @@ def test_a_crowded_walled_run_is_the_whole_matrixs_run(mixed, monkeypatch):
     monkeypatch.setattr(policies, "_rival_groups", policies.each_rival_alone)
     monkeypatch.setattr(policies, "_tied_top", policies.tied_top_by_matrix)
     assert run() == grouped
+
+
+def test_integer_sums_past_2_53_are_not_taken_as_exact():
+    # integer utilities add exactly in any order only while the sum stays below 2**53:
+    # beyond, numpy's order and the kernel's may round apart, so the kernel must not claim
+    # an exact (error-free) sum there
+    from swarmex.missions.traversal.selection import column_stats, group_stats
+
+    mins, sums, errs = np.empty(2), np.empty(2), np.empty(2)
+    assert group_stats(np.array([2.0**40, 3.0]), np.array([10_000, 5]), 10_005, 0, mins, sums,
+                       errs)
+    assert errs[0] > 0.0
+    assert group_stats(np.array([2.0**30, 3.0]), np.array([10_000, 5]), 10_005, 1, mins, sums,
+                       errs)
+    assert errs[1] == 0.0 and sums[1] == 10_000 * 2.0**30 + 15
+    assert column_stats(np.full(9000, 2.0**40), 0, mins, sums, errs)
+    assert errs[0] > 0.0

@@ -59,8 +59,9 @@ def group_stats(
     and the groups add with groups - 1 roundings, so this sum is within groups * EPS *
     sum|v| <= n EPS sum|v| of the exact one, and numpy's (in whatever order) within (n - 1)
     EPS sum|v|: the two differ by less than ``errs`` (2n EPS sum|v|, with 1 % for the second
-    order), which is all :func:`select_top` assumes. Integers below 2**40 add exactly in any
-    order (products below 2**47, sums below 2**53): ``errs`` is 0 then."""
+    order), which is all :func:`select_top` assumes. Integers below 2**40 whose absolute sum
+    stays below 2**53 add exactly in any order (every product and partial sum is an integer
+    below 2**53): ``errs`` is 0 then."""
     grouped = counts.shape[0] > 0
     m = vals[0]
     s = 0.0
@@ -82,7 +83,7 @@ def group_stats(
             exact = False
     mins[j] = m
     sums[j] = s
-    if exact:
+    if exact and a < 2.0**53:
         errs[j] = 0.0
     elif np.isfinite(a):
         errs[j] = 1.01 * 2.0 * n * EPS * a
