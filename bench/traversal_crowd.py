@@ -8,9 +8,11 @@ agents on one nest").
   that sum once no region can beat the best max-min, and skips the regions that cannot reach
   the best tied sum; the reference is the plain search (the same kernel, the bound off).
 * **Walled map** (``--map``, e.g. den520d; hop rows, ``fartiles``): rivals on one vertex
-  share a hop row, and branch 3 now reads each row once per (row, class) group and breaks
-  ties without the whole utility matrix; the reference reads every rival and builds the
-  matrix (``policies.each_rival_alone``, ``policies.tied_top_by_matrix``).
+  share a hop row, and branch 3 now reads each row once per (row, class) group, drops a
+  vertex as soon as one rival puts it below the tie, and breaks ties without the whole
+  utility matrix; the reference reads every near rival at every vertex and builds the matrix
+  (``policies.each_rival_alone``, ``far_tiles(..., drop_early=False)``,
+  ``policies.tied_top_by_matrix``).
 
 For each team size this runs the first ``--events`` events of MADGTA from the map's first
 free cell twice, checks that both runs are the same (their fingerprints: every agent's path,
@@ -62,14 +64,21 @@ def plain_search() -> Iterator[None]:
 
 @contextmanager
 def every_rival() -> Iterator[None]:
-    """Branch 3 on hop rows reading every rival and the whole utility matrix."""
-    grouped, fused = policies._rival_groups, policies._tied_top
+    """Branch 3 on hop rows as before: every near rival read at every vertex (no early
+    drop), no groups, the whole utility matrix."""
+    grouped, fused, searched = policies._rival_groups, policies._tied_top, policies.far_tiles
+
+    def reading_all(*args):  # type: ignore[no-untyped-def]
+        return searched(*args, False)
+
     policies._rival_groups = policies.each_rival_alone
     policies._tied_top = policies.tied_top_by_matrix
+    policies.far_tiles = reading_all
     try:
         yield
     finally:
         policies._rival_groups, policies._tied_top = grouped, fused
+        policies.far_tiles = searched
 
 
 def timed(world: GridWorld, agents: int, events: int | None) -> tuple[float, str, bool]:

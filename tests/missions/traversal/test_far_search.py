@@ -50,8 +50,9 @@ def situation(rng: np.random.Generator, n: int, agents: int):
     return status, reserved, tpu, jt
 
 
+@pytest.mark.parametrize("drop_early", [True, False])
 @pytest.mark.parametrize("seed", range(25))
-def test_far_tiles_equals_brute_force(seed):
+def test_far_tiles_equals_brute_force(seed, drop_early):
     rng = np.random.default_rng(seed)
     h, w = int(rng.integers(6, 40)), int(rng.integers(6, 40))
     free = rng.random((h, w)) >= rng.uniform(0.0, 0.35)
@@ -91,7 +92,7 @@ def test_far_tiles_equals_brute_force(seed):
     found, nt, scanned = far_tiles(
         known.hops.view(unsigned), me_slot, slots, klass, ctpu, cjt, status, reserved, me,
         int(loc[0]), known.step, float(tpu[me]), float(jt[me]), far, mins, high, dead,
-        tiling.ptr, tiling.verts, lo, hi, slack)
+        tiling.ptr, tiling.verts, lo, hi, slack, drop_early)
     fields = [known.field(int(v)) for v in loc]
     want_found, want_tied = brute_force(fields[0], fields[1:], tpu[me], jt[me], tpu[rivals],
                                         jt[rivals], status, reserved, me)
@@ -298,8 +299,9 @@ def test_the_grouped_tie_break_keeps_numpys_choice(seed):
 @pytest.mark.parametrize("mixed", [False, True])
 def test_a_crowded_walled_run_is_the_whole_matrixs_run(mixed, monkeypatch):
     # the whole decision loop on a walled map: a team leaving one nest, with rivals grouped
-    # by hop row and the tie-break without the matrix, and with every rival read and the
-    # whole utility matrix (the route before): every path, job and time the same
+    # by hop row, vertices dropped early and the tie-break without the matrix, and with
+    # every near rival read at every vertex and the whole utility matrix (the route
+    # before): every path, job and time the same
     from swarmex.missions.traversal import AgentSpec, policies, run_traversal, uniform_agents
     from swarmex.missions.traversal.metrics import run_fingerprint
     from swarmex.worlds import rooms
@@ -314,8 +316,10 @@ def test_a_crowded_walled_run_is_the_whole_matrixs_run(mixed, monkeypatch):
         return run_fingerprint(run_traversal(world, specs, seed=5, max_events=2500))
 
     grouped = run()
+    searched = policies.far_tiles
     monkeypatch.setattr(policies, "_rival_groups", policies.each_rival_alone)
     monkeypatch.setattr(policies, "_tied_top", policies.tied_top_by_matrix)
+    monkeypatch.setattr(policies, "far_tiles", lambda *args: searched(*args, False))
     assert run() == grouped
 
 
