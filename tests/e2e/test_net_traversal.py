@@ -27,6 +27,12 @@ pytestmark = pytest.mark.timeout(90)
 
 OBSTACLES = [(2, 2), (3, 3), (4, 1)]
 GRID = ["--grid", "6x6", "--obstacles", ";".join(f"{x},{y}" for x, y in OBSTACLES)]
+#: seconds for every agent to join: each agent process compiles the traversal kernels before
+#: it connects (about 20 s of CPU on a cold cache), and two of them share the two cores with
+#: the other test worker (30 s was once too short in CI)
+JOINED = 120
+#: the server's own limit on the whole mission, which must outlast the join
+MISSION = JOINED + 60
 
 
 def _world() -> GridWorld:
@@ -79,7 +85,7 @@ def test_networked_run_is_the_simulated_run(tmp_path, capsys):
     with Procs() as procs:
         server = procs.start(
             "server", "serve", *GRID, "--agents", 3, "--seed", 7, "--port", 0,
-            "--time-scale", 0.004, "--timeout", 60, "--json", rec_path,
+            "--time-scale", 0.004, "--timeout", MISSION, "--json", rec_path,
         )
         address = endpoint(server)
         viewer = Viewer(address)
@@ -137,7 +143,7 @@ def _served_like_simulated(tmp_path, algorithm: str) -> dict:
     with Procs() as procs:
         server = procs.start(
             "server", "serve", *GRID, "--agents", 3, "--seed", 4, "--port", 0,
-            "--algorithm", algorithm, "--time-scale", 0.002, "--timeout", 60,
+            "--algorithm", algorithm, "--time-scale", 0.002, "--timeout", MISSION,
             "--json", rec_path,
         )
         a = procs.start("agents", "agent", "--connect", endpoint(server), "--count", 3,
@@ -180,7 +186,7 @@ def test_killed_agent_is_replaced_by_a_spare(tmp_path):
         server = procs.start(
             "server", "serve", *GRID, "--agents", 3, "--seed", 2, "--port", 0,
             "--time-scale", 0.04, "--heartbeat", 0.2, "--dead-after", 1.0,
-            "--timeout", 60, "--json", rec_path,
+            "--timeout", MISSION, "--json", rec_path,
         )
         address = endpoint(server)
         viewer = Viewer(address)
@@ -190,7 +196,7 @@ def test_killed_agent_is_replaced_by_a_spare(tmp_path):
         pair = procs.start("pair", "agent", "--connect", address, "--count", 2, "--spares", 1,
                            "--connect-timeout", 1)
         victim = procs.start("victim", "agent", "--connect", address, "--id", 3)
-        server.wait_line("mission started", 30)
+        server.wait_line("mission started", JOINED)
         pair.wait_line(r"waiting for a vacant id \(as long as the mission runs\)", 30)
         waiting_since = time.monotonic()
         end = time.monotonic() + 30.0
@@ -240,13 +246,13 @@ def test_ctrl_c_on_the_server_writes_the_record_so_far_and_ends_the_agents(tmp_p
     with Procs() as procs:
         server = procs.start(
             "server", "serve", *GRID, "--agents", 3, "--port", 0, "--time-scale", 0.05,
-            "--dead-after", 60, "--timeout", 60, "--json", rec_path,
+            "--dead-after", 60, "--timeout", MISSION, "--json", rec_path,
         )
         address = endpoint(server)
         viewer = Viewer(address)
         agents = procs.start("agents", "agent", "--connect", address, "--count", 3,
                              "--server-timeout", 30)
-        server.wait_line("mission started", 30)
+        server.wait_line("mission started", JOINED)
         # interrupt once the monitor has shown 4 jobs, or after 20 s of mission in any case
         # (a loaded machine can starve the viewer thread; the record below is what counts:
         # it must hold at least 4 jobs either way)
@@ -275,13 +281,13 @@ def test_ctrl_c_on_an_agent_process_hands_its_ids_back(tmp_path, sig):
     with Procs() as procs:
         server = procs.start(
             "server", "serve", *GRID, "--agents", 3, "--port", 0, "--time-scale", 0.02,
-            "--dead-after", 30, "--heartbeat", 0.25, "--timeout", 60, "--json", rec_path,
+            "--dead-after", 30, "--heartbeat", 0.25, "--timeout", MISSION, "--json", rec_path,
         )
         address = endpoint(server)
         viewer = Viewer(address)
         pair = procs.start("pair", "agent", "--connect", address, "--count", 2)
         third = procs.start("third", "agent", "--connect", address, "--id", 3)
-        server.wait_line("mission started", 30)
+        server.wait_line("mission started", JOINED)
         end = time.monotonic() + 30.0
         while sum(viewer.jobs_of(a) for a in (1, 2)) < 3:
             assert time.monotonic() < end, "no jobs done"
@@ -310,7 +316,7 @@ def test_an_agent_that_never_got_an_id_says_so(tmp_path):
     with Procs() as procs:
         server = procs.start(
             "server", "serve", *GRID, "--agents", 2, "--port", 0, "--time-scale", 0.004,
-            "--timeout", 60,
+            "--timeout", MISSION,
         )
         address = endpoint(server)
         trio = procs.start("trio", "agent", "--connect", address, "--count", 3,
