@@ -101,7 +101,7 @@ def main(argv: list[str] | None = None) -> int:
     args = ap.parse_args(argv)
     world = load_movingai(args.map) if args.map else empty_grid(args.side, args.side)
     reference = every_rival if args.map else plain_search
-    timed(load_movingai(args.map) if args.map else empty_grid(64, 64), 8, 2000)  # numba
+    timed(world if args.map else empty_grid(64, 64), 8, 2000)  # numba
     where = args.map.name if args.map else f"{args.side} x {args.side}"
     ours, theirs = ("groups", "each rival") if args.map else ("sum bound", "plain")
     print(f"MADGTA from one nest on {where}, first {args.events} events")

@@ -85,11 +85,16 @@ def ensure_cache_dir() -> Path | None:
     chosen = fallback_cache_dir(os.environ)
     if chosen is None:
         return None
-    os.environ["NUMBA_CACHE_DIR"] = str(chosen)  # read when numba is imported, and by children
+    use_cache_dir(str(chosen))
+    return chosen
+
+
+def use_cache_dir(folder: str) -> None:
+    """Make ``folder`` numba's cache for this process and its children."""
+    os.environ["NUMBA_CACHE_DIR"] = folder  # read when numba is imported, and by children
     config = sys.modules.get("numba.core.config")
     if config is not None:  # numba was imported first: its configuration is already read
-        config.CACHE_DIR = str(chosen)  # type: ignore[attr-defined]
-    return chosen
+        config.CACHE_DIR = folder  # type: ignore[attr-defined]
 
 
 #: the stamp of the sources the kernels cached beside them were compiled from
@@ -177,10 +182,7 @@ def check_kernel_cache(package: Path = PACKAGE) -> str | None:
         private = tempfile.mkdtemp(prefix="swarmex-numba-")
     except OSError:
         return None
-    os.environ["NUMBA_CACHE_DIR"] = private
-    config = sys.modules.get("numba.core.config")
-    if config is not None:
-        config.CACHE_DIR = private  # type: ignore[attr-defined]
+    use_cache_dir(private)
     atexit.register(shutil.rmtree, private, ignore_errors=True)
     return private
 

@@ -58,6 +58,12 @@ class Summary:
     def ci(self) -> tuple[float, float]:
         return (self.ci_low, self.ci_high)
 
+    @property
+    def has_ci(self) -> bool:
+        """Whether the sample has a confidence interval (not with fewer than two runs): a
+        body to draw, an overlap to judge."""
+        return not (math.isnan(self.ci_low) or math.isnan(self.ci_high))
+
     def to_dict(self) -> dict[str, float | int]:
         return asdict(self)
 

@@ -53,6 +53,8 @@ class RunStore:
         self.flush_every = flush_every
         self.runs: dict[str, dict[str, Any]] = {}
         self.configs: dict[str, dict[str, Any]] = {}
+        #: the file's other fields as it was found (a study's sessions, its plan), else {}
+        self.previous: dict[str, Any] = {}
         self._dirty = False
         self._last_flush = time.monotonic()
         self._load()
@@ -67,6 +69,7 @@ class RunStore:
                 data = {}
             self.runs.update(data.get("runs", {}))
             self.configs.update(data.get("configs", {}))
+            self.previous = {k: v for k, v in data.items() if k not in ("runs", "configs")}
         if self.journal_path.exists():
             with open(self.journal_path, encoding="utf-8") as fh:
                 for line in fh:

@@ -10,7 +10,6 @@ value, so a reader sees at a glance how far our bars are from what the seed repo
 
 from __future__ import annotations
 
-import math
 import textwrap
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -47,20 +46,17 @@ def draw_candles(
     label: str | None = None,
 ) -> None:
     """Whiskers min–max, body = CI (none where it is undefined), a tick at the mean."""
-    def has_ci(s: Summary) -> bool:
-        return math.isfinite(s.ci_low) and math.isfinite(s.ci_high)
-
     # the legend entry goes on the first body, or on the first whisker if no bar has an
     # interval (one run each), so the series still has its entry
     labelled = False
-    whisker_label = None if any(has_ci(s) for s in summaries) else label
+    whisker_label = None if any(s.has_ci for s in summaries) else label
     for x, s in zip(positions, summaries, strict=True):
         ax.vlines(x, s.min, s.max, color=color, linewidth=1.2,
                   label=None if labelled else whisker_label)
         labelled = labelled or whisker_label is not None
         for y in (s.min, s.max):
             ax.hlines(y, x - width / 4, x + width / 4, color=color, linewidth=1.2)
-        if not has_ci(s):
+        if not s.has_ci:
             # no interval (a single run): whiskers and the mean tick only
             ax.hlines(s.mean, x - width / 2, x + width / 2, color="black", linewidth=0.9)
             continue

@@ -69,11 +69,21 @@ def rosmap_image(path: str | Path) -> Path | None:
     if path.suffix.lower() not in (".yaml", ".yml"):
         return None
     try:
-        meta = parse_yaml_flat(path.read_text(encoding="utf-8", errors="replace"), str(path))
-    except (OSError, InputError):
+        image = _yaml_meta(path).get("image")
+    except InputError:
         return None
-    image = meta.get("image")
     return None if image is None else path.parent / str(image)
+
+
+def _yaml_meta(path: Path) -> dict[str, object]:
+    """The keys of a ROS map YAML (:class:`InputError` if it cannot be read)."""
+    try:
+        text = path.read_text(encoding="utf-8", errors="replace")
+    except FileNotFoundError:
+        raise InputError(f"map file not found: {path}") from None
+    except OSError as exc:
+        raise InputError(f"cannot read map file {path}: {exc.strerror}") from None
+    return parse_yaml_flat(text, str(path))
 
 
 def load_rosmap(path: str | Path) -> tuple[GridWorld, float]:
@@ -83,14 +93,8 @@ def load_rosmap(path: str | Path) -> tuple[GridWorld, float]:
         meta: dict[str, object] = dict(DEFAULTS, image=path.name)
         yaml_dir = path.parent
     else:
-        try:
-            text = path.read_text(encoding="utf-8", errors="replace")
-        except FileNotFoundError:
-            raise InputError(f"map file not found: {path}") from None
-        except OSError as exc:
-            raise InputError(f"cannot read map file {path}: {exc.strerror}") from None
         meta = dict(DEFAULTS)
-        meta.update(parse_yaml_flat(text, str(path)))
+        meta.update(_yaml_meta(path))
         yaml_dir = path.parent
         if "image" not in meta:
             raise InputError(f"{path}: ROS map YAML lacks 'image'")

@@ -159,7 +159,7 @@ def far_tiles(
         _sift_down(heap, size, 0, ub)
         if ub[t] == -np.inf:
             break  # dead tiles sort last
-        if found and ub[t] < _threshold(best):
+        if found and ub[t] < low_tie:
             break
         # rivals that can be the nearest of their class somewhere in the tile
         for k in range(nk):

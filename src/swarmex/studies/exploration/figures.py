@@ -17,6 +17,7 @@ from typing import Any
 
 import numpy as np
 
+from swarmex.engine.stats import summarize
 from swarmex.viz.exploration import Snapshot, draw
 
 
@@ -139,4 +140,4 @@ def _save(fig, path: Path, plt) -> Path:
 def _sd(vals: list[float]) -> float:
     """The error bar: the sample SD (n − 1) of the runs, as the report's "± sd"; none for
     fewer than two runs."""
-    return float(np.std(vals, ddof=1)) if len(vals) > 1 else 0.0
+    return float(np.nan_to_num(summarize(vals).std))

@@ -24,14 +24,17 @@ from swarmex.viz.candles import OURS, THEIRS, Reference, candle_chart
 
 
 def _fleet_chart(
-    path: Path, t_max: dict[int, float], ns: list[int], title: str, p_max: float
+    path: Path, t_max: dict[int, float], ns: list[int], number: str, p_max: float
 ) -> Path:
-    """Cost lines n·p + T_max(n), their lower envelope, our and the thesis's best-n bands."""
+    """Cost lines n·p + T_max(n), their lower envelope, our and the thesis's best-n bands;
+    the title names the fleets drawn (a quick plan simulates 2, 3 and 10 agents only, and
+    "2–6 agents" over two lines said otherwise)."""
     import matplotlib.pyplot as plt
 
     ps = np.linspace(0, p_max, 401)
     fig, ax = plt.subplots(figsize=(6.2, 4.4), dpi=110)
     present = [n for n in ns if n in t_max]
+    title = f"Fig. {number}: fleet cost n·p + T_max(n), {agent_counts(present or ns)} agents"
     for n in present:
         ax.plot(ps, n * ps + t_max[n], label=f"{n} agents", linewidth=1.3)
     env = np.min([n * ps + t_max[n] for n in t_max], axis=0)
@@ -134,19 +137,9 @@ def draw_figures(groups: list[GroupResult], figs: list[FigureResult], out: Path)
         )
     t_max = fleet_t_max(figs)
     if t_max:
-        # the titles name the fleets drawn: a quick plan simulates 2, 3 and 10 agents only,
-        # and "2–6 agents" over two lines said otherwise
         for number, ns, p_max in (("5.13", range(2, 7), 1000.0), ("5.14", range(6, 11), 250.0)):
-            drawn = [n for n in ns if n in t_max] or list(ns)
-            paths.append(
-                _fleet_chart(
-                    out / f"fig_{number.replace('.', '_')}.png",
-                    t_max,
-                    drawn,
-                    f"Fig. {number}: fleet cost n·p + T_max(n), {agent_counts(drawn)} agents",
-                    p_max,
-                )
-            )
+            paths.append(_fleet_chart(out / f"fig_{number.replace('.', '_')}.png", t_max,
+                                      list(ns), number, p_max))
     return paths
 
 

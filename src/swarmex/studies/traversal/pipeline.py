@@ -10,7 +10,7 @@ from typing import Any
 
 from swarmex import __version__
 from swarmex.errors import InputError
-from swarmex.experiments.runstore import RunStore, existing, read_json
+from swarmex.experiments.runstore import RunStore
 from swarmex.studies.runner import run_jobs
 from swarmex.studies.traversal.design import AGENT_PARAMS, Config, RunSpec, build_plan
 from swarmex.studies.traversal.runs import execute
@@ -50,9 +50,8 @@ def reproduce(
         "plan": drawn,  # the plan the report is drawn for: rebuild() draws it again
     }
     # a folder holding only traversal.json.gz (docs/reproduction/traversal) resumes from it
-    previous = _previous_header(existing(out / "traversal.json"))
-    sessions = list(previous.get("sessions", []))
     store = RunStore(out / "traversal.json", header)
+    sessions = list(store.previous.get("sessions", []))
     for key, cfg in plan.configs().items():
         store.add_config(key, cfg.params())
     already = sum(1 for s in specs if s.id in store)
@@ -104,7 +103,7 @@ def reproduce(
             )
             sessions.append(session)
         store.header["sessions"] = sessions
-        if previous.get("plan") != drawn:
+        if store.previous.get("plan") != drawn:
             # the JSON must name the plan of the report beside it, even when no run was added
             # (the store rewrites its JSON only when a run or configuration was)
             store.flush()
@@ -153,10 +152,3 @@ def plan_header(quick: bool, reps: int | None) -> dict[str, Any]:
     return {"quick": bool(quick), "reps": reps}
 
 
-def _previous_header(path: Path) -> dict[str, Any]:
-    """The JSON's fields other than the runs (sessions, plan), or {} if there is none yet."""
-    try:
-        data = read_json(path)
-    except (OSError, EOFError, ValueError):
-        return {}
-    return {k: v for k, v in data.items() if k not in ("runs", "configs")}

@@ -57,12 +57,6 @@ def _ci(lo: float, hi: float, nd: int = 2) -> str:
     return f"[{lo:.{nd}f}, {hi:.{nd}f}]"
 
 
-def _has_ci(s: Any) -> bool:
-    """Whether a summary has a confidence interval (not with fewer than two runs), i.e.
-    whether an overlap verdict can be given."""
-    return not (math.isnan(s.ci_low) or math.isnan(s.ci_high))
-
-
 def write_outputs(
     plan: Plan, runs: dict[str, dict], out: Path, header: dict[str, Any]
 ) -> dict[str, Any]:
@@ -143,7 +137,7 @@ def _group_table(g: GroupResult) -> list[str]:
         o = g.ours.get(name)
         if t is None or o is None:
             continue
-        if _has_ci(o):
+        if o.has_ci:
             overlap = "yes" if intervals_overlap((t.ci_low, t.ci_high), o.ci) else "**no**"
         else:
             overlap = "–"  # one run: no interval of ours, so no verdict
@@ -206,7 +200,7 @@ def render_report(
             "one run has no standard error" if math.isnan(se)
             else f"{se:+.1f} of our standard errors"
         )
-        if not _has_ci(o):
+        if not o.has_ci:
             verdict = "; with one run we have no interval, so overlap is not judged."
         elif intervals_overlap(CORNER_CI, o.ci):
             verdict = "; the two intervals overlap."
@@ -243,7 +237,7 @@ def render_report(
         L += _group_table(g)
         for name in THESIS_METRIC:
             t_row, o_sum = g.thesis.get(name), g.ours.get(name)
-            if t_row and o_sum and _has_ci(o_sum):
+            if t_row and o_sum and o_sum.has_ci:
                 total_rows += 1
                 overlap_count += intervals_overlap((t_row.ci_low, t_row.ci_high), o_sum.ci)
         L.append("")
