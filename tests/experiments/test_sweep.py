@@ -594,8 +594,6 @@ def test_a_run_id_follows_the_map_file_it_reads_not_its_name(tmp_path, capsys):
     (tmp_path / "cA" / "m.map").write_text(_movingai(maps["cA"][:3]))  # edited in place
     edited = sweep(specs["cA"], out)
     assert (edited.skipped, edited.ran) == (0, 2)
-    ids = [r.run_id for r in load_sweep_spec(specs["cA"]).runs()]
-    assert ids == [r.run_id for r in load_sweep_spec(specs["cA"]).runs()]  # stable
 
 
 def test_a_ros_map_id_follows_its_image_too(tmp_path):
@@ -869,8 +867,8 @@ def test_a_relative_change_over_fewer_pairs_says_how_many():
     rel = summarize([0.5, 1.5])
     every = SimpleNamespace(relative=rel, pairs=2, relative_pairs=2)
     fewer = SimpleNamespace(relative=rel, pairs=3, relative_pairs=2)
-    assert _relative(every) == _mean_ci(100 * rel.mean, 100 * rel.half_width) + " %"
-    assert _relative(fewer) == _relative(every) + " (2 pairs)"
+    assert _relative(every) == "100.0 ± 635.3 %"  # t(1) = 12.706 · 0.7071 / √2 = 6.353
+    assert _relative(fewer) == "100.0 ± 635.3 % (2 pairs)"
 
 
 def test_a_stop_noted_earlier_in_a_python_session_does_not_stop_a_later_sweep(tmp_path):
@@ -878,14 +876,11 @@ def test_a_stop_noted_earlier_in_a_python_session_does_not_stop_a_later_sweep(tm
     # every later sweep stopped at once, with no Ctrl-C (review of 30 Nov 2026)
     import swarmex
     from swarmex.engine import interrupts
-    from swarmex.experiments.pool import sigint_deferred
 
-    with pytest.raises(KeyboardInterrupt), sigint_deferred():
-        os.kill(os.getpid(), signal.SIGINT)
     interrupts.note()  # however it came to be set
-    result = swarmex.sweep("traversal", out=tmp_path / "s", grid=(4, 4), agents=[1, 2],
-                           seeds=2, backend="serial", progress=False)
-    assert len(list((tmp_path / "s" / "runs").glob("*.json"))) == 4 and result is not None
+    swarmex.sweep("traversal", out=tmp_path / "s", grid=(4, 4), agents=[1, 2], seeds=2,
+                  backend="serial", progress=False)
+    assert len(list((tmp_path / "s" / "runs").glob("*.json"))) == 4
 
 
 def test_a_record_that_cannot_be_read_now_is_not_deleted(tmp_path, monkeypatch, capsys):

@@ -33,12 +33,10 @@ _NO_ARGS = getattr(_cx, "NoArgsIsHelpError", getattr(_cx, "NoArgsIsHelp", ()))
 
 
 def main(argv: list[str] | None = None) -> int:
-    interrupts.clear()
-    try:
-        with _terminate_as_ctrl_c():
-            return _main(argv)
-    finally:
-        interrupts.clear()  # a test's next command in this process starts afresh
+    # a stop request noted here (engine.interrupts) is cleared by the loops that read it
+    # when they start: a sweep, a study's runs
+    with _terminate_as_ctrl_c():
+        return _main(argv)
 
 
 @contextlib.contextmanager

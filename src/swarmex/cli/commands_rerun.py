@@ -18,7 +18,7 @@ import typer
 
 from swarmex.cli.app import app, console, err_console
 from swarmex.cli.compiling import compile_notice
-from swarmex.cli.missions import INTERPRETED, WATCH
+from swarmex.cli.missions import SURFACES
 from swarmex.cli.outputs import RENDER_SUFFIXES, check_output
 from swarmex.errors import InputError
 from swarmex.experiments.rerun import STOPPED_EARLY, differences, networked_reason
@@ -106,14 +106,16 @@ def render(
 def interpreted_rule(mission: str) -> Any:
     """The mission command's rule for runs small enough to keep their kernels interpreted
     (:attr:`~swarmex.cli.missions.Surface.interpreted`; None: always compiled)."""
-    return INTERPRETED.get(mission) if _registered(mission) else None
+    surface = SURFACES.get(mission) if _registered(mission) else None
+    return None if surface is None else surface.interpreted
 
 
 def progress_watch(mission: str) -> Any:
     """The mission command's progress display (:attr:`~swarmex.cli.missions.Surface.watch`:
     a bar or a step ticker on a terminal, nothing in a pipe; None: the mission has none), so
     that a rerun or a drawing of a long run is not minutes of silence."""
-    return WATCH.get(mission) if _registered(mission) else None
+    surface = SURFACES.get(mission) if _registered(mission) else None
+    return None if surface is None else surface.watch
 
 
 def _registered(mission: str) -> bool:

@@ -21,7 +21,6 @@ from typing import Any, cast
 
 import typer
 
-from swarmex._kernels import interpreted_while_cold
 from swarmex.cli.app import app, console, err_console, interrupted
 from swarmex.cli.compiling import compile_notice
 from swarmex.cli.outputs import RENDER_SUFFIXES, check_output
@@ -136,21 +135,16 @@ def interrupted_says_so() -> Iterator[None]:
         interrupted("nothing written")
 
 
-#: mission name -> its Surface's ``interpreted`` rule, for the commands that run a mission
-#: from a record (``swarmex rerun``, ``swarmex render``): the same small run keeps its kernels
-#: interpreted there as it did when it was made
-INTERPRETED: dict[str, Callable[[Any, Any], bool]] = {}
-#: mission name -> its Surface's ``watch`` (the progress bar), for the same commands
-WATCH: dict[str, Watch] = {}
+#: mission name -> its command's Surface, for the commands that run a mission from a record
+#: (``swarmex rerun``, ``swarmex render``): the same small run keeps its kernels interpreted
+#: there as it did when it was made, and a long one shows the same progress
+SURFACES: dict[str, Surface] = {}
 
 
 def mission_command(mission: Mission[Any, Any], surface: Surface) -> Callable[..., Any]:
     """Register ``swarmex <mission.command>`` on the app and return its function."""
     options = mission.params_type.options()
-    if surface.interpreted is not None:
-        INTERPRETED[mission.name] = surface.interpreted
-    if surface.watch is not None:
-        WATCH[mission.name] = surface.watch
+    SURFACES[mission.name] = surface
     extras = {e.name: e for e in surface.extras}
 
     def command(**kwargs: Any) -> Any:
@@ -175,18 +169,10 @@ def mission_command(mission: Mission[Any, Any], surface: Surface) -> Callable[..
                 ):
                     return None
         with compile_notice(err_console), interrupted_says_so():
-            world = mission.prepare(params)
             recorder = frame_recorder(mission.name, str(render)) if drawn else None
             # the watch wraps the recorder; the render below reads the recorder itself
-            on_frame = surface.watch(params, world, recorder) if surface.watch else recorder
-            small = surface.interpreted is not None and surface.interpreted(params, world)
-            try:
-                with interpreted_while_cold(small):
-                    outcome = mission.execute(params, world, on_frame)
-            finally:
-                close = getattr(on_frame, "close", None)
-                if close is not None:
-                    close()
+            outcome = mission.run(params, recorder, interpreted=surface.interpreted,
+                                  watch=surface.watch)
         surface.report(outcome, params)
         if json_path is not None:
             from swarmex.engine.record import write_record

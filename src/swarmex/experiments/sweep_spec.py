@@ -45,6 +45,7 @@ from swarmex.experiments.scenario import (
     MISSIONS,
     OptionShape,
     Scenario,
+    mission_shapes,
     read_toml,
     resolve_path,
     scenario_values,
@@ -214,15 +215,13 @@ class InputFiles:
     run's own check then refuses it before any run)."""
 
     def __init__(self, mission: str, folder: Path) -> None:
-        from swarmex.missions.registry import get
-
         self.folder = folder
         self.cache: dict[Path, str | None] = {}
         try:
-            options = get(mission).params_type.options()
+            shapes = mission_shapes(mission)
         except InputError:  # a plugin mission no longer installed: no file is known
-            options = {}
-        self.names = {info.flag[2:] for info in options.values() if info.kind is Path}
+            shapes = {}
+        self.names = {name for name, shape in shapes.items() if shape.is_path}
 
     def digests(self, params: Mapping[str, Any]) -> dict[str, str]:
         out: dict[str, str] = {}
