@@ -56,9 +56,9 @@ def draw_candles(
         labelled = labelled or whisker_label is not None
         for y in (s.min, s.max):
             ax.hlines(y, x - width / 4, x + width / 4, color=color, linewidth=1.2)
-        if not s.has_ci:
-            # no interval (a single run): whiskers and the mean tick only
-            ax.hlines(s.mean, x - width / 2, x + width / 2, color="black", linewidth=0.9)
+        # the mean tick (lines are drawn above patches, so above the body too)
+        ax.hlines(s.mean, x - width / 2, x + width / 2, color="black", linewidth=0.9)
+        if not s.has_ci:  # no interval (a single run): whiskers and the mean tick only
             continue
         body = max(s.ci_high - s.ci_low, 1e-9)
         ax.add_patch(
@@ -74,7 +74,6 @@ def draw_candles(
             )
         )
         labelled = True
-        ax.hlines(s.mean, x - width / 2, x + width / 2, color="black", linewidth=0.9)
 
 
 def candle_chart(
