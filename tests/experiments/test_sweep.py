@@ -924,3 +924,18 @@ def test_an_option_every_run_ignores_is_noted(tmp_path, capsys):
     with pytest.warns(UserWarning, match="objective is ignored in every run"):
         swarmex.sweep("traversal", out=tmp_path / "c", grid=(4, 4), agents=[1, 2],
                       fixed={"objective": "makespan"}, backend="serial", progress=False)
+
+
+def test_an_ignored_option_is_noted_when_the_spec_names_the_planner_algorithm(tmp_path):
+    # a spec's `algorithm` key is the roadmap's --planner: the check read it as an unknown
+    # option, every configuration failed to parse, and the note was never given
+    from swarmex.experiments.sweep_spec import always_ignored, load_sweep_spec
+
+    env = Path(__file__).resolve().parents[2] / "examples" / "roadmap_fig11.json"
+    spec = tmp_path / "s.toml"
+    for key in ("algorithm", "planner"):
+        spec.write_text(f'mission = "roadmap"\n{key} = ["wma-rrt", "prm"]\nseeds = 1\n'
+                        f'[fixed]\nenv = "{env}"\nagents = 2\nnodes = 50\nstep = 5.0\n'
+                        'sensor_range = 10.0\ntask = "coverage"\ngoal = "100,100"\n')
+        assert always_ignored(load_sweep_spec(spec)) == [
+            ("goal", "only the search task reads a goal, not coverage")]

@@ -172,6 +172,7 @@ def always_ignored(spec: SweepSpec, limit: int = 1000) -> list[tuple[str, str]]:
     from swarmex.missions.registry import get
 
     mission = get(spec.mission)
+    shapes = mission_shapes(spec.mission)
     names = list(spec.axes)
     common: set[str] | None = None
     why: dict[str, str] = {}
@@ -179,8 +180,8 @@ def always_ignored(spec: SweepSpec, limit: int = 1000) -> list[tuple[str, str]]:
         if i >= limit:
             return []
         raw = dict(zip(names, values, strict=True)) | spec.fixed
-        try:
-            params = mission.params({k.replace("-", "_"): v for k, v in raw.items()})
+        try:  # as the runs read the spec: its algorithm key names the mission's option
+            params = mission.params(spec.values(RunSpec(i, "", raw, spec.seeds[0]), shapes))
         except InputError:
             continue
         ignored = params.ignored()
