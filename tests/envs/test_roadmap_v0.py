@@ -212,6 +212,8 @@ def test_bad_actions_raise_naming_agent_action_and_why():
         aec.step(999)
     with pytest.raises(ValueError, match=rf"{agent}: action 1.5 is not an integer"):
         aec.step(1.5)
+    with pytest.raises(ValueError, match=r"is not an integer"):
+        aec.step(np.array([1.0]))  # a one-element array is read, but still needs an integer
     with pytest.raises(ValueError, match=rf"{agent}: no action"):
         aec.step(None)
     stay = aec.unwrapped.stay_action
@@ -221,7 +223,8 @@ def test_bad_actions_raise_naming_agent_action_and_why():
     # nothing happened: the same decision is still pending, and a good action goes through
     assert aec.agent_selection == agent
     assert np.array_equal(aec.observe(agent)["action_mask"], mask)
-    aec.step(np.int64(np.flatnonzero(mask)[0]))
+    # a one-element array, as SB3 and torch policies give, like the other three envs
+    aec.step(np.array([np.flatnonzero(mask)[0]]))
 
 
 def test_record_before_the_end_is_an_error():

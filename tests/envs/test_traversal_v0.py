@@ -202,8 +202,15 @@ def test_asking_for_the_builtin_choice_and_then_acting_otherwise_changes_nothing
     assert play(True) == play(False)
 
 
-def test_rewards_are_minus_each_agents_seconds_of_work():
-    params = {**EXACT, "loss": 0.3, "comm_range": 2.0}
+@pytest.mark.parametrize("extra", [
+    {"loss": 0.3, "comm_range": 2.0},
+    # each agent's own job and edge seconds: a job started on arrival was charged the
+    # options' job_time, so a fleet's returns disagreed with its record
+    {"fleet": MIXED},
+    {"fleet": MIXED, "algorithm": "madgta-h", "loss": 0.3},
+])
+def test_rewards_are_minus_each_agents_seconds_of_work(extra):
+    params = {**EXACT, **extra}
     env = traversal_v0.env(**params, seed=2)
     env.reset()
     rng = np.random.default_rng(1)
@@ -214,12 +221,14 @@ def test_rewards_are_minus_each_agents_seconds_of_work():
         env.step(None if term or trunc else int(rng.choice(np.flatnonzero(obs["action_mask"]))))
     rec = env.unwrapped.record().to_dict()
     missed = rec["metrics"]["nodes_missed"]
+    rows = {r["id"]: r for r in rec["params"].get("fleet") or ()}
     for a in rec["agents"]:
         work = a["metrics"]["total_time"]
         charged = -total[f"agent_{a['id']}"]
-        # agents still there at the end pay for the vertices nobody did
+        row = rows.get(a["id"], {"job_time": 10.0, "travel_time": 2.22})
+        # agents still there at the end pay, at their own rates, for the vertices nobody did
         assert charged == pytest.approx(work) or charged == pytest.approx(
-            work + missed * (params.get("job_time", 10.0) + 2.22)
+            work + missed * (row["job_time"] + row["travel_time"])
         )
 
 

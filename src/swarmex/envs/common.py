@@ -109,6 +109,12 @@ class TurnBasedParallel(turn_based_aec_to_parallel_wrapper):
                              "one whose action_mask has a 1; infos[a]['active_agent'])")
         return tuple(super().step(actions))
 
+    def close(self) -> None:
+        """Abandon a run in progress: the episode ends here too (the conversion keeps its own
+        copy of ``agents``, which a mid-episode close left listing the whole team)."""
+        super().close()
+        self.agents = []
+
 
 class _ParallelToAEC(parallel_to_aec_wrapper):
     """PettingZoo's Parallel-to-AEC conversion, for a run that can end in ``reset``.

@@ -62,7 +62,8 @@ the episode's :meth:`ExplorationEnv.record` equals ``swarmex.run``'s record for 
 params and seed (``wall_seconds`` aside).
 
 Seeding: ``reset(seed=s)`` runs the mission with ``seed=s``; ``reset()`` without a seed uses
-the params' ``seed`` first, then the next integers (one new episode per reset).
+the params' ``seed`` first, then the next seed of its
+:class:`~swarmex.envs.common.SeedChain` (one new episode per reset; docs/envs.md, Seeds).
 """
 
 from __future__ import annotations
@@ -412,6 +413,13 @@ class ExplorationEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray],
         return self._live.run
 
     # ------------------------------------------------------------------ render, close
+    def close(self) -> None:
+        """Abandon a run in progress (its worker thread ends): the episode ends, no agents
+        left, and a ``step`` asks for ``reset()``."""
+        super().close()
+        self._pending = None
+        self.agents = []
+
     def render(self) -> np.ndarray | None:
         if self.render_mode is None:
             import gymnasium

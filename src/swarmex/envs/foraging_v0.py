@@ -66,7 +66,8 @@ observations about 12 of them) and about 140 µs in the communication phase's Py
 
 Seeding: ``reset(seed=s)`` runs the mission with ``seed=s`` (which draws the food cell when
 ``food`` is not given); ``reset()`` without a seed uses the params' ``seed`` first, then the
-next integers (one new episode per reset).
+next seed of its :class:`~swarmex.envs.common.SeedChain` (one new episode per reset;
+docs/envs.md, Seeds).
 """
 
 from __future__ import annotations

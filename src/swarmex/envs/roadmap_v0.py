@@ -83,7 +83,7 @@ from pettingzoo.utils.wrappers import (
 )
 
 from swarmex.envs.broker import Ask, DecisionBroker
-from swarmex.envs.common import SeedChain, TurnBasedParallel, check_finite
+from swarmex.envs.common import SeedChain, TurnBasedParallel, check_finite, plain_int
 from swarmex.errors import InputError
 from swarmex.missions.base import integer
 from swarmex.missions.registry import get
@@ -425,9 +425,10 @@ class raw_env(AECEnv[str, dict[str, np.ndarray], int]):  # noqa: N801 - PettingZ
             self._was_dead_step(action)
             return
         ep = self._episode
-        assert ep is not None
-        req = ep.pending
-        assert req is not None and self.possible_agents[req.agent] == agent
+        req = None if ep is None else ep.pending
+        if ep is None or req is None:  # closed mid-run (python -O drops asserts)
+            raise RuntimeError("roadmap_v0: the episode has ended; call reset()")
+        assert self.possible_agents[req.agent] == agent
         choice = self._check(agent, req, action)
         self._cumulative_rewards[agent] = 0.0
         ep.broker.answer(choice)
@@ -449,9 +450,10 @@ class raw_env(AECEnv[str, dict[str, np.ndarray], int]):  # noqa: N801 - PettingZ
         if action is None:
             raise InputError(f"{agent}: no action (None) for its decision at step {req.t}")
         try:
-            if isinstance(action, bool | np.bool_):
+            value = plain_int(action)  # a one-element array too, as the other envs take
+            if isinstance(value, bool | np.bool_):
                 raise TypeError
-            a = operator.index(action)
+            a = operator.index(value)
         except TypeError:
             raise InputError(f"{agent}: action {action!r} is not an integer") from None
         if not 0 <= a < n:
@@ -660,9 +662,12 @@ class raw_env(AECEnv[str, dict[str, np.ndarray], int]):  # noqa: N801 - PettingZ
         self._episode = None
 
     def close(self) -> None:
+        """Abandon a run in progress: the episode ends (no agents left; a ``step`` asks for
+        ``reset()``). ``record()`` of a finished run still works."""
         ep = self._episode
         self._close_episode()
         self._episode = ep if ep is not None and ep.run is not None else None  # keep record()
+        self.agents = []
         if self._figure is not None:
             import matplotlib.pyplot as plt
 

@@ -180,8 +180,12 @@ class raw_env(AECEnv):  # noqa: N801 - PettingZoo's module convention
         )
         self.observation_spaces = {a: obs_space for a in self.possible_agents}
         self.action_spaces = {a: spaces.Discrete(n) for a in self.possible_agents}
-        self._job_time = float(self.params.job_time)
-        self._edge_time = float(self.params.travel_time)
+        from swarmex.missions.traversal.mission import fleet_record
+
+        # each agent's own job and edge seconds (a fleet's rows, else the options)
+        rows = fleet_record(self.params, self.prepared)
+        self._job_time = {int(r["id"]): float(r["job_time"]) for r in rows}
+        self._edge_time = {int(r["id"]): float(r["travel_time"]) for r in rows}
         self._seeds = SeedChain(int(self.params.seed))
         self._broker: DecisionBroker | None = None
         self._fresh_episode_state()
@@ -264,7 +268,7 @@ class raw_env(AECEnv):  # noqa: N801 - PettingZoo's module convention
             node = int(self.world.node(round(x), round(y)))
             self._trails.setdefault(a, []).append((float(frame.t), node))
             if frame.event == "arrive" and a not in self._decided:
-                self._charge(a, self._job_time)
+                self._charge(a, self._job_time[a])
                 self._jobs.setdefault(a, []).append((float(frame.t), node))
         self._decided.clear()
         self._now = float(frame.t)
@@ -294,11 +298,11 @@ class raw_env(AECEnv):  # noqa: N801 - PettingZoo's module convention
     def _end_of_run(self) -> None:
         """The simulator returned: every agent still here ends, terminated when the agents
         stopped by themselves, truncated when the mission's event cap stopped the run; each of
-        them is charged ``job_time + travel_time`` per reachable vertex left undone."""
+        them is charged its own ``job_time + travel_time`` (a fleet row's, else the options')
+        per reachable vertex left undone."""
         assert self._broker is not None
         run = self._run = self._broker.result
         missed = int(np.sum(run.job_count[run.reachable] == 0))
-        penalty = missed * (self._job_time + self._edge_time)
         self._finished.clear()
         for a in self.agents:
             if not (self.terminations[a] or self.truncations[a]):
@@ -306,7 +310,8 @@ class raw_env(AECEnv):  # noqa: N801 - PettingZoo's module convention
                     self.truncations[a] = True
                 else:
                     self.terminations[a] = True
-                self.rewards[a] -= penalty
+                me = self._index[a]
+                self.rewards[a] -= missed * (self._job_time[me] + self._edge_time[me])
 
     def step(self, action: Any) -> None:
         agent = self.agent_selection
@@ -314,7 +319,8 @@ class raw_env(AECEnv):  # noqa: N801 - PettingZoo's module convention
             self._was_dead_step(action)
             return
         request = self._request
-        assert request is not None and self._broker is not None
+        if request is None or self._broker is None:  # closed mid-run (python -O drops asserts)
+            raise RuntimeError("traversal_v0: the episode has ended; call reset()")
         target = self._check(agent, action, request)
         decision = self._decision(request, target)
         self._cumulative_rewards[agent] = 0.0
@@ -526,7 +532,11 @@ class raw_env(AECEnv):  # noqa: N801 - PettingZoo's module convention
             self._broker = None
 
     def close(self) -> None:
+        """Abandon a run in progress: its thread ends, and so does the episode (no agents
+        left; a ``step`` asks for ``reset()``). ``record()`` of a finished run still works."""
         self._stop_run()
+        self._request = None
+        self.agents = []
 
     def __getstate__(self) -> dict[str, Any]:
         """Pickles as a fresh, not yet reset environment (a run's thread cannot be copied)."""
