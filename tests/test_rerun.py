@@ -112,7 +112,8 @@ def test_cli_says_same_or_where_it_differs(tmp_path: Path, capsys) -> None:
     capsys.readouterr()
     out = tmp_path / "again.json"
     assert main(["rerun", str(rec), "--json", str(out)]) == 0
-    assert "the same record" in capsys.readouterr().out
+    said = capsys.readouterr().out
+    assert "the same record" in said and f"wrote {out}" in said.replace("\n", "")
     assert json.loads(out.read_text())["metrics"] == json.loads(rec.read_text())["metrics"]
 
     data = json.loads(rec.read_text())

@@ -246,14 +246,6 @@ BAD = {
     "comm range": ["--grid", "5x5", "--agents", "2", "--comm-range", "0"],
     "job failure": ["--grid", "5x5", "--agents", "2", "--job-failure", "1"],
     "negative seed": ["--grid", "5x5", "--agents", "2", "--seed", "-1"],
-    "optimal with loss": ["--grid", "3x3", "--agents", "2", "--algorithm", "optimal",
-                          "--loss", "0.3"],
-    "optimal with delay": ["--grid", "3x3", "--agents", "2", "--algorithm", "optimal",
-                           "--delay", "1"],
-    "optimal with a range": ["--grid", "3x3", "--agents", "2", "--algorithm", "optimal",
-                             "--comm-range", "2"],
-    "optimal with job failures": ["--grid", "3x3", "--agents", "2", "--algorithm", "optimal",
-                                  "--job-failure", "0.2"],
     "json unwritable": ["--grid", "5x5", "--agents", "2", "--json", "FILE:/out.json"],
     "json is a directory": ["--grid", "5x5", "--agents", "2", "--json", "DIR:"],
     "render unwritable": ["--grid", "5x5", "--agents", "2", "--render", "FILE:/x.png"],
@@ -403,6 +395,25 @@ def test_an_objective_only_optimal_reads_is_noted_not_refused(capsys):
         swarmex.run("traversal", grid="4x3", agents=2, objective="makespan",
                     algorithm="optimal")
         swarmex.run("traversal", grid="4x3", agents=2)
+
+
+def test_a_radio_or_failing_jobs_are_noted_not_refused_with_optimal(capsys):
+    # an offline plan reads neither; refusing them failed a sweep's optimal rows when it held
+    # loss fixed while comparing madgta with the optimum
+    argv = ["traverse", "--grid", "4x3", "--agents", 2, "--algorithm", "optimal",
+            "--loss", "0.2", "--comm-range", "3", "--delay", "1", "--job-failure", "0.1"]
+    code, _, err = cli(argv, capsys)
+    assert code == 0, err
+    for flag in ("--loss", "--comm-range", "--delay", "--job-failure"):
+        assert f"note: {flag} is ignored: optimal is an offline plan" in err, flag
+    code, _, err = cli(argv[:7], capsys)  # a perfect radio: nothing to say
+    assert code == 0 and "note:" not in err, err
+    import swarmex
+
+    with pytest.warns(UserWarning, match="loss is ignored: optimal is an offline plan"):
+        lossy = swarmex.run("traversal", grid="4x3", agents=2, algorithm="optimal", loss=0.2)
+    plain = swarmex.run("traversal", grid="4x3", agents=2, algorithm="optimal")
+    assert lossy.makespan == plain.makespan and lossy.metrics["messages"] == 0
 
 
 def test_madgta_plus_dispatch(tmp_path, capsys):

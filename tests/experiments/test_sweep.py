@@ -926,6 +926,22 @@ def test_an_option_every_run_ignores_is_noted(tmp_path, capsys):
                       fixed={"objective": "makespan"}, backend="serial", progress=False)
 
 
+@pytest.mark.parametrize("text", [
+    # optimal plans offline (perfect radio, reliable jobs); only recall reads found
+    'mission = "traversal"\ngrid = "3x3"\nagents = 1\nseeds = 1\n'
+    'algorithm = ["madgta", "optimal"]\n[fixed]\nloss = 0.1\njob_failure = 0.1\n',
+    'mission = "foraging"\ngrid = 16\nagents = 4\nseeds = 1\nfood_units = 2\n'
+    'algorithm = ["strips", "recall"]\n[fixed]\nfound = "3,4;10,12"\n',
+])
+def test_a_value_one_algorithm_ignores_does_not_fail_its_rows(tmp_path, capsys, text):
+    # these options were refused with the algorithm that ignores them, so a sweep that held
+    # them fixed while it varied the algorithm ended "2/2 runs finished, 1 failed"
+    spec = tmp_path / "s.toml"
+    spec.write_text(text)
+    assert main(["sweep", str(spec), "--out", str(tmp_path / "a"), "--backend", "serial"]) == 0
+    assert "2/2 runs finished (2 now), 0 failed" in capsys.readouterr().out
+
+
 def test_an_ignored_option_is_noted_when_the_spec_names_the_planner_algorithm(tmp_path):
     # a spec's `algorithm` key is the roadmap's --planner: the check read it as an unknown
     # option, every configuration failed to parse, and the note was never given

@@ -11,9 +11,11 @@ from __future__ import annotations
 import dataclasses
 import pickle
 
+import numpy as np
 import pytest
 
 import swarmex
+from swarmex.errors import InputError
 from swarmex.missions.registry import get
 from swarmex.missions.traversal.params import TraversalParams
 
@@ -88,7 +90,8 @@ def test_run_refuses_seed_none() -> None:
 
 @pytest.mark.parametrize(
     ("key", "hint"),
-    [("json", r"record\.write\(path\)"), ("render", r"swarmex\.render\(record, path\)")],
+    [("json", r"record\.write\(path\)"), ("render", r"swarmex\.render\(record, path\)"),
+     ("max_cycles", r"no cycle cap; .*foraging's max_rounds")],  # was "did you mean 'obstacles'?"
 )
 def test_command_line_outputs_given_to_run_say_the_python_way(key: str, hint: str) -> None:
     # render= was "unknown parameter 'render'; did you mean 'center'?"
@@ -130,3 +133,28 @@ def test_the_command_line_names_every_missing_option_at_once(capsys) -> None:
     assert "--env, --nodes, --step and --sensor-range are required" in capsys.readouterr().err
     assert main(["forage", "--help"]) == 0
     assert "Number of robots n. (required)" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("value", [(5, 5), [5, 5], np.array([5, 5]), "5,5", [(5, 5)], ["5,5"]])
+def test_one_cell_alone_is_a_list_of_one_cell(value) -> None:
+    # a sweep axis of cells (nests = [[0, 0], [5, 5]]) gives each run one (x, y) pair, which
+    # failed with "malformed cell 0"
+    from swarmex.missions.base import cells
+
+    assert cells()(value, "--nests") == ((5, 5),)
+
+
+@pytest.mark.parametrize("value", [(5, 5, 5), (5.5, 2), (True, 1), [5]])
+def test_a_malformed_cell_list_is_still_refused(value) -> None:
+    from swarmex.missions.base import cells
+
+    with pytest.raises(InputError, match="--nests: malformed cell"):
+        cells()(value, "--nests")
+
+
+def test_a_sweep_axis_of_cell_pairs_runs_one_nest_per_run(tmp_path) -> None:
+    with pytest.warns(UserWarning, match="nests is an axis of 2 values, one per run"):
+        table = swarmex.sweep("traversal", out=tmp_path / "s", grid="8x8", agents=2,
+                              nests=[(0, 0), (5, 5)], backend="serial", progress=False)
+    assert table.column("error").to_pylist() == [None, None]
+    assert table.column("nests").to_pylist() == ["0,0", "5,5"]

@@ -64,6 +64,8 @@ def rerun(
         name = f"{path}: " if len(files) > 1 else ""
         line, ok = verdict(record.to_dict(), new_record.to_dict())
         console.print(f"{name}{line}", soft_wrap=True, highlight=False)
+        if json_out is not None:  # as every command says what it wrote
+            console.print(f"wrote {json_out}", soft_wrap=True, highlight=False)
         same += ok
     if len(files) > 1:
         console.print(f"{same} of {len(files)} records the same", highlight=False)

@@ -187,11 +187,7 @@ def _pair(value: Any, flag: str, what: str = "cell") -> Cell:
         m = _CELL.match(value)
         if m:
             return int(m[1]), int(m[2])
-    elif (
-        isinstance(value, Sequence)
-        and len(value) == 2
-        and all(isinstance(v, numbers.Integral) and not isinstance(v, bool) for v in value)
-    ):
+    elif _is_int_pair(value):
         return int(value[0]), int(value[1])
     raise InputError(f'{flag}: malformed {what} {value!r} (expected "x,y" or (x, y))')
 
@@ -206,8 +202,15 @@ def cell() -> Parser:
     return parse
 
 
+def _is_int_pair(value: Any) -> bool:
+    return (isinstance(value, Sequence) and not isinstance(value, str) and len(value) == 2
+            and all(isinstance(v, numbers.Integral) and not isinstance(v, bool) for v in value))
+
+
 def cells() -> Parser:
-    """Cells: ``"1,2;3,4"``, ``["1,2", "3,4"]`` or ``[(1, 2), (3, 4)]`` -> a tuple of cells.
+    """Cells: ``"1,2;3,4"``, ``["1,2", "3,4"]`` or ``[(1, 2), (3, 4)]`` -> a tuple of cells;
+    one cell alone as ``(1, 2)`` too (a sweep axis of cells, ``nests = [[0, 0], [5, 5]]``,
+    gives each run one such pair: "malformed cell 0" said nothing useful).
 
     Empty parts of a string (a trailing ``;``) are skipped.
     """
@@ -216,6 +219,8 @@ def cells() -> Parser:
         value = plain_sequence(value)
         if isinstance(value, str):
             parts: Iterable[Any] = [p for p in value.split(";") if p.strip()]
+        elif _is_int_pair(value):
+            parts = [value]
         elif isinstance(value, Sequence):
             parts = value
         else:
@@ -539,6 +544,10 @@ COMMAND_ONLY = {
             " JSON",
     "render": "the command line's drawing; in Python, swarmex.render(record, path) draws"
               " the run a record holds",
+    # PettingZoo's usual cap (its nearest name was "obstacles")
+    "max_cycles": "there is no cycle cap; a run stops at its mission's own cap (foraging's"
+                  " max_rounds, exploration's max_ticks, roadmap's step_budget, traversal's"
+                  " event cap; docs/envs.md)",
 }
 
 

@@ -182,10 +182,18 @@ def test_the_record_names_the_memory_and_the_pattern_played():
     assert "found" not in plain.params and "pattern" not in plain.extra
 
 
+def test_found_with_another_pattern_is_noted_and_changes_nothing():
+    with pytest.warns(UserWarning, match="found is ignored: only recall reads"):
+        noted = swarmex.run("foraging", grid=G, agents=N, algorithm="strips", food=(3, 3),
+                            found=[(1, 1)])
+    plain = swarmex.run("foraging", grid=G, agents=N, algorithm="strips", food=(3, 3))
+    assert noted.makespan == plain.makespan and noted.agents == plain.agents
+
+
 @pytest.mark.parametrize(
     ("kwargs", "needle"),
     [
-        ({"algorithm": "strips", "found": [(1, 1)]}, "--found is read only by --algorithm recall"),
+        ({"algorithm": "strips", "found": [(40, 1)]}, "outside the 32×32 grid"),
         ({"algorithm": "recall", "found": [(40, 1)]}, "outside the 32×32 grid"),
         ({"algorithm": "recall", "found": [(16, 16)]}, "is the nest"),
     ],

@@ -162,12 +162,16 @@ class ForagingParams(Params):
         if self.algorithm == RECALL:
             check_recall(self.grid, self.agents, self.found)
         else:
-            if self.found:
-                raise InputError(
-                    f"--found is read only by --algorithm {RECALL} (got --algorithm "
-                    f"{self.algorithm})"
-                )
+            for c in self.found:  # ignored, but still a grid's cells: a typo is said now
+                check_food(c, self.grid, "--found")
             build_plan(self.algorithm, self.grid, self.agents)  # the pattern's team-size rule
+
+    def ignored(self) -> dict[str, str]:
+        # a note, not a refusal: a sweep may hold found fixed while it varies the pattern
+        if self.found and self.algorithm != RECALL:
+            return {"found": f"only {RECALL} reads where food was found; {self.algorithm}"
+                             " searches by its own pattern"}
+        return {}
 
     @property
     def nest(self) -> Cell:

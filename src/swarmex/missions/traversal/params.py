@@ -312,18 +312,6 @@ class TraversalParams(Params):
             raise InputError(
                 f"--agents {self.agents} but the fleet lists {len(self.fleet)} agents"
             )
-        if self.algorithm == "optimal":
-            # the MILP plans offline with the whole map known: a radio or failing jobs never
-            # enter it, and the record used to list them as if they had been applied
-            offline = {"--loss": self.loss > 0, "--delay": self.delay > 0,
-                       "--comm-range": self.comm_range not in (None, math.inf),
-                       "--job-failure": self.job_failure > 0}
-            given = [flag for flag, on in offline.items() if on]
-            if given:
-                raise InputError(
-                    f"{', '.join(given)}: --algorithm optimal is an offline plan with a perfect"
-                    " radio and jobs that never fail; run a policy (e.g. madgta) for that"
-                )
         team = self.team
         if self.nests is not None:
             if not self.nests:
@@ -335,6 +323,16 @@ class TraversalParams(Params):
         if self.objective != "sum" and self.algorithm != "optimal":
             return {"objective": f"only optimal minimises an objective ({self.objective});"
                                  f" {algorithm_name(self.algorithm)} plays its own rule"}
+        if self.algorithm == "optimal":
+            # the MILP plans offline with the whole map known: a radio or failing jobs never
+            # enter it. A note, not a refusal, so a sweep may hold loss fixed while it
+            # compares a policy with the optimum (the record keeps the value it was given)
+            offline = {"loss": self.loss > 0, "delay": self.delay > 0,
+                       "comm_range": self.comm_range not in (None, math.inf),
+                       "job_failure": self.job_failure > 0}
+            why = ("optimal is an offline plan with a perfect radio and jobs that never fail;"
+                   " run a policy (e.g. madgta) for that")
+            return {name: why for name, on in offline.items() if on}
         return {}
 
 
