@@ -65,6 +65,7 @@ BAD = {
     "not toml": "mission = traversal grid\n",
     "no mission": 'grid = "4x4"\n',
     "unknown mission": 'mission = "swimming"\n',
+    "mission as a list": 'mission = ["traversal"]\ngrid = "4x4"\nagents = 2\n',  # was a TypeError
     "unknown option": 'mission = "traversal"\ngrid = "4x4"\nagents = 2\ncolour = "red"\n',
     "table value": 'mission = "traversal"\n[grid]\nw = 4\n',
     "bad value inside": 'mission = "traversal"\ngrid = "4x4"\nagents = 2\nnests = "9,9"\n',

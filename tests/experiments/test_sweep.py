@@ -113,6 +113,8 @@ def test_spec_fixed_table_seed_count_and_algorithm_option(tmp_path):
     [
         ({"grid": "4x4"}, "no mission"),
         ({"mission": "flying"}, "unknown mission"),
+        ({"mission": ["traversal"]}, "unknown mission"),  # unhashable: was a TypeError
+        ({"mission": {"a": 1}}, "unknown mission"),
         ({"mission": "traversal", "json": "x.json"}, "cannot be set in a sweep"),
         ({"mission": "traversal", "agents": [2, 2]}, "lists a value twice"),
         ({"mission": "traversal", "seeds": [0, 0]}, "seed twice"),

@@ -101,10 +101,10 @@ def reproduce_exploration(
     workers: int = typer.Option(2, "--workers", help="Worker processes."),
 ) -> None:
     """Rerun the thesis's chapter 4 (Figs. 4.1–4.4) and the strategy comparison."""
+    from swarmex.experiments.pool import check_workers
     from swarmex.studies.exploration import reproduce
 
-    if workers < 1:
-        raise InputError(f"--workers must be at least 1, got {workers}")
+    check_workers(workers)  # 100,000 workers forked until the OOM killer came
     check_out_dir(out)
     with study(out / "runs.jsonl"):
         report = reproduce(out, quick=quick, workers=workers, progress=console.print)

@@ -88,10 +88,10 @@ def reproduce_foraging(
     ),
 ) -> None:
     """Regenerate Figs. 56–79 of seed 002 (128×128 grid) beside the thesis's numbers."""
+    from swarmex.experiments.pool import check_workers
     from swarmex.studies.foraging import reproduce
 
-    if workers < 1:
-        raise InputError(f"--workers must be at least 1 (got {workers})")
+    check_workers(workers)  # 100,000 workers forked until the OOM killer came
     if seed is not None and seed < 0:
         raise InputError(f"--seed must be at least 0, got {seed}")
     check_out_dir(out)

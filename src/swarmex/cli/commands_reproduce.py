@@ -33,10 +33,10 @@ def reproduce_traversal(
     Writes OUT/traversal.json (every run, resumable), OUT/fig_5_*.png and OUT/traversal.md
     (the thesis's numbers and ours side by side).
     """
+    from swarmex.experiments.pool import check_workers
     from swarmex.studies.traversal import reproduce
 
-    if workers is not None and workers < 1:
-        raise InputError(f"--workers must be >= 1, got {workers}")
+    check_workers(workers)  # 100,000 workers forked until the OOM killer came
     if runs is not None and runs < 1:
         raise InputError(f"--runs must be >= 1, got {runs}")
     check_out_dir(out)  # a folder that cannot be made was a mkdir traceback

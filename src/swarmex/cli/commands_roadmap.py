@@ -54,10 +54,10 @@ def reproduce_roadmap(
     workers: int = typer.Option(2, "--workers", help="Worker processes."),
 ) -> None:
     """Tables 1–2, Fig. 6 and Figs. 14–17 of seed 004, beside the paper's numbers."""
+    from swarmex.experiments.pool import check_workers
     from swarmex.studies.roadmap import reproduce
 
-    if workers < 1:
-        raise InputError(f"--workers must be at least 1, got {workers}")
+    check_workers(workers)  # 100,000 workers forked until the OOM killer came
     if out.exists() and not out.is_dir():  # was a FileExistsError traceback from mkdir
         raise InputError(f"--out {out} exists and is not a directory")
     try:

@@ -71,6 +71,25 @@ MAX_REFUSALS = 6  # new pools in a row that take no chunk: no worker process can
 REFUSAL_PAUSE = 0.05  # seconds before the first new pool after a refused one (then doubled)
 
 
+#: worker processes (or Ray CPUs) a run of many may ask for: more is a typo, not a machine
+MAX_WORKERS = 1024
+#: local worker processes per core at most: each holds its own copy of a run (~150 MB), and
+#: more than a few per core only share the cores (100,000 asked for met the OOM killer)
+PROCESSES_PER_CORE = 4
+
+
+def check_workers(workers: int | None, flag: str = "--workers") -> None:
+    """``workers`` is None or 1..:data:`MAX_WORKERS`; else an InputError naming ``flag``."""
+    if workers is not None and not 1 <= workers <= MAX_WORKERS:
+        raise InputError(f"{flag} must be between 1 and {MAX_WORKERS}, got {workers}")
+
+
+def local_processes(workers: int) -> int:
+    """The worker processes worth forking on this machine for ``workers`` asked for: at most
+    :data:`PROCESSES_PER_CORE` per core."""
+    return max(1, min(workers, PROCESSES_PER_CORE * (os.cpu_count() or 1)))
+
+
 class WorkersDied(InputError):
     """The worker processes died ``MAX_BREAKS`` times in a row before finishing any job, or
     ``MAX_REFUSALS`` new pools in a row could not start one."""

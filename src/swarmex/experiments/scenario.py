@@ -85,7 +85,7 @@ def load_scenario(path: str | Path) -> Scenario:
     mission = data.pop("mission", None)
     if mission is None:
         raise InputError(f'{path}: no mission key (e.g. mission = "traversal")')
-    if mission not in MISSIONS:
+    if not isinstance(mission, str) or mission not in MISSIONS:  # a TOML list is unhashable
         known = ", ".join(MISSIONS)
         raise InputError(f"{path}: unknown mission {mission!r} (choose from {known})")
     options: dict[str, Any] = {}

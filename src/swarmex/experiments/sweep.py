@@ -45,7 +45,13 @@ from swarmex.engine.atomic import atomic_path, write_atomic
 from swarmex.engine.interrupts import clear as clear_request
 from swarmex.engine.interrupts import raise_if_requested
 from swarmex.errors import InputError, require
-from swarmex.experiments.pool import MAX_ATTEMPTS, run_local, sigint_deferred
+from swarmex.experiments.pool import (
+    MAX_ATTEMPTS,
+    check_workers,
+    local_processes,
+    run_local,
+    sigint_deferred,
+)
 from swarmex.experiments.progress import Journal, read_journal
 from swarmex.experiments.scenario import OptionShape
 from swarmex.experiments.sweep_spec import RunSpec, SweepSpec
@@ -60,8 +66,6 @@ from swarmex.experiments.sweep_worker import (
 
 BACKENDS = ("local", "ray", "serial")
 RESULTS = "results.parquet"
-#: worker processes (or Ray CPUs) a sweep may ask for: more is a typo, not a machine
-MAX_WORKERS = 1024
 JOURNAL = "journal.jsonl"
 METADATA_KEY = b"swarmex.sweep"
 RAY_CHUNK = 8  # runs per Ray actor call at most
@@ -375,8 +379,7 @@ def check_backend(
 
     if backend not in BACKENDS:
         raise InputError(f"{opt('backend')} must be one of {', '.join(BACKENDS)}, got {backend!r}")
-    if workers is not None and not 1 <= workers <= MAX_WORKERS:
-        raise InputError(f"{opt('workers')} must be between 1 and {MAX_WORKERS}, got {workers}")
+    check_workers(workers, opt("workers"))
     # an option the backend ignores was silently dropped: say so instead
     if workers is not None and backend == "serial":
         either = "backend='local' or 'ray'" if python else "--backend local or ray"
@@ -450,7 +453,7 @@ def run_sweep(
             elif backend == "local":
                 _local(
                     pending,
-                    min(workers or os.cpu_count() or 1, len(pending)),  # no idle forks
+                    min(local_processes(workers or os.cpu_count() or 1), len(pending)),
                     spec.mission,
                     store.runs_dir,
                     finish,

@@ -267,7 +267,7 @@ def parse_sweep_spec(data: dict[str, Any], path: Path) -> SweepSpec:
     mission = data.pop("mission", None)
     if mission is None:
         raise InputError(f'{path}: no mission key (e.g. mission = "traversal")')
-    if mission not in MISSIONS:
+    if not isinstance(mission, str) or mission not in MISSIONS:  # a TOML list is unhashable
         raise InputError(f"{path}: unknown mission {mission!r} (choose from {', '.join(MISSIONS)})")
     seeds = _seeds(path, data.pop("seeds", None), data.pop("seed", None))
     fixed = data.pop("fixed", {})

@@ -42,7 +42,7 @@ from rich.console import Console
 
 from swarmex.engine.interrupts import clear as clear_request
 from swarmex.engine.interrupts import raise_if_requested
-from swarmex.experiments.pool import run_local, warm_numba
+from swarmex.experiments.pool import local_processes, run_local, warm_numba
 from swarmex.experiments.progress import runs_progress
 
 J = TypeVar("J")
@@ -110,7 +110,7 @@ def run_jobs(
     reused = len(results)
     pending = [(k, job) for k, job in unique.items() if k not in results]
     clear_request()  # a request an earlier, finished call left behind is not this one's
-    workers = max(1, min(workers, len(pending)))
+    workers = max(1, min(local_processes(workers), len(pending)))  # no idle forks
     bar = runs_progress(label, console, disable=not show, detail=describe is not None)
     task = bar.add_task("", total=len(unique), completed=reused)
     ran = 0

@@ -10,6 +10,7 @@ from typing import Any
 
 from swarmex import __version__
 from swarmex.errors import InputError
+from swarmex.experiments.pool import check_workers
 from swarmex.experiments.runstore import RunStore
 from swarmex.studies.runner import run_jobs
 from swarmex.studies.traversal.design import AGENT_PARAMS, Config, RunSpec, build_plan
@@ -31,8 +32,7 @@ def reproduce(
     from swarmex.studies.traversal.report import write_outputs
 
     # a negative count planned no run at all and wrote an empty report without a word
-    if workers is not None and workers < 1:
-        raise InputError(f"workers must be >= 1, got {workers}")
+    check_workers(workers, "workers")
     if reps is not None and reps < 1:
         raise InputError(f"reps must be >= 1, got {reps}")
     out = Path(out)
