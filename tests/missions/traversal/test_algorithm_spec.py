@@ -64,6 +64,13 @@ def test_inherited_options_are_accepted():
     ("madgta-f@ils=1,ils=2", "option 'ils' given twice"),
     ("madgta-f@ils=-1", "ils must be in 0..10000, got -1"),  # the class's own check
     ("madgta-f@ils=1000000000", "ils must be in 0..10000"),  # ran for ever, deaf to Ctrl-C
+    ("madgta-r@samples=100000000", "samples must be in 0..1000"),  # 5 GB in 20 s, for ever
+    ("madgta-r@ties=5000", "ties must be in 0..1000, got 5000"),
+    # a word option names its words ("must be str, got '-1'" did not)
+    ("madgta-f@idle=-1", "idle must be one of madgta, stop, got '-1'"),
+    # not finite: "must be float, got 'nan'", and 1e400 was shown as inf
+    ("madgta-f@tol=nan", "option 'tol' must be a finite number, got 'nan'"),
+    ("madgta-r@weight=1e400", "option 'weight' must be a finite number, got '1e400'"),
     ("madgta-f@follow=sometimes", "follow must be True, False or 'walls'"),
     ("madgta-x@ils=1", "unknown traversal algorithm 'madgta-x'"),
     # the MILP is not a policy: it used to be refused while listed among the choices

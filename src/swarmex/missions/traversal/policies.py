@@ -32,7 +32,9 @@ and every draw from the generator, are the same bit for bit.
 from __future__ import annotations
 
 import ast
+import contextlib
 import inspect
+import math
 import typing
 from dataclasses import dataclass
 from typing import Any
@@ -651,6 +653,14 @@ def _option_value(algorithm: str, key: str, text: str, types: tuple[Any, ...]) -
             value = text  # bare text: follow=walls
     if isinstance(value, int) and not isinstance(value, bool) and float in types:
         value = float(value)
+    if isinstance(value, str) and float in types:  # nan, inf: numbers, but not finite ones
+        with contextlib.suppress(ValueError):
+            value = float(value)
+    if isinstance(value, float) and not math.isfinite(value):  # 1e400 reads as inf
+        raise InputError(f"algorithm {algorithm!r}: option {key!r} must be a finite number, "
+                         f"got {text!r}")
+    if types and not any(_is(value, t) for t in types) and str in types:
+        value = text  # idle=-1: the class's own check names the words it takes
     if types and not any(_is(value, t) for t in types):
         wanted = " or ".join("none" if t is type(None) else t.__name__ for t in types)
         raise InputError(f"algorithm {algorithm!r}: option {key!r} must be {wanted}, "

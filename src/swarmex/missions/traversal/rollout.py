@@ -132,6 +132,10 @@ from swarmex.missions.traversal.variants import MadgtaPlus
 World = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]
 
 
+#: the most tie orders or wall guesses a decision may roll out (each is a whole rollout)
+MAX_ROLLOUTS = 1_000
+
+
 class MadgtaR(Madgta):
     """MADGTA with rollout (see the module docstring).
 
@@ -168,6 +172,11 @@ class MadgtaR(Madgta):
             raise ValueError(f"unknown must be 'free' or 'walled', got {unknown!r}")
         if min(far, ties, samples) < 0 or horizon < 1:
             raise ValueError("far, ties and samples must be >= 0 and horizon >= 1")
+        # each tie order or wall guess is one more whole rollout per decision (the docs use
+        # at most 16); samples=100000000 took 5 GB in 20 s and would never have finished
+        for name, value in (("ties", ties), ("samples", samples)):
+            if value > MAX_ROLLOUTS:
+                raise ValueError(f"{name} must be in 0..{MAX_ROLLOUTS}, got {value}")
         self.k = k
         self.max_vacant = max_vacant
         self.horizon = horizon
