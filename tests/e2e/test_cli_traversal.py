@@ -251,6 +251,9 @@ BAD = {
     "render unwritable": ["--grid", "5x5", "--agents", "2", "--render", "FILE:/x.png"],
     "render extension": ["--grid", "5x5", "--agents", "2", "--render", "TMP:out.jpg"],
     "render no extension": ["--grid", "5x5", "--agents", "2", "--render", "TMP:out"],
+    # the record was written, then the picture replaced it
+    "json and render one file": ["--grid", "5x5", "--agents", "2", "--json", "TMP:o.png",
+                                 "--render", "TMP:o.png"],
 }
 
 

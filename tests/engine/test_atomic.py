@@ -75,6 +75,31 @@ def test_a_failed_write_leaves_the_old_file_and_no_temporary(tmp_path):
     assert [p.name for p in tmp_path.iterdir()] == ["out.json"]
 
 
+@pytest.mark.parametrize("errno_", [28, 27])  # ENOSPC (disk full), EFBIG (file-size limit)
+def test_a_disk_that_fills_half_way_is_one_line_and_keeps_the_old_file(tmp_path, errno_):
+    path = tmp_path / "out.json"
+    write_atomic(path, "old")
+    said = f"cannot write {path}: .*previous file.* unchanged"
+    with pytest.raises(InputError, match=said), atomic_open(path) as fh:
+        fh.write("half")
+        raise OSError(errno_, os.strerror(errno_))
+    with pytest.raises(InputError, match="cannot write"), atomic_path(path):
+        raise OSError(errno_, os.strerror(errno_))
+    assert path.read_text() == "old"
+    assert [p.name for p in tmp_path.iterdir()] == ["out.json"]
+    with pytest.raises(FileNotFoundError), atomic_open(path):  # not a write failure: as is
+        raise FileNotFoundError(2, "No such file or directory")
+
+
+@pytest.mark.skipif(not Path("/dev/full").exists(), reason="no /dev/full on this system")
+def test_the_cli_says_a_full_disk_in_one_line(capsys):
+    from swarmex.cli import main
+
+    assert main(["traverse", "--grid", "4x4", "--agents", "2", "--json", "/dev/full"]) == 2
+    err = capsys.readouterr().err
+    assert err == "swarmex: error: cannot write /dev/full: No space left on device\n"
+
+
 def test_unwritable_place_is_an_input_error(tmp_path):
     blocker = tmp_path / "file"
     blocker.write_text("not a directory")

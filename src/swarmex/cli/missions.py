@@ -23,7 +23,7 @@ import typer
 
 from swarmex.cli.app import app, console, err_console, interrupted
 from swarmex.cli.compiling import compile_notice
-from swarmex.cli.outputs import RENDER_SUFFIXES, check_output
+from swarmex.cli.outputs import RENDER_SUFFIXES, check_distinct, check_output
 from swarmex.errors import InputError
 from swarmex.missions.base import FrameCallback, Mission, OptionInfo, Outcome
 from swarmex.viz.animation import require_writer
@@ -156,6 +156,7 @@ def mission_command(mission: Mission[Any, Any], surface: Surface) -> Callable[..
         extra_values = {name: kwargs.pop(name) for name in extras}
         check_output(json_path, surface.json_flag)
         check_output(render, "--render", RENDER_SUFFIXES)
+        check_distinct((json_path, surface.json_flag), (render, "--render"))
         if render is not None:
             require_writer(render)  # a missing extra costs one line now, not the run
         params = mission.params({k: v for k, v in kwargs.items() if v is not None})

@@ -32,6 +32,20 @@ def check_out_dir(path: Path, option: str = "--out") -> None:
     check_output(path, option)
 
 
+def check_distinct(*outputs: tuple[Path | None, str]) -> None:
+    """Two outputs of one run may not be one file: the later write replaced the earlier one
+    (``--json out.png --render out.png`` kept the picture and lost the record silently)."""
+    seen: dict[str, str] = {}
+    for path, option in outputs:
+        if path is None:
+            continue
+        real = os.path.realpath(path)
+        if real in seen:
+            raise InputError(f"{seen[real]} and {option} name the same file ({path}); give"
+                             " each its own")
+        seen[real] = option
+
+
 def check_output(path: Path | None, option: str, suffixes: tuple[str, ...] = ()) -> None:
     """Fail now, not after the run, if ``path`` cannot be written (or has a bad suffix)."""
     if path is None:

@@ -28,6 +28,7 @@ an :class:`~swarmex.errors.InputError` naming the path (an unwritable ``--json``
 from __future__ import annotations
 
 import contextlib
+import errno
 import os
 import secrets
 import stat
@@ -68,6 +69,20 @@ def _target(path: Path) -> tuple[Path, bool, int | None]:
     return real, not stat.S_ISDIR(st.st_mode), None
 
 
+#: what a write can meet half-way that no path check can foresee (disk full, a file-size
+#: limit, a quota, a read-only remount, a failing disk)
+_WRITE_FAILED = frozenset({errno.ENOSPC, errno.EFBIG, errno.EDQUOT, errno.EROFS, errno.EIO})
+
+
+def _failed_write(path: Path, exc: BaseException, kept: bool = True) -> InputError | None:
+    """The one line for a write that failed half-way, else None. ``kept``: the write went to
+    a temporary file, so the previous file (if any) is as it was."""
+    if isinstance(exc, OSError) and exc.errno in _WRITE_FAILED:
+        said = " (the previous file, if any, is unchanged)" if kept else ""
+        return InputError(f"cannot write {path}: {exc.strerror or exc}{said}")
+    return None
+
+
 def _make_parent(path: Path) -> None:
     """Make ``path``'s folder, or say in one line why it cannot be written."""
     check_writable(path)
@@ -95,8 +110,11 @@ def atomic_path(path: str | Path) -> Iterator[Path]:
         if keep_mode is not None:
             os.chmod(tmp, keep_mode)
         os.replace(tmp, path)
-    except BaseException:
+    except BaseException as exc:
         tmp.unlink(missing_ok=True)
+        failed = _failed_write(path, exc)
+        if failed is not None:
+            raise failed from None
         raise
 
 
@@ -114,8 +132,14 @@ def atomic_open(
             fh = open(path, mode, encoding=None if "b" in mode else encoding)  # noqa: SIM115
         except OSError as exc:
             raise InputError(f"cannot write {path}: {exc.strerror or exc}") from None
-        with fh:
-            yield fh
+        try:
+            with fh:
+                yield fh
+        except OSError as exc:
+            failed = _failed_write(path, exc, kept=False)
+            if failed is not None:
+                raise failed from None
+            raise
         return
     _make_parent(path)
     flags = os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_BINARY", 0)
@@ -133,8 +157,11 @@ def atomic_open(
         if keep_mode is not None:
             os.chmod(tmp, keep_mode)
         os.replace(tmp, path)
-    except BaseException:
+    except BaseException as exc:
         tmp.unlink(missing_ok=True)
+        failed = _failed_write(path, exc)
+        if failed is not None:
+            raise failed from None
         raise
 
 
