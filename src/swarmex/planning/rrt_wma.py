@@ -177,6 +177,15 @@ def build_wma_rrt(
     total, draws = (n + n_nodes, n_nodes) if count_samples else (n_nodes, None)
     pos, par, lab, drawn = grow_rrt(world, sec, np.arange(n), total, step, rng,
                                     max_samples=draws, exact_step=exact_step)
+    if not count_samples and len(pos) < total:
+        # growth gave up (200 draws per node): every exact step of ε left the free space, so
+        # the run would cover a stub and call it complete
+        xmin, ymin, xmax, ymax = world.bounds
+        raise InputError(
+            f"--step {step:g}: the WMA-RRT grew only {len(pos)} of the {total} nodes asked for"
+            f" in {drawn:,} samples; every step of that length leaves the free space of this"
+            f" {xmax - xmin:g} × {ymax - ymin:g} world (give a shorter --step)"
+        )
     # shift by one so node 0 is the Main Root; Secondary Roots hang from it
     pos = np.vstack([root, pos])
     parent = np.concatenate([[-1], np.where(par < 0, 0, par + 1)])

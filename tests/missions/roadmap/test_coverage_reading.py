@@ -119,3 +119,16 @@ def test_sensor_range_as_a_multiple_of_the_step(clutter):
     assert job.sensor_range == pytest.approx(2 * rr.C_EPS * 40.0)
     assert rr.Job("t1", "fig8", "coverage", "wma-rrt", 200, 40.0, "2r", 0).sensor_range == \
         pytest.approx(2 * rr.R_BASE)
+
+
+def test_a_step_no_tree_can_take_in_this_world_is_refused():
+    # every exact step of ε leaves the 640 × 480 world: growth gave up after 200 draws per
+    # node with 2 of 100 nodes, and the run covered that stub and said "complete"
+    import swarmex
+
+    fig11 = "examples/roadmap_fig11.json"
+    with pytest.raises(InputError, match=r"--step 700: the WMA-RRT grew only 2 of the 100 "
+                                         r"nodes .* 640 × 480 world \(give a shorter --step\)"):
+        swarmex.run("roadmap", env=fig11, agents=2, nodes=100, step=700, sensor_range="2eps")
+    ok = swarmex.run("roadmap", env=fig11, agents=2, nodes=100, step=600, sensor_range="2eps")
+    assert ok.metrics["tree_nodes"] == 101
