@@ -246,6 +246,13 @@ BAD = {
     "comm range": ["--grid", "5x5", "--agents", "2", "--comm-range", "0"],
     "job failure": ["--grid", "5x5", "--agents", "2", "--job-failure", "1"],
     "negative seed": ["--grid", "5x5", "--agents", "2", "--seed", "-1"],
+    # past any vehicle: a job of 1e308 s made the makespan inf (a blank summary)
+    "huge job time": ["--grid", "5x5", "--agents", "2", "--job-time", "1e308"],
+    "huge travel time": ["--grid", "5x5", "--agents", "2", "--travel-time", "1e300"],
+    "huge delay": ["--grid", "5x5", "--agents", "2", "--delay", "1e20"],
+    "crawling climb": ["--grid", "5x5", "--agents", "2", "--altitude", "10", "--up-speed",
+                       "1e-300"],
+    "huge edge": ["--grid", "5x5", "--agents", "2", "--edge-length", "1e300"],
     "json unwritable": ["--grid", "5x5", "--agents", "2", "--json", "FILE:/out.json"],
     "json is a directory": ["--grid", "5x5", "--agents", "2", "--json", "DIR:"],
     "render unwritable": ["--grid", "5x5", "--agents", "2", "--render", "FILE:/x.png"],

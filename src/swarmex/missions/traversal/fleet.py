@@ -49,13 +49,20 @@ FIELDS = (
     "id", "nest", "altitude", "travel_speed", "travel_time", "job_time", "up_speed",
     "down_speed",
 )
+#: Physical bounds of an agent's times and speeds. Why: every value up to 1e308 used to pass,
+#: and a job of 1e308 s made the makespan inf (a blank summary, a null in the JSON); a year
+#: of travel per edge, 100 km of altitude and 1 mm/s are past any vehicle already.
+MAX_SECONDS = 1e9
+MAX_ALTITUDE = 1e5
+MAX_EDGE_M = 1e6  # metres per grid edge (--edge-length)
+MIN_SPEED = 1e-3
 _NUMBERS: dict[str, Parser] = {
-    "altitude": real(lo=0),
-    "travel_speed": real(above=0),
-    "travel_time": real(above=0),
-    "job_time": real(lo=0),
-    "up_speed": real(above=0),
-    "down_speed": real(above=0),
+    "altitude": real(lo=0, hi=MAX_ALTITUDE),
+    "travel_speed": real(lo=MIN_SPEED),
+    "travel_time": real(above=0, hi=MAX_SECONDS),
+    "job_time": real(lo=0, hi=MAX_SECONDS),
+    "up_speed": real(lo=MIN_SPEED),
+    "down_speed": real(lo=MIN_SPEED),
 }
 _ID = re.compile(r"^\s*[Dd]?0*(\d+)\s*$")
 _NEST = re.compile(r"^\s*(-?\d+)\s*(?:,|\s)\s*(-?\d+)\s*$")

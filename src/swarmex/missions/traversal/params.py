@@ -48,7 +48,15 @@ from swarmex.missions.base import (
     real,
     text,
 )
-from swarmex.missions.traversal.fleet import FleetRow, fleet, is_table_list
+from swarmex.missions.traversal.fleet import (
+    MAX_ALTITUDE,
+    MAX_EDGE_M,
+    MAX_SECONDS,
+    MIN_SPEED,
+    FleetRow,
+    fleet,
+    is_table_list,
+)
 from swarmex.worlds.geo import MAX_NODES_ON_EDGE, MAX_RADIUS, check_center
 
 if TYPE_CHECKING:
@@ -196,9 +204,10 @@ class TraversalParams(Params):
         parse=optional(cells()),
     )
     travel_time: float = option(
-        2.22, help="Seconds per grid edge (thesis: 6.67 m at 3 m/s).", parse=real(above=0)
+        2.22, help="Seconds per grid edge (thesis: 6.67 m at 3 m/s).",
+        parse=real(above=0, hi=MAX_SECONDS)
     )
-    job_time: float = option(10.0, help="Seconds per job.", parse=real(lo=0))
+    job_time: float = option(10.0, help="Seconds per job.", parse=real(lo=0, hi=MAX_SECONDS))
     algorithm: str = option(
         "madgta",
         help="madgta | madgta+ | madgta-h (mixed fleets: lower sum, longer makespan)"
@@ -215,11 +224,13 @@ class TraversalParams(Params):
     )
     connectivity: int = option(4, help="4 or 8 neighbours per cell.", parse=connectivity())
     start_interval: float = option(
-        0.5, help="Seconds between agents' starts.", parse=real(lo=0)
+        0.5, help="Seconds between agents' starts.", parse=real(lo=0, hi=MAX_SECONDS)
     )
-    altitude: float = option(0.0, help="Working altitude, metres.", parse=real(lo=0))
-    up_speed: float = option(1.5, help="Climb speed, m/s.", parse=real(above=0))
-    down_speed: float = option(0.3, help="Descent speed, m/s.", parse=real(above=0))
+    altitude: float = option(
+        0.0, help="Working altitude, metres.", parse=real(lo=0, hi=MAX_ALTITUDE)
+    )
+    up_speed: float = option(1.5, help="Climb speed, m/s.", parse=real(lo=MIN_SPEED))
+    down_speed: float = option(0.3, help="Descent speed, m/s.", parse=real(lo=MIN_SPEED))
     comm_range: float | None = option(
         None,
         help="Broadcast range in cells (default: unlimited).",
@@ -228,7 +239,7 @@ class TraversalParams(Params):
     loss: float = option(
         0.0, help="Probability a receiver misses a message.", parse=real(lo=0, below=1)
     )
-    delay: float = option(0.0, help="Message delay, seconds.", parse=real(lo=0))
+    delay: float = option(0.0, help="Message delay, seconds.", parse=real(lo=0, hi=MAX_SECONDS))
     job_failure: float = option(
         0.0, help="Probability a job fails and must be redone.", parse=real(lo=0, below=1)
     )
@@ -247,7 +258,7 @@ class TraversalParams(Params):
         None,
         help="Metres per grid edge of --map/--grid, so that fleet speeds in m/s apply "
         "(default: none; a GPS grid has its own).",
-        parse=optional(real(above=0)),
+        parse=optional(real(above=0, hi=MAX_EDGE_M)),
     )
     center: tuple[float, float] | None = option(
         None,
