@@ -192,7 +192,7 @@ def render(
     ``record`` is what :func:`run` returned, its ``to_dict()``, or a record file. The run is
     made again from the record, keeping the frames the drawing needs (a record holds paths,
     not frames), so drawing costs the run's time once more. If that run no longer comes out
-    as the record (another swarmex version), the drawing is of today's run and a
+    as the record (another swarmex version, an edited record), the drawing is of today's run and a
     ``RuntimeWarning`` says so. ``world`` gives the world again when the record cannot name
     it, as for :func:`rerun`: ``swarmex.render(rec, "run.png", map=world)`` for a run on a
     world object (only world and input-file parameters: any other would draw another run).

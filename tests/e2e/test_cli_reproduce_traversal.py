@@ -24,15 +24,24 @@ def test_ctrl_c_says_where_the_finished_runs_are(tmp_path, capsys, monkeypatch):
     # how to resume, as the other reproductions' messages do
     import swarmex.studies.traversal as study
 
-    def ctrl_c(*args, **kwargs):
+    def ctrl_c(out, *args, **kwargs):
+        if finished:
+            out.mkdir(parents=True, exist_ok=True)
+            (out / "traversal.json").write_text("{}")  # a run had finished
         raise KeyboardInterrupt
 
     monkeypatch.setattr(study, "reproduce", ctrl_c)
     out = tmp_path / "rep"
+    finished = True
     assert main(["reproduce", "traversal", "--quick", "--out", str(out)]) == 130
     err = capsys.readouterr().err
     assert err.count("\n") == 1
     assert f"finished runs are saved in {out / 'traversal.json'}" in err and "resume" in err
+    # stopped before any run finished: it named a file that did not exist
+    finished, out = False, tmp_path / "early"
+    assert main(["reproduce", "traversal", "--quick", "--out", str(out)]) == 130
+    assert capsys.readouterr().err == (
+        "swarmex: interrupted; no run had finished, so nothing was kept\n")
 
 
 

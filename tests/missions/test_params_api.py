@@ -158,3 +158,14 @@ def test_a_sweep_axis_of_cell_pairs_runs_one_nest_per_run(tmp_path) -> None:
                               nests=[(0, 0), (5, 5)], backend="serial", progress=False)
     assert table.column("error").to_pylist() == [None, None]
     assert table.column("nests").to_pylist() == ["0,0", "5,5"]
+
+
+@pytest.mark.parametrize("params", [{"grid": "8x8", "agents": 3}, None, "grid=8x8"])
+def test_mission_run_names_the_params_it_takes(params) -> None:
+    # a dict or None met an AttributeError ('dict' object has no attribute 'validated')
+    with pytest.raises(InputError, match=r"traversal: run\(\) takes TraversalParams \(from "
+                                         r"get\('traversal'\)\.params\(\.\.\.\)\), got "):
+        get("traversal").run(params)
+    foraging = get("foraging").params(grid=8, agents=2, algorithm="strips")
+    with pytest.raises(InputError, match="got ForagingParams"):
+        get("traversal").run(foraging)

@@ -111,8 +111,12 @@ def test_the_warning_says_why_the_run_came_out_differently(tmp_path: Path, capsy
         swarmex.render(whole, tmp_path / "g.png", grid="5x5")
     edited = whole.to_dict()
     edited["metrics"]["total_time_all"] += 1
-    with pytest.warns(RuntimeWarning, match="another swarmex version"):
+    # the same version: the note says where (it blamed "another swarmex version")
+    with pytest.warns(RuntimeWarning, match=r"it differs in metrics\.total_time_all"):
         swarmex.render(edited, tmp_path / "e.png")
+    edited["swarmex_version"] = "0.0.1"
+    with pytest.warns(RuntimeWarning, match="recorded by swarmex 0.0.1"):
+        swarmex.render(edited, tmp_path / "v.png")
 
 
 def test_a_run_on_a_world_object_is_drawn_with_the_world_given_again(tmp_path: Path) -> None:

@@ -85,6 +85,14 @@ def print_summary(record: dict) -> None:
             extras.append(f"{key} {totals[key]}")
     extras.append(f"wall {record.get('wall_seconds', 0.0):.2f} s")
     console.print(f"{complete} · " + " · ".join(extras))
+    free = record.get("world", {}).get("free_cells")
+    reachable = totals.get("reachable_nodes")
+    if isinstance(free, int) and isinstance(reachable, int) and reachable < free:
+        # walls that cut the nests off: "complete, nodes_missed 0" said nothing of the rest
+        err_console.print(
+            f"note: {free - reachable:,} of the {free:,} free cells cannot be reached from the"
+            " nests; the run covers the other ones", highlight=False, soft_wrap=True,
+        )
 
 
 def report(outcome: Outcome, params: Any) -> None:

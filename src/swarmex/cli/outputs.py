@@ -85,6 +85,8 @@ def interrupted_keeps(store: Path) -> Iterator[None]:
     try:
         yield
     except KeyboardInterrupt:
+        if not store.exists():  # stopped before the first run finished: nothing to point to
+            interrupted("no run had finished, so nothing was kept")
         interrupted(f"finished runs are saved in {store} (run the same command again to resume)")
 
 

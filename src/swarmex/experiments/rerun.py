@@ -161,7 +161,9 @@ def render_record(
     outcome = rerun_outcome(rec, folder, given, on_frame=recorder, rule_for=rule_for,
                             watch_for=watch_for)
     draw(rec.mission, outcome, out, recorder)
-    if same_run(rec.to_dict(), outcome.record.to_dict()):
+    old, new = rec.to_dict(), outcome.record.to_dict()
+    versions = old.get("swarmex_version"), new.get("swarmex_version")
+    if same_run(old, new):
         return out, None
     # the likeliest cause first: each of these used to be blamed on "another swarmex version"
     if given:
@@ -170,7 +172,10 @@ def render_record(
         return out, STOPPED_EARLY
     if networked_reason({"params": dict(rec.params)}) is not None:  # it reads the params
         return out, "a networked record; swarmex rerun says where"
-    return out, "another swarmex version"
+    if versions[0] != versions[1]:
+        return out, f"recorded by swarmex {versions[0]}"
+    # same version: an edited record, most likely; say where, as swarmex rerun does
+    return out, f"it differs in {differences(old, new)[0]}"
 
 
 def same_run(old: dict[str, Any], new: dict[str, Any]) -> bool:

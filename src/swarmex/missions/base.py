@@ -799,6 +799,11 @@ class Mission(ABC, Generic[P, W]):
         from swarmex._kernels import interpreted_while_cold
 
         check_run_options(on_frame, trace)
+        if not isinstance(params, self.params_type):  # a dict, None, another mission's
+            raise InputError(
+                f"{self.name}: run() takes {self.params_type.__name__} (from"
+                f" get({self.name!r}).params(...)), got {type(params).__name__}"
+            )
         params = params.validated()  # Params built by their constructor skipped the parsers
         world = self.prepare(params)
         callback = on_frame if watch is None else watch(params, world, on_frame)
