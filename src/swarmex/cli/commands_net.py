@@ -20,9 +20,10 @@ import typer
 
 from swarmex.cli.app import app, console
 from swarmex.cli.outputs import check_output
-from swarmex.cli.shared import _positive, _say, _warn, check_connect, parse_kills, run_mesh
+from swarmex.cli.shared import _say, _warn, check_connect, parse_kills, run_mesh
 from swarmex.errors import InputError, require
 from swarmex.missions.traversal.params import ALGORITHMS, TraversalParams, algorithm_name
+from swarmex.net.limits import check_ingest_url, check_wall_seconds, check_wire_seed
 from swarmex.net.vehicle import Safety
 
 _TRAVERSAL = TraversalParams.options()
@@ -30,9 +31,6 @@ _TRAVERSAL = TraversalParams.options()
 #: madgta-s's team plan rides on its decisions' frames, and the leave of an agent that stops
 #: early (madgta-h, madgta-s) on its C09 (the job bit)
 SERVED = tuple(a for a in ALGORITHMS if a != "optimal")
-#: msgpack's largest integer: C22's mission data carries the seed (a larger one was a
-#: traceback in the middle of the handshake, and the agents waited for their timeout)
-WIRE_SEED_MAX = 2**64 - 1
 _SAFETY = Safety()  # the vehicle limits' defaults (swarmex.net.vehicle)
 
 
@@ -130,17 +128,18 @@ def serve(
     check_output(json_path, "--json")
     if not 0 <= port <= 65535:
         raise InputError(f"--port must be in 0..65535, got {port}")
-    _positive(time_scale, "--time-scale", zero_ok=True)
+    # wall times are bounded above too: 1e307 s overflowed the socket poll's milliseconds
+    check_wall_seconds(time_scale, "--time-scale", zero_ok=True,
+                       unit="(wall seconds per mission second)")
     for value, option in ((heartbeat, "--heartbeat"), (dead_after, "--dead-after"),
                           (timeout, "--timeout")):
-        _positive(value, option)
-    _positive(spare_wait, "--spare-wait", zero_ok=True)
+        check_wall_seconds(value, option)
+    check_wall_seconds(spare_wait, "--spare-wait", zero_ok=True)
     if not 0.0 <= inject_loss < 1.0:
         raise InputError(f"--inject-loss must be in [0, 1), got {inject_loss}")
     if dead_after <= heartbeat:
         raise InputError("--dead-after must be longer than --heartbeat")
-    if monitor_url is not None and not monitor_url.startswith(("ws://", "wss://")):
-        raise InputError(f"--monitor: expected ws://HOST:PORT/ingest, got {monitor_url!r}")
+    check_ingest_url(monitor_url, "--monitor")
     if monitor_url is not None:
         require("websockets", "monitor", "--monitor")
     from swarmex.missions.registry import get
@@ -162,9 +161,7 @@ def serve(
             "nodes_on_edge": nodes_on_edge,
         }
     )
-    if tparams.seed > WIRE_SEED_MAX:
-        raise InputError(f"--seed must be at most {WIRE_SEED_MAX} (it travels in the mission"
-                         f" data as a 64-bit integer), got {tparams.seed}")
+    check_wire_seed(tparams.seed, "the mission data")
     prepared = traversal.prepare(tparams)
     world = prepared.world
     specs = agent_specs(tparams, prepared)
@@ -282,8 +279,16 @@ def agent(
         raise InputError(f"--inject-die-after must be >= 1, got {die_after}")
     for value, option in ((server_timeout, "--server-timeout"),
                           (connect_timeout, "--connect-timeout"), (timeout, "--timeout")):
-        _positive(value, option)
-    faults = Faults(corrupt, die_after, fault_seed)
+        check_wall_seconds(value, option)  # 1e308 s overflowed the wait's milliseconds
+    faults = Faults(corrupt, die_after, fault_seed)  # checks --fault-seed >= 0
+    # the vehicle limits are checked with or without --vehicle: a typo in them used to pass
+    # silently until the day --vehicle was added, then fail
+    limits = Safety(
+        edge_length=edge_length, min_altitude=min_altitude, max_altitude=max_altitude,
+        max_speed=max_speed, max_distance=max_distance, min_satellites=min_satellites,
+        max_hdop=max_hdop, arm_battery=arm_battery, min_battery=min_battery,
+        link_timeout=link_timeout, nest_radius=nest_radius,
+    )
     want = -1 if spare else agent_id
     flown = None
     safety = None
@@ -292,12 +297,7 @@ def agent(
 
         if count != 1 or spares:
             raise InputError("--vehicle flies one agent: not with --count or --spares")
-        flown, safety = open_agent_vehicle(
-            vehicle, edge_length=edge_length, min_altitude=min_altitude,
-            max_altitude=max_altitude, max_speed=max_speed, max_distance=max_distance,
-            min_satellites=min_satellites, max_hdop=max_hdop, arm_battery=arm_battery,
-            min_battery=min_battery, link_timeout=link_timeout, nest_radius=nest_radius,
-        )
+        flown, safety = open_agent_vehicle(vehicle, limits)
     code = run_agents(address, count, want, server_timeout, connect_timeout, timeout, faults,
                       _say, spares, flown, safety, warn=_warn)
     raise typer.Exit(code)
@@ -317,10 +317,9 @@ def watch(
     from swarmex.net.watch import TerminalView
 
     address = _address(connect)
-    _positive(timeout, "--timeout")
+    check_wall_seconds(timeout, "--timeout")
     check_output(json_path, "--events")
-    if forward is not None and not forward.startswith(("ws://", "wss://")):
-        raise InputError(f"--forward: expected ws://HOST:PORT/ingest, got {forward!r}")
+    check_ingest_url(forward, "--forward")
     if forward is not None:  # before connecting, not as a traceback in the sender's thread
         require("websockets", "monitor", "--forward")
     forwarder = IngestForwarder(forward, warn=_warn) if forward else None
@@ -380,6 +379,7 @@ def mesh(
     """'swarmex explore --processes' under another name (one process per robot)."""
     from swarmex.missions.registry import get
 
+    check_ingest_url(monitor_url, "--monitor")  # (run_mesh checks it too: explore's path)
     if monitor_url is not None:  # the display process forwards to it: check here, in one line
         require("websockets", "monitor", "--monitor")
 

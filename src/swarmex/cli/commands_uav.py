@@ -14,12 +14,12 @@ from swarmex.errors import InputError, require
 from swarmex.net.vehicle import Safety, Vehicle
 
 
-def open_agent_vehicle(link: str, **limits: float | None) -> tuple[Vehicle, Safety]:
-    """``--vehicle`` and the safety options → the vehicle to fly and its limits (InputError
-    for bad values; the ``uav`` extra named when pymavlink is missing)."""
+def open_agent_vehicle(link: str, safety: Safety) -> tuple[Vehicle, Safety]:
+    """``--vehicle`` and the safety limits (checked by the caller, with or without a
+    vehicle) → the vehicle to fly and its limits (InputError for a bad link; the ``uav``
+    extra named when pymavlink is missing)."""
     from swarmex.net.agent import open_vehicle
 
-    safety = Safety(**limits)  # type: ignore[arg-type]
     return open_vehicle(link, safety), safety
 
 

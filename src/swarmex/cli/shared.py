@@ -13,7 +13,7 @@ from pathlib import Path
 
 from swarmex.cli.app import console, err_console, interrupted
 from swarmex.cli.outputs import check_output
-from swarmex.errors import InputError, check_number
+from swarmex.errors import InputError
 
 
 def check_connect(address: str) -> None:
@@ -25,13 +25,6 @@ def check_connect(address: str) -> None:
     if address.startswith("tcp://") and host and sep and port.isdigit() and 0 < int(port) < 65536:
         return
     raise InputError(f"--connect: expected tcp://HOST:PORT, got {address!r}")
-
-
-def _positive(value: float, option: str, zero_ok: bool = False) -> None:
-    if zero_ok:
-        check_number(value, option, at_least=0)
-    else:
-        check_number(value, option, above=0)
 
 
 def _say(text: str) -> None:
@@ -65,16 +58,29 @@ def run_mesh(grid, params, time_scale: float = 1.0, loss: float = 0.0,
              kills: dict[int, int] | None = None, send_timeout_ms: int = 20,
              timeout: float = 600.0, json_path: Path | None = None,
              monitor_url: str | None = None) -> dict:
-    """``explore --processes``: validate the network options, run, print the summary line."""
+    """``explore --processes``: validate the network options, run, print the summary line.
+
+    Every check comes before the first process starts (serve's and watch's checks, shared
+    through :mod:`swarmex.net.limits`): a bad seed, send timeout or wall time used to surface
+    as a traceback from a robot or the launcher, a bad ``--monitor`` only at the end."""
+    from swarmex.net.limits import (
+        check_ingest_url,
+        check_mesh_robots,
+        check_send_timeout,
+        check_wall_seconds,
+        check_wire_seed,
+    )
     from swarmex.net.mesh import run_processes
     from swarmex.net.mesh_scenario import MeshOptions
 
-    _positive(time_scale, "--time-scale")
-    _positive(timeout, "--timeout")
+    check_mesh_robots(params.robots)  # one OS process each: 300 forked 300
+    check_wall_seconds(time_scale, "--time-scale", unit="(wall seconds per mission second)")
+    check_wall_seconds(timeout, "--timeout")
     if not 0.0 <= loss < 1.0:
         raise InputError(f"--inject-loss must be in [0, 1), got {loss}")
-    if send_timeout_ms < 1:
-        raise InputError(f"--send-timeout must be >= 1 ms, got {send_timeout_ms}")
+    check_send_timeout(send_timeout_ms)
+    check_wire_seed(params.seed, "the mesh's scenario file")
+    check_ingest_url(monitor_url, "--monitor")
     kills = kills or {}
     for rid in kills:
         if not 0 <= rid < params.robots:

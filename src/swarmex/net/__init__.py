@@ -10,7 +10,8 @@
 * :mod:`~swarmex.net.vehicle`, :mod:`~swarmex.net.mavlink`, :mod:`~swarmex.net.uav_emulator`
   — the vehicle an agent flies (simulated, or a MAVLink copter through the extra ``uav``)
   and a MAVLink copter emulator for tests (docs/uav.md);
-* :mod:`~swarmex.net.events`, :mod:`~swarmex.net.watch` — the live monitor stream.
+* :mod:`~swarmex.net.events`, :mod:`~swarmex.net.watch` — the live monitor stream;
+* :mod:`~swarmex.net.limits` — the bounds every networked command checks its options by.
 
 docs/net.md says how and why.
 """

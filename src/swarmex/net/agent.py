@@ -80,6 +80,10 @@ class Faults:
     rng: np.random.Generator = field(init=False)
 
     def __post_init__(self) -> None:
+        # numpy's generators take only seeds >= 0 (-1 was a ValueError traceback from
+        # default_rng). No upper bound: this seed stays in the process, never on the wire
+        if self.seed < 0:
+            raise InputError(f"--fault-seed must be at least 0, got {self.seed}")
         self.rng = np.random.default_rng(self.seed)
 
 

@@ -24,9 +24,9 @@ Faults for dry runs and tests: ``--fail-prearm TEXT`` refuses arming with ``PreA
 (and reports the pre-arm bit unhealthy); ``--satellites N`` below 6 leaves it without a 3-D
 fix; ``--battery`` / ``--drain`` run it low; ``--drop-link-after S`` makes it fall silent S
 emulated seconds after its first take-off — it neither sends nor hears anything more — and
-fly its failsafe RTL. ``--speedup F`` runs the emulated clock F times faster than the wall
-(as SITL's ``--speedup``): with ``swarmex serve --time-scale 1/F`` the mission and the
-vehicle keep pace. It listens on one UDP port and talks to whoever sent the latest packet.
+fly its failsafe RTL. ``--speedup F`` (at most 1000) runs the emulated clock F times faster
+than the wall (as SITL's ``--speedup``): with ``swarmex serve --time-scale 1/F`` the mission
+and the vehicle keep pace. It listens on one UDP port and talks to whoever sent the latest packet.
 """
 
 from __future__ import annotations
@@ -42,6 +42,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from swarmex.errors import InputError, check_number
+from swarmex.net.limits import check_wall_seconds
 
 os.environ.setdefault("MAVLINK20", "1")
 from pymavlink.dialects.v20 import ardupilotmega as mavlink  # noqa: E402
@@ -55,6 +56,10 @@ SENSORS = (mavlink.MAV_SYS_STATUS_SENSOR_3D_GYRO | mavlink.MAV_SYS_STATUS_SENSOR
            | mavlink.MAV_SYS_STATUS_SENSOR_3D_MAG | mavlink.MAV_SYS_STATUS_SENSOR_ABSOLUTE_PRESSURE
            | mavlink.MAV_SYS_STATUS_SENSOR_GPS | mavlink.MAV_SYS_STATUS_SENSOR_BATTERY
            | mavlink.MAV_SYS_STATUS_PREARM_CHECK)
+#: the fastest emulated clock. An emulated second is 20 physics steps of about 1 µs, so at
+#: 1000x a wall second costs some 20 ms of steps and the emulator keeps pace even on a slow
+#: board; at 1e12 each loop's catch-up took hours and --timeout was never reached
+SPEEDUP_MAX = 1000.0
 
 
 @dataclass
@@ -76,6 +81,9 @@ class EmulatorConfig:
 
     def __post_init__(self) -> None:
         check_number(self.speedup, "--speedup", above=0)
+        if self.speedup > SPEEDUP_MAX:
+            raise InputError(f"--speedup must be > 0 and at most {SPEEDUP_MAX:g} (emulated"
+                             f" seconds per wall second), got {self.speedup:g}")
         if not 0 <= self.battery <= 100:
             raise InputError(f"--battery must be a percentage (0..100), got {self.battery}")
         check_number(self.drain, "--drain", at_least=0)
@@ -91,8 +99,8 @@ class EmulatorConfig:
                              f"got {alt}")
         for name, flag in (("idle_exit", "--exit-when-idle"), ("timeout", "--timeout")):
             v = getattr(self, name)
-            if v is not None:
-                check_number(v, flag, above=0)
+            if v is not None:  # wall seconds, bounded as every net command's
+                check_wall_seconds(v, flag)
 
 
 def hdop_of(satellites: int) -> float:
@@ -192,11 +200,16 @@ class Copter:
         return True
 
     # ---- physics
-    def step(self, dt: float) -> None:
+    def step(self, dt: float, until: float | None = None) -> None:
+        """Advance the emulated clock by ``dt`` seconds in steps of at most 50 ms; with
+        ``until`` (a ``time.monotonic()`` value), stop catching up once the wall clock passes
+        it, so that the caller's --timeout holds however far behind the clock has fallen."""
         while dt > 1e-9:
             h = min(dt, 0.05)
             self._step(h)
             dt -= h
+            if until is not None and time.monotonic() >= until:
+                return
 
     def _step(self, h: float) -> None:
         self.t += h
@@ -336,13 +349,16 @@ class Emulator:
         cfg = self.cfg
         self.log(f"swarmex uav-emulator: listening on {self.address} (speedup {cfg.speedup:g})")
         start = last = time.monotonic()
+        # the wall time to leave at: checked inside the catch-up too (copter.step), not only
+        # between loops, which a long catch-up postponed by seconds
+        deadline = None if cfg.timeout is None else start + cfg.timeout
         period = 1.0 / cfg.rate
         next_tel = start
         next_hb = next_home = start
         try:
             while True:
                 now = time.monotonic()
-                if cfg.timeout is not None and now - start >= cfg.timeout:
+                if deadline is not None and now >= deadline:
                     self.log("swarmex uav-emulator: --timeout reached")
                     return 0
                 if self._idle_done(now):
@@ -353,7 +369,7 @@ class Emulator:
                 if readable:
                     self._receive(time.monotonic())
                 now = time.monotonic()
-                self.copter.step((now - last) * cfg.speedup)
+                self.copter.step((now - last) * cfg.speedup, until=deadline)
                 last = now
                 self._faults(now)
                 self._report_prearm()

@@ -52,6 +52,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from swarmex.errors import InputError
+from swarmex.net.limits import check_wall_seconds
 
 if TYPE_CHECKING:
     from swarmex.net.traversal import Mission
@@ -142,6 +143,8 @@ class Safety:
             v = getattr(self, name)
             if v is not None and not v > 0:
                 raise InputError(f"--{name.replace('_', '-')} must be > 0")
+        for name in ("link_timeout", "task_timeout"):  # wall seconds, as every net command's
+            check_wall_seconds(getattr(self, name), f"--{name.replace('_', '-')}")
         if self.min_altitude > self.max_altitude:
             raise InputError(f"--min-altitude ({self.min_altitude:g} m) is above --max-altitude"
                              f" ({self.max_altitude:g} m)")
