@@ -117,6 +117,10 @@ def test_spec_fixed_table_seed_count_and_algorithm_option(tmp_path):
         ({"mission": {"a": 1}}, "unknown mission"),
         ({"mission": "traversal", "json": "x.json"}, "cannot be set in a sweep"),
         ({"mission": "traversal", "agents": [2, 2]}, "lists a value twice"),
+        # the same value as parsed: three runs of one, under three ids
+        ({"mission": "traversal", "agents": [2, 2.0, "2"]},
+         r"lists one value twice \(2 and 2\.0\)"),
+        ({"mission": "traversal", "grid": ["5x5", [5, 5]]}, "lists one value twice"),
         ({"mission": "traversal", "seeds": [0, 0]}, "seed twice"),
         ({"mission": "traversal", "seeds": "many"}, "seeds must be"),
         # accepted before, and then every run with the seed failed inside numpy

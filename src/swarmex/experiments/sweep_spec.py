@@ -285,6 +285,7 @@ def parse_sweep_spec(data: dict[str, Any], path: Path) -> SweepSpec:
     for key, value in fixed.items():
         _check_values(path, key, [value])
     _check_names(path, [*axes, *fixed])
+    _check_same_values(path, mission, axes)
     total = math.prod(len(v) for v in axes.values()) * len(seeds)
     if total > MAX_RUNS:  # before a list of them fills the memory (seeds = 100000000: 4 GB)
         raise InputError(f"{path}: {total:,} runs; a sweep has at most {MAX_RUNS:,} (split it"
@@ -345,6 +346,29 @@ def _check_values(path: Path, key: str, values: list[Any]) -> None:
         texts.append(json.dumps(v, sort_keys=True))
     if len(set(texts)) != len(texts):
         raise InputError(f"{path}: axis {key!r} lists a value twice")
+
+
+def _check_same_values(path: Path, mission: str, axes: dict[str, list[Any]]) -> None:
+    """An axis whose values differ as written but parse to one value (``agents = [2, 2.0,
+    "2"]``) would run the same runs under different ids, and its column would mix types:
+    refused as a value listed twice. A value that does not parse is its run's error."""
+    from swarmex.missions.registry import get
+
+    opts = get(mission).params_type.options()
+    for key, values in axes.items():
+        opt = opts.get(key.replace("-", "_"))
+        if opt is None or len(values) < 2:
+            continue
+        seen: dict[str, Any] = {}
+        for value in values:
+            try:
+                parsed = repr(opt.parse(value, opt.flag))
+            except InputError:
+                continue
+            if parsed in seen:
+                raise InputError(f"{path}: axis {key!r} lists one value twice ({seen[parsed]!r}"
+                                 f" and {value!r})")
+            seen[parsed] = value
 
 
 def _check_names(path: Path, keys: list[str]) -> None:

@@ -142,6 +142,8 @@ BAD_ROWS = [
     ("id,job_time\n1,10\n2,-1\n", "agent 2: job_time must be at least 0"),
     ("id,travel_time\n1,2\n2,0\n", "agent 2: travel_time must be greater than 0"),
     ("id,job_time\n1,10\n2,1e308\n", "agent 2: job_time must be at most 1e+09"),
+    ("id,id\n1,2\n", "column 'id' is given twice"),
+    ("id,job-time,job_time\n1,2,3\n", "column 'job_time' is given twice"),
     ("id,up_speed\n1,1e-300\n", "agent 1: up_speed must be at least 0.001"),
     ("id,nest\n1,\"0,0\"\n2,\"2,1\"\n", "agent 2: nest (2,1) is an obstacle"),
     ("id,nest\n1,\"0,0\"\n2,\"9,1\"\n", "agent 2: nest: cell (9,1) is outside the 5x4 map"),

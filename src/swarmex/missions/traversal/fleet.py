@@ -221,6 +221,9 @@ def _csv_rows(text: str, where: str) -> list[dict[str, Any]]:
             close = difflib.get_close_matches(h, FIELDS, n=1, cutoff=0.6)
             hint = f"; did you mean {close[0]!r}?" if close else f" (fields: {', '.join(FIELDS)})"
             raise InputError(f"{where}: unknown column {h!r}{hint}")
+    twice = next((h for i, h in enumerate(header) if h in header[:i]), None)
+    if twice is not None:  # the reader keeps the last one, and the rows' errors misled
+        raise InputError(f"{where}: column {twice!r} is given twice")
     rows = []
     for i, raw in enumerate(reader, start=1):
         extra = raw.get(None)
