@@ -128,6 +128,10 @@ BAD = [
     (["--center", "43.2,-79.9", "--radius", "50"], "--center needs --nodes-on-edge"),
     (["--center", "95,-79.9", "--radius", "50", "--nodes-on-edge", "9"], "latitude"),
     (["--center", "43.2", "--radius", "50", "--nodes-on-edge", "9"], "expected LAT,LON"),
+    # a grid round a pole: its "grid" nodes sat at longitudes ±45/±90/±135
+    (["--center", "89.9999,179.9999", "--radius", "100000", "--nodes-on-edge", "3"],
+     "--center 89.9999,179.9999 with --radius 100000: the grid's corners reach the north pole"),
+    (["--center", "-88.8,10", "--radius", "100000", "--nodes-on-edge", "3"], "south pole"),
     (["--center", "43.2,-79.9", "--radius", "50", "--nodes-on-edge", "1"],
      "--nodes-on-edge must be at least 2"),
     (["--center", "43.2,-79.9", "--radius", "0", "--nodes-on-edge", "3"],

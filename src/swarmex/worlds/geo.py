@@ -179,6 +179,16 @@ def gps_grid(
         raise InputError(
             f"--nodes-on-edge must be in 2..{MAX_NODES_ON_EDGE}, got {nodes_on_edge}"
         )
+    lat0, lon0 = center
+    check_center(lat0, lon0)
+    pole = 90.0 if lat0 >= 0 else -90.0
+    _, _, to_pole = _geod().inv(lon0, lat0, lon0, pole)
+    if radius * math.sqrt(2.0) >= to_pole:  # the corners: the grid would wrap round the pole
+        raise InputError(
+            f"--center {lat0},{lon0} with --radius {radius:g}: the grid's corners reach the"
+            f" {'north' if pole > 0 else 'south'} pole ({to_pole:,.0f} m away); a GPS grid"
+            " must not contain a pole"
+        )
     latlon = grid_latlon(center, radius, nodes_on_edge)
     free = np.ones((nodes_on_edge, nodes_on_edge), dtype=bool)
     return GeoGrid(free, connectivity, latlon, center, radius)
