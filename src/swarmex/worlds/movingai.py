@@ -79,6 +79,9 @@ def parse_movingai(text: str, source: str = "<string>", connectivity: int = 4) -
 
 def load_movingai(path: str | Path, connectivity: int = 4) -> GridWorld:
     path = Path(path)
+    if path.suffix.lower() in (".yaml", ".yml", ".pgm"):  # "malformed header line 3" misled
+        raise InputError(f"{path}: a ROS map, not a MovingAI .map (swarmex explore reads ROS"
+                         " maps; this option reads MovingAI files)")
     try:
         text = path.read_text(encoding="ascii", errors="replace")
     except FileNotFoundError:

@@ -318,6 +318,9 @@ def load_polygon_world(path: str | Path) -> PolygonWorld:
         if img.ndim != 2:
             raise InputError(f"{path}: expected a 2-D image")
         return world_from_blocked(img < 128, str(path))
+    if suffix in (".yaml", ".yml"):  # JSON's "Expecting value" said nothing useful
+        raise InputError(f"{path}: a ROS map YAML is not a roadmap environment (give a JSON"
+                         " of polygons, a MovingAI .map or an image)")
     try:
         text = path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:

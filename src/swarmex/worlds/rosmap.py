@@ -107,6 +107,19 @@ def load_rosmap(path: str | Path) -> tuple[GridWorld, float]:
         raise InputError(f"{path}: resolution/negate/thresholds must be numbers") from None
     if not res > 0:
         raise InputError(f"{path}: resolution must be positive, got {res}")
+    # map_server's own rules, so a typo is not read as something else ("negate: 5" was an
+    # inverted map reported as having no free cell; a bad mode or origin passed unseen)
+    if negate not in (0, 1):
+        raise InputError(f"{path}: negate must be 0 or 1, got {meta['negate']}")
+    mode = meta.get("mode", "trinary")
+    if mode not in ("trinary", "scale", "raw"):
+        raise InputError(f"{path}: mode must be trinary, scale or raw, got {mode!r}")
+    origin = meta.get("origin")
+    if origin is not None and not (
+        isinstance(origin, list) and len(origin) in (2, 3)
+        and all(isinstance(v, int | float) and not isinstance(v, bool) for v in origin)
+    ):
+        raise InputError(f"{path}: origin must be [x, y, yaw] numbers, got {origin!r}")
     if not 0 <= free_t <= occ_t <= 1:
         raise InputError(f"{path}: need 0 <= free_thresh <= occupied_thresh <= 1")
     img = _read_pgm(yaml_dir / str(meta["image"]))

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 from PIL import Image
@@ -58,6 +60,34 @@ def test_ros_map_errors(tmp_path):
         load_rosmap(tmp_path / "junk.yaml")
     with pytest.raises(InputError, match="not found"):
         load_rosmap(tmp_path / "absent.yaml")
+
+
+@pytest.mark.parametrize(("line", "message"), [
+    ("negate: 5", "negate must be 0 or 1, got 5"),  # was "the map has no free cell"
+    ("mode: foo", "mode must be trinary, scale or raw, got 'foo'"),
+    ("origin: [a, b]", "origin must be [x, y, yaw] numbers"),
+    ("origin: [1]", "origin must be [x, y, yaw] numbers"),
+])
+def test_ros_map_fields_map_server_would_refuse_are_refused(tmp_path, line, message):
+    path = write_ros(tmp_path, [[254, 254], [254, 0]])
+    key = line.split(":")[0]
+    kept = [x for x in path.read_text().splitlines() if not x.startswith(key + ":")]
+    path.write_text("\n".join([*kept, line]) + "\n")
+    with pytest.raises(InputError, match=re.escape(message)):
+        load_rosmap(path)
+    path.write_text("\n".join([*kept, "mode: scale"]) + "\n")  # the three modes are fine
+    assert load_rosmap(path)[0].free.sum() == 3
+
+
+def test_a_ros_map_given_where_a_movingai_map_or_polygons_go_says_so(tmp_path):
+    from swarmex.worlds.movingai import load_movingai
+    from swarmex.worlds.polygon import load_polygon_world
+
+    path = write_ros(tmp_path, [[254, 254], [254, 0]])
+    with pytest.raises(InputError, match="a ROS map, not a MovingAI .map"):
+        load_movingai(path)
+    with pytest.raises(InputError, match="a ROS map YAML is not a roadmap environment"):
+        load_polygon_world(path)
 
 
 def test_ros_map_is_explored(tmp_path):
