@@ -165,7 +165,9 @@ def test_reproduce_interrupted_says_where_the_runs_are(study, tmp_path, capsys, 
     """Ctrl-C used to end with status 130 and not a word (Typer swallows it)."""
     import importlib
 
-    def stop(*_args, **_kwargs):
+    def stop(out, *_args, **_kwargs):
+        out.mkdir(parents=True, exist_ok=True)
+        (out / "runs.jsonl").write_text("")  # the study's journal, as a run that finished
         raise KeyboardInterrupt
 
     monkeypatch.setattr(importlib.import_module(f"swarmex.studies.{study}"), "reproduce", stop)

@@ -47,6 +47,15 @@ def test_a_parallel_episode_closed_midway_has_no_agents_and_plays_again(name):
     assert not env.agents
 
 
+@pytest.mark.parametrize("name", list(CASES))
+def test_an_aec_episode_closed_midway_has_no_agents_to_iterate(name):
+    module, params = CASES[name]
+    env = module.env(**params)
+    env.reset(seed=1)
+    env.close()
+    assert env.agents == [] and list(env.agent_iter()) == []
+
+
 @pytest.mark.parametrize("name", ["traversal", "roadmap"])
 def test_an_aec_step_after_a_midway_close_asks_for_reset(name):
     module, params = CASES[name]

@@ -232,6 +232,26 @@ def test_rewards_are_minus_each_agents_seconds_of_work(extra):
         )
 
 
+def test_the_end_of_run_charge_is_at_each_agents_own_rates():
+    # per reachable vertex nobody did, each agent still there pays its own job_time +
+    # travel_time (it was the options' 10 + 2.22 for all). A run that leaves vertices undone
+    # is rare on a small map, so the run's end is given here: two of three vertices undone
+    from types import SimpleNamespace
+
+    env = traversal_v0.raw_env(**EXACT, fleet=MIXED, seed=2)
+    env.reset()
+    env._stop_run()
+    result = SimpleNamespace(job_count=np.array([1, 0, 0]), reachable=np.ones(3, dtype=bool),
+                             stopped_early=True)
+    env._broker = SimpleNamespace(result=result)
+    env.rewards = dict.fromkeys(env.agents, 0.0)
+    env._end_of_run()
+    assert env.rewards == {"agent_1": -2 * (5.0 + 1.0), "agent_2": -2 * (10.0 + 2.0),
+                           "agent_3": -2 * (6.0 + 1.5)}
+    assert all(env.truncations.values())
+    env._broker = None
+
+
 # ---------------------------------------------------------------------------- observations
 
 

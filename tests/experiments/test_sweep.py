@@ -121,6 +121,7 @@ def test_spec_fixed_table_seed_count_and_algorithm_option(tmp_path):
         ({"mission": "traversal", "agents": [2, 2.0, "2"]},
          r"lists one value twice \(2 and 2\.0\)"),
         ({"mission": "traversal", "grid": ["5x5", [5, 5]]}, "lists one value twice"),
+        ({"mission": "traversal", "map": ["m.map", "./m.map"]}, "lists one value twice"),
         ({"mission": "traversal", "seeds": [0, 0]}, "seed twice"),
         ({"mission": "traversal", "seeds": "many"}, "seeds must be"),
         # accepted before, and then every run with the seed failed inside numpy
@@ -930,6 +931,23 @@ def test_an_option_every_run_ignores_is_noted(tmp_path, capsys):
     with pytest.warns(UserWarning, match="objective is ignored in every run"):
         swarmex.sweep("traversal", out=tmp_path / "c", grid=(4, 4), agents=[1, 2],
                       fixed={"objective": "makespan"}, backend="serial", progress=False)
+
+
+def test_a_file_axis_is_compared_by_the_files_the_runs_read(tmp_path, monkeypatch):
+    # relative to the spec's folder, as the runs read them: parsed from the current folder,
+    # two different fleets there were "one value twice" when the folder held two equal ones
+    spec_dir, here = tmp_path / "spec", tmp_path / "here"
+    spec_dir.mkdir()
+    here.mkdir()
+    (spec_dir / "a.csv").write_text("id,job_time\n1,5\n2,5\n")
+    (spec_dir / "b.csv").write_text("id,job_time\n1,9\n2,9\n")
+    for name in ("a.csv", "b.csv"):
+        (here / name).write_text("id,job_time\n1,5\n2,5\n")
+    spec = spec_dir / "s.toml"
+    spec.write_text('mission = "traversal"\nseeds = 1\ngrid = "4x4"\nagents = 2\n'
+                    'fleet = ["a.csv", "b.csv"]\n')
+    monkeypatch.chdir(here)
+    assert len(load_sweep_spec(spec).runs()) == 2
 
 
 @pytest.mark.parametrize("text", [

@@ -130,8 +130,8 @@ BAD = [
     (["--center", "43.2", "--radius", "50", "--nodes-on-edge", "9"], "expected LAT,LON"),
     # a grid round a pole: its "grid" nodes sat at longitudes ±45/±90/±135
     (["--center", "89.9999,179.9999", "--radius", "100000", "--nodes-on-edge", "3"],
-     "--center 89.9999,179.9999 with --radius 100000: the grid's corners reach the north pole"),
-    (["--center", "-88.8,10", "--radius", "100000", "--nodes-on-edge", "3"], "south pole"),
+     "--center 89.9999,179.9999 with --radius 100000: the grid reaches the north pole"),
+    (["--center", "-89.2,10", "--radius", "100000", "--nodes-on-edge", "3"], "south pole"),
     (["--center", "43.2,-79.9", "--radius", "50", "--nodes-on-edge", "1"],
      "--nodes-on-edge must be at least 2"),
     (["--center", "43.2,-79.9", "--radius", "0", "--nodes-on-edge", "3"],
@@ -153,6 +153,13 @@ def test_bad_gps_options_exit_2_with_one_line(argv: list[str], message: str,
     out, err = capsys.readouterr()
     assert code == 2, out
     assert err.count("\n") == 1 and message in err, err
+
+
+def test_a_grid_near_a_pole_that_does_not_contain_it_is_built() -> None:
+    from swarmex.worlds.geo import gps_grid
+
+    grid = gps_grid((89.0, 0.0), 80_000, 3)  # 111.7 km from the pole: the north edge at 80
+    assert grid.latlon(1)[0] < 90.0 and grid.latlon(1)[0] > 89.7
 
 
 def test_toml_and_cli_give_the_python_record(tmp_path: Any, capsys: Any) -> None:

@@ -139,6 +139,13 @@ class _ParallelToAEC(parallel_to_aec_wrapper):
             self.truncations: dict[Any, bool] = {}
             self.infos: dict[Any, dict[str, Any]] = {}
 
+    def close(self) -> None:
+        """Abandon a run in progress: the episode ends here too (the conversion keeps its own
+        ``agents``, which a mid-episode close left listing the team, so ``agent_iter()`` went
+        on into the closed run)."""
+        super().close()
+        self.agents = []
+
 
 def parallel_to_aec(par_env: Any) -> AECEnv[Any, Any, Any]:
     """The AEC form of one of our parallel envs, order-enforcing (as PettingZoo's

@@ -351,7 +351,10 @@ def _check_values(path: Path, key: str, values: list[Any]) -> None:
 def _check_same_values(path: Path, mission: str, axes: dict[str, list[Any]]) -> None:
     """An axis whose values differ as written but parse to one value (``agents = [2, 2.0,
     "2"]``) would run the same runs under different ids, and its column would mix types:
-    refused as a value listed twice. A value that does not parse is its run's error."""
+    refused as a value listed twice. A file option is compared by the path the runs read
+    (relative to the spec's folder), not parsed here; a value that does not parse is its
+    run's error. (A spec's ``algorithm`` key for planner or strategy is not looked up: their
+    names have no second spelling.)"""
     from swarmex.missions.registry import get
 
     opts = get(mission).params_type.options()
@@ -361,10 +364,14 @@ def _check_same_values(path: Path, mission: str, axes: dict[str, list[Any]]) -> 
             continue
         seen: dict[str, Any] = {}
         for value in values:
-            try:
-                parsed = repr(opt.parse(value, opt.flag))
-            except InputError:
-                continue
+            if opt.kind is Path:
+                parsed = (repr(resolve_path(path.parent, value).resolve())
+                          if isinstance(value, str) else json.dumps(value, sort_keys=True))
+            else:
+                try:
+                    parsed = repr(opt.parse(value, opt.flag))
+                except InputError:
+                    continue
             if parsed in seen:
                 raise InputError(f"{path}: axis {key!r} lists one value twice ({seen[parsed]!r}"
                                  f" and {value!r})")

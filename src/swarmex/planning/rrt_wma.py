@@ -178,13 +178,15 @@ def build_wma_rrt(
     pos, par, lab, drawn = grow_rrt(world, sec, np.arange(n), total, step, rng,
                                     max_samples=draws, exact_step=exact_step)
     if not count_samples and len(pos) < total:
-        # growth gave up (200 draws per node): every exact step of ε left the free space, so
-        # the run would cover a stub and call it complete
+        # growth ran out of its draws (200 per node) with the tree short: a step this long
+        # leaves the free space nearly every time, and the run would cover a stub and call it
+        # complete
         xmin, ymin, xmax, ymax = world.bounds
         raise InputError(
-            f"--step {step:g}: the WMA-RRT grew only {len(pos)} of the {total} nodes asked for"
-            f" in {drawn:,} samples; every step of that length leaves the free space of this"
-            f" {xmax - xmin:g} × {ymax - ymin:g} world (give a shorter --step)"
+            f"--step {step:g}: the WMA-RRT grew {len(pos) - n} of the {total - n} nodes it"
+            f" needed beyond the {n} roots in {drawn:,} samples; steps this long seldom stay"
+            f" in the free space of this {xmax - xmin:g} × {ymax - ymin:g} world (give a"
+            " shorter --step)"
         )
     # shift by one so node 0 is the Main Root; Secondary Roots hang from it
     pos = np.vstack([root, pos])

@@ -183,9 +183,9 @@ def gps_grid(
     check_center(lat0, lon0)
     pole = 90.0 if lat0 >= 0 else -90.0
     _, _, to_pole = _geod().inv(lon0, lat0, lon0, pole)
-    if radius * math.sqrt(2.0) >= to_pole:  # the corners: the grid would wrap round the pole
+    if radius >= to_pole:  # the pole lies due north (south) of the centre: in the square
         raise InputError(
-            f"--center {lat0},{lon0} with --radius {radius:g}: the grid's corners reach the"
+            f"--center {lat0},{lon0} with --radius {radius:g}: the grid reaches the"
             f" {'north' if pole > 0 else 'south'} pole ({to_pole:,.0f} m away); a GPS grid"
             " must not contain a pole"
         )

@@ -240,7 +240,7 @@ def test_bad_counts_and_a_missing_json_are_clear(tmp_path):
 
     with pytest.raises(InputError, match="reps must be >= 1"):
         reproduce(tmp_path / "a", reps=-1)
-    with pytest.raises(InputError, match="workers must be >= 1"):
+    with pytest.raises(InputError, match="workers must be between 1 and 1024"):
         reproduce(tmp_path / "a", workers=0)
     assert not (tmp_path / "a").exists()
     with pytest.raises(FileNotFoundError, match=r"no traversal\.json \(or traversal\.json\.gz\)"):

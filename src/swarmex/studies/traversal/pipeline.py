@@ -10,7 +10,7 @@ from typing import Any
 
 from swarmex import __version__
 from swarmex.errors import InputError
-from swarmex.experiments.pool import check_workers
+from swarmex.experiments.pool import check_workers, local_processes
 from swarmex.experiments.runstore import RunStore
 from swarmex.studies.runner import run_jobs
 from swarmex.studies.traversal.design import AGENT_PARAMS, Config, RunSpec, build_plan
@@ -37,7 +37,8 @@ def reproduce(
         raise InputError(f"reps must be >= 1, got {reps}")
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    workers = workers if workers is not None else (1 if quick else 2)
+    # the processes the pool will fork (at most a few per core), as recorded and reported
+    workers = local_processes(workers if workers is not None else (1 if quick else 2))
     plan = build_plan(quick, reps)
     specs = plan.run_specs()
     drawn = plan_header(quick, reps)
