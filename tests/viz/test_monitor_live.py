@@ -33,11 +33,15 @@ CASES = {
     "roadmap": {"env": EXAMPLES / "roadmap_fig8.json", "agents": 3, "nodes": 60, "step": 25,
                 "sensor_range": 25, "seed": 1},
     "exploration": {"empty": "2x2", "robots": 2, "laser_range": 0.8, "starts": "10,10;30,30"},
+    # a robot next to the finder in its finding round hears it: the live stream lost that
+    # message (2 live, 3 in the replay)
+    "foraging-finder": {"grid": 16, "agents": 4, "algorithm": "strips", "food": "12,3",
+                        "food_units": 3, "seed": 1},
 }
 
 
 def stream(name: str, speed: float = float("inf")) -> tuple[list[dict], dict]:
-    mission = get(name)
+    mission = get(name.split("-")[0])
     params = mission.params(**CASES[name])
     skeleton = live.skeleton_record(mission, params)
     final: dict[str, Any] = {}
@@ -56,7 +60,8 @@ def _rows(events: list[dict], kind: str) -> list[tuple]:
                   for e in events if e["type"] == kind)
 
 
-@pytest.mark.parametrize("name", ["traversal", "roadmap", "exploration", "foraging"])
+@pytest.mark.parametrize("name", ["traversal", "roadmap", "exploration", "foraging",
+                                  "foraging-finder"])
 def test_live_stream_says_what_the_record_replay_says(name):
     events, record = stream(name)
     replay = record_events(record, world=record_world(record))
@@ -67,7 +72,7 @@ def test_live_stream_says_what_the_record_replay_says(name):
     assert times == sorted(times)  # the schema's order
     for kind in ("job", "message"):
         assert _rows(events, kind) == _rows(replay, kind), kind
-    if name != "foraging":
+    if not name.startswith("foraging"):
         assert _rows(events, "move") == _rows(replay, "move")
     else:  # one move per robot per round in the replay, only the changes live
         for a in record["agents"]:

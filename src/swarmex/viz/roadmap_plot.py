@@ -162,7 +162,8 @@ def draw(
     for i, p in enumerate(pos):
         ax.plot(*p, "^", color=PALETTE[i % len(PALETTE)], mec="k", ms=7, zorder=6)
     if run.goal is not None:
-        ax.plot(*run.goal, "*", color="gold", mec="k", ms=14, zorder=7)
+        # under the agents: an agent that ends on the goal stays visible above it
+        ax.plot(*run.goal, "*", color="gold", mec="k", ms=14, zorder=5.5)
     ax.set_xlim(xmin, xmax)
     ax.set_ylim((ymax, ymin) if w.y_down else (ymin, ymax))
     ax.set_aspect("equal")
@@ -183,11 +184,16 @@ def summary_title(run: RoadmapRun, t: int | None = None) -> str:
         f"step {run.steps if t is None else t}, coverage {100 * cov:.1f}%"
     )
     if run.task == "search":
-        s += (
-            ", goal found"
-            if run.goal_found
-            else (", goal unreachable" if run.goal_unreachable else ", goal not found")
-        )
+        # a frame says what was known at its step: the goal is found from its sighting on
+        # (every frame of an animation used to say "goal found", from the first step)
+        found = int(getattr(run.board, "found_step", -1))
+        ended = t is None or t >= run.steps
+        if run.goal_found and (t is None or 0 <= found <= t):
+            s += ", goal found"
+        elif not ended:
+            s += ", searching"
+        else:
+            s += ", goal unreachable" if run.goal_unreachable else ", goal not found"
     if t is None and not run.complete:
         s += " · incomplete"
     return s

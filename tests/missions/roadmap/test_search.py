@@ -137,3 +137,16 @@ def test_fairshare_finds_the_fig11_goal_sooner_than_the_paper_rule():
     fair, base = np.array(found["wma-rrt-fairshare"]), np.array(found["wma-rrt"])
     assert fair.mean() < 0.85 * base.mean()
     assert fair.mean() < np.mean(found["wma-rrt-takeover"])
+
+
+def test_a_frame_title_says_goal_found_only_from_its_sighting(clutter):
+    # every frame of an animation said "goal found", from the first step
+    from swarmex.viz.roadmap_plot import summary_title
+
+    run = run_roadmap(clutter, cluster(4), task="search", nodes=250, step=10,
+                      sensor_range=15, goal=np.array(clutter.goal), seed=0)
+    found = run.board.found_step
+    assert run.goal_found and 0 < found <= run.steps
+    assert summary_title(run, found - 1).endswith(", searching")
+    assert summary_title(run, found).endswith(", goal found")
+    assert summary_title(run).endswith(", goal found")

@@ -22,11 +22,18 @@ anything it was not told or cannot see.
   neighbours (at most 4! = 24) and keeps the one with the earliest completion; for each it
   computes the earliest round at which it can stand next to the neighbour's predicted
   position, walks there by Alg. 1 and re-plans every round (:func:`meet_goal`).
-* *When to detour* (:func:`keeps_route`): Strips (§4.1), ZigZag and Hilbert (§4.2; the
-  simulator's ``getNextCOMMmove`` walks the rest of the exploration route first for every n,
-  then goes to the neighbours' last cells) keep following their exploration route and detour
-  only when it ends; Sectors and Spiral (§4.4; ``SecCom`` plans the meeting at once) detour at
-  once.
+* *When to detour* (:func:`keeps_route`): Strips (§4.1), ZigZag, and Hilbert with 16 or more
+  robots (§4.2; the simulator's ``getNextCOMMmove`` walks the rest of the exploration route
+  first, then goes to the neighbours' last cells) keep following their exploration route and
+  detour only when it ends; Sectors and Spiral (§4.4; ``SecCom`` plans the meeting at once)
+  and Hilbert with 4 robots detour at once. Why Hilbert with 4 differs from the simulator:
+  §4.2 gives "keeps following its exploration path" only for *ZigZag* with four robots (their
+  symmetric routes meet regularly), every other robot "takes the shortest possible path to
+  reach its neighbor" (ch. 4), §7.1 finds "Zigzag and Hilbert have fast communication when
+  there are only 4 agents", and Figs. 78–79 give Hilbert-4 a non-zero COMM+TRANS (its robots
+  do not enter transport together). Route-first gave Hilbert-4 2–5× the thesis's
+  communication time and no COMM+TRANS at all (docs/foraging.md). At 16 robots route-first
+  matches the figures (communication within 10 % in four bands of five), so it stays.
 * A robot whose list is empty enters Transportation.
 
 ``omniscient`` (the rule before 25 Nov 2026, kept so that older records can be reproduced):
@@ -51,8 +58,9 @@ from swarmex.missions.foraging.grid import Cell, manhattan
 SEED = "seed"
 OMNISCIENT = "omniscient"
 COMM_RULES = (SEED, OMNISCIENT)
-# patterns whose informed robots finish their exploration route before detouring (seed rule)
-ROUTE_FIRST = frozenset({"zigzag", "hilbert"})
+# patterns whose informed robots finish their exploration route before detouring (seed rule),
+# with the fewest robots for which they do (Hilbert with 4 detours at once: see above)
+ROUTE_FIRST = {"zigzag": 1, "hilbert": 16}
 SHORT_FUTURE = 16  # meet() scans futures up to this many rows without numpy
 
 
@@ -98,14 +106,19 @@ def best_order(
     return best[1], best[0]
 
 
-def keeps_route(rule: str, algorithm: str, follow_path_comm: bool, exploring: bool) -> bool:
+def keeps_route(
+    rule: str, algorithm: str, follow_path_comm: bool, exploring: bool, n: int
+) -> bool:
     """Whether a robot that has just learned the food keeps following its route (and detours
     to the neighbours still on its list only when the route ends). ``follow_path_comm`` is the
-    pattern's own flag (Strips; ZigZag with 4 robots); the seed rule adds ZigZag and Hilbert
-    robots that have started exploring (``exploring``: one told while still deploying has no
-    regular meetings to wait for, and the simulator never informs one then, as it senses the
-    food only while exploring)."""
-    return follow_path_comm or (rule == SEED and algorithm in ROUTE_FIRST and exploring)
+    pattern's own flag (Strips; ZigZag with 4 robots); the seed rule adds ZigZag robots, and
+    Hilbert robots of a team of 16 or more, that have started exploring (``exploring``: one
+    told while still deploying has no regular meetings to wait for, and the simulator never
+    informs one then, as it senses the food only while exploring)."""
+    if follow_path_comm:
+        return True
+    least = ROUTE_FIRST.get(algorithm)
+    return rule == SEED and least is not None and n >= least and exploring
 
 
 def first_targets(

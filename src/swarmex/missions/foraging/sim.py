@@ -268,7 +268,8 @@ class Mission:
         if self.timed is None:
             return False
         exploring = self.t - self.delay[a] >= self.timed.t_sync
-        return keeps_route(self.comm, self.timed.plan.algorithm, self.follow_comm, exploring)
+        return keeps_route(self.comm, self.timed.plan.algorithm, self.follow_comm, exploring,
+                           self.n)
 
     def start_comm(self, a: int) -> None:
         self.mode[a] = COMM

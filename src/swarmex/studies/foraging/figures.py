@@ -44,14 +44,32 @@ def _fig(title: str, ylabel: str, width: float = 8.0):
     return fig, ax
 
 
+def _legend_outside(ax, **kw) -> None:
+    """The legend beside the axes: inside, it covered the tallest bars (the figures are
+    saved with ``bbox_inches="tight"``, which takes it in)."""
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), **kw)
+
+
+def _headroom(ax, top: float) -> None:
+    """Room above the tallest bar: a zero-height top segment pinned the axis to its top, and
+    the bar looked cut off."""
+    if np.isfinite(top) and top > 0:
+        ax.set_ylim(0, 1.05 * top)
+
+
 def _grouped(ax, groups: list[int], series: dict[str, list[float | None]]) -> None:
     width = 0.8 / max(1, len(series))
     x = np.arange(len(groups))
     for i, (name, vals) in enumerate(series.items()):
         ys = [np.nan if v is None else v for v in vals]
-        ax.bar(x + (i - (len(series) - 1) / 2) * width, ys, width, label=name, color=COLOURS[name])
+        xs = x + (i - (len(series) - 1) / 2) * width
+        ax.bar(xs, ys, width, label=name, color=COLOURS[name])
+        for xi, v in zip(xs, vals, strict=True):
+            if v is None:  # a pattern that cannot run this team: not a bar of 0 rounds
+                ax.text(xi, 0, "n/a", rotation=90, fontsize=6, ha="center", va="bottom",
+                        color="#777777")
     ax.set_xticks(x, [f"N={g}" for g in groups])
-    ax.legend(fontsize=8, ncol=3)
+    _legend_outside(ax)
 
 
 def _get(table, band, pattern, n, col, transport=RF):
@@ -71,7 +89,7 @@ def exploration_fig(table, single, band: str, num: int, out: Path) -> Path:
     fig, ax = _fig(f"Fig. {num}: exploration time, {BAND_TITLE[band]}", "rounds")
     _grouped(ax, ns, series)
     path = out / f"fig{num}.png"
-    fig.savefig(path)
+    fig.savefig(path, bbox_inches="tight")
     return path
 
 
@@ -79,6 +97,7 @@ def stacked_fig(table, band: str, num: int, out: Path, phases: tuple[str, ...], 
     ns = [4, 8, 16]
     fig, ax = _fig(f"Fig. {num}: {what}, {BAND_TITLE[band]}", "rounds", width=10)
     labels, x, i = [], [], 0
+    top = 0.0
     for n in ns:
         for p in PATTERNS:
             row = table.get((band, p, n, RF))
@@ -88,12 +107,14 @@ def stacked_fig(table, band: str, num: int, out: Path, phases: tuple[str, ...], 
             for ph, col in zip(phases, PHASE_COLOURS, strict=False):
                 ax.bar(i, row[ph], 0.8, bottom=bottom, color=col, label=ph if i == 0 else None)
                 bottom += row[ph]
+            top = max(top, bottom)
             labels.append(f"{p[:4]}{n}")
             x.append(i)
             i += 1
         i += 1
     ax.set_xticks(x, labels, rotation=60, fontsize=7)
-    ax.legend(fontsize=8)
+    _headroom(ax, top)
+    _legend_outside(ax)
     path = out / f"fig{num}.png"
     fig.savefig(path, bbox_inches="tight")
     return path
@@ -110,9 +131,9 @@ def ratio_fig(table, out: Path) -> Path:
                 ys.append((row["communication"] + row["comm_transport"]) / row["exploration"])
         ax.plot(ns, ys, marker="o", label=p, color=COLOURS[p])
     ax.set_xlabel("N")
-    ax.legend(fontsize=8)
+    _legend_outside(ax)
     path = out / "fig63.png"
-    fig.savefig(path)
+    fig.savefig(path, bbox_inches="tight")
     return path
 
 
@@ -124,10 +145,11 @@ def transport_fig(table, out: Path) -> Path:
         ys = [_get(table, "random", p, n, "total", kind) for p, n in TRANSPORT_CONFIGS]
         ys = [np.nan if v is None else v for v in ys]
         ax.bar(np.arange(len(ys)) + (j - 1) * width, ys, width, label=kind)
-    ax.set_xticks(
-        np.arange(len(TRANSPORT_CONFIGS)), [f"{p} N={n}" for p, n in TRANSPORT_CONFIGS], fontsize=7
+    ax.set_xticks(  # slanted: side by side the long names ran into each other
+        np.arange(len(TRANSPORT_CONFIGS)), [f"{p} N={n}" for p, n in TRANSPORT_CONFIGS],
+        fontsize=7, rotation=30, ha="right",
     )
-    ax.legend(fontsize=8)
+    _legend_outside(ax)
     path = out / "fig69.png"
     fig.savefig(path, bbox_inches="tight")
     return path
@@ -150,7 +172,8 @@ def share_fig(table, out: Path) -> Path:
             labels.append(f"{p[:4]}{n}")
             i += 1
     ax.set_xticks(range(len(labels)), labels, rotation=60, fontsize=7)
-    ax.legend(fontsize=8)
+    ax.set_ylim(0, 100)
+    _legend_outside(ax)
     path = out / "fig76.png"
     fig.savefig(path, bbox_inches="tight")
     return path
@@ -168,7 +191,7 @@ def versus_fig(table, out: Path, subject: str, n: int, num: str, others: tuple[s
         xs = np.arange(len(bands)) + (j - (len(names) - 1) / 2) * width
         ax.bar(xs, ys, width, label=p, color=COLOURS[p])
     ax.set_xticks(np.arange(len(bands)), [BAND_TITLE[b] for b in bands], fontsize=8)
-    ax.legend(fontsize=8, ncol=3)
+    _legend_outside(ax)
     path = out / (f"fig{num}.png" if num[0].isdigit() else f"{num}.png")
     fig.savefig(path, bbox_inches="tight")
     return path

@@ -105,19 +105,24 @@ differences in the table above come from five sources.
 3. **Communication.** The default rule (`--comm seed`, docs/foraging.md) is the thesis's as
    its author's simulator plays it: robots learn the food from a robot next to them, tell the
    neighbours on a list fixed when they learn, cross one off only on what they saw or were
-   told, and ZigZag and Hilbert robots finish their route before detouring. Against the
+   told, and ZigZag robots, and Hilbert robots of 16 or more, finish their route before
+   detouring (Hilbert with 4 detours at once: the thesis gives route-first only to ZigZag
+   with 4, and §7.1 finds Hilbert-4's communication fast). Against the
    former omniscient rule (robots knew who already knew), the mean error on COMM+TRANS fell
-   from 49 % to 39 % (ZigZag 60 % → 11 %, Sectors 38 % → 19 %), on the total from 12 % to
-   10 %, and Hilbert N = 16's COMMUNICATION came to agree (it was 0.23× the thesis's). On
+   from 49 % to 35 % (ZigZag 60 % → 11 %, Sectors 38 % → 19 %), on the total from 12 % to
+   9 %, and Hilbert N = 16's COMMUNICATION came to agree (it was 0.23× the thesis's). On
    the one (pattern, N) whose per-run output the author published, Strips with 16 robots, our
    runs on the same 82 food cells agree phase by phase (section above). Rows that stay more
    than 15 % off:
    * **Hilbert, N = 4** (COMMUNICATION {_ratio_range(table, ref, "hilbert", 4, "communication")}
-     the thesis's). Finishing the route first, as the simulator does, waits for the next time
-     two robots' routes meet. Our quadrant curves (the thesis's code assignment, Fig. 25, is
-     missing) meet only in two clumps, around rounds 236–338 and after 3,756 of 4,096; a robot
-     that detours at once instead takes 32–220 rounds. The thesis's values lie between the
-     two, so its curves meet at other times than ours.
+     the thesis's). Our robots detour at once and walk shortest paths to where their
+     neighbours' curves put them: 32–220 rounds. Finishing the route first, as the author's
+     simulator does, waits for the next time two routes meet; our quadrant curves (the
+     thesis's code assignment, Fig. 25, is missing) meet only in two clumps, around rounds
+     236–338 and after 3,756 of 4,096, which gave 2.2–5.4× the thesis's communication, no
+     COMM+TRANS at all, and a RANDOM total 36 % above the thesis's. The thesis's values lie
+     between the two readings; detouring at once also gives its non-zero COMM+TRANS and
+     totals within 4–9 % of the thesis's in every band but the nearest (0–20 %: −26 %).
    * **Spiral, N = 4 and 8** (COMM+TRANS {_ratio_range(table, ref, "spiral", 4, "comm_transport")}
      and {_ratio_range(table, ref, "spiral", 8, "comm_transport")} the thesis's): our robots
      meet their successor earlier than the thesis's. Our spiral arms on the finite grid are our

@@ -23,8 +23,8 @@ Per mission, what a frame becomes (the frame types are the missions' own):
   every robot whose cell changed, a ``pickup`` job when a robot starts carrying on the food
   cell and a ``drop`` when it stops in the nest, a ``status`` event when a robot starts or
   stops carrying or learns where the food is, and a ``food`` message to every robot newly
-  informed away from the food, from the lowest-id robot that knew before and stands at
-  distance ≤ 1;
+  informed away from the food, from the lowest-id robot that knew before (or found the food
+  in that round) and stands at distance ≤ 1;
 * roadmap (:class:`~swarmex.missions.roadmap.sim.RoadmapFrame`, one per step): a ``move``
   for every agent that moved in the step (all of them at step 0), and a ``weights`` event
   with the edges whose traversal count changed;
@@ -145,8 +145,12 @@ class ForagingEvents:
                 elif not f.carrying[i] and last.carrying[i] and here == self.nest:
                     out.append({"type": "job", "t": t, "agent": self.ids[i], "x": here[0],
                                 "y": here[1], "kind": "drop"})
-            knew = np.flatnonzero(last.informed)
             fx, fy = self.food
+            # tellers: robots that knew before, and a finder that learned it this round on the
+            # food cell itself (the replay's rule, events.foraging_messages: a robot next to
+            # the finder in its finding round heard it, and the live stream lost that message)
+            on_food = (pos[:, 0] == fx) & (pos[:, 1] == fy)
+            knew = np.flatnonzero(last.informed | (f.informed & on_food))
             for k in np.flatnonzero(f.informed & ~last.informed):
                 here = pos[k]
                 if (int(here[0]), int(here[1])) == self.food:
