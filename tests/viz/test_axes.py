@@ -34,3 +34,15 @@ def test_continuous_maps_get_plain_coordinates():
     coordinate_ticks(ax, integer=False)
     ticks = ax.get_xticks()
     assert np.any(ticks != np.round(ticks)) and ax.get_xlabel() == "x"
+
+
+@pytest.mark.parametrize("dpi", [64, 80, 110])
+def test_map_text_is_legible_at_an_animations_dpi(dpi):
+    # an animation's frames (64-80 dpi) had 6 pt ticks: 4-5 pixels, unreadable
+    ax = Figure(dpi=dpi).add_subplot(111)
+    coordinate_ticks(ax, unit="cells")
+    tick_px = ax.xaxis.get_major_ticks()[0].label1.get_fontsize() * dpi / 72
+    label_px = ax.xaxis.label.get_fontsize() * dpi / 72
+    assert tick_px >= 8 - 1e-9 and label_px >= 9 - 1e-9
+    if dpi >= 110:  # the pictures keep their sizes
+        assert ax.xaxis.label.get_fontsize() == 7

@@ -71,6 +71,10 @@ def test_bar_plot_for_a_categorical_x_and_where(tmp_path):
         tmp_path / "b.png",
     )
     assert path.exists() and note is None
+    from swarmex.viz.plot import sweep_figure
+
+    fig, _ = sweep_figure(rows(), META, "algorithm", "makespan", None, ["agents=2"], "auto")
+    assert fig.axes[0].get_title().endswith("\nagents=2")  # the filter is on the figure
     _, pooled = plot_sweep(rows(), META, "algorithm", "makespan", path=tmp_path / "c.png")
     assert pooled and "pooled over agents" in pooled
 
@@ -84,6 +88,7 @@ def test_bar_plot_for_a_categorical_x_and_where(tmp_path):
         ({"where": ["agents=7"]}, "no run matches"),
         ({"where": ["agents"]}, "expected PARAM=VALUE"),
         ({"y": "error"}, "numeric 'error'"),
+        ({"hue": "agents"}, "--hue agents is also --x"),  # was one lone point per series
     ],
 )
 def test_bad_requests_name_the_problem(tmp_path, kwargs, message):

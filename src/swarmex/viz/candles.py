@@ -129,7 +129,9 @@ def candle_chart(
     width_chars = int(fig.get_figwidth() * 11)  # ~11 characters per inch at 10 pt
     ax.set_title("\n".join(textwrap.wrap(title, width_chars)), fontsize=10)
     ax.grid(axis="y", alpha=0.3)
-    ax.legend(fontsize=8, loc="best")
+    # beside the axes: "best" does not avoid the whiskers (line collections), and covered
+    # the thesis's caps
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0)
     if note:
         fig.text(0.01, 0.01, note, fontsize=7, color="dimgray")
     fig.tight_layout(rect=(0, 0.03 if note else 0, 1, 1))

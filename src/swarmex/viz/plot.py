@@ -82,6 +82,9 @@ def sweep_figure(
     for option, name in (("--x", x), ("--y", y), ("--hue", hue)):
         if name is not None and name not in columns:
             raise InputError(f"{option}: no column {name!r} (have: {', '.join(columns)})")
+    if hue is not None and hue in (x, y):  # one isolated point per series: nothing to compare
+        raise InputError(f"--hue {hue} is also {'--x' if hue == x else '--y'}; give another"
+                         " column, or none")
     rows = _filter(rows, where or [], columns, meta.get("mission"))
     ok = [r for r in rows if not r.get("error") and _num(r.get(y)) is not None]
     failed = [r for r in rows if r.get("error")]
@@ -139,8 +142,11 @@ def sweep_figure(
     ax.set_xlabel(x)
     ax.set_ylabel(y_label(y, ok))
     runs_per = len(ok) / max(1, points)
+    # the filters belong in the title: a plot of part of a sweep looked like the whole of it
+    only = f"\n{', '.join(where)}" if where else ""
     ax.set_title(
-        f"{meta.get('mission', 'sweep')}: {y} vs {x} · mean ± 95 % CI (≈{runs_per:.0f} runs/point)",
+        f"{meta.get('mission', 'sweep')}: {y} vs {x} · mean ± 95 % CI (≈{runs_per:.0f} runs/point)"
+        + only,
         fontsize=10,
     )
     ax.grid(alpha=0.3)

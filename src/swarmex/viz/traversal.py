@@ -227,7 +227,7 @@ class _Canvas:
             handles=handles,
             loc="upper left",
             bbox_to_anchor=(0.72, 0.92),
-            fontsize=8,
+            fontsize=max(8.0, 8 * 72 / self.fig.dpi),  # 8 px at least in a 64-dpi frame
             frameon=False,
         )
 
