@@ -38,7 +38,11 @@ def _fleet_chart(
     for n in present:
         ax.plot(ps, n * ps + t_max[n], label=f"{n} agents", linewidth=1.3)
     env = np.min([n * ps + t_max[n] for n in t_max], axis=0)
-    ax.plot(ps, env, color="black", linewidth=2.4, alpha=0.35, label="best over all fleets")
+    # named: the envelope also runs over fleets this panel does not draw, and then lies below
+    # every drawn line
+    every = agent_counts(sorted(t_max))
+    ax.plot(ps, env, color="black", linewidth=2.4, alpha=0.35,
+            label=f"best over all fleets ({every} agents)")
     ax.set_xlim(0, p_max)
     lo_y, hi_y = ax.get_ylim()
     band = (hi_y - lo_y) * 0.06
