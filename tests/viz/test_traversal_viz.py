@@ -78,3 +78,13 @@ def test_wrong_suffix_is_an_input_error(small_run, tmp_path):
         traversal_png(run, world, tmp_path / "x.gif")
     with pytest.raises(InputError):
         traversal_gif(run, world, tmp_path / "x.png")
+
+
+def test_a_title_names_the_map_file_not_its_whole_path():
+    from swarmex.viz.traversal import _title
+
+    rec = {"world": {"source": "/work/shared/maps/den520d.map"}, "agents": [{}, {}],
+           "algorithm": "madgta"}
+    assert _title(rec, outcome=False) == "madgta · 2 agents · den520d.map"
+    rec = {"world": {"source": "grid 8x8"}, "agents": [{}], "algorithm": "nearest"}
+    assert _title(rec, outcome=False) == "nearest · 1 agent · grid 8x8"

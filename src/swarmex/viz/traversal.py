@@ -616,7 +616,9 @@ def _title(record: dict, outcome: bool = True) -> str:
     """The run in one line; a still picture ends with its outcome (an animation's last frame
     says it instead: a title saying "complete" over the first frame reads as a wrong one)."""
     world = record.get("world") or {}
-    where = world.get("source") or world.get("kind") or ""
+    where = str(world.get("source") or world.get("kind") or "")
+    if "/" in where or "\\" in where:  # a map file: its name (a deep path overflowed the title)
+        where = where.replace("\\", "/").rsplit("/", 1)[-1]
     m = len(record.get("agents", []))
     tail = f" · {_outcome(record)}" if outcome else ""
-    return f"{record.get('algorithm', '?')} · {m} agents · {where}{tail}"
+    return f"{record.get('algorithm', '?')} · {m} agent{'' if m == 1 else 's'} · {where}{tail}"
