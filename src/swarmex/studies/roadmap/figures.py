@@ -64,13 +64,14 @@ def draw_examples(out: Path, results: list[dict[str, Any]]) -> dict[str, str]:
     prm15 = [r for r in pick(results, exp="unreach", env="fig14", planner="prm")
              if not r.get("agents_off_roadmap")]
     seed15 = prm15[0]["seed"] if prm15 else 0
+    r = f"r={R_BASE:g}"  # the sensor range these pictures use (the title said a bare "r")
     specs = {
         "fig8_wma_rrt.png": ("fig8", "coverage", "wma-rrt", 400, 20, 0,
-                             "Fig. 8 environment, WMA-RRT coverage (400 nodes, ε=20, r)"),
+                             f"Fig. 8 environment, WMA-RRT coverage (400 nodes, ε=20, {r})"),
         "fig8_prm.png": ("fig8", "coverage", "prm", 400, 20, 0,
-                         "Fig. 8 environment, PRM coverage (400 nodes, ε=20, r)"),
+                         f"Fig. 8 environment, PRM coverage (400 nodes, ε=20, {r})"),
         "fig11_wma_rrt.png": ("fig11", "search", "wma-rrt", 200, 20, 0,
-                              "Fig. 11 environment, WMA-RRT goal search (200 nodes, ε=20, r)"),
+                              f"Fig. 11 environment, WMA-RRT goal search (200 nodes, ε=20, {r})"),
         "fig16_wma_rrt.png": ("fig14", "search", "wma-rrt", 400, 20, 0,
                               "Figs. 14/16: walled-in team, WMA-RRT establishes unreachable"),
         "fig15_prm.png": ("fig14", "search", "prm", 400, 20, seed15,
