@@ -167,7 +167,7 @@ def test_reproduce_interrupted_says_where_the_runs_are(study, tmp_path, capsys, 
 
     def stop(out, *_args, **_kwargs):
         out.mkdir(parents=True, exist_ok=True)
-        (out / "runs.jsonl").write_text("")  # the study's journal, as a run that finished
+        (out / "runs.jsonl").write_text('{"key": "k"}\n')  # the journal of one finished run
         raise KeyboardInterrupt
 
     monkeypatch.setattr(importlib.import_module(f"swarmex.studies.{study}"), "reproduce", stop)

@@ -27,7 +27,7 @@ def test_ctrl_c_says_where_the_finished_runs_are(tmp_path, capsys, monkeypatch):
     def ctrl_c(out, *args, **kwargs):
         if finished:
             out.mkdir(parents=True, exist_ok=True)
-            (out / "traversal.json").write_text("{}")  # a run had finished
+            (out / "traversal.json").write_text('{"runs": {"r1": {}}}')  # a run had finished
         raise KeyboardInterrupt
 
     monkeypatch.setattr(study, "reproduce", ctrl_c)
@@ -68,3 +68,22 @@ def test_a_compile_says_so(tmp_path, capsys, monkeypatch, name):
     monkeypatch.setattr(importlib.import_module(f"swarmex.studies.{name}"), "reproduce", compiles)
     assert main(["reproduce", name, "--quick", "--out", str(tmp_path)]) == 0
     assert capsys.readouterr().err == f"swarmex: {compiling.MESSAGE}\n"
+
+
+def test_ctrl_c_before_any_run_finished_in_the_real_study_says_nothing_was_kept(
+    tmp_path, capsys, monkeypatch
+):
+    # the study writes its JSON, with no run, even when stopped during the first compile:
+    # the line named that empty file as where "finished runs are saved"
+    import swarmex.studies.traversal.pipeline as pipeline
+
+    def stopped(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(pipeline, "run_jobs", stopped)
+    out = tmp_path / "rep"
+    assert main(["reproduce", "traversal", "--quick", "--out", str(out)]) == 130
+    assert (out / "traversal.json").exists()
+    assert capsys.readouterr().err == (
+        "swarmex: interrupted; no run had finished, so nothing was kept\n")
+

@@ -85,9 +85,28 @@ def interrupted_keeps(store: Path) -> Iterator[None]:
     try:
         yield
     except KeyboardInterrupt:
-        if not store.exists():  # stopped before the first run finished: nothing to point to
+        if _stored_runs(store) == 0:  # stopped before the first run finished
             interrupted("no run had finished, so nothing was kept")
         interrupted(f"finished runs are saved in {store} (run the same command again to resume)")
+
+
+def _stored_runs(store: Path) -> int | None:
+    """How many runs a study's store holds: its journal's lines, or its JSON's ``runs``
+    (the traversal study writes its JSON, empty, even when stopped during the first
+    compile); None when it cannot tell."""
+    from swarmex.experiments.runstore import existing, read_json
+
+    path = existing(store)
+    if not path.exists():
+        return 0
+    try:
+        if path.suffix == ".jsonl":
+            with path.open(encoding="utf-8") as fh:
+                return sum(1 for line in fh if line.strip())
+        runs = read_json(path).get("runs")
+        return len(runs) if isinstance(runs, dict | list) else None
+    except (OSError, ValueError, AttributeError, EOFError):
+        return None
 
 
 @contextlib.contextmanager
