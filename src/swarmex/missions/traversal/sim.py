@@ -7,8 +7,9 @@ its own takeoff time, then loops LOOK–COMPUTE–MOVE. A move along an edge tak
 take no time. Messages follow §4.2 and are applied to the receivers' beliefs when they
 arrive (instantly under the default perfect broadcast):
 
-* C01 / position — an agent's current vertex, sent at start and at every arrival, with the
-  obstacles it sees there (sensing is adjacency only) and the job bit;
+* position — an agent's current vertex, sent at start (C04) and at every arrival (C07), with
+  the obstacles it sees there (sensing is adjacency only) and the job bit (the thesis's C01,
+  sent before takeoff, is not modelled: a rival counts from its takeoff);
 * C05 — the next vertex, sent when a move is decided; a vacant one is reserved for the sender;
 * C07 — arrival with the job bit set: the vertex is conditionally accomplished;
 * C08 — job done; with ``job_failure`` > 0 a job may fail instead, and the vertex returns to

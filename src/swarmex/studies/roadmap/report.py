@@ -288,7 +288,10 @@ def _markdown(t1, t2, g1, g2, cov_imp, srch_imp, un, figs, quick, seconds, versi
         "through one door; Fig. 11 hides the goal in a nook open towards the start region; "
         "Figs. 14–17 wall the team in, with the goal outside.",
         "- **Team**: 3 agents (Fig. 5), a tight cluster in the lower-left corner "
-        "(radius 6.4 units).",
+        "(radius 6.4 units). Their hull is a triangle, which has no diagonals to cross, so "
+        "every tree here takes its Main Root at the hull's centroid (docs/roadmap.md §1); "
+        "the paper's crossing of the two longest diagonals needs four or more agents, and "
+        "is checked only in the tests.",
         f"- **Sensor range r = {r_base:g} units** (1.25 ε for ε = 20). The paper never gives r. "
         "A complete WMA-RRT run traverses every edge, so its coverage is fixed by the tree and "
         "the sensor alone; trees for 5 seeds of each (nodes, step) were swept with "
