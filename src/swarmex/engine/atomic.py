@@ -74,13 +74,13 @@ def _target(path: Path) -> tuple[Path, bool, int | None]:
 _WRITE_FAILED = frozenset({errno.ENOSPC, errno.EFBIG, errno.EDQUOT, errno.EROFS, errno.EIO})
 
 
-def _failed_write(path: Path, exc: BaseException, kept: bool = True) -> InputError | None:
-    """The one line for a write that failed half-way, else None. ``kept``: the write went to
-    a temporary file, so the previous file (if any) is as it was."""
+def _raise_if_write_failed(path: Path, exc: BaseException, kept: bool = True) -> None:
+    """Raise the one line for a write that failed half-way (else return, and the caller
+    re-raises ``exc``). ``kept``: the write went to a temporary file, so the previous file
+    (if any) is as it was."""
     if isinstance(exc, OSError) and exc.errno in _WRITE_FAILED:
         said = " (the previous file, if any, is unchanged)" if kept else ""
-        return InputError(f"cannot write {path}: {exc.strerror or exc}{said}")
-    return None
+        raise InputError(f"cannot write {path}: {exc.strerror or exc}{said}") from None
 
 
 def _make_parent(path: Path) -> None:
@@ -112,9 +112,7 @@ def atomic_path(path: str | Path) -> Iterator[Path]:
         os.replace(tmp, path)
     except BaseException as exc:
         tmp.unlink(missing_ok=True)
-        failed = _failed_write(path, exc)
-        if failed is not None:
-            raise failed from None
+        _raise_if_write_failed(path, exc)
         raise
 
 
@@ -136,9 +134,7 @@ def atomic_open(
             with fh:
                 yield fh
         except OSError as exc:
-            failed = _failed_write(path, exc, kept=False)
-            if failed is not None:
-                raise failed from None
+            _raise_if_write_failed(path, exc, kept=False)
             raise
         return
     _make_parent(path)
@@ -159,9 +155,7 @@ def atomic_open(
         os.replace(tmp, path)
     except BaseException as exc:
         tmp.unlink(missing_ok=True)
-        failed = _failed_write(path, exc)
-        if failed is not None:
-            raise failed from None
+        _raise_if_write_failed(path, exc)
         raise
 
 

@@ -58,7 +58,20 @@ def plain_int(raw: Any) -> Any:
     return value
 
 
-class TurnBasedParallel(turn_based_aec_to_parallel_wrapper):
+class _EndsOnClose:
+    """``close()`` of a PettingZoo conversion: abandon the run in progress, and end the
+    episode here too. Why: a conversion keeps its own copy of ``agents``, which a mid-episode
+    close left listing the team, so ``while env.agents:`` and ``agent_iter()`` went on into
+    the closed run."""
+
+    agents: list[Any]
+
+    def close(self) -> None:
+        super().close()  # type: ignore[misc]
+        self.agents = []
+
+
+class TurnBasedParallel(_EndsOnClose, turn_based_aec_to_parallel_wrapper):
     """PettingZoo's turn-based AEC-to-Parallel conversion, for a run that can end in ``reset``.
 
     Why: an event-driven mission can finish before anyone decides (a tiny world seen whole by
@@ -109,14 +122,8 @@ class TurnBasedParallel(turn_based_aec_to_parallel_wrapper):
                              "one whose action_mask has a 1; infos[a]['active_agent'])")
         return tuple(super().step(actions))
 
-    def close(self) -> None:
-        """Abandon a run in progress: the episode ends here too (the conversion keeps its own
-        copy of ``agents``, which a mid-episode close left listing the whole team)."""
-        super().close()
-        self.agents = []
 
-
-class _ParallelToAEC(parallel_to_aec_wrapper):
+class _ParallelToAEC(_EndsOnClose, parallel_to_aec_wrapper):
     """PettingZoo's Parallel-to-AEC conversion, for a run that can end in ``reset``.
 
     Why: PettingZoo's agent selector cannot start an empty team, so when the first scans see
@@ -138,13 +145,6 @@ class _ParallelToAEC(parallel_to_aec_wrapper):
             self.terminations: dict[Any, bool] = {}
             self.truncations: dict[Any, bool] = {}
             self.infos: dict[Any, dict[str, Any]] = {}
-
-    def close(self) -> None:
-        """Abandon a run in progress: the episode ends here too (the conversion keeps its own
-        ``agents``, which a mid-episode close left listing the team, so ``agent_iter()`` went
-        on into the closed run)."""
-        super().close()
-        self.agents = []
 
 
 def parallel_to_aec(par_env: Any) -> AECEnv[Any, Any, Any]:

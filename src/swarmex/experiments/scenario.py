@@ -78,16 +78,21 @@ def read_toml(path: Path, what: str) -> dict[str, Any]:
         raise InputError(f"{path}: not valid TOML: {exc}") from None
 
 
+def check_mission(mission: Any, path: Path) -> str:
+    """A scenario's or a sweep spec's ``mission`` key, checked: one of :data:`MISSIONS`."""
+    if mission is None:
+        raise InputError(f'{path}: no mission key (e.g. mission = "traversal")')
+    if not isinstance(mission, str) or mission not in MISSIONS:  # a TOML list is unhashable
+        raise InputError(f"{path}: unknown mission {mission!r} (choose from"
+                         f" {', '.join(MISSIONS)})")
+    return mission
+
+
 def load_scenario(path: str | Path) -> Scenario:
     """Read and check a scenario file; every problem is an InputError naming the file."""
     path = Path(path)
     data = read_toml(path, "scenario file")
-    mission = data.pop("mission", None)
-    if mission is None:
-        raise InputError(f'{path}: no mission key (e.g. mission = "traversal")')
-    if not isinstance(mission, str) or mission not in MISSIONS:  # a TOML list is unhashable
-        known = ", ".join(MISSIONS)
-        raise InputError(f"{path}: unknown mission {mission!r} (choose from {known})")
+    mission = check_mission(data.pop("mission", None), path)
     options: dict[str, Any] = {}
     for key, value in data.items():
         name = key.replace("_", "-")

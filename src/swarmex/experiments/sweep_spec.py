@@ -45,6 +45,7 @@ from swarmex.experiments.scenario import (
     MISSIONS,
     OptionShape,
     Scenario,
+    check_mission,
     mission_shapes,
     read_toml,
     resolve_path,
@@ -264,11 +265,7 @@ def load_sweep_spec(path: str | Path) -> SweepSpec:
 
 def parse_sweep_spec(data: dict[str, Any], path: Path) -> SweepSpec:
     data = dict(data)
-    mission = data.pop("mission", None)
-    if mission is None:
-        raise InputError(f'{path}: no mission key (e.g. mission = "traversal")')
-    if not isinstance(mission, str) or mission not in MISSIONS:  # a TOML list is unhashable
-        raise InputError(f"{path}: unknown mission {mission!r} (choose from {', '.join(MISSIONS)})")
+    mission = check_mission(data.pop("mission", None), path)
     seeds = _seeds(path, data.pop("seeds", None), data.pop("seed", None))
     fixed = data.pop("fixed", {})
     if not isinstance(fixed, dict):

@@ -18,6 +18,7 @@ import numpy as np
 
 from swarmex.errors import InputError
 from swarmex.worlds.grid import GridWorld
+from swarmex.worlds.mapfiles import is_ros_map
 
 DEFAULT_CELL = 0.05  # metres, the thesis's 5 cm × 5 cm cell
 
@@ -93,7 +94,7 @@ def load_metric(path: str | Path, cell: float | None = None) -> MetricGrid:
     from swarmex.worlds.rosmap import load_rosmap
 
     p = Path(path)
-    if p.suffix.lower() in (".yaml", ".yml", ".pgm"):
+    if is_ros_map(p):
         world, resolution = load_rosmap(p)
         if cell is not None and not math.isclose(cell, resolution, rel_tol=1e-6):
             raise InputError(

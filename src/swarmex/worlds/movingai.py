@@ -28,6 +28,7 @@ import numpy as np
 
 from swarmex.errors import InputError
 from swarmex.worlds.grid import GridWorld
+from swarmex.worlds.mapfiles import is_ros_map, read_map_text
 
 TERRAIN_FREE = frozenset(".GS")
 TERRAIN_BLOCKED = frozenset("@OTW")
@@ -79,15 +80,10 @@ def parse_movingai(text: str, source: str = "<string>", connectivity: int = 4) -
 
 def load_movingai(path: str | Path, connectivity: int = 4) -> GridWorld:
     path = Path(path)
-    if path.suffix.lower() in (".yaml", ".yml", ".pgm"):  # "malformed header line 3" misled
+    if is_ros_map(path):  # "malformed header line 3" misled
         raise InputError(f"{path}: a ROS map, not a MovingAI .map (swarmex explore reads ROS"
                          " maps; this option reads MovingAI files)")
-    try:
-        text = path.read_text(encoding="ascii", errors="replace")
-    except FileNotFoundError:
-        raise InputError(f"map file not found: {path}") from None
-    except OSError as exc:
-        raise InputError(f"cannot read map file {path}: {exc.strerror}") from None
+    text = read_map_text(path, "ascii")
     return parse_movingai(text, source=str(path), connectivity=connectivity)
 
 

@@ -32,6 +32,7 @@ import shapely
 from shapely.geometry import Polygon, box
 
 from swarmex.errors import InputError
+from swarmex.worlds.mapfiles import ROS_YAML_SUFFIXES
 
 IMAGE_SUFFIXES = frozenset({".png", ".pgm", ".bmp", ".gif", ".jpg", ".jpeg", ".tif", ".tiff"})
 
@@ -318,7 +319,7 @@ def load_polygon_world(path: str | Path) -> PolygonWorld:
         if img.ndim != 2:
             raise InputError(f"{path}: expected a 2-D image")
         return world_from_blocked(img < 128, str(path))
-    if suffix in (".yaml", ".yml"):  # JSON's "Expecting value" said nothing useful
+    if suffix in ROS_YAML_SUFFIXES:  # JSON's "Expecting value" said nothing useful
         raise InputError(f"{path}: a ROS map YAML is not a roadmap environment (give a JSON"
                          " of polygons, a MovingAI .map or an image)")
     try:

@@ -28,6 +28,7 @@ import numpy as np
 
 from swarmex.errors import InputError
 from swarmex.worlds.grid import GridWorld
+from swarmex.worlds.mapfiles import ROS_YAML_SUFFIXES, read_map_text
 
 DEFAULTS = {"resolution": 0.05, "negate": 0, "occupied_thresh": 0.65, "free_thresh": 0.196}
 
@@ -66,7 +67,7 @@ def rosmap_image(path: str | Path) -> Path | None:
     """The image file a ROS map YAML names (None for a ``.pgm`` itself, or a YAML that cannot
     be read or names none): the other file a run on ``path`` reads."""
     path = Path(path)
-    if path.suffix.lower() not in (".yaml", ".yml"):
+    if path.suffix.lower() not in ROS_YAML_SUFFIXES:
         return None
     try:
         image = _yaml_meta(path).get("image")
@@ -77,13 +78,7 @@ def rosmap_image(path: str | Path) -> Path | None:
 
 def _yaml_meta(path: Path) -> dict[str, object]:
     """The keys of a ROS map YAML (:class:`InputError` if it cannot be read)."""
-    try:
-        text = path.read_text(encoding="utf-8", errors="replace")
-    except FileNotFoundError:
-        raise InputError(f"map file not found: {path}") from None
-    except OSError as exc:
-        raise InputError(f"cannot read map file {path}: {exc.strerror}") from None
-    return parse_yaml_flat(text, str(path))
+    return parse_yaml_flat(read_map_text(path, "utf-8"), str(path))
 
 
 def load_rosmap(path: str | Path) -> tuple[GridWorld, float]:

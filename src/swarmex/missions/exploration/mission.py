@@ -30,6 +30,7 @@ from swarmex.missions.exploration.params import (
     validate,
 )
 from swarmex.worlds.grid import GridWorld
+from swarmex.worlds.mapfiles import is_ros_map
 from swarmex.worlds.metric import DEFAULT_CELL, MetricGrid, empty_metric, load_metric
 
 
@@ -83,7 +84,7 @@ class ExplorationMission(Mission[ExplorationParams, ExplorationWorld]):
                 values["empty"] = f"{size[1]}x{size[2]}"
             else:
                 values["map"] = source
-                if source.lower().endswith((".yaml", ".yml", ".pgm")):
+                if is_ros_map(source):
                     values.pop("cell", None)  # a ROS map brings its own resolution
         return values
 

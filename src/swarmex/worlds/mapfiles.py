@@ -1,0 +1,26 @@
+"""What the map readers share: which files are ROS maps, and reading a map file's text with
+one line for a missing or unreadable file (the MovingAI and ROS readers had a copy each)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from swarmex.errors import InputError
+
+#: a ROS map_server map: its YAML, or the image alone
+ROS_YAML_SUFFIXES = (".yaml", ".yml")
+ROS_SUFFIXES = (*ROS_YAML_SUFFIXES, ".pgm")
+
+
+def is_ros_map(path: str | Path) -> bool:
+    return str(path).lower().endswith(ROS_SUFFIXES)
+
+
+def read_map_text(path: Path, encoding: str) -> str:
+    """The file's text (undecodable bytes replaced), or an InputError naming the file."""
+    try:
+        return path.read_text(encoding=encoding, errors="replace")
+    except FileNotFoundError:
+        raise InputError(f"map file not found: {path}") from None
+    except OSError as exc:
+        raise InputError(f"cannot read map file {path}: {exc.strerror}") from None
