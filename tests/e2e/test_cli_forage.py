@@ -167,13 +167,18 @@ def test_reproduce_interrupted_says_where_the_runs_are(study, tmp_path, capsys, 
 
     def stop(out, *_args, **_kwargs):
         out.mkdir(parents=True, exist_ok=True)
-        (out / "runs.jsonl").write_text('{"key": "k"}\n')  # the journal of one finished run
+        (out / "runs.jsonl").write_text(journal)
         raise KeyboardInterrupt
 
     monkeypatch.setattr(importlib.import_module(f"swarmex.studies.{study}"), "reproduce", stop)
+    journal = '{"key": "k"}\n'  # one finished run
     assert main(["reproduce", study, "--quick", "--out", str(tmp_path / "o")]) == 130
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "interrupted" in err and "runs.jsonl" in err
+    journal = ""  # none yet: there is nothing to point to
+    assert main(["reproduce", study, "--quick", "--out", str(tmp_path / "p")]) == 130
+    assert capsys.readouterr().err == (
+        "swarmex: interrupted; no run had finished, so nothing was kept\n")
 
 
 def test_ctrl_c_inside_a_compiled_kernel_is_a_clean_interrupt(monkeypatch, capsys):

@@ -183,10 +183,7 @@ def test_reproduce_takes_its_worker_count(tmp_path, capsys, monkeypatch):
     monkeypatch.setattr(study, "reproduce", lambda out, **kw: seen.update(kw))
     assert main(["reproduce", "roadmap", "--quick", "--out", str(tmp_path / "r"),
                  "--workers", "1"]) == 0
-    assert seen["workers"] == 1
-    assert main(["reproduce", "roadmap", "--out", str(tmp_path / "r"), "--workers", "0"]) == 2
-    err = capsys.readouterr().err
-    assert "--workers must be between 1 and 1024" in err and err.count("\n") == 1
+    assert seen["workers"] == 1  # (a bad count: tests/e2e/test_cli_reproduce_workers.py)
 
 
 @pytest.mark.parametrize("mission", ["traversal", "foraging", "exploration", "roadmap"])

@@ -288,6 +288,21 @@ def test_bad_input_exits_2_with_one_line(name, tmp_path, capsys, bad_map):
     assert not list(tmp_path.glob("*.png")) and not (tmp_path / "out.json").exists()
 
 
+@pytest.mark.parametrize(("name", "needle"), [
+    ("json and render one file", "--json and --render name the same file"),
+    ("huge job time", "--job-time must be at most 1e+09"),
+    ("huge travel time", "--travel-time must be at most 1e+09"),
+    ("huge delay", "--delay must be at most 1e+09"),
+    ("crawling climb", "--up-speed must be at least 0.001"),
+    ("huge edge", "--edge-length must be at most 1e+06"),
+])
+def test_the_bounds_refuse_for_their_own_reason(name, needle, tmp_path, capsys):
+    # the table above checks one line and status 2; these rows check that line's reason
+    argv = [str(tmp_path / a[4:]) if a.startswith("TMP:") else a for a in BAD[name]]
+    code, _, err = cli(["traverse", *argv], capsys)
+    assert code == 2 and needle in err, err
+
+
 def test_bad_input_names_the_problem(capsys):
     code, _, err = cli(["traverse", "--grid", "5x5", "--agents", "2", "--nests", "0,9"], capsys)
     assert code == 2 and "--nests" in err and "(0,9)" in err and "outside" in err

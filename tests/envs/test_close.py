@@ -56,22 +56,21 @@ def test_an_aec_episode_closed_midway_has_no_agents_to_iterate(name):
     assert env.agents == [] and list(env.agent_iter()) == []
 
 
-@pytest.mark.parametrize("name", ["traversal", "roadmap"])
-def test_an_aec_step_after_a_midway_close_asks_for_reset(name):
+@pytest.mark.parametrize(("name", "form"), [("traversal", "aec"), ("roadmap", "aec"),
+                                            ("exploration", "parallel"),
+                                            ("foraging", "parallel")])
+def test_a_step_after_a_midway_close_asks_for_reset(name, form):
+    """On each env's own form (its raw AEC env, or its parallel env)."""
     module, params = CASES[name]
-    env = module.raw_env(**params)
-    env.reset()
+    if form == "aec":
+        env = module.raw_env(**params)
+        env.reset()
+        action = 0
+    else:
+        env = module.parallel_env(**params)
+        obs, infos = env.reset()
+        action = module.baseline_policy(env)(obs, infos)
     env.close()
     assert env.agents == []
     with pytest.raises(RuntimeError, match="episode has ended; call reset"):
-        env.step(0)
-
-
-def test_a_parallel_step_after_a_midway_close_asks_for_reset():
-    module, params = CASES["exploration"]
-    env = module.parallel_env(**params)
-    policy = module.baseline_policy(env)
-    obs, infos = env.reset()
-    env.close()
-    with pytest.raises(RuntimeError, match="episode has ended; call reset"):
-        env.step(policy(obs, infos))
+        env.step(action)

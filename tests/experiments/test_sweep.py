@@ -948,6 +948,32 @@ def test_a_file_axis_is_compared_by_the_files_the_runs_read(tmp_path, monkeypatc
                     'fleet = ["a.csv", "b.csv"]\n')
     monkeypatch.chdir(here)
     assert len(load_sweep_spec(spec).runs()) == 2
+    # and one file named two ways from the spec's folder is one value, whatever the
+    # current folder holds (read from there, "a.csv" and "../spec/a.csv" were two files)
+    spec.write_text('mission = "traversal"\nseeds = 1\ngrid = "4x4"\nagents = 2\n'
+                    'fleet = ["a.csv", "../spec/a.csv"]\n')
+    with pytest.raises(InputError, match="lists one value twice"):
+        load_sweep_spec(spec)
+
+
+def test_a_local_sweep_forks_no_more_than_a_few_processes_per_core(tmp_path, monkeypatch):
+    # 1000 workers asked for on 2 cores: 8 processes, as the reproductions fork
+    import os
+
+    import swarmex.experiments.sweep as sweep_module
+
+    seen = []
+    monkeypatch.setattr(os, "cpu_count", lambda: 2)
+
+    def local(tasks, workers, *args, **kwargs):
+        seen.append(workers)
+        raise KeyboardInterrupt  # the pool is not what is checked here
+
+    monkeypatch.setattr(sweep_module, "_local", local)
+    spec = tmp_path / "s.toml"
+    spec.write_text('mission = "traversal"\ngrid = "4x4"\nagents = 1\nseeds = 12\n')
+    assert main(["sweep", str(spec), "--out", str(tmp_path / "o"), "--workers", "1000"]) == 130
+    assert seen == [8]
 
 
 @pytest.mark.parametrize("text", [

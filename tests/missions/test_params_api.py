@@ -93,7 +93,7 @@ def test_run_refuses_seed_none() -> None:
     [("json", r"record\.write\(path\)"), ("render", r"swarmex\.render\(record, path\)"),
      ("max_cycles", r"no cycle cap; .*foraging's max_rounds")],  # was "did you mean 'obstacles'?"
 )
-def test_command_line_outputs_given_to_run_say_the_python_way(key: str, hint: str) -> None:
+def test_a_key_that_is_no_run_parameter_says_what_to_do_instead(key: str, hint: str) -> None:
     # render= was "unknown parameter 'render'; did you mean 'center'?"
     with pytest.raises(swarmex.InputError, match=f"'{key}' is not a parameter of the run.*{hint}"):
         swarmex.run("traversal", grid="4x4", agents=1, **{key: "out"})

@@ -214,7 +214,9 @@ def test_emulator_timeout_holds_while_its_clock_catches_up(
 
 def test_emulator_process_exits_at_its_timeout() -> None:
     """``swarmex uav-emulator --timeout 1 --speedup 1000`` as a process: exits 0 within a few
-    seconds (the interpreter's start included), bounded by subprocess's own timeout."""
+    seconds (the interpreter's start included), bounded by subprocess's own timeout. A smoke
+    test of the command's path: at 1000x the emulator kept its timeout before the fix too;
+    the in-process test above is the one that guards the catch-up's deadline."""
     pytest.importorskip("pymavlink")
     start = time.monotonic()
     done = subprocess.run(

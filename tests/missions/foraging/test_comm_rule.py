@@ -92,3 +92,24 @@ def test_seed_rule_takes_longer_than_the_omniscient_one():
     s = run_forage("strips", 32, 4, (28, 4), 6)
     o = run_forage("strips", 32, 4, (28, 4), 6, comm="omniscient")
     assert s.outcome.comm_done == o.outcome.comm_done
+
+
+@pytest.mark.parametrize(("algorithm", "n", "keeps"), [
+    ("hilbert", 4, False),  # ch. 4: shortest path to the neighbour; §7.1: fast with 4
+    ("hilbert", 16, True),  # the author's simulator, which Figs. 78-79 match at 16
+    ("zigzag", 4, True),  # §4.2: "keeps following its exploration path"
+    ("zigzag", 16, True),
+    ("sectors", 8, False),  # §4.4: plans the meeting at once
+])
+def test_which_robots_finish_their_route_before_telling(algorithm, n, keeps):
+    assert C.keeps_route(C.SEED, algorithm, False, True, n) is keeps
+    assert C.keeps_route(C.SEED, algorithm, False, False, n) is False  # still deploying
+
+
+def test_hilbert_with_four_robots_is_not_all_in_transport_at_once():
+    # Figs. 78-79 give Hilbert-4 a non-zero COMM+TRANS: its robots leave communication at
+    # different rounds (finishing their routes first, all four left it together: 0)
+    cells = [(3, 20), (28, 4), (25, 27), (6, 6), (16, 30)]
+    overlap = [run_forage("hilbert", 32, 4, f, 6).metrics["comm_transport_overlap"]
+               for f in cells]
+    assert sum(overlap) > 0
