@@ -128,26 +128,28 @@ def run(
     ``swarmex COMMAND ... --json`` writes for the same options and seed, ``wall_seconds``
     aside.
     """
-    from swarmex.missions.base import check_seed
+    from swarmex.missions.base import check_seed, python_spelling
     from swarmex.missions.registry import get
 
     m = get(mission)
     if "seed" in params:
         raise InputError("give the seed once, as seed=")
     check_seed(seed)
-    p = m.params({**params, "seed": seed})
-    if not isinstance(progress, bool):  # "no" is truthy: it would have shown the bar
-        raise InputError(f"progress must be True or False, got {progress!r}")
-    if ignored := p.ignored():
-        import warnings
+    with python_spelling(m.params_type):
+        p = m.params({**params, "seed": seed})
+        if not isinstance(progress, bool):  # "no" is truthy: it would have shown the bar
+            raise InputError(f"progress must be True or False, got {progress!r}")
+        if ignored := p.ignored():
+            import warnings
 
-        for name, why in ignored.items():
-            warnings.warn(f"{name} is ignored: {why}", UserWarning, stacklevel=2)
-    if not progress:
-        return m.run(p, on_frame=on_frame, trace=trace).record
-    from swarmex.experiments.progress import progress_watch
+            for name, why in ignored.items():
+                warnings.warn(f"{name} is ignored: {why}", UserWarning, stacklevel=2)
+        watch = None
+        if progress:
+            from swarmex.experiments.progress import progress_watch
 
-    return m.run(p, on_frame=on_frame, trace=trace, watch=progress_watch(m)).record
+            watch = progress_watch(m)
+        return m.run(p, on_frame=on_frame, trace=trace, watch=watch).record
 
 
 def rerun(
@@ -172,11 +174,13 @@ def rerun(
     """
     from swarmex.experiments.progress import watches_if
     from swarmex.experiments.rerun import load_record, rerun_record
+    from swarmex.missions.registry import any_python_spelling
 
     watch_for = watches_if(progress)
     rec, folder = load_record(record)
-    return rerun_record(rec, folder, overrides, on_frame=on_frame, trace=trace,
-                        watch_for=watch_for)
+    with any_python_spelling():
+        return rerun_record(rec, folder, overrides, on_frame=on_frame, trace=trace,
+                            watch_for=watch_for)
 
 
 def render(
@@ -203,8 +207,10 @@ def render(
 
     from swarmex.experiments.progress import watches_if
     from swarmex.experiments.rerun import render_record
+    from swarmex.missions.registry import any_python_spelling
 
-    out, why = render_record(record, path, world, watch_for=watches_if(progress))
+    with any_python_spelling():
+        out, why = render_record(record, path, world, watch_for=watches_if(progress))
     if why is not None:
         warnings.warn(
             f"{out}: the record's run came out differently today ({why}); the drawing is of"
@@ -270,7 +276,10 @@ def sweep(
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int)):
         raise InputError(f"workers must be a whole number, got {workers!r}")
     check_backend(backend, workers, python=True)  # in these words, not --workers
-    spec = spec_from_keywords(mission, seeds, fixed or {}, axes)
+    from swarmex.missions.registry import any_python_spelling
+
+    with any_python_spelling():
+        spec = spec_from_keywords(mission, seeds, fixed or {}, axes)
     import warnings
 
     for key, count in listed_axes(spec):
@@ -280,11 +289,12 @@ def sweep(
         warnings.warn(f"{name} is ignored in every run: {why}", UserWarning, stacklevel=2)
     bar = SweepBar(disable=not progress)
     try:
-        result = run_sweep(
-            spec, mission_shapes(mission), Path(fspath(out)), backend=backend,
-            workers=workers, retry_failed=retry_failed, on_start=bar.on_start,
-            on_outcome=bar.on_outcome,
-        )
+        with any_python_spelling():
+            result = run_sweep(
+                spec, mission_shapes(mission), Path(fspath(out)), backend=backend,
+                workers=workers, retry_failed=retry_failed, on_start=bar.on_start,
+                on_outcome=bar.on_outcome,
+            )
     finally:
         bar.stop()
     return read_results(result.out_dir)[0]

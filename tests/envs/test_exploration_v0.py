@@ -209,13 +209,13 @@ def test_bad_params_are_the_runs_input_errors():
         with pytest.raises(swarmex.InputError) as env_error:
             exploration_v0.parallel_env(**bad)
         assert str(env_error.value) == str(run_error.value)
-    with pytest.raises(swarmex.InputError, match="laser-range"):
+    with pytest.raises(swarmex.InputError, match="laser_range"):
         exploration_v0.parallel_env(**{**SMALL, "laser_range": 0.1})  # a world check
     with pytest.raises(swarmex.InputError, match="render_mode"):
         exploration_v0.parallel_env(render_mode="human", **SMALL)
     with pytest.raises(swarmex.InputError, match="invalid_action"):
         exploration_v0.parallel_env(invalid_action="ignore", **SMALL)
-    with pytest.raises(swarmex.InputError, match="--seed"):
+    with pytest.raises(swarmex.InputError, match="^seed must be"):
         exploration_v0.parallel_env(seed=-1, **SMALL)
 
 

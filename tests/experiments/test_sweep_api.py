@@ -74,8 +74,8 @@ def test_bad_values_stop_before_any_run_and_none_is_the_default(tmp_path: Path) 
     any run (docs promise it), not a folder of error rows. ``None`` is the default, as in
     ``swarmex.run``; a dict (a fleet's rows) is named as what it is, not "cannot be swept"."""
     out = tmp_path / "s"
-    for kw, said in ((dict(agents=[2, "three"]), "--agents: expected an integer"),
-                     (dict(agents=2, loss=[0.1, 1.5]), "--loss must be less than 1"),
+    for kw, said in ((dict(agents=[2, "three"]), " agents: expected an integer"),
+                     (dict(agents=2, loss=[0.1, 1.5]), " loss must be less than 1"),
                      (dict(agents=2, comm_range=[None, 2]), "None cannot be one of"),
                      (dict(agents=2, fleet=[{"id": 1}, {"id": 2}]), "a dict cannot be")):
         with pytest.raises(InputError, match=said):

@@ -54,7 +54,7 @@ def test_params_replace_parses_checks_and_keeps_the_rest() -> None:
     copy = base.replace(grid="12x12", agents="4")
     assert copy == m.params(grid=(12, 12), agents=4, nests=[(0, 0), (1, 1)], travel_time=3.0)
     assert base.grid == (8, 8)  # frozen: the original is untouched
-    with pytest.raises(swarmex.InputError, match="--agents must be at least 1"):
+    with pytest.raises(swarmex.InputError, match="^agents must be at least 1"):
         base.replace(agents=0)
     with pytest.raises(swarmex.InputError, match="did you mean 'agents'"):
         base.replace(agnts=2)
@@ -101,23 +101,27 @@ def test_a_key_that_is_no_run_parameter_says_what_to_do_instead(key: str, hint: 
 
 def test_every_missing_required_parameter_is_named_at_once() -> None:
     # roadmap needs five; a Python user used to learn them one error at a time
-    with pytest.raises(swarmex.InputError, match=r"^roadmap: --env, --agents, --nodes, --step"
-                                                 r" and --sensor-range are required$"):
+    with pytest.raises(swarmex.InputError, match=r"^roadmap: env, agents, nodes, step"
+                                                 r" and sensor_range are required$"):
         swarmex.run("roadmap")
-    with pytest.raises(swarmex.InputError, match=r"^roadmap: --agents and --sensor-range are"
+    with pytest.raises(swarmex.InputError, match=r"^roadmap: agents and sensor_range are"
                                                  r" required$"):
         swarmex.run("roadmap", env="e.json", nodes=5, step=1)
-    with pytest.raises(swarmex.InputError, match=r"^foraging: --algorithm is required$"):
+    with pytest.raises(swarmex.InputError, match=r"^foraging: algorithm is required$"):
         swarmex.run("foraging", grid=16, agents=4)
     # a world is one of several options: it was asked for only after the rest was fixed
-    # (exploration: "--robots is required", then "give exactly one of --map and --empty")
-    with pytest.raises(swarmex.InputError, match=r"^exploration: --robots and --map \(or"
-                                                 r" --empty\) are required$"):
+    # (exploration: "robots is required", then "give exactly one of map and empty")
+    with pytest.raises(swarmex.InputError, match=r"^exploration: robots and map \(or"
+                                                 r" empty\) are required$"):
         swarmex.run("exploration")
+    with pytest.raises(swarmex.InputError, match=r"^traversal: map \(or grid, center\)"
+                                                 r" and agents \(or fleet\) are required$"):
+        swarmex.run("traversal")
+    # the Mission object's own parser is the command line's too: it names the flags
     with pytest.raises(swarmex.InputError, match=r"^traversal: --map \(or --grid, --center\)"
                                                  r" and --agents \(or --fleet\) are required$"):
         get("traversal").params_type.from_values({})
-    with pytest.raises(swarmex.InputError, match="give exactly one of --map FILE and --empty"):
+    with pytest.raises(swarmex.InputError, match="give exactly one of map and empty$"):
         swarmex.run("exploration", robots=2, map="x.map", empty="4x4")  # two: still refused
 
 
@@ -169,3 +173,32 @@ def test_mission_run_names_the_params_it_takes(params) -> None:
     foraging = get("foraging").params(grid=8, agents=2, algorithm="strips")
     with pytest.raises(InputError, match="got ForagingParams"):
         get("traversal").run(foraging)
+
+
+def test_python_surfaces_name_keywords_and_the_command_line_names_flags(tmp_path, capsys) -> None:
+    """The parsers are the command line's, so their messages name flags; a Python caller
+    got "--job-time must be at least 0", a name it cannot write. Every Python surface now
+    names the keyword, and the command line keeps its flags."""
+    from swarmex.cli import main
+    from swarmex.envs import traversal_v0
+
+    said = "^job_time must be at least 0, got -2$"
+    with pytest.raises(InputError, match=said):
+        swarmex.run("traversal", grid="4x4", agents=1, job_time=-2)
+    rec = swarmex.run("traversal", grid="4x4", agents=1)
+    with pytest.raises(InputError, match=said):
+        swarmex.rerun(rec, job_time=-2)
+    with pytest.raises(InputError, match=said):
+        get("traversal").params(grid="4x4", agents=1).replace(job_time=-2)
+    with pytest.raises(InputError, match="^swarmex.sweep: " + said[1:]):
+        swarmex.sweep("traversal", out=tmp_path / "s", grid="4x4", agents=1, job_time=[1, -2],
+                      backend="serial", progress=False)
+    with pytest.raises(InputError, match=said):
+        traversal_v0.env(grid="4x4", agents=1, job_time=-2)
+    # a metavar goes with its flag; a world check (after parsing) is renamed too
+    with pytest.raises(InputError, match="^give exactly one of map, grid or center$"):
+        swarmex.run("traversal", grid="4x4", map="x.map", agents=1)
+    with pytest.raises(InputError, match=r"^nests: cell \(0,9\) is outside the 4x4 map$"):
+        swarmex.run("traversal", grid="4x4", agents=1, nests="0,9")
+    assert main(["traverse", "--grid", "4x4", "--agents", "1", "--job-time", "-2"]) == 2
+    assert capsys.readouterr().err == "swarmex: error: --job-time must be at least 0, got -2\n"

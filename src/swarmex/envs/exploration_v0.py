@@ -85,6 +85,7 @@ from swarmex.envs.common import (
     parallel_to_aec,
     plain_int,
 )
+from swarmex.missions.base import python_spelling
 from swarmex.missions.exploration.params import TICK_SECONDS, ExplorationParams
 from swarmex.missions.registry import get as get_mission
 
@@ -149,8 +150,9 @@ class ExplorationEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray],
     ) -> None:
         check_modes(render_mode, invalid_action, RENDER_MODES, INVALID_ACTION_MODES)
         mission = get_mission("exploration")
-        self.params: ExplorationParams = mission.params(params)
-        self.world: ExplorationWorld = mission.prepare(self.params)
+        with python_spelling(mission.params_type):
+            self.params: ExplorationParams = mission.params(params)
+            self.world: ExplorationWorld = mission.prepare(self.params)
         self.render_mode = render_mode
         self.invalid_action = invalid_action
         h, w = self.world.grid.shape

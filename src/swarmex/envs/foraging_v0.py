@@ -90,6 +90,7 @@ from swarmex.envs.common import (
     plain_int,
 )
 from swarmex.errors import InputError
+from swarmex.missions.base import python_spelling
 from swarmex.missions.foraging.hook import STAY, STEPS
 from swarmex.missions.foraging.sim import COMM, FOLLOW, TRANSPORT, Compute
 from swarmex.missions.registry import get as get_mission
@@ -166,7 +167,8 @@ class ForagingEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray], in
             ("completion_bonus", completion_bonus),
         )
         mission = get_mission("foraging")
-        self.params: ForagingParams = mission.params(params)
+        with python_spelling(mission.params_type):
+            self.params: ForagingParams = mission.params(params)
         p = self.params
         g, n, k = p.grid, p.agents, p.food_units
         limit = 200 * g * (k + g) + 10_000  # the mission's own round limit (sim.Mission.run)
@@ -249,7 +251,8 @@ class ForagingEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray], in
         self._begin_reset(seed)
         mission = get_mission("foraging")
         params: ForagingParams = replace(self.params, seed=self._seed)
-        world: ForagingWorld = mission.prepare(params)  # draws the food from the seed
+        with python_spelling(mission.params_type):
+            world: ForagingWorld = mission.prepare(params)  # draws the food from the seed
         self._run_params, self._world = params, world
         self._food_obs = np.array(world.food, dtype=np.int64)
         self._food_obs.flags.writeable = False

@@ -85,7 +85,7 @@ from pettingzoo.utils.wrappers import (
 from swarmex.envs.broker import Ask, DecisionBroker
 from swarmex.envs.common import SeedChain, TurnBasedParallel, check_finite, plain_int
 from swarmex.errors import InputError
-from swarmex.missions.base import integer
+from swarmex.missions.base import integer, python_spelling
 from swarmex.missions.registry import get
 from swarmex.missions.roadmap.params import GRAPH_PLANNERS
 
@@ -276,8 +276,9 @@ class raw_env(AECEnv[str, dict[str, np.ndarray], int]):  # noqa: N801 - PettingZ
     ) -> None:
         super().__init__()
         mission = get("roadmap")
-        self.params: RoadmapParams = mission.params(params)
-        self.prepared: RoadmapWorld = mission.prepare(self.params)
+        with python_spelling(mission.params_type):
+            self.params: RoadmapParams = mission.params(params)
+            self.prepared: RoadmapWorld = mission.prepare(self.params)
         if render_mode not in (None, *self.metadata["render_modes"]):
             raise InputError(
                 f"render_mode must be None or one of {self.metadata['render_modes']}, "

@@ -60,6 +60,7 @@ from pettingzoo.utils import wrappers
 from swarmex.envs.broker import Ask, DecisionBroker
 from swarmex.envs.common import SeedChain, TurnBasedParallel
 from swarmex.errors import InputError
+from swarmex.missions.base import python_spelling
 
 #: what ``observe`` reports per vertex in ``status``
 VACANT, DONE, OBSTACLE, CLAIMED = 0, 1, 2, 3
@@ -141,10 +142,11 @@ class raw_env(AECEnv):  # noqa: N801 - PettingZoo's module convention
 
         super().__init__()
         mission = get("traversal")
-        self.params = mission.params(params)
+        with python_spelling(mission.params_type):
+            self.params = mission.params(params)
         if algorithm_name(self.params.algorithm) not in BASELINES:
             raise InputError(
-                f"traversal_v0: --algorithm {self.params.algorithm} is the exact MILP over the "
+                f"traversal_v0: algorithm {self.params.algorithm!r} is the exact MILP over the "
                 f"whole mission, not a policy that decides step by step; choose one of "
                 f"{', '.join(BASELINES)}"
             )
@@ -159,7 +161,8 @@ class raw_env(AECEnv):  # noqa: N801 - PettingZoo's module convention
             )
         self.render_mode = render_mode
         self.invalid_action = invalid_action
-        self.prepared = mission.prepare(self.params)
+        with python_spelling(mission.params_type):
+            self.prepared = mission.prepare(self.params)
         self.world = self.prepared.world
         n = int(self.world.graph.n_nodes)
         m = len(self.prepared.nests)

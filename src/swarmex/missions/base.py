@@ -23,7 +23,9 @@ its options from these declarations (cli/missions.py), so the two cannot drift.
 
 Parsing is strict and names the parameter: ``agents="three"`` is an
 :class:`~swarmex.errors.InputError` "--agents: expected an integer, got 'three'", raised
-before any work starts, and an unknown keyword names the nearest valid one.
+before any work starts, and an unknown keyword names the nearest valid one. The parsers
+name flags, as the command line needs; the Python surfaces (``swarmex.run`` and the others,
+``Params.replace``, the environments) rename them to keywords with :func:`python_spelling`.
 """
 
 from __future__ import annotations
@@ -33,7 +35,8 @@ import math
 import numbers
 import re
 from abc import ABC, abstractmethod
-from collections.abc import Callable, Collection, Iterable, Mapping, Sequence
+from collections.abc import Callable, Collection, Iterable, Iterator, Mapping, Sequence
+from contextlib import contextmanager
 from dataclasses import MISSING, dataclass, field, fields, replace
 from pathlib import Path
 from typing import Any, ClassVar, Generic, Self, TypeVar
@@ -484,7 +487,8 @@ class Params:
         values = {name: v for name, v in self.values().items() if v is not None}
         for name, v in own.items():
             values[name.replace("-", "_")] = v
-        out = type(self).from_values(values)
+        with python_spelling(type(self)):  # a Python-only method: its errors name keywords
+            out = type(self).from_values(values)
         rest = {**keep, **other}
         if rest:
             out = replace(out, **rest)
@@ -559,6 +563,40 @@ def unknown_message(mission: str, name: str, opts: Mapping[str, Any]) -> str:
     close = difflib.get_close_matches(name, list(opts), n=1, cutoff=0.5)
     hint = f"; did you mean {close[0]!r}?" if close else f" (valid: {', '.join(sorted(opts))})"
     return f"{mission or 'mission'}: unknown parameter {name!r}{hint}"
+
+
+# a flag, and the metavar after it that only the command line needs (FILE, WxH, LAT,LON)
+_FLAG = re.compile(r"(?<![\w-])(--[a-z][a-z0-9]*(?:-[a-z0-9]+)*)"
+                   r"( (?:[A-Z]+x[A-Z]+|[A-Z][A-Z_]+(?:,[A-Z][A-Z_]+)*)\b)?")
+
+
+@contextmanager
+def python_spelling(*params_types: type[Params]) -> Iterator[None]:
+    """Inside, an :class:`InputError` names options as the Python keywords the caller
+    wrote (``job_time``), not as command-line flags (``--job-time``).
+
+    Why at the Python surfaces only: the parsers and checks are shared with the command
+    line, which needs its flags; ``swarmex.run(..., job_time=-2)`` answered "--job-time
+    must be at least 0", a name the caller cannot write in Python. The message is rewritten
+    in place (same exception object, type and attributes); a flag none of ``params_types``
+    declares stays as it is. :func:`swarmex.missions.registry.any_python_spelling` does this
+    for every registered mission (a record's mission is known only once it is read)."""
+    try:
+        yield
+    except InputError as exc:
+        rename_flags(exc, params_types)
+        raise
+
+
+def rename_flags(exc: InputError, params_types: Iterable[type[Params]]) -> None:
+    """Rewrite ``exc``'s message in place: each flag of ``params_types``'s options as its
+    keyword, without the metavar after it (``--map FILE`` -> ``map``)."""
+    if not exc.args or not isinstance(exc.args[0], str) or "--" not in exc.args[0]:
+        return
+    keyword = {"--seed": "seed"}
+    for params_type in params_types:
+        keyword.update({info.flag: name for name, info in params_type.options().items()})
+    exc.args = (_FLAG.sub(lambda m: keyword.get(m[1], m[0]), exc.args[0]), *exc.args[1:])
 
 
 # ---------------------------------------------------------------------------- missions

@@ -14,12 +14,14 @@ from __future__ import annotations
 
 import difflib
 import importlib
+from collections.abc import Iterator
+from contextlib import contextmanager
 from functools import cache
 from importlib.metadata import entry_points
 from typing import Any
 
 from swarmex.errors import InputError
-from swarmex.missions.base import Mission
+from swarmex.missions.base import Mission, Params, rename_flags
 
 BUILTIN: dict[str, str] = {
     "exploration": "swarmex.missions.exploration.mission:ExplorationMission",
@@ -110,3 +112,25 @@ def same_value(mission: str | None, name: str, a: Any, b: Any) -> bool:
 
 
 _UNPARSED = object()
+
+
+@contextmanager
+def any_python_spelling() -> Iterator[None]:
+    """:func:`~swarmex.missions.base.python_spelling` for the options of every registered
+    mission: for surfaces that learn the mission from a record (``swarmex.rerun``,
+    ``render``). The missions are looked up only when an error is raised."""
+    try:
+        yield
+    except InputError as exc:
+        rename_flags(exc, _registered_params_types())
+        raise
+
+
+def _registered_params_types() -> list[type[Params]]:
+    found = []
+    for name in names():
+        try:
+            found.append(get(name).params_type)
+        except Exception:  # noqa: BLE001 - a broken plugin must not hide the user's error
+            continue
+    return found
