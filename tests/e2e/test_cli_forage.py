@@ -231,3 +231,28 @@ def test_ctrl_c_during_a_run_says_so(monkeypatch, capsys):
     argv = ["forage", "--grid", "8", "--agents", "4", "--algorithm", "sectors"]
     assert main(argv) == 130
     assert capsys.readouterr().err == "swarmex: interrupted; nothing written\n"
+
+
+def test_a_run_on_a_terminal_shows_robots_told_then_units_home(tmp_path, capsys, monkeypatch):
+    """``forage`` had no bar (1024² with 1,024 robots and Sectors: about 10 s in silence); on
+    a terminal it shows robots told, then units home, of n + k; the record is the same."""
+    import io
+
+    from rich.console import Console
+
+    import swarmex.cli.missions as missions
+    from swarmex.experiments.progress import FrameProgress
+
+    argv = ["forage", "--grid", "32", "--agents", "8", "--algorithm", "sectors",
+            "--food-units", "5", "--seed", "2", "--json"]
+    assert main([*argv, str(tmp_path / "a.json")]) == 0
+    screen = io.StringIO()
+    monkeypatch.setattr(missions, "err_console", Console(file=screen, force_terminal=True))
+    monkeypatch.setattr(FrameProgress, "DELAY", 0.0)
+    monkeypatch.setattr(FrameProgress, "EVERY", 0.0)
+    assert main([*argv, str(tmp_path / "b.json")]) == 0
+    assert "robots told, units home" in screen.getvalue() and "/13" in screen.getvalue()
+    a, b = (json.loads((tmp_path / f"{n}.json").read_text()) for n in "ab")
+    a.pop("wall_seconds"), b.pop("wall_seconds")
+    assert a == b
+    capsys.readouterr()

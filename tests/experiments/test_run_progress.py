@@ -89,3 +89,31 @@ def test_a_rerun_and_a_drawing_from_python_show_the_bar_when_asked(monkeypatch, 
     assert capfd.readouterr().err == ""  # no bar unless asked
     with pytest.raises(swarmex.InputError, match="progress must be True or False"):
         swarmex.rerun(rec, progress="no")
+
+
+def test_a_foraging_run_counts_robots_told_then_units_home(monkeypatch, capfd) -> None:
+    """A foraging run had no bar (1024² with 1,024 robots and Sectors: about 10 s in
+    silence). It counts the robots that know the food, then the units home: never down,
+    and n + k when the run completes; the record is the same with the bar."""
+    from swarmex.experiments.progress import FrameProgress
+    from swarmex.missions.registry import get
+
+    opts = dict(grid=32, agents=8, algorithm="sectors", food_units=5, seed=2)
+    mission = get("foraging")
+    params = mission.params(opts)
+    spec = mission.progress(params, mission.prepare(params))
+    frames = []
+    plain = swarmex.run("foraging", **opts, on_frame=frames.append)
+    counts = [spec.count(f) for f in frames]
+    assert spec.total == 8 + 5 and plain.complete
+    assert counts == sorted(counts) and counts[0] == 0 and counts[-1] == spec.total
+    told = [int(f.informed.sum()) for f in frames]
+    assert 0 < told.index(8) < len(frames) - 1  # the word is spread before the last unit
+    monkeypatch.setattr(FrameProgress, "DELAY", 0.0)
+    monkeypatch.setattr(FrameProgress, "EVERY", 0.0)
+    monkeypatch.setenv("FORCE_COLOR", "1")
+    with_bar = swarmex.run("foraging", **opts, progress=True)
+    assert "robots told, units home" in capfd.readouterr().err
+    a, b = with_bar.to_dict(), plain.to_dict()
+    a.pop("wall_seconds"), b.pop("wall_seconds")
+    assert a == b

@@ -14,7 +14,7 @@ import typer
 from rich.table import Table
 
 from swarmex.cli.app import console, err_console, reproduce_app
-from swarmex.cli.missions import Surface, mission_command
+from swarmex.cli.missions import Surface, mission_command, progress_bar
 from swarmex.cli.outputs import check_out_dir, study
 from swarmex.errors import InputError
 from swarmex.missions.base import FrameCallback, Outcome
@@ -55,7 +55,7 @@ def report(outcome: Outcome, params: Any) -> None:
 def recall_status(params: Any, world: Any, on_frame: FrameCallback | None) -> FrameCallback | None:
     """Recall replays the patterns on the remembered distances before the run (seconds on
     128 × 128, minutes on the largest grids): a bar on a terminal. The run's own choice then
-    reads the cached replays."""
+    reads the cached replays. Then the run's own bar (robots told, units home)."""
     if params.algorithm == "recall" and err_console.is_terminal:
         from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeElapsedColumn
 
@@ -70,9 +70,10 @@ def recall_status(params: Any, world: Any, on_frame: FrameCallback | None) -> Fr
 
             choose(params.grid, params.agents, params.found, params.food_units,
                    params.transport, params.comm, on_replay=tick)  # fmt: skip
-    return on_frame
+    return _run_bar(params, world, on_frame)
 
 
+_run_bar = progress_bar(get("foraging"))
 forage = mission_command(get("foraging"), Surface(report, watch=recall_status))
 
 
