@@ -296,3 +296,45 @@ def test_seconds_and_steps_are_times():
     table = [dict(r, mean_steps=r["makespan"]) for r in rows()]
     _, note = sweep_figure(table, META, "agents", "mean_steps", "algorithm")
     assert "6 of the 18 runs plotted did not finish" in note
+
+
+@pytest.mark.parametrize("kind", ["bar", "line"])
+def test_a_point_of_one_run_has_no_whisker_and_the_title_says_so(kind):
+    """A bar or lone point of one run drew a flat cap, read as "± 0", under a title that
+    promised a 95 % CI. Whiskers now go only where a point has two runs or more."""
+    from matplotlib.collections import LineCollection
+
+    def whiskers(fig) -> int:
+        return sum(len(c.get_segments()) for c in fig.axes[0].collections
+                   if isinstance(c, LineCollection))
+
+    one = [r for r in rows() if r["seed"] == 0]  # one run a point
+    x = "algorithm" if kind == "bar" else "agents"
+    where = ["agents=2"] if kind == "bar" else ["algorithm=madgta", "agents=2"]
+    fig, _ = sweep_figure(one, META, x, "makespan", None, where, kind)
+    assert whiskers(fig) == 0 and "one run a point: no interval" in fig.axes[0].get_title()
+    fig, _ = sweep_figure(rows(), META, x, "makespan", None, where, kind)
+    assert whiskers(fig) > 0 and "mean ± 95 % CI (" in fig.axes[0].get_title()
+    mixed = one + [r for r in rows() if r["seed"] == 1 and r["algorithm"] == "nearest"]
+    fig, _ = sweep_figure(mixed, META, "algorithm", "makespan", None, ["agents=2"], "bar")
+    assert whiskers(fig) == 1 and "where a point has two runs" in fig.axes[0].get_title()
+
+
+def test_a_share_of_runs_gets_wilsons_interval_within_0_and_1():
+    """``--y complete`` drew the t interval of 0/1 values: a share of the runs from about
+    0.1 to 1.2. It is now Wilson's score interval (scipy's, by an independent route), and the
+    axis stays within 0 and 1."""
+    import scipy.stats as st
+
+    from swarmex.viz.plot import interval_ends
+
+    fig, _ = sweep_figure(rows(), META, "agents", "complete", None, None, "line")
+    ax = fig.axes[0]
+    band = ax.collections[0].get_paths()[0].vertices[:, 1]
+    ends = st.binomtest(4, 6).proportion_ci(method="wilson")  # 2 of 3 per algorithm, pooled
+    assert band.min() == pytest.approx(ends.low) and band.max() == pytest.approx(ends.high)
+    assert ax.get_ylim() == (-0.03, 1.03) and "Wilson" in ax.get_title()
+    lo, hi = interval_ends([summarize([0.0, 1.0]), summarize([1.0, 1.0, 1.0])], True)
+    assert lo == pytest.approx([st.binomtest(1, 2).proportion_ci(method="wilson").low,
+                                st.binomtest(3, 3).proportion_ci(method="wilson").low])
+    assert hi[1] == pytest.approx(1.0)

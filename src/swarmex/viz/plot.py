@@ -107,9 +107,16 @@ def sweep_figure(
     ax = fig.add_subplot()
     width = 0.8 / len(hues)
     points = 0  # (series, x) cells with a finished run: what a point's mean is over
+    with_ci = 0  # of them, those with an interval (two runs or more)
+    fraction = all(isinstance(r[y], bool) for r in ok)  # complete: a share of the runs
     for i, (h, stats) in enumerate(series(ok, x, y, hue, xs, hues).items()):
         mean = np.array([s.mean for s in stats])
-        half = np.nan_to_num(np.array([s.half_width for s in stats]))
+        # a point of one run has no interval: no whisker (a flat cap read as "± 0")
+        interval = np.array([s.has_ci for s in stats], dtype=bool)
+        with_ci += int(interval.sum())
+        lo, hi = interval_ends(stats, fraction)
+        lo, hi = np.where(interval, lo, mean), np.where(interval, hi, mean)
+        span = np.nan_to_num(np.array([mean - lo, hi - mean]))  # errorbar's yerr
         label = None if hue is None else f"{h}"
         cut = np.array([(h, v) in cut_at for v in xs], dtype=bool)
         # a configuration without a finished run has no point: no line across it, no bar
@@ -118,20 +125,22 @@ def sweep_figure(
         if kind == "line":
             xv = np.array([float(v) for v in xs])
             (line,) = ax.plot(xv, mean, marker="o", lw=1.8, ms=4, label=label)
-            ax.fill_between(xv, mean - half, mean + half, where=have, color=line.get_color(),
-                            alpha=0.2, lw=0)
+            ax.fill_between(xv, lo, hi, where=have, color=line.get_color(), alpha=0.2, lw=0)
             # a band needs a neighbour: a point alone between gaps gets a whisker
-            alone = have & ~np.r_[False, have[:-1]] & ~np.r_[have[1:], False]
+            alone = have & ~np.r_[False, have[:-1]] & ~np.r_[have[1:], False] & interval
             if alone.any():
-                ax.errorbar(xv[alone], mean[alone], yerr=half[alone], ls="", capsize=3,
+                ax.errorbar(xv[alone], mean[alone], yerr=span[:, alone], ls="", capsize=3,
                             color=line.get_color())
             if (have & cut).any():
                 ax.plot(xv[have & cut], mean[have & cut], ls="", marker="o", ms=7,
                         mfc="white", mec=line.get_color(), mew=1.5, zorder=3)
         else:
             pos = (np.arange(len(xs)) + (i - (len(hues) - 1) / 2) * width)[have]
-            bars = ax.bar(pos, mean[have], width * 0.95, yerr=half[have], capsize=3,
-                          label=label)
+            bars = ax.bar(pos, mean[have], width * 0.95, label=label)
+            whisker = interval[have]
+            if whisker.any():
+                ax.errorbar(pos[whisker], mean[have][whisker], yerr=span[:, have][:, whisker],
+                            ls="", capsize=3, color="black", lw=1)
             for bar, hatched in zip(bars, cut[have], strict=True):
                 if hatched:
                     bar.set_hatch("//")
@@ -144,8 +153,14 @@ def sweep_figure(
     runs_per = len(ok) / max(1, points)
     # the filters belong in the title: a plot of part of a sweep looked like the whole of it
     only = f"\n{', '.join(where)}" if where else ""
+    if fraction:
+        ax.set_ylim(-0.03, 1.03)
+    ci = "95 % Wilson interval" if fraction else "95 % CI"
+    what = (f"mean ± {ci}" if with_ci == points
+            else "mean (one run a point: no interval)" if with_ci == 0
+            else f"mean ± {ci} where a point has two runs or more")
     ax.set_title(
-        f"{meta.get('mission', 'sweep')}: {y} vs {x} · mean ± 95 % CI (≈{runs_per:.0f} runs/point)"
+        f"{meta.get('mission', 'sweep')}: {y} vs {x} · {what} (≈{runs_per:.0f} runs/point)"
         + only,
         fontsize=10,
     )
@@ -210,6 +225,24 @@ def _words(y: str) -> list[str]:
 def _where(row: dict[str, Any], x: str, hue: str | None) -> str:
     """``x=V`` (and ``hue=H``) of a row, for a note."""
     return f"{x}={_label(row.get(x))}" + ("" if hue is None else f" {hue}={row.get(hue)}")
+
+
+def interval_ends(stats: list[Summary], fraction: bool) -> tuple[np.ndarray, np.ndarray]:
+    """Each point's 95 % interval, lower and upper ends (NaN where it has none).
+
+    A fraction (a yes/no column: ``complete``) gets Wilson's score interval, which stays
+    within 0 and 1: the t interval of 0/1 values does not (two runs, one complete: −5.9 to
+    6.9), and it drew a share of the runs above 100 %."""
+    if not fraction:
+        return (np.array([s.ci_low for s in stats], dtype=float),
+                np.array([s.ci_high for s in stats], dtype=float))
+    z = 1.959963984540054
+    n = np.array([s.n for s in stats], dtype=float)
+    p = np.array([s.mean for s in stats], dtype=float)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        centre = (p + z * z / (2 * n)) / (1 + z * z / n)
+        half = z / (1 + z * z / n) * np.sqrt(p * (1 - p) / n + z * z / (4 * n * n))
+    return centre - half, centre + half
 
 
 def series(
