@@ -105,6 +105,16 @@ def test_traversal_map_file_is_drawn_and_found_beside_the_record(tmp_path, monke
     assert record_world(record, tmp_path)["cells"] is None
 
 
+def test_the_header_names_the_map_file_not_its_folders(tmp_path):
+    # the whole path of a map deep in a tree pushed the header's buttons off the page
+    deep = tmp_path / "some" / "deep" / "folder"
+    deep.mkdir(parents=True)
+    write_map(deep / "small.map", MAP_ROWS)
+    record = run(tmp_path, "traverse", "--map", str(deep / "small.map"), "--agents", "2")
+    assert record["world"]["source"] == str(deep / "small.map")  # the record keeps the path
+    assert stream(record)[0]["title"] == "traversal · madgta · small.map"
+
+
 # ---------------------------------------------------------------------------- foraging
 
 

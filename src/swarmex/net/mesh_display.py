@@ -33,6 +33,7 @@ from swarmex.net.mesh_node import Node
 from swarmex.net.mesh_record import build_record
 from swarmex.net.mesh_scenario import read_scenario
 from swarmex.net.routing import ROUTED_PAYLOADS, wants_feedback
+from swarmex.worlds.mapfiles import source_name
 
 if TYPE_CHECKING:  # imported where used: each process loads only what it needs
     from swarmex.missions.exploration.messages import Message
@@ -261,7 +262,7 @@ class DisplayProcess(Node):
         w = self.grid.world
         self._emit(
             ev.hello("exploration", self.params.strategy, list(range(n)),
-                     f"exploration · {self.params.strategy} · {w.source} · processes",
+                     f"exploration · {self.params.strategy} · {source_name(w.source)} · processes",
                      None, "step", messages="totals"),
             ev.world(w.free, w.width, w.height, w.source),
         )

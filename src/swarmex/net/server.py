@@ -43,6 +43,7 @@ from swarmex.net.traversal import (
     check_broadcast,
     check_stats,
 )
+from swarmex.worlds.mapfiles import source_name
 
 LIVE = ("init", "ready", "mission", "rtl")
 EXIT_OK, EXIT_INCOMPLETE, EXIT_TIMEOUT = 0, 1, 3
@@ -422,7 +423,7 @@ class TraversalServer:
         mix = ", ".join(f"{kinds.count(k)} {k}" for k in sorted(set(kinds)))
         self._emit(  # live: no replay speed (the monitor's schema says null)
             ev.hello("traversal", m.algorithm, list(self.state), f"traversal · {m.algorithm} · "
-                     f"{w.source} · network · {mix}", None,
+                     f"{source_name(w.source)} · network · {mix}", None,
                      vehicles=[{"id": a, **(self.vehicles.get(a) or {"kind": "simulated"})}
                                for a in self.state]),
             ev.world(w.free, w.width, w.height, w.source),

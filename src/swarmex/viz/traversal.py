@@ -43,6 +43,7 @@ from swarmex.viz.animation import (
 )
 from swarmex.viz.axes import coordinate_ticks
 from swarmex.viz.files import save_figure
+from swarmex.worlds.mapfiles import source_name
 
 SMALL_CELLS = 2500  # up to 50x50 the thesis style (dots, edges, circles) stays legible
 MAX_FRAMES = 120  # an animation never has more frames than this, whatever the map size
@@ -616,9 +617,7 @@ def _title(record: dict, outcome: bool = True) -> str:
     """The run in one line; a still picture ends with its outcome (an animation's last frame
     says it instead: a title saying "complete" over the first frame reads as a wrong one)."""
     world = record.get("world") or {}
-    where = str(world.get("source") or world.get("kind") or "")
-    if "/" in where or "\\" in where:  # a map file: its name (a deep path overflowed the title)
-        where = where.replace("\\", "/").rsplit("/", 1)[-1]
+    where = source_name(str(world.get("source") or world.get("kind") or ""))
     m = len(record.get("agents", []))
     tail = f" · {_outcome(record)}" if outcome else ""
     return f"{record.get('algorithm', '?')} · {m} agent{'' if m == 1 else 's'} · {where}{tail}"

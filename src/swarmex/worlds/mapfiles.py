@@ -12,6 +12,12 @@ ROS_YAML_SUFFIXES = (".yaml", ".yml")
 ROS_SUFFIXES = (*ROS_YAML_SUFFIXES, ".pgm")
 
 
+def source_name(source: str) -> str:
+    """A world's source as a title shows it: a map file's name without its folders (a deep
+    path overflowed titles and the monitor's header), anything else as it is."""
+    return source.replace("\\", "/").rsplit("/", 1)[-1]
+
+
 def is_ros_map(path: str | Path) -> bool:
     return str(path).lower().endswith(ROS_SUFFIXES)
 

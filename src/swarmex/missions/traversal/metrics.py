@@ -21,6 +21,7 @@ import numpy as np
 
 from swarmex.engine.record import AgentRecord, MetricInfo, ResultRecord
 from swarmex.missions.traversal.sim import AgentLog, TraversalRun
+from swarmex.worlds.mapfiles import source_name
 
 #: The team metrics of a traversal record (``record.metrics``; ``optimal`` writes the same,
 #: and its four solver figures), in seconds unless said. A test holds this equal to what
@@ -130,7 +131,7 @@ def run_fingerprint(run: TraversalRun) -> str:
     rec.pop("swarmex_version", None)
     world = rec.get("world") or {}
     if isinstance(world.get("source"), str):  # where the map file lies is not behaviour
-        world["source"] = world["source"].replace("\\", "/").rsplit("/", 1)[-1]
+        world["source"] = source_name(world["source"])
     rec["_paths"] = run.path_strings()
     rec["_branches"] = [a.decisions_by_branch for a in run.agents]
     rec["_done_by"] = run.done_by.tolist()

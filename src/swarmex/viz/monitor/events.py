@@ -76,6 +76,7 @@ from typing import Any
 import numpy as np
 
 from swarmex.engine.record import message_total
+from swarmex.worlds.mapfiles import source_name
 
 SCHEMA = "swarmex.monitor/1"
 
@@ -97,7 +98,8 @@ def hello_event(
         "time_unit": record.get("time_unit", "s"),
         "agents": [a["id"] for a in record.get("agents", [])],
         "speed": speed if speed is None or math.isfinite(speed) else None,  # JSON has no inf
-        "title": f"{record.get('mission')} · {record.get('algorithm')} · {world.get('source', '')}",
+        "title": f"{record.get('mission')} · {record.get('algorithm')} ·"
+                 f" {source_name(str(world.get('source', '')))}",
     }
     if messages is not None:
         hello["messages"] = messages
