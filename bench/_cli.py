@@ -55,6 +55,19 @@ def _int_at_least(text: str, lo: int, why: str = "") -> int:
     return value
 
 
+def sizes(count: int, form: str) -> Callable[[str], tuple[int, ...]]:
+    """``count`` integers >= 1 joined by ``x`` (``form`` names them in the error, e.g.
+    ``WxHxROBOTS``): a grid's or a scenario's size, checked before any run."""
+
+    def parse(text: str) -> tuple[int, ...]:
+        parts = text.lower().split("x")
+        if len(parts) != count:
+            raise argparse.ArgumentTypeError(f"expected {form}, got {text!r}")
+        return tuple(_int_at_least(p.strip(), 1) for p in parts)
+
+    return parse
+
+
 def positive_int(text: str) -> int:
     """An integer >= 1 (counts of runs, seeds, agents, workers)."""
     return _int_at_least(text, 1)

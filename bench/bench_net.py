@@ -117,21 +117,22 @@ def mesh_rows(size: str, robots: int, scale: float, seed: int) -> list[dict]:
 def main() -> None:
     ap = _cli.Parser(description=__doc__.split("\n")[0])
     ap.add_argument("--agents", type=_cli.int_list, default=[10, 50])
-    ap.add_argument("--grid", default="20x20")
+    ap.add_argument("--grid", type=_cli.sizes(2, "WxH"), default=(20, 20))
     ap.add_argument("--time-scale", type=_cli.positive_float, default=0.02)
     ap.add_argument("--per-process", type=_cli.positive_int, default=10)
     ap.add_argument("--seed", type=_cli.nonneg_int, default=1)
     ap.add_argument("--timeout", type=_cli.positive_float, default=900.0)
-    ap.add_argument("--mesh", default="",
-                    help="Also run exploration as processes: SIZExROBOTS, e.g. 5x5x5.")
+    ap.add_argument("--mesh", type=_cli.sizes(3, "WxHxROBOTS"), default=None,
+                    help="Also run exploration as processes: WxHxROBOTS, e.g. 5x5x5.")
     ap.add_argument("--no-done-lists", action="store_true",
                     help="Leave Fig. 4.17's done-nodes list out of the broadcasts.")
     args = ap.parse_args()
+    grid = "x".join(map(str, args.grid))
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         for n in args.agents:
-            sim = simulate(args.grid, n, args.seed)
-            rec, wall = run_network(args.grid, n, args.time_scale, args.per_process,
+            sim = simulate(grid, n, args.seed)
+            rec, wall = run_network(grid, n, args.time_scale, args.per_process,
                                     args.seed, Path(tmp) / f"net{n}.json", args.timeout,
                                     not args.no_done_lists)
             net = rec["network"]
@@ -161,7 +162,7 @@ def main() -> None:
                 "dropped": net["dropped_checksum"] + net["dropped_encoding"],
             })
     print(f"done-nodes lists {'off' if args.no_done_lists else 'on'}; "
-          f"grid {args.grid}, time scale {args.time_scale} wall s per mission s, seed "
+          f"grid {grid}, time scale {args.time_scale} wall s per mission s, seed "
           f"{args.seed}, {args.per_process} agents per process, load average "
           f"{os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
     head = ("agents", "makespan sim/net (s)", "equal", "lag max/mean (mission s)",
@@ -189,7 +190,7 @@ def main() -> None:
               f"{r['makespan_net'] / r['makespan_sim']:.6f} (reference 1.000000)")
     print(json.dumps(rows))
     if args.mesh:
-        w, h, k = args.mesh.split("x")
+        w, h, k = args.mesh
         scale = 0.3
         mrows = mesh_rows(f"{w}x{h}", int(k), scale, args.seed)
         print(f"exploration {w}x{h} m, {k} robots, laser 1.5 m, radio 10 m, time scale {scale}")

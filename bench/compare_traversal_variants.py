@@ -453,7 +453,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--maps", nargs="+", type=map_name, default=None,
                     help=f"default: {' '.join(MAPS)}")
     ap.add_argument("--agents", nargs="+", type=_cli.positive_int, default=[4, 8, 16])
-    ap.add_argument("--seeds", type=_cli.paired_count, default=5)
+    ap.add_argument("--seeds", type=_cli.paired_count, default=None,
+                    help="seeds per configuration (default 5; --quick 3)")
     ap.add_argument("--nests", nargs="+", choices=NEST_MODES, default=list(NEST_MODES))
     ap.add_argument("--algorithms", nargs="+", default=ALGORITHMS)
     ap.add_argument("--fleets", nargs="+", choices=FLEETS, default=["same"],
@@ -463,7 +464,8 @@ def main(argv: list[str] | None = None) -> int:
                     help="variants: the radio of every run (one of comm's channels)")
     ap.add_argument("--comm-maps", nargs="+", type=map_name, default=COMM_MAPS)
     ap.add_argument("--comm-agents", type=_cli.positive_int, default=8)
-    ap.add_argument("--comm-seeds", type=_cli.paired_count, default=4)
+    ap.add_argument("--comm-seeds", type=_cli.paired_count, default=None,
+                    help="seeds per imperfect-radio configuration (default 4; --quick 2)")
     ap.add_argument("--comm-algorithms", nargs="+", default=["madgta", "madgta+"])
     ap.add_argument(
         "--without-obstacles",
@@ -506,7 +508,8 @@ def main(argv: list[str] | None = None) -> int:
         if ref not in args.algorithms:
             ap.error(f"--reference {ref}: not one of --algorithms")
     maps = args.maps or (QUICK_MAPS if args.quick else MAPS)
-    seeds = range(3 if args.quick else args.seeds)
+    # an explicit count wins over --quick's, as an explicit --maps does
+    seeds = range(args.seeds or (3 if args.quick else 5))
     out: dict[str, list[dict]] = {}
 
     if args.section in ("variants", "both"):
@@ -533,7 +536,7 @@ def main(argv: list[str] | None = None) -> int:
         jobs = [
             Job(mp, args.comm_agents, "dist", s, alg, label, carry)
             for mp in present
-            for s in range(2 if args.quick else args.comm_seeds)
+            for s in range(args.comm_seeds or (2 if args.quick else 4))
             for label, _ in CHANNELS
             for alg in args.comm_algorithms
             for carry in (

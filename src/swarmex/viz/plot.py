@@ -14,6 +14,7 @@ state, headless-safe.
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 from typing import Any
 
@@ -21,7 +22,7 @@ import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-from swarmex.engine.stats import Summary, summarize
+from swarmex.engine.stats import Summary, summarize, wilson_ci
 from swarmex.errors import InputError
 from swarmex.viz.files import save_figure
 
@@ -236,13 +237,9 @@ def interval_ends(stats: list[Summary], fraction: bool) -> tuple[np.ndarray, np.
     if not fraction:
         return (np.array([s.ci_low for s in stats], dtype=float),
                 np.array([s.ci_high for s in stats], dtype=float))
-    z = 1.959963984540054
-    n = np.array([s.n for s in stats], dtype=float)
-    p = np.array([s.mean for s in stats], dtype=float)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        centre = (p + z * z / (2 * n)) / (1 + z * z / n)
-        half = z / (1 + z * z / n) * np.sqrt(p * (1 - p) / n + z * z / (4 * n * n))
-    return centre - half, centre + half
+    ends = [wilson_ci(round(s.mean * s.n), s.n) if s.n else (math.nan, math.nan)
+            for s in stats]
+    return np.array([e[0] for e in ends]), np.array([e[1] for e in ends])
 
 
 def series(
