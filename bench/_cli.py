@@ -21,6 +21,7 @@ from __future__ import annotations
 import argparse
 import contextlib
 import math
+import os
 import signal
 import sys
 from collections.abc import Callable, Iterator
@@ -66,6 +67,19 @@ def sizes(count: int, form: str) -> Callable[[str], tuple[int, ...]]:
         return tuple(_int_at_least(p.strip(), 1) for p in parts)
 
     return parse
+
+
+def map_file(text: str) -> Path:
+    """A map file: the path as given, else a bare name in ``$SWARMEX_MAPS`` (default
+    ``../shared/maps``), as the other scripts' ``--maps`` names are read."""
+    path = Path(text)
+    if path.is_file():
+        return path
+    folder = Path(os.environ.get("SWARMEX_MAPS",
+                                 Path(__file__).resolve().parents[2] / "shared" / "maps"))
+    if path.parent == Path(".") and (folder / text).is_file():
+        return folder / text
+    raise argparse.ArgumentTypeError(f"no map file {text} (nor {folder / path.name})")
 
 
 def positive_int(text: str) -> int:

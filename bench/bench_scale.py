@@ -56,6 +56,13 @@ SIZES: dict[str, list[Any]] = {
 # rows on a map of their own (``--large``): shown, not fitted
 LARGE: dict[str, list[Any]] = {"exploration": [(100, 40)]}
 MARK_BEGIN, MARK_END = "<!-- bench_scale:begin -->", "<!-- bench_scale:end -->"
+# issue 14's goals on rows of this table: (mission, size label) -> (CPU s, peak MB or None)
+TARGETS: dict[tuple[str, str], tuple[float, float | None]] = {
+    ("traversal", "256"): (4.0, None),
+    ("exploration", "10"): (3.0, None),
+    ("exploration", "40"): (12.0, None),
+    ("exploration", "100 on 40x40 m"): (90.0, 4096.0),
+}
 
 
 def roadmap_env(path: Path) -> Path:
@@ -193,6 +200,25 @@ def table(rows: list[dict[str, Any]]) -> list[str]:
     return out
 
 
+def target_lines(rows: list[dict[str, Any]]) -> list[str]:
+    """Each goal a row of this run meets or misses, with the ratio measured / goal (below 1:
+    met), so the figure is judged in the same run that measured it."""
+    out = []
+    for r in rows:
+        goal = TARGETS.get((r["mission"], r["label"]))
+        if goal is None:
+            continue
+        seconds, mb = goal
+        ratio = r["cpu"] / seconds
+        line = (f"ratio {r['mission']} {r['label']}: {r['cpu']:.2f} s CPU / {seconds:g} s goal"
+                f" = {ratio:.2f}")
+        if mb is not None:
+            line += f"; {r['rss_mb']:.0f} MB / {mb:g} MB goal = {r['rss_mb'] / mb:.2f}"
+            ratio = max(ratio, r["rss_mb"] / mb)
+        out.append(line + (" (met)" if ratio <= 1 else " (MISSED)"))
+    return out
+
+
 def plot(rows: list[dict[str, Any]], path: Path) -> None:
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
@@ -268,6 +294,8 @@ def main(argv: list[str] | None = None) -> int:
                           flush=True)
     lines = table(rows)
     print("\n".join(lines))
+    if goals := target_lines(rows):
+        print("\n" + "\n".join(goals))
     if args.write:
         plot(rows, HERE / "scale.png")
         write_readme(lines)

@@ -59,8 +59,21 @@ DESCRIPTION = {
 
 def spec_text(runs: int, workload: str = "issue") -> str:
     axes, configurations = WORKLOADS[workload]
-    seeds = max(1, runs // configurations)
-    return f'mission = "traversal"\n{axes}seeds = {seeds}\n'
+    return f'mission = "traversal"\n{axes}seeds = {seeds_for(runs, configurations)}\n'
+
+
+def seeds_for(runs: int, configurations: int) -> int:
+    """Seeds per configuration: whole seeds, so the sweep has a multiple of the workload's
+    configurations (``--runs 300`` on 8 of them makes 296 runs; the script says so)."""
+    return max(1, runs // configurations)
+
+
+def announce_runs(asked: int, workload: str, what: str) -> None:
+    configurations = WORKLOADS[workload][1]
+    made = seeds_for(asked, configurations) * configurations
+    if made != asked:
+        print(f"{what}: {made} runs, not {asked}: {configurations} configurations with whole"
+              " seeds each", file=sys.stderr)
 
 
 # ---------------------------------------------------------------------------- phases
@@ -234,6 +247,7 @@ def main() -> None:
         tmp = Path(tmp)
         spec = tmp / "spec.toml"
         spec.write_text(spec_text(args.runs, args.workload))
+        announce_runs(args.runs, args.workload, "--runs")
         ones, twos = [], []
         for k in range(args.repeat):  # alternate, so a burst of outside load hits both
             ones.append(child(["rate", str(spec), str(tmp / f"w1-{k}"), "local", "1"]))
@@ -295,6 +309,7 @@ def main() -> None:
 
         mem_spec = tmp / "memory.toml"
         mem_spec.write_text(spec_text(args.memory_runs, args.workload))
+        announce_runs(args.memory_runs, args.workload, "--memory-runs")
         m = child(["memory", str(mem_spec), str(tmp / "mem"), "2"])
         n = len(rows(tmp / "mem"))
         verdict = "meets" if m["peak_rss_mib"] < TARGET_RSS_MIB else "ABOVE"

@@ -92,7 +92,7 @@ def main() -> int:
     print(f"  CPU time                 {cpu:8.2f} s")
     print(f"  peak memory (max RSS)    {rss_after:8.1f} MB  ({rss_before:.1f} MB before the run)")
     print(f"  decisions                {decisions:8d}    by branch 1/2/3: "
-          f"{branches[1]}/{branches[2]}/{branches[3]}")
+          f"{branches[1]}/{branches[2]}/{branches[3]}, {branches[0]} to finish")
     print(f"  decisions per second     {decisions / wall:8.0f}")
     print(f"  distance fields computed {computed:8d}    ({fc.get('shifted', 0)} of them shifted "
           f"from a neighbour's field)")

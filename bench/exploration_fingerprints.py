@@ -91,6 +91,11 @@ def main(argv: list[str] | None = None) -> int:
     if args.record and not args.record.resolve().parent.is_dir():
         ap.error(f"--record: folder {args.record.resolve().parent} does not exist")
     old = json.loads(args.check.read_text()) if args.check else {}
+    if args.only:  # a name no case has ran nothing, wrote {} and exited 0
+        with tempfile.TemporaryDirectory() as tmp:  # cases() writes the rooms map
+            names = list(cases(Path(tmp)))
+        if not any(args.only in name for name in names):
+            ap.error(f"--only {args.only}: no case's name contains it (have: {', '.join(names)})")
     # a check runs the cases the file holds: `--record F --only rooms-5` then `--check F`
     # ran all 20 and reported 19 of them missing (exit 1)
     table = run_all(args.only, set(old) if args.check else None)

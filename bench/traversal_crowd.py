@@ -24,7 +24,7 @@ untimed, so the first timed run does not pay it.
 
     .venv/bin/python bench/traversal_crowd.py                        # ~1 min
     .venv/bin/python bench/traversal_crowd.py --agents 64 --full     # + a 1000 x 1000 run, ~3 min
-    .venv/bin/python bench/traversal_crowd.py --map $SWARMEX_MAPS/den520d.map --agents 100 \
+    .venv/bin/python bench/traversal_crowd.py --map den520d.map --agents 100 \
         --events 3000                                                # ~1.5 min
 """
 
@@ -33,7 +33,6 @@ from __future__ import annotations
 import time
 from collections.abc import Iterator
 from contextlib import contextmanager
-from pathlib import Path
 
 import numpy as np
 
@@ -94,7 +93,9 @@ def timed(world: GridWorld, agents: int, events: int | None) -> tuple[float, str
 def main(argv: list[str] | None = None) -> int:
     ap = _cli.Parser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--side", type=_cli.positive_int, default=1000)
-    ap.add_argument("--map", type=Path, help="a MovingAI map (walled: hop rows) instead")
+    ap.add_argument("--map", type=_cli.map_file,
+                    help="a MovingAI map (walled: hop rows) instead: a path, or a name in"
+                         " $SWARMEX_MAPS (den520d.map)")
     ap.add_argument("--agents", type=_cli.positive_int, nargs="+", default=[16, 64])
     ap.add_argument("--events", type=_cli.positive_int, default=400)
     ap.add_argument("--full", action="store_true", help="also run each team to the end")

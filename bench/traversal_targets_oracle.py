@@ -41,6 +41,7 @@ from compare_traversal_variants import (  # noqa: E402
     NEST_MODES,
     Job,
     load,
+    map_name,
     paired_ci,
     run_all,
     select,
@@ -109,7 +110,8 @@ def relative(rows: list[dict], maps: list[str], variant: str) -> tuple[np.ndarra
 
 def main(argv: list[str] | None = None) -> int:
     ap = _cli.Parser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--maps", nargs="+", choices=MAPS, default=SMALL + LARGE)
+    # a map the folder lacks is refused at once (it printed an empty table and exit 0)
+    ap.add_argument("--maps", nargs="+", type=map_name, choices=MAPS, default=SMALL + LARGE)
     ap.add_argument("--seeds", type=_cli.paired_count, default=4)
     ap.add_argument("--agents", type=_cli.positive_int, default=16)
     ap.add_argument("--runs", type=_cli.out_file, default=None,

@@ -60,6 +60,9 @@ def main(argv: list[str] | None = None) -> int:
     check_algorithms(algorithms)
     world = random_obstacles(args.side, args.side, args.density, seed=1)
     free = np.nonzero(~world.blocked)[0]
+    if max(args.agents) > free.size:  # every team skipped printed an empty table, exit 0
+        ap.error(f"--agents {max(args.agents)}: more than the {free.size} free cells of"
+                 f" --side {args.side}")
     warm_up(algorithms)
     print(f"{args.side}x{args.side}, {args.density:.0%} walls, {free.size} free cells; "
           f"seeds 0-{args.seeds - 1}")

@@ -86,3 +86,16 @@ def test_mp4_without_the_video_extra_fails_before_the_run(command, tmp_path, cap
     out, err = capsys.readouterr()
     assert code == 2 and "swarmex[video]" in err
     assert out == ""  # no run, no summary
+
+
+def test_mp4_without_the_video_extra_names_no_option_render_lacks(tmp_path, capsys,
+                                                                  monkeypatch):
+    # `swarmex render REC out.mp4` blamed "--render .mp4", an option render does not have
+    assert main(["traverse", "--grid", "3x3", "--agents", "1", "--json",
+                 str(tmp_path / "r.json")]) == 0
+    capsys.readouterr()
+    monkeypatch.setitem(sys.modules, "imageio_ffmpeg", None)
+    assert main(["render", str(tmp_path / "r.json"), str(tmp_path / "a.mp4")]) == 2
+    err = capsys.readouterr().err
+    assert err == ("swarmex: error: an .mp4 animation needs imageio_ffmpeg:"
+                   " pip install 'swarmex[video]'\n")

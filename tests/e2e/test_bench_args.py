@@ -86,7 +86,11 @@ BAD = [
     ("traversal_targets_oracle.py", ["--seeds", "1"], "must be at least 2"),
     ("traversal_team_size.py", ["--density", "1"], "--density must be in [0, 1), got 1.0"),
     ("traversal_team_size.py", ["--algorithms", "madgta-f@x=1"], "madgta-f has no option 'x'"),
-    ("traversal_targets_oracle.py", ["--maps", "nope"], "invalid choice: 'nope'"),
+    ("traversal_targets_oracle.py", ["--maps", "nope"], "no map 'nope' in"),
+    # these printed an empty table (or wrote {}) and exited 0
+    ("traversal_team_size.py", ["--side", "1"], "more than the 1 free cells of --side 1"),
+    ("exploration_fingerprints.py", ["--record", "/tmp/fp-unused.json", "--only", "nosuch"],
+     "--only nosuch: no case's name contains it"),
     ("traversal_idle_moves.py", ["--maps", "nope"], "no map 'nope' in"),
     ("endgame_headroom.py", ["--maps", "nope"], "no map 'nope' in"),
     ("compare_traversal_variants.py", ["--quick", "--maps", "nope"], "no map 'nope' in"),

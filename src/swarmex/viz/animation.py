@@ -55,7 +55,7 @@ def require_writer(path: Path) -> None:
     run; checked only when writing, an MP4 asked for without the extra cost the whole run
     and then ended with exit 2 and no file."""
     if path.suffix.lower() == ".mp4":
-        require("imageio_ffmpeg", "video", "--render .mp4")
+        require("imageio_ffmpeg", "video", "an .mp4 animation")
 
 
 def write_animation(path: str | Path, frames: Sequence[np.ndarray], fps: float) -> Path:

@@ -121,7 +121,8 @@ DEMO_AGENTS = 4
 
 def demo_world() -> TraversalWorld:
     """``swarmex demo``'s embedded scenario: four agents from one nest on a generated 16x16
-    map with 18 % obstacles (generator seed 7), so the first command needs no file."""
+    map whose cells are obstacles with probability 0.18 (generator seed 7: 43 of 256), so the
+    first command needs no file."""
     from swarmex.worlds import random_obstacles
 
     world = random_obstacles(16, 16, 0.18, seed=7)
