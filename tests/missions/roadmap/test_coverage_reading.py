@@ -127,7 +127,7 @@ def test_a_step_no_tree_can_take_in_this_world_is_refused():
     import swarmex
 
     fig11 = "examples/roadmap_fig11.json"
-    with pytest.raises(InputError, match=r"--step 700: the WMA-RRT grew 0 of the 98 nodes it"
+    with pytest.raises(InputError, match=r"^step 700: the WMA-RRT grew 0 of the 98 nodes it"
                                          r" needed beyond the 2 roots .* 640 × 480 world"):
         swarmex.run("roadmap", env=fig11, agents=2, nodes=100, step=700, sensor_range="2eps")
     ok = swarmex.run("roadmap", env=fig11, agents=2, nodes=100, step=600, sensor_range="2eps")

@@ -143,5 +143,5 @@ def test_swarmex_run_records_the_spec():
                          algorithm="madgta-f@keep=False,ils=4")
     assert record.params["algorithm"] == "madgta-f@ils=4,keep=false"
     assert record.algorithm == "madgta-f@ils=4,keep=false"
-    with pytest.raises(InputError, match="--algorithm: options .* are for a policy"):
+    with pytest.raises(InputError, match="^algorithm: options .* are for a policy"):
         swarmex.run("traversal", grid="4x4", agents=2, algorithm="optimal@objective=sum")

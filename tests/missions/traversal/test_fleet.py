@@ -173,11 +173,11 @@ def test_a_bad_row_exits_2_with_one_line_naming_the_row_and_the_field(
 def test_bad_toml_rows_and_fleet_conflicts() -> None:
     with pytest.raises(InputError, match=r"agent 2: unknown field 'jobtime'; did you mean"):
         swarmex.run("traversal", grid=(4, 4), fleet=[{"id": 1}, {"id": 2, "jobtime": 3}])
-    with pytest.raises(InputError, match="--agents 3 but the fleet lists 2 agents"):
+    with pytest.raises(InputError, match="agents 3 but the fleet lists 2 agents"):
         swarmex.run("traversal", grid=(4, 4), agents=3, fleet=[{"id": 1}, {"id": 2}])
     with pytest.raises(InputError, match="travel_speed \\(m/s\\) needs a length scale"):
         swarmex.run("traversal", grid=(4, 4), fleet=[{"id": 1, "travel_speed": 3}])
-    with pytest.raises(InputError, match=r"--agents \(or --fleet\) is required"):
+    with pytest.raises(InputError, match=r"agents \(or fleet\) is required"):
         swarmex.run("traversal", grid=(4, 4))
     with pytest.raises(InputError, match="not both"):
         swarmex.run("traversal", grid=(4, 4), agents=[{"id": 1}], fleet=[{"id": 1}])
