@@ -7,6 +7,7 @@ the wall's; every wait below is bounded.
 
 from __future__ import annotations
 
+import socket
 import threading
 import time
 
@@ -341,3 +342,38 @@ def test_a_closed_tcp_link_is_a_fault_at_once_and_quiet(capsys):
         server.close()
         t.join(2)
     assert len(capsys.readouterr().out.splitlines()) <= 2
+
+
+def test_each_datagram_is_parsed_on_its_own():
+    """A torn datagram (a MAVLink 2 header claiming 255 bytes, cut after 10) costs only
+    itself: UDP keeps message boundaries, so the commands in the datagrams after it arrive.
+    With one stream parser shared across datagrams the bogus header swallowed them and the
+    mode never changed."""
+    from pymavlink.dialects.v20 import ardupilotmega as mav
+
+    emu = emulator.Emulator("127.0.0.1", 0, emulator.EmulatorConfig(timeout=5.0),
+                            say=lambda s: None)
+    gcs = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+    try:
+        to = ("127.0.0.1", emu.port)
+
+        class _To:
+            def write(self, b: bytes) -> None:
+                gcs.sendto(b, to)
+
+        link = mav.MAVLink(_To(), srcSystem=255, srcComponent=190)
+        gcs.sendto(b"\xfd\xff" + bytes(8), to)  # the torn datagram
+        link.heartbeat_send(6, 8, 0, 0, 0)
+        link.command_long_send(1, 1, mav.MAV_CMD_DO_SET_MODE, 0, 1, emulator.GUIDED,
+                               0, 0, 0, 0, 0)
+        gcs.sendto(b"\xfe\x09" + bytes(3), to)  # and a torn MAVLink 1 one in the middle
+        link.heartbeat_send(6, 8, 0, 0, 0)
+        end = time.monotonic() + 5.0
+        while emu.received < 3 and time.monotonic() < end:
+            time.sleep(0.02)
+            emu._receive(time.monotonic())
+        assert emu.received == 3  # two heartbeats and the command, nothing else
+        assert emu.copter.mode == emulator.GUIDED
+    finally:
+        gcs.close()
+        emu.sock.close()

@@ -26,7 +26,8 @@ fix; ``--battery`` / ``--drain`` run it low; ``--drop-link-after S`` makes it fa
 emulated seconds after its first take-off — it neither sends nor hears anything more — and
 fly its failsafe RTL. ``--speedup F`` (at most 1000) runs the emulated clock F times faster
 than the wall (as SITL's ``--speedup``): with ``swarmex serve --time-scale 1/F`` the mission
-and the vehicle keep pace. It listens on one UDP port and talks to whoever sent the latest packet.
+and the vehicle keep pace. It listens on one UDP port and talks to whoever sent the latest
+packet; each datagram is parsed on its own (a torn one costs only itself).
 """
 
 from __future__ import annotations
@@ -325,8 +326,6 @@ class Emulator:
         self.out = _Out(self.sock)
         self.mav = mavlink.MAVLink(self.out, srcSystem=cfg.sysid, srcComponent=1)
         self.mav.robust_parsing = True
-        self.parser = mavlink.MAVLink(None, srcSystem=cfg.sysid, srcComponent=1)
-        self.parser.robust_parsing = True
         self.copter = Copter(cfg, self._statustext)
         self.link_up = True
         self.last_gcs: float | None = None
@@ -436,13 +435,30 @@ class Emulator:
             if not self.link_up:
                 continue  # the radio is dead: nothing gets through
             self.out.addr = addr
-            try:
-                msgs = self.parser.parse_buffer(data) or []
-            except Exception:  # pymavlink raises MAVError and friends on garbage
-                continue
-            for m in msgs:
+            for m in self._parse(data):
                 self.received += 1
                 self._on_message(m, now)
+
+    def _parse(self, data: bytes) -> list[Any]:
+        """The messages of one datagram, parsed on its own.
+
+        UDP keeps message boundaries (a MAVLink sender puts whole messages in each
+        datagram), so a torn or garbage datagram costs only itself. One stream parser shared
+        across datagrams kept a torn header's claim (say, 255 bytes to come) and ate the
+        valid messages of the datagrams after it; a fresh parser per datagram (microseconds,
+        at a ground station's few dozen datagrams a second) carries nothing over. What the
+        datagram held before an error still counts."""
+        parser = mavlink.MAVLink(None, srcSystem=self.cfg.sysid, srcComponent=1)
+        parser.robust_parsing = True
+        msgs: list[Any] = []
+        try:  # parse_buffer's loop, keeping the messages parsed before an exception
+            m = parser.parse_char(data)
+            while m is not None:
+                msgs.append(m)
+                m = parser.parse_char(b"")
+        except Exception:  # pymavlink raises MAVError and friends on garbage
+            pass
+        return msgs
 
     def _on_message(self, m: Any, now: float) -> None:
         kind = m.get_type()
