@@ -205,6 +205,109 @@ def test_sigterm_to_the_launcher_keeps_the_record_so_far_and_leaves_no_process(t
     assert not left, f"processes left running: {left}"
 
 
+def test_a_forged_status_and_report_cost_only_themselves(tmp_path, monkeypatch):
+    """A STATUS whose move time is ``inf`` (``int(inf)``: OverflowError) killed the display,
+    and the launcher then lost the run's record with a traceback; a REPORT of ``inf`` did
+    the same. Sent here to the display's own socket mid-run, as a stray sender would: both
+    are dropped and counted, and the run completes."""
+    import tempfile
+
+    import zmq
+
+    from swarmex.net import wire
+
+    monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))  # where the run's air is
+    grid = empty_metric(3, 3)
+    params = ExplorationParams(robots=2, laser_range=1.0, comm_range=10.0, seed=1)
+    options = MeshOptions(time_scale=0.2, timeout=90)
+    lines: list[str] = []
+
+    def say(line: str) -> None:
+        lines.append(line)
+        if "robots started" not in line:
+            return
+        addr = next(tmp_path.glob("swarmex-mesh-*/node-10000.addr")).read_text().strip()
+        push = zmq.Context.instance().socket(zmq.PUSH)
+        push.setsockopt(zmq.LINGER, 2000)
+        push.connect(addr)
+        push.send(wire.pack(["STATUS", 0, {"t": 5, "finished": False, "x": 1, "y": 1,
+                                           "moves": [[float("inf"), 1, 1]]}]))
+        push.send(wire.pack(["REPORT", 1, {"steps": float("inf")}]))
+        push.close()
+
+    record = run_processes(grid, params, options, tmp_path / "mesh.json", say=say)
+    assert any("robots started" in s for s in lines)
+    assert record["complete"], lines
+    assert record["metrics"]["display_traffic"]["bad_frames"] >= 2
+    assert all(a["metrics"]["reported"] for a in record["agents"])
+
+
+def test_a_killed_display_ends_the_launcher_in_one_line(tmp_path):
+    """The display SIGKILLed mid-run (the OOM killer, a stray kill): the launcher said a
+    RuntimeError's traceback and waited 10 s for each robot. Now one line on stderr, exit
+    status 3, no record written (the run's state died with the display), no process left."""
+    import os
+    import signal
+    import subprocess
+    import sys
+
+    out = tmp_path / "mesh.json"
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "swarmex", "mesh", "--empty", "8x8", "--robots", "2",
+         "--time-scale", "1", "--json", str(out)],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
+        env={**os.environ, "TMPDIR": str(tmp_path)},
+    )
+    try:
+        assert proc.stdout is not None
+        for line in proc.stdout:
+            if "robots started" in line:
+                break
+        children = _descendants(proc.pid)
+        addr = next(tmp_path.glob("swarmex-mesh-*/node-10000.addr")).read_text()
+        display = _listening(int(addr.rsplit(":", 1)[1]), children)
+        os.kill(display, signal.SIGKILL)
+        t0 = time.monotonic()
+        _, err = proc.communicate(timeout=40)
+        took = time.monotonic() - t0
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait(5)
+    assert proc.returncode == 3, err
+    assert "Traceback" not in err
+    assert err.strip().splitlines() == [
+        "swarmex: the display process ended (exit -9) without writing the record; "
+        "nothing written"]
+    assert not out.exists()
+    assert took < 8, took  # not 10 s of waiting for each robot
+    time.sleep(0.5)
+    left = [pid for pid in children if _alive(pid)]
+    assert not left, f"processes left running: {left}"
+
+
+def _listening(port: int, pids: list[int]) -> int:
+    """Which of ``pids`` has the TCP socket listening on 127.0.0.1:``port`` (Linux /proc):
+    the display's PULL socket, whose endpoint it published in the air."""
+    import os
+    from pathlib import Path
+
+    inode = None
+    for row in Path("/proc/net/tcp").read_text().splitlines()[1:]:
+        f = row.split()
+        if f[1] == f"0100007F:{port:04X}" and f[3] == "0A":
+            inode = f[9]
+    assert inode is not None, f"nothing listens on port {port}"
+    for pid in pids:
+        for fd in Path(f"/proc/{pid}/fd").glob("*"):
+            try:
+                if os.readlink(fd) == f"socket:[{inode}]":
+                    return pid
+            except OSError:
+                continue
+    raise AssertionError(f"no process of the run listens on port {port}")
+
+
 def _descendants(pid: int) -> list[int]:
     """Every process below ``pid`` (Linux /proc): the display and the robots are the fork
     server's children, not the launcher's."""

@@ -198,9 +198,21 @@ RADIO = _radio_frames()
 
 
 def _mesh_decoders(frame: bytes) -> None:
-    from swarmex.net.mesh_frames import decode_control, decode_radio
+    from swarmex.net.mesh_frames import (
+        decode_control,
+        decode_radio,
+        report_fields,
+        status_fields,
+    )
 
-    for decode in (lambda f: decode_radio(f, (12, 12)), decode_control):
+    def control(f: bytes) -> None:  # what the display reads of a STATUS or REPORT too
+        obj = decode_control(f)
+        if obj[0] == "STATUS":
+            status_fields(obj[2], (12, 12))
+        elif obj[0] == "REPORT":
+            report_fields(obj[2], (12, 12))
+
+    for decode in (lambda f: decode_radio(f, (12, 12)), control):
         with contextlib.suppress(wire.WireError):
             decode(frame)
 
@@ -240,6 +252,7 @@ def test_mesh_checksummed_nonsense(kind, body, x, y):
         return
     _mesh_decoders(frame)
     _mesh_decoders(wire.pack(["STATUS", x, body]))
+    _mesh_decoders(wire.pack(["REPORT", x, body]))
 
 
 @settings(max_examples=150, deadline=None)
@@ -263,3 +276,20 @@ def test_mesh_routed_payload_nonsense(kind, body, src, exp):
     except (OverflowError, ValueError, TypeError):
         return
     _mesh_decoders(frame)
+
+
+@settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.dictionaries(st.sampled_from(["t", "finished", "stopped", "x", "y", "moves",
+                                        "steps", "free", "trajectory", "traffic",
+                                        "plan_ticks", "unicasts", "replan_reasons"]),
+                       msgpack_values | st.lists(st.lists(scalars, max_size=4), max_size=3),
+                       max_size=8))
+def test_mesh_status_and_report_nonsense(body):
+    """The display's checks of a robot's telemetry raise only WireError (an ``inf`` move
+    time raised OverflowError in the display and lost the run's record)."""
+    try:
+        frames = [wire.pack([cmd, 0, body]) for cmd in ("STATUS", "REPORT")]
+    except (OverflowError, ValueError, TypeError):
+        return
+    for frame in frames:
+        _mesh_decoders(frame)

@@ -11,6 +11,8 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
+import typer
+
 from swarmex.cli.app import console, err_console, interrupted
 from swarmex.cli.outputs import check_output
 from swarmex.errors import InputError
@@ -70,7 +72,7 @@ def run_mesh(grid, params, time_scale: float = 1.0, loss: float = 0.0,
         check_wall_seconds,
         check_wire_seed,
     )
-    from swarmex.net.mesh import run_processes
+    from swarmex.net.mesh import EXIT_DISPLAY_DIED, DisplayDied, run_processes
     from swarmex.net.mesh_scenario import MeshOptions
 
     check_mesh_robots(params.robots)  # one OS process each: 300 forked 300
@@ -95,6 +97,9 @@ def run_mesh(grid, params, time_scale: float = 1.0, loss: float = 0.0,
         if json_path is not None and json_path.exists() and json_path.stat().st_mtime >= started:
             interrupted(f"the record of the run so far is in {json_path}")
         interrupted("nothing written")
+    except DisplayDied as exc:  # one line (it was a RuntimeError's traceback)
+        _warn(f"swarmex: {exc}; nothing written")
+        raise typer.Exit(EXIT_DISPLAY_DIED) from None
     m = record["metrics"]
     console.print(
         f"exploration/{params.strategy} as processes: {params.robots} robot(s) — "

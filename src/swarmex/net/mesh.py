@@ -79,6 +79,18 @@ PRELOAD = ["swarmex.net.mesh", "swarmex.missions.exploration.sim",
            "swarmex.engine.record", "zmq"]
 
 
+class DisplayDied(RuntimeError):
+    """The display process ended, or hung, without writing the record (the launcher has
+    nothing of the run: the robots report to the display only). One line, no traceback:
+    :func:`swarmex.cli.shared.run_mesh` says it and exits with status
+    :data:`EXIT_DISPLAY_DIED`."""
+
+
+#: the launcher's exit status when the display died without a record (the robots, too,
+#: leave with 3 when the display is gone)
+EXIT_DISPLAY_DIED = 3
+
+
 def _robot_entry(run_dir: str, rid: int, log_path: str) -> None:
     """A robot process's body (started by the fork server): output to its log file. A
     terminal's Ctrl-C, or a SIGTERM to the whole group (``timeout``, a service manager), is
@@ -101,6 +113,10 @@ def _display_entry(run_dir: str, monitor_url: str | None, conn: Any) -> None:
     node = DisplayProcess(Path(run_dir), monitor_url=monitor_url)
     try:
         code = node.run(conn.send)
+    except Exception as exc:  # one line to the launcher, not a traceback on its terminal
+        code = 1
+        with contextlib.suppress(OSError):
+            conn.send(f"swarmex mesh display: failed ({type(exc).__name__}: {exc!s:.80})")
     finally:
         node.close()
         node.view.close(1000)  # let the last event batch reach the viewers
@@ -127,6 +143,7 @@ def run_processes(grid: MetricGrid, params: ExplorationParams, options: MeshOpti
     from swarmex.missions.exploration.params import validate
 
     validate(params, grid)
+    started = time.time()
     mp = multiprocessing.get_context("forkserver")
     mp.set_forkserver_preload(PRELOAD)
     run_dir = Path(tempfile.mkdtemp(prefix="swarmex-mesh-"))
@@ -172,14 +189,19 @@ def run_processes(grid: MetricGrid, params: ExplorationParams, options: MeshOpti
             display.join(5)
             raise
         display.join(max(1.0, deadline - time.monotonic()))
+        path = json_path or record_path
+        # written by this run (a --json file left by an earlier one is not this run's record)
+        if not path.exists() or path.stat().st_mtime < started:
+            # killed (SIGKILL, the OOM killer) or stuck: the robots' reports and the run's
+            # state went with it, so there is nothing to save; the robots are killed below
+            # at once instead of after their 10 s wait for the display's silence
+            raise DisplayDied(
+                "the display process was still running at the deadline"
+                if display.exitcode is None else
+                f"the display process ended (exit {display.exitcode}) without writing the"
+                " record")
         for p in procs[1:]:
             p.join(10)
-        path = json_path or record_path
-        if not path.exists():
-            tails = [(run_dir / f"robot-{r}.log").read_text()[-300:]
-                     for r in range(params.robots) if (run_dir / f"robot-{r}.log").exists()]
-            raise RuntimeError(f"the display wrote no record (exit {display.exitcode});"
-                               f" robot output: {[t for t in tails if t]}")
         import json
 
         return json.loads(path.read_text())

@@ -28,6 +28,8 @@ from swarmex.net.mesh_frames import (
     control_message,
     encode_radio,
     radio_message,
+    report_fields,
+    status_fields,
 )
 from swarmex.net.mesh_node import Node
 from swarmex.net.mesh_record import build_record
@@ -39,6 +41,11 @@ if TYPE_CHECKING:  # imported where used: each process loads only what it needs
     from swarmex.missions.exploration.messages import Message
 
 BEAT_WALL = 0.5  # the display's keep-alive on the control link
+#: the display's status when an error of its own ended the run (the record is still written)
+EXIT_DISPLAY_ERROR = 4
+#: what a frame's handling may raise past the checks (a bug's usual suspects): the frame is
+#: dropped and counted rather than the display killed with the run's record
+FRAME_ERRORS = (KeyError, TypeError, ValueError, OverflowError, IndexError, AttributeError)
 
 
 class DisplayProcess(Node):
@@ -87,6 +94,7 @@ class DisplayProcess(Node):
         self.forwarder = (ev.IngestForwarder(monitor_url, warn=self.warnings.append)
                           if monitor_url else None)
         self.record: dict[str, Any] | None = None
+        self.frame_error_said = False
 
     # ---- radio
     def on_radio(self, obj: list[Any]) -> None:
@@ -181,10 +189,16 @@ class DisplayProcess(Node):
 
     # ---- control
     def on_control(self, obj: list[Any], now: float) -> None:
+        """A robot's HELLO, STATUS or REPORT (shape-checked by :func:`control_message`).
+
+        Every field of a STATUS or REPORT is checked (:func:`status_fields`,
+        :func:`report_fields`) before anything changes: a bad one raises WireError, which
+        the caller drops and counts, and it does not count as a sign of life either."""
         cmd, rid = obj[0], int(obj[1])
         if rid >= self.params.robots:
-            self.traffic.bad_frames += 1
-            return
+            raise wire.EncodingError(f"{cmd}: no robot {rid}")
+        status = status_fields(obj[2], self.grid.shape) if cmd == "STATUS" else None
+        report = report_fields(obj[2], self.grid.shape) if cmd == "REPORT" else None
         info = self.robots.setdefault(rid, {"seen": now, "finished": False, "t": 0,
                                             "pos": tuple(self.starts[rid]),
                                             "trajectory": [], "goal": None,
@@ -192,22 +206,13 @@ class DisplayProcess(Node):
         info["seen"] = now
         if cmd == "HELLO":
             self.air[rid] = str(obj[2])
-        elif cmd == "STATUS":
-            d = obj[2]
-            try:
-                info["t"] = int(d["t"])
-                info["finished"] = bool(d["finished"])
-                info["stopped"] = bool(d.get("stopped"))
-                info["pos"] = (int(d["x"]), int(d["y"]))
-                moves = [[int(t), int(x), int(y)] for t, x, y in d["moves"]]
-            except (KeyError, TypeError, ValueError):
-                self.traffic.bad_frames += 1
-                return
+        elif status is not None:
+            info["t"], info["finished"], info["stopped"], info["pos"], moves = status
             info["trajectory"].extend(moves)
             for t, x, y in moves:
                 self._emit(ev.move(float(t), rid, float(x), float(y)))
-        elif cmd == "REPORT":
-            self.reports[rid] = obj[2]
+        elif report is not None:
+            self.reports[rid] = report
 
     def broadcast_control(self, obj: list[Any]) -> None:
         frame = wire.pack(obj)
@@ -275,7 +280,12 @@ class DisplayProcess(Node):
             self.broadcast_control(["GO"])
             say(f"swarmex mesh display: {len(self.robots)} robots started")
             self.t0 = t0 = time.monotonic()
-            code = self._explore(say, stop, deadline)
+            try:
+                code = self._explore(say, stop, deadline)
+            except Exception as exc:  # a bug: stop the robots, keep the record so far
+                say(f"swarmex mesh display: internal error ({type(exc).__name__}: "
+                    f"{exc!s:.80}); stopping the robots")
+                code = EXIT_DISPLAY_ERROR
         # stop everyone and collect the reports
         self.broadcast_control(["STOP"])
         wait_until = time.monotonic() + max(3.0, 2 * opts.dead_after)
@@ -354,20 +364,33 @@ class DisplayProcess(Node):
         if self.pull.poll(int(min(wait, 0.05) * 1000)):
             for frame in self.recv_all():
                 try:
-                    obj = wire.unpack(frame)
-                    if isinstance(obj, list) and obj and obj[0] == RADIO_KIND:
-                        self.on_radio(obj)
-                        continue
-                    obj = control_message(obj)
-                except wire.WireError:
+                    self._on_frame(frame, now)
+                except FRAME_ERRORS as exc:
+                    # a frame the checks let through and the handling still choked on (a
+                    # bug): dropped and counted like a bad frame, said once, the run goes on
                     self.traffic.bad_frames += 1
-                    continue
-                if obj[0] == "NACK":  # a unicast of ours was out of the receiver's range
-                    msg = self.link.refused(int(obj[1]), int(obj[2]))
-                    if msg is not None and self.aodv is not None:
-                        self._failed(int(obj[1]), msg)
-                elif obj[0] in ("HELLO", "STATUS", "REPORT"):
-                    self.on_control(obj, now)
+                    if not self.frame_error_said:
+                        self.frame_error_said = True
+                        self.say(f"swarmex mesh display: dropped a frame that raised "
+                                 f"{type(exc).__name__}: {exc!s:.80} (counted as bad)")
+
+    def _on_frame(self, frame: bytes, now: float) -> None:
+        """One frame from the PULL socket: a radio frame or a control frame; a malformed
+        one is dropped and counted."""
+        try:
+            obj = wire.unpack(frame)
+            if isinstance(obj, list) and obj and obj[0] == RADIO_KIND:
+                self.on_radio(obj)
+                return
+            obj = control_message(obj)
+            if obj[0] == "NACK":  # a unicast of ours was out of the receiver's range
+                msg = self.link.refused(int(obj[1]), int(obj[2]))
+                if msg is not None and self.aodv is not None:
+                    self._failed(int(obj[1]), msg)
+            elif obj[0] in ("HELLO", "STATUS", "REPORT"):
+                self.on_control(obj, now)
+        except wire.WireError:
+            self.traffic.bad_frames += 1
 
     def build_record(self, wall: float, ended: bool) -> dict[str, Any]:
         """The run's result record (:func:`swarmex.net.mesh_record.build_record`)."""

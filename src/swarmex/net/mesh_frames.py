@@ -163,3 +163,111 @@ def control_message(obj: Any) -> list[Any]:
     if cmd in ("STATUS", "REPORT") and not isinstance(obj[2], dict):
         raise wire.EncodingError(f"{cmd}: expected a map")
     return obj
+
+
+# ---- the contents of STATUS and REPORT, checked before the display uses a field of them
+#
+# A robot's telemetry is a map whose fields the display turns into integers, cells and the
+# record's numbers. ``int(inf)`` raises OverflowError, ``int(nan)`` ValueError, a huge
+# integer passes int() and then breaks numpy or JSON: one such frame (a bug, a stray sender
+# on the port) killed the display and lost the run's record. Every field is checked here,
+# so a bad frame is a WireError like any other: dropped and counted.
+
+MAX_TICK = 2**40  # ticks and move times (a century of 100 ms ticks)
+MAX_COUNT = 2**53  # counters: exact in a JSON number (a double)
+MAX_ROWS = 1_000_000  # moves, plan ticks, table entries
+
+#: a REPORT's plain counters
+REPORT_COUNTS = ("steps", "ticks", "moves", "plans", "replans", "scans", "archive",
+                 "conflicts", "change_goals_sent", "blacklisted_regions", "link_refusals")
+#: a REPORT's tables of counters by name
+REPORT_TABLES = ("replan_reasons", "scans_by_origin", "unicasts", "multihop_in")
+#: the traffic counters a REPORT must carry (:class:`~swarmex.net.mesh_node.Traffic`)
+TRAFFIC_COUNTS = ("frames_out", "bytes_out", "send_timeouts", "frames_in", "bytes_in",
+                  "out_of_range", "lost_injected", "bad_frames")
+
+
+def _flag(v: Any, what: str) -> bool:
+    if not isinstance(v, bool):
+        raise wire.EncodingError(f"{what}: expected true or false")
+    return v
+
+
+def _moves(v: Any, shape: tuple[int, int], what: str) -> list[list[int]]:
+    """``[[t, x, y], ...]``: ticks in range, cells on the map."""
+    if not isinstance(v, list) or len(v) > MAX_ROWS:
+        raise wire.EncodingError(f"{what}: expected a list of [t, x, y]")
+    out = []
+    for row in v:
+        if not isinstance(row, list) or len(row) != 3:
+            raise wire.EncodingError(f"{what}: expected [t, x, y]")
+        t = wire._int(row[0], f"{what} t", 0, MAX_TICK)
+        x, y = _cell(row[1:], shape, what)
+        out.append([t, x, y])
+    return out
+
+
+def _table(v: Any, what: str) -> dict[str, int]:
+    """``{name: count}`` with short names and counts a JSON number holds exactly."""
+    if not isinstance(v, dict) or len(v) > MAX_ROWS:
+        raise wire.EncodingError(f"{what}: expected a map of counts")
+    return {wire._str(k, f"{what} key", 64): wire._int(n, f"{what} count", 0, MAX_COUNT)
+            for k, n in v.items()}
+
+
+def status_fields(
+    d: Any, shape: tuple[int, int]
+) -> tuple[int, bool, bool, tuple[int, int], list[list[int]]]:
+    """A STATUS frame's ``(t, finished, stopped, (x, y), moves)``, every field checked
+    against the map's shape; :class:`~swarmex.net.wire.WireError` for anything malformed."""
+    if not isinstance(d, dict):
+        raise wire.EncodingError("STATUS: expected a map")
+    t = wire._int(d.get("t"), "STATUS t", 0, MAX_TICK)
+    finished = _flag(d.get("finished"), "STATUS finished")
+    stopped = _flag(d.get("stopped", False), "STATUS stopped")
+    pos = _cell([d.get("x"), d.get("y")], shape, "STATUS cell")
+    return t, finished, stopped, pos, _moves(d.get("moves"), shape, "STATUS moves")
+
+
+def report_fields(d: Any, shape: tuple[int, int]) -> dict[str, Any]:
+    """A REPORT's fields, checked (counters, tables of counters, plan ticks, the trajectory
+    on the map, the final map's bits for this map's size, the traffic counters) and copied
+    into plain values; :class:`~swarmex.net.wire.WireError` for anything malformed."""
+    from swarmex.net.routing import unicast_counts
+
+    if not isinstance(d, dict):
+        raise wire.EncodingError("REPORT: expected a map")
+    out: dict[str, Any] = {k: wire._int(d.get(k), f"REPORT {k}", 0, MAX_COUNT)
+                           for k in REPORT_COUNTS}
+    fa = d.get("finished_at")
+    out["finished_at"] = None if fa is None else wire._int(fa, "REPORT finished_at", 0,
+                                                            MAX_TICK)
+    for k in REPORT_TABLES:
+        out[k] = _table(d.get(k), f"REPORT {k}")
+    if not set(out["unicasts"]) <= set(unicast_counts(None, 0)):
+        raise wire.EncodingError("REPORT unicasts: unknown counter")
+    ticks = d.get("plan_ticks")
+    if not isinstance(ticks, list) or len(ticks) > MAX_ROWS:
+        raise wire.EncodingError("REPORT plan_ticks: expected a list of ticks")
+    out["plan_ticks"] = [wire._int(t, "REPORT plan tick", 0, MAX_TICK) for t in ticks]
+    out["trajectory"] = _moves(d.get("trajectory"), shape, "REPORT trajectory")
+    free = d.get("free")
+    if not isinstance(free, bytes) or len(free) != (shape[0] * shape[1] + 7) // 8:
+        raise wire.EncodingError("REPORT free: expected the map's bits")
+    out["free"] = free
+    tr = d.get("traffic")
+    if not isinstance(tr, dict):
+        raise wire.EncodingError("REPORT traffic: expected a map")
+    traffic: dict[str, Any] = {k: wire._int(tr.get(k), f"REPORT traffic {k}", 0, MAX_COUNT)
+                               for k in TRAFFIC_COUNTS}
+    by_kind = tr.get("by_kind")
+    if not isinstance(by_kind, dict) or len(by_kind) > 256:
+        raise wire.EncodingError("REPORT traffic by_kind: expected a map")
+    traffic["by_kind"] = {}
+    for kind, row in by_kind.items():
+        row = _table(row, "REPORT traffic by_kind")
+        if set(row) != {"messages", "bytes"}:
+            raise wire.EncodingError("REPORT traffic by_kind: expected messages and bytes")
+        traffic["by_kind"][wire._str(kind, "REPORT traffic kind", 64)] = row
+    out["traffic"] = traffic
+    return out

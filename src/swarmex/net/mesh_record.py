@@ -125,7 +125,8 @@ def build_record(display: RecordSource, wall: float, ended: bool) -> dict[str, A
                     acc = by_kind.setdefault(k, [0, 0])
                     acc[0] += row["messages"]
                     acc[1] += row["bytes"]
-            except (KeyError, TypeError, ValueError):
+            except (KeyError, TypeError, ValueError, OverflowError, IndexError):
+                # (the display keeps only reports that passed report_fields: a last guard)
                 metrics["reported"] = False
         agents.append({"id": rid, "metrics": metrics,
                        "trajectory": [[int(t), int(x), int(y)] for t, x, y in traj],
