@@ -286,6 +286,62 @@ def test_a_killed_display_ends_the_launcher_in_one_line(tmp_path):
     assert not left, f"processes left running: {left}"
 
 
+def test_a_second_sigterm_to_the_display_does_not_lose_the_record(tmp_path):
+    """After a group SIGTERM the launcher sends the display its own: the display asked to
+    stop once, and the second came after it had restored the default handler, which killed
+    it before it wrote the record of the run so far (the group test failed now and then).
+    Here the second comes while it collects the reports: the record is still written."""
+    import json
+    import os
+    import signal
+    import subprocess
+    import sys
+
+    out = tmp_path / "mesh.json"
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "swarmex", "mesh", "--empty", "8x8", "--robots", "2",
+         "--time-scale", "1", "--json", str(out)],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
+        env={**os.environ, "TMPDIR": str(tmp_path)},
+    )
+    try:
+        assert proc.stdout is not None
+        for line in proc.stdout:
+            if "robots started" in line:
+                break
+        time.sleep(1.0)
+        addr = next(tmp_path.glob("swarmex-mesh-*/node-10000.addr")).read_text()
+        children = _descendants(proc.pid)
+        display = _listening(int(addr.rsplit(":", 1)[1]), children)
+        robots = [p for p in children if p != display and _parent(p) == _parent(display)]
+        assert len(robots) == 2
+        # a robot that will never report keeps the display collecting for seconds: the
+        # second SIGTERM lands there, whatever the machine's load
+        os.kill(robots[1], signal.SIGKILL)
+        os.kill(display, signal.SIGTERM)
+        for line in proc.stdout:  # the display has left its loop: collecting the reports
+            if "stopping the robots" in line:
+                break
+        time.sleep(0.5)
+        os.kill(display, signal.SIGTERM)
+        _, err = proc.communicate(timeout=40)
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait(5)
+    assert "Traceback" not in err
+    assert proc.returncode == 1, err  # the display ended the run: incomplete, not lost
+    record = json.loads(out.read_text())
+    assert not record["complete"] and record["metrics"]["explored_fraction"] > 0
+    assert [a["metrics"]["reported"] for a in record["agents"]].count(True) == 1
+
+
+def _parent(pid: int) -> int:
+    from pathlib import Path
+
+    return int(Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[1])
+
+
 def _listening(port: int, pids: list[int]) -> int:
     """Which of ``pids`` has the TCP socket listening on 127.0.0.1:``port`` (Linux /proc):
     the display's PULL socket, whose endpoint it published in the air."""

@@ -286,26 +286,29 @@ class DisplayProcess(Node):
                 say(f"swarmex mesh display: internal error ({type(exc).__name__}: "
                     f"{exc!s:.80}); stopping the robots")
                 code = EXIT_DISPLAY_ERROR
-        # stop everyone and collect the reports
-        self.broadcast_control(["STOP"])
-        wait_until = time.monotonic() + max(3.0, 2 * opts.dead_after)
-        live_ids = {r for r, i in self.robots.items() if i["alive"]}
-        while set(self.reports) < live_ids and time.monotonic() < wait_until:
-            self._pump(time.monotonic(), 0.05)
-        self.record = self.build_record(time.monotonic() - t0, code == 0)
-        self._emit(ev.end(self.record, self.events + self.pending))
-        self._flush()
-        if self.json_path is not None:
-            from swarmex.engine.record import write_json_atomic
+            # stop everyone and collect the reports, still within the stop request: after a
+            # group SIGTERM the launcher's own follows, and the default SIGTERM (restored
+            # at the end of the block) killed the display before it wrote the record of the
+            # run so far, now and then
+            self.broadcast_control(["STOP"])
+            wait_until = time.monotonic() + max(3.0, 2 * opts.dead_after)
+            live_ids = {r for r, i in self.robots.items() if i["alive"]}
+            while set(self.reports) < live_ids and time.monotonic() < wait_until:
+                self._pump(time.monotonic(), 0.05)
+            self.record = self.build_record(time.monotonic() - t0, code == 0)
+            self._emit(ev.end(self.record, self.events + self.pending))
+            self._flush()
+            if self.json_path is not None:
+                from swarmex.engine.record import write_json_atomic
 
-            write_json_atomic(self.record, self.json_path)
-        with contextlib.suppress(OSError):
-            (self.run_dir / "record.json").write_text(ev.dumps([self.record]))
-        if self.forwarder is not None:
-            self.forwarder.close()
-            self._say_warnings()
-            if (short := self.forwarder.shortfall()) is not None:
-                say(f"swarmex mesh display: {short}")
+                write_json_atomic(self.record, self.json_path)
+            with contextlib.suppress(OSError):
+                (self.run_dir / "record.json").write_text(ev.dumps([self.record]))
+            if self.forwarder is not None:
+                self.forwarder.close()
+                self._say_warnings()
+                if (short := self.forwarder.shortfall()) is not None:
+                    say(f"swarmex mesh display: {short}")
         return code
 
     def _explore(self, say: Callable[[str], object], stop: StopRequest, deadline: float) -> int:
