@@ -29,6 +29,28 @@ def test_processes_run_completes(tmp_path):
     assert record["metrics"]["unicasts"]["sent"] > 0  # the first NEED_MAPs at least
 
 
+def test_processes_count_messages_as_the_simulator_and_the_harness_apart(tmp_path):
+    """``messages_sent`` is the radio's messages, as the simulator counts them (a heartbeat
+    once, not once per node in the air); the control link's STATUS and HELLO are reported
+    apart (they were counted as robots' messages)."""
+    out = tmp_path / "mesh.json"
+    code = main(["explore", "--empty", "3x3", "--robots", "2", "--processes", "--json", str(out)])
+    assert code == 0
+    m = json.loads(out.read_text())["metrics"]
+    by_kind = m["messages_by_kind"]
+    assert not {"STATUS", "HELLO", "NACK", "REPORT"} & set(by_kind)
+    assert m["messages_sent"] == sum(v["messages"] for v in by_kind.values())
+    assert m["bytes_sent"] == sum(v["bytes"] for v in by_kind.values())
+    assert set(m["harness_by_kind"]) >= {"STATUS", "HELLO"}
+    assert m["harness_by_kind"]["HELLO"]["messages"] >= 2
+    assert m["harness_messages"] == sum(v["messages"] for v in m["harness_by_kind"].values())
+    # a heartbeat is one message (27 bytes: the simulator's size), sent to the 2 others in
+    # the air (the other robot and the display) as 2 frames
+    beats = by_kind["HEARTBEAT"]
+    assert beats["bytes"] == 27 * beats["messages"]
+    assert m["frames_sent"] > m["messages_sent"] + m["harness_messages"]
+
+
 def test_processes_without_aodv_send_one_hop_unicasts(tmp_path):
     out = tmp_path / "mesh.json"
     code = main(["explore", "--empty", "3x3", "--robots", "2", "--processes", "--no-aodv",

@@ -118,8 +118,8 @@ def test_scans_cross_the_mesh_by_multi_hop_relay():
     assert by[0].get("2", 0) > 0 and by[2].get("0", 0) > 0  # 0 and 2 never heard each other
     assert record["metrics"]["display_scans_by_origin"].get("2", 0) > 0
     # the radio really was range-limited: heartbeats between the ends were not heard
-    assert record["agents"][0]["metrics"]["traffic"]["out_of_range"] > 0
-    assert record["agents"][2]["metrics"]["traffic"]["out_of_range"] > 0
+    assert record["agents"][0]["metrics"]["traffic"]["unheard_broadcasts"] > 0
+    assert record["agents"][2]["metrics"]["traffic"]["unheard_broadcasts"] > 0
 
 
 def test_unicasts_cross_a_line_of_robots_by_aodv():
@@ -156,7 +156,7 @@ def test_unicasts_cross_a_line_of_robots_by_aodv():
     assert sum(m["multihop_in_by_kind"].values()) == (
         u["delivered_multihop"] + m["display_unicasts"]["delivered_multihop"])
     # the ends never heard each other: everything between them was relayed or routed
-    assert record["agents"][0]["metrics"]["traffic"]["out_of_range"] > 0
+    assert record["agents"][0]["metrics"]["traffic"]["unheard_broadcasts"] > 0
     by = {a["id"]: a["metrics"]["scans_by_origin"] for a in record["agents"]}
     assert by[0].get(str(n - 1), 0) > 0 and by[n - 1].get("0", 0) > 0
 

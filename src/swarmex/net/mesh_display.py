@@ -149,7 +149,7 @@ class DisplayProcess(Node):
             self.robots[sender]["goal"] = msg.goal
 
     def radio(self, dst: int, msg: PackedMessage) -> None:
-        self.send_frame(dst, encode_radio(DISPLAY, self.cell, msg), msg.kind)
+        self.transmit((dst,), msg, encode_radio(DISPLAY, self.cell, msg))
 
     def unicast(self, dst: int, msg: Message) -> None:
         """The display's own unicast (``NEED_MAP``, ``MAP``): by AODV when routing is on."""
@@ -174,9 +174,8 @@ class DisplayProcess(Node):
     def heartbeat(self) -> None:
         from swarmex.missions.exploration.messages import Heartbeat
 
-        frame = encode_radio(DISPLAY, self.cell, Heartbeat(DISPLAY, *self.cell))
-        for nid in sorted(self.scan_air()):
-            self.send_frame(nid, frame, "HEARTBEAT")
+        beat = Heartbeat(DISPLAY, *self.cell)
+        self.broadcast(beat, encode_radio(DISPLAY, self.cell, beat))
         for gone in self.mesh.expire(self.t):
             if self.aodv is not None:
                 self.send_out(self.aodv.link_broken(gone, self.t))
@@ -215,9 +214,8 @@ class DisplayProcess(Node):
             self.reports[rid] = report
 
     def broadcast_control(self, obj: list[Any]) -> None:
-        frame = wire.pack(obj)
         for rid in sorted(self.robots):
-            self.send_frame(rid, frame, obj[0])
+            self.send_control(rid, obj)
 
     # ---- events
     def _emit(self, *events: ev.Event) -> None:

@@ -183,8 +183,11 @@ REPORT_COUNTS = ("steps", "ticks", "moves", "plans", "replans", "scans", "archiv
 #: a REPORT's tables of counters by name
 REPORT_TABLES = ("replan_reasons", "scans_by_origin", "unicasts", "multihop_in")
 #: the traffic counters a REPORT must carry (:class:`~swarmex.net.mesh_node.Traffic`)
-TRAFFIC_COUNTS = ("frames_out", "bytes_out", "send_timeouts", "frames_in", "bytes_in",
-                  "out_of_range", "lost_injected", "bad_frames")
+TRAFFIC_COUNTS = ("messages_out", "message_bytes_out", "harness_out", "harness_bytes_out",
+                  "frames_out", "bytes_out", "send_timeouts", "frames_in", "bytes_in",
+                  "out_of_range", "unheard_broadcasts", "lost_injected", "bad_frames")
+#: a REPORT's traffic tables of (messages, bytes) by kind
+TRAFFIC_TABLES = ("by_kind", "harness_by_kind")
 
 
 def _flag(v: Any, what: str) -> bool:
@@ -260,14 +263,15 @@ def report_fields(d: Any, shape: tuple[int, int]) -> dict[str, Any]:
         raise wire.EncodingError("REPORT traffic: expected a map")
     traffic: dict[str, Any] = {k: wire._int(tr.get(k), f"REPORT traffic {k}", 0, MAX_COUNT)
                                for k in TRAFFIC_COUNTS}
-    by_kind = tr.get("by_kind")
-    if not isinstance(by_kind, dict) or len(by_kind) > 256:
-        raise wire.EncodingError("REPORT traffic by_kind: expected a map")
-    traffic["by_kind"] = {}
-    for kind, row in by_kind.items():
-        row = _table(row, "REPORT traffic by_kind")
-        if set(row) != {"messages", "bytes"}:
-            raise wire.EncodingError("REPORT traffic by_kind: expected messages and bytes")
-        traffic["by_kind"][wire._str(kind, "REPORT traffic kind", 64)] = row
+    for name in TRAFFIC_TABLES:
+        table = tr.get(name)
+        if not isinstance(table, dict) or len(table) > 256:
+            raise wire.EncodingError(f"REPORT traffic {name}: expected a map")
+        traffic[name] = {}
+        for kind, row in table.items():
+            row = _table(row, f"REPORT traffic {name}")
+            if set(row) != {"messages", "bytes"}:
+                raise wire.EncodingError(f"REPORT traffic {name}: expected messages and bytes")
+            traffic[name][wire._str(kind, "REPORT traffic kind", 64)] = row
     out["traffic"] = traffic
     return out

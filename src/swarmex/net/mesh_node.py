@@ -11,6 +11,7 @@ each does with the frames.
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -28,32 +29,84 @@ from swarmex.net.routing import LinkFeedback
 
 @dataclass
 class Traffic:
+    """What one node sent and heard, counted two ways.
+
+    *Messages* (``messages_out``, ``message_bytes_out``, ``by_kind``) are counted as the
+    simulator counts them (:class:`swarmex.comm.mesh.DiscNetwork`), so that a record's
+    ``messages_sent`` and ``bytes_sent`` mean the same in both runtimes: a broadcast (a
+    heartbeat) is one message however many nodes the air holds, a unicast, relay or
+    ``GOAL`` one message per copy (sent, whatever becomes of it), each of the message's own
+    msgpack size (``nbytes``, without the radio frame's envelope and CRC). Until 30 Nov 2026
+    the mesh counted socket frames: a heartbeat once per node in the air (the display
+    included), and the harness's STATUS and HELLO as robots' messages.
+
+    *Harness* frames (``harness_out``, ``harness_bytes_out``, ``harness_by_kind``) are the
+    experiment's control link (HELLO, STATUS; the display's GO, BEAT, STOP) and the radio
+    emulation's NACK (the link-layer feedback the simulator gives for free): traffic the
+    simulator does not have, counted apart.
+
+    *Frames* (``frames_out``, ``bytes_out``) are what the sockets carried: every frame sent,
+    radio copies and harness alike, envelope and CRC included.
+    """
+
     frames_out: int = 0
     bytes_out: int = 0
     send_timeouts: int = 0  # PUSH sends that timed out: dropped (the thesis's nanomsg rule)
     frames_in: int = 0
     bytes_in: int = 0
-    out_of_range: int = 0
+    out_of_range: int = 0  # copies of unicasts and relays heard out of range: lost
+    # broadcast copies (heartbeats) out of range: unheard, as in the simulator, not lost
+    unheard_broadcasts: int = 0
     lost_injected: int = 0
     bad_frames: int = 0
+    messages_out: int = 0
+    message_bytes_out: int = 0
+    harness_out: int = 0
+    harness_bytes_out: int = 0
     by_kind: dict[str, list[int]] = field(default_factory=dict)
+    harness_by_kind: dict[str, list[int]] = field(default_factory=dict)
 
-    def count_out(self, kind: str, nbytes: int) -> None:
+    def count_frame(self, nbytes: int) -> None:
+        """A frame the sockets took."""
         self.frames_out += 1
         self.bytes_out += nbytes
+
+    def count_message(self, kind: str, nbytes: int, copies: int = 1) -> None:
+        """A radio message of ``nbytes`` (its own size) sent in ``copies`` copies (1 for a
+        broadcast): the simulator's count."""
+        self.messages_out += copies
+        self.message_bytes_out += nbytes * copies
         row = self.by_kind.setdefault(kind, [0, 0])
+        row[0] += copies
+        row[1] += nbytes * copies
+
+    def count_harness(self, kind: str, nbytes: int) -> None:
+        """A control-link (or NACK) frame of ``nbytes`` sent."""
+        self.harness_out += 1
+        self.harness_bytes_out += nbytes
+        row = self.harness_by_kind.setdefault(kind, [0, 0])
         row[0] += 1
         row[1] += nbytes
 
     def to_dict(self) -> dict[str, Any]:
         return {
+            "messages_out": self.messages_out, "message_bytes_out": self.message_bytes_out,
+            "harness_out": self.harness_out, "harness_bytes_out": self.harness_bytes_out,
             "frames_out": self.frames_out, "bytes_out": self.bytes_out,
             "send_timeouts": self.send_timeouts, "frames_in": self.frames_in,
             "bytes_in": self.bytes_in, "out_of_range": self.out_of_range,
+            "unheard_broadcasts": self.unheard_broadcasts,
             "lost_injected": self.lost_injected, "bad_frames": self.bad_frames,
             "by_kind": {k: {"messages": m, "bytes": b} for k, (m, b) in
                         sorted(self.by_kind.items())},
+            "harness_by_kind": {k: {"messages": m, "bytes": b} for k, (m, b) in
+                                sorted(self.harness_by_kind.items())},
         }
+
+
+def _is_broadcast(obj: list[Any]) -> bool:
+    """Whether a checked radio frame is a broadcast (a heartbeat: the only one)."""
+    return obj[4].get("type") == "HEARTBEAT"
 
 
 class Node:
@@ -106,7 +159,9 @@ class Node:
             self.push[nid] = sock
         return sock
 
-    def send_frame(self, nid: int, frame: bytes, kind: str) -> bool:
+    def send_frame(self, nid: int, frame: bytes) -> bool:
+        """One frame to node ``nid`` (counted as a frame if the socket took it); False if
+        it could not be sent (no address yet, or the send timeout)."""
         sock = self._socket_to(nid)
         if sock is None:
             return False
@@ -115,7 +170,30 @@ class Node:
         except zmq.Again:  # the send timeout: the peer is gone or stuck; drop it
             self.traffic.send_timeouts += 1
             return False
-        self.traffic.count_out(kind, len(frame))
+        self.traffic.count_frame(len(frame))
+        return True
+
+    def transmit(self, dsts: Iterable[int], msg: PackedMessage | Routed, frame: bytes) -> None:
+        """A radio message to each of ``dsts``: one message per copy, as the simulator
+        counts a unicast or a relay (a copy the receiver drops is still sent)."""
+        for nid in dsts:
+            self.traffic.count_message(msg.kind, int(msg.nbytes))
+            self.send_frame(nid, frame)
+
+    def broadcast(self, msg: PackedMessage | Routed, frame: bytes) -> None:
+        """A radio broadcast (a heartbeat): to every node in the air, range decides who
+        hears it; one message, as the simulator counts a broadcast."""
+        self.traffic.count_message(msg.kind, int(msg.nbytes))
+        for nid in sorted(self.scan_air()):
+            self.send_frame(nid, frame)
+
+    def send_control(self, nid: int, obj: list[Any]) -> bool:
+        """A harness frame (the control link's, or a NACK): counted apart from the radio's
+        messages (:class:`Traffic`)."""
+        frame = wire.pack(obj)
+        if not self.send_frame(nid, frame):
+            return False
+        self.traffic.count_harness(str(obj[0]), len(frame))
         return True
 
     def recv_all(self, limit: int = 10_000) -> list[bytes]:
@@ -147,7 +225,10 @@ class Node:
         it is counted and NACKed (:meth:`refuse`); in range, the injected loss may drop it
         (counted). The one admission rule of the robots' and the display's radios."""
         if not self.in_range(mine, theirs, cell, comm_range):
-            self.traffic.out_of_range += 1
+            if _is_broadcast(obj):  # a broadcast reaches whoever is in range: not lost
+                self.traffic.unheard_broadcasts += 1
+            else:
+                self.traffic.out_of_range += 1
             self.refuse(obj, src)
             return False
         if self.lost():
@@ -160,7 +241,8 @@ class Node:
         """Send a unicast that AODV wants feedback on (stamped with a link sequence
         number); False if the send itself failed (the peer is gone: the send timeout)."""
         seq = self.link.stamp(dst, msg, t)
-        if self.send_frame(dst, encode_radio(self.id, pos, msg, seq), msg.kind):
+        self.traffic.count_message(msg.kind, int(msg.nbytes))
+        if self.send_frame(dst, encode_radio(self.id, pos, msg, seq)):
             return True
         self.link.sent.pop(seq, None)
         return False
@@ -169,7 +251,7 @@ class Node:
         """An out-of-range frame was dropped: if its sender asked for feedback, NACK it."""
         seq = radio_link(obj)
         if seq is not None:
-            self.send_frame(src, wire.pack(["NACK", self.id, seq]), "NACK")
+            self.send_control(src, ["NACK", self.id, seq])
 
     def arrived(self, msg: Any) -> None:
         """Count a routed payload that ends here (the wire's own view of multi-hop delivery)."""

@@ -78,9 +78,10 @@ def build_record(display: RecordSource, wall: float, ended: bool) -> dict[str, A
                               "change_goals_sent": 0, "blacklisted_regions": 0}
     reasons: dict[str, int] = {}
     by_kind: dict[str, list[int]] = {}
+    harness_by_kind: dict[str, list[int]] = {}
     unicasts = unicast_counts(None, 0)
     multihop_in = dict(display.multihop_in)
-    sent = sent_bytes = lost = 0
+    sent = sent_bytes = lost = harness = harness_bytes = frames = frame_bytes = 0
     steps = []
     plan_series = []
     for rid in range(params.robots):
@@ -100,8 +101,9 @@ def build_record(display: RecordSource, wall: float, ended: bool) -> dict[str, A
                     "archive", "conflicts", "change_goals_sent", "blacklisted_regions")})
                 metrics["plan_intervals"] = intervals(rep["plan_ticks"])
                 metrics["scans_by_origin"] = rep.get("scans_by_origin", {})
-                metrics["messages_sent"] = tr["frames_out"]
-                metrics["bytes_sent"] = tr["bytes_out"]
+                # the simulator's count (mesh_node.Traffic): the radio's messages only
+                metrics["messages_sent"] = tr["messages_out"]
+                metrics["bytes_sent"] = tr["message_bytes_out"]
                 metrics["explored_fraction_own"] = float((free & reach).sum()) / n_reach
                 metrics["traffic"] = tr
                 metrics["unicasts"] = rep["unicasts"]
@@ -118,13 +120,19 @@ def build_record(display: RecordSource, wall: float, ended: bool) -> dict[str, A
                     totals[k] += int(rep[k])
                 for k, v in rep["replan_reasons"].items():
                     reasons[k] = reasons.get(k, 0) + int(v)
-                sent += tr["frames_out"]
-                sent_bytes += tr["bytes_out"]
+                sent += tr["messages_out"]
+                sent_bytes += tr["message_bytes_out"]
+                harness += tr["harness_out"]
+                harness_bytes += tr["harness_bytes_out"]
+                frames += tr["frames_out"]
+                frame_bytes += tr["bytes_out"]
                 lost += tr["send_timeouts"] + tr["out_of_range"] + tr["lost_injected"]
-                for k, row in tr["by_kind"].items():
-                    acc = by_kind.setdefault(k, [0, 0])
-                    acc[0] += row["messages"]
-                    acc[1] += row["bytes"]
+                for table, acc_table in ((tr["by_kind"], by_kind),
+                                         (tr["harness_by_kind"], harness_by_kind)):
+                    for k, row in table.items():
+                        acc = acc_table.setdefault(k, [0, 0])
+                        acc[0] += row["messages"]
+                        acc[1] += row["bytes"]
             except (KeyError, TypeError, ValueError, OverflowError, IndexError):
                 # (the display keeps only reports that passed report_fields: a last guard)
                 metrics["reported"] = False
@@ -157,11 +165,21 @@ def build_record(display: RecordSource, wall: float, ended: bool) -> dict[str, A
             "makespan_seconds": makespan * TICK_SECONDS,
             **totals,
             "replan_reasons": dict(sorted(reasons.items())),
+            # the radio's messages as the simulator counts them (a broadcast once, a
+            # unicast or relay per copy, each message's own size: mesh_node.Traffic)
             "messages_sent": sent,
             "bytes_sent": sent_bytes,
             "messages_lost": lost,
             "messages_by_kind": {k: {"messages": m, "bytes": b}
                                  for k, (m, b) in sorted(by_kind.items())},
+            # what the simulator does not have: the robots' control link (HELLO, STATUS)
+            # and NACKs, and every frame their sockets carried (radio copies included)
+            "harness_messages": harness,
+            "harness_bytes": harness_bytes,
+            "harness_by_kind": {k: {"messages": m, "bytes": b}
+                                for k, (m, b) in sorted(harness_by_kind.items())},
+            "frames_sent": frames,
+            "frame_bytes_sent": frame_bytes,
             "aodv_messages": sum(by_kind[k][0] for k in CONTROL_KINDS if k in by_kind),
             "aodv_bytes": sum(by_kind[k][1] for k in CONTROL_KINDS if k in by_kind),
             # the robots' AODV statistics, summed (as the simulator's record), and what

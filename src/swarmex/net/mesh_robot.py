@@ -84,18 +84,16 @@ class RobotProcess(Node):
                         self.send_out(self.robot.link_failed(nid, msg, self.t))
                 continue
             frame = encode_radio(self.id, self.pos(), msg)
-            if isinstance(dst, Fanout):  # one message to several neighbours: a frame each
-                for nid in dst:
-                    self.send_frame(nid, frame, msg.kind)
+            if isinstance(dst, Fanout):  # one message to several neighbours: a copy each
+                self.transmit(dst, msg, frame)
             elif dst == RADIO:  # heartbeat: to everyone in the air; range decides who hears
-                for nid in sorted(self.scan_air()):
-                    self.send_frame(nid, frame, msg.kind)
+                self.broadcast(msg, frame)
             else:
-                self.send_frame(dst, frame, msg.kind)
+                self.transmit((dst,), msg, frame)
 
     def control(self, obj: list[Any]) -> None:
-        frame = wire.pack(obj)
-        self.send_frame(DISPLAY, frame, obj[0])
+        """A frame on the control link to the display (the harness, not the radio)."""
+        self.send_control(DISPLAY, obj)
 
     def on_frame(self, frame: bytes) -> None:
         from swarmex.missions.exploration.messages import Heartbeat
