@@ -13,7 +13,8 @@ order on one connection, so a late joiner's mission log and the live stream that
 can never interleave wrongly; relays are never dropped (high-water marks off), because the
 protocol (see :mod:`swarmex.net.traversal`) needs every agent to see every step. Bad frames
 (checksum, encoding, content, a sender that is not the id it claims) are dropped and
-counted, never relayed.
+counted, never relayed; a broadcast's moves are checked against where the stream puts its
+sender before the relay, since whatever is relayed the recorder must be able to apply.
 """
 
 from __future__ import annotations
@@ -296,6 +297,13 @@ class TraversalServer:
                 self._on_control(peer, wire.check_control(msg))
         except wire.WireError:
             c.dropped_encoding += 1
+        except (KeyError, IndexError, ValueError, TypeError, ArithmeticError) as exc:
+            # a frame the checks let through but the server could not apply: a bug, but
+            # one frame must never end the mission without its record (a C05 to a node
+            # that is not adjacent did, before the move checks). Dropped, counted, said.
+            c.dropped_content += 1
+            self.say(f"swarmex serve: dropped a {cmd} frame it could not apply "
+                     f"({type(exc).__name__}: {exc})")
 
     def _on_control(self, peer: Peer, msg: list[Any]) -> None:
         cmd = msg[0]
@@ -442,8 +450,10 @@ class TraversalServer:
                 or self.state.get(a) not in ("mission", "rtl") or not self.started):
             self.counters.dropped_sender += 1
             return
-        try:
-            check_broadcast(b, self.mission)
+        try:  # everything the recorder needs, checked before anything is relayed
+            check_broadcast(b, self.mission, here=self.recorder.position(a))
+            if b.cmd == "C08" and self.replica.open_job.get(a) != b.node:
+                raise wire.EncodingError(f"C08: agent {a} has no job at node {b.node}")
         except wire.WireError:
             self.counters.dropped_content += 1
             return

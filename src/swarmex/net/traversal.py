@@ -350,13 +350,31 @@ class Replica:
         return min(times) if times else self.last_t
 
 
-def check_broadcast(b: Broadcast, mission: Mission) -> None:
-    """Content checks a decoder cannot do without the mission (node and id ranges)."""
+#: the one command whose node may be -1 (no node): a finish says where its agent is, and the
+#: wire has always allowed -1 there; everywhere else -1 would be Python's last vertex
+NODELESS = ("C09",)
+
+
+def check_broadcast(b: Broadcast, mission: Mission, here: int | None = None) -> None:
+    """Content checks a decoder cannot do without the mission (node and id ranges), and,
+    given ``here`` (the sender's node, which the server knows from the stream), the moves:
+    a C05 names a neighbour of ``here``, a C07 ``here`` or a neighbour.
+
+    Why the server checks moves before it relays: a well-formed C05 to a node that is not
+    adjacent used to pass, be relayed to every agent, and then crash ``serve`` in the
+    recorder (``KeyError: no edge``) with no record written. And node -1 is refused in
+    every command but C09: numpy's negative index made a C07 at -1 mark the last vertex
+    done (in the record and in every agent's belief) though nobody went there."""
     n = mission.world.n_nodes
     if b.id > mission.n_agents:
         raise EncodingError(f"broadcast from unknown agent {b.id}")
-    if not -1 <= b.node < n:
+    if not (-1 if b.cmd in NODELESS else 0) <= b.node < n:
         raise EncodingError(f"node {b.node} outside the map")
+    if b.cmd == "C04" and b.node != mission.specs[b.id - 1].nest:
+        raise EncodingError(f"C04: agent {b.id} starts at its nest, not node {b.node}")
+    if (here is not None and (b.cmd == "C05" or (b.cmd == "C07" and b.node != here))
+            and not bool(np.any(mission.world.graph.neighbors(here) == b.node))):
+        raise EncodingError(f"{b.cmd}: node {b.node} is not next to node {here}")
     for arr in (b.nodes, b.doers if not b.done_bit else None):
         if arr is not None and arr.size and arr.max() >= n:
             raise EncodingError("listed node outside the map")
@@ -757,6 +775,12 @@ class Recorder:
             self.current[agent] = inc
         return inc
 
+    def position(self, agent: int) -> int:
+        """Where ``agent`` is by the stream: its last arrival, else its nest (what a C05 of
+        it must be next to: :func:`check_broadcast`'s ``here``)."""
+        log = self.incarnation(agent).log
+        return log.trajectory[-1][1] if log.trajectory else self.mission.specs[agent - 1].nest
+
     def on_join(self, agent: int) -> None:
         """A spare takes ``agent``'s id: the departed process's log is kept apart."""
         old = self.current.pop(agent, None)
@@ -786,7 +810,7 @@ class Recorder:
             else:
                 log.path.append((node, False))
         elif b.cmd == "C05":
-            here = log.trajectory[-1][1] if log.trajectory else self.mission.specs[b.id - 1].nest
+            here = self.position(b.id)  # the server checked the move (check_broadcast)
             log.moves += 1
             log.travel_time += self.graph.edge_length(here, node) * self.tpu[b.id]
         elif b.cmd == "C08":

@@ -1,0 +1,154 @@
+"""The server's handling of faulty agents, driven frame by frame (no agent processes).
+
+A :class:`Harness` feeds frames to :meth:`TraversalServer._on_frame` with a clock of its own
+and records what the server sends each connection, so a test can stand for an agent that
+dies, is restarted, or sends a well-formed frame the mission cannot contain.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from swarmex.missions.traversal import uniform_agents
+from swarmex.net import wire
+from swarmex.net.server import TraversalServer
+from swarmex.net.traversal import Mission, check_broadcast
+from swarmex.worlds import GridWorld
+
+pytestmark = pytest.mark.timeout(60)
+
+
+def _mission(agents: int = 2, heartbeat: float = 0.25) -> Mission:
+    return Mission(GridWorld(np.ones((4, 4), dtype=bool)),
+                   uniform_agents([0] * agents, 1.0, 1.0), heartbeat=heartbeat)
+
+
+class Harness:
+    def __init__(self, agents: int = 2, dead_after: float = 2.0, heartbeat: float = 0.25) -> None:
+        self.said: list[str] = []
+        self.server = TraversalServer(_mission(agents, heartbeat), "tcp://127.0.0.1:*",
+                                      dead_after=dead_after, say=self.said.append)
+        self.sent: list[tuple[bytes, list]] = []
+        self.server._send = lambda peer, frame: self.sent.append(  # type: ignore[method-assign]
+            (peer.ident, wire.decode_message(frame)))
+        self.t0 = time.monotonic()
+
+    def frame(self, ident: bytes, obj: list, at: float) -> None:
+        self.server._on_frame(ident, wire.pack(obj), self.t0 + at)
+
+    def broadcast(self, ident: bytes, b: wire.Broadcast, at: float) -> None:
+        self.server._on_frame(ident, b.frame(), self.t0 + at)
+
+    def to(self, ident: bytes) -> list[list]:
+        return [m for i, m in self.sent if i == ident]
+
+    def arm(self, ident: bytes, want: int, at: float) -> int:
+        """C00 .. C03 for one connection, all at ``at``: the id it got."""
+        self.frame(ident, ["C00", want], at)
+        got = self.to(ident)[-1]
+        assert got[0] == "ID", got
+        a = int(got[1])
+        self.frame(ident, ["C22", a], at)
+        self.frame(ident, ["C01", a, 0], at)
+        self.frame(ident, ["C02", a], at)
+        self.frame(ident, ["C03", a], at)
+        return a
+
+    def close(self) -> None:
+        self.server.sock.close(0)
+        self.server.ctx.term()
+
+
+@pytest.fixture
+def harness():
+    made: list[Harness] = []
+
+    def make(**kw) -> Harness:
+        made.append(Harness(**kw))
+        return made[-1]
+
+    yield make
+    for h in made:
+        h.close()
+
+
+def _started(make) -> Harness:
+    h = make()
+    h.arm(b"a1", 0, 0.0)
+    h.arm(b"a2", 0, 0.0)
+    assert h.server.started
+    return h
+
+
+# ---------------------------------------------------------------- finding 2: bad moves
+
+
+def test_a_move_to_a_node_not_next_to_the_agent_is_dropped_before_the_relay(harness):
+    """A well-formed C05 to node 15 from the nest (node 0) crashed ``serve`` in the recorder
+    (``KeyError: no edge between 0 and 15``, no record), after it had been relayed."""
+    h = _started(harness)
+    h.broadcast(b"a1", wire.Broadcast("C04", 1, 0, t=0.1, eta=0.1), 0.2)
+    relayed = h.server.counters.relayed
+    h.broadcast(b"a1", wire.Broadcast("C05", 1, 15, t=0.1, eta=5.0), 0.3)
+    h.broadcast(b"a1", wire.Broadcast("C05", 1, 0, t=0.1, eta=5.0), 0.3)  # to where it is
+    h.broadcast(b"a1", wire.Broadcast("C07", 1, 10, job=1, t=0.1, eta=5.0), 0.3)  # teleport
+    h.broadcast(b"a1", wire.Broadcast("C04", 1, 5, t=0.1, eta=0.1), 0.3)  # not its nest
+    assert h.server.counters.dropped_content == 4
+    assert h.server.counters.relayed == relayed
+    assert not any(m[0] == "C05" for m in h.to(b"a2"))
+    # a legal move still goes through, and the record can be written
+    h.broadcast(b"a1", wire.Broadcast("C05", 1, 1, t=0.1, eta=1.1), 0.4)
+    assert h.server.counters.relayed == relayed + 1
+    assert h.server.build_record()["agents"][0]["metrics"]["nodes_traveled"] == 1
+    assert not any("could not apply" in s for s in h.said)
+
+
+# ---------------------------------------------------------------- finding 3: node -1
+
+
+@pytest.mark.parametrize("cmd", ["C04", "C05", "C07", "C08"])
+def test_node_minus_one_is_refused_where_the_protocol_has_no_use_for_it(cmd):
+    with pytest.raises(wire.EncodingError):
+        check_broadcast(wire.Broadcast(cmd, 1, -1, job=1), _mission())
+    check_broadcast(wire.Broadcast("C09", 1, -1), _mission())  # a finish may have no node
+
+
+def test_a_job_at_node_minus_one_marks_no_vertex_done(harness):
+    """A C07 job at -1 passed the checks, and numpy's negative index marked the last vertex
+    (3,3) done in the record and in every agent's belief: the record said complete with a
+    vertex nobody visited."""
+    h = _started(harness)
+    h.broadcast(b"a1", wire.Broadcast("C04", 1, 0, t=0.1, eta=0.1), 0.2)
+    h.broadcast(b"a1", wire.Broadcast("C07", 1, -1, job=1, t=0.1, eta=5.0), 0.3)
+    h.broadcast(b"a1", wire.Broadcast("C08", 1, 3, job=0, t=0.1, eta=5.0), 0.3)  # no job there
+    rec = h.server.recorder
+    assert rec.job_count.tolist() == [0] * 16 and rec.done_by.tolist() == [0] * 16
+    assert h.server.counters.dropped_content == 2
+    assert not any(m[0] in ("C07", "C08") for m in h.to(b"a2"))
+
+
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.lists(st.tuples(st.sampled_from(wire.BROADCAST_COMMANDS), st.integers(1, 2),
+                          st.integers(-1, 16), st.integers(0, 1),
+                          st.floats(0, 1e4), st.floats(0, 1e4)), max_size=12))
+def test_well_formed_broadcasts_from_registered_agents_never_break_the_server(items):
+    """The fuzz tests fed frames from a connection holding no id (all dropped as
+    impersonation), so the path a registered agent's broadcast takes was never fuzzed."""
+    h = Harness()
+    try:
+        h.arm(b"a1", 0, 0.0)
+        h.arm(b"a2", 0, 0.0)
+        for k, (cmd, a, node, job, t, eta) in enumerate(items):
+            h.broadcast(b"a%d" % a, wire.Broadcast(cmd, a, node, job=job, t=t, eta=eta),
+                        0.1 + k * 0.01)
+        assert not any("could not apply" in s for s in h.said), h.said
+        rec = h.server.recorder
+        assert (rec.job_count >= 0).all()
+        h.server.build_record()
+    finally:
+        h.close()
