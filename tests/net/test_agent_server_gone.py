@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import contextlib
 import threading
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 
 import numpy as np
 import pytest
@@ -195,3 +195,64 @@ def test_a_copter_a_pilot_took_over_is_left_to_the_pilot():
         assert any("vehicle left to a pilot (mode LOITER)" in s for s in said), said
         time.sleep(0.3)  # anything the agent sent has arrived
         assert modes and set(modes) == {emulator.LOITER}, set(modes)
+
+
+def _server_that_ends(last: list, airborne: Callable[[], bool]):
+    """A stand-in that initialises one agent of two, starts the mission, and once
+    ``airborne()`` sends ``last`` (``END``: its Ctrl-C, SIGTERM or --timeout; ``LEFT`` for
+    the agent: it declared it gone), then beats on as a live server would."""
+    import time
+
+    def serve(sock: zmq.Socket, stop: threading.Event) -> None:
+        mission = Mission(GridWorld(np.ones((4, 4), dtype=bool)),
+                          uniform_agents([0, 0], 1.0, 1.0))
+        agent: bytes | None = None
+        sent = False
+        end = time.monotonic() + 30
+        while not stop.is_set() and time.monotonic() < end:
+            if agent is not None and not sent and airborne():
+                sock.send_multipart([agent, wire.pack(last)])
+                sent = True
+            if agent is not None and sent:
+                sock.send_multipart([agent, wire.pack(["HB", 0.0])])
+            if not sock.poll(50):
+                continue
+            ident, frame = sock.recv_multipart()
+            msg = wire.decode_message(frame)
+            if msg[0] == "C00":
+                sock.send_multipart([ident, wire.pack(["ID", 1])])
+            elif msg[0] == "C22":
+                data = {**mission.to_wire(), "you": 1, "started": False, "clock": 0.0}
+                sock.send_multipart([ident, wire.pack(["MIS", data, []])])
+            elif msg[0] in ("C01", "C02", "C03"):
+                sock.send_multipart([ident, wire.pack(["ACK", msg[0], 1])])
+                if msg[0] == "C03":
+                    sock.send_multipart([ident, wire.pack(["GO", 0.0])])
+                    agent = ident
+
+    return serve
+
+
+@pytest.mark.parametrize(("last", "code", "why"), [
+    (["END"], 1, "the mission ended before I finished"),
+    (["LEFT", 1, 3.0], 5, "the server declared me gone"),
+], ids=["end", "left-for-me"])
+def test_a_flying_copter_is_brought_down_when_the_server_ends_or_drops_the_agent(last, code,
+                                                                                  why):
+    """END (the server's Ctrl-C, SIGTERM or --timeout) and LEFT for this agent ended a
+    vehicle agent at once, its copter hovering in GUIDED until the autopilot's GCS failsafe
+    (which a ground station watching through a router keeps from firing): both now land
+    it first, as a silent server and the agent's own --timeout do."""
+    from swarmex.net.agent import run_agents
+
+    said: list[str] = []
+    with _copter() as (_emulator, emu, _thread, vehicle, safety):
+        serve = _server_that_ends(last, lambda: emu.copter.alt > 2.0)
+        with _stand_in(serve) as endpoint:
+            got = run_agents(endpoint, 1, server_timeout=20.0, timeout=30, say=said.append,
+                             vehicle=vehicle, safety=safety, warn=said.append)
+        copter = emu.copter
+        assert got == code, said
+        assert copter.first_takeoff is not None, said
+        assert not copter.armed and copter.landed, said
+        assert any(f"{why}; vehicle landed" in s for s in said), said

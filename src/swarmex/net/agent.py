@@ -23,6 +23,10 @@ failed pre-arm check or arming, a failed flight command, a lost vehicle link or 
 below ``--min-battery`` make the agent hand its id back to the server (``RET``; seed 000
 §4.3: the id returns to the vacant list and a spare can take it) and bring the vehicle down.
 
+The server ending the mission (``END``) or declaring this agent gone (``LEFT`` for its id)
+ends it the way a silent server does (:meth:`AgentClient.leave`): a vehicle still flying is
+brought down first.
+
 Every receive has a timeout. Exit status: 0 landed and statistics acknowledged (or the
 mission ended), 1 the mission ended before this agent finished, 3 the server went silent,
 4 refused (unknown id, or no vacant id before ``--connect-timeout``; a spare the server has
@@ -225,11 +229,12 @@ class AgentClient:
         elif cmd == "GO" and self.state == "ready":
             self._anchor(float(msg[1]), now)
             self._launch()
+        elif cmd == "LEFT" and self.id and int(msg[1]) == self.id:
+            # the server gave my id up (it did not hear me for --dead-after): a spare may
+            # fly my plan now. Land first, as for a silent server (leave), then exit 5
+            self.leave(EXIT_DECLARED_GONE, "the server declared me gone", now)
         elif cmd == "LEFT" and self.replica is not None:
             a = int(msg[1])
-            if a == self.id:
-                self._done(EXIT_DECLARED_GONE, "the server declared me gone")
-                return
             node = self.replica.on_left(a)
             assert self.core is not None
             self.core.forget(a, node)
@@ -252,8 +257,8 @@ class AgentClient:
                 self._done(EXIT_OK, "the mission ended without needing a spare")
             elif self.state == "hello":  # never got an id: it did not join, it did not fail
                 self._done(EXIT_REFUSED, "refused: the mission ended with no vacant id for me")
-            else:
-                self._done(EXIT_UNFINISHED, "the mission ended before I finished")
+            else:  # a copter still flying comes down first (leave), as on a silent server
+                self.leave(EXIT_UNFINISHED, "the mission ended before I finished", now)
 
     def _anchor(self, clock: float, now: float) -> None:
         assert self.mission is not None
