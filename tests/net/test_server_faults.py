@@ -152,3 +152,78 @@ def test_well_formed_broadcasts_from_registered_agents_never_break_the_server(it
         h.server.build_record()
     finally:
         h.close()
+
+
+# ---------------------------------------------------------------- finding 5: told it is gone
+
+
+def test_an_agent_declared_gone_is_told(harness):
+    """LEFT went to every holder but the agent declared gone (forgotten first), so it flew
+    on until its server timeout and status 5 ("declared gone") could never happen."""
+    h = _started(harness)
+    h.frame(b"a2", ["HB", 2], 3.0)
+    h.server._check_liveness(h.t0 + 3.0)  # a1 silent for 3 s, --dead-after 2
+    assert h.server.state[1] == "left"
+    assert h.to(b"a1")[-1][:2] == ["LEFT", 1]
+    assert h.to(b"a2")[-1][:2] == ["LEFT", 1]
+    # it speaks again (it was paused): told again, its frames dropped
+    n = len(h.to(b"a1"))
+    h.broadcast(b"a1", wire.Broadcast("C04", 1, 0, t=0.1, eta=0.1), 3.5)
+    assert h.to(b"a1")[n:][0][:2] == ["LEFT", 1]
+    assert h.server.counters.relayed == 0
+
+
+# ---------------------------------------------------------------- finding 6: before GO
+
+
+def test_an_armed_agent_that_died_is_not_ready_and_loses_its_id(harness):
+    """An armed agent that died before GO kept its id for a hard-coded 60 s: it counted as
+    ready for GO and refused its own restart with the same --id ("id 1 is taken")."""
+    h = harness(dead_after=2.0)
+    h.arm(b"a1", 1, 0.0)
+    h.arm(b"a2", 2, 1.5)  # a1 has not beaten for 1.5 s: no GO for a silent id
+    assert not h.server.started
+    assert not any(m[0] == "GO" for _i, m in h.sent)
+    # the restart with the same --id, once a1 has been silent past --dead-after
+    h.frame(b"a1-again", ["C00", 1], 2.5)
+    assert h.to(b"a1-again")[-1] == ["ID", 1]
+    assert h.to(b"a1")[-1][:2] == ["LEFT", 1]
+    h.frame(b"a2", ["HB", 2], 2.6)
+    h.arm(b"a1-again", 1, 2.7)
+    assert h.server.started
+
+
+def test_an_armed_agent_falls_silent_after_dead_after_not_a_minute(harness):
+    h = harness(dead_after=2.0)
+    h.arm(b"a1", 1, 0.0)
+    h.frame(b"a2", ["C00", 2], 0.0)  # still being initialised: it has its longer limit
+    h.server._check_liveness(h.t0 + 2.5)
+    assert h.server.state[1] == "left" and h.server.state[2] == "init"
+    # a spare may take an id vacated before the start, as one handed back
+    h.frame(b"spare", ["C00", -1], 2.6)
+    assert h.to(b"spare")[-1] == ["ID", 1]
+
+
+# ---------------------------------------------------------------- finding 4: waiting spares
+
+
+def test_a_waiting_spare_keeps_the_mission_open_for_the_last_agents_id(harness):
+    """With --spare-wait 0 the end came in the pass that declared the last agent gone: the
+    spare waiting for an id heard END ("without needing a spare"), the mission incomplete."""
+    h = harness(agents=1, dead_after=2.0)
+    h.arm(b"a1", 1, 0.0)
+    assert h.server.started
+    h.frame(b"spare", ["C00", -1], 0.5)
+    assert h.to(b"spare")[-1] == ["REF", "no vacant id"]
+    h.frame(b"spare", ["C00", -1], 2.9)
+    h.server._check_liveness(h.t0 + 3.0)
+    assert h.server.state[1] == "left"
+    assert h.server._end_code(h.t0 + 3.0) is None  # the spare asks again within 0.2 s
+    h.frame(b"spare", ["C00", -1], 3.1)
+    assert h.to(b"spare")[-1] == ["ID", 1]
+    # a spare that stopped asking does not hold the end back
+    h2 = harness(agents=1, dead_after=2.0)
+    h2.arm(b"a1", 1, 0.0)
+    h2.frame(b"spare", ["C00", -1], 0.5)
+    h2.server._check_liveness(h2.t0 + 3.0)
+    assert h2.server._end_code(h2.t0 + 3.0) == 1

@@ -15,6 +15,13 @@ protocol (see :mod:`swarmex.net.traversal`) needs every agent to see every step.
 (checksum, encoding, content, a sender that is not the id it claims) are dropped and
 counted, never relayed; a broadcast's moves are checked against where the stream puts its
 sender before the relay, since whatever is relayed the recorder must be able to apply.
+
+An agent declared gone is told so (``LEFT`` for its own id) before it is forgotten: one that
+was only paused exits (status 5) and brings its vehicle down rather than fly a plan a spare
+may have taken. Before the start only an agent still being initialised has the long init
+timeout (it compiles kernels and cannot beat); an armed one is gone after ``--dead-after``,
+and ``GO`` waits until every armed holder has been heard lately. The mission stays open
+while a spare that is already waiting can take a vacated id.
 """
 
 from __future__ import annotations
@@ -63,6 +70,7 @@ class Peer:
     bytes_out: int = 0
     joined_at: float = 0.0
     vehicle: dict | None = None  # C01's description of what this agent flies
+    waiting: bool = False  # told "no vacant id": asks again every 0.2 s (a spare waits)
 
 
 @dataclass
@@ -124,6 +132,10 @@ class TraversalServer:
         self.counters = Counters()
         self.started = False
         self.t0w = 0.0
+        self.now = 0.0  # the time of the frame being handled (a test's own clock)
+        self.all_gone_at: float | None = None
+        # processes declared gone: told again (LEFT) if they speak, at most once a beat
+        self.gone: dict[bytes, tuple[int, float]] = {}
         self.wall0 = 0.0
         self.forwarder = (ev.IngestForwarder(monitor_url, warn=say) if monitor_url
                           else None)
@@ -221,7 +233,6 @@ class TraversalServer:
         deadline = self.wall0 + self.timeout
         hb = self.mission.heartbeat
         next_hb = self.wall0
-        all_gone_at: float | None = None
         self.say(f"swarmex serve: listening on {self.endpoint} for {self.mission.n_agents} agents")
         try:
             while True:
@@ -250,18 +261,13 @@ class TraversalServer:
                         if p.id or p.viewer:
                             self._send(p, beat)
                     self._drop_silent_viewers(now)
+                if not self.started:
+                    self._maybe_go(now)  # a late beat may have held GO back
                 self._flush_events()
-                if self.started and not any(s in LIVE for s in self.state.values()):
-                    if all_gone_at is None:
-                        all_gone_at = now
-                    complete = bool(np.all(
-                        self.recorder.job_count[self.recorder.reachable()] >= 1))
-                    if complete or now - all_gone_at >= self.spare_wait:
-                        code = EXIT_OK if complete else EXIT_INCOMPLETE
-                        self._finish(code)
-                        return code
-                else:
-                    all_gone_at = None
+                code = self._end_code(now)
+                if code is not None:
+                    self._finish(code)
+                    return code
         finally:
             if self.forwarder is not None:
                 self.forwarder.close()
@@ -270,14 +276,45 @@ class TraversalServer:
             self.sock.close(500)
             self.ctx.term()
 
+    def _end_code(self, now: float) -> int | None:
+        """The exit status once the mission is over (no id live since the start), else None.
+        Incomplete, it still waits ``--spare-wait`` for a spare to come, and as long as a
+        spare already waiting can take a vacated id: it asks every 0.2 s, so the end used
+        to come first — in the very pass that declared the last agent gone — and the spare
+        heard END ("without needing a spare") with the mission unfinished."""
+        if not self.started or any(s in LIVE for s in self.state.values()):
+            self.all_gone_at = None
+            return None
+        if self.all_gone_at is None:
+            self.all_gone_at = now
+        if bool(np.all(self.recorder.job_count[self.recorder.reachable()] >= 1)):
+            return EXIT_OK
+        if "left" in self.state.values() and self._spare_waiting(now):
+            return None
+        return EXIT_INCOMPLETE if now - self.all_gone_at >= self.spare_wait else None
+
+    def _spare_waiting(self, now: float) -> bool:
+        """Whether a process told "no vacant id" still asks (within a second or
+        ``--dead-after``): it takes a vacated id at its next C00."""
+        patience = max(self.dead_after, 1.0)
+        return any(p.waiting and not p.id and now - p.last_seen <= patience
+                   for p in self.peers.values())
+
     # ------------------------------------------------------------------ frames
     def _on_frame(self, ident: bytes, frame: bytes, now: float) -> None:
         c = self.counters
         c.frames_in += 1
         c.bytes_in += len(frame)
+        self.now = now
         peer = self.peers.get(ident)
         if peer is None:
             peer = self.peers[ident] = Peer(ident, joined_at=now)
+            gone = self.gone.get(ident)
+            if gone is not None and now - gone[1] >= self.mission.heartbeat:
+                # a process declared gone still talks (it was paused, or LEFT was lost):
+                # tell it again, so it stops flying a plan a spare may have taken
+                self.gone[ident] = (gone[0], now)
+                self._reply(peer, ["LEFT", gone[0], float(self.clock())])
         peer.last_seen = now
         peer.frames_in += 1
         peer.bytes_in += len(frame)
@@ -362,6 +399,12 @@ class TraversalServer:
             if not 1 <= want <= n:
                 self._refuse(peer, f"unknown id {want} (this mission has ids 1..{n})")
                 return
+            holder = self.peers.get(self.holder.get(want, b""))
+            if (self.state[want] in LIVE and holder is not None and holder is not peer
+                    and self.now - holder.last_seen > self.dead_after):
+                # its holder's beats stopped (a process killed and restarted with the same
+                # --id): it is gone already, whatever its state's own limit says
+                self._declare_left(want, holder, "fell silent (a new agent asks for its id)")
             if self.state[want] in LIVE or self.state[want] == "done":
                 self._refuse(peer, f"id {want} is taken")
                 return
@@ -374,6 +417,7 @@ class TraversalServer:
                 return
             chosen = vacant[0]
         peer.id = chosen
+        peer.waiting = False
         self.holder[chosen] = peer.ident
         self.state[chosen] = "init"
         self._reply(peer, ["ID", chosen])
@@ -384,6 +428,7 @@ class TraversalServer:
         self._reply(peer, ["REF", reason])
         peer.id = 0
         peer.has_mission = False
+        peer.waiting = reason == "no vacant id"
 
     def _on_c22(self, peer: Peer, agent: int) -> None:
         if not agent or peer.id != agent or self.holder.get(agent) != peer.ident:
@@ -401,8 +446,7 @@ class TraversalServer:
     def _on_armed(self, agent: int) -> None:
         if not self.started:
             self.state[agent] = "ready"
-            if all(s == "ready" for s in self.state.values()):
-                self._go()
+            self._maybe_go(self.now)
             return
         # a spare: it starts after every event still to run, plus its takeoff
         spec = self.mission.specs[agent - 1]
@@ -418,6 +462,19 @@ class TraversalServer:
         self._emit(ev.message(self.replica.last_t, agent, "join", *self._xy(spec.nest),
                               extra={"vehicle": kind}))
         self.say(f"swarmex serve: a spare took id {agent} ({kind}), starting at t={t:.2f}")
+
+    def _maybe_go(self, now: float) -> None:
+        """GO once every id is armed *and* its holder has been heard lately (within two
+        beats, or half ``--dead-after`` if longer): an armed agent that died kept counting
+        as ready, and the mission started with everybody waiting at its start event."""
+        if not all(s == "ready" for s in self.state.values()):
+            return
+        fresh = min(self.dead_after, max(2 * self.mission.heartbeat, self.dead_after / 2))
+        for a in self.state:
+            peer = self.peers.get(self.holder.get(a, b""))
+            if peer is None or now - peer.last_seen > fresh:
+                return  # checked again every pass of the loop
+        self._go()
 
     def _go(self) -> None:
         self.started = True
@@ -521,7 +578,11 @@ class TraversalServer:
             if s not in LIVE:
                 continue
             peer = self.peers.get(self.holder.get(a, b""))
-            limit = self.init_timeout if s in ("init", "ready") else self.dead_after
+            # only an agent still being initialised may be silent longer (it compiles its
+            # algorithm's kernels, holding the GIL, before C01); an armed one beats, and
+            # one that stops is gone after --dead-after like any other (it used to keep
+            # its id, and count as ready for GO, for the hard-coded 60 s)
+            limit = self.init_timeout if s == "init" else self.dead_after
             if peer is None or now - peer.last_seen > limit:
                 self._declare_left(a, peer)
 
@@ -548,19 +609,28 @@ class TraversalServer:
     def _declare_left(self, agent: int, peer: Peer | None, why: str = "fell silent",
                       reason: str = "silent") -> None:
         was = self.state[agent]
-        self.state[agent] = "left" if self.started else "vacant"
-        self.holder.pop(agent, None)
+        # "left" before the start too: open to a spare, as an id handed back is (a silent
+        # one used to become "vacant", which a --spare may not take)
+        self.state[agent] = "left"
+        left = wire.pack(["LEFT", agent, float(self.clock())])
         if peer is not None:
+            # tell the process first, then forget it: it exits at once ("declared gone",
+            # status 5) instead of flying on, its frames dropped, until its server timeout
+            if peer.id == agent and self.holder.get(agent) == peer.ident:
+                self._send(peer, left)
+            self.gone[peer.ident] = (agent, self.now)
             self.peers.pop(peer.ident, None)
+        self.holder.pop(agent, None)
         if not self.started:
-            self.say(f"swarmex serve: agent {agent} went silent before the start; id vacant")
+            self.say(f"swarmex serve: agent {agent} {why} before the start; id {agent} is "
+                     "vacant")
             return
         t = self.replica.last_t
         node = self.replica.on_left(agent)
         self.recorder.on_left(agent, self.clock(), node)
         self.counters.left.append({"id": agent, "t": self.clock(), "state": was,
                                    "open_job": node, "reason": reason})
-        self._to_agents(wire.pack(["LEFT", agent, float(self.clock())]))
+        self._to_agents(left)
         # the node whose job reverts to not done, for the page to un-paint
         x, y = self._xy(node) if node >= 0 else (None, None)
         self._emit(ev.message(t, agent, "left", x, y, extra={"reason": reason}))
