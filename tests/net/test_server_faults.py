@@ -7,6 +7,8 @@ dies, is restarted, or sends a well-formed frame the mission cannot contain.
 
 from __future__ import annotations
 
+import signal
+import threading
 import time
 
 import numpy as np
@@ -227,3 +229,45 @@ def test_a_waiting_spare_keeps_the_mission_open_for_the_last_agents_id(harness):
     h2.frame(b"spare", ["C00", -1], 0.5)
     h2.server._check_liveness(h2.t0 + 3.0)
     assert h2.server._end_code(h2.t0 + 3.0) == 1
+
+
+# ---------------------------------------------------------------- finding 9: heartbeats
+
+
+def test_ctrl_c_is_seen_promptly_with_a_long_heartbeat():
+    """The loop polled for a whole heartbeat: with --heartbeat 8 a Ctrl-C waited 7.6 s."""
+    said: list[str] = []
+    server = TraversalServer(_mission(heartbeat=8.0), "tcp://127.0.0.1:*", dead_after=20.0,
+                             say=said.append)
+    result: list[int] = []
+    thread = threading.Thread(target=lambda: result.append(server.run()), daemon=True)
+    thread.start()
+    end = time.monotonic() + 10
+    while not any("listening" in s for s in said) and time.monotonic() < end:
+        time.sleep(0.02)
+    time.sleep(0.5)  # into the first long poll
+    asked = time.monotonic()
+    server.stop.request(signal.SIGINT)
+    thread.join(10)
+    assert result == [130], said
+    assert time.monotonic() - asked < 2.0
+
+
+def test_an_agent_waits_for_a_server_that_beats_slower_than_its_timeout():
+    """serve --heartbeat 12: an agent with the default 10 s --server-timeout declared the live
+    server gone between two beats."""
+    import zmq
+
+    from swarmex.net.agent import AgentClient
+
+    client = AgentClient(zmq.Context.instance(), "tcp://127.0.0.1:9", server_timeout=10.0,
+                         say=lambda _s: None)
+    try:
+        now = client.last_server
+        assert client._server_silent(now + 11)  # no mission data yet: its own timeout
+        client.mission = _mission(heartbeat=12.0)
+        assert not client._server_silent(now + 11)
+        assert not client._server_silent(now + 30)
+        assert client._server_silent(now + 37)
+    finally:
+        client.sock.close(0)

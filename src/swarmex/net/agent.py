@@ -25,7 +25,7 @@ below ``--min-battery`` make the agent hand its id back to the server (``RET``; 
 
 The server ending the mission (``END``) or declaring this agent gone (``LEFT`` for its id)
 ends it the way a silent server does (:meth:`AgentClient.leave`): a vehicle still flying is
-brought down first.
+brought down first. How long a server may be silent follows the mission's heartbeat too.
 
 Every receive has a timeout. Exit status: 0 landed and statistics acknowledged (or the
 mission ended), 1 the mission ended before this agent finished, 3 the server went silent,
@@ -461,11 +461,17 @@ class AgentClient:
         return 1.0
 
     def _server_silent(self, now: float) -> bool:
-        """Nothing heard from the server for ``server_timeout``, and nothing waiting unread.
-        Agents sharing a process read their sockets in turn after they all tick, so while
-        one handled a frame for a long time (a kernel compiled on a cold cache, under load)
-        the others' frames waited unread, and they declared a live server gone."""
-        if now - self.last_server <= self.server_timeout:
+        """Nothing heard from the server for ``server_timeout`` (at least three of the
+        mission's heartbeats, once the mission data says how often the server beats: a
+        server beating every 12 s was declared gone by the default 10 s), and nothing
+        waiting unread. Agents sharing a process read their sockets in turn after they all
+        tick, so while one handled a frame for a long time (a kernel compiled on a cold
+        cache, under load) the others' frames waited unread, and they declared a live
+        server gone."""
+        limit = self.server_timeout
+        if self.mission is not None:
+            limit = max(limit, 3 * self.mission.heartbeat)
+        if now - self.last_server <= limit:
             return False
         return not self.sock.poll(0, zmq.POLLIN)
 

@@ -54,6 +54,8 @@ from swarmex.net.traversal import (
 from swarmex.worlds.mapfiles import source_name
 
 LIVE = ("init", "ready", "mission", "rtl")
+#: the longest the server's loop polls its socket at once (seconds): how soon it sees a stop
+POLL_SLICE = 0.1
 EXIT_OK, EXIT_INCOMPLETE, EXIT_TIMEOUT = 0, 1, 3
 
 
@@ -245,7 +247,9 @@ class TraversalServer:
                     self.say("swarmex serve: timeout, the mission did not end")
                     self._finish(EXIT_TIMEOUT)
                     return EXIT_TIMEOUT
-                if self.sock.poll(int(max(1, min(hb, next_hb - now) * 1000))):
+                # short slices: a stop request (Ctrl-C) is seen within POLL_SLICE even with
+                # a long --heartbeat (one poll of a whole 8 s beat made Ctrl-C wait 7.6 s)
+                if self.sock.poll(int(max(1, min(hb, next_hb - now, POLL_SLICE) * 1000))):
                     for _ in range(10_000):  # drain, but keep the heartbeat going
                         try:
                             ident, frame = self.sock.recv_multipart(flags=zmq.NOBLOCK)[:2]
