@@ -89,3 +89,41 @@ def test_an_agent_declared_gone_is_told_and_exits_5(tmp_path):
         viewer.stop = True
     net = json.loads(rec_path.read_text())
     assert net["complete"] and [d["id"] for d in net["network"]["left"]] == [2]
+
+
+def test_an_agent_restarted_before_the_start_gets_its_id_back(tmp_path):
+    """An armed agent killed before GO kept its id for a hard-coded 60 s: its restart with
+    the same --id was refused at once ("id 1 is taken", exit 4), the dead id counted as
+    ready, and GO went out with everybody waiting at its start event. Now the restart asks
+    again until the server, after --dead-after of silence, frees the id, and the mission is
+    the simulated run."""
+    from swarmex.missions.traversal import run_traversal, traversal_record, uniform_agents
+    from tests.e2e.test_net_traversal import _world
+
+    rec_path = tmp_path / "net.json"
+    with Procs() as procs:
+        server = procs.start(
+            "server", "serve", *GRID, "--agents", 2, "--seed", 6, "--port", 0,
+            "--time-scale", 0.004, "--heartbeat", 0.2, "--dead-after", 1.0,
+            "--timeout", MISSION, "--json", rec_path,
+        )
+        address = endpoint(server)
+        first = procs.start("first", "agent", "--connect", address, "--id", 1)
+        server.wait_line("id 1 given to a new agent", JOINED)
+        time.sleep(2.0)  # it arms within milliseconds of its id (and waits for id 2)
+        first.kill()
+        again = procs.start("again", "agent", "--connect", address, "--id", 1,
+                            "--connect-timeout", 60)
+        other = procs.start("other", "agent", "--connect", address, "--id", 2)
+        assert server.wait(90) == 0, server.output
+        assert again.wait(15) == 0, again.output
+        assert other.wait(15) == 0, other.output
+        assert server.output.count("id 1 given to a new agent") == 2, server.output
+        assert "a spare took" not in server.output
+    net = json.loads(rec_path.read_text())
+    sim = traversal_record(
+        run_traversal(_world(), uniform_agents([0, 0], 2.22, 10.0), seed=6), {}
+    ).to_dict()
+    assert net["complete"] and net["makespan"] == sim["makespan"]
+    for x, y in zip(net["agents"], sim["agents"], strict=True):
+        assert x["trajectory"] == y["trajectory"] and x["jobs"] == y["jobs"]

@@ -195,6 +195,28 @@ def test_an_armed_agent_that_died_is_not_ready_and_loses_its_id(harness):
     assert h.server.started
 
 
+def test_a_fixed_id_still_taken_is_asked_for_again_until_the_connect_timeout():
+    """A restart with the same --id used to exit 4 at the first "id 1 is taken", before the
+    server could notice that the old holder had died."""
+    import zmq
+
+    from swarmex.net.agent import EXIT_REFUSED, AgentClient
+
+    said: list[str] = []
+    client = AgentClient(zmq.Context.instance(), "tcp://127.0.0.1:9", want_id=1,
+                         connect_timeout=5.0, say=said.append)
+    try:
+        t = client.started_at
+        client.on_frame(wire.pack(["REF", "id 1 is taken"]), t + 0.1)
+        assert client.exit_code is None and client.retry_at == pytest.approx(t + 0.3)
+        assert any("id 1 is taken; asking again" in s for s in said), said
+        client.tick(t + 5.5)
+        assert client.exit_code == EXIT_REFUSED
+        assert said[-1].endswith("refused: id 1 is taken"), said
+    finally:
+        client.sock.close(0)
+
+
 def test_an_armed_agent_falls_silent_after_dead_after_not_a_minute(harness):
     h = harness(dead_after=2.0)
     h.arm(b"a1", 1, 0.0)

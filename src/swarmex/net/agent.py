@@ -29,7 +29,8 @@ brought down first. How long a server may be silent follows the mission's heartb
 
 Every receive has a timeout. Exit status: 0 landed and statistics acknowledged (or the
 mission ended), 1 the mission ended before this agent finished, 3 the server went silent,
-4 refused (unknown id, or no vacant id before ``--connect-timeout``; a spare the server has
+4 refused (unknown id, or no vacant id, or a fixed ``--id`` still taken, before
+``--connect-timeout``; a spare the server has
 answered waits for the whole mission instead), 5 the server declared
 this agent gone, 6 its vehicle failed (no heartbeat, a failed check, a low battery, a lost
 link; an id it held was handed back).
@@ -218,6 +219,17 @@ class AgentClient:
                 self.retry_at = now + 0.2  # a spare waits for an id to fall vacant
                 if self.want_id == 0 and now - self.started_at > self.connect_timeout:
                     self._done(EXIT_REFUSED, f"refused: {reason}")
+                return
+            if (reason == f"id {self.want_id} is taken" and self.state == "hello"
+                    and now - self.started_at <= self.connect_timeout):
+                # a fixed id whose holder may have died (a restarted process asking for its
+                # own id): the server frees it after --dead-after of silence, so ask again
+                # for --connect-timeout instead of giving up at once
+                if not self.waiting:
+                    self.say(f"swarmex agent: id {self.want_id} is taken; asking again for up "
+                             f"to {self.connect_timeout:g} s")
+                self.waiting = True
+                self.retry_at = now + 0.2
                 return
             self._done(EXIT_REFUSED, f"refused: {reason}")
         elif cmd == "ERR":
@@ -502,7 +514,8 @@ class AgentClient:
         elif self.state == "hello":  # §4.3: keep trying to connect for a while
             if now - self.started_at > self.connect_timeout:
                 self._done(EXIT_SERVER_GONE if not self.waiting else EXIT_REFUSED,
-                           "no id from the server")
+                           f"refused: id {self.want_id} is taken"
+                           if self.waiting and self.want_id > 0 else "no id from the server")
                 return 1.0
         elif self._server_silent(now):
             self.leave(EXIT_SERVER_GONE, "the server went silent", now)
