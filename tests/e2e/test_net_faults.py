@@ -34,7 +34,7 @@ def test_a_waiting_spare_takes_over_from_the_last_agent(tmp_path):
         viewer = Viewer(address)
         victim = procs.start("victim", "agent", "--connect", address, "--id", 1)
         spare = procs.start("spare", "agent", "--connect", address, "--spare",
-                            "--connect-timeout", 1, "--server-timeout", 20)
+                            "--connect-timeout", 5, "--server-timeout", 20)
         server.wait_line("mission started", JOINED)
         spare.wait_line(r"waiting for a vacant id \(as long as the mission runs\)", 30)
         end = time.monotonic() + 30.0

@@ -173,6 +173,12 @@ def test_an_agent_declared_gone_is_told(harness):
     h.broadcast(b"a1", wire.Broadcast("C04", 1, 0, t=0.1, eta=0.1), 3.5)
     assert h.to(b"a1")[n:][0][:2] == ["LEFT", 1]
     assert h.server.counters.relayed == 0
+    # and again while it keeps talking, at most once a heartbeat (0.25 s here): the ghost
+    # was told only once, its peer being known after the first frame
+    h.frame(b"a1", ["HB", 1], 3.6)
+    assert len(h.to(b"a1")) == n + 1
+    h.frame(b"a1", ["HB", 1], 3.8)
+    assert len(h.to(b"a1")) == n + 2 and h.to(b"a1")[-1][:2] == ["LEFT", 1]
 
 
 # ---------------------------------------------------------------- finding 6: before GO
@@ -209,6 +215,11 @@ def test_a_fixed_id_still_taken_is_asked_for_again_until_the_connect_timeout():
         t = client.started_at
         client.on_frame(wire.pack(["REF", "id 1 is taken"]), t + 0.1)
         assert client.exit_code is None and client.retry_at == pytest.approx(t + 0.3)
+        # it sleeps until the next ask: with no id (so no heartbeat) it polled with a zero
+        # timeout, a whole core while it waited (a --spare for the whole mission; found by
+        # the review of the fix)
+        assert client.tick(t + 0.15) == pytest.approx(0.15)
+        assert client.tick(t + 0.3) > 0.0  # asked again: the next ask is 0.2 s away
         assert any("id 1 is taken; asking again" in s for s in said), said
         client.tick(t + 5.5)
         assert client.exit_code == EXIT_REFUSED
@@ -217,15 +228,34 @@ def test_a_fixed_id_still_taken_is_asked_for_again_until_the_connect_timeout():
         client.sock.close(0)
 
 
-def test_an_armed_agent_falls_silent_after_dead_after_not_a_minute(harness):
+def test_an_armed_agent_that_stalls_before_the_start_keeps_its_id(harness):
+    """Declared gone after --dead-after before GO, an armed agent that merely stalled (a
+    loaded machine) cost the whole run: nobody took its id, and the server waited out
+    --timeout (found by the review of the fix). It keeps the init timeout; GO waits until it
+    is heard again; past the init timeout its id is open to a spare."""
     h = harness(dead_after=2.0)
     h.arm(b"a1", 1, 0.0)
-    h.frame(b"a2", ["C00", 2], 0.0)  # still being initialised: it has its longer limit
+    h.frame(b"a2", ["C00", 2], 0.0)  # still being initialised
     h.server._check_liveness(h.t0 + 2.5)
-    assert h.server.state[1] == "left" and h.server.state[2] == "init"
-    # a spare may take an id vacated before the start, as one handed back
-    h.frame(b"spare", ["C00", -1], 2.6)
-    assert h.to(b"spare")[-1] == ["ID", 1]
+    assert h.server.state[1] == "ready" and h.server.state[2] == "init"
+    h.frame(b"a2", ["C22", 2], 2.5)
+    h.frame(b"a2", ["C01", 2, 0], 2.5)
+    h.frame(b"a2", ["C02", 2], 2.5)
+    h.frame(b"a2", ["C03", 2], 2.5)
+    assert not h.server.started  # a1 not heard lately: no GO yet
+    h.server._maybe_go(h.t0 + 2.55)  # the loop's pass: still no GO
+    assert not h.server.started
+    h.frame(b"a1", ["HB", 1], 2.6)  # the stall ends
+    h.frame(b"a2", ["HB", 2], 2.6)
+    h.server._maybe_go(h.t0 + 2.6)
+    assert h.server.started and not any(m[0] == "LEFT" for _i, m in h.sent)
+    # past the init timeout an armed agent is gone, and a spare may take its id
+    h2 = harness(dead_after=2.0)
+    h2.arm(b"a1", 1, 0.0)
+    h2.server._check_liveness(h2.t0 + h2.server.init_timeout + 0.5)
+    assert h2.server.state[1] == "left"
+    h2.frame(b"spare", ["C00", -1], h2.server.init_timeout + 0.6)
+    assert h2.to(b"spare")[-1] == ["ID", 1]
 
 
 # ---------------------------------------------------------------- finding 4: waiting spares

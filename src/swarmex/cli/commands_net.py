@@ -195,7 +195,9 @@ def agent(
     agent_id: int = typer.Option(0, "--id", help="Ask for this id (0: any vacant one)."),
     count: int = typer.Option(1, "--count", help="Agents run by this process."),
     spare: bool = typer.Option(
-        False, "--spare", help="Only take an id vacated mid-mission (wait for one)."
+        False, "--spare",
+        help="Only take an id vacated or handed back (mid-mission, or before the start); wait"
+             " for one.",
     ),
     spares: int = typer.Option(
         0, "--spares", help="Also run this many spares in this process (as --spare)."

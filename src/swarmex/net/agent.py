@@ -524,6 +524,9 @@ class AgentClient:
             self.retry_at = None
             self._send(["C00", self.want_id])
         wait = max(0.0, self.next_hb - now)
+        if not self.id:  # no id yet, so no heartbeat: sleep until the next ask, not spin
+            # (next_hb does not advance without an id, and a waiting spare polled at 100 %)
+            wait = max(0.0, self.retry_at - now) if self.retry_at is not None else 0.2
         if now >= self.next_hb and self.id:
             hb = self.mission.heartbeat if self.mission is not None else 0.25
             self.next_hb = now + hb

@@ -313,12 +313,13 @@ class TraversalServer:
         peer = self.peers.get(ident)
         if peer is None:
             peer = self.peers[ident] = Peer(ident, joined_at=now)
-            gone = self.gone.get(ident)
-            if gone is not None and now - gone[1] >= self.mission.heartbeat:
-                # a process declared gone still talks (it was paused, or LEFT was lost):
-                # tell it again, so it stops flying a plan a spare may have taken
-                self.gone[ident] = (gone[0], now)
-                self._reply(peer, ["LEFT", gone[0], float(self.clock())])
+        gone = self.gone.get(ident)
+        if gone is not None and peer.id == 0 and now - gone[1] >= self.mission.heartbeat:
+            # a process declared gone still talks (it was paused, or LEFT was lost): tell
+            # it again, at most once a heartbeat, so it stops flying a plan a spare may
+            # have taken (checked on every frame: its ghost peer stays known after the first)
+            self.gone[ident] = (gone[0], now)
+            self._reply(peer, ["LEFT", gone[0], float(self.clock())])
         peer.last_seen = now
         peer.frames_in += 1
         peer.bytes_in += len(frame)
@@ -582,11 +583,14 @@ class TraversalServer:
             if s not in LIVE:
                 continue
             peer = self.peers.get(self.holder.get(a, b""))
-            # only an agent still being initialised may be silent longer (it compiles its
-            # algorithm's kernels, holding the GIL, before C01); an armed one beats, and
-            # one that stops is gone after --dead-after like any other (it used to keep
-            # its id, and count as ready for GO, for the hard-coded 60 s)
-            limit = self.init_timeout if s == "init" else self.dead_after
+            # before the start an agent may be silent longer: one being initialised
+            # compiles its kernels holding the GIL, and an armed one that stalls (a loaded
+            # machine, a paused process) must not cost the whole run: declared gone before
+            # GO, nobody takes its id and the server waits out --timeout. A dead armed
+            # agent is still handled at once where it matters: GO waits for every holder
+            # to have been heard lately (_maybe_go), and a restart asking for the id of a
+            # holder silent for --dead-after takes it over (_on_c00)
+            limit = self.init_timeout if s in ("init", "ready") else self.dead_after
             if peer is None or now - peer.last_seen > limit:
                 self._declare_left(a, peer)
 
@@ -627,7 +631,7 @@ class TraversalServer:
         self.holder.pop(agent, None)
         if not self.started:
             self.say(f"swarmex serve: agent {agent} {why} before the start; id {agent} is "
-                     "vacant")
+                     "open to a spare or a new agent")
             return
         t = self.replica.last_t
         node = self.replica.on_left(agent)
