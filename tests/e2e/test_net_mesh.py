@@ -248,21 +248,10 @@ def test_a_killed_display_ends_the_launcher_in_one_line(tmp_path):
     status 3, no record written (the run's state died with the display), no process left."""
     import os
     import signal
-    import subprocess
-    import sys
 
     out = tmp_path / "mesh.json"
-    proc = subprocess.Popen(
-        [sys.executable, "-m", "swarmex", "mesh", "--empty", "8x8", "--robots", "2",
-         "--time-scale", "1", "--json", str(out)],
-        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
-        env={**os.environ, "TMPDIR": str(tmp_path)},
-    )
+    proc = _launch_mesh(tmp_path, out)
     try:
-        assert proc.stdout is not None
-        for line in proc.stdout:
-            if "robots started" in line:
-                break
         children = _descendants(proc.pid)
         addr = next(tmp_path.glob("swarmex-mesh-*/node-10000.addr")).read_text()
         display = _listening(int(addr.rsplit(":", 1)[1]), children)
@@ -294,21 +283,10 @@ def test_a_second_sigterm_to_the_display_does_not_lose_the_record(tmp_path):
     import json
     import os
     import signal
-    import subprocess
-    import sys
 
     out = tmp_path / "mesh.json"
-    proc = subprocess.Popen(
-        [sys.executable, "-m", "swarmex", "mesh", "--empty", "8x8", "--robots", "2",
-         "--time-scale", "1", "--json", str(out)],
-        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
-        env={**os.environ, "TMPDIR": str(tmp_path)},
-    )
+    proc = _launch_mesh(tmp_path, out)
     try:
-        assert proc.stdout is not None
-        for line in proc.stdout:
-            if "robots started" in line:
-                break
         time.sleep(1.0)
         addr = next(tmp_path.glob("swarmex-mesh-*/node-10000.addr")).read_text()
         children = _descendants(proc.pid)
@@ -334,6 +312,26 @@ def test_a_second_sigterm_to_the_display_does_not_lose_the_record(tmp_path):
     record = json.loads(out.read_text())
     assert not record["complete"] and record["metrics"]["explored_fraction"] > 0
     assert [a["metrics"]["reported"] for a in record["agents"]].count(True) == 1
+
+
+def _launch_mesh(tmp_path, out):
+    """``swarmex mesh`` of 2 robots on 8 × 8 m in its own session (its run folder under
+    ``tmp_path``), returned once its robots have started."""
+    import os
+    import subprocess
+    import sys
+
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "swarmex", "mesh", "--empty", "8x8", "--robots", "2",
+         "--time-scale", "1", "--json", str(out)],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
+        env={**os.environ, "TMPDIR": str(tmp_path)},
+    )
+    assert proc.stdout is not None
+    for line in proc.stdout:
+        if "robots started" in line:
+            break
+    return proc
 
 
 def _parent(pid: int) -> int:

@@ -22,23 +22,33 @@ from swarmex.worlds import GridWorld
 pytestmark = pytest.mark.timeout(60)
 
 
+def _two_agent_mission() -> Mission:
+    return Mission(GridWorld(np.ones((4, 4), dtype=bool)), uniform_agents([0, 0], 1.0, 1.0))
+
+
+def _initialise(sock: zmq.Socket, mission: Mission) -> bytes | None:
+    """Answer one frame of agent 1's initialisation (C00, C22, C01-C03) as the server does,
+    GO after C03: the agent's connection once it has GO, else None."""
+    ident, frame = sock.recv_multipart()
+    msg = wire.decode_message(frame)
+    if msg[0] == "C00":
+        sock.send_multipart([ident, wire.pack(["ID", 1])])
+    elif msg[0] == "C22":
+        data = {**mission.to_wire(), "you": 1, "started": False, "clock": 0.0}
+        sock.send_multipart([ident, wire.pack(["MIS", data, []])])
+    elif msg[0] in ("C01", "C02", "C03"):
+        sock.send_multipart([ident, wire.pack(["ACK", msg[0], 1])])
+        if msg[0] == "C03":
+            sock.send_multipart([ident, wire.pack(["GO", 0.0])])
+            return ident
+    return None
+
+
 def _server_that_dies(sock: zmq.Socket, stop: threading.Event) -> None:
-    mission = Mission(GridWorld(np.ones((4, 4), dtype=bool)), uniform_agents([0, 0], 1.0, 1.0))
+    mission = _two_agent_mission()
     while not stop.is_set():
-        if not sock.poll(100):
-            continue
-        ident, frame = sock.recv_multipart()
-        msg = wire.decode_message(frame)
-        if msg[0] == "C00":
-            sock.send_multipart([ident, wire.pack(["ID", 1])])
-        elif msg[0] == "C22":
-            data = {**mission.to_wire(), "you": 1, "started": False, "clock": 0.0}
-            sock.send_multipart([ident, wire.pack(["MIS", data, []])])
-        elif msg[0] in ("C01", "C02", "C03"):
-            sock.send_multipart([ident, wire.pack(["ACK", msg[0], 1])])
-            if msg[0] == "C03":
-                sock.send_multipart([ident, wire.pack(["GO", 0.0])])
-                return  # and never another word: the agent waits for rival 2, then gives up
+        if sock.poll(100) and _initialise(sock, mission) is not None:
+            return  # and never another word: the agent waits for rival 2, then gives up
 
 
 @contextlib.contextmanager
@@ -204,8 +214,7 @@ def _server_that_ends(last: list, airborne: Callable[[], bool]):
     import time
 
     def serve(sock: zmq.Socket, stop: threading.Event) -> None:
-        mission = Mission(GridWorld(np.ones((4, 4), dtype=bool)),
-                          uniform_agents([0, 0], 1.0, 1.0))
+        mission = _two_agent_mission()
         agent: bytes | None = None
         sent = False
         end = time.monotonic() + 30
@@ -215,20 +224,8 @@ def _server_that_ends(last: list, airborne: Callable[[], bool]):
                 sent = True
             if agent is not None and sent:
                 sock.send_multipart([agent, wire.pack(["HB", 0.0])])
-            if not sock.poll(50):
-                continue
-            ident, frame = sock.recv_multipart()
-            msg = wire.decode_message(frame)
-            if msg[0] == "C00":
-                sock.send_multipart([ident, wire.pack(["ID", 1])])
-            elif msg[0] == "C22":
-                data = {**mission.to_wire(), "you": 1, "started": False, "clock": 0.0}
-                sock.send_multipart([ident, wire.pack(["MIS", data, []])])
-            elif msg[0] in ("C01", "C02", "C03"):
-                sock.send_multipart([ident, wire.pack(["ACK", msg[0], 1])])
-                if msg[0] == "C03":
-                    sock.send_multipart([ident, wire.pack(["GO", 0.0])])
-                    agent = ident
+            if sock.poll(50):
+                agent = _initialise(sock, mission) or agent
 
     return serve
 
