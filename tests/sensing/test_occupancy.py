@@ -82,3 +82,19 @@ def test_wire_round_trip_through_msgpack():
     back = LocalMap.from_wire(msgpack.unpackb(msgpack.packb(lm.to_wire())))
     assert (back.x0, back.y0) == (4, 9)
     assert (back.free == f).all() and (back.occ == o).all()
+
+
+@pytest.mark.parametrize("pooled", [False, True])
+def test_a_derived_value_follows_the_grid_with_or_without_a_pool(pooled):
+    """``derived()`` is computed once per grid state: a grid without a pool (a library
+    user's) must drop it when a scan is merged, as a pooled one moves to a new state."""
+    from swarmex.sensing.occupancy import GridPool
+
+    grid = OccupancyGrid((4, 4), GridPool() if pooled else None)
+
+    def passed(lo):
+        return int((lo < 0).sum())
+
+    assert grid.derived("passed", passed) == 0
+    grid.apply(local(free_cells=[(1, 1)], shape=(4, 4)))
+    assert grid.derived("passed", passed) == int(grid.free().sum()) == 1

@@ -72,3 +72,35 @@ def test_generators_are_seeded_and_connected(make):
     assert a.free_cells > 0
     assert ndimage.label(a.free)[1] == 1
     assert not np.array_equal(a.free, c.free)
+
+
+def test_an_edge_of_length_zero_is_refused_as_a_negative_one_is():
+    # a zero-length edge makes travel free and distance ties degenerate ("must be positive")
+    with pytest.raises(InputError, match="edge lengths must be positive"):
+        _ = GraphWorld(nx.Graph([(0, 1, {"weight": 0.0})])).graph
+
+
+def test_a_self_loop_is_no_neighbour_and_distances_are_networkxs():
+    """A loop (v, v) would list v among its own neighbours: an agent could 'move' onto the
+    vertex it stands on. Neighbours and distances are networkx's, loops left out."""
+    from swarmex.planning.distance import distance_field
+
+    g = nx.path_graph(4)
+    g.add_edge(1, 1)
+    nx.set_edge_attributes(g, 1.0, "weight")
+    w = GraphWorld(g)
+    for v in range(4):
+        assert sorted(w.graph.neighbors(v)) == sorted(set(g[v]) - {v})
+    want = nx.single_source_dijkstra_path_length(g, 0)
+    assert list(distance_field(w.graph, 0)) == [want[v] for v in range(4)]
+
+
+def test_the_weight_attribute_named_is_the_one_read():
+    # GraphWorld(weight="len") read "weight" (absent: every edge 1.0) and nobody noticed
+    from swarmex.planning.distance import distance_field
+
+    g = nx.path_graph(3)
+    nx.set_edge_attributes(g, 3.0, "len")
+    w = GraphWorld(g, weight="len")
+    assert w.graph.edge_length(0, 1) == 3.0
+    assert distance_field(w.graph, 0)[2] == nx.dijkstra_path_length(g, 0, 2, weight="len")
