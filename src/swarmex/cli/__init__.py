@@ -140,11 +140,18 @@ def leave(code: int) -> NoReturn:
     import atexit
     import contextlib
     import os
+    import signal
     import threading
 
     for thread in threading.enumerate():
         if thread is not threading.main_thread() and not thread.daemon:
             thread.join()
+    # a Ctrl-C (or SIGTERM) while the clean-ups run means "leave now": a terminal often
+    # sends two, and the second one, raised inside a clean-up, printed "Exception ignored in
+    # atexit callback" and its traceback after the command's own last line (a CI flake)
+    with contextlib.suppress(ValueError):  # not the main thread: signals stay as they are
+        for sig in (signal.SIGINT, signal.SIGTERM):
+            signal.signal(sig, lambda *_: os._exit(code or 130))
     atexit._run_exitfuncs()
     for stream in (sys.stdout, sys.stderr):
         # a closed pipe or stream: nothing more can be said
