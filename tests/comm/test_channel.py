@@ -32,3 +32,16 @@ def test_loss_rate_is_honoured():
 def test_invalid(kw):
     with pytest.raises(InputError):
         Channel(**kw)
+
+
+def test_dead_agents_hear_nothing():
+    """``alive`` removes dead agents from the receivers (everyone else in range still hears):
+    a public option no simulator path passes, so only this test pins it."""
+    pos = np.zeros((4, 2))
+    alive = np.array([True, True, False, True])
+    got = Channel().receivers(0, pos, np.random.default_rng(0), alive)
+    assert got.tolist() == [1, 3]
+    # with a range too, the mask is the conjunction: alive, in range and not the sender
+    pos = np.array([[0, 0], [1, 0], [2, 0], [9, 0]], float)
+    got = Channel(range=5.0).receivers(0, pos, np.random.default_rng(0), alive)
+    assert got.tolist() == [1]

@@ -264,3 +264,32 @@ def load_metric_or_skip():
     if not path.exists():
         pytest.skip("MovingAI maps not available")
     return load_metric(path, 0.25)
+
+
+def test_routed_payload_is_forwarded_below_max_hops_and_dropped_at_it():
+    """MAX_HOPS bounds a routed payload's hops (the IP TTL role, a guard against loops): one
+    that arrives having made MAX_HOPS - 1 hops is forwarded, one that has made MAX_HOPS is
+    dropped and counted, even though a valid route to its destination is held."""
+    from swarmex.comm.aodv import MAX_HOPS
+
+    pay = NeedMap(4, ((1, 0, 12),))
+
+    def relay():
+        node = AodvNode(1, lambda but: [n for n in (0, 2) if n != but])
+        node.hello(0, 0)
+        node.hello(2, 0)  # a valid one-hop route to 2, the destination
+        assert node.route(2, 1) is not None
+        return node
+
+    node = relay()
+    out, got = node.receive(0, Routed(0, 7, 2, 100, pay, MAX_HOPS - 1), 1)
+    assert got == [] and node.stats.dropped_hops == 0
+    assert len(out) == 1
+    nxt, env = out[0]
+    assert nxt == 2 and isinstance(env, Routed) and env.hops == MAX_HOPS
+    assert (env.orig, env.dest, env.payload) == (7, 2, pay)
+
+    node = relay()
+    out, got = node.receive(0, Routed(0, 7, 2, 100, pay, MAX_HOPS), 1)
+    assert out == [] and got == []
+    assert node.stats.dropped_hops == 1 and node.stats.expired == 0

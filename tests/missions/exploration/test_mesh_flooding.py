@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 from swarmex.comm.mesh import DiscNetwork, MeshNode
@@ -78,3 +79,30 @@ def test_silent_neighbour_is_dropped_and_forgotten():
         heartbeats(robots, wire, t)  # only those due send; 0 is out of range now
     assert 0 not in robots[1].mesh.neighbours
     assert 0 not in robots[1].belief.heard
+
+
+def test_kdtree_links_of_a_large_team_equal_the_all_pairs_links(monkeypatch):
+    """From KDTREE_FROM robots the links come from a k-d tree; they must be the all-pairs
+    disc links: symmetric (j hears i when i hears j) and inclusive at exactly the range."""
+    from swarmex.comm import mesh
+
+    n, r = 300, 15.0
+    assert n >= mesh.KDTREE_FROM
+    p = np.random.default_rng(4).uniform(0, 100, size=(n, 2))
+    p[:3] = [(0.0, 0.0), (r, 0.0), (9.0, 12.0)]  # 0-1 and 0-2 exactly r apart
+    p[3:][np.hypot(*p[3:].T) <= r + 1.0] += 20.0  # keep the others out of 0's disc
+    tree = DiscNetwork(n, r)
+    tree.move(p)
+    monkeypatch.setattr(mesh, "KDTREE_FROM", 10**9)
+    pairs = DiscNetwork(n, r)
+    pairs.move(p)
+    assert 1000 < tree.in_range.sum() // 2 < 10000  # a few thousand links
+    assert np.array_equal(tree.in_range, pairs.in_range)
+    assert np.array_equal(tree.in_range, tree.in_range.T)
+    assert tree.in_range[0, 1] and tree.in_range[1, 0]
+    assert tree.in_range[0, 2] and tree.in_range[2, 0]
+    # independent route: the brute-force disc rule
+    d2 = ((p[:, None] - p[None]) ** 2).sum(axis=2)
+    want = d2 <= r * r
+    np.fill_diagonal(want, False)
+    assert np.array_equal(tree.in_range, want)

@@ -113,3 +113,30 @@ def test_hilbert_with_four_robots_is_not_all_in_transport_at_once():
     overlap = [run_forage("hilbert", 32, 4, f, 6).metrics["comm_transport_overlap"]
                for f in cells]
     assert sum(overlap) > 0
+
+
+def test_best_order_keeps_the_first_of_equally_early_orders():
+    """Among orders of the neighbours that complete in the same round, ``best_order`` keeps
+    the first in ``permutations`` order: the tie-break changes whole runs, so it is pinned."""
+    from itertools import permutations
+
+    futures = {1: np.array([[3, 0]]), 2: np.array([[0, 3]]), 3: np.array([[-3, 0]])}
+
+    def future_of(b, t):
+        return futures[b]
+
+    def completion(order):  # brute force: walk the order meeting by meeting
+        tc, p = 0, (0, 0)
+        for b in order:
+            fut = future_of(b, tc)
+            tau = C.meet(p, fut)
+            tc += tau
+            p = tuple(int(v) for v in fut[min(tau, len(fut) - 1)])
+        return tc
+
+    for targets in ([1, 2], [2, 1], [1, 3, 2]):
+        ends = {perm: completion(perm) for perm in permutations(targets)}
+        least = min(ends.values())
+        ties = [list(perm) for perm, tc in ends.items() if tc == least]
+        assert len(ties) >= 2  # the case is a real tie
+        assert C.best_order((0, 0), 0, targets, future_of) == (ties[0], least)

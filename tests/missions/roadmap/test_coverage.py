@@ -183,3 +183,46 @@ def test_a_watching_callback_gets_only_the_frames_it_wants_and_the_run_is_the_sa
     swarmex.run("roadmap", **opts, on_frame=frames.append)
     assert spec.unit == "edges travelled" and spec.total == 80
     assert spec.count(frames[-1]) == 80  # coverage ends with every edge travelled
+
+
+def _free_agent(clutter, n, weight, left):
+    """A free paper-rule agent on a board of ``n`` branches with the given ``Weight``s."""
+    from swarmex.missions.roadmap.blackboard import WMABoard
+    from swarmex.missions.roadmap.sim import build_roadmap
+    from swarmex.missions.roadmap.wma_policy import WMAAgent
+
+    rm = build_roadmap(clutter, "wma-rrt", cluster(n), 60, 10, np.random.default_rng(0))
+    board = WMABoard(rm, n)
+    agent = WMAAgent(0, cluster(n)[0], board)
+    board.weight[:] = weight
+    agent.left = left
+    return agent
+
+
+def test_a_free_agent_does_not_go_back_into_the_branch_it_left(clutter):
+    """Paper rule: a free agent helps another open branch, never the one it just left (even
+    when that one has the least Weight), and waits (-1) when the one it left is all that is open."""
+    agent = _free_agent(clutter, 3, [1.0, 3.0, COMPLETE], left=0)
+    picks = {agent._pick_branch(np.random.default_rng(s)) for s in range(100)}
+    assert picks == {1}
+    agent = _free_agent(clutter, 3, [1.0, 1.0, 3.0], left=0)  # tied with the left branch
+    picks = {agent._pick_branch(np.random.default_rng(s)) for s in range(100)}
+    assert picks == {1}
+    agent = _free_agent(clutter, 3, [1.0, COMPLETE, COMPLETE], left=0)
+    assert {agent._pick_branch(np.random.default_rng(s)) for s in range(20)} == {-1}
+
+
+def test_a_free_agent_helps_the_open_branch_of_least_weight(clutter):
+    """Paper rule: a free agent helps the open branch of least Weight, drawing uniformly
+    among the tied minima only (the expected set is the argmin over the board's open branches)."""
+    agent = _free_agent(clutter, 3, [3.0, 1.0, 5.0], left=-1)
+    assert {agent._pick_branch(np.random.default_rng(s)) for s in range(50)} == {1}
+
+    weight = np.array([3.0, 1.0, COMPLETE, 1.0, 5.0])
+    agent = _free_agent(clutter, 5, weight, left=-1)
+    open_ = np.flatnonzero(weight != COMPLETE)
+    want = set(open_[weight[open_] == weight[open_].min()].tolist())
+    assert want == {1, 3}
+    picks = [agent._pick_branch(np.random.default_rng(s)) for s in range(200)]
+    assert set(picks) == want
+    assert 60 < picks.count(1) < 140  # both tied minima drawn, about evenly
