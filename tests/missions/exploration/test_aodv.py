@@ -293,3 +293,60 @@ def test_routed_payload_is_forwarded_below_max_hops_and_dropped_at_it():
     out, got = node.receive(0, Routed(0, 7, 2, 100, pay, MAX_HOPS), 1)
     assert out == [] and got == []
     assert node.stats.dropped_hops == 1 and node.stats.expired == 0
+
+
+def _node_with_route_to_9(seq=5):
+    """Node 0 (neighbours 1 and 2) holding a valid route to 9: seq ``seq``, 2 hops via 1."""
+    node = AodvNode(0, lambda but: [n for n in (1, 2) if n != but])
+    node.receive(1, Rrep(1, 0, 9, seq, 1, 30), 0)
+    r = node.routes[9]
+    assert (r.valid, r.seq, r.hops, r.next_hop) == (True, seq, 2, 1)
+    return node
+
+
+def test_same_seq_equal_hops_does_not_replace_the_route():
+    """RFC 3561 §6.2: with equal sequence numbers a route is replaced only if the new hop
+    count is *smaller*; an equally long route via another neighbour leaves the old one."""
+    node = _node_with_route_to_9()
+    node.receive(2, Rrep(2, 0, 9, 5, 1, 30), 1)  # seq 5, 2 hops, via 2
+    r = node.routes[9]
+    assert (r.seq, r.hops, r.next_hop) == (5, 2, 1)
+    node.receive(2, Rrep(2, 0, 9, 5, 0, 30), 2)  # seq 5, 1 hop: shorter, so it wins
+    assert (r.seq, r.hops, r.next_hop) == (5, 1, 2)
+
+
+def test_same_seq_longer_route_is_not_fresher():
+    """RFC 3561 §6.2: only a *greater* sequence number is fresher; the same seq with more
+    hops must not replace the route, while a greater seq does even when longer."""
+    node = _node_with_route_to_9()
+    node.receive(2, Rrep(2, 0, 9, 5, 3, 30), 1)  # seq 5, 4 hops via 2
+    r = node.routes[9]
+    assert (r.seq, r.hops, r.next_hop) == (5, 2, 1)
+    node.receive(2, Rrep(2, 0, 9, 6, 3, 30), 2)  # seq 6, 4 hops via 2: fresher
+    assert (r.seq, r.hops, r.next_hop) == (6, 4, 2)
+
+
+def test_intermediate_node_answers_a_rreq_with_an_equal_dest_seq():
+    """RFC 3561 §6.6.2: an intermediate node with a valid route answers the RREQ when its
+    destination seq is greater than *or equal to* the RREQ's, instead of relaying it."""
+    node = _node_with_route_to_9(seq=5)
+    out, _ = node.receive(2, Rreq(2, 7, 1, 1, 9, 5, 0), 1)  # from 7 via 2, wants 9 at seq 5
+    assert len(out) == 1
+    to, msg = out[0]
+    assert to == 2 and isinstance(msg, Rrep)
+    assert (msg.orig, msg.dest, msg.dest_seq, msg.hops) == (7, 9, 5, 2)
+    # a RREQ asking for a fresher seq (6) is relayed, not answered
+    out, _ = node.receive(2, Rreq(2, 7, 1, 2, 9, 6, 0), 2)
+    assert [(to, type(m)) for to, m in out] == [(1, Rreq)]
+
+
+def test_link_break_raises_the_destination_sequence_number():
+    """RFC 3561 §6.11: on a link break the known destination seq of every route through it
+    is incremented, and the RERR carries that raised number."""
+    node = _node_with_route_to_9(seq=5)
+    node.receive(2, Rreq(2, 7, 1, 1, 9, 5, 0), 1)  # 2 becomes a precursor of the route to 9
+    out = node.link_broken(1, 2)
+    r = node.routes[9]
+    assert not r.valid and r.seq == 6
+    # the RERR to the precursor lists 9 at seq 6 (and the neighbour 1 itself, seq unknown)
+    assert [(to, m.unreachable) for to, m in out] == [(2, ((1, -1), (9, 6)))]

@@ -106,3 +106,36 @@ def test_kdtree_links_of_a_large_team_equal_the_all_pairs_links(monkeypatch):
     want = d2 <= r * r
     np.fill_diagonal(want, False)
     assert np.array_equal(tree.in_range, want)
+
+
+def test_disc_link_at_exactly_the_range():
+    """The disc model links two robots within ``range`` metres, the boundary included: a
+    pair exactly 5 m apart (3-4-5) is linked, one a hair farther is not."""
+    net = DiscNetwork(3, 5.0)
+    net.move(np.array([[0.0, 0.0], [3.0, 4.0], [0.0, -5.000001]]))
+    assert net.in_range[0, 1] and net.in_range[1, 0]
+    assert not net.in_range[0, 2] and not net.in_range[2, 0]
+
+
+def test_neighbour_is_kept_at_exactly_the_timeout():
+    """A neighbour is dropped when silent for *longer* than the timeout: at exactly the
+    timeout it stays, one tick later it goes."""
+    m = MeshNode(0, heartbeat_period=10, timeout=30)
+    m.hear(1, 0)
+    assert m.expire(30) == [] and list(m.neighbours) == [1]
+    assert m.expire(31) == [1] and list(m.neighbours) == []
+
+
+def test_lost_copies_are_counted():
+    """A unicast to a peer out of range is sent and lost (the send timeout drops it): it
+    counts as sent and as lost, per copy, whichever send path is used."""
+    net = DiscNetwork(3, 5.0)
+    net.move(np.array([[0.0, 0.0], [4.0, 0.0], [100.0, 0.0]]))
+    msg = type("M", (), {"kind": "X", "nbytes": 10})()
+    assert net.unicast(0, 1, msg) and not net.unicast(0, 2, msg)
+    assert net.totals()["messages_lost"] == 1
+    net.unicast_many(0, [1, 2], msg)
+    assert net.totals()["messages_lost"] == 2
+    net.send_mask(0, 0b110, msg, "X", 10)
+    t = net.totals()
+    assert t["messages_lost"] == 3 and t["messages_sent"] == 6

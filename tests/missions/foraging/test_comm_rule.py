@@ -140,3 +140,40 @@ def test_best_order_keeps_the_first_of_equally_early_orders():
         ties = [list(perm) for perm, tc in ends.items() if tc == least]
         assert len(ties) >= 2  # the case is a real tie
         assert C.best_order((0, 0), 0, targets, future_of) == (ties[0], least)
+
+
+def test_word_exchange_goes_both_ways_from_the_snapshot():
+    """Word.exchange: two informed robots at distance 1 merge what each knew *before* this
+    Look, both ways; news does not travel two hops in one Look along a chain of pairs."""
+    word = C.Word(4)
+    word.learn(0, 1, None, [])
+    word.learn(2, 1, None, [])
+    word.learn(3, 2, 2, [])  # 3 learned from 2: 2 and 3 know each other
+    word.exchange([(0, 1), (1, 2)])  # 1 knows nothing yet: it gets 0's and 2's sets
+    assert word.knows(1, 0) and word.knows(1, 2) and word.knows(1, 3)
+    assert not word.knows(0, 2)  # one hop only: 2's news does not reach 0 through 1 yet
+    word.exchange([(0, 2)])
+    assert word.knows(0, 2) and word.knows(0, 3)  # 0 gets 2's set ...
+    assert word.knows(2, 0)  # ... and 2 gets 0's
+    assert not word.knows(3, 0)  # 3 was not in the pair
+
+
+def test_adjacent_pairs_include_vertical_and_horizontal_neighbours_only():
+    """Robots at distance 1 exchange, whether side by side in x or in y; a diagonal pair is
+    at distance 2 and does not."""
+    pos = [(5, 5), (6, 5), (5, 6), (6, 7), (9, 9)]
+    got = {frozenset(p) for p in C.adjacent_pairs(pos, [0, 1, 2, 3, 4])}
+    assert got == {frozenset((0, 1)), frozenset((0, 2))}
+    assert {frozenset(p) for p in C.adjacent_pairs([(2, 3), (2, 4)], [0, 1])} == {
+        frozenset((0, 1))
+    }
+
+
+def test_one_way_finder_tells_only_its_successor():
+    """Spiral with 4 or 8 robots (seed rule): the finder tells only its last listed
+    neighbour, its successor on the ring; a robot told by one neighbour tells the other."""
+    informed = [False] * 8
+    assert C.one_way(C.SEED, "spiral", 4)
+    assert C.first_targets(C.SEED, [7, 1], None, informed, one_way=True) == [1]
+    assert C.first_targets(C.SEED, [5, 3, 6], None, informed, one_way=True) == [6]
+    assert C.first_targets(C.SEED, [0, 2], 0, informed, one_way=True) == [2]

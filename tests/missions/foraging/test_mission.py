@@ -257,3 +257,20 @@ def test_stop_run_on_the_first_frame():
     rec = api_record(0, on_frame=stop_at(0), grid=16, agents=4, algorithm="strips")
     assert rec["complete"] is False and rec["makespan"] == 0
     assert all(len(a["trajectory"]) == 1 for a in rec["agents"])
+
+
+def test_relay_food_joins_at_the_food_and_relay_path_at_the_nearest_path_cell():
+    """Transport docstring: Relay-Food walks to the food and enters the relay path there;
+    Relay-Path walks to the nearest path cell (ties toward the food) and enters empty."""
+    from swarmex.missions.foraging.sim import Mission
+    from swarmex.missions.foraging.transport import RELAY_FOOD, RELAY_PATH
+
+    nest, food = (0, 0), (5, 3)  # the path: (0,0) … (5,0) along the row, then up to (5,3)
+    for transport, want in [(RELAY_FOOD, food), (RELAY_PATH, (3, 0))]:
+        m = Mission(8, nest, food, 1, transport, [(3, 1)])
+        m.enter_transport(0)
+        assert m.path[m.join_at[0]] == want, transport
+    # Relay-Path tie: (4, 1) is 1 from both (4, 0) and (5, 1); the one nearer the food wins
+    m = Mission(8, nest, food, 1, RELAY_PATH, [(4, 1)])
+    m.enter_transport(0)
+    assert m.path[m.join_at[0]] == (5, 1)

@@ -226,3 +226,15 @@ def test_a_free_agent_helps_the_open_branch_of_least_weight(clutter):
     picks = [agent._pick_branch(np.random.default_rng(s)) for s in range(200)]
     assert set(picks) == want
     assert 60 < picks.count(1) < 140  # both tied minima drawn, about evenly
+
+
+def test_takeover_free_agent_waits_when_no_branch_has_unexplored_edges(clutter):
+    """Takeover rule (module docstring): a free agent picks the branch of largest share
+    ``rem_sub / (busy + 1)``, and waits (-1) when no open branch has unexplored edges left."""
+    agent = _free_agent(clutter, 3, [1.0, 1.0, 1.0], left=-1)
+    agent.rule = "takeover"
+    b = agent.board
+    b.rem_sub[b.first_edge] = 0
+    assert {agent._pick_branch(np.random.default_rng(s)) for s in range(20)} == {-1}
+    b.rem_sub[b.first_edge[2]] = 4
+    assert {agent._pick_branch(np.random.default_rng(s)) for s in range(20)} == {2}
