@@ -159,6 +159,18 @@ def test_widening_keeps_the_fields():
     assert known.hops.dtype == np.int32
 
 
+def test_widening_keeps_the_fields_of_a_graph_that_is_no_lattice():
+    """The same on a cycle, which runs the CSR kernel, not the lattice one (a path graph
+    would be taken for a lattice one cell wide): only grids had exercised the widening."""
+    world = GraphWorld(nx.cycle_graph(80))
+    known = KnownGraph(world.graph, capacity=4)
+    known._max_hop = 10
+    assert known.hops.dtype == np.int16
+    for v in (0, 1, 2, 3):  # the far side of the cycle is 40 hops away
+        check(known.field(v), reference(world.graph, v, known.blocked), True)
+    assert known.hops.dtype == np.int32
+
+
 @SETTINGS
 @given(seed=st.integers(0, 50), ops=OPS)
 def test_eight_connected_cache_is_exact(seed, ops):
