@@ -98,3 +98,18 @@ def test_a_derived_value_follows_the_grid_with_or_without_a_pool(pooled):
     assert grid.derived("passed", passed) == 0
     grid.apply(local(free_cells=[(1, 1)], shape=(4, 4)))
     assert grid.derived("passed", passed) == int(grid.free().sum()) == 1
+
+
+def test_a_cell_one_beam_hits_and_another_passes_is_hit():
+    """Hits win over passes (the module's rule): two beams along nearly one line, one ending
+    in a cell the other goes through. With the noise-free laser this never happens in a run,
+    but ``rasterise`` is public and takes any ranges."""
+    from swarmex.sensing.occupancy import rasterise
+
+    short = rasterise(5, 5, np.array([3.0]), np.array([0.0]), 8.0, (12, 12))
+    long = rasterise(5, 5, np.array([5.0]), np.array([1e-6]), 8.0, (12, 12))
+    end = tuple(np.argwhere(short.occ)[0])  # the cell the short beam ends in ...
+    assert long.free[end]  # ... which the long one passes
+    both = rasterise(5, 5, np.array([3.0, 5.0]), np.array([0.0, 1e-6]), 8.0, (12, 12))
+    assert both.occ[end] and not both.free[end]
+    assert not (both.free & both.occ).any()
