@@ -69,14 +69,20 @@ def sizes(count: int, form: str) -> Callable[[str], tuple[int, ...]]:
     return parse
 
 
+def maps_dir() -> Path:
+    """The real benchmark maps: ``$SWARMEX_MAPS``, default ``../shared/maps`` beside the
+    repository (every script that reads a map asks here)."""
+    return Path(os.environ.get("SWARMEX_MAPS",
+                               Path(__file__).resolve().parents[2] / "shared" / "maps"))
+
+
 def map_file(text: str) -> Path:
     """A map file: the path as given, else a bare name in ``$SWARMEX_MAPS`` (default
     ``../shared/maps``), as the other scripts' ``--maps`` names are read."""
     path = Path(text)
     if path.is_file():
         return path
-    folder = Path(os.environ.get("SWARMEX_MAPS",
-                                 Path(__file__).resolve().parents[2] / "shared" / "maps"))
+    folder = maps_dir()
     if path.parent == Path(".") and (folder / text).is_file():
         return folder / text
     raise argparse.ArgumentTypeError(f"no map file {text} (nor {folder / path.name})")

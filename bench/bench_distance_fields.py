@@ -17,9 +17,7 @@ absent. Prints, from one run:
 
 from __future__ import annotations
 
-import os
 import time
-from pathlib import Path
 
 import networkx as nx
 import numpy as np
@@ -36,9 +34,7 @@ from swarmex.worlds import GridWorld, load_movingai, random_obstacles
 GOAL_RATIO = 10.0
 
 
-def maps_dir() -> Path:
-    repo = Path(__file__).resolve().parents[1]
-    return Path(os.environ.get("SWARMEX_MAPS", repo.parent / "shared" / "maps"))
+maps_dir = _cli.maps_dir  # $SWARMEX_MAPS, default ../shared/maps
 
 
 def free_cell_graph(world: GridWorld) -> nx.Graph:

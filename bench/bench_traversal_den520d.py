@@ -14,10 +14,8 @@ without it the benchmark says so and exits 0.
 
 from __future__ import annotations
 
-import os
 import resource
 import time
-from pathlib import Path
 
 import numpy as np
 
@@ -34,9 +32,7 @@ GOAL_SECONDS = 20.0
 REFERENCE_FINGERPRINT = "62658b7f8252ea727c649a1080113daae4b864ab626b543cfa0da2c34435f7aa"
 
 
-def maps_dir() -> Path:
-    repo = Path(__file__).resolve().parents[1]
-    return Path(os.environ.get("SWARMEX_MAPS", repo.parent / "shared" / "maps"))
+maps_dir = _cli.maps_dir  # $SWARMEX_MAPS, default ../shared/maps
 
 
 

@@ -30,8 +30,7 @@ HERE = Path(__file__).resolve().parent
 REPO = HERE.parent
 
 
-def maps_dir() -> Path:
-    return Path(os.environ.get("SWARMEX_MAPS", REPO.parent / "shared" / "maps"))
+maps_dir = _cli.maps_dir  # $SWARMEX_MAPS, default ../shared/maps
 
 
 def cases(seeds: int, den_events: int) -> list[dict[str, Any]]:

@@ -44,7 +44,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
 import sys
 import time
 from concurrent.futures import as_completed
@@ -102,8 +101,7 @@ CHANNELS: list[tuple[str, dict]] = [
 COMM_MAPS = ["random-32-32-20", "room-32-32-4"]
 
 
-def maps_dir() -> Path:
-    return Path(os.environ.get("SWARMEX_MAPS", REPO.parent / "shared" / "maps"))
+maps_dir = _cli.maps_dir  # $SWARMEX_MAPS, default ../shared/maps
 
 
 def map_name(text: str) -> str:

@@ -14,10 +14,8 @@ Run it with another tree's ``src`` on ``PYTHONPATH`` to profile that code the sa
 from __future__ import annotations
 
 import cProfile
-import os
 import pstats
 import time
-from pathlib import Path
 
 import numpy as np
 
@@ -26,10 +24,7 @@ from swarmex.missions.traversal import run_traversal, uniform_agents
 from swarmex.missions.traversal.metrics import run_fingerprint
 from swarmex.worlds import empty_grid, load_movingai, random_obstacles
 
-
-def maps_dir() -> Path:
-    repo = Path(__file__).resolve().parents[1]
-    return Path(os.environ.get("SWARMEX_MAPS", repo.parent / "shared" / "maps"))
+maps_dir = _cli.maps_dir  # $SWARMEX_MAPS, default ../shared/maps
 
 
 def main() -> int:

@@ -237,6 +237,7 @@ def interval_ends(stats: list[Summary], fraction: bool) -> tuple[np.ndarray, np.
     if not fraction:
         return (np.array([s.ci_low for s in stats], dtype=float),
                 np.array([s.ci_high for s in stats], dtype=float))
+    # a point with no finished run (n = 0, mean NaN) has no count of successes to round
     ends = [wilson_ci(round(s.mean * s.n), s.n) if s.n else (math.nan, math.nan)
             for s in stats]
     return np.array([e[0] for e in ends]), np.array([e[1] for e in ends])
