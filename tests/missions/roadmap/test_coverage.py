@@ -238,3 +238,34 @@ def test_takeover_free_agent_waits_when_no_branch_has_unexplored_edges(clutter):
     assert {agent._pick_branch(np.random.default_rng(s)) for s in range(20)} == {-1}
     b.rem_sub[b.first_edge[2]] = 4
     assert {agent._pick_branch(np.random.default_rng(s)) for s in range(20)} == {2}
+
+
+def test_paper_rule_joins_the_least_odd_frontier_and_skips_even_finished_edges(clutter):
+    """The paper's rule with no unexplored child: an odd global weight marks a frontier
+    another agent is still beneath, so the agent joins it (the least odd weight); an even
+    weight is a finished sub-branch and is never re-entered; with no odd child it goes
+    back along its dedicated weight-1 edge (the module docstring's resolution)."""
+    from swarmex.missions.roadmap.blackboard import WMABoard
+    from swarmex.missions.roadmap.sim import build_roadmap
+    from swarmex.missions.roadmap.wma_policy import WMAAgent
+
+    rng = np.random.default_rng(0)
+    rm = build_roadmap(clutter, "wma-rrt", cluster(1), 150, 10, rng)
+    board = WMABoard(rm, 1)
+    agent = WMAAgent(0, cluster(1)[0], board)  # the paper's rule
+    node = next(v for v in range(1, rm.n_nodes) if len(board.children[v]) >= 3)
+    kids = list(board.children[node])
+    agent.node = node
+    a, b, c = kids[:3]
+    for e in kids:
+        board.w_g[e] = 2  # every child finished
+    board.w_g[a], board.w_g[b], board.w_g[c] = 5, 3, 4
+    picks = {agent._choose_edge(np.random.default_rng(s)) for s in range(20)}
+    assert picks == {b}  # the least odd weight; 4 is even however small
+    board.w_g[a] = 3  # two frontiers of the same weight: uniform between them
+    picks = {agent._choose_edge(np.random.default_rng(s)) for s in range(40)}
+    assert picks == {a, b}
+    agent.w_d[a] = 1  # an edge it used since entering is no candidate
+    assert {agent._choose_edge(np.random.default_rng(s)) for s in range(20)} == {b}
+    board.w_g[b] = 2  # no odd child left: the way back
+    assert agent._choose_edge(np.random.default_rng(0)) == node - 1
