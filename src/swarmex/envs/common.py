@@ -183,8 +183,10 @@ class SeedChain:
 
 
 class BrokerEpisodeMixin:
-    """Space accessors, reset preamble, ``close`` and pickling of a parallel environment whose
-    run lives behind a broker; ``_TRANSIENT`` names the attributes of a run in progress."""
+    """Space accessors, reset preamble, the end of ``step``, ``close`` and pickling of a
+    parallel environment whose run lives behind a broker; ``_TRANSIENT`` names the attributes
+    of a run in progress, ``_pending`` is the decision the run waits for (None: it has
+    ended)."""
 
     _TRANSIENT: ClassVar[tuple[str, ...]] = ()
     _obs_spaces: dict[str, spaces.Space[Any]]
@@ -192,9 +194,43 @@ class BrokerEpisodeMixin:
     _finalizer: weakref.finalize[Any, Any] | None
     _seeds: SeedChain
     _seed: int
+    _pending: Any
+    agents: list[str]
 
     def _clear(self) -> None:
         raise NotImplementedError
+
+    def _observations(self) -> dict[str, dict[str, np.ndarray]]:
+        raise NotImplementedError
+
+    def _infos(self) -> dict[str, dict[str, Any]]:
+        raise NotImplementedError
+
+    def _step_returns(
+        self, reward: float, complete: bool, completion_bonus: float
+    ) -> tuple[
+        dict[str, dict[str, np.ndarray]],
+        dict[str, float],
+        dict[str, bool],
+        dict[str, bool],
+        dict[str, dict[str, Any]],
+    ]:
+        """The five dicts a ``step`` returns once the run has taken the actions: every agent
+        shares ``reward``; when the run has ended (``_pending`` is None) the agents are
+        terminated if it is ``complete`` (which adds ``completion_bonus``), truncated if not,
+        and leave the episode. One place, so the environments end an episode alike."""
+        obs, infos = self._observations(), self._infos()
+        agents = self.agents
+        if self._pending is None:  # the run has ended
+            if complete:
+                reward += completion_bonus
+            self.agents = []
+            terms = dict.fromkeys(agents, complete)
+            truncs = dict.fromkeys(agents, not complete)
+        else:
+            terms = dict.fromkeys(agents, False)
+            truncs = dict.fromkeys(agents, False)
+        return obs, dict.fromkeys(agents, reward), terms, truncs, infos
 
     def observation_space(self, agent: str) -> spaces.Space[Any]:
         return self._obs_spaces[agent]
@@ -214,10 +250,13 @@ class BrokerEpisodeMixin:
         self._clear()
 
     def close(self) -> None:
-        """Abandon a run in progress (its worker thread ends)."""
+        """Abandon a run in progress (its worker thread ends, or its generator is closed):
+        the episode ends, no agents left, and a ``step`` asks for ``reset()``."""
         if self._finalizer is not None:
-            self._finalizer()  # closes the broker once
+            self._finalizer()  # closes the broker (or the generator) once
             self._finalizer = None
+        self._pending = None
+        self.agents = []
 
     def __getstate__(self) -> dict[str, Any]:
         """Picklable before or between episodes (SuperSuit copies envs with cloudpickle):

@@ -246,19 +246,8 @@ class ExplorationEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray],
         t_before = self._t
         self._arrive(self._broker.answer(cell))
         reward = -TICK_SECONDS * (self._t - t_before)
-        obs, infos = self._observations(), self._infos()
-        agents = self.agents
-        if self._pending is None:  # the run has ended
-            complete = bool(self._result is not None and self._result.complete)
-            if complete:
-                reward += COMPLETION_BONUS
-            self.agents = []
-            terms = dict.fromkeys(agents, complete)
-            truncs = dict.fromkeys(agents, not complete)
-        else:
-            terms = dict.fromkeys(agents, False)
-            truncs = dict.fromkeys(agents, False)
-        return obs, dict.fromkeys(agents, reward), terms, truncs, infos
+        complete = bool(self._result is not None and self._result.complete)
+        return self._step_returns(reward, complete, COMPLETION_BONUS)
 
     def _arrive(self, request: GoalContext | None) -> None:
         """Take the simulator's next request (None: the run has ended)."""
@@ -415,13 +404,6 @@ class ExplorationEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray],
         return self._live.run
 
     # ------------------------------------------------------------------ render, close
-    def close(self) -> None:
-        """Abandon a run in progress (its worker thread ends): the episode ends, no agents
-        left, and a ``step`` asks for ``reset()``."""
-        super().close()
-        self._pending = None
-        self.agents = []
-
     def render(self) -> np.ndarray | None:
         if self.render_mode is None:
             import gymnasium

@@ -289,19 +289,8 @@ class ForagingEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray], in
         before = self._delivered
         self._advance(moves)
         reward = self.delivery_reward * (self._delivered - before) - self.time_cost
-        obs, infos = self._observations(), self._infos()
-        agents = self.agents
-        if self._pending is None:  # the run has ended
-            complete = bool(self._result is not None and self._result.outcome.complete)
-            if complete:
-                reward += self.completion_bonus
-            self.agents = []
-            terms = dict.fromkeys(agents, complete)
-            truncs = dict.fromkeys(agents, not complete)
-        else:
-            terms = dict.fromkeys(agents, False)
-            truncs = dict.fromkeys(agents, False)
-        return obs, dict.fromkeys(agents, reward), terms, truncs, infos
+        complete = bool(self._result is not None and self._result.outcome.complete)
+        return self._step_returns(reward, complete, self.completion_bonus)
 
     def _advance(self, moves: np.ndarray | None) -> None:
         """Resume the run with ``moves`` (None: start it) up to its next Compute or its end."""
@@ -475,12 +464,6 @@ class ForagingEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray], in
         return self._record
 
     # ------------------------------------------------------------------ render, close
-    def close(self) -> None:
-        """Abandon a run in progress (its generator is closed; the episode has ended)."""
-        super().close()
-        self._pending = None
-        self.agents = []
-
     def render(self) -> np.ndarray | None:
         if self.render_mode is None:
             import gymnasium
