@@ -153,33 +153,24 @@ def hierarchical_plan(
             start = r[-1]
             r.extend(explore(start, code, size)[1:])
             owner.append((start[0] // size, start[1] // size))
-        return Plan(
-            name,
-            g,
-            n,
-            routes,
-            depart,
-            explore_from,
-            square_neighbours(owner),
-            sync=True,
-            follow_path_comm=(name == "zigzag"),
-            notes={"size": size},
-        )
-    cells = hierarchical_start_cells(g, n)
-    per_q: dict[str, list[tuple[Cell, int, Cell]]] = {}
-    for cell, code in cells:
-        route, touch = deployment_route(g, nest, cell)
-        per_q.setdefault(quadrant(cell, nest), []).append((cell, code, touch))
-    routes, depart, explore_from, owner = [], [], [], []
-    for q in ("NE", "NW", "SW", "SE"):
-        lst = sorted(per_q[q], key=lambda c: (-manhattan(c[0], c[2]), c[0]))
-        for rank, (cell, code, _touch) in enumerate(lst):
-            r, _ = deployment_route(g, nest, cell)
-            explore_from.append(len(r) - 1)
-            r.extend(explore(cell, code, size)[1:])
-            routes.append(r)
-            depart.append(rank + 1)
-            owner.append((cell[0] // size, cell[1] // size))
+        follow_path_comm = name == "zigzag"
+    else:
+        cells = hierarchical_start_cells(g, n)
+        per_q: dict[str, list[tuple[Cell, int, Cell]]] = {}
+        for cell, code in cells:
+            route, touch = deployment_route(g, nest, cell)
+            per_q.setdefault(quadrant(cell, nest), []).append((cell, code, touch))
+        routes, depart, explore_from, owner = [], [], [], []
+        for q in ("NE", "NW", "SW", "SE"):
+            lst = sorted(per_q[q], key=lambda c: (-manhattan(c[0], c[2]), c[0]))
+            for rank, (cell, code, _touch) in enumerate(lst):
+                r, _ = deployment_route(g, nest, cell)
+                explore_from.append(len(r) - 1)
+                r.extend(explore(cell, code, size)[1:])
+                routes.append(r)
+                depart.append(rank + 1)
+                owner.append((cell[0] // size, cell[1] // size))
+        follow_path_comm = False
     return Plan(
         name,
         g,
@@ -189,7 +180,7 @@ def hierarchical_plan(
         explore_from,
         square_neighbours(owner),
         sync=True,
-        follow_path_comm=False,
+        follow_path_comm=follow_path_comm,
         notes={"size": size},
     )
 
