@@ -127,6 +127,7 @@ from swarmex.missions.traversal.rollout_sim import (
     _simulate_nested,
 )
 from swarmex.missions.traversal.variants import MadgtaPlus
+from swarmex.worlds.nodegraph import NodeGraph
 
 #: what a simulated world is: (known obstacles, status, vacant vertices, table, row_of)
 World = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]
@@ -345,32 +346,37 @@ class MadgtaR(Madgta):
         g = belief.graph
         known = belief.known
         unknown = ~cls._sensed(belief) & (belief.status == 0) & ~known.blocked
-        walls_at = np.nonzero(known.blocked)[0]
-        starts, ends = g.indptr[walls_at], g.indptr[walls_at + 1]
-        lens = ends - starts
-        offs = np.repeat(starts - np.cumsum(lens) + lens, lens) + np.arange(int(lens.sum()))
         near = np.zeros(belief.status.size, dtype=bool)
-        near[g.indices[offs]] = True
+        near[_neighbours(g, np.nonzero(known.blocked)[0])] = True
         return unknown & near
 
     @staticmethod
-    def _sensed(belief: TraversalBelief) -> np.ndarray:
-        """Cells some agent has sensed: those agents stood on (done vertices, agents'
-        positions) and their neighbours."""
-        g = belief.graph
+    def _visited(belief: TraversalBelief) -> np.ndarray:
+        """Vertices some agent has stood on: done vertices and the agents' positions."""
         visited = belief.status > 0
         visited[belief.loc[belief.loc >= 0]] = True
-        vis = np.nonzero(visited)[0]
-        starts, ends = g.indptr[vis], g.indptr[vis + 1]
-        lens = ends - starts
-        offs = np.repeat(starts - np.cumsum(lens) + lens, lens) + np.arange(int(lens.sum()))
+        return visited
+
+    @classmethod
+    def _sensed(cls, belief: TraversalBelief, visited: np.ndarray | None = None) -> np.ndarray:
+        """Cells some agent has sensed: those agents stood on (``visited``, by default
+        :meth:`_visited`) and their neighbours (sensing is adjacency only)."""
+        if visited is None:
+            visited = cls._visited(belief)
         sensed = visited.copy()
-        sensed[g.indices[offs]] = True
+        sensed[_neighbours(belief.graph, np.nonzero(visited)[0])] = True
         return sensed
 
     @staticmethod
-    def _world(belief: TraversalBelief, walls: np.ndarray, vacant: np.ndarray) -> World:
-        """The simulated world with ``walls`` added to the known ones."""
+    def _world(
+        belief: TraversalBelief,
+        walls: np.ndarray,
+        vacant: np.ndarray,
+        queue: np.ndarray | None = None,
+    ) -> World:
+        """The simulated world with ``walls`` added to the known ones. ``queue`` is
+        scratch space of ``belief.status.size`` int32 for the distance rows (given by a
+        caller that builds many worlds, so they share one)."""
         g = belief.graph
         status = belief.status
         blocked = belief.known.blocked | walls
@@ -380,8 +386,9 @@ class MadgtaR(Madgta):
         table = np.empty((vac.size, status.size), dtype=np.int32)
         rows = np.full(status.size, -1, dtype=np.int64)
         rows[vac] = np.arange(vac.size)
-        _fill_rows(g.indptr, g.indices, blocked, vac, rows[vac], table,
-                   np.empty(status.size, dtype=np.int32))
+        if queue is None:
+            queue = np.empty(status.size, dtype=np.int32)
+        _fill_rows(g.indptr, g.indices, blocked, vac, rows[vac], table, queue)
         return (blocked, st, vac, table, rows)
 
     def _sampled_worlds(
@@ -395,17 +402,10 @@ class MadgtaR(Madgta):
         number of done vertices), so the same belief gives the same guesses. Candidates
         are never walls (the agent compares going there).
         """
-        g = belief.graph
         known = belief.known
         status = belief.status
-        visited = status > 0
-        visited[belief.loc[belief.loc >= 0]] = True
-        vis = np.nonzero(visited)[0]
-        starts, ends = g.indptr[vis], g.indptr[vis + 1]
-        lens = ends - starts
-        offs = np.repeat(starts - np.cumsum(lens) + lens, lens) + np.arange(int(lens.sum()))
-        sensed = visited.copy()
-        sensed[g.indices[offs]] = True
+        visited = self._visited(belief)
+        sensed = self._sensed(belief, visited)
         unknown = ~sensed & (status == 0) & ~known.blocked
         unknown[cands] = False
         if not unknown.any():
@@ -416,15 +416,7 @@ class MadgtaR(Madgta):
         queue = np.empty(status.size, dtype=np.int32)
         for _ in range(self.samples):
             walls = unknown & (gen.random(status.size) < density)
-            blocked = known.blocked | walls
-            st = status.copy()
-            st[walls] = -1
-            vac = vacant[~walls[vacant]]
-            table = np.empty((vac.size, status.size), dtype=np.int32)
-            rows = np.full(status.size, -1, dtype=np.int64)
-            rows[vac] = np.arange(vac.size)
-            _fill_rows(g.indptr, g.indices, blocked, vac, rows[vac], table, queue)
-            worlds.append((blocked, st, vac, table, rows))
+            worlds.append(self._world(belief, walls, vacant, queue))
         return worlds
 
     def _ids(self, n: int) -> np.ndarray:
@@ -466,6 +458,15 @@ class MadgtaR(Madgta):
             else:
                 mode[a] = FREE
         return loc, dest, tfree, mode, intent, resv
+
+
+def _neighbours(g: NodeGraph, vertices: np.ndarray) -> np.ndarray:
+    """The neighbours of ``vertices`` in ``g``'s CSR lists, concatenated (repeats kept): one
+    vectorised gather, where a Python loop per vertex would cost a call each."""
+    starts, ends = g.indptr[vertices], g.indptr[vertices + 1]
+    lens = ends - starts
+    offs = np.repeat(starts - np.cumsum(lens) + lens, lens) + np.arange(int(lens.sum()))
+    return np.asarray(g.indices[offs])
 
 
 def _same(a: tuple[float, float], b: tuple[float, float]) -> bool:
