@@ -93,6 +93,23 @@ def _make_parent(path: Path) -> None:
 
 
 @contextlib.contextmanager
+def _replace_when_done(tmp: Path, path: Path, keep_mode: int | None) -> Iterator[None]:
+    """Around the block that writes ``tmp``: on a clean exit ``tmp`` takes ``keep_mode`` (the
+    replaced file's bits, if any) and is renamed over ``path``; on any exception it is
+    removed, leaving ``path`` as it was, and a disk-full kind of failure becomes one line.
+    Why one place: this commit-or-roll-back is what makes every atomic writer atomic."""
+    try:
+        yield
+        if keep_mode is not None:
+            os.chmod(tmp, keep_mode)
+        os.replace(tmp, path)
+    except BaseException as exc:
+        tmp.unlink(missing_ok=True)
+        _raise_if_write_failed(path, exc)
+        raise
+
+
+@contextlib.contextmanager
 def atomic_path(path: str | Path) -> Iterator[Path]:
     """Yield a temporary path beside ``path``; what the block writes there replaces ``path``.
 
@@ -105,15 +122,8 @@ def atomic_path(path: str | Path) -> Iterator[Path]:
         return
     _make_parent(path)
     tmp = _temp_beside(path)
-    try:
+    with _replace_when_done(tmp, path, keep_mode):
         yield tmp
-        if keep_mode is not None:
-            os.chmod(tmp, keep_mode)
-        os.replace(tmp, path)
-    except BaseException as exc:
-        tmp.unlink(missing_ok=True)
-        _raise_if_write_failed(path, exc)
-        raise
 
 
 @contextlib.contextmanager
@@ -144,19 +154,14 @@ def atomic_open(
         fd = os.open(tmp, flags, 0o666)  # the umask applies, as for open(path, "w")
     except OSError as exc:
         raise InputError(f"cannot write {path}: {exc.strerror or exc}") from None
-    try:
-        with os.fdopen(fd, mode, encoding=None if "b" in mode else encoding) as fh:
-            yield fh
-            fh.flush()
-            if fsync:
-                os.fsync(fh.fileno())
-        if keep_mode is not None:
-            os.chmod(tmp, keep_mode)
-        os.replace(tmp, path)
-    except BaseException as exc:
-        tmp.unlink(missing_ok=True)
-        _raise_if_write_failed(path, exc)
-        raise
+    with (
+        _replace_when_done(tmp, path, keep_mode),
+        os.fdopen(fd, mode, encoding=None if "b" in mode else encoding) as fh,
+    ):
+        yield fh
+        fh.flush()
+        if fsync:
+            os.fsync(fh.fileno())
 
 
 def write_atomic(
