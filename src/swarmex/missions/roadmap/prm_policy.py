@@ -20,10 +20,10 @@ from __future__ import annotations
 import numpy as np
 
 from swarmex.missions.roadmap.blackboard import PRMBoard
-from swarmex.missions.roadmap.wma_policy import Choice, Move
+from swarmex.missions.roadmap.wma_policy import Choice, Move, _GoalLegs
 
 
-class PRMWalker:
+class PRMWalker(_GoalLegs):
     def __init__(self, ident: int, start: np.ndarray, entry: int, board: PRMBoard) -> None:
         self.id = ident
         self.xy = np.asarray(start, dtype=np.float64)
@@ -43,15 +43,10 @@ class PRMWalker:
             self.walk.append((self.entry, -1))
             return Move(b.rm.pos[self.entry], -1, self.entry)
         if self.state == "leg":
-            to = self.legs.pop(0)
-            if not self.legs:
-                self.state = "at-goal"
-            return Move(to, -1, -1)
+            return self._next_leg()
         if b.anchor is not None:
             if self.node == b.anchor:
-                self.legs = list(b.leg)
-                self.state = "leg"
-                return self.decide(t, rng)
+                return self._start_legs(b.leg)
             if self.node in b.trail_next:
                 v, e = b.trail_next[self.node]
                 b.traversals[e] += 1

@@ -90,11 +90,32 @@ class Move:
     node: int = -1  # node reached (-1: not a node, e.g. on a goal leg)
 
 
+class _GoalLegs:
+    """The straight legs from the goal's anchor node to the goal, walked one a step: the
+    same for a WMA-RRT agent and a PRM walker once they reach the anchor, so written once."""
+
+    legs: list[np.ndarray]
+    state: str
+
+    def _start_legs(self, leg: list[np.ndarray]) -> Move:
+        """At the anchor: take the board's ``leg`` and make its first step."""
+        self.legs = list(leg)
+        self.state = "leg"
+        return self._next_leg()
+
+    def _next_leg(self) -> Move:
+        """The next leg's step; after the last one the agent is at the goal."""
+        to = self.legs.pop(0)
+        if not self.legs:
+            self.state = "at-goal"
+        return Move(to, -1, -1)
+
+
 #: Edge-choice rules by planner name: the paper's, and the two that use the board's counters.
 RULES = {"wma-rrt": "paper", "wma-rrt-takeover": "takeover", "wma-rrt-fairshare": "fairshare"}
 
 
-class WMAAgent:
+class WMAAgent(_GoalLegs):
     def __init__(self, ident: int, start: np.ndarray, board: WMABoard, rule: str = "paper"):
         if rule not in RULES.values():
             raise ValueError(f"unknown WMA-RRT rule {rule!r}; choose one of "
@@ -215,10 +236,7 @@ class WMAAgent:
             self.state = "explore"
             return Move(b.rm.pos[0], -1, 0)
         if self.state == "leg":
-            to = self.legs.pop(0)
-            if not self.legs:
-                self.state = "at-goal"
-            return Move(to, -1, -1)
+            return self._next_leg()
         if b.anchor is not None:
             return self._follow()
         if self.state in ("free", "wait"):
@@ -233,12 +251,7 @@ class WMAAgent:
         b = self.board
         self.state = "follow"
         if self.node == b.anchor:
-            self.legs = list(b.leg)
-            self.state = "leg"
-            to = self.legs.pop(0)
-            if not self.legs:
-                self.state = "at-goal"
-            return Move(to, -1, -1)
+            return self._start_legs(b.leg)
         if self.node == 0:
             return self._edge_move(int(b.first_edge[b.flag_branch]), bump_global=False)
         for e in b.children[self.node]:
