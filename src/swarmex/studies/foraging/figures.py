@@ -72,6 +72,13 @@ def _grouped(ax, groups: list[int], series: dict[str, list[float | None]]) -> No
     _legend_outside(ax)
 
 
+def _save(fig: Figure, path: Path) -> Path:
+    """Write ``fig`` to ``path``, cropped to what is drawn (``bbox_inches="tight"`` takes in
+    the legend beside the axes): how every figure of the report is saved, in one place."""
+    fig.savefig(path, bbox_inches="tight")
+    return path
+
+
 def _get(table, band, pattern, n, col, transport=RF):
     row = table.get((band, pattern, n, transport))
     return None if row is None else row[col]
@@ -88,9 +95,7 @@ def exploration_fig(table, single, band: str, num: int, out: Path) -> Path:
         series[p] = vals
     fig, ax = _fig(f"Fig. {num}: exploration time, {BAND_TITLE[band]}", "rounds")
     _grouped(ax, ns, series)
-    path = out / f"fig{num}.png"
-    fig.savefig(path, bbox_inches="tight")
-    return path
+    return _save(fig, out / f"fig{num}.png")
 
 
 def stacked_fig(table, band: str, num: int, out: Path, phases: tuple[str, ...], what: str):
@@ -115,9 +120,7 @@ def stacked_fig(table, band: str, num: int, out: Path, phases: tuple[str, ...], 
     ax.set_xticks(x, labels, rotation=60, fontsize=7)
     _headroom(ax, top)
     _legend_outside(ax)
-    path = out / f"fig{num}.png"
-    fig.savefig(path, bbox_inches="tight")
-    return path
+    return _save(fig, out / f"fig{num}.png")
 
 
 def ratio_fig(table, out: Path) -> Path:
@@ -132,9 +135,7 @@ def ratio_fig(table, out: Path) -> Path:
         ax.plot(ns, ys, marker="o", label=p, color=COLOURS[p])
     ax.set_xlabel("N")
     _legend_outside(ax)
-    path = out / "fig63.png"
-    fig.savefig(path, bbox_inches="tight")
-    return path
+    return _save(fig, out / "fig63.png")
 
 
 def transport_fig(table, out: Path) -> Path:
@@ -150,9 +151,7 @@ def transport_fig(table, out: Path) -> Path:
         fontsize=7, rotation=30, ha="right",
     )
     _legend_outside(ax)
-    path = out / "fig69.png"
-    fig.savefig(path, bbox_inches="tight")
-    return path
+    return _save(fig, out / "fig69.png")
 
 
 def share_fig(table, out: Path) -> Path:
@@ -174,9 +173,7 @@ def share_fig(table, out: Path) -> Path:
     ax.set_xticks(range(len(labels)), labels, rotation=60, fontsize=7)
     ax.set_ylim(0, 100)
     _legend_outside(ax)
-    path = out / "fig76.png"
-    fig.savefig(path, bbox_inches="tight")
-    return path
+    return _save(fig, out / "fig76.png")
 
 
 def versus_fig(table, out: Path, subject: str, n: int, num: str, others: tuple[str, ...]):
@@ -192,9 +189,7 @@ def versus_fig(table, out: Path, subject: str, n: int, num: str, others: tuple[s
         ax.bar(xs, ys, width, label=p, color=COLOURS[p])
     ax.set_xticks(np.arange(len(bands)), [BAND_TITLE[b] for b in bands], fontsize=8)
     _legend_outside(ax)
-    path = out / (f"fig{num}.png" if num[0].isdigit() else f"{num}.png")
-    fig.savefig(path, bbox_inches="tight")
-    return path
+    return _save(fig, out / (f"fig{num}.png" if num[0].isdigit() else f"{num}.png"))
 
 
 def all_figures(table, single, out: Path) -> dict[str, Path]:
