@@ -153,6 +153,16 @@ def parallel_to_aec(par_env: Any) -> AECEnv[Any, Any, Any]:
     return OrderEnforcingWrapper(_ParallelToAEC(par_env))
 
 
+#: what a parallel env's ``step`` returns: observations, rewards, terminations,
+#: truncations and infos, each by agent (named once for the envs' and the mixin's signatures)
+StepReturns = tuple[
+    dict[str, dict[str, np.ndarray]],
+    dict[str, float],
+    dict[str, bool],
+    dict[str, bool],
+    dict[str, dict[str, Any]],
+]
+
 #: seeds a chain draws are below this (numpy takes any; a record's seed stays a plain int)
 SEED_LIMIT = 2**31
 
@@ -208,13 +218,7 @@ class BrokerEpisodeMixin:
 
     def _step_returns(
         self, reward: float, complete: bool, completion_bonus: float
-    ) -> tuple[
-        dict[str, dict[str, np.ndarray]],
-        dict[str, float],
-        dict[str, bool],
-        dict[str, bool],
-        dict[str, dict[str, Any]],
-    ]:
+    ) -> StepReturns:
         """The five dicts a ``step`` returns once the run has taken the actions: every agent
         shares ``reward``; when the run has ended (``_pending`` is None) the agents are
         terminated if it is ``complete`` (which adds ``completion_bonus``), truncated if not,

@@ -81,6 +81,7 @@ from swarmex.envs.broker import DecisionBroker
 from swarmex.envs.common import (
     BrokerEpisodeMixin,
     SeedChain,
+    StepReturns,
     check_modes,
     parallel_to_aec,
     plain_int,
@@ -231,13 +232,7 @@ class ExplorationEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray],
 
     def step(
         self, actions: Mapping[str, Any]
-    ) -> tuple[
-        dict[str, dict[str, np.ndarray]],
-        dict[str, float],
-        dict[str, bool],
-        dict[str, bool],
-        dict[str, dict[str, Any]],
-    ]:
+    ) -> StepReturns:
         if self._pending is None or self._broker is None:
             if not actions:
                 return {}, {}, {}, {}, {}

@@ -84,6 +84,7 @@ from pettingzoo import AECEnv, ParallelEnv
 from swarmex.envs.common import (
     BrokerEpisodeMixin,
     SeedChain,
+    StepReturns,
     check_finite,
     check_modes,
     parallel_to_aec,
@@ -274,13 +275,7 @@ class ForagingEnv(BrokerEpisodeMixin, ParallelEnv[str, dict[str, np.ndarray], in
 
     def step(
         self, actions: Mapping[str, Any]
-    ) -> tuple[
-        dict[str, dict[str, np.ndarray]],
-        dict[str, float],
-        dict[str, bool],
-        dict[str, bool],
-        dict[str, dict[str, Any]],
-    ]:
+    ) -> StepReturns:
         if self._pending is None or self._rounds is None:
             if not actions:
                 return {}, {}, {}, {}, {}
