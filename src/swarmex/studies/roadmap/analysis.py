@@ -25,6 +25,14 @@ def pick(results: Iterable[dict[str, Any]], **want: Any) -> list[dict[str, Any]]
     return [r for r in results if all(r.get(k) == v for k, v in want.items())]
 
 
+def row_key(row: dict[str, str], exp: str) -> dict[str, Any]:
+    """What the runs of reference table row ``row`` in experiment ``exp`` share, as
+    :func:`pick` matches them (the table's strings in the journal's types): one spelling for
+    every table, so a row never picks another row's runs."""
+    return {"exp": exp, "nodes": int(row["nodes"]), "step": float(row["step"]),
+            "mult": row["sensor_range"]}
+
+
 def mean_sd(vals: list[float]) -> tuple[float, float]:
     """Mean and sample SD (the SD NaN for one value, both for none): cells "mean ± sd"."""
     s = summarize(vals)
@@ -35,9 +43,7 @@ def table1(results: list[dict[str, Any]], ref: list[dict[str, str]],
            exp: str = "t1") -> list[dict[str, Any]]:
     rows = []
     for row in ref:
-        key: dict[str, Any] = {"exp": exp, "nodes": int(row["nodes"]),
-                               "step": float(row["step"]),
-                               "mult": row["sensor_range"]}
+        key = row_key(row, exp)
         cell = {}
         for planner in ("wma-rrt", "prm"):
             runs = pick(results, planner=planner, **key)
@@ -59,9 +65,7 @@ def table2(results: list[dict[str, Any]], ref: list[dict[str, str]],
            exp: str = "t2") -> list[dict[str, Any]]:
     rows = []
     for row in ref:
-        key: dict[str, Any] = {"exp": exp, "nodes": int(row["nodes"]),
-                               "step": float(row["step"]),
-                               "mult": row["sensor_range"]}
+        key = row_key(row, exp)
         out: dict[str, Any] = {"nodes": key["nodes"], "step": int(key["step"]),
                                "sensor": row["sensor_range"],
                                "paper_wma": float(row["wma_rrt_success_pct"]),
@@ -189,8 +193,7 @@ def versus(results: list[dict[str, Any]], ref: list[dict[str, str]],
     coverage = exp.startswith("t1")
     rows = []
     for row in ref:
-        key: dict[str, Any] = {"exp": exp, "nodes": int(row["nodes"]),
-                               "step": float(row["step"]), "mult": row["sensor_range"]}
+        key = row_key(row, exp)
         runs = {p: pick(results, planner=p, **key) for p in VERSUS}
         cells: dict[str, dict[str, Any]] = {}
         values: dict[str, list[float]] = {}
