@@ -11,6 +11,7 @@ from swarmex.missions.exploration.strategies import (
     hungarian_exclusion,
 )
 from swarmex.sensing.frontiers import Frontiers
+from tests.missions.exploration.helpers import config, team
 
 
 def _field(steps_by_x):
@@ -37,3 +38,15 @@ def test_hungarian_exclusion_heads_for_the_nearest_cell_in_its_targets_zone():
     assert greedy_exclusion(ctx) == (5, 0)  # the thesis's rule would take the nearest
     assert hungarian_exclusion(ctx) == (31, 0)
 
+
+def test_an_announced_goal_counts_for_exactly_goal_ttl_ticks():
+    """docs/exploration.md, rule 3: a neighbour's goal counts "for at most two planning
+    periods" (``goal_ttl`` = 40 ticks): heard at tick 10, it still closes its zone at tick
+    50 and no longer at tick 51."""
+    cfg = config()
+    assert cfg.goal_ttl == 2 * cfg.plan_period == 40
+    robots, _, _ = team([(10, 10), (14, 10)], 1.0, cfg)
+    b = robots[0].belief
+    b.hear_goal(1, (30, 12), 5.0, 10)
+    assert b.team_goals(50, cfg.goal_ttl) == {1: (30, 12)}
+    assert b.team_goals(51, cfg.goal_ttl) == {}
