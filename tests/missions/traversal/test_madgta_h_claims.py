@@ -35,3 +35,19 @@ def test_the_rivals_detour_is_shared_by_the_vacant_vertices_of_the_cell():
     assert c.vacant.tolist() == list(range(1, 12))
     assert c.vacant[c.keep].tolist() == [1]
     assert not c.retire
+
+
+def test_a_vertex_that_costs_me_exactly_the_rivals_insertion_cost_is_kept():
+    """The docstring's test is ``my cost(v) <= (1 + rho) · min insertion cost``: a tie keeps
+    the vertex. Corridor as above, rho = 0; me 1 s per unit and 6 s per job (7 s per vertex,
+    the rival 6 s). My cell is {1 .. 5} (v + 6 <= 17 - v), K = 5; the rival's detour to v = 1
+    is 5, so its insertion cost is 5 + 1 + 5 / 5 = 7 = my cost 1 + 6: kept; v = 2 costs me 8
+    against 6.8, and so on: not kept."""
+    world = GridWorld(np.ones((1, 13), dtype=bool))
+    b = TraversalBelief(1, 2, KnownGraph(world.graph), np.array([0.0, 1.0, 1.0]),
+                        np.array([0.0, 6.0, 5.0]))
+    b.loc[1], b.loc[2] = 0, 12
+    b.mark_done(0, 1)
+    b.mark_done(12, 2)
+    c = MadgtaH(rho=0.0).claims(b)
+    assert c.vacant[c.keep].tolist() == [1]
