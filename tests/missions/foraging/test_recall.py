@@ -270,3 +270,27 @@ def test_every_annulus_visits_every_cell(g, n, lo, hi):
     plan = recall.annulus_plan(g, n, lo, hi)
     plan.validate()
     assert (first_visits(execute(plan).pos, g) >= 0).all()
+
+
+def test_an_annulus_with_equal_sides_sweeps_the_inner_side_first():
+    """"The side with fewer cells first"; with as many cells inside ``lo`` as beyond ``hi``
+    (sectors 2, 4, 5 and 7 of a 32 x 32 grid with 8 robots, annulus 12-20), the inner side,
+    nearer the nest, comes first (module docstring: food just inside the range's lower end
+    is what waited when the far side came first)."""
+    lo, hi = 12, 20
+    pos = execute(recall.annulus_plan(G, N, lo, hi)).pos
+    nest = nest_of(G)
+    tied = []
+    for a, cells in enumerate(sector_cells(G, N)):
+        first = first_visits(pos[:, a : a + 1], G)  # robot a's own route through sector a
+        q = a // (N // 4)
+        grid = [to_grid(nest, q, u, v) for u, v in cells]
+        dist = [manhattan(c, nest) for c in grid]
+        if sum(d < lo for d in dist) != sum(d > hi for d in dist):
+            continue
+        tied.append(a)
+        band = [first[c] for c, d in zip(grid, dist, strict=True) if lo <= d <= hi]
+        inside = [first[c] for c, d in zip(grid, dist, strict=True) if d <= lo - 2]
+        beyond = [first[c] for c, d in zip(grid, dist, strict=True) if d >= hi + 2]
+        assert max(band) < min(beyond) and max(inside) < min(beyond), a
+    assert tied == [2, 4, 5, 7]
