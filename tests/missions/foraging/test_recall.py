@@ -294,3 +294,11 @@ def test_an_annulus_with_equal_sides_sweeps_the_inner_side_first():
         beyond = [first[c] for c, d in zip(grid, dist, strict=True) if d >= hi + 2]
         assert max(band) < min(beyond) and max(inside) < min(beyond), a
     assert tied == [2, 4, 5, 7]
+
+
+def test_the_annulus_range_is_rounded_outward_at_both_ends():
+    """(max - min) / (m - 1) widening, "rounded outward": distances 10, 13, 15 widen by
+    5 / 2 = 2.5 to [7.5, 17.5], so the range is 7 .. 18; kept to 1 .. g."""
+    assert recall.annulus_range(G, [10, 13, 15]) == (7, 18)
+    assert recall.annulus_range(G, [15, 13, 10]) == (7, 18)  # order does not matter
+    assert recall.annulus_range(G, [2, 3]) == (1, 4)  # 1 - 1 = 0: kept to 1
