@@ -302,3 +302,15 @@ def test_the_annulus_range_is_rounded_outward_at_both_ends():
     assert recall.annulus_range(G, [10, 13, 15]) == (7, 18)
     assert recall.annulus_range(G, [15, 13, 10]) == (7, 18)  # order does not matter
     assert recall.annulus_range(G, [2, 3]) == (1, 4)  # 1 - 1 = 0: kept to 1
+
+
+def test_an_annulus_holding_exactly_half_the_cells_is_a_candidate():
+    """"At most MAX_SHARE of the cells inside it": on a 9 x 9 grid the remembered distances
+    2 and 3 widen to 1 .. 4, which holds 4 + 8 + 12 + 16 = 40 of the 80 non-nest cells
+    (counted here by brute force), exactly half: still a candidate."""
+    g, nest = 9, nest_of(9)
+    cells = [(x, y) for x in range(g) for y in range(g) if 1 <= manhattan((x, y), nest) <= 4]
+    assert len(cells) == 40 == (g * g - 1) // 2 and recall.MAX_SHARE == 0.5
+    assert recall.annulus_range(g, [2, 3]) == (1, 4)
+    assert recall.share_within(g, 1, 4) == 0.5
+    assert recall.candidates(g, 8, [2, 3])[-1] == ("annulus", 1, 4)
