@@ -1,0 +1,30 @@
+"""Two roadmap rules a mutation run found unpinned: the free agent's fair share weighs the
+agents already in a branch as ``busy + 1`` (takeover and fair-share), and the PRM finder's
+trail is the *loop-erased* walk (a revisited node keeps its first visit's place)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from swarmex.missions.roadmap.blackboard import WMABoard
+from swarmex.missions.roadmap.sim import build_roadmap
+from swarmex.missions.roadmap.wma_policy import WMAAgent
+
+from .conftest import cluster
+
+
+@pytest.mark.parametrize("rule", ["takeover", "fairshare"])
+def test_a_free_agent_picks_the_largest_rem_sub_over_busy_plus_one(clutter, rule):
+    """Module docstring: "A free agent picks the branch of largest share", the share being
+    ``rem_sub / (busy + 1)``. Branch 0: 12 edges left, 1 agent in it: 12 / 2 = 6. Branch 1:
+    5 left, nobody: 5 / 1 = 5. Branch 2: nothing left. Branch 0 wins (with busy + 0.5 it
+    would be 8 against 10, branch 1)."""
+    rm = build_roadmap(clutter, "wma-rrt", cluster(3), 60, 10, np.random.default_rng(0))
+    board = WMABoard(rm, 3)
+    agent = WMAAgent(0, cluster(3)[0], board, rule=rule)
+    fe = board.first_edge
+    board.rem_sub[fe] = [12, 5, 0]
+    board.busy[fe] = [1, 0, 0]
+    assert {agent._pick_branch(np.random.default_rng(s)) for s in range(10)} == {0}
+
