@@ -9,6 +9,7 @@ from swarmex.missions.exploration.strategies import (
     GoalContext,
     greedy_exclusion,
     hungarian_exclusion,
+    pocket_cells,
 )
 from swarmex.sensing.frontiers import Frontiers
 from tests.missions.exploration.helpers import config, team
@@ -50,3 +51,28 @@ def test_an_announced_goal_counts_for_exactly_goal_ttl_ticks():
     b.hear_goal(1, (30, 12), 5.0, 10)
     assert b.team_goals(50, cfg.goal_ttl) == {1: (30, 12)}
     assert b.team_goals(51, cfg.goal_ttl) == {}
+
+
+def test_an_unknown_cell_half_of_whose_known_rim_is_free_is_a_pocket():
+    """Module docstring: a pocket's known surroundings are "at least half ... free (an
+    opening, not an obstacle's inside)". One unknown cell at (5, 5): its four side cells
+    free, its four corner cells occupied, exactly half free: a pocket, so the frontier cell
+    beside it, (4, 5), borders a pocket; with one more corner free it still does, and with
+    one side cell occupied (3 of 8 free) it does not."""
+    def frontier_beside_a_pocket(lo):
+        fr = Frontiers(np.array([5]), np.array([4]), np.array([0]), np.array([1]), 0)
+        ctx = GoalContext(me=0, pos=(0, 0), frontiers=fr, eligible=np.ones(1, bool),
+                          dist=np.array([4]), laser_cells=3.0,
+                          derived=lambda key, make: make(lo))
+        return bool(pocket_cells(ctx, np.array([0]))[0])
+
+    lo = np.full((11, 11), -1.0, dtype=np.float32)  # known free
+    lo[5, 5] = 0.0  # unknown
+    for dx, dy in ((-1, -1), (1, -1), (-1, 1), (1, 1)):
+        lo[5 + dy, 5 + dx] = 1.0  # occupied corners
+    assert frontier_beside_a_pocket(lo)
+    lo[6, 6] = -1.0
+    assert frontier_beside_a_pocket(lo)
+    lo[6, 6] = 1.0
+    lo[4, 5] = 1.0
+    assert not frontier_beside_a_pocket(lo)
