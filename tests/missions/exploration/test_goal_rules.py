@@ -4,6 +4,7 @@ assigned target's zone, and how long an announced goal keeps its zone closed."""
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from swarmex.missions.exploration.strategies import (
     GoalContext,
@@ -76,3 +77,19 @@ def test_an_unknown_cell_half_of_whose_known_rim_is_free_is_a_pocket():
     lo[6, 6] = 1.0
     lo[4, 5] = 1.0
     assert not frontier_beside_a_pocket(lo)
+
+
+@pytest.mark.parametrize("strategy", ["greedy", "hungarian"])
+def test_a_robot_standing_on_a_frontier_cell_does_not_take_its_own_cell(strategy):
+    """A goal is a frontier cell the robot must walk to: its own cell is never one, whether
+    the planner searches the whole field (``hungarian``: reachable means more than 0 steps)
+    or only up to the nearest candidate (``greedy``, which leaves the cell out by name).
+    Known free block x 30..60, y 10..28 of an unknown map; the robot stands on the block's
+    east edge at (60, 24), the middle of its laser-sized chunk (y 20..28) of that frontier,
+    so the chunk's representative would be its own cell."""
+    robots, _, _ = team([(60, 24)], 1.0, config(strategy=strategy))
+    r = robots[0]
+    lo = r.belief.grid.logodds
+    lo[10:29, 30:61] = -1.0
+    r.plan(0)
+    assert r.goal is not None and r.goal != (60, 24)
