@@ -177,3 +177,14 @@ def test_one_way_finder_tells_only_its_successor():
     assert C.first_targets(C.SEED, [7, 1], None, informed, one_way=True) == [1]
     assert C.first_targets(C.SEED, [5, 3, 6], None, informed, one_way=True) == [6]
     assert C.first_targets(C.SEED, [0, 2], 0, informed, one_way=True) == [2]
+
+
+def test_a_held_up_neighbour_is_predicted_where_its_route_put_it_delay_rounds_ago():
+    """``predicted``: the pattern's position at round ``t`` shifted by the ``delay`` rounds
+    the robot was held up, i.e. its timetable at ``t - delay`` (not before round 0, and
+    halted at ``t_end``)."""
+    pos = np.array([[x, 0] for x in range(10)])  # one cell east per round, rounds 0 .. 9
+    assert C.predicted(pos, 9, 0, 5) == (5, 0)
+    assert C.predicted(pos, 9, 2, 5) == (3, 0)  # held up 2 rounds: 2 cells behind
+    assert C.predicted(pos, 9, 7, 5) == (0, 0)  # not yet left: its first cell
+    assert C.predicted(pos, 9, 2, 30) == (9, 0)  # route over: halted at its end
