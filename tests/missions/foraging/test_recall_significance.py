@@ -1,7 +1,8 @@
-"""Recall's significance rule, on made-up replay totals (module docstring): with two or more
-remembered distances the team leaves the pattern best for uniform food only for a candidate
-whose gain over it, paired over the remembered distances, *exceeds* ``SIGNIFICANT`` (2)
-standard errors: mean gain + 2 · sd / sqrt(m) < 0."""
+"""Recall's choice rules on made-up replay totals (module docstring). The significance rule:
+with two or more remembered distances the team leaves the pattern best for uniform food only
+for a candidate whose gain over it, paired over the remembered distances, *exceeds*
+``SIGNIFICANT`` (2) standard errors: mean gain + 2 · sd / sqrt(m) < 0. And the filter of
+candidates another one beats by 10 % in every distance band."""
 
 from __future__ import annotations
 
@@ -49,3 +50,17 @@ def test_the_team_leaves_the_uniform_best_pattern_only_beyond_two_standard_error
     assert min(choice.predicted, key=choice.predicted.__getitem__) == B
     assert choice.predicted[A] == pytest.approx(100.0)
     assert choice.pattern == chosen
+
+
+def test_a_candidate_beaten_by_exactly_ten_percent_in_every_band_is_dropped(monkeypatch):
+    """Module docstring: "A candidate that another beats by 10 % in every distance band of
+    the prior ... is dropped" (``DOMINATED`` = 0.9): A takes 90 rounds wherever the food
+    lies, B 100, so B is not a candidate any more; at 91 it would be kept."""
+    far = ((0, 0),), ((G - 1, G - 1),)
+    monkeypatch.setattr(recall, "prior_of", lambda g: recall.Prior(far, (0.5, 0.5)))
+    monkeypatch.setattr(recall, "candidates", lambda g, n, distances: [A, B])
+    for a_total, kept in ((90, [A]), (91, [A, B])):
+        totals = {A: a_total, B: 100}
+        monkeypatch.setattr(recall, "replay", lambda cand, *rest, t=totals: t[cand])
+        choice = recall.choose(G, N, [], 3, "relay-food", "seed")
+        assert sorted(choice.predicted) == sorted(kept) and choice.pattern == A
