@@ -314,3 +314,14 @@ def test_an_annulus_holding_exactly_half_the_cells_is_a_candidate():
     assert recall.annulus_range(g, [2, 3]) == (1, 4)
     assert recall.share_within(g, 1, 4) == 0.5
     assert recall.candidates(g, 8, [2, 3])[-1] == ("annulus", 1, 4)
+
+
+def test_the_share_within_a_range_counts_non_nest_cells_only():
+    """``share_within``: "the share of the non-nest cells at a distance lo .. hi" (brute
+    force on a 9 x 9 grid): a range starting at 0 does not count the nest."""
+    g, nest = 9, nest_of(9)
+    dist = [manhattan((x, y), nest) for x in range(g) for y in range(g)]
+    for lo, hi in ((0, 2), (1, 2), (0, 16)):
+        brute = sum(lo <= d <= hi and d > 0 for d in dist) / (g * g - 1)
+        assert recall.share_within(g, lo, hi) == pytest.approx(brute)
+    assert recall.share_within(g, 0, 16) == 1.0
