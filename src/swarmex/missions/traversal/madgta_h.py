@@ -33,8 +33,9 @@ with MADGTA's max-min utility, branch 3 with ``madgta+``'s distant-target rule
 (:class:`~swarmex.missions.traversal.variants.MadgtaPlus`).
 
 If no vertex is kept, the agent *retires* (hands over), but only when a cheaper rival is
-sure to reach it (:meth:`MadgtaH.reached_for_sure`). Otherwise it keeps the vertices that no
-cheaper rival can reach, or all of them.
+sure to reach it (:meth:`MadgtaH.reached_for_sure`). Otherwise it keeps all of them (a
+vertex no cheaper rival can reach has an infinite insertion cost, so it is always kept: no
+vertex kept means every one is within a cheaper rival's reach).
 
 A retiring agent broadcasts one ``leave`` message
 (:data:`swarmex.missions.traversal.agent.LEAVE`, 14 bytes, counted in ``messages`` and
@@ -262,8 +263,10 @@ class MadgtaH(MadgtaPlus):
         handover = False
         if not keep.any():
             handover = self.reached_for_sure(belief, cheaper)
-            if not handover:  # nobody cheaper is sure to get here: keep what they cannot reach
-                keep = ~covered if not covered.all() else np.ones(vacant.size, dtype=bool)
+            if not handover:  # nobody cheaper is sure to get here: keep it all. (A vertex
+                # no cheaper rival reaches has best = inf and is kept above, so here every
+                # vacant vertex is covered; "keep what they cannot reach" would keep nothing.)
+                keep = np.ones(vacant.size, dtype=bool)
         return Claims(vacant, mine, keep, covered, cheaper, handover)
 
     def reached_for_sure(self, belief: TraversalBelief, cheaper: np.ndarray) -> bool:
