@@ -10,6 +10,7 @@ from swarmex.missions.exploration.strategies import (
     ALONE_TICKS,
     GoalContext,
     adaptive_exclusion,
+    excluded,
     get_strategy,
     greedy,
     greedy_exclusion,
@@ -268,3 +269,19 @@ def test_adaptive_exclusion_replans_when_its_goal_region_vanishes():
     greedy_robot.observe(np.full(len(greedy_robot.cfg.angles), greedy_robot.cfg.laser_cells), 0)
     greedy_robot.maybe_plan(0)
     assert greedy_robot.goal_region is None  # the other strategies keep the thesis's timing
+
+
+# ------------------------------------------- rules found unpinned by the missions mutation run
+def test_a_cell_at_exactly_the_laser_range_of_a_teammates_goal_is_excluded():
+    """Module docstring: greedy-exclusion never takes "a cell within the laser range of a
+    goal a neighbour has announced" — within, so a cell at exactly the range (10 cells) is
+    in the zone: (5, 0) is 10 cells from (15, 0), and so is (5, 0) from (11, 8) (6² + 8²
+    = 10²); the nearest free cell is then (30, 0). One cell further is outside."""
+    for goal in ((15, 0), (11, 8)):
+        ctx = context(CELLS, [5, 30, 60], team_goals={7: goal})
+        assert excluded(ctx, np.arange(3)).tolist() == [True, False, False], goal
+        assert greedy_exclusion(ctx) == (30, 0), goal
+    ctx = context(CELLS, [5, 30, 60], team_goals={7: (16, 0)})
+    assert excluded(ctx, np.arange(3)).tolist() == [False, False, False]
+    assert greedy_exclusion(ctx) == (5, 0)
+
