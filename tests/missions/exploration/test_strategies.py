@@ -285,3 +285,37 @@ def test_a_cell_at_exactly_the_laser_range_of_a_teammates_goal_is_excluded():
     assert excluded(ctx, np.arange(3)).tolist() == [False, False, False]
     assert greedy_exclusion(ctx) == (5, 0)
 
+
+def _fields_at(pos_steps):
+    """``field_from`` for rivals at the given cells, each ``steps`` (per CELLS) away."""
+    fields = _rival_fields(pos_steps)
+    return {i + 1: p for i, p in enumerate(pos_steps)}, (lambda c: fields[c])
+
+
+def test_minpos_rank_counts_only_strictly_nearer_teammates():
+    """Bautin et al.: a target's rank is "the number of neighbours nearer to it (by path)
+    than the robot". A teammate exactly as far from (5, 0) as this robot (5 steps) is not
+    nearer, so every target has rank 0 and the robot takes the nearest, (5, 0); one step
+    nearer and (5, 0) has rank 1, so the robot takes (30, 0)."""
+    pos, field_from = _fields_at({(9, 0): [5, 99, 99]})
+    assert minpos(context(CELLS, [5, 30, 60], team_pos=pos, field_from=field_from)) == (5, 0)
+    pos, field_from = _fields_at({(9, 0): [4, 99, 99]})
+    assert minpos(context(CELLS, [5, 30, 60], team_pos=pos, field_from=field_from)) == (30, 0)
+
+
+def test_minpos_takes_the_lowest_rank_first_then_the_nearest():
+    """MinPos orders targets by rank, then by this robot's distance. Two teammates are
+    nearer to (5, 0) (rank 2), one to (30, 0) (rank 1) and none to (60, 0) (rank 0): the
+    robot takes the farthest target, (60, 0), although (5, 0) is 12 times nearer. With the
+    robot 60 steps from (30, 0) and 30 from (60, 0), and a teammate 25 steps from (60, 0),
+    the ranks are (2, 1, 1) and it takes the nearer of the rank-1 targets, (60, 0) (the
+    later of the two in target order, so the distance, not the order, decides)."""
+    pos, field_from = _fields_at({(6, 0): [1, 20, 99], (7, 0): [2, 99, 99]})
+    ctx = context(CELLS, [5, 30, 60], team_pos=pos, field_from=field_from)
+    assert minpos(ctx) == (60, 0)
+    pos, field_from = _fields_at({(6, 0): [1, 20, 99], (7, 0): [2, 99, 25]})
+    ctx = context(CELLS, [5, 60, 30], team_pos=pos, field_from=field_from)
+    assert minpos(ctx) == (60, 0)
+    ctx = context(CELLS, [5, 30, 60], team_pos=pos, field_from=field_from)
+    assert minpos(ctx) == (30, 0)  # ranks (2, 1, 1) again; the nearer rank-1 is (30, 0)
+
