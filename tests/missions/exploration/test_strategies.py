@@ -319,3 +319,20 @@ def test_minpos_takes_the_lowest_rank_first_then_the_nearest():
     ctx = context(CELLS, [5, 30, 60], team_pos=pos, field_from=field_from)
     assert minpos(ctx) == (30, 0)  # ranks (2, 1, 1) again; the nearer rank-1 is (30, 0)
 
+
+def test_hungarian_repeats_targets_so_every_robot_is_assigned_when_robots_outnumber_them():
+    """Module docstring: "targets are repeated when robots outnumber them". Three robots,
+    two targets: each rival stands by one target (1 step), this robot is 50 steps from
+    (5, 0) and 40 from (30, 0). With each target available twice, the minimum sum (brute
+    force over this robot's choice: 1 + 1 + 40 = 42 against 1 + 1 + 50 = 52) gives this
+    robot (30, 0); without repeats only two robots would be assigned, and not this one."""
+    cells = [(5, 0), (30, 0)]
+    fields = {(6, 0): np.full((1, 100), 99), (29, 0): np.full((1, 100), 99)}
+    fields[(6, 0)][0, 5] = 1
+    fields[(29, 0)][0, 30] = 1
+    ctx = context(cells, [50, 40], team_pos={1: (6, 0), 2: (29, 0)},
+                  field_from=lambda c: fields[c])
+    assert hungarian(ctx) == (30, 0)
+    ctx = context(cells, [40, 50], team_pos={1: (6, 0), 2: (29, 0)},
+                  field_from=lambda c: fields[c])
+    assert hungarian(ctx) == (5, 0)
