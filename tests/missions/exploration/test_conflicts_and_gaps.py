@@ -1,12 +1,17 @@
 """Message rules a mutation run found guarded only by the fingerprints: when two goals
-conflict and who wins."""
+conflict and who wins, how often a robot asks the origin of missing scans for them, and how
+the archive tells a scan that leaves a hole from one that does not."""
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
-from swarmex.missions.exploration.messages import ChangeGoal, Goal
+from swarmex.missions.exploration.belief import ADDED, ADDED_GAP, HELD, ScanArchive
+from swarmex.missions.exploration.messages import ChangeGoal, Goal, ScanRecord
 from swarmex.missions.exploration.robot import ExplorerRobot
+from swarmex.sensing.occupancy import rasterise
 from tests.missions.exploration.helpers import config
 
 MY_GOAL = (20, 10)
@@ -60,3 +65,41 @@ def test_a_priority_tie_goes_to_the_lower_id():
     assert _hear_goal(r, 2, (22, 10), 4.0) == []
     assert r.beaten_by == {2}
 
+
+def _record(origin: int, seq: int) -> ScanRecord:
+    cfg = config()
+    local = rasterise(30, 20, np.full(len(cfg.angles), 3.0), cfg.angles, cfg.laser_cells,
+                      cfg.shape)
+    return ScanRecord(origin, seq, 30, 20, local)
+
+
+def test_at_most_one_gap_request_per_origin_per_unicast_lifetime_inclusive():
+    """Module docstring: "At most one such request per origin per unicast lifetime" (100
+    ticks). Robot 0 holds none of robot 1's scans 0 and 1: scan 2 at tick 0 leaves a hole,
+    and it asks robot 1; scan 3 at tick 100 is still within the lifetime of that request,
+    so no second one; scan 4 at tick 101 is past it, and it asks again."""
+    cfg = dataclasses.replace(config(), aodv=True)
+    assert cfg.unicast_lifetime == 100
+    r = ExplorerRobot(0, cfg, (10, 10))
+    r.accept_scan(_record(1, 2), 0)
+    assert r.stats.gap_requests == 1 and r.asked == {1: 0}
+    r.accept_scan(_record(1, 3), 100)
+    assert r.stats.gap_requests == 1 and r.asked == {1: 0}
+    r.accept_scan(_record(1, 4), 101)
+    assert r.stats.gap_requests == 2 and r.asked == {1: 101}
+
+
+def test_admit_reports_a_hole_only_while_some_lower_seq_is_missing():
+    """ScanArchive.admit: ADDED_GAP when "some seq of that origin below its highest is
+    missing" (seqs count from 0), else ADDED; HELD for a key already held."""
+    arch = ScanArchive()
+    assert arch.admit(_record(4, 0)) == ADDED
+    assert arch.admit(_record(4, 1)) == ADDED  # holds 0, 1
+    assert arch.admit(_record(4, 1)) == HELD
+    assert arch.admit(_record(4, 3)) == ADDED_GAP  # 2 missing
+    assert arch.admit(_record(4, 2)) == ADDED  # filled: 0 … 3
+    assert arch.admit(_record(4, 4)) == ADDED
+    assert arch.admit(_record(5, 1)) == ADDED_GAP  # a new origin from seq 1: 0 missing
+    assert arch.admit(_record(5, 2)) == ADDED_GAP
+    assert arch.admit(_record(5, 0)) == ADDED
+    assert not arch.has_gap(4) and not arch.has_gap(5)
