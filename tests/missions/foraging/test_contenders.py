@@ -78,3 +78,13 @@ def test_route_followers_among_themselves_go_by_larger_x_y():
     cur = [(4, 5), (6, 5), (5, 6)]
     assert priority(cur, [True, False, True]) == [2, 0, 1]
 
+
+@pytest.mark.parametrize("order", [[0, 1], [1, 0]])
+def test_of_two_robots_moving_into_one_cell_the_later_in_the_order_yields(order):
+    """resolve() on its own, with the order given: neither robot is in C (no stayer), so
+    the one later in ``order`` is bumped to its next option (here its own cell)."""
+    cur = [(4, 5), (6, 5)]
+    opts = [[C, cur[0]], [C, cur[1]]]
+    first, later = order
+    new = resolve(cur, opts, order, NEST)
+    assert new[first] == C and new[later] == cur[later]
