@@ -15,13 +15,14 @@ from pettingzoo.test import (  # noqa: E402
     api_test,
     parallel_api_test,
     parallel_seed_test,
-    render_test,
     seed_test,
 )
 
 import swarmex  # noqa: E402
 from swarmex.envs import exploration_v0  # noqa: E402
 from swarmex.missions.exploration.strategies import get_strategy  # noqa: E402
+
+from ._helpers import play, render_test_rgb_array, without_wall  # noqa: E402
 
 # a 30×30-cell room with a short laser: tens of decisions, goal conflicts included
 SMALL = {"empty": "3x3", "cell": 0.1, "robots": 2, "laser_range": 0.6}
@@ -34,21 +35,6 @@ pytestmark = pytest.mark.filterwarnings(
     "ignore:Observation is not a NumPy array",
     "ignore:Observation space for each agent probably should be",
 )
-
-
-def play(env, policy):
-    obs, infos = env.reset()
-    steps = 0
-    while env.agents:
-        obs, rewards, terms, truncs, infos = env.step(policy(obs, infos))
-        steps += 1
-    return steps, rewards, terms, truncs
-
-
-def without_wall(record):
-    d = record.to_dict()
-    d.pop("wall_seconds")
-    return d
 
 
 # ---------------------------------------------------------------- PettingZoo's checks
@@ -75,13 +61,7 @@ def test_parallel_seed_test():
 
 
 def test_render_test_rgb_array():
-    # render_test first builds the env with render_mode="human" only to read its
-    # metadata; the env supports rgb_array alone, so that probe gets None
-    def make(render_mode=None):
-        mode = None if render_mode == "human" else render_mode
-        return exploration_v0.env(render_mode=mode, **CAPPED)
-
-    render_test(make)
+    render_test_rgb_array(exploration_v0.env, **CAPPED)
 
 
 def test_render_is_the_exploration_renderer():

@@ -16,7 +16,6 @@ from pettingzoo.test import (  # noqa: E402
     api_test,
     parallel_api_test,
     parallel_seed_test,
-    render_test,
     seed_test,
 )
 
@@ -25,6 +24,8 @@ from swarmex.envs import foraging_v0  # noqa: E402
 from swarmex.missions.foraging import replay  # noqa: E402
 from swarmex.missions.foraging.patterns import ALGORITHMS  # noqa: E402
 from swarmex.missions.foraging.run import run_forage, to_record  # noqa: E402
+
+from ._helpers import play, render_test_rgb_array, without_wall  # noqa: E402
 
 SMALL = {"grid": 16, "agents": 4, "food": (12, 3), "food_units": 3}
 TINY = {"grid": 8, "agents": 4, "algorithm": "sectors", "food_units": 2, "max_rounds": 60}
@@ -36,26 +37,11 @@ pytestmark = pytest.mark.filterwarnings(
 )
 
 
-def play(env, policy):
-    obs, infos = env.reset()
-    steps = 0
-    while env.agents:
-        obs, rewards, terms, truncs, infos = env.step(policy(obs, infos))
-        steps += 1
-    return steps, rewards, terms, truncs
-
-
 def random_policy(rng):
     def policy(obs, infos):
         return {a: int(rng.choice(np.flatnonzero(o["action_mask"]))) for a, o in obs.items()}
 
     return policy
-
-
-def without_wall(record):
-    d = record.to_dict()
-    d.pop("wall_seconds")
-    return d
 
 
 # ---------------------------------------------------------------- PettingZoo's checks
@@ -82,13 +68,7 @@ def test_parallel_seed_test():
 
 
 def test_render_test_rgb_array():
-    # render_test first builds the env with render_mode="human" only to read its metadata;
-    # the env supports rgb_array alone, so that probe gets None
-    def make(render_mode=None):
-        mode = None if render_mode == "human" else render_mode
-        return foraging_v0.env(render_mode=mode, **TINY)
-
-    render_test(make)
+    render_test_rgb_array(foraging_v0.env, **TINY)
 
 
 def test_render_is_the_foraging_renderer():

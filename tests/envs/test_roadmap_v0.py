@@ -27,6 +27,8 @@ from swarmex.envs import roadmap_v0  # noqa: E402
 from swarmex.missions.roadmap.replay import replay_problems  # noqa: E402
 from swarmex.worlds.polygon import load_polygon_world  # noqa: E402
 
+from ._helpers import without_wall  # noqa: E402
+
 FIG8 = "examples/roadmap_fig8.json"
 FIG14 = "examples/roadmap_fig14.json"
 SMALL = dict(env=FIG8, agents=2, nodes=60, step=40, sensor_range="1eps", seed=3)
@@ -54,12 +56,6 @@ def drive(aec, policy=None):
         aec.step(action)
         decisions += 1
     return decisions
-
-
-def without_wall(record):
-    d = record.to_dict()
-    d.pop("wall_seconds")
-    return d
 
 
 # ------------------------------------------------------------------ PettingZoo's checks
