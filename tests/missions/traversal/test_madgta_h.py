@@ -11,8 +11,6 @@
 
 from __future__ import annotations
 
-import copy
-
 import numpy as np
 import pytest
 from scipy import ndimage
@@ -30,6 +28,8 @@ from swarmex.missions.traversal.optimal import solve_optimal
 from swarmex.missions.traversal.policies import POLICIES
 from swarmex.missions.traversal.variants import MadgtaPlus
 from swarmex.worlds import GridWorld, random_obstacles
+
+from .checking import BELIEF_API, spying
 
 FAST = (1.0, 5.0)  # (speed in units per second: 1 s per edge, seconds per job)
 SLOW = (0.5, 10.0)  # 2 s per edge, 10 s per job
@@ -207,55 +207,13 @@ def test_mixed_team_does_each_job_once_under_a_perfect_broadcast(seed):
 
 
 # ------------------------------------------------------------------- decentralisation
-BELIEF_API = {
-    "me", "here", "graph", "known", "status", "reserved", "loc", "next_loc", "free_at",
-    "now", "time_per_unit", "job_time", "km_mask", "km_at", "in_km", "rivals",
-}
-
-
-class ReadOnlyBelief:
-    """Forwards reads to a belief and logs their names; refuses every write."""
-
-    def __init__(self, inner, seen: set[str]) -> None:
-        object.__setattr__(self, "_inner", inner)
-        object.__setattr__(self, "_seen", seen)
-
-    def __getattr__(self, name: str):
-        self._seen.add(name)
-        return getattr(self._inner, name)
-
-    def __setattr__(self, name: str, value) -> None:
-        raise AssertionError(f"policy wrote belief.{name}")
-
-
-class Spying(MadgtaH):
-    def __init__(self) -> None:
-        super().__init__()
-        self.seen: set[str] = set()
-        self.checked = 0
-
-    def decide(self, belief, rng):
-        keys = ("status", "reserved", "loc", "next_loc", "free_at", "reservation")
-        snapshot = {k: np.copy(getattr(belief, k)) for k in keys}
-        state = copy.deepcopy(rng.bit_generator.state)
-        decision = super().decide(ReadOnlyBelief(belief, self.seen), rng)
-        for k, before in snapshot.items():
-            assert np.array_equal(getattr(belief, k), before), f"policy changed belief.{k}"
-        if self.checked < 100:  # same belief, same draws => same answer, from a copy
-            again = np.random.default_rng()
-            again.bit_generator.state = state
-            assert MadgtaH.decide(self, copy.deepcopy(belief), again) == decision
-            self.checked += 1
-        return decision
-
-
 def test_reads_only_the_belief_and_never_writes_it():
     rng = np.random.default_rng(5)
     world = random_obstacles(10, 10, 0.2, seed=5)
     free = np.nonzero(~world.blocked)[0]
     agents = [AgentSpec(int(v), float(rng.uniform(0.5, 1.0)), float(rng.uniform(5, 10)))
               for v in rng.choice(free, 4, replace=False)]
-    spy = Spying()
+    spy = spying(MadgtaH, limit=100)
     run = run_traversal(world, agents, spy, seed=5)
     assert run.complete and spy.checked > 20
     assert spy.seen <= BELIEF_API, spy.seen - BELIEF_API

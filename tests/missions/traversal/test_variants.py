@@ -15,7 +15,6 @@
 from __future__ import annotations
 
 import ast
-import copy
 import inspect
 
 import numpy as np
@@ -30,10 +29,11 @@ from swarmex.missions.traversal import (
     uniform_agents,
     variants,
 )
-from swarmex.missions.traversal.belief import TraversalBelief
 from swarmex.missions.traversal.policies import POLICIES
 from swarmex.missions.traversal.variants import MadgtaPlus
 from swarmex.worlds import GridWorld, random_obstacles, rooms
+
+from .checking import BELIEF_API, spying
 
 TRAVEL, JOB = 2.0, 9.0
 
@@ -116,70 +116,10 @@ def test_single_agent_falls_back_to_nearest_first():
 
 
 # ------------------------------------------------------------------------ decentralisation
-BELIEF_API = {
-    "me",
-    "here",
-    "graph",
-    "known",
-    "status",
-    "reserved",
-    "loc",
-    "next_loc",
-    "free_at",
-    "now",
-    "time_per_unit",
-    "job_time",
-    "km_mask",
-    "km_at",
-    "in_km",
-    "rivals",
-}
-
-
-class ReadOnlyBelief:
-    """Forwards reads to a belief and logs their names; refuses every write."""
-
-    def __init__(self, inner: TraversalBelief, seen: set[str]) -> None:
-        object.__setattr__(self, "_inner", inner)
-        object.__setattr__(self, "_seen", seen)
-
-    def __getattr__(self, name: str):
-        self._seen.add(name)
-        return getattr(self._inner, name)
-
-    def __setattr__(self, name: str, value) -> None:
-        raise AssertionError(f"policy wrote belief.{name}")
-
-
-class SpyingPlus(MadgtaPlus):
-    """madgta+ that sees the belief through :class:`ReadOnlyBelief` and checks each answer."""
-
-    def __init__(self) -> None:
-        super().__init__()
-        self.seen: set[str] = set()
-        self.checked = 0
-
-    def decide(self, belief, rng):
-        snapshot = {
-            k: np.copy(getattr(belief, k))
-            for k in ("status", "reserved", "loc", "next_loc", "free_at", "reservation")
-        }
-        state = copy.deepcopy(rng.bit_generator.state)
-        decision = super().decide(ReadOnlyBelief(belief, self.seen), rng)
-        for k, before in snapshot.items():
-            assert np.array_equal(getattr(belief, k), before), f"policy changed belief.{k}"
-        if self.checked < 200:  # same belief, same draws => same answer, from a copy
-            again = np.random.default_rng()
-            again.bit_generator.state = state
-            assert MadgtaPlus.decide(self, copy.deepcopy(belief), again) == decision
-            self.checked += 1
-        return decision
-
-
 def test_reads_only_the_belief_and_never_writes_it():
     world = random_obstacles(14, 14, 0.2, seed=5)
     nests = nests_in(world, 5, 5, shared=False)
-    spy = SpyingPlus()
+    spy = spying(MadgtaPlus, limit=200)
     run = run_traversal(world, uniform_agents(nests, TRAVEL, JOB), spy, seed=5)
     assert run.complete
     assert spy.checked > 50
