@@ -16,7 +16,6 @@ import pytest
 
 from swarmex.comm.channel import Channel
 from swarmex.missions.traversal import (
-    AgentSpec,
     make_policy,
     run_metrics,
     run_traversal,
@@ -27,6 +26,7 @@ from swarmex.missions.traversal.policies import POLICIES
 from swarmex.missions.traversal.teamplan import MadgtaP
 from swarmex.worlds import random_obstacles
 
+from ._helpers import mixed_agents
 from .checking import checking, jit_and_python_agree
 
 
@@ -77,13 +77,6 @@ def test_weights_give_the_smaller_part_what_lies_between_not_what_lies_behind():
     assert _parts(13, [0, 4], [1, 2, 3, *range(5, 13)], rounds=1) == ([0, 0] + [1] * 9, 3.5)
 
 
-def _mixed(world, m: int, seed: int) -> list[AgentSpec]:
-    rng = np.random.default_rng(seed)
-    free = np.nonzero(~world.blocked)[0]
-    return [AgentSpec(int(v), float(rng.uniform(0.5, 1.0)), float(rng.uniform(5, 10)))
-            for v in rng.choice(free, m, replace=False)]
-
-
 class _EarlyEndGame(pt.MadgtaK):
     """madgta-k whose end game starts at 20 vacant vertices, so that a small map has both
     phases (checking() builds it without arguments)."""
@@ -98,7 +91,7 @@ def test_completes_every_job_once(fleet, nests):
     world = random_obstacles(14, 14, 0.2, seed=1)
     free = np.nonzero(~world.blocked)[0]
     starts = [int(free[0])] * 5 if nests == "shared" else [int(v) for v in free[:40:8]]
-    agents = (uniform_agents(starts, 2.0, 9.0) if fleet == "same" else _mixed(world, 5, 1))
+    agents = (uniform_agents(starts, 2.0, 9.0) if fleet == "same" else mixed_agents(world, 5, 1))
     policy = _EarlyEndGame()
     run = run_traversal(world, agents, policy, seed=1)
     assert run.complete and policy.sweep.parted > 0 and policy.plans > 0
@@ -109,7 +102,7 @@ def test_completes_every_job_once(fleet, nests):
 def test_completes_over_a_lossy_range_limited_channel():
     world = random_obstacles(12, 12, 0.2, seed=3)
     policy = _EarlyEndGame()
-    run = run_traversal(world, _mixed(world, 4, 3), policy, seed=3,
+    run = run_traversal(world, mixed_agents(world, 4, 3), policy, seed=3,
                         channel=Channel(loss=0.3, range=4.0))
     assert run.complete and policy.sweep.parted > 0
 

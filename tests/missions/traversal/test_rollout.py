@@ -14,7 +14,6 @@ import pytest
 
 from swarmex.comm.channel import Channel
 from swarmex.missions.traversal import (
-    AgentSpec,
     make_policy,
     run_metrics,
     run_traversal,
@@ -23,17 +22,10 @@ from swarmex.missions.traversal import (
 from swarmex.missions.traversal.policies import POLICIES, Madgta
 from swarmex.missions.traversal.rollout import MadgtaR
 from swarmex.missions.traversal.rollout_sim import ABSENT, FREE, NEAR, _fill_rows, _simulate
-from swarmex.worlds import GridWorld, random_obstacles
-from swarmex.worlds.nodegraph import NodeGraph
+from swarmex.worlds import random_obstacles
 
+from ._helpers import corridor, mixed_agents
 from .checking import checking, jit_and_python_agree
-
-
-def _mixed(world: GridWorld, m: int, seed: int) -> list[AgentSpec]:
-    rng = np.random.default_rng(seed)
-    free = np.nonzero(~world.blocked)[0]
-    return [AgentSpec(int(v), float(rng.uniform(0.5, 1.0)), float(rng.uniform(5, 10)))
-            for v in rng.choice(free, m, replace=False)]
 
 
 def _all_done(run) -> None:
@@ -61,7 +53,7 @@ def test_completes_every_job_once(seed, fleet):
         free = np.nonzero(~world.blocked)[0]
         agents = uniform_agents([int(v) for v in free[:5]], 2.0, 9.0)
     else:
-        agents = _mixed(world, 5, seed)
+        agents = mixed_agents(world, 5, seed)
     policy = MadgtaR()
     run = run_traversal(world, agents, policy, seed=seed)
     _all_done(run)
@@ -75,7 +67,7 @@ def test_completes_every_job_once(seed, fleet):
                                      dict(objective="makespan"), dict(nest=True)])
 def test_completes_over_a_lossy_range_limited_channel(options):
     world = random_obstacles(10, 10, 0.2, seed=3)
-    agents = _mixed(world, 4, 3)
+    agents = mixed_agents(world, 4, 3)
     run = run_traversal(world, agents, MadgtaR(**options), seed=3,
                         channel=Channel(loss=0.3, range=4.0))
     assert run.complete
@@ -93,17 +85,12 @@ def test_before_the_end_game_it_is_madgta_record_for_record():
     assert run_metrics(ours, 1.0)[0] == run_metrics(theirs, 1.0)[0]
 
 
-def _corridor(n: int) -> NodeGraph:
-    u = np.arange(n - 1)
-    return NodeGraph.from_edges(n, u, u + 1, np.ones(n - 1), np.c_[np.arange(n), np.zeros(n)])
-
-
 def test_the_simulation_predicts_a_mission_it_sees_whole():
     """A corridor 0-1-2-3-4 (2 s per edge, 9 s per job); agent 1 at 0, deciding at t = 0,
     takes candidate 1; agent 2 works at 4 until t = 5. By hand: agent 1 reaches 1 at 2, works
     to 11; agent 2 moves to 3 (7), works to 16; agent 1 moves to 2 (13), works to 22; then
     nothing is left. Makespan 22, sum 22 + 11."""
-    g = _corridor(5)
+    g = corridor(5)
     n = 5
     blocked = np.zeros(n, dtype=bool)
     status = np.zeros(n, dtype=np.int32)
@@ -134,7 +121,7 @@ def test_the_simulation_predicts_a_mission_it_sees_whole():
 def test_never_writes_the_belief_and_is_deterministic():
     world = random_obstacles(10, 10, 0.2, seed=5)
     spy = checking(MadgtaR, 60)
-    run = run_traversal(world, _mixed(world, 4, 5), spy, seed=5)
+    run = run_traversal(world, mixed_agents(world, 4, 5), spy, seed=5)
     assert run.complete and spy.checked > 20 and spy.rollouts > 0
 
 

@@ -18,7 +18,6 @@ import pytest
 
 from swarmex.comm.channel import Channel
 from swarmex.missions.traversal import (
-    AgentSpec,
     make_policy,
     run_metrics,
     run_traversal,
@@ -31,6 +30,7 @@ from swarmex.missions.traversal.rollout_sim import _fill_rows
 from swarmex.worlds import empty_grid, random_obstacles
 from swarmex.worlds.nodegraph import NodeGraph
 
+from ._helpers import corridor, mixed_agents
 from .checking import checking, jit_and_python_agree
 
 
@@ -43,11 +43,6 @@ def test_registered_and_selectable():
     for bad in (dict(passes=-1), dict(commit=True), dict(k=0)):
         with pytest.raises(ValueError):
             tp.MadgtaP(**bad)
-
-
-def _corridor(n: int) -> NodeGraph:
-    u = np.arange(n - 1)
-    return NodeGraph.from_edges(n, u, u + 1, np.ones(n - 1), np.c_[np.arange(n), np.zeros(n)])
 
 
 def _rows(g: NodeGraph, vacant: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -69,7 +64,7 @@ def test_local_search_splits_a_corridor_between_its_two_ends():
     """Corridor 0-...-6, agents at 0 and 6 (free at t = 0), vertices 1..5 vacant, 2 s per
     edge, 9 s per job. Start: agent 1 does all five (5 x 11 = 55 s). By hand the min-max
     optimum gives three to one agent and two to the other: 33 s, with 22 s for the other."""
-    g = _corridor(7)
+    g = corridor(7)
     vacant = np.arange(1, 6, dtype=np.int64)
     table, row_of = _rows(g, vacant)
     base = np.zeros(3)
@@ -217,13 +212,6 @@ def test_the_sum_pass_lowers_the_sum_within_the_makespan_limit_to_a_local_optimu
     assert tried >= 12 and lowered >= 2
 
 
-def _mixed(world, m: int, seed: int) -> list[AgentSpec]:
-    rng = np.random.default_rng(seed)
-    free = np.nonzero(~world.blocked)[0]
-    return [AgentSpec(int(v), float(rng.uniform(0.5, 1.0)), float(rng.uniform(5, 10)))
-            for v in rng.choice(free, m, replace=False)]
-
-
 @pytest.mark.parametrize("options", [dict(), dict(follow=True), dict(follow=True, commit=True),
                                      dict(passes=0), dict(ils=5, ruin=4),
                                      dict(ils=5, follow=True),
@@ -233,7 +221,7 @@ def test_completes_every_job_once(options, fleet):
     world = random_obstacles(12, 12, 0.2, seed=1)
     free = np.nonzero(~world.blocked)[0]
     agents = (uniform_agents([int(v) for v in free[:5]], 2.0, 9.0) if fleet == "same"
-              else _mixed(world, 5, 1))
+              else mixed_agents(world, 5, 1))
     policy = tp.MadgtaP(**options)
     run = run_traversal(world, agents, policy, seed=1)
     assert run.complete and policy.plans > 0
@@ -244,7 +232,7 @@ def test_completes_every_job_once(options, fleet):
 @pytest.mark.parametrize("options", [dict(), dict(follow=True, commit=True)])
 def test_completes_over_a_lossy_range_limited_channel(options):
     world = random_obstacles(10, 10, 0.2, seed=3)
-    run = run_traversal(world, _mixed(world, 4, 3), tp.MadgtaP(**options), seed=3,
+    run = run_traversal(world, mixed_agents(world, 4, 3), tp.MadgtaP(**options), seed=3,
                         channel=Channel(loss=0.3, range=4.0))
     assert run.complete
 
@@ -264,7 +252,7 @@ def test_the_start_plan_is_madgtas_simulated_routes():
     (test_rollout's mission seen whole). MADGTA: agent 1 takes 1 then 2, agent 2 takes 3;
     nothing to improve (agent 2 ends at 16 and agent 1 at 22; giving 2 to agent 2 ends it
     at 27), so the plan is those routes and agent 1's first vertex is 1."""
-    g = _corridor(5)
+    g = corridor(5)
     n = 5
     status = np.zeros(n, dtype=np.int32)
     status[0] = 1
