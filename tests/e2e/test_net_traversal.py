@@ -55,6 +55,13 @@ class Viewer:
     def jobs_of(self, agent: int) -> int:
         return sum(1 for e in list(self.events) if e["type"] == "job" and e["agent"] == agent)
 
+    def wait_for_jobs(self, agents: tuple[int, ...], n: int, what: str) -> None:
+        """Wait until ``agents`` have done ``n`` jobs between them; after 30 s fail, ``what``."""
+        end = time.monotonic() + 30.0
+        while sum(self.jobs_of(a) for a in agents) < n:
+            assert time.monotonic() < end, what
+            time.sleep(0.05)
+
 
 def _rogue(address: str) -> None:
     """An intruder: an id outside the mission, a C22 for an id never given, damaged frames
@@ -288,10 +295,7 @@ def test_ctrl_c_on_an_agent_process_hands_its_ids_back(tmp_path, sig):
         pair = procs.start("pair", "agent", "--connect", address, "--count", 2)
         third = procs.start("third", "agent", "--connect", address, "--id", 3)
         server.wait_line("mission started", JOINED)
-        end = time.monotonic() + 30.0
-        while sum(viewer.jobs_of(a) for a in (1, 2)) < 3:
-            assert time.monotonic() < end, "no jobs done"
-            time.sleep(0.05)
+        viewer.wait_for_jobs((1, 2), 3, "no jobs done")
         pair.popen.send_signal(sig)
         how = "Ctrl-C" if sig == signal.SIGINT else "SIGTERM"
         assert pair.wait(10) == 130, pair.output
