@@ -13,7 +13,7 @@ import time
 import pytest
 
 from tests.e2e.test_cli_traversal import free_mask, replay
-from tests.e2e.test_net_traversal import GRID, JOINED, MISSION, OBSTACLES, Viewer
+from tests.e2e.test_net_traversal import JOINED, OBSTACLES, Viewer, serve
 from tests.net.netproc import Procs, endpoint
 
 pytestmark = pytest.mark.timeout(150)
@@ -25,11 +25,8 @@ def test_a_waiting_spare_takes_over_from_the_last_agent(tmp_path):
     "the mission ended without needing a spare" (exit 0). It takes the id now."""
     rec_path = tmp_path / "net.json"
     with Procs() as procs:
-        server = procs.start(
-            "server", "serve", *GRID, "--agents", 1, "--seed", 3, "--port", 0,
-            "--time-scale", 0.03, "--heartbeat", 0.2, "--dead-after", 1.0,
-            "--timeout", MISSION, "--json", rec_path,
-        )
+        server = serve(procs, 1, "--seed", 3, "--time-scale", 0.03, "--heartbeat", 0.2,
+                       "--dead-after", 1.0, record=rec_path)
         address = endpoint(server)
         viewer = Viewer(address)
         victim = procs.start("victim", "agent", "--connect", address, "--id", 1)
@@ -59,11 +56,8 @@ def test_an_agent_declared_gone_is_told_and_exits_5(tmp_path):
     gone", could not happen."""
     rec_path = tmp_path / "net.json"
     with Procs() as procs:
-        server = procs.start(
-            "server", "serve", *GRID, "--agents", 2, "--seed", 5, "--port", 0,
-            "--time-scale", 0.03, "--heartbeat", 0.2, "--dead-after", 1.0,
-            "--timeout", MISSION, "--json", rec_path,
-        )
+        server = serve(procs, 2, "--seed", 5, "--time-scale", 0.03, "--heartbeat", 0.2,
+                       "--dead-after", 1.0, record=rec_path)
         address = endpoint(server)
         viewer = Viewer(address)
         steady = procs.start("steady", "agent", "--connect", address, "--id", 1)
@@ -96,11 +90,8 @@ def test_an_agent_restarted_before_the_start_gets_its_id_back(tmp_path):
 
     rec_path = tmp_path / "net.json"
     with Procs() as procs:
-        server = procs.start(
-            "server", "serve", *GRID, "--agents", 2, "--seed", 6, "--port", 0,
-            "--time-scale", 0.004, "--heartbeat", 0.2, "--dead-after", 1.0,
-            "--timeout", MISSION, "--json", rec_path,
-        )
+        server = serve(procs, 2, "--seed", 6, "--time-scale", 0.004, "--heartbeat", 0.2,
+                       "--dead-after", 1.0, record=rec_path)
         address = endpoint(server)
         first = procs.start("first", "agent", "--connect", address, "--id", 1)
         server.wait_line("id 1 given to a new agent", JOINED)

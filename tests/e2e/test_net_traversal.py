@@ -12,6 +12,7 @@ import json
 import signal
 import threading
 import time
+from pathlib import Path
 
 import pytest
 import zmq
@@ -21,7 +22,7 @@ from swarmex.net import wire
 from swarmex.net.events import viewer_batches
 from swarmex.worlds import GridWorld
 from tests.e2e.test_cli_traversal import free_mask, replay
-from tests.net.netproc import Procs, endpoint
+from tests.net.netproc import Proc, Procs, endpoint
 
 pytestmark = pytest.mark.timeout(90)
 
@@ -37,6 +38,14 @@ MISSION = JOINED + 60
 
 def _world() -> GridWorld:
     return GridWorld(free_mask(6, 6, OBSTACLES))
+
+
+def serve(procs: Procs, agents: int, *flags: object, record: Path | None = None) -> Proc:
+    """``swarmex serve`` of the GRID mission to ``agents`` agents, as process "server": a free
+    port (see :func:`endpoint`), the MISSION limit, ``flags``, its record to ``record``."""
+    json_flag = () if record is None else ("--json", record)
+    return procs.start("server", "serve", *GRID, "--agents", agents, "--port", 0,
+                       "--timeout", MISSION, *json_flag, *flags)
 
 
 class Viewer:
@@ -90,10 +99,7 @@ def test_networked_run_is_the_simulated_run(tmp_path, capsys):
 
     rec_path = tmp_path / "net.json"
     with Procs() as procs:
-        server = procs.start(
-            "server", "serve", *GRID, "--agents", 3, "--seed", 7, "--port", 0,
-            "--time-scale", 0.004, "--timeout", MISSION, "--json", rec_path,
-        )
+        server = serve(procs, 3, "--seed", 7, "--time-scale", 0.004, record=rec_path)
         address = endpoint(server)
         viewer = Viewer(address)
         _rogue(address)
@@ -148,11 +154,8 @@ def _served_like_simulated(tmp_path, algorithm: str) -> dict:
     that the run is the simulated one, trajectories, jobs and message count."""
     rec_path = tmp_path / "net.json"
     with Procs() as procs:
-        server = procs.start(
-            "server", "serve", *GRID, "--agents", 3, "--seed", 4, "--port", 0,
-            "--algorithm", algorithm, "--time-scale", 0.002, "--timeout", MISSION,
-            "--json", rec_path,
-        )
+        server = serve(procs, 3, "--seed", 4, "--algorithm", algorithm, "--time-scale", 0.002,
+                       record=rec_path)
         a = procs.start("agents", "agent", "--connect", endpoint(server), "--count", 3,
                         "--server-timeout", 20)
         assert server.wait(75) == 0, server.output
@@ -190,11 +193,8 @@ def test_a_leave_travels_on_the_finish(tmp_path):
 def test_killed_agent_is_replaced_by_a_spare(tmp_path):
     rec_path = tmp_path / "net.json"
     with Procs() as procs:
-        server = procs.start(
-            "server", "serve", *GRID, "--agents", 3, "--seed", 2, "--port", 0,
-            "--time-scale", 0.04, "--heartbeat", 0.2, "--dead-after", 1.0,
-            "--timeout", MISSION, "--json", rec_path,
-        )
+        server = serve(procs, 3, "--seed", 2, "--time-scale", 0.04, "--heartbeat", 0.2,
+                       "--dead-after", 1.0, record=rec_path)
         address = endpoint(server)
         viewer = Viewer(address)
         # two agents and a spare in one process, the victim alone in another
@@ -251,10 +251,7 @@ def test_ctrl_c_on_the_server_writes_the_record_so_far_and_ends_the_agents(tmp_p
     (``kill``, ``timeout``, a service manager) did so until 29 Nov 2026."""
     rec_path = tmp_path / "net.json"
     with Procs() as procs:
-        server = procs.start(
-            "server", "serve", *GRID, "--agents", 3, "--port", 0, "--time-scale", 0.05,
-            "--dead-after", 60, "--timeout", MISSION, "--json", rec_path,
-        )
+        server = serve(procs, 3, "--time-scale", 0.05, "--dead-after", 60, record=rec_path)
         address = endpoint(server)
         viewer = Viewer(address)
         agents = procs.start("agents", "agent", "--connect", address, "--count", 3,
@@ -286,10 +283,8 @@ def test_ctrl_c_on_an_agent_process_hands_its_ids_back(tmp_path, sig):
     as for a vehicle fault) and lands; the process exits 130."""
     rec_path = tmp_path / "net.json"
     with Procs() as procs:
-        server = procs.start(
-            "server", "serve", *GRID, "--agents", 3, "--port", 0, "--time-scale", 0.02,
-            "--dead-after", 30, "--heartbeat", 0.25, "--timeout", MISSION, "--json", rec_path,
-        )
+        server = serve(procs, 3, "--time-scale", 0.02, "--dead-after", 30, "--heartbeat", 0.25,
+                       record=rec_path)
         address = endpoint(server)
         viewer = Viewer(address)
         pair = procs.start("pair", "agent", "--connect", address, "--count", 2)
@@ -318,10 +313,7 @@ def test_an_agent_that_never_got_an_id_says_so(tmp_path):
     vacant, and at END it used to exit 1 with "the mission ended before I finished", as if it
     had failed its work. It never joined: exit 4, refused, saying why."""
     with Procs() as procs:
-        server = procs.start(
-            "server", "serve", *GRID, "--agents", 2, "--port", 0, "--time-scale", 0.004,
-            "--timeout", MISSION,
-        )
+        server = serve(procs, 2, "--time-scale", 0.004)
         address = endpoint(server)
         trio = procs.start("trio", "agent", "--connect", address, "--count", 3,
                            "--server-timeout", 20)
