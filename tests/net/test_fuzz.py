@@ -4,6 +4,7 @@ nonsense must raise :class:`~swarmex.net.wire.WireError` (or decode), never anyt
 from __future__ import annotations
 
 import contextlib
+from collections.abc import Callable
 
 import msgpack
 import numpy as np
@@ -31,6 +32,17 @@ msgpack_values = scalars | st.lists(scalars, max_size=4) | st.dictionaries(
     st.text(max_size=6), scalars, max_size=4)
 
 
+def _truncated_and_flipped(
+    frame: bytes, cut: int, bit: int, check: Callable[[bytes], None]
+) -> None:
+    """``check`` ``frame`` cut to its first ``cut`` bytes (modulo its length + 1), then
+    ``frame`` whole with bit ``bit`` of byte ``cut`` (modulo its length) flipped."""
+    check(frame[: cut % (len(frame) + 1)])
+    damaged = bytearray(frame)
+    damaged[cut % len(frame)] ^= 1 << bit
+    check(bytes(damaged))
+
+
 def _only_wire_errors(frame: bytes) -> None:
     for decode in DECODERS:
         with contextlib.suppress(wire.WireError):
@@ -53,10 +65,7 @@ def test_random_bytes(data):
 @settings(max_examples=300, deadline=None)
 @given(st.sampled_from(_valid), st.integers(0, 400), st.integers(0, 7))
 def test_truncated_and_flipped_frames(frame, cut, bit):
-    _only_wire_errors(frame[: cut % (len(frame) + 1)])
-    damaged = bytearray(frame)
-    damaged[cut % len(frame)] ^= 1 << bit
-    _only_wire_errors(bytes(damaged))
+    _truncated_and_flipped(frame, cut, bit, _only_wire_errors)
 
 
 @settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
@@ -228,10 +237,7 @@ def test_mesh_frames_decode():
 @settings(max_examples=300, deadline=None)
 @given(st.sampled_from(RADIO), st.integers(0, 4000), st.integers(0, 7))
 def test_mesh_truncated_and_flipped_frames(frame, cut, bit):
-    _mesh_decoders(frame[: cut % (len(frame) + 1)])
-    damaged = bytearray(frame)
-    damaged[cut % len(frame)] ^= 1 << bit
-    _mesh_decoders(bytes(damaged))
+    _truncated_and_flipped(frame, cut, bit, _mesh_decoders)
 
 
 @settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.too_slow])
