@@ -13,7 +13,13 @@ import time
 import pytest
 
 from tests.e2e.test_cli_traversal import free_mask, replay
-from tests.e2e.test_net_traversal import JOINED, OBSTACLES, Viewer, serve
+from tests.e2e.test_net_traversal import (
+    JOINED,
+    OBSTACLES,
+    Viewer,
+    assert_is_the_simulated_run,
+    serve,
+)
 from tests.net.netproc import Procs, endpoint
 
 pytestmark = pytest.mark.timeout(150)
@@ -85,9 +91,6 @@ def test_an_agent_restarted_before_the_start_gets_its_id_back(tmp_path):
     ready, and GO went out with everybody waiting at its start event. Now the restart asks
     again until the server, after --dead-after of silence, frees the id, and the mission is
     the simulated run."""
-    from swarmex.missions.traversal import run_traversal, traversal_record, uniform_agents
-    from tests.e2e.test_net_traversal import _world
-
     rec_path = tmp_path / "net.json"
     with Procs() as procs:
         server = serve(procs, 2, "--seed", 6, "--time-scale", 0.004, "--heartbeat", 0.2,
@@ -106,9 +109,4 @@ def test_an_agent_restarted_before_the_start_gets_its_id_back(tmp_path):
         assert server.output.count("id 1 given to a new agent") == 2, server.output
         assert "a spare took" not in server.output
     net = json.loads(rec_path.read_text())
-    sim = traversal_record(
-        run_traversal(_world(), uniform_agents([0, 0], 2.22, 10.0), seed=6), {}
-    ).to_dict()
-    assert net["complete"] and net["makespan"] == sim["makespan"]
-    for x, y in zip(net["agents"], sim["agents"], strict=True):
-        assert x["trajectory"] == y["trajectory"] and x["jobs"] == y["jobs"]
+    assert_is_the_simulated_run(net, 2, seed=6)

@@ -40,6 +40,22 @@ def _world() -> GridWorld:
     return GridWorld(free_mask(6, 6, OBSTACLES))
 
 
+def assert_is_the_simulated_run(
+    net: dict, agents: int, seed: int, algorithm: str = "madgta"
+) -> dict:
+    """The networked record ``net`` is the simulated run of ``agents`` agents at cell 0 (same
+    seed and algorithm): complete, the same makespan, trajectories and jobs. Returns the
+    simulated record."""
+    sim_run = run_traversal(_world(), uniform_agents([0] * agents, 2.22, 10.0), algorithm,
+                            seed=seed)
+    sim = traversal_record(sim_run, {}).to_dict()
+    assert net["complete"] and net["makespan"] == sim["makespan"]
+    for x, y in zip(net["agents"], sim["agents"], strict=True):
+        assert x["trajectory"] == y["trajectory"]
+        assert x["jobs"] == y["jobs"]
+    return sim
+
+
 def serve(procs: Procs, agents: int, *flags: object, record: Path | None = None) -> Proc:
     """``swarmex serve`` of the GRID mission to ``agents`` agents, as process "server": a free
     port (see :func:`endpoint`), the MISSION limit, ``flags``, its record to ``record``."""
@@ -112,15 +128,9 @@ def test_networked_run_is_the_simulated_run(tmp_path, capsys):
         assert a.wait(15) == 0, a.output
         viewer.thread.join(10)
     net = json.loads(rec_path.read_text())
-    world = _world()
-    sim = traversal_record(
-        run_traversal(world, uniform_agents([0, 0, 0], 2.22, 10.0), seed=7), {}
-    ).to_dict()
-    assert net["complete"] and net["makespan"] == sim["makespan"]
+    sim = assert_is_the_simulated_run(net, 3, seed=7)
     assert net["time_unit"] == "s" and net["mission"] == "traversal"
     for x, y in zip(net["agents"], sim["agents"], strict=True):
-        assert x["trajectory"] == y["trajectory"]
-        assert x["jobs"] == y["jobs"]
         assert x["metrics"] == y["metrics"]
     same = {k: v for k, v in net["metrics"].items() if k != "message_bytes"}
     assert same == {k: v for k, v in sim["metrics"].items() if k != "message_bytes"}
@@ -161,12 +171,7 @@ def _served_like_simulated(tmp_path, algorithm: str) -> dict:
         assert server.wait(75) == 0, server.output
         assert a.wait(15) == 0, a.output
     net = json.loads(rec_path.read_text())
-    sim_run = run_traversal(_world(), uniform_agents([0, 0, 0], 2.22, 10.0), algorithm, seed=4)
-    sim = traversal_record(sim_run, {}).to_dict()
-    assert net["complete"] and net["makespan"] == sim["makespan"]
-    for x, y in zip(net["agents"], sim["agents"], strict=True):
-        assert x["trajectory"] == y["trajectory"]
-        assert x["jobs"] == y["jobs"]
+    sim = assert_is_the_simulated_run(net, 3, seed=4, algorithm=algorithm)
     assert net["metrics"]["messages"] == sim["metrics"]["messages"]
     assert net["network"]["stats_mismatch"] == 0
     return net
