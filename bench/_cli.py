@@ -71,7 +71,10 @@ def sizes(count: int, form: str) -> Callable[[str], tuple[int, ...]]:
 
 def maps_dir() -> Path:
     """The real benchmark maps: ``$SWARMEX_MAPS``, default ``../shared/maps`` beside the
-    repository (every script that reads a map asks here)."""
+    repository (every script that reads a map asks here). Not
+    :func:`swarmex.worlds.mapfiles.maps_dir`: a script may run with another tree's ``src``
+    on ``PYTHONPATH`` (``profile_traversal``, the reference child of
+    ``compare_traversal_fingerprints``), and an older tree has no such function."""
     return Path(os.environ.get("SWARMEX_MAPS",
                                Path(__file__).resolve().parents[2] / "shared" / "maps"))
 

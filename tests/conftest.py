@@ -29,15 +29,13 @@ if _WORKER and "NUMBA_CACHE_DIR" not in os.environ:
                 shutil.rmtree(_old, ignore_errors=True)
 
 
-def maps_dir() -> Path:
-    return Path(os.environ.get("SWARMEX_MAPS", REPO.parent / "shared" / "maps"))
-
-
 @pytest.fixture
 def real_map():
     """Path of a map in SWARMEX_MAPS, or a skip naming what is missing."""
 
     def get(name: str) -> Path:
+        from swarmex.worlds.mapfiles import maps_dir  # after the numba cache is set
+
         path = maps_dir() / name
         if not path.exists():
             pytest.skip(f"real map {name} not found in {maps_dir()} (set SWARMEX_MAPS)")

@@ -3,6 +3,7 @@ one line for a missing or unreadable file (the MovingAI and ROS readers had a co
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 from swarmex.errors import InputError
@@ -10,6 +11,19 @@ from swarmex.errors import InputError
 #: a ROS map_server map: its YAML, or the image alone
 ROS_YAML_SUFFIXES = (".yaml", ".yml")
 ROS_SUFFIXES = (*ROS_YAML_SUFFIXES, ".pgm")
+
+
+def maps_dir() -> Path:
+    """The folder of the real benchmark maps (MovingAI): ``$SWARMEX_MAPS``, else
+    ``../shared/maps`` from the working folder, else beside this checkout. One place, so the
+    studies, the tests and the bench scripts look for the maps in the same folder."""
+    env = os.environ.get("SWARMEX_MAPS")
+    if env:
+        return Path(env)
+    for cand in (Path("../shared/maps"), Path(__file__).resolve().parents[4] / "shared" / "maps"):
+        if cand.is_dir():
+            return cand
+    return Path("../shared/maps")
 
 
 def source_name(source: str) -> str:

@@ -33,10 +33,10 @@ checks the trends, :mod:`.figures` redraws Figs. 4.1–4.4 and :mod:`.report` wr
 from __future__ import annotations
 
 import json
-import os
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Any
+
+from swarmex.worlds.mapfiles import maps_dir
 
 THESIS_SNAPSHOT_STEPS = (80, 580, 800)
 STRATEGY_ORDER = (
@@ -104,16 +104,6 @@ QUICK_SCENARIOS = [
         5.0,
     ),
 ]
-
-
-def maps_dir() -> Path:
-    env = os.environ.get("SWARMEX_MAPS")
-    if env:
-        return Path(env)
-    for cand in (Path("../shared/maps"), Path(__file__).resolve().parents[5] / "shared" / "maps"):
-        if cand.is_dir():
-            return cand
-    return Path("../shared/maps")
 
 
 def missing_maps(scenarios) -> list[str]:
