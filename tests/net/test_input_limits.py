@@ -75,6 +75,7 @@ REFUSED = [
      "--heartbeat must be > 0 and at most 1000000 s"),
     (SERVE + ["--dead-after", "1e308"], "--dead-after must be > 0 and at most 1000000 s"),
     (SERVE + ["--timeout", "1e9"], "--timeout must be > 0 and at most 1000000 s"),
+    (SERVE + ["--init-timeout", "1e9"], "--init-timeout must be > 0 and at most 1000000 s"),
     (SERVE + ["--spare-wait", "1e9"], "--spare-wait must be >= 0 and at most 1000000 s"),
     (SERVE + ["--time-scale", "1e9"], "--time-scale must be >= 0 and at most 1000000"),
     (AGENT + ["--server-timeout", "1e300"], "--server-timeout must be > 0 and at most"),

@@ -31,10 +31,12 @@ def _mission(agents: int = 2, heartbeat: float = 0.25) -> Mission:
 
 
 class Harness:
-    def __init__(self, agents: int = 2, dead_after: float = 2.0, heartbeat: float = 0.25) -> None:
+    def __init__(self, agents: int = 2, dead_after: float = 2.0, heartbeat: float = 0.25,
+                 init_timeout: float = 60.0) -> None:
         self.said: list[str] = []
         self.server = TraversalServer(_mission(agents, heartbeat), "tcp://127.0.0.1:*",
-                                      dead_after=dead_after, say=self.said.append)
+                                      dead_after=dead_after, init_timeout=init_timeout,
+                                      say=self.said.append)
         self.sent: list[tuple[bytes, list]] = []
         self.server._send = lambda peer, frame: self.sent.append(  # type: ignore[method-assign]
             (peer.ident, wire.decode_message(frame)))
@@ -256,6 +258,26 @@ def test_an_armed_agent_that_stalls_before_the_start_keeps_its_id(harness):
     assert h2.server.state[1] == "left"
     h2.frame(b"spare", ["C00", -1], h2.server.init_timeout + 0.6)
     assert h2.to(b"spare")[-1] == ["ID", 1]
+
+
+def test_an_agent_compiling_past_the_init_timeout_is_told_what_to_raise(harness):
+    """A first start on a slow or loaded machine compiles kernels longer than the default
+    60 s (measured: 17 s of CPU for madgta-s alone on a cold cache; eight agent processes
+    on two cores take four times that). The server keeps its id for ``init_timeout`` and
+    then says which option gives it longer."""
+    h = harness(dead_after=2.0, init_timeout=30.0)
+    h.frame(b"a1", ["C00", 1], 0.0)
+    h.frame(b"a1", ["C22", 1], 0.0)  # mission data sent: the agent now compiles, silent
+    h.server._check_liveness(h.t0 + 29.0)
+    assert h.server.state[1] == "init"
+    h.server._check_liveness(h.t0 + 30.5)
+    assert h.server.state[1] == "left"
+    assert "--init-timeout (30 s)" in h.said[-1] and "raise --init-timeout" in h.said[-1]
+    # never shorter than --dead-after, which an armed agent already gets
+    h2 = harness(dead_after=5.0, init_timeout=1.0)
+    h2.frame(b"a1", ["C00", 1], 0.0)
+    h2.server._check_liveness(h2.t0 + 4.0)
+    assert h2.server.state[1] == "init"
 
 
 # ---------------------------------------------------------------- finding 4: waiting spares

@@ -110,6 +110,11 @@ def serve(
     dead_after: float = typer.Option(
         2.0, "--dead-after", help="Wall seconds of silence before an agent is declared gone."
     ),
+    init_timeout: float = typer.Option(
+        60.0, "--init-timeout",
+        help="Wall seconds an agent not yet started may be silent (it compiles its kernels on"
+             " a first start); never less than --dead-after.",
+    ),
     spare_wait: float = typer.Option(
         0.0, "--spare-wait", help="Wall seconds to wait for a spare when all agents are gone."
     ),
@@ -132,7 +137,7 @@ def serve(
     check_wall_seconds(time_scale, "--time-scale", zero_ok=True,
                        unit="(wall seconds per mission second)")
     for value, option in ((heartbeat, "--heartbeat"), (dead_after, "--dead-after"),
-                          (timeout, "--timeout")):
+                          (init_timeout, "--init-timeout"), (timeout, "--timeout")):
         check_wall_seconds(value, option)
     check_wall_seconds(spare_wait, "--spare-wait", zero_ok=True)
     if not 0.0 <= inject_loss < 1.0:
@@ -171,7 +176,8 @@ def serve(
     params = {  # the keys of swarmex traverse's record, then the network's own
         **record_params(tparams, prepared),
         "network": {"time_scale": time_scale, "rng": rng, "done_lists": done_lists,
-                    "heartbeat": heartbeat, "dead_after": dead_after},
+                    "heartbeat": heartbeat, "dead_after": dead_after,
+                    "init_timeout": init_timeout},
     }
     if inject_loss > 0:
         params["network"]["inject_loss"] = inject_loss
@@ -181,8 +187,8 @@ def serve(
     bind = f"tcp://{host}:{port}" if port else f"tcp://{host}:*"
     try:
         server = TraversalServer(mission, bind, json_path, timeout, dead_after,
-                                 spare_wait=spare_wait, monitor_url=monitor_url,
-                                 say=_say, loss=inject_loss)
+                                 init_timeout=init_timeout, spare_wait=spare_wait,
+                                 monitor_url=monitor_url, say=_say, loss=inject_loss)
     except zmq.ZMQError as exc:  # address in use, bad interface
         raise InputError(f"cannot listen on {bind}: {exc}") from None
     code = server.run()

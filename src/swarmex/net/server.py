@@ -590,9 +590,15 @@ class TraversalServer:
             # agent is still handled at once where it matters: GO waits for every holder
             # to have been heard lately (_maybe_go), and a restart asking for the id of a
             # holder silent for --dead-after takes it over (_on_c00)
-            limit = self.init_timeout if s in ("init", "ready") else self.dead_after
+            limit = (max(self.init_timeout, self.dead_after) if s in ("init", "ready")
+                     else self.dead_after)
             if peer is None or now - peer.last_seen > limit:
-                self._declare_left(a, peer)
+                why = "fell silent"
+                if s == "init":  # the usual cause, and what to do about it
+                    why = (f"fell silent for --init-timeout ({limit:g} s) while initialising"
+                           " (a first start compiles kernels: raise --init-timeout on a slow"
+                           " or loaded machine)")
+                self._declare_left(a, peer, why)
 
     def _on_handback(self, peer: Peer, agent: int, reason: str) -> None:
         """The agent hands its id back (seed 000 §4.3: "if an agent stops its work

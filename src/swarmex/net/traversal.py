@@ -704,7 +704,7 @@ def _walled_6x6() -> GridWorld:
 def warm_policy(algorithm: str) -> None:
     """The kernels of a served algorithm other than MADGTA, compiled or loaded once per
     process. The agent calls it when the mission data names the algorithm, before it
-    answers (C01): the server gives an agent that is not yet armed ``init_timeout`` (60 s),
+    answers (C01): the server gives an agent that is not yet armed ``--init-timeout`` (60 s),
     not ``--dead-after`` (2 s). On a cold cache madgta-r compiled ~8 s of kernels at its
     first end-game decision and madgta-p ~5 s, holding the GIL, so the server declared the
     agents gone; compiling every algorithm's kernels before connecting instead doubled the
