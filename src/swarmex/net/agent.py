@@ -6,7 +6,9 @@ C01–C03 (new rival, pre-arm checks, armed) each acknowledged, waits for the mi
 (``GO``), runs MADGTA through :class:`~swarmex.net.traversal.AgentCore` in scaled real time
 (C04 at the nest, C05 next node, C06 halfway, C07 at the node / job started, C08 job done),
 then the termination stage (C09 return to launch, C10 home, C11 landed) and uploads its
-statistics. See :mod:`swarmex.net.traversal` for when an event may run.
+statistics. See :mod:`swarmex.net.traversal` for when an event may run. Between the mission
+data and C01 the algorithm's kernels compile on a thread (:func:`warm_in_background`; state
+``compiling``) while the agent keeps beating; frames that arrive meanwhile are read after.
 
 Several agents can share one process (``--count``): each keeps its own socket and state and
 they share a poller, which saves the interpreter start-up of a process per UAV in tests and
@@ -39,8 +41,10 @@ link; an id it held was handed back).
 from __future__ import annotations
 
 import os
+import threading
 import time
 from collections.abc import Callable
+from concurrent.futures import Future
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -71,6 +75,37 @@ from swarmex.net.vehicle import (
 
 EXIT_OK, EXIT_UNFINISHED, EXIT_SERVER_GONE, EXIT_REFUSED, EXIT_DECLARED_GONE = 0, 1, 3, 4, 5
 EXIT_HANDED_BACK = 6
+
+#: the algorithms whose kernels this process compiles (or has compiled) off the main thread
+_WARMING: dict[str, Future[None]] = {}
+
+
+def warm_in_background(algorithm: str) -> Future[None]:
+    """``warm_policy(algorithm)`` on a thread of its own, once per process (agents sharing
+    a process share it). Why a thread: on a cold cache an algorithm's kernels compile for
+    7-20 s of CPU (madgta-r, madgta-s) after the agent has its id, and an agent compiling
+    on its main thread sent no heartbeat, so only the server's long init timeout kept its
+    id. numba's compiler is mostly Python and its LLVM calls go through ctypes, which lets
+    go of the GIL: measured on a cold cache, the main thread waited at most 0.28 s between
+    two 50 ms sleeps during a 19 s compile of madgta-s. A daemon thread, so Ctrl-C during a
+    compile does not wait for it."""
+    job = _WARMING.get(algorithm)
+    if job is None:
+        job = _WARMING[algorithm] = Future()
+        if algorithm == "madgta":  # warm_up did it before the agent connected
+            job.set_result(None)
+            return job
+
+        def compile_kernels() -> None:
+            try:
+                warm_policy(algorithm)
+            except BaseException as exc:  # handed to the agent's loop, which re-raises it
+                job.set_exception(exc)
+            else:
+                job.set_result(None)
+
+        threading.Thread(target=compile_kernels, name=f"warm {algorithm}", daemon=True).start()
+    return job
 #: states in which the vehicle is being readied or flown (its faults count)
 VEHICLE_STATES = ("prearm", "c02", "arming", "c03", "ready", "mission", "rtl", "landing")
 
@@ -149,6 +184,10 @@ class AgentClient:
         self.next_hb = now
         self.retry_at: float | None = None
         self.waiting = False
+        # while the algorithm's kernels compile (state "compiling"): the mission data, and
+        # the frames that came since, played in order once they are ready
+        self.pending: tuple[Future[None], Mission, dict[str, Any], list[Any]] | None = None
+        self.held: list[bytes] = []
         self._send(["C00", want_id])
 
     # ------------------------------------------------------------------ io
@@ -179,6 +218,9 @@ class AgentClient:
         self.last_server = now
         if self.state == "grounding":
             return  # the id is handed back: the mission is no longer this agent's
+        if self.state == "compiling":
+            self.held.append(frame)  # read once the mission is set up, in order
+            return
         try:
             msg = wire.message(wire.unpack(frame))
             if msg[0] in wire.BROADCAST_COMMANDS:
@@ -280,9 +322,29 @@ class AgentClient:
         mission = Mission.from_wire(data)
         if not 1 <= self.id <= mission.n_agents:
             raise wire.EncodingError("mission data without my id")
-        # the algorithm's own kernels, now that it is known and before C01: the server
-        # allows an agent not yet armed its init timeout, not --dead-after
-        warm_policy(mission.algorithm)
+        # the algorithm's own kernels, now that it is known and before C01, compiled on a
+        # thread while this one keeps beating (warm_in_background)
+        job = warm_in_background(mission.algorithm)
+        if not job.done():
+            self.state = "compiling"
+            self.pending = (job, mission, data, log)
+            return
+        self._set_up(mission, data, log, now)
+
+    def _compiled(self, now: float) -> None:
+        """The kernels are ready: set the mission up, then read what came meanwhile."""
+        assert self.pending is not None
+        job, mission, data, log = self.pending
+        job.result()  # a failed compile ends the agent as it did on the main thread
+        self.pending = None
+        self._set_up(mission, data, log, now)
+        held, self.held = self.held, []
+        for frame in held:
+            self.on_frame(frame, now)
+
+    def _set_up(self, mission: Mission, data: dict[str, Any], log: list[Any],
+                now: float) -> None:
+        """The agent's core, its replica of the others and its flight plan; then C01."""
         self.mission = mission
         self.core = AgentCore(mission, self.id)
         self.replica = Replica(mission)
@@ -505,6 +567,8 @@ class AgentClient:
                 return 0.0
         if self.state in ("prearm", "arming"):
             self._init_step(now)
+        if self.state == "compiling" and self.pending is not None and self.pending[0].done():
+            self._compiled(now)
         if self.state == "hello" and self.want_id < 0 and self.waiting:
             # a spare the server has answered waits for a vacated id as long as the mission
             # runs (END releases it); only a silent server ends the wait
@@ -528,7 +592,8 @@ class AgentClient:
             # (next_hb does not advance without an id, and a waiting spare polled at 100 %)
             wait = max(0.0, self.retry_at - now) if self.retry_at is not None else 0.2
         if now >= self.next_hb and self.id:
-            hb = self.mission.heartbeat if self.mission is not None else 0.25
+            mission = self.mission or (self.pending[1] if self.pending is not None else None)
+            hb = mission.heartbeat if mission is not None else 0.25
             self.next_hb = now + hb
             self._send(["HB", self.id])
             wait = hb
@@ -536,6 +601,8 @@ class AgentClient:
             wait = min(wait, self._mission_tick(now))
         elif self.state in ("rtl", "landing"):
             wait = min(wait, self._termination_tick(now))
+        elif self.state == "compiling":
+            wait = min(wait, 0.05)  # to see the compile end (a thread's event, not a frame)
         if not isinstance(self.vehicle, SimulatedVehicle):
             wait = min(wait, 0.05)  # telemetry to read, link and battery to watch
         return wait

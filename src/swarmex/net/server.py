@@ -19,7 +19,7 @@ sender before the relay, since whatever is relayed the recorder must be able to 
 An agent declared gone is told so (``LEFT`` for its own id) before it is forgotten: one that
 was only paused exits (status 5) and brings its vehicle down rather than fly a plan a spare
 may have taken. Before the start only an agent still being initialised has the long init
-timeout (it compiles kernels and cannot beat); an armed one is gone after ``--dead-after``,
+timeout (it compiles kernels, or replays a long log); an armed one is gone after ``--dead-after``,
 and ``GO`` waits until every armed holder has been heard lately. The mission stays open
 while a spare that is already waiting can take a vacated id.
 """
@@ -583,10 +583,11 @@ class TraversalServer:
             if s not in LIVE:
                 continue
             peer = self.peers.get(self.holder.get(a, b""))
-            # before the start an agent may be silent longer: one being initialised
-            # compiles its kernels holding the GIL, and an armed one that stalls (a loaded
-            # machine, a paused process) must not cost the whole run: declared gone before
-            # GO, nobody takes its id and the server waits out --timeout. A dead armed
+            # before the start an agent may be silent longer: one being initialised may
+            # be busy (a late joiner replays the log; kernels compile, on a thread that
+            # lets it beat), and an armed one that stalls (a loaded machine, a paused
+            # process) must not cost the whole run: declared gone before GO, nobody takes
+            # its id and the server waits out --timeout. A dead armed
             # agent is still handled at once where it matters: GO waits for every holder
             # to have been heard lately (_maybe_go), and a restart asking for the id of a
             # holder silent for --dead-after takes it over (_on_c00)

@@ -703,10 +703,10 @@ def _walled_6x6() -> GridWorld:
 @functools.cache
 def warm_policy(algorithm: str) -> None:
     """The kernels of a served algorithm other than MADGTA, compiled or loaded once per
-    process. The agent calls it when the mission data names the algorithm, before it
-    answers (C01): the server gives an agent that is not yet armed ``--init-timeout`` (60 s),
-    not ``--dead-after`` (2 s). On a cold cache madgta-r compiled ~8 s of kernels at its
-    first end-game decision and madgta-p ~5 s, holding the GIL, so the server declared the
+    process. The agent calls it on a thread of its own (``net.agent.warm_in_background``)
+    when the mission data names the algorithm, before it answers (C01), and keeps beating
+    meanwhile. On a cold cache madgta-r compiled ~8 s of kernels at its first end-game
+    decision and madgta-p ~5 s, on the agent's main thread, so the server declared the
     agents gone; compiling every algorithm's kernels before connecting instead doubled the
     first start of every agent (tests/net/test_warm_up.py checks both warm-ups).
 
