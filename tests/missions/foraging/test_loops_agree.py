@@ -13,8 +13,10 @@ import numpy as np
 import pytest
 
 from swarmex.errors import InputError
+from swarmex.missions.foraging import recall
+from swarmex.missions.foraging.comm import COMM_RULES
 from swarmex.missions.foraging.run import check_inputs
-from swarmex.missions.foraging.sim import run_mission
+from swarmex.missions.foraging.sim import TRANSPORT, Mission, round_limit, run_mission
 from swarmex.missions.foraging.timed import timed_plan
 
 PATTERNS = (
@@ -59,3 +61,104 @@ def test_random_small_runs_agree_in_both_loops(seed):
     for row in slow.positions:
         cells = [tuple(c) for c in row.tolist() if tuple(c) != nest]
         assert len(cells) == len(set(cells))  # never two robots in one non-nest cell
+
+
+# ---------------------------------------------------------------- the communication phase
+# fastloop.comm_rounds plays a plain run from the discovery until everyone transports; these
+# draws compare it with the Python loop on every pattern (recall's annulus too), transport
+# and communication rule, teams that do not divide the grid, food near, far and anywhere.
+COMM_PATTERNS = (*PATTERNS, "annulus")
+
+
+def _same_outcome(slow, fast):
+    assert slow.makespan == fast.makespan
+    assert np.array_equal(slow.positions, fast.positions)
+    for name in ("jobs", "handovers", "discovery", "finders", "informed_at", "comm_done",
+                 "delivered", "complete", "extra"):  # fmt: skip
+        assert getattr(slow, name) == getattr(fast, name), name
+
+
+def _comm_draw(rng: np.random.Generator):
+    """A valid random run: (timed, food, k, transport, comm)."""
+    while True:
+        g = int(rng.choice([5, 6, 8, 10, 12, 16, 20, 24, 32]))
+        n = int(rng.choice([1, 2, 3, 4, 5, 7, 8, 12, 16, 32]))
+        pattern, transport = str(rng.choice(COMM_PATTERNS)), str(rng.choice(TRANSPORTS))
+        rule = str(rng.choice(COMM_RULES))
+        k = int(rng.choice([1, 3, n, 2 * n, 20]))
+        try:
+            if pattern == "annulus":
+                lo = int(rng.integers(1, g))
+                timed = recall.annulus_timed(g, n, lo, int(rng.integers(lo, g + 2)))
+            else:
+                check_inputs(pattern, g, n, k, transport, rule)
+                timed = timed_plan(pattern, g, n)
+        except InputError:
+            continue
+        c = g // 2
+        where = rng.random()
+        if where < 0.3:  # a corner: the farthest cells
+            food = ((g - 1) * int(rng.integers(2)), (g - 1) * int(rng.integers(2)))
+        elif where < 0.5:  # next to the nest
+            dx, dy = rng.integers(-2, 3, size=2)
+            food = (min(g - 1, c + int(dx)), min(g - 1, c + int(dy)))
+        else:
+            food = (int(rng.integers(g)), int(rng.integers(g)))
+        if food != (c, c):
+            return timed, food, k, transport, rule
+
+
+@pytest.mark.parametrize("seed", range(300))
+def test_compiled_communication_phase_is_the_python_loop(seed, monkeypatch):
+    timed, food, k, transport, rule = _comm_draw(np.random.default_rng([7, seed]))
+    slow = run_mission(timed, food, k, transport, fast=False, comm=rule)
+    played = []
+    compiled = Mission._comm_phase
+    monkeypatch.setattr(Mission, "_comm_phase", lambda m, *a: played.append(compiled(m, *a)))
+    fast = run_mission(timed, food, k, transport, fast=True, comm=rule)
+    assert played  # the compiled phase ran
+    _same_outcome(slow, fast)
+    quiet = run_mission(timed, food, k, transport, record=False, comm=rule)
+    assert (quiet.makespan, quiet.jobs) == (fast.makespan, fast.jobs)
+
+
+def _python_until_transport(m: Mission) -> None:
+    """The Python rounds of Mission.rounds up to where the compiled phase stops."""
+    limit = round_limit(m.t, m.g, m.k)
+    while not all(mode == TRANSPORT for mode in m.mode):
+        m.look()
+        m.history.append(list(m.pos))
+        if m.delivered >= m.k or m.t >= limit:
+            return
+        m.step()
+
+
+@pytest.mark.parametrize(
+    ("pattern", "g", "n", "food", "transport", "rule"),
+    [("zigzag", 16, 16, (2, 13), "relay-path", "seed"),
+     ("sectors", 20, 16, (19, 0), "relay-food", "seed"),
+     ("spiral", 12, 8, (7, 4), "end-to-end", "seed"),
+     ("hilbert", 16, 16, (12, 3), "relay-food", "omniscient"),
+     ("comb", 32, 8, (0, 31), "relay-path", "omniscient")],
+)  # fmt: skip
+def test_compiled_communication_phase_leaves_the_python_state(pattern, g, n, food, transport, rule):
+    """After the compiled phase the Mission's lists, the word and the transport memory are
+    what the Python rounds leave (the tail and any later reader start from them)."""
+    timed = timed_plan(pattern, g, n)
+    t0 = int(np.flatnonzero(((timed.pos == food).all(axis=2)).any(axis=1))[0])
+    start = [tuple(c) for c in timed.pos[t0].tolist()]
+    made = [Mission(g, timed.plan.nest, food, 3, transport, start, t=t0, timed=timed, comm=rule)
+            for _ in range(2)]  # fmt: skip
+    slow, fast = made
+    _python_until_transport(slow)
+    fast._comm_phase(True, round_limit(fast.t, g, fast.k))
+    for name in ("t", "pos", "mode", "delay", "displaced", "informed", "informed_at", "targets",
+                 "carrying", "tmode", "pidx", "comm_done", "jobs", "handovers", "units",
+                 "delivered", "join_at", "_last_key"):  # fmt: skip
+        assert getattr(slow, name) == getattr(fast, name), name
+    if rule == "seed":
+        assert slow.word.know == fast.word.know
+        assert slow.word.rank == fast.word.rank
+        assert slow.word.holders == fast.word.holders
+    rows = np.concatenate(fast.tail_chunks)
+    assert np.array_equal(np.asarray(slow.history, dtype=np.int32), rows)

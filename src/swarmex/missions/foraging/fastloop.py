@@ -75,6 +75,21 @@ def transport_memo(key: tuple[Any, ...] | None, n: int) -> I64:
     return memo
 
 
+def memo_key(memo: I64, n: int) -> tuple[Any, ...] | None:
+    """``Mission.transport_key`` back from a memo (:func:`transport_memo`'s inverse)."""
+    if memo[0] != 1:
+        return None
+    rows = memo[3 : 3 + 5 * n].reshape(n, 5).tolist()
+    return (
+        tuple((x, y) for x, y, *_ in rows),
+        tuple(bool(r[2]) for r in rows),
+        tuple(r[3] for r in rows),
+        tuple(r[4] for r in rows),
+        int(memo[1]),
+        int(memo[2]),
+    )
+
+
 @kernel(cache=True)
 def _same_as_memo(
     memo: I64, pos: I64, carrying: Bools, tmode: I64, pidx: I64, units: int, delivered: int
@@ -709,4 +724,498 @@ def timetable_rounds(
             history[rows, a, 1] = ny
         rows += 1
         state[0] = t + 1
+    return rows
+
+
+# ---------------------------------------------------------------- the communication phase
+# Mission.mode codes (same as sim.py); NOT_YET: the tmode of a robot not transporting yet,
+# which the transport Look must skip (sim.py's JOIN default would let it join the path)
+EXPLORE, FOLLOW, COMM, TRANSPORT = 0, 1, 2, 3
+NOT_YET = -1
+# comm_rounds' state vector: transport_tail's first seven slots, then these
+C_LIMIT, C_HOLDS = 7, 8
+# comm_rounds' flags vector: its slots
+F_OMNI, F_ONE_WAY, F_KEEP_EXPLORING, F_KEEP_DEPLOYING, F_RELAY_FOOD, F_T_SYNC = range(6)
+
+
+@kernel(cache=True)
+def _on_route(mode: I64, displaced: Bools, a: int) -> bool:
+    """``Mission.on_route``: exploring or following, and not pushed off its route."""
+    return (not displaced[a]) and (mode[a] == EXPLORE or mode[a] == FOLLOW)
+
+
+@kernel(cache=True)
+def _meet_route(mx: int, my: int, route: I32, b: int, i0: int, t_end: int) -> tuple[int, int, int]:
+    """``comm.meet`` on robot ``b``'s timetable from row ``i0`` (it stays at row ``t_end``):
+    the earliest τ, and the future's cell at τ (its last cell when τ is past the end)."""
+    last = t_end - i0
+    d = 0
+    for tau in range(last + 1):
+        x = int(route[i0 + tau, b, 0])
+        y = int(route[i0 + tau, b, 1])
+        d = abs(x - mx) + abs(y - my) - 1
+        if d <= tau:
+            return tau, x, y
+    return max(last, d), int(route[t_end, b, 0]), int(route[t_end, b, 1])
+
+
+@kernel(cache=True)
+def _meet_of(
+    mx: int, my: int, b: int, t: int, omni: bool, pos: I64, mode: I64, displaced: Bools,
+    delay: I64, route: I32, t_end: int,
+) -> tuple[int, int, int]:  # fmt: skip
+    """τ and cell of the meeting with ``b`` from (mx, my) at round ``t``: its future as the
+    rule predicts it (seed: ``Mission.expected_future``; omniscient: ``Mission.future``, its
+    cell once it has left its route)."""
+    if omni and not _on_route(mode, displaced, b):
+        qx, qy = int(pos[b, 0]), int(pos[b, 1])
+        return max(abs(qx - mx) + abs(qy - my) - 1, 0), qx, qy  # a one-row future
+    i0 = min(max(0, t - delay[b]), t_end)
+    return _meet_route(mx, my, route, b, i0, t_end)
+
+
+@kernel(cache=True)
+def _best_order(
+    a: int, t: int, targets: I64, ntarg: I64, omni: bool, pos: I64, mode: I64,
+    displaced: Bools, delay: I64, route: I32, t_end: int,
+) -> None:  # fmt: skip
+    """``comm.best_order`` on robot ``a``'s list, in place: every order in
+    ``itertools.permutations``' (lexicographic by position), the first with the earliest
+    completion kept."""
+    m = ntarg[a]
+    if m < 2:
+        return
+    orig = targets[a, :m].copy()
+    best = orig.copy()
+    idx = np.arange(m)
+    best_tc = -1
+    while True:
+        tc, px, py = t, pos[a, 0], pos[a, 1]
+        for j in range(m):
+            tau, px, py = _meet_of(
+                px, py, orig[idx[j]], tc, omni, pos, mode, displaced, delay, route, t_end
+            )
+            tc += tau
+        if best_tc < 0 or tc < best_tc:
+            best_tc = tc
+            for j in range(m):
+                best[j] = orig[idx[j]]
+        i = m - 2  # the next permutation of idx
+        while i >= 0 and idx[i] >= idx[i + 1]:
+            i -= 1
+        if i < 0:
+            break
+        j = m - 1
+        while idx[j] <= idx[i]:
+            j -= 1
+        idx[i], idx[j] = idx[j], idx[i]
+        idx[i + 1 :] = idx[i + 1 :][::-1].copy()
+    targets[a, :m] = best
+
+
+@kernel(cache=True)
+def _enter_transport(
+    a: int, t: int, relay: bool, relay_food: bool, pos: I64, mode: I64, comm_done: I64,
+    tmode: I64, pidx: I64, join_at: I64, path: I64,
+) -> None:  # fmt: skip
+    """``Mission.enter_transport`` (with ``try_join``)."""
+    mode[a] = TRANSPORT
+    comm_done[a] = t
+    if not relay:
+        tmode[a] = E2E
+        return
+    tmode[a] = JOIN
+    j = path.shape[0] - 1 if relay_food else _entry_cell(path, pos[a, 0], pos[a, 1])
+    join_at[a] = j
+    if pos[a, 0] == path[j, 0] and pos[a, 1] == path[j, 1]:
+        tmode[a] = RELAY
+        pidx[a] = j
+
+
+@kernel(cache=True)
+def _inform(
+    a: int, teller: int, t: int, flags: I64, relay: bool, nb_start: I64, nb_flat: I64,
+    pos: I64, mode: I64, delay: I64, displaced: Bools, informed_at: I64, targets: I64,
+    ntarg: I64, know: NDArray[np.uint64], hold_head: I64, hold_next: I64, hold_who: I64,
+    hold_of: I64, state: I64, comm_done: I64, tmode: I64, pidx: I64, join_at: I64,
+    path: I64, route: I32, t_end: int,
+) -> None:  # fmt: skip
+    """``Mission.inform``: robot ``a`` learns the food from ``teller`` (-1: it found it);
+    its list (``comm.first_targets``), the word's record of it (``Word.learn``: the seed
+    rule), then transport, keep to its route, or communicate."""
+    omni = flags[F_OMNI] == 1
+    informed_at[a] = t
+    s, e = nb_start[a], nb_start[a + 1]
+    k = 0
+    if (not omni) and flags[F_ONE_WAY] == 1 and teller < 0 and e > s:
+        targets[a, 0] = nb_flat[e - 1]
+        k = 1
+    else:
+        for j in range(s, e):
+            b = nb_flat[j]
+            if b == teller or (omni and informed_at[b] >= 0):
+                continue
+            targets[a, k] = b
+            k += 1
+    ntarg[a] = k
+    if not omni:
+        if teller >= 0:
+            for w in range(know.shape[1]):
+                know[a, w] |= know[teller, w]
+        know[a, a >> 6] |= np.uint64(1) << np.uint64(a & 63)
+        if teller >= 0:
+            know[teller, a >> 6] |= np.uint64(1) << np.uint64(a & 63)
+        for j in range(k):  # a holds targets[a, j]: a linked list per listed robot
+            h = state[C_HOLDS]
+            b = targets[a, j]
+            hold_who[h] = a
+            hold_of[h] = b
+            hold_next[h] = hold_head[b]
+            hold_head[b] = h
+            state[C_HOLDS] = h + 1
+    if k == 0:
+        _enter_transport(
+            a, t, relay, flags[F_RELAY_FOOD] == 1, pos, mode, comm_done, tmode, pidx,
+            join_at, path,
+        )  # fmt: skip
+        return
+    exploring = t - delay[a] >= flags[F_T_SYNC]
+    keeps = flags[F_KEEP_EXPLORING] == 1 if exploring else flags[F_KEEP_DEPLOYING] == 1
+    if keeps and _on_route(mode, displaced, a):
+        mode[a] = FOLLOW
+    else:
+        mode[a] = COMM  # Mission.start_comm
+        _best_order(a, t, targets, ntarg, omni, pos, mode, displaced, delay, route, t_end)
+
+
+@kernel(cache=True)
+def _knows(know: NDArray[np.uint64], a: int, b: int) -> bool:
+    """Whether robot ``a``'s bit set holds ``b`` (``Word.knows``)."""
+    return ((know[a, b >> 6] >> np.uint64(b & 63)) & np.uint64(1)) == np.uint64(1)
+
+
+@kernel(cache=True)
+def _settled(
+    a: int, b: int, know: NDArray[np.uint64], informed_at: I64, hold_head: I64,
+    hold_next: I64, hold_who: I64,
+) -> bool:  # fmt: skip
+    """``Word.settled``: ``a`` knows ``b`` knows, or knows of a robot informed before it
+    (earlier round, or the same round and a smaller id) that listed ``b``."""
+    if _knows(know, a, b):
+        return True
+    h = hold_head[b]
+    while h >= 0:
+        x = hold_who[h]
+        earlier = informed_at[x] < informed_at[a] or (informed_at[x] == informed_at[a] and x < a)
+        if x != a and earlier and _knows(know, a, x):
+            return True
+        h = hold_next[h]
+    return False
+
+
+@kernel(cache=True)
+def _exchange(
+    pos: I64, informed_at: I64, know: NDArray[np.uint64], snap: NDArray[np.uint64],
+    nest: I64, g: int, cells: I64,
+) -> None:  # fmt: skip
+    """``Word.exchange`` over ``comm.adjacent_pairs`` of the informed robots: each merges
+    what the robots at distance ≤ 1 knew before this Look. The pairs' union is per cell
+    (one robot a cell, but the nest, whose robots all pair with each other and with its four
+    sides): ``snap`` holds the knowledge before, and the nest's robots' union is its last
+    row. ``cells`` (g x g, all -1) is left so."""
+    n, w = know.shape
+    snap[:n] = know
+    snap[n] = 0
+    nest_any = False
+    for b in range(n):
+        if informed_at[b] < 0:
+            continue
+        if pos[b, 0] == nest[0] and pos[b, 1] == nest[1]:
+            nest_any = True
+            for j in range(w):
+                snap[n, j] |= know[b, j]
+        else:
+            cells[pos[b, 0], pos[b, 1]] = b
+    for a in range(n):
+        if informed_at[a] < 0:
+            continue
+        x, y = pos[a, 0], pos[a, 1]
+        if nest_any and x == nest[0] and y == nest[1]:
+            for j in range(w):
+                know[a, j] |= snap[n, j]
+        for dx, dy in ((1, 0), (0, -1), (-1, 0), (0, 1)):
+            nx, ny = x + dx, y + dy
+            if not (0 <= nx < g and 0 <= ny < g):
+                continue
+            if nx == nest[0] and ny == nest[1]:
+                if nest_any:
+                    for j in range(w):
+                        know[a, j] |= snap[n, j]
+                continue
+            b = cells[nx, ny]
+            if b >= 0:
+                for j in range(w):
+                    know[a, j] |= snap[b, j]
+    for b in range(n):
+        if informed_at[b] >= 0:
+            cells[pos[b, 0], pos[b, 1]] = -1
+
+
+@kernel(cache=True)
+def _cross_off(
+    a: int, t: int, omni: bool, pos: I64, delay: I64, informed_at: I64, targets: I64,
+    ntarg: I64, know: NDArray[np.uint64], hold_head: I64, hold_next: I64, hold_who: I64,
+    route: I32, t_end: int,
+) -> None:  # fmt: skip
+    """``comm.cross_off`` for robot ``a`` (it is telling): the omniscient rule drops every
+    neighbour that knows; the seed rule those ``Word.settled`` allows or that are
+    ``comm.absent`` from where their pattern puts them (``Mission.expected``)."""
+    k = 0
+    mx, my = pos[a, 0], pos[a, 1]
+    for j in range(ntarg[a]):
+        b = targets[a, j]
+        if omni:
+            drop = informed_at[b] >= 0
+        else:
+            r = min(max(0, t - delay[b]), t_end)
+            ex, ey = route[r, b, 0], route[r, b, 1]
+            absent = (
+                abs(mx - ex) + abs(my - ey) <= 1 and abs(pos[b, 0] - ex) + abs(pos[b, 1] - ey) > 1
+            )
+            drop = absent or _settled(a, b, know, informed_at, hold_head, hold_next, hold_who)
+        if not drop:
+            targets[a, k] = b
+            k += 1
+    ntarg[a] = k
+
+
+@kernel(cache=True)
+def _comm_options(
+    a: int, t: int, omni: bool, g: int, pos: I64, mode: I64, delay: I64, displaced: Bools,
+    targets: I64, ntarg: I64, route: I32, t_end: int, opts: I64,
+) -> tuple[int, bool]:  # fmt: skip
+    """``Mission.options`` of a robot not transporting: its wishes in ``opts[a]``, their
+    count and whether it follows its route."""
+    x, y = pos[a, 0], pos[a, 1]
+    opts[a, 0, 0] = x
+    opts[a, 0, 1] = y
+    m = mode[a]
+    if _on_route(mode, displaced, a):
+        i = t + 1 - delay[a]
+        r = min(i, t_end)
+        nx, ny = route[r, a, 0], route[r, a, 1]
+        if nx != x or ny != y:
+            opts[a, 0, 0] = nx
+            opts[a, 0, 1] = ny
+            opts[a, 1, 0] = x
+            opts[a, 1, 1] = y
+            return 2, True
+        if i > t_end:
+            return _sidesteps(opts[a], 1, x, y, g), False
+        return 1, True
+    if m == EXPLORE:  # pushed off its route after finishing it
+        return _sidesteps(opts[a], 1, x, y, g), False
+    if m != COMM or ntarg[a] == 0:  # pragma: no cover - a displaced FOLLOW robot
+        raise RuntimeError("comm_rounds: a robot neither explores, follows nor tells")
+    b = targets[a, 0]
+    bx, by = pos[b, 0], pos[b, 1]
+    tau, gx, gy = _meet_of(x, y, b, t, omni, pos, mode, displaced, delay, route, t_end)
+    if abs(x - bx) + abs(y - by) <= 1:  # they exchange in the next Look
+        return 1, False
+    if (not omni) and tau == 0 and abs(bx - gx) + abs(by - gy) <= 1:  # comm.meet_goal
+        gx, gy = bx, by
+    if x == gx and y == gy:
+        return 1, False
+    k = _toward(opts[a], 0, x, y, gx, gy)
+    opts[a, k, 0] = x
+    opts[a, k, 1] = y
+    return k + 1, False
+
+
+@kernel(cache=True)
+def _comm_look(
+    pos: I64, mode: I64, delay: I64, displaced: Bools, informed_at: I64, targets: I64,
+    ntarg: I64, know: NDArray[np.uint64], snap: NDArray[np.uint64], hold_head: I64,
+    hold_next: I64, hold_who: I64, hold_of: I64, comm_done: I64, carrying: Bools,
+    tmode: I64, pidx: I64, join_at: I64, handovers: I64, state: I64, flags: I64,
+    relay: bool, nb_start: I64, nb_flat: I64, path: I64, route: I32, t_end: int,
+    nest: I64, food: I64, jobs: I64, cells: I64,
+) -> None:  # fmt: skip
+    """``Mission.look``: finders learn, the lowest-id informed robot at distance ≤ 1 tells
+    each uninformed one, the word is exchanged (seed rule), telling robots cross off and
+    enter transport or leave their route, then the transport Look."""
+    n = pos.shape[0]
+    g = cells.shape[0]
+    t = state[0]
+    omni = flags[F_OMNI] == 1
+    for a in range(n):
+        if informed_at[a] < 0 and pos[a, 0] == food[0] and pos[a, 1] == food[1]:
+            _inform(
+                a, -1, t, flags, relay, nb_start, nb_flat, pos, mode, delay, displaced,
+                informed_at, targets, ntarg, know, hold_head, hold_next, hold_who, hold_of,
+                state, comm_done, tmode, pidx, join_at, path, route, t_end,
+            )  # fmt: skip
+    for b in range(n - 1, -1, -1):  # the lowest informed id per cell
+        if informed_at[b] >= 0:
+            cells[pos[b, 0], pos[b, 1]] = b
+    new_a = np.empty(n, np.int64)
+    new_b = np.empty(n, np.int64)
+    m = 0
+    for a in range(n):
+        if informed_at[a] >= 0:
+            continue
+        x, y = pos[a, 0], pos[a, 1]
+        best = -1
+        for dx, dy in ((0, 0), (-1, 0), (1, 0), (0, -1), (0, 1)):
+            nx, ny = x + dx, y + dy
+            if 0 <= nx < g and 0 <= ny < g:
+                w = cells[nx, ny]
+                if w >= 0 and (best < 0 or w < best):
+                    best = w
+        if best >= 0:
+            new_a[m] = a
+            new_b[m] = best
+            m += 1
+    for b in range(n):
+        if informed_at[b] >= 0:
+            cells[pos[b, 0], pos[b, 1]] = -1
+    for j in range(m):
+        _inform(
+            new_a[j], new_b[j], t, flags, relay, nb_start, nb_flat, pos, mode, delay,
+            displaced, informed_at, targets, ntarg, know, hold_head, hold_next, hold_who,
+            hold_of, state, comm_done, tmode, pidx, join_at, path, route, t_end,
+        )  # fmt: skip
+    if not omni:
+        _exchange(pos, informed_at, know, snap, nest, g, cells)
+    for a in range(n):  # the telling robots (their modes change only in the next loop)
+        if mode[a] == FOLLOW or mode[a] == COMM:
+            _cross_off(
+                a, t, omni, pos, delay, informed_at, targets, ntarg, know, hold_head,
+                hold_next, hold_who, route, t_end,
+            )  # fmt: skip
+    for a in range(n):
+        if mode[a] != FOLLOW and mode[a] != COMM:
+            continue
+        if ntarg[a] == 0:
+            _enter_transport(
+                a, t, relay, flags[F_RELAY_FOOD] == 1, pos, mode, comm_done, tmode, pidx,
+                join_at, path,
+            )  # fmt: skip
+        elif mode[a] == FOLLOW and (displaced[a] or t - delay[a] >= t_end):
+            mode[a] = COMM  # Mission.start_comm
+            _best_order(a, t, targets, ntarg, omni, pos, mode, displaced, delay, route, t_end)
+    was = np.empty(n, np.bool_)
+    busy = np.zeros(n, np.bool_)
+    _transport_look(
+        pos, carrying, tmode, pidx, join_at, state, path, nest, food, relay, jobs, handovers,
+        was, busy, cells,
+    )  # fmt: skip
+
+
+@kernel(cache=True)
+def comm_rounds(
+    pos: I64, mode: I64, delay: I64, displaced: Bools, informed_at: I64, targets: I64,
+    ntarg: I64, know: NDArray[np.uint64], hold_head: I64, hold_next: I64, hold_who: I64,
+    hold_of: I64, comm_done: I64, carrying: Bools, tmode: I64, pidx: I64, join_at: I64,
+    handovers: I64, state: I64, flags: I64, relay: bool, nb_start: I64, nb_flat: I64,
+    path: I64, path_of: I64, route: I32, t_end: int, nest: I64, food: I64, jobs: I64,
+    memo: I64, history: I32, cells: I64,
+) -> int:  # fmt: skip
+    """Play a plain run's rounds from the discovery until every robot transports (the
+    Python loop of ``Mission.rounds`` with ``Mission.look`` and ``step``), or the run ends,
+    or ``history`` is full; a line-by-line port with the transport Look, options, priority
+    and resolution shared with :func:`transport_tail`.
+
+    ``state`` = [t, units, delivered, k, n_jobs, rows, status, limit, holds]: positions
+    after each Look go to ``history`` (rows: how many), jobs as in :func:`transport_tail`;
+    status is GOING (``history`` is full: call again), DONE (k units home), STALLED (round
+    ``limit`` reached) or HANDOFF (every robot transports: the tail's turn, ``memo`` is its
+    frozen-crowd memory). A robot's list is ``targets[a, :ntarg[a]]``; ``informed_at`` is
+    -1 until it learns, ``comm_done`` until it transports, and ``tmode`` NOT_YET. The seed
+    rule's word: ``know`` (n x words bit sets) and, per listed robot b, the robots that
+    listed it (``hold_head[b]``, then ``hold_next``; ``hold_who``/``hold_of`` in the order
+    listed). ``flags``: see F_OMNI …; ``cells`` a g x g scratch grid of -1 (left so)."""
+    n = pos.shape[0]
+    g = cells.shape[0]
+    omni = flags[F_OMNI] == 1
+    opts = np.empty((n, MAXOPT, 2), np.int64)
+    nopt = np.zeros(n, np.int64)
+    following = np.zeros(n, np.bool_)
+    order = np.empty(n, np.int64)
+    choice = np.zeros(n, np.int64)
+    snap = np.empty((n + 1, know.shape[1]), np.uint64)
+    rows = 0
+    state[6] = GOING
+    while rows < history.shape[0]:
+        everyone = True
+        for a in range(n):
+            if mode[a] != TRANSPORT:
+                everyone = False
+                break
+        if everyone:
+            state[6] = HANDOFF
+            break
+        # ---- Look
+        _comm_look(
+            pos, mode, delay, displaced, informed_at, targets, ntarg, know, snap, hold_head,
+            hold_next, hold_who, hold_of, comm_done, carrying, tmode, pidx, join_at,
+            handovers, state, flags, relay, nb_start, nb_flat, path, route, t_end, nest, food,
+            jobs, cells,
+        )  # fmt: skip
+        for a in range(n):
+            history[rows, a, 0] = pos[a, 0]
+            history[rows, a, 1] = pos[a, 1]
+        rows += 1
+        t = state[0]
+        if state[2] >= state[3]:
+            state[6] = DONE
+            break
+        if t >= state[C_LIMIT]:
+            state[6] = STALLED
+            break
+        # ---- Compute: the transport key is None (no frozen crowd) unless all transport
+        everyone = True
+        for a in range(n):
+            if mode[a] != TRANSPORT:
+                everyone = False
+                break
+        frozen = False
+        if everyone:
+            frozen = _same_as_memo(memo, pos, carrying, tmode, pidx, state[1], state[2])
+        else:
+            memo[0] = -1
+        _transport_options(
+            pos, carrying, tmode, pidx, join_at, state[1], path, nest, food, g, frozen, opts,
+            nopt,
+        )  # fmt: skip
+        for a in range(n):
+            following[a] = False
+            if mode[a] != TRANSPORT:
+                nopt[a], following[a] = _comm_options(
+                    a, t, omni, g, pos, mode, delay, displaced, targets, ntarg, route, t_end,
+                    opts,
+                )  # fmt: skip
+        # ---- Move (Mission._move)
+        _order(pos, opts, order, following, cells)
+        _resolve(pos, opts, nopt, order, nest[0], nest[1], choice, cells)
+        for a in range(n):
+            nx, ny = opts[a, choice[a], 0], opts[a, choice[a], 1]
+            x, y = pos[a, 0], pos[a, 1]
+            if _on_route(mode, displaced, a):
+                wx, wy = opts[a, 0, 0], opts[a, 0, 1]
+                moved = nx != x or ny != y
+                if (nx != wx or ny != wy) and (wx != x or wy != y) and not moved:
+                    delay[a] += 1
+                elif moved and ((not following[a]) or nx != wx or ny != wy):
+                    displaced[a] = True
+            elif mode[a] == TRANSPORT and tmode[a] == RELAY and (nx != x or ny != y):
+                j = path_of[nx, ny]
+                if j >= 0 and abs(j - pidx[a]) == 1:
+                    pidx[a] = j
+                else:
+                    tmode[a] = IDLE
+            pos[a, 0] = nx
+            pos[a, 1] = ny
+        state[0] = t + 1
+    state[5] = rows
     return rows

@@ -548,6 +548,10 @@ class Mission:
         generator: a hooked run yields each Compute (module docstring); any other never
         yields."""
         limit = limit or round_limit(self.t, self.g, self.k)
+        if fast and not self.hooked and on_frame is None and stop_at is None and self._fresh():
+            self._comm_phase(record, limit)
+            if self.stalled is not None or self.delivered >= self.k:
+                return
         while True:
             if fast and all(m == TRANSPORT for m in self.mode):
                 if not self.hooked:
@@ -581,6 +585,115 @@ class Mission:
                 yield from self.hooked_step()
             else:
                 self.step()
+
+    # ------------------------------------------------------------------ compiled plain rounds
+    def _fresh(self) -> bool:
+        """Whether this is a plain run at its discovery round: it follows a timetable and
+        nobody knows the food yet (where :meth:`_comm_phase` starts)."""
+        return self.timed is not None and not any(self.informed)
+
+    def _comm_phase(self, record: bool, limit: int) -> None:
+        """A plain run's rounds from the discovery until every robot transports (or the run
+        ends), in the compiled :func:`~.fastloop.comm_rounds`: the same rounds as this
+        loop's :meth:`look` and :meth:`step`, much faster with many robots. The rows go to
+        ``tail_chunks`` (``history`` stays empty); afterwards this Mission's lists (and the
+        seed rule's word) are the run's state, as the Python rounds would have left them, and
+        :meth:`rounds` goes on with the compiled transport tail."""
+        from swarmex.missions.foraging import fastloop as fl
+
+        assert self.timed is not None and not any(self.informed)
+        n, g, plan = self.n, self.g, self.timed.plan
+        pos = np.asarray(self.pos, dtype=np.int64).reshape(n, 2)
+        mode = np.asarray(self.mode, dtype=np.int64)
+        delay = np.asarray(self.delay, dtype=np.int64)
+        displaced = np.asarray(self.displaced, dtype=np.bool_)
+        informed_at = np.full(n, -1, dtype=np.int64)
+        comm_done = np.full(n, -1, dtype=np.int64)
+        lengths = [len(nb) for nb in self.neighbours]
+        targets = np.zeros((n, max([1, *lengths])), dtype=np.int64)
+        ntarg = np.zeros(n, dtype=np.int64)
+        nb_start = np.zeros(n + 1, dtype=np.int64)
+        np.cumsum(lengths, out=nb_start[1:])
+        nb_flat = np.asarray([b for nb in self.neighbours for b in nb] or [0], dtype=np.int64)
+        know = np.zeros((n, (n + 63) // 64), dtype=np.uint64)
+        holds = max(1, int(nb_start[-1]))  # a robot lists each neighbour once at most
+        hold_head = np.full(n, -1, dtype=np.int64)
+        hold_next, hold_who, hold_of = (np.zeros(holds, dtype=np.int64) for _ in range(3))
+        carrying = np.zeros(n, dtype=np.bool_)
+        tmode = np.full(n, fl.NOT_YET, dtype=np.int64)
+        pidx = np.full(n, -1, dtype=np.int64)
+        join_at = np.zeros(n, dtype=np.int64)
+        handovers = np.zeros(n, dtype=np.int64)
+        state = np.asarray(
+            [self.t, self.units, self.delivered, self.k, 0, 0, 0, limit, 0], dtype=np.int64
+        )
+        alg = plan.algorithm
+        flags = np.asarray(
+            [self.comm == OMNISCIENT, self.one_way,
+             keeps_route(self.comm, alg, self.follow_comm, True, n),
+             keeps_route(self.comm, alg, self.follow_comm, False, n),
+             self.transport == RELAY_FOOD, self.timed.t_sync],
+            dtype=np.int64,
+        )  # fmt: skip
+        path = np.asarray(self.path, dtype=np.int64)
+        path_of = np.full((g, g), -1, dtype=np.int64)
+        path_of[path[:, 0], path[:, 1]] = np.arange(len(path))
+        route = np.ascontiguousarray(self.timed.pos, dtype=np.int32)
+        nest = np.asarray(self.nest, dtype=np.int64)
+        food = np.asarray(self.food, dtype=np.int64)
+        jobs = np.zeros((2 * self.k + 2, 3), dtype=np.int64)
+        memo = fl.transport_memo(self._last_key, n)
+        size = max(16, min(4096, (1 << 21) // n))  # rows per call: 16 MB of int32 at most
+        chunk = np.empty((size, n, 2), dtype=np.int32)
+        while True:
+            rows = fl.comm_rounds(
+                pos, mode, delay, displaced, informed_at, targets, ntarg, know, hold_head,
+                hold_next, hold_who, hold_of, comm_done, carrying, tmode, pidx, join_at,
+                handovers, state, flags, self.transport != END_TO_END, nb_start, nb_flat,
+                path, path_of, route, self.timed.t_end, nest, food, jobs, memo, chunk,
+                self._cells,
+            )  # fmt: skip
+            if record:
+                self.tail_chunks.append(chunk[:rows].copy())
+            if state[6] != fl.GOING:
+                break
+        self.t, self.units, self.delivered = state[:3].tolist()
+        self.pos = [(x, y) for x, y in pos.tolist()]
+        self.mode = mode.tolist()
+        self.delay = delay.tolist()
+        self.displaced = displaced.tolist()
+        told = informed_at.tolist()
+        self.informed = [t >= 0 for t in told]
+        self.informed_at = [t if t >= 0 else None for t in told]
+        done = comm_done.tolist()
+        self.comm_done = [t if t >= 0 else None for t in done]
+        self.targets = [row[:k] for row, k in zip(targets.tolist(), ntarg.tolist(), strict=True)]
+        self.carrying = carrying.tolist()
+        self.tmode = [JOIN if m == fl.NOT_YET else m for m in tmode.tolist()]
+        self.pidx = pidx.tolist()
+        self.handovers = handovers.tolist()
+        if self.transport != END_TO_END:
+            joined = enumerate(join_at.tolist())
+            self.join_at = {a: j for a, j in joined if self.mode[a] == TRANSPORT}
+        for t, a, kind in jobs[: state[4]].tolist():
+            cell = self.nest if kind == 1 else self.food
+            self.jobs[a].append((t, *cell, "drop" if kind == 1 else "pickup"))
+        if self.word is not None:
+            self._word_from(know, hold_who[: state[8]], hold_of[: state[8]])
+        self._last_key = fl.memo_key(memo, n)
+        if state[6] == fl.STALLED:
+            self.stalled = self.t
+
+    def _word_from(self, know: np.ndarray, who: np.ndarray, of: np.ndarray) -> None:
+        """The seed rule's :class:`~.comm.Word` from :func:`~.fastloop.comm_rounds`' arrays:
+        bit sets to ints, ranks from ``informed_at``, holders in the order listed."""
+        assert self.word is not None
+        for a in range(self.n):
+            self.word.know[a] = int.from_bytes(know[a].astype("<u8").tobytes(), "little")
+            t = self.informed_at[a]
+            self.word.rank[a] = None if t is None else (t, a)
+        for a, b in zip(who.tolist(), of.tolist(), strict=True):
+            self.word.holders[b].append(a)
 
     # ------------------------------------------------------------------ compiled hooked rounds
     @cached_property
