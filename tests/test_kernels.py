@@ -239,3 +239,41 @@ def test_small_traverse_runs_interpreted_with_the_golden_records(tmp_path):
     assert out["numba"] is False
     assert len(out["got"]) >= 7
     assert out["got"] == {name: golden[name]["sha256"] for name in out["got"]}
+
+
+FORAGING = """
+import hashlib, json, sys
+from swarmex._kernels import interpreted_while_cold, interpreting
+from swarmex.missions.foraging.sim import run_mission
+from swarmex.missions.foraging.timed import timed_plan
+
+RUNS = [("zigzag", 16, 16, (2, 13), "relay-path", "seed"),
+        ("spiral", 12, 8, (11, 0), "end-to-end", "seed"),
+        ("hilbert", 16, 16, (12, 3), "relay-food", "omniscient")]
+
+def runs():
+    out = []
+    for pattern, g, n, food, transport, rule in RUNS:
+        o = run_mission(timed_plan(pattern, g, n), food, 3, transport, comm=rule)
+        out.append([o.makespan, o.jobs, o.informed_at, o.comm_done, o.handovers,
+                    hashlib.sha256(o.positions.tobytes()).hexdigest()])
+    return json.loads(json.dumps(out))
+"""
+
+
+def test_foraging_kernels_interpreted_equal_compiled(tmp_path):
+    """Plain foraging runs (the timetable, the compiled communication phase and transport
+    tail) with every kernel interpreted, in a fresh process, give the compiled runs."""
+    code = FORAGING + """
+with interpreted_while_cold():
+    assert interpreting()
+    got = runs()
+print(json.dumps({"numba": "numba" in sys.modules, "got": got}))
+"""
+    out = json.loads(_python(code, tmp_path).strip().splitlines()[-1])
+    assert out["numba"] is False
+    ns: dict = {}
+    exec(FORAGING, ns)
+    import numba  # noqa: F401  (compiled here, whatever ran before)
+
+    assert out["got"] == ns["runs"]()

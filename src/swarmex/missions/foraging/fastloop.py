@@ -12,8 +12,16 @@ A *hooked* run (the PettingZoo environment: every round's moves come from the ca
 play many rounds per call, so it gets one-round kernels instead: :func:`hooked_round` (every
 robot transports) and :func:`explore_round` (nobody knows the food yet), each the pending
 Move with the caller's moves, then the next Look and the seed's Compute, ported line by line
-from ``Mission.hooked_step`` and sharing the tail's Look and options. The communication phase
-has no kernel: its rules are :mod:`.comm`'s, in Python.
+from ``Mission.hooked_step`` and sharing the tail's Look and options.
+
+A plain run's communication phase (from the discovery until every robot transports, the
+mixed rounds where some already carry included) is :func:`comm_rounds`, a line-by-line port
+of ``Mission.look`` and ``step`` for those rounds under both rules of :mod:`.comm`: who
+learns and from whom, the seed rule's word (bit sets per robot) and cross-off, the lists'
+best order, the meeting goals, and the transport Look, options, priority and resolution
+shared with the tail. With many robots that phase was most of a run in Python (1,024 robots
+on 1024²: about 1,200 rounds, 4 s of a 4.2 s run). A hooked run (every round's moves come
+from the caller) and a run with frames still play it in Python, one round at a time.
 """
 
 from __future__ import annotations

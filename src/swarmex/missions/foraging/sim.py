@@ -19,7 +19,10 @@ unless the k-th unit was already home.
 Until the food is found the run is the pattern's timetable (:mod:`.timed`); from the discovery
 round on, this loop takes over. Robots still exploring keep following the timetable (shifted by
 the rounds they were made to wait), informed robots communicate (:mod:`.comm`) and then
-transport (:mod:`.transport`).
+transport (:mod:`.transport`). A plain run (no ``on_frame``, no ``decide``) plays these rounds
+in compiled ports of this loop, the same rules with the same result: the communication phase
+in :func:`~.fastloop.comm_rounds` (:meth:`Mission._comm_phase`), then the pure-transport tail
+in :func:`~.fastloop.transport_tail`; ``fast=False`` plays them here, the reference.
 
 Decision hook (for :mod:`swarmex.envs.foraging_v0`): a *hooked* run (:func:`decided_rounds`,
 or :func:`run_mission` given ``decide``) plays every round of this loop from round 0 (the
@@ -539,9 +542,10 @@ class Mission:
         on_frame: FrameSink | None = None,
         stop_at: int | None = None,
     ) -> Rounds:
-        """Play rounds until all k units are home; ``fast`` hands the pure-transport tail to
-        the compiled loop of :mod:`.fastloop` (same rules, same result): :meth:`_tail`, or
-        for a hooked run without ``on_frame`` :meth:`_hooked_tail`, and a hooked run's rounds
+        """Play rounds until all k units are home; ``fast`` hands rounds to the compiled
+        loops of :mod:`.fastloop` (same rules, same result): a plain run's communication
+        phase to :meth:`_comm_phase` and its pure-transport tail to :meth:`_tail`; for a
+        hooked run without ``on_frame`` the tail to :meth:`_hooked_tail` and the rounds
         before anyone is informed to :meth:`_hooked_explore`. ``on_frame`` gets each
         round's :class:`Frame`; if it raises StopRun the run stops there (``self.stopped``),
         and so it does at round ``stop_at`` (the same stop without a frame per round). A
