@@ -13,10 +13,11 @@ import numpy as np
 import pytest
 
 from swarmex.errors import InputError
+from swarmex.missions.base import StopRun
 from swarmex.missions.foraging import recall
 from swarmex.missions.foraging.comm import COMM_RULES
 from swarmex.missions.foraging.run import check_inputs
-from swarmex.missions.foraging.sim import TRANSPORT, Mission, round_limit, run_mission
+from swarmex.missions.foraging.sim import TRANSPORT, Frame, Mission, round_limit, run_mission
 from swarmex.missions.foraging.timed import timed_plan
 
 PATTERNS = (
@@ -162,3 +163,37 @@ def test_compiled_communication_phase_leaves_the_python_state(pattern, g, n, foo
         assert slow.word.holders == fast.word.holders
     rows = np.concatenate(fast.tail_chunks)
     assert np.array_equal(np.asarray(slow.history, dtype=np.int32), rows)
+
+
+def _frames_and_stop(timed, food, k, transport, rule, fast, t_stop):
+    """The run's frames, and the run stopped by StopRun at round ``t_stop``."""
+    frames: list[Frame] = []
+    whole = run_mission(timed, food, k, transport, fast=fast, comm=rule, on_frame=frames.append)
+
+    def stop(frame: Frame) -> None:
+        if frame.t == t_stop:
+            raise StopRun
+
+    stopped = run_mission(timed, food, k, transport, fast=fast, comm=rule, on_frame=stop)
+    return whole, frames, stopped
+
+
+@pytest.mark.parametrize("seed", range(40))
+def test_compiled_communication_phase_gives_the_python_frames_and_stops(seed):
+    """With ``on_frame`` the compiled phase plays a round per call: the same frames, and a
+    StopRun in the communication phase ends the run where the Python loop ends it."""
+    timed, food, k, transport, rule = _comm_draw(np.random.default_rng([11, seed]))
+    ref = run_mission(timed, food, k, transport, fast=False, comm=rule)
+    told = [t for t in ref.comm_done if t is not None]
+    assert ref.discovery is not None
+    t_stop = (ref.discovery + max(told or [ref.discovery])) // 2 + seed % 2
+    slow = _frames_and_stop(timed, food, k, transport, rule, False, t_stop)
+    fast = _frames_and_stop(timed, food, k, transport, rule, True, t_stop)
+    _same_outcome(slow[0], fast[0])
+    _same_outcome(slow[2], fast[2])
+    assert len(slow[1]) == len(fast[1]) == ref.makespan + 1
+    for x, y in zip(slow[1], fast[1], strict=True):
+        assert (x.t, x.delivered, x.food_left) == (y.t, y.delivered, y.food_left)
+        for name in ("positions", "carrying", "informed"):
+            a, b = getattr(x, name), getattr(y, name)
+            assert a.dtype == b.dtype and np.array_equal(a, b), (x.t, name)

@@ -20,8 +20,9 @@ of ``Mission.look`` and ``step`` for those rounds under both rules of :mod:`.com
 learns and from whom, the seed rule's word (bit sets per robot) and cross-off, the lists'
 best order, the meeting goals, and the transport Look, options, priority and resolution
 shared with the tail. With many robots that phase was most of a run in Python (1,024 robots
-on 1024²: about 1,200 rounds, 4 s of a 4.2 s run). A hooked run (every round's moves come
-from the caller) and a run with frames still play it in Python, one round at a time.
+on 1024²: about 1,200 rounds, 4 s of a 4.2 s run). A run with frames plays it one round per
+call (each call stops after a Look); a hooked run (every round's moves come from the caller)
+still plays it in Python.
 """
 
 from __future__ import annotations
@@ -741,7 +742,7 @@ def timetable_rounds(
 EXPLORE, FOLLOW, COMM, TRANSPORT = 0, 1, 2, 3
 NOT_YET = -1
 # comm_rounds' state vector: transport_tail's first seven slots, then these
-C_LIMIT, C_HOLDS = 7, 8
+C_LIMIT, C_HOLDS, C_PENDING = 7, 8, 9
 # comm_rounds' flags vector: its slots
 F_OMNI, F_ONE_WAY, F_KEEP_EXPLORING, F_KEEP_DEPLOYING, F_RELAY_FOOD, F_T_SYNC = range(6)
 
@@ -1121,6 +1122,67 @@ def _comm_look(
 
 
 @kernel(cache=True)
+def _comm_step(
+    pos: I64, mode: I64, delay: I64, displaced: Bools, targets: I64, ntarg: I64,
+    carrying: Bools, tmode: I64, pidx: I64, join_at: I64, state: I64, flags: I64,
+    path: I64, path_of: I64, route: I32, t_end: int, nest: I64, food: I64, memo: I64,
+    cells: I64,
+) -> None:  # fmt: skip
+    """``Mission.step`` (after the Look of round ``state[0]``): every robot's options
+    (the transport key is None, so no frozen crowd, unless everyone transports), the
+    priority order, resolution, and ``_move``'s rules (a route follower held back waits, one
+    pushed off is displaced; a relay robot moved off the path goes idle)."""
+    n = pos.shape[0]
+    g = cells.shape[0]
+    t = state[0]
+    everyone = True
+    for a in range(n):
+        if mode[a] != TRANSPORT:
+            everyone = False
+            break
+    frozen = False
+    if everyone:
+        frozen = _same_as_memo(memo, pos, carrying, tmode, pidx, state[1], state[2])
+    else:
+        memo[0] = -1
+    opts = np.empty((n, MAXOPT, 2), np.int64)
+    nopt = np.zeros(n, np.int64)
+    following = np.zeros(n, np.bool_)
+    _transport_options(
+        pos, carrying, tmode, pidx, join_at, state[1], path, nest, food, g, frozen, opts, nopt
+    )  # fmt: skip
+    for a in range(n):
+        if mode[a] != TRANSPORT:
+            nopt[a], following[a] = _comm_options(
+                a, t, flags[F_OMNI] == 1, g, pos, mode, delay, displaced, targets, ntarg,
+                route, t_end, opts,
+            )  # fmt: skip
+    order = np.empty(n, np.int64)
+    choice = np.zeros(n, np.int64)
+    _order(pos, opts, order, following, cells)
+    _resolve(pos, opts, nopt, order, nest[0], nest[1], choice, cells)
+    for a in range(n):
+        nx, ny = opts[a, choice[a], 0], opts[a, choice[a], 1]
+        x, y = pos[a, 0], pos[a, 1]
+        if _on_route(mode, displaced, a):
+            wx, wy = opts[a, 0, 0], opts[a, 0, 1]
+            moved = nx != x or ny != y
+            if (nx != wx or ny != wy) and (wx != x or wy != y) and not moved:
+                delay[a] += 1
+            elif moved and ((not following[a]) or nx != wx or ny != wy):
+                displaced[a] = True
+        elif mode[a] == TRANSPORT and tmode[a] == RELAY and (nx != x or ny != y):
+            j = path_of[nx, ny]
+            if j >= 0 and abs(j - pidx[a]) == 1:
+                pidx[a] = j
+            else:
+                tmode[a] = IDLE
+        pos[a, 0] = nx
+        pos[a, 1] = ny
+    state[0] = t + 1
+
+
+@kernel(cache=True)
 def comm_rounds(
     pos: I64, mode: I64, delay: I64, displaced: Bools, informed_at: I64, targets: I64,
     ntarg: I64, know: NDArray[np.uint64], hold_head: I64, hold_next: I64, hold_who: I64,
@@ -1134,27 +1196,28 @@ def comm_rounds(
     or ``history`` is full; a line-by-line port with the transport Look, options, priority
     and resolution shared with :func:`transport_tail`.
 
-    ``state`` = [t, units, delivered, k, n_jobs, rows, status, limit, holds]: positions
-    after each Look go to ``history`` (rows: how many), jobs as in :func:`transport_tail`;
-    status is GOING (``history`` is full: call again), DONE (k units home), STALLED (round
-    ``limit`` reached) or HANDOFF (every robot transports: the tail's turn, ``memo`` is its
-    frozen-crowd memory). A robot's list is ``targets[a, :ntarg[a]]``; ``informed_at`` is
-    -1 until it learns, ``comm_done`` until it transports, and ``tmode`` NOT_YET. The seed
-    rule's word: ``know`` (n x words bit sets) and, per listed robot b, the robots that
-    listed it (``hold_head[b]``, then ``hold_next``; ``hold_who``/``hold_of`` in the order
-    listed). ``flags``: see F_OMNI …; ``cells`` a g x g scratch grid of -1 (left so)."""
+    ``state`` = [t, units, delivered, k, n_jobs, rows, status, limit, holds, pending]:
+    positions after each Look go to ``history`` (rows: how many), jobs as in
+    :func:`transport_tail`. Status GOING: ``history`` is full, the state is the one after
+    the last Look and its Compute and Move are ``pending`` (the next call makes them first;
+    with a one-row ``history``, a call per round, the caller sees every Look's state, as
+    ``on_frame`` does); DONE: k units home; STALLED: round ``limit`` reached; HANDOFF: every
+    robot transports, the tail's turn (``memo`` is its frozen-crowd memory). A robot's list
+    is ``targets[a, :ntarg[a]]``; ``informed_at`` is -1 until it learns, ``comm_done`` until
+    it transports, and ``tmode`` NOT_YET. The seed rule's word: ``know`` (n x words bit
+    sets) and, per listed robot b, the robots that listed it (``hold_head[b]``, then
+    ``hold_next``; ``hold_who``/``hold_of`` in the order listed). ``flags``: see F_OMNI …;
+    ``cells`` a g x g scratch grid of -1 (left so)."""
     n = pos.shape[0]
-    g = cells.shape[0]
-    omni = flags[F_OMNI] == 1
-    opts = np.empty((n, MAXOPT, 2), np.int64)
-    nopt = np.zeros(n, np.int64)
-    following = np.zeros(n, np.bool_)
-    order = np.empty(n, np.int64)
-    choice = np.zeros(n, np.int64)
     snap = np.empty((n + 1, know.shape[1]), np.uint64)
     rows = 0
-    state[6] = GOING
-    while rows < history.shape[0]:
+    while True:
+        if state[C_PENDING]:
+            _comm_step(
+                pos, mode, delay, displaced, targets, ntarg, carrying, tmode, pidx, join_at,
+                state, flags, path, path_of, route, t_end, nest, food, memo, cells,
+            )  # fmt: skip
+            state[C_PENDING] = 0
         everyone = True
         for a in range(n):
             if mode[a] != TRANSPORT:
@@ -1163,7 +1226,6 @@ def comm_rounds(
         if everyone:
             state[6] = HANDOFF
             break
-        # ---- Look
         _comm_look(
             pos, mode, delay, displaced, informed_at, targets, ntarg, know, snap, hold_head,
             hold_next, hold_who, hold_of, comm_done, carrying, tmode, pidx, join_at,
@@ -1174,56 +1236,15 @@ def comm_rounds(
             history[rows, a, 0] = pos[a, 0]
             history[rows, a, 1] = pos[a, 1]
         rows += 1
-        t = state[0]
         if state[2] >= state[3]:
             state[6] = DONE
             break
-        if t >= state[C_LIMIT]:
+        if state[0] >= state[C_LIMIT]:
             state[6] = STALLED
             break
-        # ---- Compute: the transport key is None (no frozen crowd) unless all transport
-        everyone = True
-        for a in range(n):
-            if mode[a] != TRANSPORT:
-                everyone = False
-                break
-        frozen = False
-        if everyone:
-            frozen = _same_as_memo(memo, pos, carrying, tmode, pidx, state[1], state[2])
-        else:
-            memo[0] = -1
-        _transport_options(
-            pos, carrying, tmode, pidx, join_at, state[1], path, nest, food, g, frozen, opts,
-            nopt,
-        )  # fmt: skip
-        for a in range(n):
-            following[a] = False
-            if mode[a] != TRANSPORT:
-                nopt[a], following[a] = _comm_options(
-                    a, t, omni, g, pos, mode, delay, displaced, targets, ntarg, route, t_end,
-                    opts,
-                )  # fmt: skip
-        # ---- Move (Mission._move)
-        _order(pos, opts, order, following, cells)
-        _resolve(pos, opts, nopt, order, nest[0], nest[1], choice, cells)
-        for a in range(n):
-            nx, ny = opts[a, choice[a], 0], opts[a, choice[a], 1]
-            x, y = pos[a, 0], pos[a, 1]
-            if _on_route(mode, displaced, a):
-                wx, wy = opts[a, 0, 0], opts[a, 0, 1]
-                moved = nx != x or ny != y
-                if (nx != wx or ny != wy) and (wx != x or wy != y) and not moved:
-                    delay[a] += 1
-                elif moved and ((not following[a]) or nx != wx or ny != wy):
-                    displaced[a] = True
-            elif mode[a] == TRANSPORT and tmode[a] == RELAY and (nx != x or ny != y):
-                j = path_of[nx, ny]
-                if j >= 0 and abs(j - pidx[a]) == 1:
-                    pidx[a] = j
-                else:
-                    tmode[a] = IDLE
-            pos[a, 0] = nx
-            pos[a, 1] = ny
-        state[0] = t + 1
+        state[C_PENDING] = 1
+        if rows == history.shape[0]:
+            state[6] = GOING
+            break
     state[5] = rows
     return rows

@@ -90,8 +90,8 @@ class ForagingMission(Mission[ForagingParams, ForagingWorld]):
 
         Why these two: the search is played from the pattern's timetable, fast even on
         1024² with 1,024 robots; the rounds that take the time are the word's spreading
-        (per robot, in Python when frames are asked for, as here) and the transport, and
-        those are what the count follows.
+        and the transport (compiled, one round per frame), and those are what the count
+        follows.
         The number of rounds is not known before the run, so it cannot be the total."""
         return ProgressSpec(
             params.agents + params.food_units, "robots told, units home",

@@ -11,18 +11,19 @@ round at which the k-th unit arrives.
 Frames: given ``on_frame``, :func:`run_mission` calls it once per round ``t = 0 … makespan``
 with a :class:`Frame`, the state after that round's Look (row ``t`` of the record's
 trajectories), as the run plays it: the timetable's rounds before the discovery, then each
-round of this loop, then each round of the compiled transport tail (played one round per
-call, so its result is the very same). Raising :class:`~swarmex.missions.base.StopRun` from
-``on_frame`` ends the run at that round: the outcome holds rounds ``0 … t`` and is incomplete
-unless the k-th unit was already home.
+round of the compiled communication phase and of the compiled transport tail (played one
+round per call, so the result is the very same), or of this loop with ``fast=False``.
+Raising :class:`~swarmex.missions.base.StopRun` from ``on_frame`` ends the run at that round:
+the outcome holds rounds ``0 … t`` and is incomplete unless the k-th unit was already home.
 
 Until the food is found the run is the pattern's timetable (:mod:`.timed`); from the discovery
 round on, this loop takes over. Robots still exploring keep following the timetable (shifted by
 the rounds they were made to wait), informed robots communicate (:mod:`.comm`) and then
-transport (:mod:`.transport`). A plain run (no ``on_frame``, no ``decide``) plays these rounds
-in compiled ports of this loop, the same rules with the same result: the communication phase
-in :func:`~.fastloop.comm_rounds` (:meth:`Mission._comm_phase`), then the pure-transport tail
-in :func:`~.fastloop.transport_tail`; ``fast=False`` plays them here, the reference.
+transport (:mod:`.transport`). A run without ``decide`` plays these rounds in compiled ports
+of this loop, the same rules with the same result: the communication phase in
+:func:`~.fastloop.comm_rounds` (:meth:`Mission._comm_phase`), then the pure-transport tail in
+:func:`~.fastloop.transport_tail` (with ``on_frame``, both one round per call);
+``fast=False`` plays them here, the reference.
 
 Decision hook (for :mod:`swarmex.envs.foraging_v0`): a *hooked* run (:func:`decided_rounds`,
 or :func:`run_mission` given ``decide``) plays every round of this loop from round 0 (the
@@ -552,9 +553,9 @@ class Mission:
         generator: a hooked run yields each Compute (module docstring); any other never
         yields."""
         limit = limit or round_limit(self.t, self.g, self.k)
-        if fast and not self.hooked and on_frame is None and stop_at is None and self._fresh():
-            self._comm_phase(record, limit)
-            if self.stalled is not None or self.delivered >= self.k:
+        if fast and not self.hooked and stop_at is None and self._fresh():
+            self._comm_phase(record, limit, on_frame)
+            if self.stopped or self.stalled is not None or self.delivered >= self.k:
                 return
         while True:
             if fast and all(m == TRANSPORT for m in self.mode):
@@ -596,13 +597,15 @@ class Mission:
         nobody knows the food yet (where :meth:`_comm_phase` starts)."""
         return self.timed is not None and not any(self.informed)
 
-    def _comm_phase(self, record: bool, limit: int) -> None:
+    def _comm_phase(self, record: bool, limit: int, on_frame: FrameSink | None = None) -> None:
         """A plain run's rounds from the discovery until every robot transports (or the run
         ends), in the compiled :func:`~.fastloop.comm_rounds`: the same rounds as this
         loop's :meth:`look` and :meth:`step`, much faster with many robots. The rows go to
         ``tail_chunks`` (``history`` stays empty); afterwards this Mission's lists (and the
         seed rule's word) are the run's state, as the Python rounds would have left them, and
-        :meth:`rounds` goes on with the compiled transport tail."""
+        :meth:`rounds` goes on with the compiled transport tail. With ``on_frame`` the kernel
+        plays one round per call and stops after its Look (the Compute and Move wait for the
+        next call), so each :class:`Frame` and a StopRun's state are this loop's."""
         from swarmex.missions.foraging import fastloop as fl
 
         assert self.timed is not None and not any(self.informed)
@@ -629,7 +632,7 @@ class Mission:
         join_at = np.zeros(n, dtype=np.int64)
         handovers = np.zeros(n, dtype=np.int64)
         state = np.asarray(
-            [self.t, self.units, self.delivered, self.k, 0, 0, 0, limit, 0], dtype=np.int64
+            [self.t, self.units, self.delivered, self.k, 0, 0, 0, limit, 0, 0], dtype=np.int64
         )
         alg = plan.algorithm
         flags = np.asarray(
@@ -647,7 +650,7 @@ class Mission:
         food = np.asarray(self.food, dtype=np.int64)
         jobs = np.zeros((2 * self.k + 2, 3), dtype=np.int64)
         memo = fl.transport_memo(self._last_key, n)
-        size = max(16, min(4096, (1 << 21) // n))  # rows per call: 16 MB of int32 at most
+        size = 1 if on_frame else max(16, min(4096, (1 << 21) // n))  # 16 MB of int32 at most
         chunk = np.empty((size, n, 2), dtype=np.int32)
         while True:
             rows = fl.comm_rounds(
@@ -659,6 +662,16 @@ class Mission:
             )  # fmt: skip
             if record:
                 self.tail_chunks.append(chunk[:rows].copy())
+            if on_frame is not None and rows:
+                frame = Frame(
+                    int(state[0]), chunk[0].astype(np.int64), carrying.copy(), informed_at >= 0,
+                    int(state[2]), int(state[1]),
+                )  # fmt: skip
+                try:
+                    on_frame(frame)
+                except StopRun:
+                    self.stopped = True
+                    break
             if state[6] != fl.GOING:
                 break
         self.t, self.units, self.delivered = state[:3].tolist()
@@ -685,7 +698,7 @@ class Mission:
         if self.word is not None:
             self._word_from(know, hold_who[: state[8]], hold_of[: state[8]])
         self._last_key = fl.memo_key(memo, n)
-        if state[6] == fl.STALLED:
+        if state[6] == fl.STALLED and not self.stopped:
             self.stalled = self.t
 
     def _word_from(self, know: np.ndarray, who: np.ndarray, of: np.ndarray) -> None:
