@@ -610,62 +610,38 @@ class Mission:
 
         assert self.timed is not None and not any(self.informed)
         n, g, plan = self.n, self.g, self.timed.plan
-        pos = np.asarray(self.pos, dtype=np.int64).reshape(n, 2)
-        mode = np.asarray(self.mode, dtype=np.int64)
-        delay = np.asarray(self.delay, dtype=np.int64)
-        displaced = np.asarray(self.displaced, dtype=np.bool_)
-        informed_at = np.full(n, -1, dtype=np.int64)
-        comm_done = np.full(n, -1, dtype=np.int64)
-        lengths = [len(nb) for nb in self.neighbours]
-        targets = np.zeros((n, max([1, *lengths])), dtype=np.int64)
-        ntarg = np.zeros(n, dtype=np.int64)
-        nb_start = np.zeros(n + 1, dtype=np.int64)
-        np.cumsum(lengths, out=nb_start[1:])
-        nb_flat = np.asarray([b for nb in self.neighbours for b in nb] or [0], dtype=np.int64)
-        know = np.zeros((n, (n + 63) // 64), dtype=np.uint64)
-        holds = max(1, int(nb_start[-1]))  # a robot lists each neighbour once at most
-        hold_head = np.full(n, -1, dtype=np.int64)
-        hold_next, hold_who, hold_of = (np.zeros(holds, dtype=np.int64) for _ in range(3))
-        carrying = np.zeros(n, dtype=np.bool_)
-        tmode = np.full(n, fl.NOT_YET, dtype=np.int64)
-        pidx = np.full(n, -1, dtype=np.int64)
-        join_at = np.zeros(n, dtype=np.int64)
-        handovers = np.zeros(n, dtype=np.int64)
-        state = np.asarray(
-            [self.t, self.units, self.delivered, self.k, 0, 0, 0, limit, 0, 0], dtype=np.int64
-        )
-        alg = plan.algorithm
-        flags = np.asarray(
-            [self.comm == OMNISCIENT, self.one_way,
-             keeps_route(self.comm, alg, self.follow_comm, True, n),
-             keeps_route(self.comm, alg, self.follow_comm, False, n),
-             self.transport == RELAY_FOOD, self.timed.t_sync],
-            dtype=np.int64,
-        )  # fmt: skip
+        a = self._comm_arrays(limit)
         path = np.asarray(self.path, dtype=np.int64)
         path_of = np.full((g, g), -1, dtype=np.int64)
         path_of[path[:, 0], path[:, 1]] = np.arange(len(path))
+        flags = np.asarray(
+            [self.comm == OMNISCIENT, self.one_way,
+             keeps_route(self.comm, plan.algorithm, self.follow_comm, True, n),
+             keeps_route(self.comm, plan.algorithm, self.follow_comm, False, n),
+             self.transport == RELAY_FOOD, self.timed.t_sync],
+            dtype=np.int64,
+        )  # fmt: skip
         route = np.ascontiguousarray(self.timed.pos, dtype=np.int32)
         nest = np.asarray(self.nest, dtype=np.int64)
         food = np.asarray(self.food, dtype=np.int64)
-        jobs = np.zeros((2 * self.k + 2, 3), dtype=np.int64)
-        memo = fl.transport_memo(self._last_key, n)
         size = 1 if on_frame else max(16, min(4096, (1 << 21) // n))  # 16 MB of int32 at most
         chunk = np.empty((size, n, 2), dtype=np.int32)
+        state = a["state"]
         while True:
             rows = fl.comm_rounds(
-                pos, mode, delay, displaced, informed_at, targets, ntarg, know, hold_head,
-                hold_next, hold_who, hold_of, comm_done, carrying, tmode, pidx, join_at,
-                handovers, state, flags, self.transport != END_TO_END, nb_start, nb_flat,
-                path, path_of, route, self.timed.t_end, nest, food, jobs, memo, chunk,
-                self._cells,
+                a["pos"], a["mode"], a["delay"], a["displaced"], a["informed_at"],
+                a["targets"], a["ntarg"], a["know"], a["hold_head"], a["hold_next"],
+                a["hold_who"], a["hold_of"], a["comm_done"], a["carrying"], a["tmode"],
+                a["pidx"], a["join_at"], a["handovers"], state, flags,
+                self.transport != END_TO_END, a["nb_start"], a["nb_flat"], path, path_of,
+                route, self.timed.t_end, nest, food, a["jobs"], a["memo"], chunk, self._cells,
             )  # fmt: skip
             if record:
                 self.tail_chunks.append(chunk[:rows].copy())
             if on_frame is not None and rows:
                 frame = Frame(
-                    int(state[0]), chunk[0].astype(np.int64), carrying.copy(), informed_at >= 0,
-                    int(state[2]), int(state[1]),
+                    int(state[0]), chunk[0].astype(np.int64), a["carrying"].copy(),
+                    a["informed_at"] >= 0, int(state[2]), int(state[1]),
                 )  # fmt: skip
                 try:
                     on_frame(frame)
@@ -674,32 +650,80 @@ class Mission:
                     break
             if state[6] != fl.GOING:
                 break
-        self.t, self.units, self.delivered = state[:3].tolist()
-        self.pos = [(x, y) for x, y in pos.tolist()]
-        self.mode = mode.tolist()
-        self.delay = delay.tolist()
-        self.displaced = displaced.tolist()
-        told = informed_at.tolist()
-        self.informed = [t >= 0 for t in told]
-        self.informed_at = [t if t >= 0 else None for t in told]
-        done = comm_done.tolist()
-        self.comm_done = [t if t >= 0 else None for t in done]
-        self.targets = [row[:k] for row, k in zip(targets.tolist(), ntarg.tolist(), strict=True)]
-        self.carrying = carrying.tolist()
-        self.tmode = [JOIN if m == fl.NOT_YET else m for m in tmode.tolist()]
-        self.pidx = pidx.tolist()
-        self.handovers = handovers.tolist()
-        if self.transport != END_TO_END:
-            joined = enumerate(join_at.tolist())
-            self.join_at = {a: j for a, j in joined if self.mode[a] == TRANSPORT}
-        for t, a, kind in jobs[: state[4]].tolist():
-            cell = self.nest if kind == 1 else self.food
-            self.jobs[a].append((t, *cell, "drop" if kind == 1 else "pickup"))
-        if self.word is not None:
-            self._word_from(know, hold_who[: state[8]], hold_of[: state[8]])
-        self._last_key = fl.memo_key(memo, n)
+        self._take_comm_arrays(a)
         if state[6] == fl.STALLED and not self.stopped:
             self.stalled = self.t
+
+    def _comm_arrays(self, limit: int) -> dict[str, np.ndarray]:
+        """:func:`~.fastloop.comm_rounds`' state arrays at the discovery (nobody informed):
+        a robot's list is a row of ``targets`` (as wide as the longest neighbour list, the
+        most it can hold), its neighbours ``nb_flat[nb_start[a]:nb_start[a + 1]]``."""
+        from swarmex.missions.foraging import fastloop as fl
+
+        n = self.n
+        lengths = [len(nb) for nb in self.neighbours]
+        nb_start = np.zeros(n + 1, dtype=np.int64)
+        np.cumsum(lengths, out=nb_start[1:])
+        holds = max(1, int(nb_start[-1]))  # a robot lists each neighbour once at most
+        return {
+            "pos": np.asarray(self.pos, dtype=np.int64).reshape(n, 2),
+            "mode": np.asarray(self.mode, dtype=np.int64),
+            "delay": np.asarray(self.delay, dtype=np.int64),
+            "displaced": np.asarray(self.displaced, dtype=np.bool_),
+            "informed_at": np.full(n, -1, dtype=np.int64),
+            "comm_done": np.full(n, -1, dtype=np.int64),
+            "targets": np.zeros((n, max([1, *lengths])), dtype=np.int64),
+            "ntarg": np.zeros(n, dtype=np.int64),
+            "nb_start": nb_start,
+            "nb_flat": np.asarray([b for nb in self.neighbours for b in nb] or [0], np.int64),
+            "know": np.zeros((n, (n + 63) // 64), dtype=np.uint64),
+            "hold_head": np.full(n, -1, dtype=np.int64),
+            "hold_next": np.zeros(holds, dtype=np.int64),
+            "hold_who": np.zeros(holds, dtype=np.int64),
+            "hold_of": np.zeros(holds, dtype=np.int64),
+            "carrying": np.zeros(n, dtype=np.bool_),
+            "tmode": np.full(n, fl.NOT_YET, dtype=np.int64),
+            "pidx": np.full(n, -1, dtype=np.int64),
+            "join_at": np.zeros(n, dtype=np.int64),
+            "handovers": np.zeros(n, dtype=np.int64),
+            "jobs": np.zeros((2 * self.k + 2, 3), dtype=np.int64),
+            "memo": fl.transport_memo(self._last_key, n),
+            "state": np.asarray(
+                [self.t, self.units, self.delivered, self.k, 0, 0, 0, limit, 0, 0], np.int64
+            ),
+        }
+
+    def _take_comm_arrays(self, a: dict[str, np.ndarray]) -> None:
+        """This Mission's lists from :func:`~.fastloop.comm_rounds`' arrays (the inverse of
+        :meth:`_comm_arrays`)."""
+        from swarmex.missions.foraging import fastloop as fl
+
+        state = a["state"]
+        self.t, self.units, self.delivered = state[:3].tolist()
+        self.pos = [(x, y) for x, y in a["pos"].tolist()]
+        self.mode = a["mode"].tolist()
+        self.delay = a["delay"].tolist()
+        self.displaced = a["displaced"].tolist()
+        told = a["informed_at"].tolist()
+        self.informed = [t >= 0 for t in told]
+        self.informed_at = [t if t >= 0 else None for t in told]
+        self.comm_done = [t if t >= 0 else None for t in a["comm_done"].tolist()]
+        lists = zip(a["targets"].tolist(), a["ntarg"].tolist(), strict=True)
+        self.targets = [row[:k] for row, k in lists]
+        self.carrying = a["carrying"].tolist()
+        self.tmode = [JOIN if m == fl.NOT_YET else m for m in a["tmode"].tolist()]
+        self.pidx = a["pidx"].tolist()
+        self.handovers = a["handovers"].tolist()
+        if self.transport != END_TO_END:
+            joined = enumerate(a["join_at"].tolist())
+            self.join_at = {r: j for r, j in joined if self.mode[r] == TRANSPORT}
+        for t, r, kind in a["jobs"][: state[4]].tolist():
+            cell = self.nest if kind == 1 else self.food
+            self.jobs[r].append((t, *cell, "drop" if kind == 1 else "pickup"))
+        if self.word is not None:
+            used = int(state[fl.C_HOLDS])
+            self._word_from(a["know"], a["hold_who"][:used], a["hold_of"][:used])
+        self._last_key = fl.memo_key(a["memo"], self.n)
 
     def _word_from(self, know: np.ndarray, who: np.ndarray, of: np.ndarray) -> None:
         """The seed rule's :class:`~.comm.Word` from :func:`~.fastloop.comm_rounds`' arrays:
