@@ -43,7 +43,10 @@ drops a neighbour from its list as soon as anyone has informed it, predicts robo
 their route at their true cell, and only Strips and ZigZag with 4 robots keep to their route.
 
 The functions below are the rule's entry points; :class:`~.sim.Mission` calls them every
-round, and a faster round loop (the PettingZoo environment's) can call the same ones.
+round, and a faster round loop (the PettingZoo environment's) can call the same ones. A plain
+run plays them compiled: :func:`~.fastloop.comm_rounds` is their line-by-line port (the word
+as bit sets), so a change to a rule here must be made there too;
+``tests/missions/foraging/test_loops_agree.py`` compares the two on many runs.
 """
 
 from __future__ import annotations
