@@ -61,8 +61,9 @@ measurements (the band table there):
 
 Cost: a choice replays ``candidates × (PER_DISTANCE · memory + 5 PER_BAND)`` runs, ≈ 1–3 ms
 each on a 128 × 128 grid since the communication phase is compiled (10–20 ms before): 1.7 s
-for a full memory in a fresh process at N = 16 (16 s before; 26 s before dominated candidates
-were dropped), less per trip in a series, since replays are cached per (candidate, cell).
+for a full memory in a fresh process at N = 16 (12.4 s with that phase in Python; 26 s before
+dominated candidates were dropped), less per trip in a series, since replays are cached per
+(candidate, cell).
 On the largest grids the replays are long (1024 × 1024 with 1,024 robots, no memory: 120
 replays, 45 s, 10.5 min before the communication phase was compiled; the timetables take
 3 s); ``on_replay`` feeds the command line's progress bar.
