@@ -249,12 +249,13 @@ from swarmex.missions.foraging.timed import timed_plan
 
 RUNS = [("zigzag", 16, 16, (2, 13), "relay-path", "seed"),
         ("spiral", 12, 8, (11, 0), "end-to-end", "seed"),
+        ("sectors", 16, 16, (3, 12), "relay-food", "seed"),
         ("hilbert", 16, 16, (12, 3), "relay-food", "omniscient")]
 
 def runs():
     out = []
     for pattern, g, n, food, transport, rule in RUNS:
-        o = run_mission(timed_plan(pattern, g, n), food, 3, transport, comm=rule)
+        o = run_mission(timed_plan(pattern, g, n), food, 8, transport, comm=rule)
         out.append([o.makespan, o.jobs, o.informed_at, o.comm_done, o.handovers,
                     hashlib.sha256(o.positions.tobytes()).hexdigest()])
     return json.loads(json.dumps(out))
