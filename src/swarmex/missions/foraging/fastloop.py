@@ -19,10 +19,12 @@ mixed rounds where some already carry included) is :func:`comm_rounds`, a line-b
 of ``Mission.look`` and ``step`` for those rounds under both rules of :mod:`.comm`: who
 learns and from whom, the seed rule's word (bit sets per robot) and cross-off, the lists'
 best order, the meeting goals, and the transport Look, options, priority and resolution
-shared with the tail. With many robots that phase was most of a run in Python (1,024 robots
-on 1024²: about 1,200 rounds, 4 s of a 4.2 s run). A run with frames plays it one round per
-call (each call stops after a Look); a hooked run (every round's moves come from the caller)
-still plays it in Python.
+shared with the tail. Its frozen-crowd rule is ``Mission.step``'s for both phases: the tail's
+``memo`` once everyone transports, else the ``mixed`` memory of the last two rounds' whole
+state (:func:`_same_as_mixed`, ``Mission.mixed_key``). With many robots that phase was most
+of a run in Python (1,024 robots on 1024²: about 1,200 rounds, 4 s of a 4.2 s run). A run
+with frames plays it one round per call (each call stops after a Look); a hooked run (every
+round's moves come from the caller) still plays it in Python.
 """
 
 from __future__ import annotations
@@ -1122,16 +1124,83 @@ def _comm_look(
 
 
 @kernel(cache=True)
+def _popcount(v: np.uint64) -> int:
+    c = 0
+    while v != np.uint64(0):
+        v &= v - np.uint64(1)
+        c += 1
+    return c
+
+
+MIXED_HEAD, MIXED_ROW = 4, 11  # a mixed key: [valid, units, delivered, known], 11 a robot
+
+
+def mixed_memo(n: int) -> I64:
+    """An empty memory for :func:`_same_as_mixed`: the keys of the last two rounds."""
+    return np.full(2 * (MIXED_HEAD + MIXED_ROW * n), -1, dtype=np.int64)
+
+
+@kernel(cache=True)
+def _same_as_mixed(
+    mixed: I64, pos: I64, carrying: Bools, mode: I64, tmode: I64, pidx: I64, join_at: I64,
+    relay: bool, displaced: Bools, informed_at: I64, delay: I64, t: int, t_end: int,
+    ntarg: I64, know: NDArray[np.uint64], units: int, delivered: int,
+) -> bool:  # fmt: skip
+    """Whether the mixed phase's state equals the one of the previous round or of the round
+    before it, both stored in ``mixed`` (``Mission.mixed_key``: positions, loads, modes,
+    transport modes, path indices, relay entry cells, displaced, informed, each robot's clock
+    ``t - delay`` clamped to ``0 … t_end``, list lengths, the word's total count of known
+    robots, units, delivered); stores the new one. Layout: two keys (the previous round's
+    first), each MIXED_HEAD values, then MIXED_ROW per robot."""
+    size = mixed.shape[0] // 2
+    key = np.empty(size, np.int64)
+    known = 0
+    for a in range(know.shape[0]):
+        for j in range(know.shape[1]):
+            known += _popcount(know[a, j])
+    key[0] = 1
+    key[1] = units
+    key[2] = delivered
+    key[3] = known
+    for a in range(pos.shape[0]):
+        base = MIXED_HEAD + MIXED_ROW * a
+        transporting = mode[a] == TRANSPORT
+        key[base] = pos[a, 0]
+        key[base + 1] = pos[a, 1]
+        key[base + 2] = 1 if carrying[a] else 0
+        key[base + 3] = mode[a]
+        key[base + 4] = tmode[a]
+        key[base + 5] = pidx[a]
+        key[base + 6] = join_at[a] if relay and transporting else -1
+        key[base + 7] = 1 if displaced[a] else 0
+        key[base + 8] = 1 if informed_at[a] >= 0 else 0
+        key[base + 9] = min(max(0, t - delay[a]), t_end)
+        key[base + 10] = ntarg[a]
+    same1 = True
+    same2 = True
+    for j in range(size):
+        if mixed[j] != key[j]:
+            same1 = False
+        if mixed[size + j] != key[j]:
+            same2 = False
+    for j in range(size):
+        mixed[size + j] = mixed[j]
+        mixed[j] = key[j]
+    return same1 or same2
+
+
+@kernel(cache=True)
 def _comm_step(
     pos: I64, mode: I64, delay: I64, displaced: Bools, targets: I64, ntarg: I64,
     carrying: Bools, tmode: I64, pidx: I64, join_at: I64, state: I64, flags: I64,
     path: I64, path_of: I64, route: I32, t_end: int, nest: I64, food: I64, memo: I64,
-    cells: I64,
+    cells: I64, informed_at: I64, know: NDArray[np.uint64], mixed: I64, relay: bool,
 ) -> None:  # fmt: skip
     """``Mission.step`` (after the Look of round ``state[0]``): every robot's options
-    (the transport key is None, so no frozen crowd, unless everyone transports), the
-    priority order, resolution, and ``_move``'s rules (a route follower held back waits, one
-    pushed off is displaced; a relay robot moved off the path goes idle)."""
+    (a frozen crowd is the transport ``memo``'s repeat when everyone transports, else the
+    ``mixed`` memo's, ``Mission.mixed_key``), the priority order, resolution, and
+    ``_move``'s rules (a route follower held back waits, one pushed off is displaced; a
+    relay robot moved off the path goes idle)."""
     n = pos.shape[0]
     g = cells.shape[0]
     t = state[0]
@@ -1140,11 +1209,16 @@ def _comm_step(
         if mode[a] != TRANSPORT:
             everyone = False
             break
-    frozen = False
     if everyone:
         frozen = _same_as_memo(memo, pos, carrying, tmode, pidx, state[1], state[2])
+        mixed[0] = -1
+        mixed[mixed.shape[0] // 2] = -1
     else:
-        memo[0] = -1
+        memo[0] = -1  # Mission.transport_key is None: the mixed key decides
+        frozen = _same_as_mixed(
+            mixed, pos, carrying, mode, tmode, pidx, join_at, relay, displaced, informed_at,
+            delay, t, t_end, ntarg, know, state[1], state[2],
+        )  # fmt: skip
     opts = np.empty((n, MAXOPT, 2), np.int64)
     nopt = np.zeros(n, np.int64)
     following = np.zeros(n, np.bool_)
@@ -1189,7 +1263,7 @@ def comm_rounds(
     hold_of: I64, comm_done: I64, carrying: Bools, tmode: I64, pidx: I64, join_at: I64,
     handovers: I64, state: I64, flags: I64, relay: bool, nb_start: I64, nb_flat: I64,
     path: I64, path_of: I64, route: I32, t_end: int, nest: I64, food: I64, jobs: I64,
-    memo: I64, history: I32, cells: I64,
+    memo: I64, mixed: I64, history: I32, cells: I64,
 ) -> int:  # fmt: skip
     """Play a plain run's rounds from the discovery until every robot transports (the
     Python loop of ``Mission.rounds`` with ``Mission.look`` and ``step``), or the run ends,
@@ -1202,7 +1276,8 @@ def comm_rounds(
     the last Look and its Compute and Move are ``pending`` (the next call makes them first;
     with a one-row ``history``, a call per round, the caller sees every Look's state, as
     ``on_frame`` does); DONE: k units home; STALLED: round ``limit`` reached; HANDOFF: every
-    robot transports, the tail's turn (``memo`` is its frozen-crowd memory). A robot's list
+    robot transports, the tail's turn (``memo`` is its frozen-crowd memory; ``mixed`` the
+    mixed phase's, :func:`mixed_memo`). A robot's list
     is ``targets[a, :ntarg[a]]``; ``informed_at`` is -1 until it learns, ``comm_done`` until
     it transports, and ``tmode`` NOT_YET. The seed rule's word: ``know`` (n x words bit
     sets) and, per listed robot b, the robots that listed it (``hold_head[b]``, then
@@ -1216,6 +1291,7 @@ def comm_rounds(
             _comm_step(
                 pos, mode, delay, displaced, targets, ntarg, carrying, tmode, pidx, join_at,
                 state, flags, path, path_of, route, t_end, nest, food, memo, cells,
+                informed_at, know, mixed, relay,
             )  # fmt: skip
             state[C_PENDING] = 0
         everyone = True

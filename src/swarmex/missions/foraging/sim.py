@@ -203,8 +203,10 @@ class Mission:
         # a hooked run's compiled phases: rows so far in round order, the open (chunk, state)
         self.segments: list[np.ndarray] = []
         self._live: tuple[np.ndarray, np.ndarray] | None = None
-        # the transport state after the last Look, to spot a frozen crowd (see step)
+        # the transport state after the last Look, to spot a frozen crowd (see step); in the
+        # mixed phase (someone informed, not everyone transporting) the whole state's key
         self._last_key: tuple | None = None
+        self._mixed_keys: tuple[tuple | None, tuple | None] = (None, None)  # last, one before
         self._frozen = False
         self.stopped = False  # on_frame raised StopRun
         self.stalled: int | None = None  # the round limit was reached then: a locked team
@@ -443,6 +445,45 @@ class Mission:
             self.delivered,
         )
 
+    def mixed_key(self) -> tuple | None:
+        """Everything a round of the mixed phase depends on (someone is informed and not
+        everyone transports; None otherwise), for the frozen-crowd rule of :meth:`step`.
+
+        The clock enters a round only through ``t - delay[a]`` clamped to ``0 … t_end``
+        (``route_pos``, ``expected``, ``expected_future``, ``future``, the end-of-route and
+        ``keeps_route`` checks), so the key holds that *clock* per robot and not ``t``. A
+        robot's list and the seed rule's word are summarised by counts: while no mode
+        changes (modes only ever advance, so equal modes mean none changed in between) a list
+        only loses names (cross-off) and a robot's set only gains them (exchange), so equal
+        counts one or two rounds apart mean equal lists and sets; ranks and holders change
+        only when someone learns (``informed`` differs then). ``informed_at``, ``comm_done``
+        and the jobs are stamps no round reads back (a job comes with a change of load)."""
+        if not any(self.informed) or all(m == TRANSPORT for m in self.mode):
+            return None
+        t_end = self.timed.t_end if self.timed is not None else 0
+        clock = tuple(min(max(0, self.t - d), t_end) for d in self.delay)
+        known = sum(k.bit_count() for k in self.word.know) if self.word is not None else 0
+        relay = self.transport != END_TO_END
+        joins = tuple(
+            self.join_at.get(a, -1) if relay and self.mode[a] == TRANSPORT else -1
+            for a in range(self.n)
+        )
+        return (
+            tuple(self.pos),
+            tuple(self.carrying),
+            tuple(self.mode),
+            tuple(self.tmode),
+            tuple(self.pidx),
+            joins,
+            tuple(self.displaced),
+            tuple(self.informed),
+            clock,
+            tuple(len(x) for x in self.targets),
+            known,
+            self.units,
+            self.delivered,
+        )
+
     def step(self) -> None:
         """One round's Compute and Move (after ``look``), the seed's decisions (a hooked
         run's rounds go through :meth:`hooked_step` instead).
@@ -453,6 +494,21 @@ class Mission:
         state after Look equals the previous round's, robots that want to move may also
         step to a free side cell for this round. Runs that never freeze (every run that
         completes without this rule) are unchanged.
+
+        The same holds while some robots still explore or communicate (the *mixed* phase,
+        30 Nov 2026), where a crowd at the food can block the nest's exits for robots that
+        must leave to tell others. There the rule fires when :meth:`mixed_key` (the whole
+        state a round depends on, with each robot's clock ``t - delay`` clamped to the
+        timetable, which is all a round reads of the time) equals that of the previous round
+        or of the round before it. It is exact: a round is a fixed function of that key
+        (rounds do not read ``t`` otherwise), so a key that repeats after one or two rounds
+        repeats for ever without the rule, delivering nothing more; the rule fires only in
+        runs that would never finish, and at the first such round. Period 2 is the
+        freeze plus two seed-rule messengers that chase each other across a diagonal (each
+        steps to where the other was); positions and time are not enough (a seed-rule goal
+        follows the target's timetable, which moves while everyone stands still, until the
+        clamp), hence the key. As in the transport phase, only End-to-End robots that want
+        to move take the side cells; messengers blocked in the nest need nothing more.
         """
         opts, following = self._compute()
         self._move(opts, following, opts, following)
@@ -472,6 +528,12 @@ class Mission:
         key = self.transport_key()
         self._frozen = key is not None and key == self._last_key
         self._last_key = key
+        mixed = None if key is not None else self.mixed_key()
+        if mixed is not None:
+            self._frozen = mixed in self._mixed_keys
+            self._mixed_keys = (mixed, self._mixed_keys[0])
+        else:
+            self._mixed_keys = (None, None)
         n = self.n
         opts, following = [], []
         for a in range(n):
@@ -634,7 +696,8 @@ class Mission:
                 a["hold_who"], a["hold_of"], a["comm_done"], a["carrying"], a["tmode"],
                 a["pidx"], a["join_at"], a["handovers"], state, flags,
                 self.transport != END_TO_END, a["nb_start"], a["nb_flat"], path, path_of,
-                route, self.timed.t_end, nest, food, a["jobs"], a["memo"], chunk, self._cells,
+                route, self.timed.t_end, nest, food, a["jobs"], a["memo"], a["mixed"], chunk,
+                self._cells,
             )  # fmt: skip
             if record:
                 self.tail_chunks.append(chunk[:rows].copy())
@@ -688,6 +751,7 @@ class Mission:
             "handovers": np.zeros(n, dtype=np.int64),
             "jobs": np.zeros((2 * self.k + 2, 3), dtype=np.int64),
             "memo": fl.transport_memo(self._last_key, n),
+            "mixed": fl.mixed_memo(n),
             "state": np.asarray(
                 [self.t, self.units, self.delivered, self.k, 0, 0, 0, limit, 0, 0], np.int64
             ),
