@@ -36,13 +36,44 @@ def test_a_run_that_froze_now_finishes_and_the_compiled_loop_agrees(pattern, g, 
         assert len(cells) == len(set(cells))
 
 
-def test_the_rule_fires_only_on_an_exact_repeat(monkeypatch):
-    """Count frozen rounds: a run that never repeats its state never uses the rule, and the
-    rule fires exactly on the rounds whose state after Look (snapshotted here, from the
-    mission's own fields) repeats the previous round's with every robot transporting."""
-    fired = []
+# runs that froze in the mixed phase (someone still explores or communicates) before the rule
+# covered it (30 Nov 2026): (pattern, g, n, comm, food, k). The first two stood still for
+# good; in the third two seed-rule messengers chase each other (period 2) while the
+# End-to-End crowd stands still; the last is the g = 100 example of docs/foraging.md.
+MIXED = [
+    ("sectors", 14, 48, "seed", (8, 4), 20),
+    ("sectors", 14, 48, "omniscient", (8, 5), 20),
+    ("rings", 10, 24, "seed", (7, 9), 20),
+    ("sectors", 100, 64, "omniscient", (51, 48), 100),
+]
+
+
+def _mixed_snapshot(m: Mission):
+    """The whole state a mixed round depends on, from the mission's own fields and with the
+    full lists and word (``Mission.mixed_key`` keeps counts of those); None outside it."""
+    if not any(m.informed) or all(mode == TRANSPORT for mode in m.mode):
+        return None
+    t_end = m.timed.t_end
+    return (
+        [tuple(p) for p in m.pos], list(m.carrying), list(m.mode), list(m.tmode),
+        list(m.pidx), [m.join_at.get(a) if m.mode[a] == TRANSPORT else None for a in range(m.n)],
+        list(m.displaced), list(m.informed), [min(max(0, m.t - d), t_end) for d in m.delay],
+        [list(x) for x in m.targets], list(m.word.know) if m.word is not None else None,
+        m.units, m.delivered,
+    )  # fmt: skip
+
+
+def _count_frozen(monkeypatch):
+    """Patch Mission.step to check every round's frozen flag against the rule as stated:
+    it fires exactly when (a) every robot transports and the transport state after Look
+    (positions, loads, transport modes, path indices, units, delivered) equals the previous
+    round's, every robot transporting then too, or (b) in the mixed phase (someone informed,
+    not everyone transporting) the whole state equals that of the previous round or of the
+    round before it, both in the mixed phase. Returns the list of (flag, mixed) per round."""
+    fired: list[tuple[bool, bool]] = []
     original = Mission.step
-    previous = [None]
+    previous: list = [None]
+    mixed_before: list = [None, None]
 
     def step(self):
         snap = (
@@ -54,20 +85,65 @@ def test_the_rule_fires_only_on_an_exact_repeat(monkeypatch):
             self.delivered,
         )
         transporting = all(m == TRANSPORT for m in self.mode)
-        repeated = transporting and snap == previous[0]
+        mixed = _mixed_snapshot(self)
+        if transporting:
+            repeated = snap == previous[0]
+        else:
+            repeated = mixed is not None and mixed in mixed_before
         previous[0] = snap if transporting else None
+        mixed_before[:] = [mixed, mixed_before[0]] if mixed is not None else [None, None]
         original(self)
         assert self._frozen == repeated
-        fired.append(self._frozen)
+        fired.append((self._frozen, mixed is not None))
 
     monkeypatch.setattr(Mission, "step", step)
+    return fired
+
+
+def test_the_rule_fires_only_on_an_exact_repeat(monkeypatch):
+    """Count frozen rounds: a run that never repeats its state never uses the rule, and the
+    rule fires exactly on the rounds whose state after Look (snapshotted here, from the
+    mission's own fields) repeats the previous round's with every robot transporting, or in
+    the mixed phase repeats that of one of the two rounds before (_count_frozen)."""
+    fired = _count_frozen(monkeypatch)
     plan = timed_plan("strips", 12, 6)
     run_mission(plan, (7, 4), 48, "end-to-end", fast=False)
-    assert any(fired)  # the crowd froze and was broken
+    assert any(f for f, _ in fired)  # the crowd froze and was broken
+    assert any(mixed for _, mixed in fired)  # the mixed phase was checked too
     fired.clear()
-    previous[0] = None
     run_mission(plan, (2, 9), 12, "end-to-end", fast=False)
-    assert not any(fired)
+    assert not any(f for f, _ in fired)
+
+
+@pytest.mark.parametrize("pattern, g, n, comm, food, k", MIXED[:3])
+def test_the_mixed_rule_fires_exactly_on_a_repeat(monkeypatch, pattern, g, n, comm, food, k):
+    fired = _count_frozen(monkeypatch)
+    run_mission(timed_plan(pattern, g, n), food, k, "end-to-end", fast=False, comm=comm)
+    assert any(f and mixed for f, mixed in fired)  # it fired in the mixed phase
+
+
+@pytest.mark.parametrize("pattern, g, n, comm, food, k", MIXED)
+def test_a_mixed_phase_freeze_now_finishes_and_every_loop_agrees(pattern, g, n, comm, food, k):
+    """Before the mixed-phase rule these runs went to the round limit with units left. Now
+    they finish, legally (replay), the same in the Python loop, the compiled one (its
+    communication phase) and a hooked run that plays the seed's moves."""
+    from swarmex.missions.foraging.replay import replay
+    from swarmex.missions.foraging.run import run_forage, to_record
+
+    plan = timed_plan(pattern, g, n)
+    slow = run_mission(plan, food, k, "end-to-end", fast=False, comm=comm)
+    fast = run_mission(plan, food, k, "end-to-end", fast=True, comm=comm)
+    hooked = run_mission(plan, food, k, "end-to-end", comm=comm, decide=lambda c: c.builtin)
+    assert slow.complete and slow.delivered == k
+    for other in (fast, hooked):
+        assert other.makespan == slow.makespan
+        assert np.array_equal(other.positions, slow.positions)
+        assert other.jobs == slow.jobs and other.handovers == slow.handovers
+        assert other.comm_done == slow.comm_done
+    rec = to_record(run_forage(pattern, g, n, food, k, "end-to-end", comm=comm), 0, {})
+    record = rec.to_dict()
+    assert record["complete"] and record["makespan"] == slow.makespan
+    assert replay(record) == []
 
 
 @pytest.mark.parametrize("pattern, g, n", [("strips", 12, 6), ("sectors", 16, 8)])

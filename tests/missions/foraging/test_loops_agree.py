@@ -197,3 +197,45 @@ def test_compiled_communication_phase_gives_the_python_frames_and_stops(seed):
         for name in ("positions", "carrying", "informed"):
             a, b = getattr(x, name), getattr(y, name)
             assert a.dtype == b.dtype and np.array_equal(a, b), (x.t, name)
+
+
+# runs whose mixed phase froze before the frozen-crowd rule covered it (test_frozen_crowd.py):
+# the compiled communication phase must break the freeze on the same rounds as the Python loop
+FROZE_MIXED = [
+    ("sectors", 14, 48, "seed", (8, 4), 20),
+    ("sectors", 14, 48, "omniscient", (8, 5), 20),
+    ("rings", 10, 24, "seed", (7, 9), 20),
+    ("sectors", 32, 64, "omniscient", (15, 19), 100),
+]
+
+
+@pytest.mark.parametrize(("pattern", "g", "n", "rule", "food", "k"), FROZE_MIXED)
+def test_compiled_communication_phase_breaks_a_frozen_crowd_as_the_python_loop(
+    pattern, g, n, rule, food, k, monkeypatch
+):
+    timed = timed_plan(pattern, g, n)
+    frozen = []
+    compute = Mission._compute
+
+    def spy(m):
+        out = compute(m)
+        frozen.append(m._frozen and not all(mode == TRANSPORT for mode in m.mode))
+        return out
+
+    monkeypatch.setattr(Mission, "_compute", spy)
+    slow = run_mission(timed, food, k, "end-to-end", fast=False, comm=rule)
+    assert any(frozen)  # the mixed-phase rule fired in the Python loop
+    monkeypatch.undo()
+    assert slow.complete
+    fast = run_mission(timed, food, k, "end-to-end", fast=True, comm=rule)
+    _same_outcome(slow, fast)
+    t_stop = (slow.discovery + slow.makespan) // 2
+    play = (timed, food, k, "end-to-end", rule)
+    whole_s, frames_s, stopped_s = _frames_and_stop(*play, False, t_stop)
+    whole_f, frames_f, stopped_f = _frames_and_stop(*play, True, t_stop)
+    _same_outcome(whole_s, whole_f)
+    _same_outcome(stopped_s, stopped_f)
+    _same_outcome(slow, whole_f)
+    assert len(frames_s) == len(frames_f) == slow.makespan + 1
+    for x, y in zip(frames_s, frames_f, strict=True):
+        assert x.t == y.t and np.array_equal(x.positions, y.positions)
