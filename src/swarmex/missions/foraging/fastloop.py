@@ -1137,7 +1137,7 @@ MIXED_HEAD, MIXED_ROW = 4, 11  # a mixed key: [valid, units, delivered, known], 
 
 def mixed_memo(n: int) -> I64:
     """An empty memory for :func:`_same_as_mixed`: the keys of the last two rounds."""
-    return np.full(2 * (MIXED_HEAD + MIXED_ROW * n), -1, dtype=np.int64)
+    return np.full(1 + 2 * (MIXED_HEAD + MIXED_ROW * n), -1, dtype=np.int64)
 
 
 @kernel(cache=True)
@@ -1150,42 +1150,38 @@ def _same_as_mixed(
     before it, both stored in ``mixed`` (``Mission.mixed_key``: positions, loads, modes,
     transport modes, path indices, relay entry cells, displaced, informed, each robot's clock
     ``t - delay`` clamped to ``0 … t_end``, list lengths, the word's total count of known
-    robots, units, delivered); stores the new one. Layout: two keys (the previous round's
-    first), each MIXED_HEAD values, then MIXED_ROW per robot."""
-    size = mixed.shape[0] // 2
-    key = np.empty(size, np.int64)
+    robots, units, delivered); stores the new one in place of the older. Layout: which slot
+    holds the previous round's key (-1: neither, a fresh memory), then two slots, each
+    MIXED_HEAD values, then MIXED_ROW per robot; a slot is valid when its first value is 1."""
+    size = (mixed.shape[0] - 1) // 2
+    prev = 1 if mixed[0] == 1 else 0
+    p = 1 + prev * size  # the previous round's key
+    o = 1 + (1 - prev) * size  # the one before it: overwritten with this round's
     known = 0
     for a in range(know.shape[0]):
         for j in range(know.shape[1]):
             known += _popcount(know[a, j])
-    key[0] = 1
-    key[1] = units
-    key[2] = delivered
-    key[3] = known
-    for a in range(pos.shape[0]):
-        base = MIXED_HEAD + MIXED_ROW * a
-        transporting = mode[a] == TRANSPORT
-        key[base] = pos[a, 0]
-        key[base + 1] = pos[a, 1]
-        key[base + 2] = 1 if carrying[a] else 0
-        key[base + 3] = mode[a]
-        key[base + 4] = tmode[a]
-        key[base + 5] = pidx[a]
-        key[base + 6] = join_at[a] if relay and transporting else -1
-        key[base + 7] = 1 if displaced[a] else 0
-        key[base + 8] = 1 if informed_at[a] >= 0 else 0
-        key[base + 9] = min(max(0, t - delay[a]), t_end)
-        key[base + 10] = ntarg[a]
+    head = (1, units, delivered, known)
     same1 = True
     same2 = True
-    for j in range(size):
-        if mixed[j] != key[j]:
-            same1 = False
-        if mixed[size + j] != key[j]:
-            same2 = False
-    for j in range(size):
-        mixed[size + j] = mixed[j]
-        mixed[j] = key[j]
+    for j in range(MIXED_HEAD):
+        v = head[j]
+        same1 = same1 and mixed[p + j] == v
+        same2 = same2 and mixed[o + j] == v
+        mixed[o + j] = v
+    for a in range(pos.shape[0]):
+        base = MIXED_HEAD + MIXED_ROW * a
+        vals = (
+            pos[a, 0], pos[a, 1], 1 if carrying[a] else 0, mode[a], tmode[a], pidx[a],
+            join_at[a] if relay and mode[a] == TRANSPORT else -1, 1 if displaced[a] else 0,
+            1 if informed_at[a] >= 0 else 0, min(max(0, t - delay[a]), t_end), ntarg[a],
+        )  # fmt: skip
+        for j in range(MIXED_ROW):
+            v = vals[j]
+            same1 = same1 and mixed[p + base + j] == v
+            same2 = same2 and mixed[o + base + j] == v
+            mixed[o + base + j] = v
+    mixed[0] = 1 - prev
     return same1 or same2
 
 
@@ -1211,8 +1207,7 @@ def _comm_step(
             break
     if everyone:
         frozen = _same_as_memo(memo, pos, carrying, tmode, pidx, state[1], state[2])
-        mixed[0] = -1
-        mixed[mixed.shape[0] // 2] = -1
+        mixed[:] = -1  # Mission.mixed_key is None: a fresh memory
     else:
         memo[0] = -1  # Mission.transport_key is None: the mixed key decides
         frozen = _same_as_mixed(
