@@ -466,3 +466,18 @@ def test_recall_is_a_baseline_policy_with_the_teams_memory():
     assert record.extra["pattern"] == choose(32, 8, [(28, 30)], 3, "relay-food", "seed").pattern
     assert record.params["found"] == [[28, 30]]
     assert without_wall(record) == without_wall(swarmex.run("foraging", seed=0, **params))
+
+
+@pytest.mark.parametrize("comm", ["seed", "omniscient"])
+def test_baseline_breaks_a_crowd_frozen_while_others_communicate(comm):
+    """A run whose End-to-End crowd froze while two robots still communicated (it never
+    finished before the frozen-crowd rule covered the mixed phase, docs/foraging.md): the
+    environment's seed moves play the plain run, which now finishes."""
+    params = {"grid": 14, "agents": 48, "algorithm": "sectors", "food": (8, 5),
+              "food_units": 20, "transport": "end-to-end", "comm": comm}  # fmt: skip
+    env = foraging_v0.parallel_env(**params)
+    play(env, foraging_v0.baseline_policy(env))
+    record = env.record()
+    assert record.complete
+    assert without_wall(record) == without_wall(swarmex.run("foraging", **params))
+    assert replay(record.to_dict()) == []
