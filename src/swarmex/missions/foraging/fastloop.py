@@ -204,6 +204,21 @@ def _resolve(
 
 
 @kernel(cache=True)
+def _resolved(
+    cur: I64, opts: I64, nopt: I64, ranked: Bools, nest: I64, cells: I64
+) -> I64:  # fmt: skip
+    """Each robot's resolved wish (an index into its ``opts`` row): the priority order
+    (:func:`_order`), then the claims (:func:`_resolve`). Per call: the round-per-call
+    kernels' form; the transport tail reuses its own arrays."""
+    n = cur.shape[0]
+    order = np.empty(n, np.int64)
+    choice = np.zeros(n, np.int64)
+    _order(cur, opts, order, ranked, cells)
+    _resolve(cur, opts, nopt, order, nest[0], nest[1], choice, cells)
+    return choice
+
+
+@kernel(cache=True)
 def _order(cur: I64, opts: I64, out: I64, ranked: Bools, cells: I64) -> None:
     """Priority: swap pairs first, then route followers (``ranked``), then larger (x, y),
     then smaller id (resolve.priority). ``cells`` (g x g, all -1, left so) finds the robot
@@ -225,6 +240,41 @@ def _order(cur: I64, opts: I64, out: I64, ranked: Bools, cells: I64) -> None:
     idx = np.argsort(key)
     for a in range(n):
         out[a] = idx[a]
+
+
+@kernel(cache=True)
+def _write_row(history: NDArray[np.integer[Any]], row: int, pos: I64) -> None:
+    """Every robot's cell after this round's Look into row ``row`` of the trajectory."""
+    for a in range(pos.shape[0]):
+        history[row, a, 0] = pos[a, 0]
+        history[row, a, 1] = pos[a, 1]
+
+
+@kernel(cache=True)
+def _relay_moved(a: int, nx: int, ny: int, path_of: I64, pidx: I64, tmode: I64) -> None:
+    """``Mission._move`` for a relay robot that moved to ``(nx, ny)``: a step along the
+    path moves its index; anywhere else (a side step) it leaves the relay, idle."""
+    j = path_of[nx, ny]
+    if j >= 0 and abs(j - pidx[a]) == 1:
+        pidx[a] = j
+    else:
+        tmode[a] = IDLE
+
+
+@kernel(cache=True)
+def _transport_look_once(
+    pos: I64, carrying: Bools, tmode: I64, pidx: I64, join_at: I64, state: I64, path: I64,
+    nest: I64, food: I64, relay: bool, jobs: I64, handovers: I64, cells: I64,
+) -> None:  # fmt: skip
+    """:func:`_transport_look` with its scratch arrays made here: the round-per-call
+    kernels' form (the transport tail keeps its own across rounds)."""
+    n = pos.shape[0]
+    was = np.empty(n, np.bool_)
+    busy = np.zeros(n, np.bool_)
+    _transport_look(
+        pos, carrying, tmode, pidx, join_at, state, path, nest, food, relay, jobs, handovers,
+        was, busy, cells,
+    )  # fmt: skip
 
 
 @kernel(cache=True)
@@ -383,9 +433,7 @@ def transport_tail(
             pos, carrying, tmode, pidx, join_at, state, path, nest, food, relay, jobs,
             handovers, was, busy, cells,
         )  # fmt: skip
-        for a in range(n):
-            history[rows, a, 0] = pos[a, 0]
-            history[rows, a, 1] = pos[a, 1]
+        _write_row(history, rows, pos)
         rows += 1
         if state[2] >= state[3]:
             state[6] = 1
@@ -402,11 +450,7 @@ def transport_tail(
         for a in range(n):
             nx, ny = opts[a, choice[a], 0], opts[a, choice[a], 1]
             if tmode[a] == RELAY and (nx != pos[a, 0] or ny != pos[a, 1]):
-                j = path_of[nx, ny]
-                if j < 0 or abs(j - pidx[a]) != 1:
-                    tmode[a] = IDLE
-                else:
-                    pidx[a] = j
+                _relay_moved(a, nx, ny, path_of, pidx, tmode)
             pos[a, 0] = nx
             pos[a, 1] = ny
         state[0] = t + 1
@@ -526,10 +570,7 @@ def hooked_round(
         nchosen = np.empty(n, np.int64)
         ranked = np.zeros(n, np.bool_)  # no robot follows a route in this phase
         _hooked_wishes(pos, opts, nopt, builtin, moves, chosen, nchosen, ranked)
-        order = np.empty(n, np.int64)
-        choice = np.zeros(n, np.int64)
-        _order(pos, chosen, order, ranked, cells)
-        _resolve(pos, chosen, nchosen, order, nest[0], nest[1], choice, cells)
+        choice = _resolved(pos, chosen, nchosen, ranked, nest, cells)
         for a in range(n):
             nx, ny = chosen[a, choice[a], 0], chosen[a, choice[a], 1]
             if tmode[a] == RELAY and (nx != pos[a, 0] or ny != pos[a, 1]):
@@ -544,16 +585,12 @@ def hooked_round(
         state[T] += 1
         state[MOVED] = 0
     # ---- Look
-    was = np.empty(n, np.bool_)
-    busy = np.zeros(n, np.bool_)
-    _transport_look(
+    _transport_look_once(
         pos, carrying, tmode, pidx, join_at, state, path, nest, food, relay, jobs, handovers,
-        was, busy, cells,
+        cells,
     )  # fmt: skip
     row = state[ROW]
-    for a in range(n):
-        history[row, a, 0] = pos[a, 0]
-        history[row, a, 1] = pos[a, 1]
+    _write_row(history, row, pos)
     state[ROW] = row + 1
     if state[T] >= state[STOP_AT]:
         return STOPPED
@@ -601,20 +638,12 @@ def explore_round(
         nchosen = np.empty(n, np.int64)
         ranked = following.copy()
         _hooked_wishes(pos, opts, nopt, builtin, moves, chosen, nchosen, ranked)
-        order = np.empty(n, np.int64)
-        choice = np.zeros(n, np.int64)
-        _order(pos, chosen, order, ranked, cells)
-        _resolve(pos, chosen, nchosen, order, nest[0], nest[1], choice, cells)
+        choice = _resolved(pos, chosen, nchosen, ranked, nest, cells)
         for a in range(n):
             nx, ny = chosen[a, choice[a], 0], chosen[a, choice[a], 1]
             x, y = pos[a, 0], pos[a, 1]
             if not displaced[a]:  # on its route (every robot explores)
-                wx, wy = opts[a, 0, 0], opts[a, 0, 1]
-                moved = nx != x or ny != y
-                if (nx != wx or ny != wy) and (wx != x or wy != y) and not moved:
-                    delay[a] += 1
-                elif moved and ((not following[a]) or nx != wx or ny != wy):
-                    displaced[a] = True
+                _route_moved(a, x, y, nx, ny, opts, following, delay, displaced)
             pos[a, 0] = nx
             pos[a, 1] = ny
         state[T] += 1
@@ -623,9 +652,7 @@ def explore_round(
         if pos[a, 0] == food[0] and pos[a, 1] == food[1]:
             return HANDOFF
     row = state[ROW]
-    for a in range(n):
-        history[row, a, 0] = pos[a, 0]
-        history[row, a, 1] = pos[a, 1]
+    _write_row(history, row, pos)
     state[ROW] = row + 1
     t = state[T]
     if t >= state[STOP_AT]:
@@ -640,20 +667,7 @@ def explore_round(
         opts[a, 0, 1] = y
         following[a] = False
         if not displaced[a]:
-            i = t + 1 - delay[a]
-            r = min(i, t_end)
-            nx, ny = route[r, a, 0], route[r, a, 1]
-            if nx != x or ny != y:
-                opts[a, 0, 0] = nx
-                opts[a, 0, 1] = ny
-                opts[a, 1, 0] = x
-                opts[a, 1, 1] = y
-                k = 2
-                following[a] = True
-            elif i <= t_end:
-                following[a] = True
-            else:
-                k = _sidesteps(opts[a], 1, x, y, g)
+            k, following[a] = _route_wish(a, t, x, y, g, delay, route, t_end, opts)
         else:
             k = _sidesteps(opts[a], 1, x, y, g)
         nopt[a] = k
@@ -747,6 +761,15 @@ NOT_YET = -1
 C_LIMIT, C_HOLDS, C_PENDING = 7, 8, 9
 # comm_rounds' flags vector: its slots
 F_OMNI, F_ONE_WAY, F_KEEP_EXPLORING, F_KEEP_DEPLOYING, F_RELAY_FOOD, F_T_SYNC = range(6)
+
+
+@kernel(cache=True)
+def _everyone_transports(mode: I64) -> bool:
+    """Whether every robot is in the Transportation phase (the compiled tail's turn)."""
+    for a in range(mode.shape[0]):  # noqa: SIM110 - numba compiles no generator in all()
+        if mode[a] != TRANSPORT:
+            return False
+    return True
 
 
 @kernel(cache=True)
@@ -1001,6 +1024,44 @@ def _cross_off(
 
 
 @kernel(cache=True)
+def _route_wish(
+    a: int, t: int, x: int, y: int, g: int, delay: I64, route: I32, t_end: int, opts: I64,
+) -> tuple[int, bool]:
+    """``Mission.options`` of robot ``a`` on its route, at ``(x, y)`` with ``opts[a, 0]``
+    already its cell: its timetable's next cell then a stay; a stay while the route pauses;
+    a stay or a side step once the route has ended (then it no longer follows). The count
+    of wishes and whether it follows its route."""
+    i = t + 1 - delay[a]
+    r = min(i, t_end)
+    nx, ny = route[r, a, 0], route[r, a, 1]
+    if nx != x or ny != y:
+        opts[a, 0, 0] = nx
+        opts[a, 0, 1] = ny
+        opts[a, 1, 0] = x
+        opts[a, 1, 1] = y
+        return 2, True
+    if i > t_end:
+        return _sidesteps(opts[a], 1, x, y, g), False
+    return 1, True
+
+
+@kernel(cache=True)
+def _route_moved(
+    a: int, x: int, y: int, nx: int, ny: int, opts: I64, following: Bools, delay: I64,
+    displaced: Bools,
+) -> None:
+    """``Mission._move`` for robot ``a`` on its route, from ``(x, y)`` to ``(nx, ny)``: made
+    to wait when it wanted to move, its timetable is delayed a round; moving anywhere but
+    its wish, or while not following its route, pushes it off the route for good."""
+    wx, wy = opts[a, 0, 0], opts[a, 0, 1]
+    moved = nx != x or ny != y
+    if (nx != wx or ny != wy) and (wx != x or wy != y) and not moved:
+        delay[a] += 1
+    elif moved and ((not following[a]) or nx != wx or ny != wy):
+        displaced[a] = True
+
+
+@kernel(cache=True)
 def _comm_options(
     a: int, t: int, omni: bool, g: int, pos: I64, mode: I64, delay: I64, displaced: Bools,
     targets: I64, ntarg: I64, route: I32, t_end: int, opts: I64,
@@ -1012,18 +1073,7 @@ def _comm_options(
     opts[a, 0, 1] = y
     m = mode[a]
     if _on_route(mode, displaced, a):
-        i = t + 1 - delay[a]
-        r = min(i, t_end)
-        nx, ny = route[r, a, 0], route[r, a, 1]
-        if nx != x or ny != y:
-            opts[a, 0, 0] = nx
-            opts[a, 0, 1] = ny
-            opts[a, 1, 0] = x
-            opts[a, 1, 1] = y
-            return 2, True
-        if i > t_end:
-            return _sidesteps(opts[a], 1, x, y, g), False
-        return 1, True
+        return _route_wish(a, t, x, y, g, delay, route, t_end, opts)
     if m == EXPLORE:  # pushed off its route after finishing it
         return _sidesteps(opts[a], 1, x, y, g), False
     if m != COMM or ntarg[a] == 0:  # pragma: no cover - a displaced FOLLOW robot
@@ -1115,11 +1165,9 @@ def _comm_look(
         elif mode[a] == FOLLOW and (displaced[a] or t - delay[a] >= t_end):
             mode[a] = COMM  # Mission.start_comm
             _best_order(a, t, targets, ntarg, omni, pos, mode, displaced, delay, route, t_end)
-    was = np.empty(n, np.bool_)
-    busy = np.zeros(n, np.bool_)
-    _transport_look(
+    _transport_look_once(
         pos, carrying, tmode, pidx, join_at, state, path, nest, food, relay, jobs, handovers,
-        was, busy, cells,
+        cells,
     )  # fmt: skip
 
 
@@ -1200,12 +1248,7 @@ def _comm_step(
     n = pos.shape[0]
     g = cells.shape[0]
     t = state[0]
-    everyone = True
-    for a in range(n):
-        if mode[a] != TRANSPORT:
-            everyone = False
-            break
-    if everyone:
+    if _everyone_transports(mode):
         frozen = _same_as_memo(memo, pos, carrying, tmode, pidx, state[1], state[2])
         mixed[:] = -1  # Mission.mixed_key is None: a fresh memory
     else:
@@ -1226,26 +1269,14 @@ def _comm_step(
                 a, t, flags[F_OMNI] == 1, g, pos, mode, delay, displaced, targets, ntarg,
                 route, t_end, opts,
             )  # fmt: skip
-    order = np.empty(n, np.int64)
-    choice = np.zeros(n, np.int64)
-    _order(pos, opts, order, following, cells)
-    _resolve(pos, opts, nopt, order, nest[0], nest[1], choice, cells)
+    choice = _resolved(pos, opts, nopt, following, nest, cells)
     for a in range(n):
         nx, ny = opts[a, choice[a], 0], opts[a, choice[a], 1]
         x, y = pos[a, 0], pos[a, 1]
         if _on_route(mode, displaced, a):
-            wx, wy = opts[a, 0, 0], opts[a, 0, 1]
-            moved = nx != x or ny != y
-            if (nx != wx or ny != wy) and (wx != x or wy != y) and not moved:
-                delay[a] += 1
-            elif moved and ((not following[a]) or nx != wx or ny != wy):
-                displaced[a] = True
+            _route_moved(a, x, y, nx, ny, opts, following, delay, displaced)
         elif mode[a] == TRANSPORT and tmode[a] == RELAY and (nx != x or ny != y):
-            j = path_of[nx, ny]
-            if j >= 0 and abs(j - pidx[a]) == 1:
-                pidx[a] = j
-            else:
-                tmode[a] = IDLE
+            _relay_moved(a, nx, ny, path_of, pidx, tmode)
         pos[a, 0] = nx
         pos[a, 1] = ny
     state[0] = t + 1
@@ -1289,12 +1320,7 @@ def comm_rounds(
                 informed_at, know, mixed, relay,
             )  # fmt: skip
             state[C_PENDING] = 0
-        everyone = True
-        for a in range(n):
-            if mode[a] != TRANSPORT:
-                everyone = False
-                break
-        if everyone:
+        if _everyone_transports(mode):
             state[6] = HANDOFF
             break
         _comm_look(
@@ -1303,9 +1329,7 @@ def comm_rounds(
             handovers, state, flags, relay, nb_start, nb_flat, path, route, t_end, nest, food,
             jobs, cells,
         )  # fmt: skip
-        for a in range(n):
-            history[rows, a, 0] = pos[a, 0]
-            history[rows, a, 1] = pos[a, 1]
+        _write_row(history, rows, pos)
         rows += 1
         if state[2] >= state[3]:
             state[6] = DONE
