@@ -61,6 +61,7 @@ from swarmex.net.traversal import (
     catch_up,
     check_broadcast,
     ends_step,
+    has_own_kernels,
     warm_policy,
     warm_up,
 )
@@ -92,7 +93,7 @@ def warm_in_background(algorithm: str) -> Future[None]:
     job = _WARMING.get(algorithm)
     if job is None:
         job = _WARMING[algorithm] = Future()
-        if algorithm == "madgta":  # warm_up did it before the agent connected
+        if not has_own_kernels(algorithm):  # nothing to wait a tick for
             job.set_result(None)
             return job
 
@@ -106,6 +107,8 @@ def warm_in_background(algorithm: str) -> Future[None]:
 
         threading.Thread(target=compile_kernels, name=f"warm {algorithm}", daemon=True).start()
     return job
+
+
 #: states in which the vehicle is being readied or flown (its faults count)
 VEHICLE_STATES = ("prearm", "c02", "arming", "c03", "ready", "mission", "rtl", "landing")
 

@@ -700,6 +700,12 @@ def _walled_6x6() -> GridWorld:
     return GridWorld(free, 4, source="warm-up")
 
 
+def has_own_kernels(algorithm: str) -> bool:
+    """Whether a served algorithm has kernels :func:`warm_up` did not already load: every
+    one but plain MADGTA, whose branches warm_up runs before the agent connects."""
+    return algorithm != "madgta"
+
+
 @functools.cache
 def warm_policy(algorithm: str) -> None:
     """The kernels of a served algorithm other than MADGTA, compiled or loaded once per
@@ -715,7 +721,7 @@ def warm_policy(algorithm: str) -> None:
     and nearest call kernels of their own, and gives madgta-k's sweep a turn before a short
     end game.
     """
-    if algorithm == "madgta":
+    if not has_own_kernels(algorithm):
         return
     from swarmex.missions.traversal.agents import uniform_agents
     from swarmex.missions.traversal.partition import MadgtaK
@@ -881,6 +887,7 @@ __all__ = [
     "check_broadcast",
     "check_stats",
     "forget_agent",
+    "has_own_kernels",
     "message_of",
     "run_inprocess",
     "warm_up",
