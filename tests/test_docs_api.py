@@ -57,5 +57,11 @@ def test_optimal_doc_example_runs(tmp_path, monkeypatch):
     exec(compile(code, "traversal-optimal.md", "exec"), scope)  # noqa: S102
     plan, best, madgta = scope["plan"], scope["best"], scope["madgta"]
     assert plan.proven_optimal
+    # an independent floor: every free vertex's job, and one edge to reach each non-nest
+    # vertex (two nests on a 4x4 with two walls: 14 jobs of 5 s, 12 edges of 1 s), which
+    # two walks without a revisit attain, so the optimum is exactly this bound
+    free = int(scope["world"].free.sum())
+    assert free == 14
+    assert plan.value == free * 5.0 + (free - 2) * 1.0
     assert best.metrics["total_time_all"] == plan.value == 82.0
     assert madgta.metrics["total_time_all"] == 85.0
