@@ -118,7 +118,7 @@ class TraversalServer:
         self.json_path = json_path
         self.timeout = timeout
         self.dead_after = dead_after
-        self.init_timeout = init_timeout
+        self.init_timeout = max(init_timeout, dead_after)  # never shorter than an armed one's
         self.spare_wait = spare_wait
         self.say = say
         self.replica = Replica(mission)
@@ -591,8 +591,7 @@ class TraversalServer:
             # agent is still handled at once where it matters: GO waits for every holder
             # to have been heard lately (_maybe_go), and a restart asking for the id of a
             # holder silent for --dead-after takes it over (_on_c00)
-            limit = (max(self.init_timeout, self.dead_after) if s in ("init", "ready")
-                     else self.dead_after)
+            limit = self.init_timeout if s in ("init", "ready") else self.dead_after
             if peer is None or now - peer.last_seen > limit:
                 why = "fell silent"
                 if s == "init":  # the usual cause, and what to do about it
