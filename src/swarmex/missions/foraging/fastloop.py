@@ -1080,9 +1080,9 @@ def _comm_options(
         raise RuntimeError("comm_rounds: a robot neither explores, follows nor tells")
     b = targets[a, 0]
     bx, by = pos[b, 0], pos[b, 1]
-    tau, gx, gy = _meet_of(x, y, b, t, omni, pos, mode, displaced, delay, route, t_end)
     if abs(x - bx) + abs(y - by) <= 1:  # they exchange in the next Look
         return 1, False
+    tau, gx, gy = _meet_of(x, y, b, t, omni, pos, mode, displaced, delay, route, t_end)
     if (not omni) and tau == 0 and abs(bx - gx) + abs(by - gy) <= 1:  # comm.meet_goal
         gx, gy = bx, by
     if x == gx and y == gy:
