@@ -1239,16 +1239,17 @@ def _comm_step(
     carrying: Bools, tmode: I64, pidx: I64, join_at: I64, state: I64, flags: I64,
     path: I64, path_of: I64, route: I32, t_end: int, nest: I64, food: I64, memo: I64,
     cells: I64, informed_at: I64, know: NDArray[np.uint64], mixed: I64, relay: bool,
+    everyone: bool,
 ) -> None:  # fmt: skip
     """``Mission.step`` (after the Look of round ``state[0]``): every robot's options
-    (a frozen crowd is the transport ``memo``'s repeat when everyone transports, else the
+    (a frozen crowd is the transport ``memo``'s repeat when ``everyone`` transports, else the
     ``mixed`` memo's, ``Mission.mixed_key``), the priority order, resolution, and
     ``_move``'s rules (a route follower held back waits, one pushed off is displaced; a
     relay robot moved off the path goes idle)."""
     n = pos.shape[0]
     g = cells.shape[0]
     t = state[0]
-    if _everyone_transports(mode):
+    if everyone:
         frozen = _same_as_memo(memo, pos, carrying, tmode, pidx, state[1], state[2])
         mixed[:] = -1  # Mission.mixed_key is None: a fresh memory
     else:
@@ -1313,14 +1314,15 @@ def comm_rounds(
     snap = np.empty((n + 1, know.shape[1]), np.uint64)
     rows = 0
     while True:
+        everyone = _everyone_transports(mode)  # a Compute and Move change no mode
         if state[C_PENDING]:
             _comm_step(
                 pos, mode, delay, displaced, targets, ntarg, carrying, tmode, pidx, join_at,
                 state, flags, path, path_of, route, t_end, nest, food, memo, cells,
-                informed_at, know, mixed, relay,
+                informed_at, know, mixed, relay, everyone,
             )  # fmt: skip
             state[C_PENDING] = 0
-        if _everyone_transports(mode):
+        if everyone:
             state[6] = HANDOFF
             break
         _comm_look(
