@@ -671,11 +671,9 @@ class Mission:
         from swarmex.missions.foraging import fastloop as fl
 
         assert self.timed is not None and not any(self.informed)
-        n, g, plan = self.n, self.g, self.timed.plan
+        n, plan = self.n, self.timed.plan
         a = self._comm_arrays(limit)
-        path = np.asarray(self.path, dtype=np.int64)
-        path_of = np.full((g, g), -1, dtype=np.int64)
-        path_of[path[:, 0], path[:, 1]] = np.arange(len(path))
+        path, path_of = self._path_arrays
         flags = np.asarray(
             [self.comm == OMNISCIENT, self.one_way,
              keeps_route(self.comm, plan.algorithm, self.follow_comm, True, n),
@@ -802,6 +800,15 @@ class Mission:
 
     # ------------------------------------------------------------------ compiled hooked rounds
     @cached_property
+    def _path_arrays(self) -> tuple[np.ndarray, np.ndarray]:
+        """The relay path's cells and the g x g index of them (-1: off the path), for the
+        compiled rounds (they only read them), made once per run."""
+        path = np.asarray(self.path, dtype=np.int64)
+        path_of = np.full((self.g, self.g), -1, dtype=np.int64)
+        path_of[path[:, 0], path[:, 1]] = np.arange(len(path))
+        return path, path_of
+
+    @cached_property
     def _cells(self) -> np.ndarray:
         """The compiled rounds' g x g cell index (robot per cell, -1: none; all -1 between
         kernel calls), made once per run."""
@@ -922,16 +929,14 @@ class Mission:
         ``segments`` (:meth:`trajectory`)."""
         from swarmex.missions.foraging import fastloop as fl
 
-        n, g = self.n, self.g
+        n = self.n
         pos = np.asarray(self.pos, dtype=np.int64).reshape(n, 2)
         carrying = np.asarray(self.carrying, dtype=np.bool_)
         tmode = np.asarray(self.tmode, dtype=np.int64)
         pidx = np.asarray(self.pidx, dtype=np.int64)
         join_at = np.asarray([self.join_at.get(a, 0) for a in range(n)], dtype=np.int64)
         handovers = np.asarray(self.handovers, dtype=np.int64)
-        path = np.asarray(self.path, dtype=np.int64)
-        path_of = np.full((g, g), -1, dtype=np.int64)
-        path_of[path[:, 0], path[:, 1]] = np.arange(len(path))
+        path, path_of = self._path_arrays
         nest = np.asarray(self.nest, dtype=np.int64)
         food = np.asarray(self.food, dtype=np.int64)
         relay = self.transport != END_TO_END
@@ -995,15 +1000,13 @@ class Mission:
         call (the loop's state lives in the arrays, so the rounds are the same)."""
         from swarmex.missions.foraging.fastloop import transport_memo, transport_tail
 
-        n, g = self.n, self.g
+        n = self.n
         pos = np.asarray(self.pos, dtype=np.int64)
         carrying = np.asarray(self.carrying, dtype=np.bool_)
         tmode = np.asarray(self.tmode, dtype=np.int64)
         pidx = np.asarray(self.pidx, dtype=np.int64)
         join_at = np.asarray([self.join_at.get(a, 0) for a in range(n)], dtype=np.int64)
-        path = np.asarray(self.path, dtype=np.int64)
-        path_of = np.full((g, g), -1, dtype=np.int64)
-        path_of[path[:, 0], path[:, 1]] = np.arange(len(path))
+        path, path_of = self._path_arrays
         state = np.asarray([self.t, self.units, self.delivered, self.k, 0, 0, 0], np.int64)
         jobs = np.zeros((2 * self.k + 2, 3), dtype=np.int64)
         handovers = np.asarray(self.handovers, dtype=np.int64)
